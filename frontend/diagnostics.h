@@ -1,0 +1,89 @@
+// Source spans and diagnostics: the shared vocabulary for every stage that
+// reports a problem in the user's program (lexer to backend).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace rcxc {
+
+// A position in a source file. Lines and columns count from 1; column counts
+// bytes. `file` is an index into SourceManager's file table.
+struct SourceLoc {
+  std::uint32_t file = 0;
+  std::uint32_t line = 0;
+  std::uint32_t column = 0;
+  bool valid() const { return line != 0; }
+};
+
+// A half-open range [begin, end) within one file.
+struct SourceSpan {
+  SourceLoc begin;
+  SourceLoc end;
+};
+
+// Owns the text of every file read during one compilation, so diagnostics can
+// quote source lines long after the lexer is done with them.
+class SourceManager {
+ public:
+  std::uint32_t add(std::string path, std::string text);
+  const std::string& path(std::uint32_t file) const { return files_.at(file).path; }
+  const std::string& text(std::uint32_t file) const { return files_.at(file).text; }
+  std::size_t size() const { return files_.size(); }
+  // The text of line `line` of `file`, without its newline ("" if out of range).
+  std::string_view line(std::uint32_t file, std::uint32_t line) const;
+
+ private:
+  struct File {
+    std::string path;
+    std::string text;
+    std::vector<std::size_t> line_starts;
+  };
+  std::vector<File> files_;
+};
+
+enum class Severity : std::uint8_t { Note, Warning, Error };
+std::string_view severity_name(Severity s);
+
+struct Note {
+  SourceSpan span;
+  std::string message;
+};
+
+struct Diagnostic {
+  Severity severity = Severity::Error;
+  SourceSpan span;
+  std::string message;
+  std::vector<Note> notes;
+};
+
+// Collects diagnostics of one compilation. Warnings can be silenced (-w) or
+// promoted to errors (-Werror) here, once, for every stage.
+class Diagnostics {
+ public:
+  bool warnings_as_errors = false;
+  bool suppress_warnings = false;
+
+  Diagnostic& error(SourceSpan span, std::string message);
+  Diagnostic& warning(SourceSpan span, std::string message);
+  void add(Diagnostic d);
+
+  const std::vector<Diagnostic>& all() const { return list_; }
+  std::size_t error_count() const;
+  bool has_errors() const { return error_count() != 0; }
+
+ private:
+  std::vector<Diagnostic> list_;
+  Diagnostic discarded_;
+};
+
+// gcc-style text: "file:line:col: error: message", the source line, a caret
+// under the span, then each note the same way.
+std::string render_text(const Diagnostic& d, const SourceManager& sm);
+// One JSON object (a single line) with file, line, column, end, severity,
+// message and notes, for IDEs.
+std::string render_json(const Diagnostic& d, const SourceManager& sm);
+
+}  // namespace rcxc

@@ -1,0 +1,85 @@
+#include "tests/support/process.h"
+
+#include <fcntl.h>
+#include <poll.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdlib>
+#include <stdexcept>
+
+namespace rcxc::test {
+
+ProcessResult run_process(const std::vector<std::string>& argv, const std::string& stdin_text) {
+  int in[2], out[2], err[2];
+  if (pipe(in) || pipe(out) || pipe(err)) throw std::runtime_error("pipe failed");
+  pid_t pid = fork();
+  if (pid < 0) throw std::runtime_error("fork failed");
+  if (pid == 0) {
+    dup2(in[0], 0);
+    dup2(out[1], 1);
+    dup2(err[1], 2);
+    for (int fd : {in[0], in[1], out[0], out[1], err[0], err[1]}) close(fd);
+    std::vector<char*> args;
+    for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+    args.push_back(nullptr);
+    execv(args[0], args.data());
+    _exit(127);
+  }
+  close(in[0]);
+  close(out[1]);
+  close(err[1]);
+  ProcessResult r;
+  std::size_t written = 0;
+  if (stdin_text.empty()) close(in[1]);
+  else fcntl(in[1], F_SETFL, O_NONBLOCK);
+  bool in_open = !stdin_text.empty();
+  bool out_open = true, err_open = true;
+  while (out_open || err_open) {
+    pollfd fds[3] = {{out[0], POLLIN, 0}, {err[0], POLLIN, 0}, {in_open ? in[1] : -1, POLLOUT, 0}};
+    if (poll(fds, 3, -1) < 0) {
+      if (errno == EINTR) continue;
+      break;
+    }
+    char buf[4096];
+    auto drain = [&](pollfd& p, int fd, std::string& dst, bool& open) {
+      if (!open || !(p.revents & (POLLIN | POLLHUP))) return;
+      ssize_t n = read(fd, buf, sizeof buf);
+      if (n <= 0) open = false;
+      else dst.append(buf, static_cast<std::size_t>(n));
+    };
+    drain(fds[0], out[0], r.out, out_open);
+    drain(fds[1], err[0], r.err, err_open);
+    if (in_open && (fds[2].revents & (POLLOUT | POLLERR))) {
+      ssize_t n = write(in[1], stdin_text.data() + written, stdin_text.size() - written);
+      if (n > 0) written += static_cast<std::size_t>(n);
+      if (n < 0 || written == stdin_text.size()) {
+        close(in[1]);
+        in_open = false;
+      }
+    }
+  }
+  if (in_open) close(in[1]);
+  close(out[0]);
+  close(err[0]);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  return r;
+}
+
+ProcessResult run_rcxc(const std::vector<std::string>& args, const std::string& stdin_text) {
+  std::vector<std::string> argv{RCXC_BINARY};
+  argv.insert(argv.end(), args.begin(), args.end());
+  return run_process(argv, stdin_text);
+}
+
+std::string make_temp_dir() {
+  const char* base = std::getenv("TMPDIR");
+  std::string tmpl = std::string(base ? base : "/tmp") + "/rcxc-test-XXXXXX";
+  if (!mkdtemp(tmpl.data())) throw std::runtime_error("mkdtemp failed");
+  return tmpl;
+}
+
+}  // namespace rcxc::test
