@@ -60,6 +60,7 @@ struct Config {
   std::uint64_t seed = 1;                           // random source
   Micros instruction_cost_us = kDefaultInstructionCostUs;
   int battery_mv = 9300;                            // a fresh set of alkalines
+  bool trace_variables = false;                     // record Variable events (for traces)
 };
 
 // ---------------------------------------------------------------- state
@@ -104,8 +105,8 @@ enum class EventKind : std::uint8_t {
   Datalog,     // entry `type`/`value` added
   TaskStart,   // task `index` started
   TaskStop,    // task `index` stopped (ended, stopped or killed)
-  Sensor,      // scenario input changed sensor `index`
-  Message,     // message buffer set to `value` (input or program)
+  Sensor,      // an input changed sensor `index`: `value` = its new value
+  Variable,    // variable `index` set to `value` (only with Config::trace_variables)
 };
 
 struct Event {
@@ -156,10 +157,19 @@ struct ProgramSlot {
 struct Decoded {
   Op op = Op::Alive;
   std::uint8_t size = 0;          // 0 = not decoded yet
-  bool bad = false;               // not a command, or runs past the end
+  // Why the bytes there cannot run: 0 fine, else a DecodeError.
+  std::uint8_t error = 0;
   std::array<int, 5> v{};         // operand values in table order
   int target = 0;                 // branch target for branch opcodes
 };
+
+enum class DecodeError : std::uint8_t { None = 0, NotACommand, Truncated, BadSource };
+
+// Decodes the command at `address` of `code` by walking the opcode table;
+// branch targets are resolved with the seed's formulas (they may lie outside
+// the code: the machine faults only when such a branch is taken).
+Decoded decode_command(std::span<const std::uint8_t> code, int address);
+const char* to_string(DecodeError error);
 
 // Where a task executes: its own code or a subroutine's.
 struct TaskState {
@@ -181,6 +191,7 @@ struct SoundItem {
   bool tone = false;
   int value = 0;      // sound number or frequency
   int duration = 0;   // 1/100 s
+  Micros queued_us = 0;
 };
 
 // Everything observable about the brick.
@@ -286,47 +297,49 @@ class Machine {
   int motor_state(int output) const;      // the seed's motor state byte
 
  private:
-  struct Fetched;
   void start_task_now(int task);
   void end_task(int task);
   void stop_everything();
-  void execute(int task);
-  bool run_instruction(int task, TaskState& t);
-  const std::vector<std::uint8_t>* code_of(const TaskState& t) const;
-  const Decoded& decode_at(const TaskState& t);
-  void invalidate_decode();
+  void halt(StopKind kind);
+  void loop(Micros until_us, bool stop_when_idle);
+  void step(int task);
+  void do_return(int task, TaskState& t);
+  const std::vector<std::uint8_t>* code_of(int task, const TaskState& t) const;
+  void invalidate_code();
   void apply_due_inputs();
   void apply(const Input& input);
-  void advance_sounds(Micros until_us);
+  void start_due_sounds();
   void enqueue_sound(const SoundItem& item);
-  void set_outputs(int mask, const Output& (*change)(Output&, int), int arg);
-  void record_output(int index, const Output& before);
-  void fault(int task, const TaskState& t, std::string message);
-  void do_datalog_next(int source, int argument, std::uint8_t* reply);
+  void set_output(int index, Output next);
+  void fault(int task, const TaskState& t, int opcode, std::string message);
+  int datalog_next(int source, int argument);
   int value_of(int source, int argument);
   int used_memory() const;
-  int fragment_bytes(int slot) const;
+  int slot_bytes(const ProgramSlot& slot) const;
   void set_sensor_raw(int sensor, int raw);
+  void clear_sensor(int sensor);
+  void set_var(int index, int value);
   void emit(Event e);
-  bool common_command(Op op, const std::array<int, 5>& v, std::uint8_t* reply);
+  // Executes an opcode that programs and hosts share; false if `op` is not one.
+  bool shared_command(Op op, const std::array<int, 5>& v, int& error_code);
   Micros next_wake() const;
 
   Config config_;
   State state_;
   std::array<ProgramSlot, kPrograms> slots_{};
   std::array<TaskState, kMaxTasks> tasks_{};
-  // Decoded instruction caches for the current program: tasks then subs.
+  int active_count_ = 0;
+  // Decoded instruction caches for the current program: tasks, then subs.
   std::array<std::vector<Decoded>, kMaxTasks + kMaxSubroutines> decoded_{};
-  std::vector<TimedInput> inputs_;        // sorted by time, consumed from `next_input_`
+  std::vector<TimedInput> inputs_;        // sorted by time; consumed from `next_input_`
   std::size_t next_input_ = 0;
-  std::vector<SoundItem> sound_queue_;
-  Micros sound_busy_until_us_ = 0;
+  std::vector<SoundItem> sound_queue_;    // waiting to play, oldest first
+  Micros sound_free_us_ = 0;              // when the current sound ends
   Micros now_us_ = 0;
   std::uint64_t rng_;
   int next_task_ = 0;                     // round-robin cursor
   StopInfo stop_;
-  // Open download: slot + kind + index + write cursor.
-  int dl_kind_ = -1;                      // -1 none, 0 task, 1 sub
+  int dl_kind_ = -1;                      // open download: -1 none, 0 task, 1 sub
   int dl_index_ = 0;
   std::size_t dl_cursor_ = 0;
 };
