@@ -73,6 +73,17 @@ std::vector<std::uint8_t> encode_reply(std::span<const Operand> layout, std::spa
   return out;
 }
 
+// The first source operand outside its allowed set, or -1. Operand values
+// are in table order (fixed-size opcodes with sources have count-1 fields).
+int disallowed_source(const OpcodeInfo& info, const std::array<int, 5>& v) {
+  for (std::size_t i = 0; i < info.operands.size() && i < v.size(); ++i) {
+    const Operand& o = info.operands[i];
+    int source = o.role == Role::OpSource ? (v[i] & 0x0f) : v[i];
+    if ((o.role == Role::Source || o.role == Role::OpSource) && !allows(o.allowed, source)) return source;
+  }
+  return -1;
+}
+
 }  // namespace
 
 Decoded decode_command(std::span<const std::uint8_t> code, int address) {
@@ -100,13 +111,7 @@ Decoded decode_command(std::span<const std::uint8_t> code, int address) {
       at += field_size(operand.type);
     }
   }
-  // Sources outside the operand's allowed set cannot run.
-  for (std::size_t i = 0; i < info->operands.size() && i < d.v.size(); ++i) {
-    const Operand& o = info->operands[i];
-    int source = o.role == Role::OpSource ? (d.v[i] & 0x0f) : d.v[i];
-    if ((o.role == Role::Source || o.role == Role::OpSource) && !allows(o.allowed, source))
-      d.error = static_cast<std::uint8_t>(DecodeError::BadSource);
-  }
+  if (disallowed_source(*info, d.v) >= 0) d.error = static_cast<std::uint8_t>(DecodeError::BadSource);
   if (offset_index >= 0) d.target = branch_target(d.op, offset_at, d.v, offset_index);
   return d;
 }
@@ -898,6 +903,8 @@ DirectReply Machine::execute_direct(std::span<const std::uint8_t> bytes) {
       at += field_size(operand.type);
       if (n < v.size()) v[n++] = x;
     }
+  if (int source = disallowed_source(*info, v); source >= 0)
+    return {false, {}, fmt::format("{}: source {} is not allowed", info->name, source)};
   r.ok = true;
   int error_code = 0;
   switch (info->op) {
