@@ -127,8 +127,9 @@ class Checker {
   void check_global(VarDecl& g) {
     if (!g.init) return;
     scopes_.clear();
+    std::size_t errors_before = diags_.error_count();
     expr(*g.init, Use::Value);
-    if (!g.init->constant)
+    if (!g.init->constant && diags_.error_count() == errors_before)
       diags_.error(g.init->span, "the initial value of global '" + g.name + "' must be a constant expression");
   }
 
@@ -607,7 +608,66 @@ class Checker {
       for (std::size_t i = 0; i < f.params.size(); ++i) check_argument(f, f.params[i], n.args[i]);
   }
 
+  // The source type a `const int &` parameter must carry because the body
+  // takes __source_arg(param, TYPE) of it, directly or by passing it on to
+  // another function's such parameter. Lets `SetSensor(Timer(1), ...)` be
+  // reported at the call. nullopt when there is no such requirement.
+  std::optional<std::int16_t> required_source_type(const Function& f, SymbolId param, int depth = 0) {
+    if (depth > 32) return std::nullopt;
+    std::optional<std::int16_t> found;
+    std::function<void(const Expr&)> scan_expr = [&](const Expr& e) {
+      if (found) return;
+      if (const auto* sa = as<SourceArg>(e)) {
+        const auto* n = as<Name>(*sa->operand);
+        if (n && n->symbol == param && sa->type_required) found = sa->type_required;
+      }
+      if (const auto* c = as<Call>(e); c && c->symbol != kNoSymbol &&
+                                        prog_.symbols[c->symbol].kind == SymbolKind::Function) {
+        const Function& g = prog_.functions[prog_.symbols[c->symbol].index];
+        for (std::size_t i = 0; i < c->args.size() && i < g.params.size() && !found; ++i) {
+          const auto* n = as<Name>(c->args[i]);
+          if (n && n->symbol == param && &g != &f) found = required_source_type(g, g.params[i].symbol, depth + 1);
+        }
+      }
+      visit_children(e, scan_expr);
+    };
+    std::function<void(const Stmt&)> scan = [&](const Stmt& st) {
+      std::visit(
+          [&](const auto& n) {
+            using N = std::decay_t<decltype(n)>;
+            if constexpr (std::is_same_v<N, Block>) {
+              for (const auto& c : n.stmts) scan(c);
+            } else if constexpr (std::is_same_v<N, ExprStmt>) {
+              scan_expr(n.expr);
+            } else if constexpr (std::is_same_v<N, Asm>) {
+              for (const auto& item : n.items) {
+                if (const auto* in = std::get_if<AsmInstr>(&item))
+                  for (const auto& o : in->operands) scan_expr(o);
+              }
+            } else if constexpr (std::is_same_v<N, If>) {
+              scan(*n.then_branch);
+              if (n.else_branch) scan(**n.else_branch);
+            }
+          },
+          st.node);
+    };
+    scan(f.body);
+    return found;
+  }
+
   void check_argument(const Function& f, const Param& p, const Expr& arg) {
+    if (p.kind == ParamKind::ConstReference && !depends_on_const_param(arg)) {
+      if (auto type = required_source_type(f, p.symbol)) {
+        const auto* src = as<Source>(arg);
+        if (!src || src->type_value != *type) {
+          std::string what = *type == static_cast<int>(rcx::Source::SensorValue)
+                                 ? std::string("a sensor (SENSOR_1, SENSOR_2 or SENSOR_3)")
+                                 : "a " + std::string(rcx::source_name(*type)) + " source";
+          auto& d = diags_.error(arg.span, "argument for '" + p.name + "' of '" + f.name + "' must be " + what);
+          d.notes.push_back({p.span, "parameter declared here"});
+        }
+      }
+    }
     if (p.kind == ParamKind::Reference) {
       const auto* n = as<Name>(arg);
       if (!n || (n->symbol != kNoSymbol && !is_writable(prog_.symbols[n->symbol]))) {
