@@ -15,7 +15,7 @@ constexpr std::array<int, 5> kVersionsKey = {1, 3, 5, 7, 11};
 // "LEGO" and the registered sign, the unlock key of the seed.
 constexpr std::array<int, 5> kUnlockKey = {76, 69, 71, 79, 174};
 constexpr std::string_view kUnlockText = "Just a bit off the block!";
-constexpr std::size_t kLogLimit = 200;
+constexpr std::size_t kLogLimit = 1000;
 
 // Transfer data error codes (seed).
 constexpr int kOk = 0, kBlockChecksum = 3, kFirmwareChecksum = 4, kNoDownload = 6;
@@ -268,7 +268,10 @@ Bytes hear(Brick& b, std::span<const std::uint8_t> heard) {
       note(b, r->reason);
       continue;
     }
-    if (auto reply = answer(b, std::get<Packet>(event).payload)) {
+    const Bytes& request = std::get<Packet>(event).payload;
+    if (b.trace) note(b, "request " + hex(request));
+    if (auto reply = answer(b, request)) {
+      if (b.trace) note(b, "reply   " + hex(*reply));
       ++b.counters.replies;
       Bytes framed = frame(*reply);
       out.insert(out.end(), framed.begin(), framed.end());

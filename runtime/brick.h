@@ -62,6 +62,7 @@ struct Brick {
   Decoder decoder = request_decoder();
   BrickCounters counters;
   std::vector<std::string> log;  // why requests were rejected/unanswered (bounded)
+  bool trace = false;            // also log every request and reply
 };
 
 Brick make_brick(Config config = {});

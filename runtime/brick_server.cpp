@@ -45,7 +45,6 @@ std::optional<TransportError> serve(Brick& brick, Transport& port, const ServeOp
   const int fd = transport_fd(port);
   const auto start = Clock::now();
   const Micros vm_start = brick.vm.now_us();
-  std::size_t logged = brick.log.size();
   while (true) {
     // Short polls keep the programs running smoothly in real time.
     if (fd >= 0 && wait_input(fd, options.stop_fd, 5)) return std::nullopt;
@@ -60,7 +59,8 @@ std::optional<TransportError> serve(Brick& brick, Transport& port, const ServeOp
     Bytes reply = hear(brick, apply_noise(noise, heard));
     if (auto err = emit(port, apply_noise(noise, reply), options.pace)) return err;
     if (options.on_log)
-      for (; logged < brick.log.size(); ++logged) options.on_log(brick.log[logged]);
+      for (const auto& line : brick.log) options.on_log(line);
+    brick.log.clear();  // handed on; a brick serving for days must not grow
   }
 }
 

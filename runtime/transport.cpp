@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdlib>
 #include <cmath>
 #include <cstring>
 #include <thread>
@@ -94,8 +95,14 @@ std::optional<TransportError> configure_tty(int fd, const std::string& path, boo
   }
   t.c_cc[VMIN] = 0;
   t.c_cc[VTIME] = 0;
-  if (::tcsetattr(fd, TCSANOW, &t) != 0)
-    return TransportError{fmt::format("cannot configure {}: {}", path, errno_text())};
+  int rc = ::tcsetattr(fd, TCSANOW, &t);
+  if (rc != 0 && serial_settings && errno == EINVAL) {
+    // Pseudo-terminals (the virtual brick) refuse parity; they carry bytes
+    // as they are, so a pty works without it.
+    t.c_cflag &= ~static_cast<tcflag_t>(PARENB | PARODD);
+    rc = ::tcsetattr(fd, TCSANOW, &t);
+  }
+  if (rc != 0) return TransportError{fmt::format("cannot configure {}: {}", path, errno_text())};
   ::tcflush(fd, TCIOFLUSH);
   return std::nullopt;
 }
@@ -145,6 +152,13 @@ std::variant<std::unique_ptr<Transport>, TransportError> open_port(const PortSpe
         std::make_unique<FdTransport>(fd, true, fmt::format("serial tower {}", spec.path)));
   }
   return std::unique_ptr<Transport>(std::make_unique<FdTransport>(fd, false, fmt::format("USB tower {}", spec.path)));
+}
+
+std::variant<std::unique_ptr<Transport>, TransportError> open_user_port(const std::optional<std::string>& option) {
+  const char* env = std::getenv("RCX_PORT");
+  std::optional<std::string> environment;
+  if (env != nullptr && *env != '\0') environment = env;
+  return open_port(resolve_port(option, environment));
 }
 
 std::variant<Pty, TransportError> open_pty() {
