@@ -101,9 +101,9 @@ Expr un(UnaryOp op, Expr a, const SourceSpan& s) { return mk(Unary{op, std::move
 %left '+' '-'
 %left '*' '/' '%'
 %right UNARY INC DEC
-%left '['
-%nonassoc LOWER_THAN_ELSE
-%nonassoc ELSE
+%precedence '['
+%precedence LOWER_THAN_ELSE
+%precedence ELSE
 
 %type <ast::Expr> expr
 %type <std::optional<ast::Expr>> expr_opt
@@ -174,7 +174,8 @@ param
   ;
 
 block
-  : '{' stmts '}'  { $$ = mks(Block{std::move($2)}, @$); }
+  : '{' stmts '}'        { $$ = mks(Block{std::move($2)}, @$); }
+  | '{' stmts error '}'  { $$ = mks(Block{std::move($2)}, @$); }
   ;
 
 stmts
