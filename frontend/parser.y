@@ -99,6 +99,7 @@ Expr un(UnaryOp op, Expr a, const SourceSpan& s) { return mk(Unary{op, std::move
 %left '+' '-'
 %left '*' '/' '%'
 %right UNARY INC DEC
+%left '['
 %nonassoc LOWER_THAN_ELSE
 %nonassoc ELSE
 
@@ -145,6 +146,11 @@ declarators
 declarator
   : IDENT           { $$ = VarDecl{$1, @1, std::nullopt, kNoSymbol}; }
   | IDENT '=' expr  { $$ = VarDecl{$1, @1, std::move($3), kNoSymbol}; }
+  | IDENT '[' expr ']'
+      {
+        feed.diags.error(@$, "the RCX has no arrays: '" + $1 + "' must be a plain int");
+        $$ = VarDecl{$1, @1, std::nullopt, kNoSymbol};
+      }
   ;
 
 params_opt
@@ -275,6 +281,11 @@ expr
         $$ = mk(SourceArg{std::move($3), type}, @$);
       }
   | '(' expr ')'            { $$ = std::move($2); $$.span = @$; }
+  | expr '[' expr ']'
+      {
+        feed.diags.error(@$, "the RCX has no arrays, so nothing can be indexed");
+        $$ = std::move($1);
+      }
   | '-' expr %prec UNARY    { $$ = un(UnaryOp::Negate, std::move($2), @$); }
   | '+' expr %prec UNARY    { $$ = un(UnaryOp::Plus, std::move($2), @$); }
   | '~' expr %prec UNARY    { $$ = un(UnaryOp::BitNot, std::move($2), @$); }
