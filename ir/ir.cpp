@@ -134,12 +134,7 @@ void renumber(Function& f, const std::vector<BlockId>& map) {
 }
 }  // namespace
 
-void move_block(Function& f, BlockId from, BlockId to) {
-  if (from == to) return;
-  std::vector<BlockId> order(f.blocks.size());
-  for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<BlockId>(i);
-  order.erase(order.begin() + from);
-  order.insert(order.begin() + to, from);
+void permute_blocks(Function& f, const std::vector<BlockId>& order) {
   std::vector<BlockId> map(order.size());
   std::vector<Block> blocks(order.size());
   for (std::size_t i = 0; i < order.size(); ++i) {
@@ -148,6 +143,15 @@ void move_block(Function& f, BlockId from, BlockId to) {
   }
   f.blocks = std::move(blocks);
   renumber(f, map);
+}
+
+void move_block(Function& f, BlockId from, BlockId to) {
+  if (from == to) return;
+  std::vector<BlockId> order(f.blocks.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<BlockId>(i);
+  order.erase(order.begin() + from);
+  order.insert(order.begin() + to, from);
+  permute_blocks(f, order);
 }
 
 void remove_blocks(Function& f, const std::vector<bool>& keep) {

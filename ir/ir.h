@@ -158,6 +158,9 @@ constexpr int wrap16(long v) { return static_cast<std::int16_t>(static_cast<std:
 // std::nullopt for opcodes that are not variable arithmetic.
 std::optional<int> arithmetic(rcx::Op op, int dest, int src);
 
+// Reorders the blocks: `order` lists every old BlockId once, in the new
+// layout order (order[0] must be the entry, 0).
+void permute_blocks(Function& f, const std::vector<BlockId>& order);
 // Moves block `from` so that it becomes layout position `to` (0 = entry is
 // not allowed to move), renumbering every reference.
 void move_block(Function& f, BlockId from, BlockId to);
