@@ -38,6 +38,12 @@ std::variant<rcx::Image, std::string> load_program(const std::string& path) {
   return std::get<rcx::Image>(std::move(image));
 }
 
+// Symbol names come from the image and may be any bytes: invalid UTF-8 is
+// replaced rather than thrown about.
+std::string json_text(const nlohmann::json& j) {
+  return j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
 bool write_file(const std::string& path, const std::string& text) {
   std::ofstream out(path, std::ios::binary);
   out << text;
@@ -79,11 +85,11 @@ int run(const RunOptions& o) {
   machine.run(o.for_ms * rcx::kMicrosPerMs);
 
   if (o.report == "json")
-    std::cout << rcx::report_json(machine, image).dump(2) << "\n";
+    std::cout << json_text(rcx::report_json(machine, image)) << "\n";
   else
     std::cout << rcx::timeline_text(machine, image);
   if (!o.trace.empty()) {
-    std::string text = ends_with(o.trace, ".vcd") ? rcx::trace_vcd(machine, image) : rcx::trace_json(machine, image).dump(2) + "\n";
+    std::string text = ends_with(o.trace, ".vcd") ? rcx::trace_vcd(machine, image) : json_text(rcx::trace_json(machine, image)) + "\n";
     if (!write_file(o.trace, text)) {
       std::cerr << "rcxc run: cannot write trace file " << o.trace << "\n";
       return kExitFailure;

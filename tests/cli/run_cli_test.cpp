@@ -162,3 +162,19 @@ TEST(RunCli, SeedChangesRandomValues) {
   EXPECT_EQ(a, b);
   EXPECT_NE(a, c2);
 }
+
+TEST(RunCli, OddSymbolNamesDoNotBreakReportsOrTraces) {
+  TempDir d;
+  rcx::Image img;
+  img.fragments.push_back({rcx::FragmentType::Task, 0, {0x14, 0x00, 0x02, 0x05, 0x00}});
+  img.symbols.push_back({rcx::SymbolType::Variable, 0, std::string("bad \xff name")});
+  auto p = d.write("odd.rcx", rcx::write_image(img));
+  auto r = run_rcxc({"run", p, "--report", "json", "--trace", d.path + "/t.vcd"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["vars"][0], 5);
+  EXPECT_EQ(j["globals"].size(), 1u);
+  std::ifstream vcd(d.path + "/t.vcd");
+  std::string text((std::istreambuf_iterator<char>(vcd)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find(" bad___name $end"), std::string::npos) << text;
+}
