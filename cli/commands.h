@@ -10,9 +10,14 @@ namespace rcxc::cli {
 inline constexpr int kExitOk = 0;
 inline constexpr int kExitFailure = 1;  // the input was bad or the run failed
 inline constexpr int kExitUsage = 2;    // the command line was bad
+inline constexpr int kExitNoPort = 3;   // IR link: the port could not be opened
+inline constexpr int kExitNoReply = 4;  // IR link: the brick did not answer / the link failed
 
 void register_compile(CLI::App& app, int& exit_code);
 void register_run(CLI::App& app, int& exit_code);
 void register_disasm(CLI::App& app, int& exit_code);
+void register_brick(CLI::App& app, int& exit_code);
+void register_download(CLI::App& app, int& exit_code);
+void register_remote(CLI::App& app, int& exit_code);
 
 }  // namespace rcxc::cli

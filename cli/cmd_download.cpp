@@ -1,0 +1,126 @@
+// `rcxc download`: put a program into an RCX program slot over the IR link.
+#include <unistd.h>
+
+#include <chrono>
+#include <fstream>
+#include <iostream>
+#include <iterator>
+
+#include <fmt/format.h>
+
+#include "cli/commands.h"
+#include "runtime/download.h"
+#include "runtime/image.h"
+#include "runtime/transport.h"
+
+namespace rcxc::cli {
+namespace {
+
+struct DownloadArgs {
+  std::string file;
+  std::optional<std::string> port;
+  int program = 1;
+  bool run = false;
+  int retries = 20;
+  bool no_sound = false;
+  bool verbose = false;
+};
+
+bool ends_with(const std::string& s, std::string_view suffix) {
+  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+// Reads the image to download, or says why not.
+std::variant<rcx::Image, std::string> load(const std::string& file) {
+  if (ends_with(file, ".nqc") || ends_with(file, ".nqh"))
+    return fmt::format("{}: downloading NQC source needs the compiler, which is not in this build yet; "
+                       "compile it to an .rcx image first (nqc -Trcx -Oprog.rcx {}) and download that",
+                       file, file);
+  std::ifstream in(file, std::ios::binary);
+  if (!in) return fmt::format("cannot read {}", file);
+  std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  auto image = rcx::read_image(bytes);
+  if (auto* e = std::get_if<rcx::ImageError>(&image)) return fmt::format("{}: {}", file, e->message);
+  return std::get<rcx::Image>(image);
+}
+
+// "[########............]  120/300 bytes  40%  52 B/s", redrawn in place.
+void draw_progress(const rcx::DownloadProgress& p, std::chrono::steady_clock::time_point start) {
+  constexpr int kWidth = 24;
+  double fraction = p.total ? static_cast<double>(p.done) / static_cast<double>(p.total) : 1.0;
+  int filled = static_cast<int>(fraction * kWidth);
+  double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  double rate = seconds > 0 ? static_cast<double>(p.done) / seconds : 0.0;
+  std::cerr << fmt::format("\r[{}{}] {:5}/{} bytes {:3.0f}% {:5.0f} B/s", std::string(static_cast<std::size_t>(filled), '#'),
+                           std::string(static_cast<std::size_t>(kWidth - filled), '.'), p.done, p.total,
+                           fraction * 100.0, rate)
+            << std::flush;
+}
+
+int exit_code_for(rcx::DownloadFailure kind) {
+  switch (kind) {
+    case rcx::DownloadFailure::BadInput: return kExitFailure;
+    case rcx::DownloadFailure::NoBrick: return kExitNoReply;
+    case rcx::DownloadFailure::LinkFailed: return kExitNoReply;
+    case rcx::DownloadFailure::BrickRefused: return kExitFailure;
+  }
+  return kExitFailure;
+}
+
+int run_download(const DownloadArgs& a) {
+  auto image = load(a.file);
+  if (auto* e = std::get_if<std::string>(&image)) {
+    std::cerr << "rcxc download: " << *e << "\n";
+    return kExitFailure;
+  }
+  auto opened = rcx::open_user_port(a.port);
+  if (auto* e = std::get_if<rcx::TransportError>(&opened)) {
+    std::cerr << "rcxc download: " << e->message << "\n";
+    return kExitNoPort;
+  }
+  auto& port = *std::get<std::unique_ptr<rcx::Transport>>(opened);
+  rcx::LinkOptions link_options;
+  link_options.retries = a.retries;
+  rcx::Link link = rcx::make_link(port, link_options);
+  if (a.verbose) link.on_rejected = [](const std::string& why) { std::cerr << "\nrejected: " << why << "\n"; };
+  rcx::DownloadOptions options;
+  options.program = a.program;
+  options.run = a.run;
+  options.sound = !a.no_sound;
+  const bool tty = ::isatty(STDERR_FILENO) != 0;
+  const auto start = std::chrono::steady_clock::now();
+  rcx::ProgressFn progress;
+  if (tty) progress = [start](const rcx::DownloadProgress& p) { draw_progress(p, start); };
+  auto result = rcx::download(link, std::get<rcx::Image>(image), options, progress);
+  if (tty) std::cerr << "\n";
+  if (auto* e = std::get_if<rcx::DownloadError>(&result)) {
+    std::cerr << "rcxc download: " << e->message << "\n";
+    return exit_code_for(e->kind);
+  }
+  const auto& report = std::get<rcx::DownloadReport>(result);
+  double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::cerr << fmt::format("downloaded {} bytes to program {} in {:.1f} s ({} blocks, {} retransmissions){}\n",
+                           report.bytes, a.program, seconds, report.blocks,
+                           report.link.attempts - report.link.requests, a.run ? ", running" : "");
+  return kExitOk;
+}
+
+}  // namespace
+
+void register_download(CLI::App& app, int& exit_code) {
+  auto* cmd = app.add_subcommand("download", "Download a program (.rcx image) into the RCX over the IR tower");
+  auto a = std::make_shared<DownloadArgs>();
+  cmd->add_option("FILE", a->file, ".rcx image (or .nqc source once the compiler is in)")->required();
+  cmd->add_option("--port", a->port, "Tower device: usb, serial, a path (default: RCX_PORT, else usb)");
+  cmd->add_option("--program", a->program, "Program slot 1..5")->check(CLI::Range(1, 5));
+  cmd->add_flag("--run", a->run, "Start the program after downloading");
+  cmd->add_option("--retries", a->retries, "Retries per request")->check(CLI::Range(0, 100));
+  cmd->add_flag("--no-sound", a->no_sound, "Do not play the download-done sound");
+  cmd->add_flag("-v,--verbose", a->verbose, "Say why replies were rejected");
+  cmd->footer(
+      "Exit codes: 0 downloaded and every block acknowledged; 1 bad input or the RCX refused it;\n"
+      "2 bad command line; 3 the port could not be opened; 4 the RCX did not answer or the link failed.");
+  cmd->callback([&exit_code, a] { exit_code = run_download(*a); });
+}
+
+}  // namespace rcxc::cli

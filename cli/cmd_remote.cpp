@@ -1,0 +1,72 @@
+// `rcxc remote ACTION`: one-shot actions on a brick over the IR link.
+#include <unistd.h>
+
+#include <iostream>
+
+#include <fmt/format.h>
+
+#include "cli/commands.h"
+#include "runtime/remote.h"
+#include "runtime/transport.h"
+
+namespace rcxc::cli {
+namespace {
+
+struct RemoteArgs {
+  std::vector<std::string> words;
+  std::optional<std::string> port;
+  bool csv = false;
+  int retries = 5;
+};
+
+int exit_code_for(rcx::RemoteFailure kind) {
+  switch (kind) {
+    case rcx::RemoteFailure::Usage: return kExitUsage;
+    case rcx::RemoteFailure::Input: return kExitFailure;
+    case rcx::RemoteFailure::Link: return kExitNoReply;
+    case rcx::RemoteFailure::Refused: return kExitFailure;
+  }
+  return kExitFailure;
+}
+
+int run_remote(const RemoteArgs& a) {
+  auto opened = rcx::open_user_port(a.port);
+  if (auto* e = std::get_if<rcx::TransportError>(&opened)) {
+    std::cerr << "rcxc remote: " << e->message << "\n";
+    return kExitNoPort;
+  }
+  auto& port = *std::get<std::unique_ptr<rcx::Transport>>(opened);
+  rcx::LinkOptions link_options;
+  link_options.retries = a.retries;
+  rcx::Link link = rcx::make_link(port, link_options);
+  rcx::RemoteOptions options;
+  options.csv = a.csv;
+  if (::isatty(STDERR_FILENO))
+    options.progress = [](std::size_t done, std::size_t total) {
+      std::cerr << fmt::format("\rfirmware {}/{} bytes", done, total) << (done == total ? "\n" : "") << std::flush;
+    };
+  auto result = rcx::run_remote(link, a.words, options);
+  if (auto* e = std::get_if<rcx::RemoteError>(&result)) {
+    std::cerr << "rcxc remote: " << e->message << "\n";
+    return exit_code_for(e->kind);
+  }
+  std::cout << std::get<std::string>(result);
+  return kExitOk;
+}
+
+}  // namespace
+
+void register_remote(CLI::App& app, int& exit_code) {
+  auto* cmd = app.add_subcommand("remote", "Act on an RCX over the IR tower (alive, run, get var 3, datalog, ...)");
+  auto a = std::make_shared<RemoteArgs>();
+  cmd->add_option("ACTION", a->words, "The action and its arguments")->required();
+  cmd->add_option("--port", a->port, "Tower device: usb, serial, a path (default: RCX_PORT, else usb)");
+  cmd->add_flag("--csv", a->csv, "datalog: print CSV");
+  cmd->add_option("--retries", a->retries, "Retries per request")->check(CLI::Range(0, 100));
+  cmd->footer(rcx::remote_actions_help() +
+              "Exit codes: 0 done; 1 bad file or the RCX refused; 2 bad command line or action;\n"
+              "3 the port could not be opened; 4 the RCX did not answer.");
+  cmd->callback([&exit_code, a] { exit_code = run_remote(*a); });
+}
+
+}  // namespace rcxc::cli

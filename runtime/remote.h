@@ -1,0 +1,49 @@
+// Remote actions on a brick over the IR link: `rcxc remote ACTION ...`.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "runtime/link_session.h"
+
+namespace rcx {
+
+enum class RemoteFailure : std::uint8_t {
+  Usage,    // the action or its arguments are wrong
+  Input,    // a file could not be read or parsed
+  Link,     // no valid reply after every retry
+  Refused,  // the brick answered with an error
+};
+
+struct RemoteError {
+  RemoteFailure kind;
+  std::string message;
+};
+
+struct RemoteOptions {
+  bool csv = false;  // datalog as CSV
+  // Progress of a firmware download (bytes done, total).
+  std::function<void(std::size_t, std::size_t)> progress;
+};
+
+// One line per action, for help texts.
+std::string remote_actions_help();
+
+// Runs `words` (the action and its arguments, e.g. {"get", "var", "3"}) and
+// returns what to print on stdout.
+std::variant<std::string, RemoteError> run_remote(Link& link, const std::vector<std::string>& words,
+                                                  const RemoteOptions& options = {});
+
+// Firmware as S-records: the bytes from the lowest to the highest address
+// (gaps zero-filled) and the entry address (S7/S8/S9 record, else the lowest).
+struct Firmware {
+  int start = 0;
+  int entry = 0;
+  Bytes bytes;
+};
+std::variant<Firmware, std::string> parse_srec(const std::string& text);
+
+}  // namespace rcx

@@ -1,0 +1,223 @@
+// The virtual brick answers requests as the seed describes: replies,
+// silences, download sequence rules, firmware, retransmissions.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "runtime/brick.h"
+#include "runtime/link_session.h"
+#include "runtime/opcodes.h"
+
+namespace rcx {
+namespace {
+
+Bytes req(Op op, std::vector<int> values = {}) { return request_payload(info(op), values); }
+
+// Sends `request` and returns the reply (nullopt = silence).
+std::optional<Bytes> ask(Brick& b, const Bytes& request) { return answer(b, request); }
+
+// Requests that differ from the previous one by the toggle, as a host sends
+// them. Returns the reply's fields after checking its opcode answers the form sent.
+struct Host {
+  Brick& brick;
+  bool toggle = false;
+  std::optional<Bytes> operator()(Bytes request) {
+    request = with_toggle(std::move(request), toggle);
+    toggle = !toggle;
+    auto reply = answer(brick, request);
+    if (!reply) return std::nullopt;
+    EXPECT_TRUE(answers(*reply, request)) << hex(*reply) << " for " << hex(request);
+    return Bytes(reply->begin() + 1, reply->end());
+  }
+};
+
+TEST(LinkBrick, AliveAnswersWithTheComplement) {
+  Brick b = make_brick();
+  EXPECT_EQ(ask(b, Bytes{0x10}), Bytes{0xEF});
+  EXPECT_EQ(ask(b, Bytes{0x18}), Bytes{0xE7});
+}
+
+TEST(LinkBrick, VersionsNeedTheKeyAndReportRom31Firmware39) {
+  Brick b = make_brick();
+  EXPECT_EQ(ask(b, req(Op::GetVersions, {1, 3, 5, 7, 11})), (Bytes{0xEA, 0, 3, 0, 1, 0, 3, 0, 9}));
+  EXPECT_EQ(ask(b, req(Op::GetVersions, {1, 3, 5, 7, 12})), std::nullopt);
+}
+
+TEST(LinkBrick, BatteryAndMemoryMap) {
+  Brick b = make_brick();
+  auto battery = ask(b, req(Op::GetBatteryPower));
+  ASSERT_TRUE(battery);
+  EXPECT_EQ(reply_field(info(Op::GetBatteryPower), *battery, "millivolts"), 9300);
+  auto map = ask(b, req(Op::GetMemoryMap));
+  ASSERT_TRUE(map);
+  EXPECT_EQ(map->size(), 1u + 94 * 2);
+  EXPECT_EQ((*map)[0], 0xDF);
+}
+
+TEST(LinkBrick, SetMessageHasNoReplyButSetsTheMessage) {
+  Brick b = make_brick();
+  EXPECT_EQ(ask(b, req(Op::SetMessage, {77})), std::nullopt);
+  EXPECT_EQ(b.vm.state().message, 77);
+}
+
+TEST(LinkBrick, TaskDownloadStoresExactlyTheBlocks) {
+  Brick b = make_brick();
+  Host host{b};
+  EXPECT_EQ(host(req(Op::StartTaskDownload, {0, 2, 6})), (Bytes{0}));
+  EXPECT_EQ(host(transfer_payload(1, Bytes{0x14, 0x00, 0x02})), (Bytes{0}));
+  EXPECT_EQ(host(transfer_payload(0, Bytes{0x05, 0x00, 0xF6})), (Bytes{0}));
+  const auto& task = b.vm.slot(0).tasks[2];
+  ASSERT_TRUE(task.has_value());
+  EXPECT_EQ(*task, (Bytes{0x14, 0x00, 0x02, 0x05, 0x00, 0xF6}));
+}
+
+TEST(LinkBrick, StartDownloadReportsIndexAndMemoryErrors) {
+  Brick b = make_brick();
+  Host host{b};
+  EXPECT_EQ(host(req(Op::StartTaskDownload, {0, 10, 4})), (Bytes{2}));   // task 10: bad index
+  EXPECT_EQ(host(req(Op::StartSubroutineDownload, {0, 8, 4})), (Bytes{2}));
+  EXPECT_EQ(host(req(Op::StartTaskDownload, {0, 0, 30000})), (Bytes{1}));  // no memory
+}
+
+TEST(LinkBrick, TransferWithoutStartIsError6) {
+  Brick b = make_brick();
+  EXPECT_EQ(ask(b, transfer_payload(1, Bytes{1, 2})), (Bytes{0xBA, 6}));
+}
+
+TEST(LinkBrick, OutOfOrderBlocksGetNoReply) {
+  Brick b = make_brick();
+  Host host{b};
+  ASSERT_EQ(host(req(Op::StartTaskDownload, {0, 0, 4})), (Bytes{0}));
+  EXPECT_EQ(host(transfer_payload(2, Bytes{1, 2})), std::nullopt);
+  EXPECT_EQ(host(transfer_payload(1, Bytes{1, 2})), (Bytes{0}));
+  EXPECT_EQ(host(transfer_payload(1, Bytes{3, 4})), std::nullopt);  // 1 again, as a new request
+  EXPECT_EQ(host(transfer_payload(2, Bytes{3, 4})), (Bytes{0}));
+}
+
+TEST(LinkBrick, BadBlockChecksumIsError3AndTheBlockCanBeSentAgain) {
+  Brick b = make_brick();
+  Host host{b};
+  ASSERT_EQ(host(req(Op::StartTaskDownload, {0, 0, 2})), (Bytes{0}));
+  Bytes bad = transfer_payload(1, Bytes{1, 2});
+  bad.back() ^= 0x40;
+  EXPECT_EQ(host(bad), (Bytes{3}));
+  EXPECT_EQ(host(transfer_payload(1, Bytes{1, 2})), (Bytes{0}));
+  // The final block's checksum is not checked (seed).
+  Bytes last = transfer_payload(0, Bytes{});
+  last.back() = 0x99;
+  EXPECT_EQ(host(last), (Bytes{0}));
+}
+
+TEST(LinkBrick, ARetransmissionIsAnsweredWithoutRunningTwice) {
+  Brick b = make_brick();
+  Host host{b};
+  ASSERT_EQ(host(req(Op::StartTaskDownload, {0, 0, 4})), (Bytes{0}));
+  Bytes block = with_toggle(transfer_payload(1, Bytes{0x14, 0x00}), true);
+  EXPECT_EQ(ask(b, block), (Bytes{0xB2, 0}));
+  EXPECT_EQ(ask(b, block), (Bytes{0xB2, 0}));  // the reply was lost; same form again
+  EXPECT_EQ(b.counters.duplicates, 1);
+  EXPECT_EQ(ask(b, transfer_payload(0, Bytes{0x02, 0x05})), (Bytes{0xBA, 0}));
+  EXPECT_EQ(*b.vm.slot(0).tasks[0], (Bytes{0x14, 0x00, 0x02, 0x05}));  // not 6 bytes
+}
+
+TEST(LinkBrick, DeleteAndProgramRequestsGoToTheMachine) {
+  Brick b = make_brick();
+  Host host{b};
+  ASSERT_EQ(host(req(Op::StartTaskDownload, {0, 1, 1})), (Bytes{0}));
+  ASSERT_EQ(host(transfer_payload(0, Bytes{0xF6})), (Bytes{0}));
+  ASSERT_TRUE(b.vm.slot(0).tasks[1].has_value());
+  EXPECT_EQ(host(req(Op::DeleteTask, {1})), Bytes{});
+  EXPECT_FALSE(b.vm.slot(0).tasks[1].has_value());
+  EXPECT_EQ(host(req(Op::SetProgramNumber, {3})), Bytes{});
+  EXPECT_EQ(b.vm.program(), 3);
+}
+
+TEST(LinkBrick, VariablesAndGetValue) {
+  Brick b = make_brick();
+  Host host{b};
+  ASSERT_TRUE(host(req(Op::SetVariable, {5, 2, -1234})));
+  auto v = host(req(Op::GetValue, {0, 5}));
+  EXPECT_EQ(v, (Bytes{0x2E, 0xFB}));  // -1234 as a little-endian short
+}
+
+TEST(LinkBrick, DatalogUploadsDlrecs) {
+  Brick b = make_brick();
+  Host host{b};
+  ASSERT_EQ(host(req(Op::SetDatalogSize, {3})), (Bytes{0}));
+  ASSERT_TRUE(host(req(Op::SetVariable, {2, 2, 300})));
+  ASSERT_EQ(host(req(Op::DatalogNext, {0, 2})), (Bytes{0}));
+  auto size = host(req(Op::UploadDatalog, {0, 1}));
+  // Entry 0: type 0xff, value = entries including itself.
+  EXPECT_EQ(size, (Bytes{0xFF, 2, 0}));
+  auto entry = host(req(Op::UploadDatalog, {1, 1}));
+  EXPECT_EQ(entry, (Bytes{0x02, 0x2C, 0x01}));  // var 2 = 300
+  // Out of range: a reply with no records.
+  EXPECT_EQ(host(req(Op::UploadDatalog, {1, 5})), Bytes{});
+}
+
+TEST(LinkBrick, FirmwareDownloadChecksumAndUnlock) {
+  Brick b = make_brick();
+  Host host{b};
+  // Installed firmware: start firmware download is ignored, no reply.
+  EXPECT_EQ(host(req(Op::StartFirmwareDownload, {0x8000, 6, 0})), std::nullopt);
+  ASSERT_TRUE(host(req(Op::DeleteFirmware, {1, 3, 5, 7, 11})));
+  EXPECT_EQ(host(req(Op::GetVersions, {1, 3, 5, 7, 11})), (Bytes{0, 3, 0, 1, 0, 0, 0, 0}));
+  // Without firmware, only the ROM answers: no program requests.
+  EXPECT_EQ(host(req(Op::StopAllTasks)), std::nullopt);
+  // Checksum announced 6 = 1+2+3.
+  EXPECT_EQ(host(req(Op::StartFirmwareDownload, {0x8000, 6, 0})), (Bytes{0}));
+  EXPECT_EQ(host(transfer_payload(1, Bytes{1, 2})), (Bytes{0}));
+  EXPECT_EQ(host(transfer_payload(0, Bytes{3})), (Bytes{0}));
+  auto unlock = host(req(Op::UnlockFirmware, {76, 69, 71, 79, 174}));
+  ASSERT_TRUE(unlock);
+  EXPECT_EQ(std::string(unlock->begin(), unlock->end()), "Just a bit off the block!");
+  EXPECT_TRUE(b.vm.firmware_present());
+}
+
+TEST(LinkBrick, FirmwareWithTheWrongChecksumIsError4AndStaysLocked) {
+  Brick b = make_brick();
+  Host host{b};
+  ASSERT_TRUE(host(req(Op::DeleteFirmware, {1, 3, 5, 7, 11})));
+  ASSERT_EQ(host(req(Op::StartFirmwareDownload, {0x8000, 7, 0})), (Bytes{0}));
+  EXPECT_EQ(host(transfer_payload(0, Bytes{1, 2, 3})), (Bytes{4}));
+  ASSERT_TRUE(host(req(Op::UnlockFirmware, {76, 69, 71, 79, 174})));
+  EXPECT_FALSE(b.vm.firmware_present());
+}
+
+TEST(LinkBrick, FirmwareBlockChecksumErrorAdvancesTheSequence) {
+  // The ROM bug of the seed: after error 3 the host must number the resent
+  // block one higher.
+  Brick b = make_brick();
+  Host host{b};
+  ASSERT_TRUE(host(req(Op::DeleteFirmware, {1, 3, 5, 7, 11})));
+  ASSERT_TRUE(host(req(Op::StartFirmwareDownload, {0x8000, 3, 0})));
+  Bytes bad = transfer_payload(1, Bytes{1});
+  bad.back() = 0x55;
+  EXPECT_EQ(host(bad), (Bytes{3}));
+  EXPECT_EQ(host(transfer_payload(1, Bytes{1})), std::nullopt);  // out of order now
+  EXPECT_EQ(host(transfer_payload(2, Bytes{1})), (Bytes{0}));
+}
+
+TEST(LinkBrick, HearDecodesFramesAndRepliesFramed) {
+  Brick b = make_brick();
+  Bytes in{0x00, 0x13};  // noise first
+  Bytes f = frame(Bytes{0x10});
+  in.insert(in.end(), f.begin(), f.end());
+  EXPECT_EQ(hear(b, in), frame(Bytes{0xEF}));
+  EXPECT_EQ(b.counters.rejected, 1);
+}
+
+TEST(LinkBrick, NoiseLosesOrFlipsAboutTheRequestedShare) {
+  Noise none = make_noise(0.0, 1);
+  Bytes data(10000, 0xA5);
+  EXPECT_EQ(apply_noise(none, data), data);
+  Noise some = make_noise(0.05, 7);
+  Bytes out = apply_noise(some, data);
+  int changed = static_cast<int>(data.size() - out.size());
+  for (auto v : out) changed += v != 0xA5;
+  EXPECT_GT(changed, 350);  // 5% of 10000 = 500, within a wide margin
+  EXPECT_LT(changed, 650);
+}
+
+}  // namespace
+}  // namespace rcx
