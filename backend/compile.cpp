@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include "ir/lower.h"
+
 namespace rcxc::backend {
 
 std::optional<Output> compile(ir::Program program, ir::OptLevel level, Diagnostics& diags, ir::Log& log) {
@@ -11,6 +13,15 @@ std::optional<Output> compile(ir::Program program, ir::OptLevel level, Diagnosti
   auto out = generate(program, slots, diags);
   if (out) log.push_back(fmt::format("{} bytes of code, {} variable slots", out->code_bytes, out->slots_used));
   return out;
+}
+
+std::optional<Output> compile_file(const std::string& path, const frontend::Options& options, ir::OptLevel level,
+                                   SourceManager& sm, Diagnostics& diags, ir::Log& log) {
+  auto program = frontend::parse_program(path, options, sm, diags);
+  if (!program) return std::nullopt;
+  auto lowered = ir::lower(*program, diags);
+  if (!lowered) return std::nullopt;
+  return compile(std::move(*lowered), level, diags, log);
 }
 
 }  // namespace rcxc::backend
