@@ -24,6 +24,10 @@ void fold_constants(Program& p);
 // never read.
 void remove_dead_stores(Program& p);
 
+// motors.cpp: removes motor commands (direction, on/off, power) that set
+// what the output already has, for outputs only one task commands.
+void remove_redundant_motor_commands(Program& p);
+
 // cfg.cpp: threads jumps through empty blocks, turns branches whose both
 // targets agree into jumps, and deletes blocks no path reaches (dead code
 // after unconditional jumps).
