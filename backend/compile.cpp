@@ -10,7 +10,7 @@ std::optional<Output> compile(ir::Program program, ir::OptLevel level, Diagnosti
   if (!ir::optimize(program, level, diags, log)) return std::nullopt;
   auto slots = ir::allocate_slots(program, diags);
   if (slots.empty() && !program.vars.empty()) return std::nullopt;
-  auto out = generate(program, slots, diags);
+  auto out = generate(program, slots, diags, GenerateOptions{level == ir::OptLevel::Os}, &log);
   if (out) log.push_back(fmt::format("{} bytes of code, {} variable slots", out->code_bytes, out->slots_used));
   return out;
 }
