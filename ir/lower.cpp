@@ -285,6 +285,11 @@ struct Lowerer {
       }
     }
     if (auto v = var_of(e); v && *v == d) return;
+    if (const auto* u = ast::as<ast::Unary>(e);
+        u && (u->op == ast::UnaryOp::Negate || u->op == ast::UnaryOp::BitNot)) {
+      auto operand = var_of(*u->operand);
+      if (operand && *operand == d) return unary(d, *u, e);  // x = -x: in place
+    }
     VarId t = temp();
     compute(t, e);
     set(d, Operand::var(t));

@@ -166,7 +166,56 @@ std::vector<int> function_touches(const Program& p) {
   return t;
 }
 
+// Whether any instruction can show an output's power or direction other
+// than by running the motor: raw bytes, motor state reads, the display.
+bool output_settings_visible(const Program& p) {
+  for (const auto& f : p.functions)
+    for (const auto& b : f.blocks)
+      for (const auto& in : b.instrs) {
+        if (in.raw || in.op == rcx::Op::SetDisplay) return true;
+        for (const auto& a : in.args)
+          if (a.kind == Operand::Kind::Src && a.source == 3) return true;
+      }
+  return false;
+}
+
+// Outputs some instruction switches on (or may: a code not known).
+int outputs_switched_on(const Program& p) {
+  int on = 0;
+  for (const auto& f : p.functions)
+    for (const auto& b : f.blocks)
+      for (const auto& in : b.instrs)
+        if (!in.raw && in.op == rcx::Op::SetMotorOnOff)
+          on |= in.args[0].is_imm() ? ((in.args[0].value & 0x80) ? (in.args[0].value & 7) : 0) : 7;
+  return on;
+}
+
 }  // namespace
+
+void trim_startup(Program& p) {
+  if (output_settings_visible(p)) return;
+  int on = outputs_switched_on(p);
+  for (auto& f : p.functions) {
+    if (f.startup == 0 || f.blocks.empty()) continue;
+    auto& instrs = f.blocks[0].instrs;
+    int kept = 0;
+    std::vector<Instr> out;
+    for (std::size_t i = 0; i < instrs.size(); ++i) {
+      bool startup = static_cast<int>(i) < f.startup;
+      if (startup && instrs[i].args[0].is_imm()) {
+        // Power and direction only matter for an output that ever runs.
+        int code = instrs[i].args[0].value;
+        int mask = code & 7 & on;
+        if (mask == 0) continue;
+        instrs[i].args[0].value = (code & ~7) | mask;
+      }
+      kept += startup ? 1 : 0;
+      out.push_back(std::move(instrs[i]));
+    }
+    instrs = std::move(out);
+    f.startup = kept;
+  }
+}
 
 void remove_redundant_motor_commands(Program& p) {
   MotorPass pass{p, function_touches(p), 0};

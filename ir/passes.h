@@ -27,6 +27,11 @@ void remove_dead_stores(Program& p);
 // motors.cpp: removes motor commands (direction, on/off, power) that set
 // what the output already has, for outputs only one task commands.
 void remove_redundant_motor_commands(Program& p);
+// Narrows main's startup code (all outputs full power, forward) to the
+// outputs the program ever switches on, and drops it when there are none:
+// an output's power and direction only show when it runs (unless the
+// program reads motor states, selects the display or uses raw asm).
+void trim_startup(Program& p);
 
 // peephole.cpp: within a block, runs of motor commands (with only
 // instructions between that neither read nor change outputs) become the

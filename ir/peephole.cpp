@@ -1,5 +1,6 @@
 // Merging of motor commands and dropping of sensor modes the type already
 // set (see passes.h).
+#include <algorithm>
 #include <map>
 
 #include "ir/passes.h"
@@ -68,10 +69,12 @@ std::vector<Instr> net_commands(const std::vector<const Instr*>& window) {
   return out;
 }
 
-void merge_block(Block& b) {
+// `first`: instructions before it stay as they are (main's startup code).
+void merge_block(Block& b, std::size_t first) {
   std::vector<Instr> result;
   std::size_t n = b.instrs.size();
-  for (std::size_t i = 0; i < n;) {
+  for (std::size_t i = 0; i < std::min(first, n); ++i) result.push_back(std::move(b.instrs[i]));
+  for (std::size_t i = std::min(first, n); i < n;) {
     if (!mergeable(b.instrs[i])) {
       result.push_back(std::move(b.instrs[i++]));
       continue;
@@ -122,7 +125,8 @@ void drop_default_modes(Block& b) {
 }  // namespace
 
 void merge_motor_commands(Function& f) {
-  for (auto& b : f.blocks) merge_block(b);
+  for (std::size_t b = 0; b < f.blocks.size(); ++b)
+    merge_block(f.blocks[b], b == 0 ? static_cast<std::size_t>(f.startup) : 0);
 }
 
 void drop_redundant_sensor_modes(Function& f) {
