@@ -24,4 +24,13 @@ std::optional<Output> compile_file(const std::string& path, const frontend::Opti
   return compile(std::move(*lowered), level, diags, log);
 }
 
+std::optional<Output> compile_source(const std::string& name, std::string text, const frontend::Options& options,
+                                     ir::OptLevel level, SourceManager& sm, Diagnostics& diags, ir::Log& log) {
+  auto program = frontend::parse_source(name, std::move(text), options, sm, diags);
+  if (!program) return std::nullopt;
+  auto lowered = ir::lower(*program, diags);
+  if (!lowered) return std::nullopt;
+  return compile(std::move(*lowered), level, diags, log);
+}
+
 }  // namespace rcxc::backend

@@ -19,4 +19,8 @@ std::optional<Output> compile(ir::Program program, ir::OptLevel level, Diagnosti
 std::optional<Output> compile_file(const std::string& path, const frontend::Options& options, ir::OptLevel level,
                                    SourceManager& sm, Diagnostics& diags, ir::Log& log);
 
+// The same for source text in memory (`name` for diagnostics and includes).
+std::optional<Output> compile_source(const std::string& name, std::string text, const frontend::Options& options,
+                                     ir::OptLevel level, SourceManager& sm, Diagnostics& diags, ir::Log& log);
+
 }  // namespace rcxc::backend

@@ -149,8 +149,10 @@ struct Lowerer {
       case ast::BinaryOp::Mod: return b == 0 ? wrap16(a) : wrap16(a - wrap16(a / b) * b);
       case ast::BinaryOp::Add: return wrap16(a + b);
       case ast::BinaryOp::Sub: return wrap16(a - b);
-      case ast::BinaryOp::Shl: return (b < 0 || b > 15) ? 0 : wrap16(a << b);
-      case ast::BinaryOp::Shr: return (b < 0 || b > 15) ? 0 : wrap16(static_cast<long>(static_cast<std::uint16_t>(a) >> b));
+      // Shift counts: negative shifts nothing, 16 or more shifts all out.
+      case ast::BinaryOp::Shl: return b < 0 ? wrap16(a) : b > 15 ? 0 : wrap16(a << b);
+      case ast::BinaryOp::Shr:
+        return b < 0 ? wrap16(a) : b > 15 ? 0 : wrap16(static_cast<long>(static_cast<std::uint16_t>(a) >> b));
       case ast::BinaryOp::Lt: return a < b;
       case ast::BinaryOp::Le: return a <= b;
       case ast::BinaryOp::Gt: return a > b;
