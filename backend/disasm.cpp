@@ -23,6 +23,23 @@ std::string operand_text(int source, int argument) {
 
 constexpr const char* kCompare[4] = {"<=", ">=", "!=", "=="};
 
+// Output bits 0x01/0x02/0x04 as letters, e.g. 0x05 -> "AC".
+std::string motors(int mask) {
+  std::string m;
+  for (int i = 0; i < 3; ++i)
+    if (mask & (1 << i)) m += static_cast<char>('A' + i);
+  return m.empty() ? "-" : m;
+}
+
+// The motor opcodes pack outputs and an action in one code byte (seed:
+// Set motor on/off, Set motor direction).
+std::string motor_code(rcx::Op op, int code) {
+  bool hi = code & 0x80, lo = code & 0x40;
+  const char* action = op == rcx::Op::SetMotorOnOff ? (hi ? "on" : lo ? "off" : "float")
+                                                    : (lo ? "flip" : hi ? "fwd" : "rev");
+  return motors(code) + ", " + action;
+}
+
 }  // namespace
 
 Instruction format_instruction(std::span<const std::uint8_t> code, int address) {
@@ -43,6 +60,10 @@ Instruction format_instruction(std::span<const std::uint8_t> code, int address) 
     return out;
   }
   out.size = d.size;
+  if (info->op == rcx::Op::SetMotorOnOff || info->op == rcx::Op::SetMotorDirection) {
+    out.text = fmt::format("{} {}", info->mnemonic, motor_code(info->op, d.v[0]));
+    return out;
+  }
   std::vector<std::string> parts;
   const auto& ops = info->operands;
   std::string compare_op;
@@ -70,7 +91,9 @@ Instruction format_instruction(std::span<const std::uint8_t> code, int address) 
         parts.push_back(fmt::format("{}", d.target));
         break;
       default:
-        if (o.count > 1) {  // a key: only ever the sole operand, so values start at i
+        if (info->op == rcx::Op::SetMotorPower && i == 0) {
+          parts.push_back(motors(value));
+        } else if (o.count > 1) {  // a key: only ever the sole operand, so values start at i
           std::string key;
           for (std::size_t k = i; k < i + o.count && k < d.v.size(); ++k) key += fmt::format("{}{}", key.empty() ? "" : " ", d.v[k]);
           parts.push_back("{" + key + "}");

@@ -81,6 +81,7 @@ yy::Parser::symbol_type next_token(Feed& feed) {
       return P::make_END(t.span);
     }
     ++feed.pos;
+    feed.prev_end = feed.pos >= 2 ? feed.tokens[feed.pos - 2].span.end : SourceLoc{};
     feed.last_text = t.text;
     bool mnemonic = t.kind == TokenKind::Identifier && is_mnemonic_position(feed, t);
     track_asm(feed, t);
@@ -114,7 +115,7 @@ yy::Parser::symbol_type next_token(Feed& feed) {
 }
 
 ast::Program parse_tokens(const std::vector<Token>& tokens, Diagnostics& diags) {
-  Feed feed{tokens, diags, {}, 0, {}, 0, false, 0};
+  Feed feed{tokens, diags, {}, 0, {}, {}, 0, false, 0};
   P parser(feed);
   parser.parse();
   return std::move(feed.program);

@@ -13,6 +13,7 @@
 %param {Feed& feed}
 
 %code requires {
+#include <algorithm>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -36,6 +37,7 @@ struct Feed {
   ast::Program program;
   std::size_t pos = 0;
   std::string last_text;     // spelling of the token just handed out
+  SourceLoc prev_end;        // end of the token before it
   // asm blocks: mnemonic lines start with an identifier at an item start.
   int asm_stage = 0;         // 0 none, 1 saw 'asm', 2 inside its braces
   bool asm_item_start = false;
@@ -99,9 +101,9 @@ Expr un(UnaryOp op, Expr a, const SourceSpan& s) { return mk(Unary{op, std::move
 %left '+' '-'
 %left '*' '/' '%'
 %right UNARY INC DEC
-%left '['
-%nonassoc LOWER_THAN_ELSE
-%nonassoc ELSE
+%precedence '['
+%precedence LOWER_THAN_ELSE
+%precedence ELSE
 
 %type <ast::Expr> expr
 %type <std::optional<ast::Expr>> expr_opt
@@ -172,7 +174,8 @@ param
   ;
 
 block
-  : '{' stmts '}'  { $$ = mks(Block{std::move($2)}, @$); }
+  : '{' stmts '}'        { $$ = mks(Block{std::move($2)}, @$); }
+  | '{' stmts error '}'  { $$ = mks(Block{std::move($2)}, @$); }
   ;
 
 stmts
@@ -346,26 +349,37 @@ void yy::Parser::error(const location_type& loc, const std::string& msg) {
   feed.diags.error(loc, msg);
 }
 
-// "expected ';' before 'x'"-style messages, naming up to four expected tokens.
+// gcc-like messages: "expected ';' before 'x'", naming what the grammar
+// wanted when that is short, or the most useful single expectation.
 void yy::Parser::report_syntax_error(const context& ctx) const {
   std::string found = ctx.token() == symbol_kind::S_YYEOF ? "end of file" : "'" + feed.last_text + "'";
-  symbol_kind_type expected[5];
-  int n = ctx.expected_tokens(expected, 5);
-  std::string msg;
-  if (n >= 1 && n <= 4) {
-    msg = "expected ";
-    for (int i = 0; i < n; ++i) {
-      if (i > 0) msg += i + 1 == n ? " or " : ", ";
-      std::string name = symbol_name(expected[i]);
-      // Punctuation arrives as 'x' or "xx"; show both as 'x'.
-      if (name.size() >= 2 && name.front() == '"' && name.back() == '"') name = "'" + name.substr(1, name.size() - 2) + "'";
-      msg += name;
-    }
-    msg += " before " + found;
-  } else {
-    msg = "syntax error at " + found;
+  symbol_kind_type expected[64];
+  int n = ctx.expected_tokens(expected, 64);
+  auto expects = [&](symbol_kind_type k) { return std::find(expected, expected + n, k) != expected + n; };
+  auto expects_punct = [&](std::string_view p) {
+    return std::any_of(expected, expected + n, [&](symbol_kind_type k) { return symbol_name(k) == p; });
+  };
+  auto shown = [&](symbol_kind_type k) {
+    std::string name = symbol_name(k);
+    // Punctuation arrives as 'x' or "xx"; show both as 'x'.
+    if (name.size() >= 2 && name.front() == '"' && name.back() == '"') name = "'" + name.substr(1, name.size() - 2) + "'";
+    return name;
+  };
+  std::string want;
+  SourceSpan where = ctx.location();
+  if (n >= 1 && n <= 3) {
+    for (int i = 0; i < n; ++i) want += (i == 0 ? "" : i + 1 == n ? " or " : ", ") + shown(expected[i]);
+  } else if (ctx.token() == symbol_kind::S_YYEOF && expects_punct("'}'")) {
+    want = "'}'";
+  } else if (expects(symbol_kind::S_NUMBER) && expects(symbol_kind::S_IDENT) && !expects(symbol_kind::S_TASK)) {
+    want = "an expression";
+  } else if (expects_punct("';'")) {
+    want = "';'";
+  } else if (expects_punct("')'")) {
+    want = "')'";
   }
-  feed.diags.error(ctx.location(), msg);
+  if (want.rfind("';'", 0) == 0 && feed.prev_end.valid()) where = {feed.prev_end, feed.prev_end};  // just after the statement
+  feed.diags.error(where, want.empty() ? "syntax error at " + found : "expected " + want + " before " + found);
 }
 
 }  // namespace rcxc::frontend

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <unordered_map>
 #include <unordered_set>
@@ -16,9 +17,12 @@ namespace fs = std::filesystem;
 
 constexpr std::size_t kMaxIncludeDepth = 64;
 constexpr std::size_t kMaxExpansionDepth = 200;
-// Total tokens macro expansion may produce in one compilation: far above any
-// real program, low enough that exponential macros stop in well under a second.
-constexpr std::size_t kMaxExpandedTokens = 4'000'000;
+// Tokens macro expansion may produce in one compilation: a base plus a
+// multiple of the tokens read from files. Far above what real programs need
+// (the stdlib's macros add a few tokens each), low enough that exponentially
+// growing macros stop in well under a second.
+constexpr std::size_t kExpansionBase = 500'000;
+constexpr std::size_t kExpansionPerInputToken = 32;
 constexpr const char* kStdlibName = "rcx.nqh";
 
 struct Macro {
@@ -55,18 +59,64 @@ struct Stream {
   bool reads_files = false;
 };
 
-std::vector<std::uint32_t> hide_union(const std::vector<std::uint32_t>& a, const std::vector<std::uint32_t>& b) {
-  std::vector<std::uint32_t> out;
-  std::set_union(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(out));
-  return out;
-}
+// Hide sets are interned: each distinct set of macro ids is stored once and
+// tokens carry its index, so expansion copies no vectors and set operations
+// are cached.
+class HideSets {
+ public:
+  HideSets() { sets_.emplace_back(); }
 
-std::vector<std::uint32_t> hide_intersection(const std::vector<std::uint32_t>& a,
-                                             const std::vector<std::uint32_t>& b) {
-  std::vector<std::uint32_t> out;
-  std::set_intersection(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(out));
-  return out;
-}
+  bool contains(std::uint32_t set, std::uint32_t macro) const {
+    const auto& v = sets_[set];
+    return std::binary_search(v.begin(), v.end(), macro);
+  }
+  std::uint32_t with(std::uint32_t set, std::uint32_t macro) {
+    std::vector<std::uint32_t> v = sets_[set];
+    auto at = std::lower_bound(v.begin(), v.end(), macro);
+    if (at != v.end() && *at == macro) return set;
+    v.insert(at, macro);
+    return intern(std::move(v));
+  }
+  std::uint32_t unite(std::uint32_t a, std::uint32_t b) {
+    if (a == b || b == 0) return a;
+    if (a == 0) return b;
+    return cached(union_cache_, a, b, [&] {
+      std::vector<std::uint32_t> v;
+      std::set_union(sets_[a].begin(), sets_[a].end(), sets_[b].begin(), sets_[b].end(), std::back_inserter(v));
+      return v;
+    });
+  }
+  std::uint32_t intersect(std::uint32_t a, std::uint32_t b) {
+    if (a == b) return a;
+    if (a == 0 || b == 0) return 0;
+    return cached(intersect_cache_, a, b, [&] {
+      std::vector<std::uint32_t> v;
+      std::set_intersection(sets_[a].begin(), sets_[a].end(), sets_[b].begin(), sets_[b].end(),
+                            std::back_inserter(v));
+      return v;
+    });
+  }
+
+ private:
+  std::vector<std::vector<std::uint32_t>> sets_;
+  std::map<std::vector<std::uint32_t>, std::uint32_t> index_;
+  std::unordered_map<std::uint64_t, std::uint32_t> union_cache_, intersect_cache_;
+
+  std::uint32_t intern(std::vector<std::uint32_t> v) {
+    auto [it, fresh] = index_.emplace(std::move(v), static_cast<std::uint32_t>(sets_.size()));
+    if (fresh) sets_.push_back(it->first);
+    return it->second;
+  }
+  template <class F>
+  std::uint32_t cached(std::unordered_map<std::uint64_t, std::uint32_t>& cache, std::uint32_t a, std::uint32_t b,
+                       F compute) {
+    std::uint64_t key = (static_cast<std::uint64_t>(a) << 32) | b;
+    if (auto it = cache.find(key); it != cache.end()) return it->second;
+    std::uint32_t id = intern(compute());
+    cache.emplace(key, id);
+    return id;
+  }
+};
 
 std::string spell(const std::vector<Token>& toks, std::size_t from = 0) {
   std::string s;
@@ -121,7 +171,9 @@ class Preprocessor {
   std::vector<OpenFile> files_;
   std::vector<Cond> conds_;
   std::unordered_set<std::string> reported_recursion_;
+  HideSets hide_sets_;
   std::size_t expanded_tokens_ = 0;
+  std::size_t input_tokens_ = 0;
   bool aborted_ = false;
   SourceSpan last_span_;
   Preprocessed out_;
@@ -161,6 +213,7 @@ class Preprocessor {
   void push_file(std::uint32_t file, const std::string& dir, const std::string& key) {
     OpenFile f;
     f.tokens = lex(sm_.text(file), file, diags_);
+    input_tokens_ += f.tokens.size();
     f.file = file;
     f.dir = dir;
     f.key = key;
@@ -241,7 +294,7 @@ class Preprocessor {
     if (it == defined_.end()) return false;
     std::uint32_t id = it->second;
     const Macro& m = macros_[id];
-    if (std::binary_search(t.hide.begin(), t.hide.end(), id)) {
+    if (hide_sets_.contains(t.hide, id)) {
       if (reported_recursion_.insert(m.name).second)
         diags_.error(t.span, "macro '" + m.name + "' is defined in terms of itself (recursive macros never end)");
       return false;
@@ -252,18 +305,18 @@ class Preprocessor {
       return false;
     }
     std::vector<std::vector<Token>> args;
-    std::vector<std::uint32_t> hide = t.hide;
+    std::uint32_t hide = t.hide;
     if (m.function_like) {
       if (!next_is_lparen(s)) return false;
       Token rparen;
       if (!collect_args(s, t, m, args, rparen)) return true;
-      hide = hide_intersection(t.hide, rparen.hide);
+      hide = hide_sets_.intersect(t.hide, rparen.hide);
     }
-    hide = hide_union(hide, {id});
+    hide = hide_sets_.with(hide, id);
     std::uint32_t exp = sm_.add_expansion({m.name, t.span});
     std::vector<Token> result = substitute(m, args, hide, exp, depth);
     expanded_tokens_ += result.size();
-    if (expanded_tokens_ > kMaxExpandedTokens) {
+    if (expanded_tokens_ > kExpansionBase + kExpansionPerInputToken * input_tokens_) {
       diags_.error(t.span, "macro expansion of '" + m.name + "' grows without bound");
       aborted_ = true;
       return true;
@@ -364,7 +417,7 @@ class Preprocessor {
   }
 
   std::vector<Token> substitute(const Macro& m, const std::vector<std::vector<Token>>& args,
-                                const std::vector<std::uint32_t>& hide, std::uint32_t exp, std::size_t depth) {
+                                std::uint32_t hide, std::uint32_t exp, std::size_t depth) {
     // Pass 1: each body token becomes a segment; parameters next to ## stay
     // unexpanded, other parameters are fully expanded first (as in C).
     struct Segment {
@@ -382,6 +435,7 @@ class Preprocessor {
       if (m.function_like && t.is("#") && i + 1 < body.size() && param_index(m, body[i + 1]) >= 0) {
         Token str = stringize(args[static_cast<std::size_t>(param_index(m, body[i + 1]))], t);
         str.span.begin.expansion = str.span.end.expansion = exp;
+        str.space_before = t.space_before;
         segs.push_back({{str}, false});
         ++i;
         continue;
@@ -417,7 +471,7 @@ class Preprocessor {
       last_empty = seg.toks.empty() && (paste_next ? last_empty : true);
       paste_next = false;
     }
-    for (auto& t : out) t.hide = hide_union(t.hide, hide);
+    for (auto& t : out) t.hide = hide_sets_.unite(t.hide, hide);
     return out;
   }
 

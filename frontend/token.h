@@ -28,8 +28,9 @@ struct Token {
   bool line_start = false;    // first token on its line (directives start so)
   bool space_before = false;  // whitespace precedes it (for # and -E output)
   // Macros that must not expand this token again (the "hide set" of the
-  // classic expansion algorithm), sorted macro ids.
-  std::vector<std::uint32_t> hide;
+  // classic expansion algorithm), as an id into the preprocessor's table of
+  // interned sets; 0 is the empty set.
+  std::uint32_t hide = 0;
 
   bool is(std::string_view punct) const { return kind == TokenKind::Punct && text == punct; }
   bool is_identifier(std::string_view name) const { return kind == TokenKind::Identifier && text == name; }

@@ -242,10 +242,7 @@ std::optional<Bytes> answer(Brick& b, std::span<const std::uint8_t> request) {
   if (b.vm.stop().kind == StopKind::PowerOff) return std::nullopt;
   // The same request in the same toggle form again: the host missed our
   // reply. Send it again without executing twice.
-  const Micros now = b.vm.now_us();
-  if (b.protocol.last_request && std::ranges::equal(*b.protocol.last_request, request) &&
-      now - b.protocol.last_request_us <= kRetransmitWindowUs) {
-    b.protocol.last_request_us = now;
+  if (b.protocol.last_request && std::ranges::equal(*b.protocol.last_request, request)) {
     ++b.counters.duplicates;
     return b.protocol.last_reply;
   }
@@ -255,7 +252,6 @@ std::optional<Bytes> answer(Brick& b, std::span<const std::uint8_t> request) {
     return std::nullopt;
   }
   b.protocol.last_request = Bytes(request.begin(), request.end());
-  b.protocol.last_request_us = now;
   b.protocol.last_reply = *reply;
   return reply;
 }

@@ -3,10 +3,11 @@
 //
 // `hear` takes bytes as the brick's IR receiver gets them and returns the
 // bytes it transmits (framed replies). The protocol state the machine does
-// not model lives here: the last request and its reply (a repeated request
-// in the same toggle form soon after is a retransmission and gets the same
-// reply without being executed again), the transfer-data block sequence, and
-// the firmware download.
+// not model lives here: the last request and its reply (the same request in
+// the same toggle form again is a retransmission and gets the same reply
+// without being executed again: hosts alternate the form between distinct
+// requests and start every session with Alive), the transfer-data block
+// sequence, and the firmware download.
 #pragma once
 
 #include <cstdint>
@@ -31,15 +32,9 @@ Bytes apply_noise(Noise& noise, std::span<const std::uint8_t> bytes);
 
 enum class DownloadTarget : std::uint8_t { None, Program, Firmware };
 
-// How long a reply stays cached for retransmissions. After that the same
-// request is new again: a second `rcxc remote run` a little later (a new host
-// starting with the same toggle form) must still start the program.
-inline constexpr Micros kRetransmitWindowUs = 1500 * kMicrosPerMs;
-
 struct BrickProtocol {
   std::optional<Bytes> last_request;  // last request that was answered
   Bytes last_reply;
-  Micros last_request_us = 0;         // when it came (virtual machine time)
   DownloadTarget target = DownloadTarget::None;
   int next_block = 1;                 // the sequence number expected next
   // Firmware download: the announced checksum and entry, the running sum.

@@ -45,9 +45,8 @@ void report_progress(Sender& s) {
 }
 
 // Sends one fragment's blocks after its Start download. Returns an error, or
-// nothing when every block was acknowledged. `restartable` says whether the
-// caller may restart the fragment.
-std::optional<DownloadError> send_blocks(Sender& s, const Fragment& f, bool& restartable) {
+// nothing when every block was acknowledged.
+std::optional<DownloadError> send_blocks(Sender& s, const Fragment& f) {
   std::size_t offset = 0;
   int sequence = 1;
   const std::size_t size = f.code.size();
@@ -56,22 +55,26 @@ std::optional<DownloadError> send_blocks(Sender& s, const Fragment& f, bool& res
     bool last = offset + n == size;
     auto data = std::span(f.code).subspan(offset, n);
     int before = s.link.stats.attempts;
+    const int retries = s.link.options.retries;
+    // Big blocks get few tries before the fragment restarts with smaller
+    // ones; the smallest blocks get every retry the link allows.
+    if (s.block > s.options.min_block) s.link.options.retries = std::min(retries, s.options.block_attempts - 1);
     auto r = transact(s.link, transfer_payload(last ? 0 : sequence, data));
+    s.link.options.retries = retries;
     if (auto* e = std::get_if<LinkError>(&r)) {
-      restartable = true;
       return DownloadError{DownloadFailure::LinkFailed, e->message};
     }
     int code = error_code(Op::TransferData, std::get<Bytes>(r));
     if (code != 0) {
-      restartable = true;
       return DownloadError{DownloadFailure::LinkFailed,
                            fmt::format("the RCX rejected block {} with error {}{}", sequence, code,
                                        code == kBlockChecksumError ? " (block checksum)" : "")};
     }
-    // Adapt: a block that needed retries means a noisy line, so shrink the
-    // next ones; a clean one lets them grow back.
+    // Adapt: a block that needed retries means a noisy line, so halve the
+    // next ones; a clean one lets them grow back, slowly.
     bool retried = s.link.stats.attempts - before > 1;
-    s.block = retried ? std::max(s.options.min_block, s.block / 2) : std::min(s.options.max_block, s.block * 2);
+    s.block = retried ? std::max(s.options.min_block, s.block / 2)
+                      : std::min(s.options.max_block, s.block + std::max(1, s.block / 4));
     offset += n;
     ++sequence;
     ++s.report.blocks;
@@ -97,12 +100,10 @@ std::optional<DownloadError> send_fragment(Sender& s, const Fragment& f) {
     if (code != 0)
       return DownloadError{DownloadFailure::BrickRefused,
                            fmt::format("the RCX refused {} {} (error {})", what, f.index, code)};
-    bool restartable = false;
-    last_error = send_blocks(s, f, restartable);
+    last_error = send_blocks(s, f);
     if (!last_error) return std::nullopt;
-    if (!restartable) return last_error;
     s.where.done = done_before;
-    s.block = s.options.min_block;
+    s.block = std::max(s.options.min_block, s.block / 4);
   }
   return last_error;
 }
@@ -116,6 +117,8 @@ std::optional<DownloadError> check_image(const Image& image, const DownloadOptio
       return DownloadError{DownloadFailure::BadInput, fmt::format("fragment {} is too large", f.index)};
   if (options.min_block < 1 || options.max_block < options.min_block || options.max_block > kMaxTransferBlock)
     return DownloadError{DownloadFailure::BadInput, "block sizes are out of range"};
+  if (options.block_attempts < 1 || options.fragment_attempts < 1)
+    return DownloadError{DownloadFailure::BadInput, "attempt counts must be at least 1"};
   return std::nullopt;
 }
 

@@ -24,7 +24,11 @@ struct DownloadOptions {
   bool run = false;         // start task 0 afterwards
   int max_block = 64;       // largest Transfer data block
   int min_block = 4;        // blocks shrink towards this on a noisy link
-  int fragment_attempts = 3;  // Start download restarts per fragment
+  // A block larger than min_block that fails this many times restarts its
+  // fragment with blocks a quarter the size: a block the brick may have taken
+  // cannot be resent smaller, but a fresh Start download can use any size.
+  int block_attempts = 8;
+  int fragment_attempts = 12;  // Start downloads per fragment
   bool sound = true;        // play the download-done sound
 };
 

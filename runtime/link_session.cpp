@@ -86,8 +86,19 @@ Link make_link(Transport& port, LinkOptions options) {
   return link;
 }
 
+// Sends Alive once per session before anything else (see Link::greeted).
+std::optional<LinkError> greet(Link& link, const Bytes& request) {
+  if (link.greeted) return std::nullopt;
+  link.greeted = true;
+  if (request_at(request[0]) == &info(Op::Alive)) return std::nullopt;
+  auto r = transact(link, Bytes{info(Op::Alive).code});
+  if (auto* e = std::get_if<LinkError>(&r)) return *e;
+  return std::nullopt;
+}
+
 std::variant<Bytes, LinkError> transact(Link& link, Bytes request) {
   if (request.empty()) return LinkError{"empty request", false};
+  if (auto e = greet(link, request)) return *e;
   request = with_toggle(std::move(request), link.toggle);
   link.toggle = !link.toggle;
   ++link.stats.requests;
@@ -127,6 +138,7 @@ std::variant<Bytes, LinkError> transact(Link& link, Bytes request) {
 
 std::variant<std::monostate, LinkError> send_only(Link& link, Bytes request) {
   if (request.empty()) return LinkError{"empty request", false};
+  if (auto e = greet(link, request)) return *e;
   ++link.stats.requests;
   const Bytes framed = frame(request);
   Attempt a = attempt_once(link, request, framed, wire_time(framed.size()) + link.options.reply_grace);

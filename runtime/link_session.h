@@ -39,6 +39,11 @@ struct Link {
   LinkOptions options;
   LinkStats stats;
   bool toggle = false;  // form of the next distinct request
+  // Every session starts with Alive: a brick answers a request equal to the
+  // last one it answered (same form) from its cache, and a new host starts
+  // with the same toggle form as the previous one did. Alive is harmless to
+  // repeat, and after it the next request is always new to the brick.
+  bool greeted = false;
   // Called with each rejection reason (for --verbose); may be empty.
   std::function<void(const std::string&)> on_rejected;
 };

@@ -329,7 +329,9 @@ void parse_directive(std::string_view text, int line, Spec& spec) {
     spec.inputs.push_back({at, need_input(c)});
     need_end(c);
   } else if (word == "expect") {
-    Expectation e{line, std::string(text), need_expect(c)};
+    std::string_view what = text.substr(space);
+    what.remove_prefix(std::min(what.find_first_not_of(" \t"), what.size()));
+    Expectation e{line, std::string(what), need_expect(c)};
     need_end(c);
     spec.expectations.push_back(std::move(e));
   } else if (word == "expect-error" || word == "expect-warning") {
