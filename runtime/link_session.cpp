@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 
 #include "runtime/opcodes.h"
 
@@ -72,6 +73,10 @@ Attempt attempt_once(Link& link, const Bytes& request, const Bytes& framed, Mill
   return result;
 }
 
+Millis line_time(const Link& link, std::size_t bytes) {
+  return Millis(static_cast<long>(std::ceil(static_cast<double>(bytes) * link.options.byte_seconds * 1000.0)));
+}
+
 std::string request_name(const Bytes& request) {
   const OpcodeInfo* op = request_at(request[0]);
   return op ? std::string(op->name) : fmt::format("request 0x{:02x}", request[0]);
@@ -106,7 +111,7 @@ std::variant<Bytes, LinkError> transact(Link& link, Bytes request) {
   auto reply_len = reply_size(request);
   if (auto* e = std::get_if<SizeError>(&reply_len)) return LinkError{e->reason, false};
   std::size_t reply_wire = 3 + 2 * static_cast<std::size_t>(std::get<int>(reply_len)) + 2;
-  Millis timeout = wire_time((link.port->echoes() ? framed.size() : 0) + reply_wire) + link.options.reply_grace;
+  Millis timeout = line_time(link, (link.port->echoes() ? framed.size() : 0) + reply_wire) + link.options.reply_grace;
 
   Millis backoff = link.options.backoff;
   bool heard = false, echoed = false;
@@ -141,7 +146,7 @@ std::variant<std::monostate, LinkError> send_only(Link& link, Bytes request) {
   if (auto e = greet(link, request)) return *e;
   ++link.stats.requests;
   const Bytes framed = frame(request);
-  Attempt a = attempt_once(link, request, framed, wire_time(framed.size()) + link.options.reply_grace);
+  Attempt a = attempt_once(link, request, framed, line_time(link, framed.size()) + link.options.reply_grace);
   if (a.fatal) return LinkError{a.fatal->message, false};
   return std::monostate{};
 }
