@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 
 #include "runtime/opcodes.h"
@@ -45,8 +46,12 @@ Attempt attempt_once(Link& link, const Bytes& request, const Bytes& framed, Mill
   Decoder decoder = reply_decoder(request);
   const bool expects_reply = request_at(request[0]) != nullptr && request_at(request[0])->replies;
   if (!expects_reply && echo_left == 0) return result;
+  // One deadline for the whole reply: a line that trickles bytes must not
+  // stretch the wait forever.
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
   while (true) {
-    auto got = link.port->read(timeout);
+    auto left = std::chrono::duration_cast<Millis>(deadline - std::chrono::steady_clock::now());
+    auto got = link.port->read(std::max(left, Millis(0)));
     if (auto* err = std::get_if<TransportError>(&got)) {
       result.fatal = *err;
       return result;
