@@ -1,17 +1,93 @@
+// `rcxc compile`: runs the frontend (preprocessor, parser, checks) on an NQC
+// file and reports its diagnostics; with -E prints the preprocessed text.
 #include <iostream>
+#include <memory>
 
 #include "cli/commands.h"
+#include "frontend/frontend.h"
 
 namespace rcxc::cli {
+namespace {
+
+struct CompileArgs {
+  std::string file;
+  std::string output;
+  std::vector<std::string> include_dirs;
+  std::vector<std::string> defines;
+  std::vector<std::string> undefines;
+  std::vector<std::string> warning_flags;  // -Werror
+  std::string diagnostics = "text";
+  std::string optimize = "s";
+  bool no_stdlib = false;
+  bool preprocess_only = false;
+  bool no_warnings = false;
+};
+
+frontend::Options frontend_options(const CompileArgs& a) {
+  frontend::Options o;
+  o.include_dirs = a.include_dirs;
+  for (const auto& d : a.defines) {
+    auto eq = d.find('=');
+    if (eq == std::string::npos)
+      o.defines.emplace_back(d, "1");
+    else
+      o.defines.emplace_back(d.substr(0, eq), d.substr(eq + 1));
+  }
+  o.undefines = a.undefines;
+  o.no_stdlib = a.no_stdlib;
+  return o;
+}
+
+void print_diagnostics(const Diagnostics& diags, const SourceManager& sm, bool json) {
+  for (const auto& d : diags.all()) std::cerr << (json ? render_json(d, sm) + "\n" : render_text(d, sm));
+}
+
+int run_compile(const CompileArgs& a) {
+  SourceManager sm;
+  Diagnostics diags;
+  for (const auto& w : a.warning_flags) {
+    if (w != "error") {
+      std::cerr << "rcxc compile: unknown warning option '-W" << w << "' (only -Werror exists)\n";
+      return kExitUsage;
+    }
+    diags.warnings_as_errors = true;
+  }
+  diags.suppress_warnings = a.no_warnings;
+  bool json = a.diagnostics == "json";
+  frontend::Options options = frontend_options(a);
+  if (a.preprocess_only) {
+    auto text = frontend::preprocess_file(a.file, options, sm, diags);
+    print_diagnostics(diags, sm, json);
+    if (!text) return kExitFailure;
+    std::cout << *text;
+    return kExitOk;
+  }
+  auto program = frontend::parse_program(a.file, options, sm, diags);
+  print_diagnostics(diags, sm, json);
+  if (!program) return kExitFailure;
+  std::cerr << "rcxc compile: code generation is not part of this build yet\n";
+  return kExitFailure;
+}
+
+}  // namespace
 
 void register_compile(CLI::App& app, int& exit_code) {
   auto* cmd = app.add_subcommand("compile", "Compile an NQC program to an .rcx image");
-  auto file = std::make_shared<std::string>();
-  cmd->add_option("FILE", *file, "NQC source file")->required();
-  cmd->callback([&exit_code, file] {
-    std::cerr << "rcxc compile: the compiler is not part of this build yet\n";
-    exit_code = kExitFailure;
-  });
+  auto args = std::make_shared<CompileArgs>();
+  cmd->add_option("FILE", args->file, "NQC source file")->required();
+  cmd->add_option("-o,--output", args->output, "Output .rcx image");
+  cmd->add_option("-I", args->include_dirs, "Add a folder to the #include search path");
+  cmd->add_option("-D", args->defines, "Define a macro: -DNAME or -DNAME=VALUE");
+  cmd->add_option("-U", args->undefines, "Undefine a macro");
+  cmd->add_flag("-n", args->no_stdlib, "Do not read the standard library rcx.nqh");
+  cmd->add_flag("-E", args->preprocess_only, "Print the preprocessed source and stop");
+  cmd->add_option("-W", args->warning_flags, "-Werror: treat warnings as errors");
+  cmd->add_flag("-w", args->no_warnings, "Do not report warnings");
+  cmd->add_option("-O", args->optimize, "Optimisation: -O0, -O1 or -Os (default)")
+      ->check(CLI::IsMember({"0", "1", "s"}));
+  cmd->add_option("--diagnostics", args->diagnostics, "Diagnostics format: text (default) or json")
+      ->check(CLI::IsMember({"text", "json"}));
+  cmd->callback([&exit_code, args] { exit_code = run_compile(*args); });
 }
 
 }  // namespace rcxc::cli

@@ -1,6 +1,10 @@
+// `rcxc disasm FILE.rcx`: lists every task and subroutine of an image.
 #include <iostream>
+#include <variant>
 
+#include "backend/disasm.h"
 #include "cli/commands.h"
+#include "runtime/image.h"
 
 namespace rcxc::cli {
 
@@ -9,8 +13,14 @@ void register_disasm(CLI::App& app, int& exit_code) {
   auto file = std::make_shared<std::string>();
   cmd->add_option("FILE", *file, ".rcx image")->required();
   cmd->callback([&exit_code, file] {
-    std::cerr << "rcxc disasm: the disassembler is not part of this build yet\n";
-    exit_code = kExitFailure;
+    auto image = rcx::read_image_file(*file);
+    if (auto* e = std::get_if<rcx::ImageError>(&image)) {
+      std::cerr << "rcxc disasm: " << e->message << "\n";
+      exit_code = kExitFailure;
+      return;
+    }
+    std::cout << backend::disassemble(std::get<rcx::Image>(image));
+    exit_code = kExitOk;
   });
 }
 

@@ -1,17 +1,115 @@
+// `rcxc run FILE`: runs a program on the emulator in virtual time and prints
+// a timeline, or a JSON report, and optionally writes a trace file.
+#include <fmt/format.h>
+
+#include <fstream>
 #include <iostream>
+#include <variant>
 
 #include "cli/commands.h"
+#include "runtime/image.h"
+#include "runtime/report.h"
+#include "runtime/scenario.h"
+#include "runtime/vm.h"
 
 namespace rcxc::cli {
+namespace {
+
+struct RunOptions {
+  std::string file;
+  std::string scenario;
+  std::int64_t for_ms = 60'000;
+  std::uint64_t seed = 1;
+  std::string report;
+  std::string trace;
+  std::int64_t instruction_us = rcx::kDefaultInstructionCostUs;
+};
+
+bool ends_with(const std::string& s, std::string_view suffix) {
+  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+// The one place a FILE becomes a program image. `.nqc` sources will be
+// compiled in memory here once the compiler exists.
+std::variant<rcx::Image, std::string> load_program(const std::string& path) {
+  if (ends_with(path, ".nqc")) return fmt::format("{}: compiling .nqc needs the compiler, which is not part of this build yet", path);
+  auto image = rcx::read_image_file(path);
+  if (auto* e = std::get_if<rcx::ImageError>(&image)) return e->message;
+  return std::get<rcx::Image>(std::move(image));
+}
+
+bool write_file(const std::string& path, const std::string& text) {
+  std::ofstream out(path, std::ios::binary);
+  out << text;
+  return static_cast<bool>(out);
+}
+
+int run(const RunOptions& o) {
+  if (!o.trace.empty() && !ends_with(o.trace, ".vcd") && !ends_with(o.trace, ".json")) {
+    std::cerr << "rcxc run: --trace file must end in .vcd or .json: " << o.trace << "\n";
+    return kExitUsage;
+  }
+  auto loaded = load_program(o.file);
+  if (auto* e = std::get_if<std::string>(&loaded)) {
+    std::cerr << "rcxc run: " << *e << "\n";
+    return kExitFailure;
+  }
+  const rcx::Image& image = std::get<rcx::Image>(loaded);
+  std::vector<rcx::TimedInput> inputs;
+  if (!o.scenario.empty()) {
+    auto parsed = rcx::read_scenario_file(o.scenario);
+    if (auto* e = std::get_if<rcx::ScenarioError>(&parsed)) {
+      std::cerr << "rcxc run: " << e->message << "\n";
+      return kExitFailure;
+    }
+    inputs = std::get<std::vector<rcx::TimedInput>>(std::move(parsed));
+  }
+  rcx::Config config;
+  config.seed = o.seed;
+  config.instruction_cost_us = o.instruction_us;
+  config.trace_variables = ends_with(o.trace, ".vcd");
+  rcx::Machine machine(config);
+  if (auto error = machine.load(0, image)) {
+    std::cerr << "rcxc run: " << o.file << ": " << *error << "\n";
+    return kExitFailure;
+  }
+  if (!image.find(rcx::FragmentType::Task, 0)) std::cerr << "rcxc run: warning: " << o.file << " has no task 0 to start\n";
+  for (const auto& in : inputs) machine.schedule(in);
+  machine.start_program();
+  machine.run(o.for_ms * rcx::kMicrosPerMs);
+
+  if (o.report == "json")
+    std::cout << rcx::report_json(machine, image).dump(2) << "\n";
+  else
+    std::cout << rcx::timeline_text(machine, image);
+  if (!o.trace.empty()) {
+    std::string text = ends_with(o.trace, ".vcd") ? rcx::trace_vcd(machine, image) : rcx::trace_json(machine, image).dump(2) + "\n";
+    if (!write_file(o.trace, text)) {
+      std::cerr << "rcxc run: cannot write trace file " << o.trace << "\n";
+      return kExitFailure;
+    }
+  }
+  if (machine.stop().kind == rcx::StopKind::Fault) {
+    if (o.report == "json") std::cerr << "rcxc run: the program faulted: " << machine.stop().fault->message << "\n";
+    return kExitFailure;
+  }
+  return kExitOk;
+}
+
+}  // namespace
 
 void register_run(CLI::App& app, int& exit_code) {
   auto* cmd = app.add_subcommand("run", "Run a program on the RCX emulator in virtual time");
-  auto file = std::make_shared<std::string>();
-  cmd->add_option("FILE", *file, ".rcx image or .nqc source")->required();
-  cmd->callback([&exit_code, file] {
-    std::cerr << "rcxc run: the emulator is not part of this build yet\n";
-    exit_code = kExitFailure;
-  });
+  auto o = std::make_shared<RunOptions>();
+  cmd->add_option("FILE", o->file, ".rcx image (or .nqc source once the compiler exists)")->required();
+  cmd->add_option("--scenario", o->scenario, "TOML file of timed inputs ([[input]] tables)");
+  cmd->add_option("--for", o->for_ms, "virtual time limit in ms (default 60000)")->check(CLI::Range(int64_t{1}, int64_t{1} << 40));
+  cmd->add_option("--seed", o->seed, "seed of the random source (default 1)");
+  cmd->add_option("--report", o->report, "print a report instead of the timeline: json")->check(CLI::IsMember({"json"}));
+  cmd->add_option("--trace", o->trace, "write a trace: F.vcd (GTKWave) or F.json (events)");
+  cmd->add_option("--instruction-us", o->instruction_us, "virtual cost of one instruction in microseconds (default 2000)")
+      ->check(CLI::Range(int64_t{1}, int64_t{1'000'000}));
+  cmd->callback([&exit_code, o] { exit_code = run(*o); });
 }
 
 }  // namespace rcxc::cli

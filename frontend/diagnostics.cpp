@@ -28,6 +28,25 @@ std::string_view SourceManager::line(std::uint32_t file, std::uint32_t line) con
   return sv;
 }
 
+std::uint32_t SourceManager::add_expansion(MacroExpansion e) {
+  expansions_.push_back(std::move(e));
+  return static_cast<std::uint32_t>(expansions_.size());
+}
+
+std::vector<Note> SourceManager::expansion_notes(const SourceLoc& loc) const {
+  std::vector<Note> notes;
+  std::uint32_t id = loc.expansion;
+  // Chains are finite (each expansion's site was created before it), but a
+  // bound keeps a corrupted table from looping.
+  for (std::size_t guard = 0; id != 0 && id <= expansions_.size() && guard < 256; ++guard) {
+    const MacroExpansion& e = expansions_[id - 1];
+    notes.push_back({e.site, "in expansion of macro '" + e.macro + "'"});
+    if (e.site.begin.expansion >= id) break;
+    id = e.site.begin.expansion;
+  }
+  return notes;
+}
+
 std::string_view severity_name(Severity s) {
   switch (s) {
     case Severity::Note: return "note";
@@ -101,12 +120,24 @@ nlohmann::json location_json(const SourceSpan& span, const SourceManager& sm) {
   return j;
 }
 
+// The diagnostic's own notes, each preceded by the macro expansions that
+// led to its location, and the expansions of the main location first.
+std::vector<Note> all_notes(const Diagnostic& d, const SourceManager& sm) {
+  std::vector<Note> notes = sm.expansion_notes(d.span.begin);
+  for (const auto& n : d.notes) {
+    notes.push_back(n);
+    auto more = sm.expansion_notes(n.span.begin);
+    notes.insert(notes.end(), more.begin(), more.end());
+  }
+  return notes;
+}
+
 }  // namespace
 
 std::string render_text(const Diagnostic& d, const SourceManager& sm) {
   std::string out;
   render_one(out, d.severity, d.span, d.message, sm);
-  for (const auto& n : d.notes) render_one(out, Severity::Note, n.span, n.message, sm);
+  for (const auto& n : all_notes(d, sm)) render_one(out, Severity::Note, n.span, n.message, sm);
   return out;
 }
 
@@ -115,7 +146,7 @@ std::string render_json(const Diagnostic& d, const SourceManager& sm) {
   j["severity"] = severity_name(d.severity);
   j["message"] = d.message;
   j["notes"] = nlohmann::json::array();
-  for (const auto& n : d.notes) {
+  for (const auto& n : all_notes(d, sm)) {
     nlohmann::json nj = location_json(n.span, sm);
     nj["message"] = n.message;
     j["notes"].push_back(std::move(nj));

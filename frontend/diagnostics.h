@@ -10,11 +10,15 @@
 namespace rcxc {
 
 // A position in a source file. Lines and columns count from 1; column counts
-// bytes. `file` is an index into SourceManager's file table.
+// bytes. `file` is an index into SourceManager's file table. `expansion` is 0
+// for text read directly from a file; for a token that came out of a macro's
+// body it is 1 + the index of that expansion in SourceManager::expansions(),
+// and the position is where the token is spelled in the #define.
 struct SourceLoc {
   std::uint32_t file = 0;
   std::uint32_t line = 0;
   std::uint32_t column = 0;
+  std::uint32_t expansion = 0;
   bool valid() const { return line != 0; }
 };
 
@@ -22,6 +26,18 @@ struct SourceLoc {
 struct SourceSpan {
   SourceLoc begin;
   SourceLoc end;
+};
+
+struct Note {
+  SourceSpan span;
+  std::string message;
+};
+
+// One use of a macro: which macro, and where it was used (the use itself may
+// lie inside another expansion, making a chain back to the user's text).
+struct MacroExpansion {
+  std::string macro;
+  SourceSpan site;
 };
 
 // Owns the text of every file read during one compilation, so diagnostics can
@@ -35,6 +51,14 @@ class SourceManager {
   // The text of line `line` of `file`, without its newline ("" if out of range).
   std::string_view line(std::uint32_t file, std::uint32_t line) const;
 
+  // Macro expansions, so diagnostics can say "in expansion of macro X".
+  // Returns the value to store in SourceLoc::expansion (1-based).
+  std::uint32_t add_expansion(MacroExpansion e);
+  const MacroExpansion& expansion(std::uint32_t id) const { return expansions_.at(id - 1); }
+  std::size_t expansion_count() const { return expansions_.size(); }
+  // The notes "in expansion of macro X" for a location, innermost first.
+  std::vector<Note> expansion_notes(const SourceLoc& loc) const;
+
  private:
   struct File {
     std::string path;
@@ -42,15 +66,11 @@ class SourceManager {
     std::vector<std::size_t> line_starts;
   };
   std::vector<File> files_;
+  std::vector<MacroExpansion> expansions_;
 };
 
 enum class Severity : std::uint8_t { Note, Warning, Error };
 std::string_view severity_name(Severity s);
-
-struct Note {
-  SourceSpan span;
-  std::string message;
-};
 
 struct Diagnostic {
   Severity severity = Severity::Error;

@@ -2,6 +2,9 @@
 
 #include <fmt/format.h>
 
+#include <fstream>
+#include <iterator>
+
 namespace rcx {
 
 const Fragment* Image::find(FragmentType type, int index) const {
@@ -141,6 +144,16 @@ std::vector<std::uint8_t> write_image(const Image& image) {
     u8(0);
   }
   return out;
+}
+
+std::variant<Image, ImageError> read_image_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return ImageError{fmt::format("{}: cannot open file", path)};
+  std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad()) return ImageError{fmt::format("{}: read error", path)};
+  auto result = read_image(bytes);
+  if (auto* e = std::get_if<ImageError>(&result)) e->message = fmt::format("{}: {}", path, e->message);
+  return result;
 }
 
 }  // namespace rcx

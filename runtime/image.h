@@ -47,5 +47,7 @@ struct ImageError {
 
 std::variant<Image, ImageError> read_image(std::span<const std::uint8_t> bytes);
 std::vector<std::uint8_t> write_image(const Image& image);
+// Reads and parses an .rcx file; the error names the file.
+std::variant<Image, ImageError> read_image_file(const std::string& path);
 
 }  // namespace rcx

@@ -73,6 +73,17 @@ std::vector<std::uint8_t> encode_reply(std::span<const Operand> layout, std::spa
   return out;
 }
 
+// The first source operand outside its allowed set, or -1. Operand values
+// are in table order (fixed-size opcodes with sources have count-1 fields).
+int disallowed_source(const OpcodeInfo& info, const std::array<int, 5>& v) {
+  for (std::size_t i = 0; i < info.operands.size() && i < v.size(); ++i) {
+    const Operand& o = info.operands[i];
+    int source = o.role == Role::OpSource ? (v[i] & 0x0f) : v[i];
+    if ((o.role == Role::Source || o.role == Role::OpSource) && !allows(o.allowed, source)) return source;
+  }
+  return -1;
+}
+
 }  // namespace
 
 Decoded decode_command(std::span<const std::uint8_t> code, int address) {
@@ -100,13 +111,7 @@ Decoded decode_command(std::span<const std::uint8_t> code, int address) {
       at += field_size(operand.type);
     }
   }
-  // Sources outside the operand's allowed set cannot run.
-  for (std::size_t i = 0; i < info->operands.size() && i < d.v.size(); ++i) {
-    const Operand& o = info->operands[i];
-    int source = o.role == Role::OpSource ? (d.v[i] & 0x0f) : d.v[i];
-    if ((o.role == Role::Source || o.role == Role::OpSource) && !allows(o.allowed, source))
-      d.error = static_cast<std::uint8_t>(DecodeError::BadSource);
-  }
+  if (disallowed_source(*info, d.v) >= 0) d.error = static_cast<std::uint8_t>(DecodeError::BadSource);
   if (offset_index >= 0) d.target = branch_target(d.op, offset_at, d.v, offset_index);
   return d;
 }
@@ -674,18 +679,25 @@ bool Machine::shared_command(Op op, const std::array<int, 5>& v, int& error_code
 
 // ------------------------------------------------------------ execution
 
-// Runs one instruction of `task` at now_us_.
-void Machine::step(int task) {
+// Runs one instruction of `task` at now_us_; false if none ran (the task
+// ended without executing anything, which takes no time).
+bool Machine::step(int task) {
   TaskState& t = tasks_[static_cast<std::size_t>(task)];
   const std::vector<std::uint8_t>* code = code_of(task, t);
   if (code == nullptr) {  // the code vanished under the task (deleted)
     end_task(task);
-    return;
+    return false;
   }
   int size = static_cast<int>(code->size());
-  if (t.pc >= size) {  // ran off the end: a task ends, a subroutine returns
-    if (t.sub < 0) end_task(task); else do_return(task, t);
-    return;
+  if (t.pc >= size) {
+    // Running off a task's end ends it at once; a subroutine ends in the
+    // return opcode the firmware appends, which costs an instruction.
+    if (t.sub < 0) {
+      end_task(task);
+      return false;
+    }
+    do_return(task, t);
+    return true;
   }
   auto& cache = decoded_[static_cast<std::size_t>(t.sub < 0 ? task : kMaxTasks + t.sub)];
   if (cache.size() != code->size()) cache.assign(code->size(), Decoded{});
@@ -694,7 +706,7 @@ void Machine::step(int task) {
   int opcode = (*code)[static_cast<std::size_t>(t.pc)];
   if (d.error != 0) {
     fault(task, t, opcode, to_string(static_cast<DecodeError>(d.error)));
-    return;
+    return true;
   }
   auto jump = [&](int target) {
     if (target < 0 || target > size) {
@@ -708,19 +720,19 @@ void Machine::step(int task) {
     case Op::BranchAlwaysNear:
     case Op::BranchAlwaysFar:
       jump(d.target);
-      return;
+      return true;
     case Op::TestAndBranchNear:
     case Op::TestAndBranchFar: {
       int a = value_of(v[0] & 0x0f, v[2]);
       int b = value_of(v[1], v[3]);
       if (compare(v[0] >> 6, a, b)) jump(d.target); else t.pc += d.size;
-      return;
+      return true;
     }
     case Op::SetLoopCounter: {
       if (t.loop_depth < kLoopDepth) ++t.loop_depth;  // a 5th push overwrites the top
       t.loops[static_cast<std::size_t>(t.loop_depth - 1)] = value_of(v[0], v[1]);
       t.pc += d.size;
-      return;
+      return true;
     }
     case Op::DecrementLoopCounterNear:
     case Op::DecrementLoopCounterFar: {
@@ -731,46 +743,46 @@ void Machine::step(int task) {
       } else {
         t.pc += d.size;
       }
-      return;
+      return true;
     }
     case Op::CallSubroutine: {
       t.pc += d.size;
       int s = v[0];
       if (s < 0 || s >= kMaxSubroutines || !slots_[static_cast<std::size_t>(state_.program)].subs[static_cast<std::size_t>(s)])
-        return;  // undefined subroutine: nothing happens
+        return true;  // undefined subroutine: nothing happens
       t.return_sub = t.sub;
       t.return_pc = t.pc;
       t.call_depth = t.call_depth == 0 ? 1 : 2;
       t.sub = s;
       t.pc = 0;
-      return;
+      return true;
     }
     case Op::ReturnFromSubroutine:
       do_return(task, t);
-      return;
+      return true;
     case Op::Wait: {
       int ticks = std::max(value_of(v[0], v[1]), 0);
       t.pc += d.size;
       t.wake_us = now_us_ + ticks * kTickUs;
-      return;
+      return true;
     }
     case Op::SendMessage: {
       t.pc += d.size;
       Event e{now_us_, EventKind::MessageSent};
       e.value = value_of(v[0], v[1]) & 0xff;
       emit(e);
-      return;
+      return true;
     }
     case Op::ClearMessage:
       t.pc += d.size;
       state_.message = 0;
-      return;
+      return true;
     default: {
       // Advance first: the opcode may restart, stop or delete this very task.
       t.pc += d.size;
       int error_code = 0;
       shared_command(d.op, v, error_code);
-      return;
+      return true;
     }
   }
 }
@@ -802,11 +814,10 @@ void Machine::apply(const Input& input) {
     state_.battery_mv = b->millivolts;
     return;
   }
-  int sensor = std::visit([](const auto& x) {
-    if constexpr (requires { x.sensor; }) return x.sensor; else return 0;
-  }, input);
   Event e{now_us_, EventKind::Sensor};
-  e.index = sensor, e.value = sensor_value(sensor);
+  if (auto* s = std::get_if<SensorRawInput>(&input))
+    e.index = s->sensor, e.value = state_.sensors[static_cast<std::size_t>(s->sensor)].raw, e.type = 0;
+  if (auto* r = std::get_if<RotationInput>(&input)) e.index = r->sensor, e.value = r->position, e.type = 1;
   emit(e);
 }
 
@@ -845,8 +856,7 @@ void Machine::loop(Micros until_us, bool stop_when_idle) {
       now_us_ = std::max(next, now_us_);
       continue;
     }
-    step(chosen);
-    now_us_ += cost;
+    if (step(chosen)) now_us_ += cost;
     next_task_ = chosen + 1 == kMaxTasks ? 0 : chosen + 1;
   }
 }
@@ -893,6 +903,8 @@ DirectReply Machine::execute_direct(std::span<const std::uint8_t> bytes) {
       at += field_size(operand.type);
       if (n < v.size()) v[n++] = x;
     }
+  if (int source = disallowed_source(*info, v); source >= 0)
+    return {false, {}, fmt::format("{}: source {} is not allowed", info->name, source)};
   r.ok = true;
   int error_code = 0;
   switch (info->op) {

@@ -105,7 +105,7 @@ enum class EventKind : std::uint8_t {
   Datalog,     // entry `type`/`value` added
   TaskStart,   // task `index` started
   TaskStop,    // task `index` stopped (ended, stopped or killed)
-  Sensor,      // an input changed sensor `index`: `value` = its new value
+  Sensor,      // an input reached sensor `index`: `value` = raw (type 0) or rotation position (type 1)
   Variable,    // variable `index` set to `value` (only with Config::trace_variables)
 };
 
@@ -302,7 +302,7 @@ class Machine {
   void stop_everything();
   void halt(StopKind kind);
   void loop(Micros until_us, bool stop_when_idle);
-  void step(int task);
+  bool step(int task);
   void do_return(int task, TaskState& t);
   const std::vector<std::uint8_t>* code_of(int task, const TaskState& t) const;
   void invalidate_code();

@@ -1,0 +1,426 @@
+// The typed syntax tree of an NQC program: what the parser builds, semantic
+// analysis annotates (name resolution, constant values, switch cases), and
+// IR lowering consumes.
+//
+// Contract for consumers (lowering):
+//  - Every node carries a SourceSpan for diagnostics.
+//  - Nodes are plain values: `Box<T>` is a deep-copying owning pointer, so a
+//    whole Program (or one inline function body) can be copied freely, e.g.
+//    to substitute parameters at an inline call site.
+//  - After `frontend::check` (sema.h) succeeded, every `Name` has `symbol`
+//    set, every Call/Start/Stop/Goto names its target symbol, every
+//    expression that is a compile-time constant has `constant` set (16-bit
+//    wrapped), each `Switch` lists its cases, and every `AsmInstr` has `op`.
+//  - This header only grows: fields are added, never renamed or removed.
+#pragma once
+
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <string>
+#include <utility>
+#include <variant>
+#include <vector>
+
+#include "frontend/diagnostics.h"
+#include "runtime/opcodes.h"
+
+namespace rcxc::ast {
+
+// An owning pointer with value semantics: copying a Box copies the pointee.
+// Used where the tree recurses (an expression holds expressions).
+template <class T>
+class Box {
+ public:
+  Box() : p_(std::make_unique<T>()) {}
+  Box(T value) : p_(std::make_unique<T>(std::move(value))) {}  // NOLINT: implicit by design
+  Box(const Box& o) : p_(std::make_unique<T>(*o.p_)) {}
+  Box(Box&&) noexcept = default;
+  Box& operator=(const Box& o) {
+    if (this != &o) p_ = std::make_unique<T>(*o.p_);
+    return *this;
+  }
+  Box& operator=(Box&&) noexcept = default;
+  ~Box() = default;
+
+  T& operator*() { return *p_; }
+  const T& operator*() const { return *p_; }
+  T* operator->() { return p_.get(); }
+  const T* operator->() const { return p_.get(); }
+  T* get() { return p_.get(); }
+  const T* get() const { return p_.get(); }
+
+ private:
+  std::unique_ptr<T> p_;  // never null except after being moved from
+};
+
+// ---------------------------------------------------------------- symbols --
+
+// Index into Program::symbols. Filled by semantic analysis.
+using SymbolId = std::uint32_t;
+inline constexpr SymbolId kNoSymbol = std::numeric_limits<SymbolId>::max();
+
+enum class SymbolKind : std::uint8_t {
+  Global,    // `int x;` at file scope; index = position in Program::globals
+  Local,     // `int x;` in a block; owner = enclosing task/sub/function
+  Param,     // inline function parameter; owner = the function; index = position
+  Task,      // index = position in Program::tasks
+  Sub,       // index = position in Program::subs
+  Function,  // inline `void` function; index = position in Program::functions
+  Label,     // goto target; owner = enclosing task/sub/function
+};
+
+// The four parameter kinds of an inline function.
+enum class ParamKind : std::uint8_t {
+  Value,          // `int x`: fresh variable initialised from the argument
+  Const,          // `const int x`: the argument must be a compile-time constant
+  Reference,      // `int &x`: the argument must be a variable (aliased)
+  ConstReference  // `const int &x`: the argument expression is substituted
+};
+
+struct Symbol {
+  SymbolKind kind = SymbolKind::Global;
+  std::string name;
+  SourceSpan span;                 // the declaring name
+  std::uint32_t index = 0;         // see SymbolKind
+  SymbolId owner = kNoSymbol;      // Local/Param/Label: the task/sub/function
+  ParamKind param_kind = ParamKind::Value;  // Param only
+  bool used = false;               // read or referenced anywhere
+};
+
+// ------------------------------------------------------------ expressions --
+
+struct Expr;
+using ExprBox = Box<Expr>;
+
+// An integer literal, `true`/`false` and character literals included.
+// `value` is the literal as written (may exceed 16 bits; sema warns/wraps).
+struct IntLit {
+  std::int64_t value = 0;
+};
+
+// A use of a variable or parameter (or, wrongly, of a task/sub/function).
+struct Name {
+  std::string name;
+  SymbolId symbol = kNoSymbol;
+};
+
+enum class UnaryOp : std::uint8_t {
+  Negate,   // -x
+  BitNot,   // ~x
+  LogNot,   // !x
+  Plus,     // +x
+  PreInc,   // ++x
+  PreDec,   // --x
+  PostInc,  // x++
+  PostDec,  // x--
+};
+
+struct Unary {
+  UnaryOp op = UnaryOp::Negate;
+  ExprBox operand;
+};
+
+enum class BinaryOp : std::uint8_t {
+  Mul, Div, Mod, Add, Sub, Shl, Shr,
+  Lt, Le, Gt, Ge, Eq, Ne,
+  BitAnd, BitXor, BitOr, LogAnd, LogOr,
+};
+
+struct Binary {
+  BinaryOp op = BinaryOp::Add;
+  ExprBox lhs;
+  ExprBox rhs;
+};
+
+enum class AssignOp : std::uint8_t {
+  Assign,  // =
+  Add, Sub, Mul, Div, Mod, BitAnd, BitOr, BitXor, Shl, Shr,  // op=
+  Abs,     // ||=  target = abs(value)
+  Sign,    // +-=  target = sign(value): -1, 0 or 1
+};
+
+// `target op= value`. `target` must name a variable (sema checks).
+struct Assign {
+  AssignOp op = AssignOp::Assign;
+  ExprBox target;
+  ExprBox value;
+};
+
+// cond ? then_value : else_value
+struct Conditional {
+  ExprBox cond;
+  ExprBox then_value;
+  ExprBox else_value;
+};
+
+// `NAME(args)`: a call of a sub (no args) or an inline function. Calls have
+// no value; sema rejects a call used as an operand.
+struct Call {
+  std::string callee;
+  SourceSpan callee_span;
+  std::vector<Expr> args;
+  SymbolId symbol = kNoSymbol;  // Sub or Function
+};
+
+// `__source(TYPE, ARG)`: the value of RCX source TYPE with argument ARG (both
+// constant expressions), e.g. Timer(n) = __source(1, n). Sema sets the two
+// folded numbers; `Name`s are never rewritten into Source nodes.
+struct Source {
+  ExprBox type;
+  ExprBox arg;
+  std::int16_t type_value = 0;  // filled by sema
+  std::int16_t arg_value = 0;   // filled by sema
+};
+
+// `__source_arg(E)`: the argument number of source expression E, as a
+// constant. This is how the stdlib gets a sensor's index out of SENSOR_1
+// (= __source(9, 0)) for SetSensor(SENSOR_1, ...). When E is (after inline
+// substitution) a Source node it folds to that node's argument; anything else
+// is an error ("argument must be a sensor"-style, reported by whoever folds).
+// Written `__source_arg(E)` or `__source_arg(E, TYPE)`; with TYPE (a
+// constant, e.g. 9 for sensors) E must be a source of exactly that type.
+struct SourceArg {
+  ExprBox operand;
+  std::optional<std::int16_t> type_required;
+};
+
+using ExprNode = std::variant<IntLit, Name, Unary, Binary, Assign, Conditional, Call, Source, SourceArg>;
+
+struct Expr {
+  ExprNode node;
+  SourceSpan span;
+  // The folded 16-bit value when the expression is a compile-time constant
+  // (set by sema; lowering may rely on it).
+  std::optional<std::int16_t> constant;
+};
+
+// ------------------------------------------------------------------- asm --
+
+// One item of an nqc-style byte list: a constant byte, or `$expr`, which
+// emits the expression's source byte then its 16-bit argument (3 bytes), as
+// nqc does (`$x` for a variable gives 0, slot, 0).
+struct AsmByte {
+  Expr value;
+  bool source_pair = false;  // written `$expr`
+  SourceSpan span;
+};
+
+// One mnemonic line `MNEMONIC operand, operand, ...;` (project extension).
+// MNEMONIC is a row of the opcode table (rcx::by_mnemonic). Operands follow
+// the row's operand list, except that a Source operand and its Argument are
+// written as ONE expression operand (the compiler maps it onto the pair, or
+// through a temporary when that source is not allowed there). Opcodes with
+// Offset/Extension/Data operands (branches, loops, transfers) are rejected by
+// sema: control flow is written in C.
+struct AsmInstr {
+  std::string mnemonic;
+  SourceSpan mnemonic_span;
+  std::vector<Expr> operands;
+  std::optional<rcx::Op> op;  // filled by sema from rcx::by_mnemonic
+  SourceSpan span;
+};
+
+using AsmItem = std::variant<AsmByte, AsmInstr>;
+
+// ------------------------------------------------------------- statements --
+
+struct Stmt;
+using StmtBox = Box<Stmt>;
+
+// `int name = init;` (global or local). Locals may have any initialiser;
+// globals only constant ones (sema checks).
+struct VarDecl {
+  std::string name;
+  SourceSpan span;  // the name
+  std::optional<Expr> init;
+  SymbolId symbol = kNoSymbol;
+};
+
+struct Block {
+  std::vector<Stmt> stmts;
+};
+
+struct DeclStmt {
+  std::vector<VarDecl> vars;  // `int a, b = 2;` gives two
+};
+
+struct ExprStmt {
+  Expr expr;
+};
+
+struct If {
+  Expr cond;
+  StmtBox then_branch;
+  std::optional<StmtBox> else_branch;
+};
+
+struct While {
+  Expr cond;
+  StmtBox body;
+};
+
+struct DoWhile {
+  StmtBox body;
+  Expr cond;
+  bool until = false;  // `do body until (cond);` loops while cond is false
+};
+
+// `until (cond) body`: loops while cond is false.
+struct Until {
+  Expr cond;
+  StmtBox body;
+};
+
+// `for (init; cond; step) body`. `init` is an ExprStmt or a DeclStmt (the
+// latter scoped to the loop, an extension over nqc), or absent.
+struct For {
+  std::optional<StmtBox> init;
+  std::optional<Expr> cond;
+  std::optional<Expr> step;
+  StmtBox body;
+};
+
+// `repeat (count) body`.
+struct Repeat {
+  Expr count;
+  StmtBox body;
+};
+
+// One `case`/`default` of a switch, collected by sema in source order.
+struct SwitchCase {
+  std::optional<std::int16_t> value;  // nullopt for `default`
+  SourceSpan span;
+};
+
+// `switch (value) body`. Case labels are statements (`Case`, `Default`)
+// inside body, as in C (fall-through, cases inside nested blocks).
+struct Switch {
+  Expr value;
+  StmtBox body;
+  std::vector<SwitchCase> cases;  // filled by sema
+};
+
+// `case value: stmt`. `index` is this label's position in the innermost
+// enclosing Switch::cases (filled by sema).
+struct Case {
+  Expr value;
+  StmtBox body;
+  std::uint32_t index = 0;
+};
+
+struct Default {
+  StmtBox body;
+  std::uint32_t index = 0;
+};
+
+struct Break {};
+struct Continue {};
+struct Return {};
+
+struct Goto {
+  std::string label;
+  SymbolId symbol = kNoSymbol;
+};
+
+// `label: stmt`
+struct Labeled {
+  std::string label;
+  SourceSpan label_span;
+  StmtBox body;
+  SymbolId symbol = kNoSymbol;
+};
+
+// `start NAME;` / `stop NAME;`
+struct StartTask {
+  std::string task;
+  SymbolId symbol = kNoSymbol;
+};
+struct StopTask {
+  std::string task;
+  SymbolId symbol = kNoSymbol;
+};
+
+struct Asm {
+  std::vector<AsmItem> items;
+};
+
+struct Empty {};
+
+using StmtNode = std::variant<Block, DeclStmt, ExprStmt, If, While, DoWhile, Until, For, Repeat, Switch, Case,
+                              Default, Break, Continue, Return, Goto, Labeled, StartTask, StopTask, Asm, Empty>;
+
+struct Stmt {
+  StmtNode node;
+  SourceSpan span;
+};
+
+// --------------------------------------------------------------- program --
+
+struct Param {
+  ParamKind kind = ParamKind::Value;
+  std::string name;
+  SourceSpan span;
+  SymbolId symbol = kNoSymbol;
+};
+
+// `task NAME() body` / `sub NAME() body`. body is always a Block.
+struct Task {
+  std::string name;
+  SourceSpan span;  // the name
+  Stmt body;
+  SymbolId symbol = kNoSymbol;
+};
+struct Sub {
+  std::string name;
+  SourceSpan span;
+  Stmt body;
+  SymbolId symbol = kNoSymbol;
+};
+
+// `void NAME(params) body`, expanded at each call.
+struct Function {
+  std::string name;
+  SourceSpan span;
+  std::vector<Param> params;
+  Stmt body;
+  SymbolId symbol = kNoSymbol;
+};
+
+// `#pragma reserve LO [HI]`: variable slots LO..HI (inclusive) stay free.
+struct Reserve {
+  int lo = 0;
+  int hi = 0;
+  SourceSpan span;
+};
+
+struct Pragmas {
+  bool noinit = false;                 // `#pragma noinit`: no startup code
+  std::optional<std::string> init;     // `#pragma init NAME`: startup calls NAME
+  SourceSpan init_span;
+  std::vector<Reserve> reserve;
+};
+
+struct Program {
+  std::vector<VarDecl> globals;
+  std::vector<Task> tasks;       // in source order; `main` is wherever it is
+  std::vector<Sub> subs;
+  std::vector<Function> functions;
+  Pragmas pragmas;
+  std::vector<Symbol> symbols;   // filled by sema; SymbolId indexes this
+
+  const Symbol& symbol(SymbolId id) const { return symbols.at(id); }
+};
+
+// Convenience for consumers: `if (auto* b = as<Binary>(e)) ...`.
+template <class T>
+const T* as(const Expr& e) { return std::get_if<T>(&e.node); }
+template <class T>
+T* as(Expr& e) { return std::get_if<T>(&e.node); }
+template <class T>
+const T* as(const Stmt& s) { return std::get_if<T>(&s.node); }
+template <class T>
+T* as(Stmt& s) { return std::get_if<T>(&s.node); }
+
+}  // namespace rcxc::ast

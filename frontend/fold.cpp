@@ -1,0 +1,102 @@
+#include "frontend/fold.h"
+
+#include "frontend/frontend.h"
+
+namespace rcxc::frontend {
+
+using namespace ast;
+
+std::optional<std::int16_t> fold_binary(BinaryOp op, std::int16_t a, std::int16_t b) {
+  const std::int32_t x = a, y = b;
+  switch (op) {
+    case BinaryOp::Mul: return wrap16(x * y);
+    case BinaryOp::Div:
+      if (y == 0) return std::nullopt;
+      return wrap16(x / y);  // -32768 / -1 wraps to -32768
+    case BinaryOp::Mod:
+      if (y == 0) return std::nullopt;
+      return wrap16(x % y);
+    case BinaryOp::Add: return wrap16(x + y);
+    case BinaryOp::Sub: return wrap16(x - y);
+    // Shifts by 16 or more leave nothing (or only the sign, for >>);
+    // negative counts shift the other way.
+    case BinaryOp::Shl:
+      if (y < 0) return fold_binary(BinaryOp::Shr, a, wrap16(-y));
+      return y >= 16 ? std::int16_t{0} : wrap16(static_cast<std::int64_t>(static_cast<std::uint16_t>(a)) << y);
+    case BinaryOp::Shr:
+      if (y < 0) return fold_binary(BinaryOp::Shl, a, wrap16(-y));
+      return y >= 16 ? static_cast<std::int16_t>(a < 0 ? -1 : 0) : static_cast<std::int16_t>(x >> y);
+    case BinaryOp::Lt: return static_cast<std::int16_t>(x < y);
+    case BinaryOp::Le: return static_cast<std::int16_t>(x <= y);
+    case BinaryOp::Gt: return static_cast<std::int16_t>(x > y);
+    case BinaryOp::Ge: return static_cast<std::int16_t>(x >= y);
+    case BinaryOp::Eq: return static_cast<std::int16_t>(x == y);
+    case BinaryOp::Ne: return static_cast<std::int16_t>(x != y);
+    case BinaryOp::BitAnd: return wrap16(x & y);
+    case BinaryOp::BitXor: return wrap16(x ^ y);
+    case BinaryOp::BitOr: return wrap16(x | y);
+    case BinaryOp::LogAnd: return static_cast<std::int16_t>(x && y);
+    case BinaryOp::LogOr: return static_cast<std::int16_t>(x || y);
+  }
+  return std::nullopt;
+}
+
+std::optional<std::int16_t> fold_unary(UnaryOp op, std::int16_t a) {
+  switch (op) {
+    case UnaryOp::Negate: return wrap16(-static_cast<std::int32_t>(a));
+    case UnaryOp::BitNot: return wrap16(~static_cast<std::int32_t>(a));
+    case UnaryOp::LogNot: return static_cast<std::int16_t>(a == 0);
+    case UnaryOp::Plus: return a;
+    default: return std::nullopt;
+  }
+}
+
+namespace {
+
+std::optional<std::int16_t> fold_rec(const Expr& e, Diagnostics* diags) {
+  if (const auto* lit = as<IntLit>(e)) return wrap16(lit->value);
+  if (const auto* u = as<Unary>(e)) {
+    auto a = fold_rec(*u->operand, diags);
+    return a ? fold_unary(u->op, *a) : std::nullopt;
+  }
+  if (const auto* b = as<Binary>(e)) {
+    auto x = fold_rec(*b->lhs, diags);
+    // && and || need only the left side when it decides.
+    if (x && b->op == BinaryOp::LogAnd && *x == 0) return std::int16_t{0};
+    if (x && b->op == BinaryOp::LogOr && *x != 0) return std::int16_t{1};
+    auto y = fold_rec(*b->rhs, diags);
+    if (!x || !y) return std::nullopt;
+    auto r = fold_binary(b->op, *x, *y);
+    if (!r && diags) diags->error(e.span, "division by zero in a constant expression");
+    return r;
+  }
+  if (const auto* c = as<Conditional>(e)) {
+    auto cond = fold_rec(*c->cond, diags);
+    if (!cond) return std::nullopt;
+    return fold_rec(*cond ? *c->then_value : *c->else_value, diags);
+  }
+  if (const auto* sa = as<SourceArg>(e)) {
+    const auto* src = as<Source>(*sa->operand);
+    if (!src) {
+      if (diags) diags->error(sa->operand->span, "__source_arg needs a source expression such as SENSOR_1");
+      return std::nullopt;
+    }
+    auto type = fold_rec(*src->type, diags);
+    auto arg = fold_rec(*src->arg, diags);
+    if (!type || !arg) return std::nullopt;
+    if (sa->type_required && *sa->type_required != *type) {
+      if (diags)
+        diags->error(sa->operand->span, "argument must be a " +
+                                            std::string(rcx::source_name(*sa->type_required)) + " source");
+      return std::nullopt;
+    }
+    return arg;
+  }
+  return e.constant;  // names (e.g. substituted constants) keep what sema found
+}
+
+}  // namespace
+
+std::optional<std::int16_t> fold_constant(const Expr& e, Diagnostics* diags) { return fold_rec(e, diags); }
+
+}  // namespace rcxc::frontend

@@ -1,0 +1,21 @@
+// Constant arithmetic of the target: 16-bit two's complement with wrap-around,
+// shared by semantic analysis and frontend::fold_constant.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+
+#include "frontend/ast.h"
+
+namespace rcxc::frontend {
+
+inline std::int16_t wrap16(std::int64_t v) {
+  return static_cast<std::int16_t>(static_cast<std::uint16_t>(static_cast<std::uint64_t>(v) & 0xFFFFu));
+}
+
+// nullopt only for division or modulo by zero (the caller reports it).
+std::optional<std::int16_t> fold_binary(ast::BinaryOp op, std::int16_t a, std::int16_t b);
+// Pre/post increment and decrement are never constant: nullopt.
+std::optional<std::int16_t> fold_unary(ast::UnaryOp op, std::int16_t a);
+
+}  // namespace rcxc::frontend

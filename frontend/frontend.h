@@ -1,0 +1,45 @@
+// The frontend's entry points: source file in, checked AST (or diagnostics)
+// out. Everything is reentrant: all state lives in the arguments.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "frontend/ast.h"
+#include "frontend/diagnostics.h"
+
+namespace rcxc::frontend {
+
+struct Options {
+  std::vector<std::string> include_dirs;                    // -I, searched in order
+  std::vector<std::pair<std::string, std::string>> defines;  // -D NAME[=VALUE] ("1" if no value)
+  std::vector<std::string> undefines;                       // -U NAME
+  bool no_stdlib = false;                                   // -n: do not include rcx.nqh
+};
+
+// Preprocesses, parses and checks the file at `path`. Returns the annotated
+// program when no error was reported (warnings are allowed), else nullopt;
+// either way every problem is in `diags`, located through `sm`.
+std::optional<ast::Program> parse_program(const std::string& path, const Options& options, SourceManager& sm,
+                                          Diagnostics& diags);
+
+// The same for source text held in memory (`name` is used in diagnostics and
+// as the folder for relative includes).
+std::optional<ast::Program> parse_source(const std::string& name, std::string text, const Options& options,
+                                         SourceManager& sm, Diagnostics& diags);
+
+// `rcxc compile -E`: the preprocessed text of `path` and of everything it
+// includes (the stdlib too unless -n), with `# LINE "FILE"` markers where the
+// source file changes; nullopt after errors.
+std::optional<std::string> preprocess_file(const std::string& path, const Options& options, SourceManager& sm,
+                                           Diagnostics& diags);
+
+// Folds a constant expression with 16-bit wrap-around (nullopt if it is not
+// constant). Lowering can use it after substituting inline-function
+// parameters, e.g. to fold `__source_arg(SENSOR_1)`. Division by zero and
+// other errors are reported to `diags` when it is non-null.
+std::optional<std::int16_t> fold_constant(const ast::Expr& e, Diagnostics* diags = nullptr);
+
+}  // namespace rcxc::frontend

@@ -1,0 +1,124 @@
+#include "frontend/parse.h"
+
+#include <unordered_map>
+
+#include "parser.hpp"
+
+namespace rcxc::frontend {
+
+using P = yy::Parser;
+using TK = P::token::token_kind_type;
+
+namespace {
+
+const std::unordered_map<std::string_view, TK>& keywords() {
+  static const std::unordered_map<std::string_view, TK> map = {
+      {"task", P::token::TASK},     {"sub", P::token::SUB},           {"void", P::token::VOID},
+      {"int", P::token::INT},       {"const", P::token::CONST},       {"if", P::token::IF},
+      {"else", P::token::ELSE},     {"while", P::token::WHILE},       {"do", P::token::DO},
+      {"until", P::token::UNTIL},   {"for", P::token::FOR},           {"repeat", P::token::REPEAT},
+      {"switch", P::token::SWITCH}, {"case", P::token::CASE},         {"default", P::token::DEFAULT},
+      {"break", P::token::BREAK},   {"continue", P::token::CONTINUE}, {"return", P::token::RETURN},
+      {"goto", P::token::GOTO},     {"start", P::token::START},       {"stop", P::token::STOP},
+      {"asm", P::token::ASM},       {"true", P::token::TRUE},         {"false", P::token::FALSE},
+      {"inline", P::token::INLINE}, {"__source", P::token::SOURCE},   {"__source_arg", P::token::SOURCE_ARG},
+  };
+  return map;
+}
+
+const std::unordered_map<std::string_view, TK>& operators() {
+  static const std::unordered_map<std::string_view, TK> map = {
+      {"||", P::token::OROR},         {"&&", P::token::ANDAND},       {"==", P::token::EQ},
+      {"!=", P::token::NE},           {"<=", P::token::LE},           {">=", P::token::GE},
+      {"<<", P::token::SHL},          {">>", P::token::SHR},          {"++", P::token::INC},
+      {"--", P::token::DEC},          {"+=", P::token::ADD_ASSIGN},   {"-=", P::token::SUB_ASSIGN},
+      {"*=", P::token::MUL_ASSIGN},   {"/=", P::token::DIV_ASSIGN},   {"%=", P::token::MOD_ASSIGN},
+      {"&=", P::token::AND_ASSIGN},   {"|=", P::token::OR_ASSIGN},    {"^=", P::token::XOR_ASSIGN},
+      {"<<=", P::token::SHL_ASSIGN},  {">>=", P::token::SHR_ASSIGN},  {"||=", P::token::ABS_ASSIGN},
+      {"+-=", P::token::SIGN_ASSIGN},
+  };
+  return map;
+}
+
+// Tracks `asm { ... }` so that an identifier starting an asm item (after the
+// '{' or a ';') and not followed by ',' or '}' is a mnemonic.
+bool is_mnemonic_position(Feed& feed, const Token& t) {
+  if (feed.asm_stage != 2 || !feed.asm_item_start || feed.asm_depth != 1) return false;
+  const Token& next = feed.tokens[feed.pos];
+  (void)t;
+  return !(next.is(",") || next.is("}"));
+}
+
+void track_asm(Feed& feed, const Token& t) {
+  if (feed.asm_stage == 0) {
+    if (t.is_identifier("asm")) feed.asm_stage = 1;
+    return;
+  }
+  if (feed.asm_stage == 1) {
+    if (t.is("{")) {
+      feed.asm_stage = 2;
+      feed.asm_depth = 1;
+      feed.asm_item_start = true;
+    } else {
+      feed.asm_stage = 0;
+    }
+    return;
+  }
+  feed.asm_item_start = false;
+  if (t.is("{") || t.is("(")) ++feed.asm_depth;
+  if (t.is("}") || t.is(")")) --feed.asm_depth;
+  if (feed.asm_depth <= 0) feed.asm_stage = 0;
+  if (t.is(";") && feed.asm_depth == 1) feed.asm_item_start = true;
+}
+
+}  // namespace
+
+yy::Parser::symbol_type next_token(Feed& feed) {
+  for (;;) {
+    const Token& t = feed.tokens[feed.pos];
+    if (t.kind == TokenKind::End) {
+      feed.last_text.clear();
+      return P::make_END(t.span);
+    }
+    ++feed.pos;
+    feed.prev_end = feed.pos >= 2 ? feed.tokens[feed.pos - 2].span.end : SourceLoc{};
+    feed.last_text = t.text;
+    bool mnemonic = t.kind == TokenKind::Identifier && is_mnemonic_position(feed, t);
+    track_asm(feed, t);
+    switch (t.kind) {
+      case TokenKind::Identifier: {
+        if (mnemonic) return P::make_MNEMONIC(t.text, t.span);
+        auto it = keywords().find(t.text);
+        if (it != keywords().end()) return P::symbol_type(it->second, t.span);
+        return P::make_IDENT(t.text, t.span);
+      }
+      case TokenKind::Number:
+      case TokenKind::Char: {
+        std::int64_t v = 0;
+        if (!number_value(t, v)) feed.diags.error(t.span, "invalid number '" + t.text + "'");
+        return P::make_NUMBER(v, t.span);
+      }
+      case TokenKind::String:
+        return P::make_STRING(t.span);
+      case TokenKind::Punct: {
+        auto it = operators().find(t.text);
+        if (it != operators().end()) return P::symbol_type(it->second, t.span);
+        if (t.text.size() == 1 && t.text != "#") return P::symbol_type(static_cast<TK>(t.text[0]), t.span);
+        feed.diags.error(t.span, "'" + t.text + "' is only meaningful in a preprocessor directive");
+        continue;
+      }
+      case TokenKind::Unknown:
+      case TokenKind::End:
+        continue;  // already reported by the lexer
+    }
+  }
+}
+
+ast::Program parse_tokens(const std::vector<Token>& tokens, Diagnostics& diags) {
+  Feed feed{tokens, diags, {}, 0, {}, {}, 0, false, 0};
+  P parser(feed);
+  parser.parse();
+  return std::move(feed.program);
+}
+
+}  // namespace rcxc::frontend

@@ -1,0 +1,385 @@
+// The NQC grammar (bison, C++ skeleton). Reads preprocessed tokens through
+// `Feed` and builds the AST of frontend/ast.h; every node gets the span of
+// the tokens it was built from.
+%require "3.2"
+%language "c++"
+%define api.namespace {rcxc::frontend::yy}
+%define api.parser.class {Parser}
+%define api.value.type variant
+%define api.token.constructor
+%define api.location.type {rcxc::SourceSpan}
+%define parse.error custom
+%locations
+%param {Feed& feed}
+
+%code requires {
+#include <algorithm>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "frontend/ast.h"
+#include "frontend/diagnostics.h"
+#include "frontend/token.h"
+
+namespace rcxc::frontend {
+struct Feed;
+}
+}
+
+%code provides {
+namespace rcxc::frontend {
+
+// Hands the parser one token at a time and collects what it builds.
+struct Feed {
+  const std::vector<Token>& tokens;
+  Diagnostics& diags;
+  ast::Program program;
+  std::size_t pos = 0;
+  std::string last_text;     // spelling of the token just handed out
+  SourceLoc prev_end;        // end of the token before it
+  // asm blocks: mnemonic lines start with an identifier at an item start.
+  int asm_stage = 0;         // 0 none, 1 saw 'asm', 2 inside its braces
+  bool asm_item_start = false;
+  int asm_depth = 0;
+};
+
+yy::Parser::symbol_type next_token(Feed& feed);
+
+}  // namespace rcxc::frontend
+
+#define yylex rcxc::frontend::next_token
+}
+
+%code {
+#define YYLLOC_DEFAULT(Cur, Rhs, N)                 \
+  do {                                              \
+    if (N) {                                        \
+      (Cur).begin = YYRHSLOC(Rhs, 1).begin;         \
+      (Cur).end = YYRHSLOC(Rhs, N).end;             \
+    } else {                                        \
+      (Cur).begin = (Cur).end = YYRHSLOC(Rhs, 0).end; \
+    }                                               \
+  } while (0)
+
+namespace {
+using namespace rcxc;
+using namespace rcxc::ast;
+
+Expr mk(ExprNode n, const SourceSpan& s) { return Expr{std::move(n), s, std::nullopt}; }
+Stmt mks(StmtNode n, const SourceSpan& s) { return Stmt{std::move(n), s}; }
+Expr bin(BinaryOp op, Expr a, Expr b, const SourceSpan& s) { return mk(Binary{op, std::move(a), std::move(b)}, s); }
+Expr asg(AssignOp op, Expr a, Expr b, const SourceSpan& s) { return mk(Assign{op, std::move(a), std::move(b)}, s); }
+Expr un(UnaryOp op, Expr a, const SourceSpan& s) { return mk(Unary{op, std::move(a)}, s); }
+}  // namespace
+}
+
+%token END 0 "end of file"
+%token <std::string> IDENT "identifier" MNEMONIC "asm mnemonic"
+%token <std::int64_t> NUMBER "number"
+%token STRING "string"
+%token TASK "task" SUB "sub" VOID "void" INT "int" CONST "const" IF "if" ELSE "else"
+%token WHILE "while" DO "do" UNTIL "until" FOR "for" REPEAT "repeat" SWITCH "switch"
+%token CASE "case" DEFAULT "default" BREAK "break" CONTINUE "continue" RETURN "return"
+%token GOTO "goto" START "start" STOP "stop" ASM "asm" TRUE "true" FALSE "false" INLINE "inline"
+%token SOURCE "__source" SOURCE_ARG "__source_arg"
+%token OROR "||" ANDAND "&&" EQ "==" NE "!=" LE "<=" GE ">=" SHL "<<" SHR ">>" INC "++" DEC "--"
+%token ADD_ASSIGN "+=" SUB_ASSIGN "-=" MUL_ASSIGN "*=" DIV_ASSIGN "/=" MOD_ASSIGN "%="
+%token AND_ASSIGN "&=" OR_ASSIGN "|=" XOR_ASSIGN "^=" SHL_ASSIGN "<<=" SHR_ASSIGN ">>="
+%token ABS_ASSIGN "||=" SIGN_ASSIGN "+-="
+
+%right '=' ADD_ASSIGN SUB_ASSIGN MUL_ASSIGN DIV_ASSIGN MOD_ASSIGN AND_ASSIGN OR_ASSIGN XOR_ASSIGN SHL_ASSIGN SHR_ASSIGN ABS_ASSIGN SIGN_ASSIGN
+%right '?' ':'
+%left OROR
+%left ANDAND
+%left '|'
+%left '^'
+%left '&'
+%left EQ NE
+%left '<' '>' LE GE
+%left SHL SHR
+%left '+' '-'
+%left '*' '/' '%'
+%right UNARY INC DEC
+%precedence '['
+%precedence LOWER_THAN_ELSE
+%precedence ELSE
+
+%type <ast::Expr> expr
+%type <std::optional<ast::Expr>> expr_opt
+%type <std::vector<ast::Expr>> args args_opt asm_operands
+%type <ast::Stmt> stmt block for_init
+%type <std::vector<ast::Stmt>> stmts
+%type <ast::VarDecl> declarator
+%type <std::vector<ast::VarDecl>> declarators
+%type <ast::Param> param
+%type <std::vector<ast::Param>> params params_opt
+%type <std::vector<ast::AsmItem>> asm_body asm_bytes asm_lines
+%type <ast::AsmByte> asm_byte
+%type <ast::AsmInstr> asm_line
+
+%start program
+
+%%
+
+program
+  : %empty
+  | program top
+  ;
+
+top
+  : INT declarators ';'       { for (auto& v : $2) feed.program.globals.push_back(std::move(v)); }
+  | TASK IDENT '(' ')' block  { feed.program.tasks.push_back(Task{$2, @2, std::move($5), kNoSymbol}); }
+  | SUB IDENT '(' ')' block   { feed.program.subs.push_back(Sub{$2, @2, std::move($5), kNoSymbol}); }
+  | VOID IDENT '(' params_opt ')' block
+      { feed.program.functions.push_back(Function{$2, @2, std::move($4), std::move($6), kNoSymbol}); }
+  | INLINE VOID IDENT '(' params_opt ')' block
+      { feed.program.functions.push_back(Function{$3, @3, std::move($5), std::move($7), kNoSymbol}); }
+  | ';'
+  | error ';'
+  | error '}'
+  ;
+
+declarators
+  : declarator                 { $$.push_back(std::move($1)); }
+  | declarators ',' declarator { $$ = std::move($1); $$.push_back(std::move($3)); }
+  ;
+
+declarator
+  : IDENT           { $$ = VarDecl{$1, @1, std::nullopt, kNoSymbol}; }
+  | IDENT '=' expr  { $$ = VarDecl{$1, @1, std::move($3), kNoSymbol}; }
+  | IDENT '[' expr ']'
+      {
+        feed.diags.error(@$, "the RCX has no arrays: '" + $1 + "' must be a plain int");
+        $$ = VarDecl{$1, @1, std::nullopt, kNoSymbol};
+      }
+  ;
+
+params_opt
+  : %empty  {}
+  | VOID    {}
+  | params  { $$ = std::move($1); }
+  ;
+
+params
+  : param             { $$.push_back(std::move($1)); }
+  | params ',' param  { $$ = std::move($1); $$.push_back(std::move($3)); }
+  ;
+
+param
+  : INT IDENT              { $$ = Param{ParamKind::Value, $2, @2, kNoSymbol}; }
+  | CONST INT IDENT        { $$ = Param{ParamKind::Const, $3, @3, kNoSymbol}; }
+  | INT '&' IDENT          { $$ = Param{ParamKind::Reference, $3, @3, kNoSymbol}; }
+  | CONST INT '&' IDENT    { $$ = Param{ParamKind::ConstReference, $4, @4, kNoSymbol}; }
+  ;
+
+block
+  : '{' stmts '}'        { $$ = mks(Block{std::move($2)}, @$); }
+  | '{' stmts error '}'  { $$ = mks(Block{std::move($2)}, @$); }
+  ;
+
+stmts
+  : %empty      {}
+  | stmts stmt  { $$ = std::move($1); $$.push_back(std::move($2)); }
+  ;
+
+stmt
+  : block                 { $$ = std::move($1); }
+  | INT declarators ';'   { $$ = mks(DeclStmt{std::move($2)}, @$); }
+  | expr ';'              { $$ = mks(ExprStmt{std::move($1)}, @$); }
+  | ';'                   { $$ = mks(Empty{}, @$); }
+  | IF '(' expr ')' stmt %prec LOWER_THAN_ELSE
+                          { $$ = mks(If{std::move($3), std::move($5), std::nullopt}, @$); }
+  | IF '(' expr ')' stmt ELSE stmt
+                          { $$ = mks(If{std::move($3), std::move($5), StmtBox(std::move($7))}, @$); }
+  | WHILE '(' expr ')' stmt
+                          { $$ = mks(While{std::move($3), std::move($5)}, @$); }
+  | DO stmt WHILE '(' expr ')' ';'
+                          { $$ = mks(DoWhile{std::move($2), std::move($5), false}, @$); }
+  | DO stmt UNTIL '(' expr ')' ';'
+                          { $$ = mks(DoWhile{std::move($2), std::move($5), true}, @$); }
+  | UNTIL '(' expr ')' stmt
+                          { $$ = mks(Until{std::move($3), std::move($5)}, @$); }
+  | FOR '(' for_init ';' expr_opt ';' expr_opt ')' stmt
+      {
+        std::optional<StmtBox> init;
+        if (!std::holds_alternative<Empty>($3.node)) init = StmtBox(std::move($3));
+        $$ = mks(For{std::move(init), std::move($5), std::move($7), std::move($9)}, @$);
+      }
+  | REPEAT '(' expr ')' stmt
+                          { $$ = mks(Repeat{std::move($3), std::move($5)}, @$); }
+  | SWITCH '(' expr ')' stmt
+                          { $$ = mks(Switch{std::move($3), std::move($5), {}}, @$); }
+  | CASE expr ':' stmt    { $$ = mks(Case{std::move($2), std::move($4), 0}, @$); }
+  | DEFAULT ':' stmt      { $$ = mks(Default{std::move($3), 0}, @$); }
+  | BREAK ';'             { $$ = mks(Break{}, @$); }
+  | CONTINUE ';'          { $$ = mks(Continue{}, @$); }
+  | RETURN ';'            { $$ = mks(Return{}, @$); }
+  | GOTO IDENT ';'        { $$ = mks(Goto{$2, kNoSymbol}, @$); }
+  | IDENT ':' stmt        { $$ = mks(Labeled{$1, @1, std::move($3), kNoSymbol}, @$); }
+  | START IDENT ';'       { $$ = mks(StartTask{$2, kNoSymbol}, @$); }
+  | STOP IDENT ';'        { $$ = mks(StopTask{$2, kNoSymbol}, @$); }
+  | ASM '{' asm_body '}'  { $$ = mks(Asm{std::move($3)}, @$); }
+  | error ';'             { $$ = mks(Empty{}, @$); }
+  ;
+
+for_init
+  : %empty                { $$ = mks(Empty{}, @$); }
+  | expr                  { $$ = mks(ExprStmt{std::move($1)}, @$); }
+  | INT declarators       { $$ = mks(DeclStmt{std::move($2)}, @$); }
+  ;
+
+expr_opt
+  : %empty  {}
+  | expr    { $$ = std::move($1); }
+  ;
+
+asm_body
+  : %empty         {}
+  | asm_bytes      { $$ = std::move($1); }
+  | asm_bytes ','  { $$ = std::move($1); }
+  | asm_lines      { $$ = std::move($1); }
+  ;
+
+asm_bytes
+  : asm_byte                { $$.push_back(std::move($1)); }
+  | asm_bytes ',' asm_byte  { $$ = std::move($1); $$.push_back(std::move($3)); }
+  ;
+
+asm_byte
+  : expr      { $$ = AsmByte{std::move($1), false, @$}; }
+  | '$' expr  { $$ = AsmByte{std::move($2), true, @$}; }
+  ;
+
+asm_lines
+  : asm_line            { $$.push_back(std::move($1)); }
+  | asm_lines asm_line  { $$ = std::move($1); $$.push_back(std::move($2)); }
+  ;
+
+asm_line
+  : MNEMONIC ';'               { $$ = AsmInstr{$1, @1, {}, std::nullopt, @$}; }
+  | MNEMONIC asm_operands ';'  { $$ = AsmInstr{$1, @1, std::move($2), std::nullopt, @$}; }
+  ;
+
+asm_operands
+  : expr                   { $$.push_back(std::move($1)); }
+  | asm_operands ',' expr  { $$ = std::move($1); $$.push_back(std::move($3)); }
+  ;
+
+expr
+  : NUMBER                  { $$ = mk(IntLit{$1}, @$); }
+  | TRUE                    { $$ = mk(IntLit{1}, @$); }
+  | FALSE                   { $$ = mk(IntLit{0}, @$); }
+  | IDENT                   { $$ = mk(Name{$1, kNoSymbol}, @$); }
+  | IDENT '(' args_opt ')'  { $$ = mk(Call{$1, @1, std::move($3), kNoSymbol}, @$); }
+  | SOURCE '(' expr ',' expr ')'
+                            { $$ = mk(Source{std::move($3), std::move($5), 0, 0}, @$); }
+  | SOURCE_ARG '(' expr ')' { $$ = mk(SourceArg{std::move($3), std::nullopt}, @$); }
+  | SOURCE_ARG '(' expr ',' expr ')'
+      {
+        // The required type must be a literal-like constant; sema folds it.
+        std::optional<std::int16_t> type;
+        if (const auto* lit = std::get_if<IntLit>(&$5.node)) type = static_cast<std::int16_t>(lit->value);
+        else feed.diags.error(@5, "the type in __source_arg(E, TYPE) must be a number");
+        $$ = mk(SourceArg{std::move($3), type}, @$);
+      }
+  | '(' expr ')'            { $$ = std::move($2); $$.span = @$; }
+  | expr '[' expr ']'
+      {
+        feed.diags.error(@$, "the RCX has no arrays, so nothing can be indexed");
+        $$ = std::move($1);
+      }
+  | '-' expr %prec UNARY    { $$ = un(UnaryOp::Negate, std::move($2), @$); }
+  | '+' expr %prec UNARY    { $$ = un(UnaryOp::Plus, std::move($2), @$); }
+  | '~' expr %prec UNARY    { $$ = un(UnaryOp::BitNot, std::move($2), @$); }
+  | '!' expr %prec UNARY    { $$ = un(UnaryOp::LogNot, std::move($2), @$); }
+  | INC expr %prec UNARY    { $$ = un(UnaryOp::PreInc, std::move($2), @$); }
+  | DEC expr %prec UNARY    { $$ = un(UnaryOp::PreDec, std::move($2), @$); }
+  | expr INC                { $$ = un(UnaryOp::PostInc, std::move($1), @$); }
+  | expr DEC                { $$ = un(UnaryOp::PostDec, std::move($1), @$); }
+  | expr '*' expr           { $$ = bin(BinaryOp::Mul, std::move($1), std::move($3), @$); }
+  | expr '/' expr           { $$ = bin(BinaryOp::Div, std::move($1), std::move($3), @$); }
+  | expr '%' expr           { $$ = bin(BinaryOp::Mod, std::move($1), std::move($3), @$); }
+  | expr '+' expr           { $$ = bin(BinaryOp::Add, std::move($1), std::move($3), @$); }
+  | expr '-' expr           { $$ = bin(BinaryOp::Sub, std::move($1), std::move($3), @$); }
+  | expr SHL expr           { $$ = bin(BinaryOp::Shl, std::move($1), std::move($3), @$); }
+  | expr SHR expr           { $$ = bin(BinaryOp::Shr, std::move($1), std::move($3), @$); }
+  | expr '<' expr           { $$ = bin(BinaryOp::Lt, std::move($1), std::move($3), @$); }
+  | expr LE expr            { $$ = bin(BinaryOp::Le, std::move($1), std::move($3), @$); }
+  | expr '>' expr           { $$ = bin(BinaryOp::Gt, std::move($1), std::move($3), @$); }
+  | expr GE expr            { $$ = bin(BinaryOp::Ge, std::move($1), std::move($3), @$); }
+  | expr EQ expr            { $$ = bin(BinaryOp::Eq, std::move($1), std::move($3), @$); }
+  | expr NE expr            { $$ = bin(BinaryOp::Ne, std::move($1), std::move($3), @$); }
+  | expr '&' expr           { $$ = bin(BinaryOp::BitAnd, std::move($1), std::move($3), @$); }
+  | expr '^' expr           { $$ = bin(BinaryOp::BitXor, std::move($1), std::move($3), @$); }
+  | expr '|' expr           { $$ = bin(BinaryOp::BitOr, std::move($1), std::move($3), @$); }
+  | expr ANDAND expr        { $$ = bin(BinaryOp::LogAnd, std::move($1), std::move($3), @$); }
+  | expr OROR expr          { $$ = bin(BinaryOp::LogOr, std::move($1), std::move($3), @$); }
+  | expr '?' expr ':' expr  { $$ = mk(Conditional{std::move($1), std::move($3), std::move($5)}, @$); }
+  | expr '=' expr           { $$ = asg(AssignOp::Assign, std::move($1), std::move($3), @$); }
+  | expr ADD_ASSIGN expr    { $$ = asg(AssignOp::Add, std::move($1), std::move($3), @$); }
+  | expr SUB_ASSIGN expr    { $$ = asg(AssignOp::Sub, std::move($1), std::move($3), @$); }
+  | expr MUL_ASSIGN expr    { $$ = asg(AssignOp::Mul, std::move($1), std::move($3), @$); }
+  | expr DIV_ASSIGN expr    { $$ = asg(AssignOp::Div, std::move($1), std::move($3), @$); }
+  | expr MOD_ASSIGN expr    { $$ = asg(AssignOp::Mod, std::move($1), std::move($3), @$); }
+  | expr AND_ASSIGN expr    { $$ = asg(AssignOp::BitAnd, std::move($1), std::move($3), @$); }
+  | expr OR_ASSIGN expr     { $$ = asg(AssignOp::BitOr, std::move($1), std::move($3), @$); }
+  | expr XOR_ASSIGN expr    { $$ = asg(AssignOp::BitXor, std::move($1), std::move($3), @$); }
+  | expr SHL_ASSIGN expr    { $$ = asg(AssignOp::Shl, std::move($1), std::move($3), @$); }
+  | expr SHR_ASSIGN expr    { $$ = asg(AssignOp::Shr, std::move($1), std::move($3), @$); }
+  | expr ABS_ASSIGN expr    { $$ = asg(AssignOp::Abs, std::move($1), std::move($3), @$); }
+  | expr SIGN_ASSIGN expr   { $$ = asg(AssignOp::Sign, std::move($1), std::move($3), @$); }
+  ;
+
+args_opt
+  : %empty  {}
+  | args    { $$ = std::move($1); }
+  ;
+
+args
+  : expr           { $$.push_back(std::move($1)); }
+  | args ',' expr  { $$ = std::move($1); $$.push_back(std::move($3)); }
+  ;
+
+%%
+
+namespace rcxc::frontend {
+
+void yy::Parser::error(const location_type& loc, const std::string& msg) {
+  feed.diags.error(loc, msg);
+}
+
+// gcc-like messages: "expected ';' before 'x'", naming what the grammar
+// wanted when that is short, or the most useful single expectation.
+void yy::Parser::report_syntax_error(const context& ctx) const {
+  std::string found = ctx.token() == symbol_kind::S_YYEOF ? "end of file" : "'" + feed.last_text + "'";
+  symbol_kind_type expected[64];
+  int n = ctx.expected_tokens(expected, 64);
+  auto expects = [&](symbol_kind_type k) { return std::find(expected, expected + n, k) != expected + n; };
+  auto expects_punct = [&](std::string_view p) {
+    return std::any_of(expected, expected + n, [&](symbol_kind_type k) { return symbol_name(k) == p; });
+  };
+  auto shown = [&](symbol_kind_type k) {
+    std::string name = symbol_name(k);
+    // Punctuation arrives as 'x' or "xx"; show both as 'x'.
+    if (name.size() >= 2 && name.front() == '"' && name.back() == '"') name = "'" + name.substr(1, name.size() - 2) + "'";
+    return name;
+  };
+  std::string want;
+  SourceSpan where = ctx.location();
+  if (n >= 1 && n <= 3) {
+    for (int i = 0; i < n; ++i) want += (i == 0 ? "" : i + 1 == n ? " or " : ", ") + shown(expected[i]);
+  } else if (ctx.token() == symbol_kind::S_YYEOF && expects_punct("'}'")) {
+    want = "'}'";
+  } else if (expects(symbol_kind::S_NUMBER) && expects(symbol_kind::S_IDENT) && !expects(symbol_kind::S_TASK)) {
+    want = "an expression";
+  } else if (expects_punct("';'")) {
+    want = "';'";
+  } else if (expects_punct("')'")) {
+    want = "')'";
+  }
+  if (want.rfind("';'", 0) == 0 && feed.prev_end.valid()) where = {feed.prev_end, feed.prev_end};  // just after the statement
+  feed.diags.error(where, want.empty() ? "syntax error at " + found : "expected " + want + " before " + found);
+}
+
+}  // namespace rcxc::frontend

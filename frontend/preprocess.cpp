@@ -1,0 +1,952 @@
+#include "frontend/preprocess.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <unordered_map>
+#include <unordered_set>
+
+#include "stdlib/stdlib.h"
+
+namespace rcxc::frontend {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr std::size_t kMaxIncludeDepth = 64;
+constexpr std::size_t kMaxExpansionDepth = 200;
+// Tokens macro expansion may produce in one compilation: a base plus a
+// multiple of the tokens read from files. Far above what real programs need
+// (the stdlib's macros add a few tokens each), low enough that exponentially
+// growing macros stop in well under a second.
+constexpr std::size_t kExpansionBase = 500'000;
+constexpr std::size_t kExpansionPerInputToken = 32;
+constexpr const char* kStdlibName = "rcx.nqh";
+
+struct Macro {
+  std::string name;
+  bool function_like = false;
+  std::vector<std::string> params;
+  std::vector<Token> body;
+  SourceSpan span;  // the name in its #define
+};
+
+// One file being read: its tokens and where we are in them.
+struct OpenFile {
+  std::vector<Token> tokens;
+  std::size_t pos = 0;
+  std::uint32_t file = 0;
+  std::string dir;   // folder for quoted includes ("" for embedded files)
+  std::string key;   // identity for cycle detection
+  std::size_t conds_at_entry = 0;
+};
+
+// One #if/#ifdef/#ifndef group being read.
+struct Cond {
+  bool parent_active = true;
+  bool active = false;  // the current branch is being read
+  bool taken = false;   // some branch of the group was taken
+  bool seen_else = false;
+  SourceSpan span;
+};
+
+// A place tokens come from: a stack of pending tokens (macro output, next
+// token at the back), and, for the main stream, the open files after it.
+struct Stream {
+  std::vector<Token> stack;
+  bool reads_files = false;
+};
+
+// Hide sets are interned: each distinct set of macro ids is stored once and
+// tokens carry its index, so expansion copies no vectors and set operations
+// are cached.
+class HideSets {
+ public:
+  HideSets() { sets_.emplace_back(); }
+
+  bool contains(std::uint32_t set, std::uint32_t macro) const {
+    const auto& v = sets_[set];
+    return std::binary_search(v.begin(), v.end(), macro);
+  }
+  std::uint32_t with(std::uint32_t set, std::uint32_t macro) {
+    std::vector<std::uint32_t> v = sets_[set];
+    auto at = std::lower_bound(v.begin(), v.end(), macro);
+    if (at != v.end() && *at == macro) return set;
+    v.insert(at, macro);
+    return intern(std::move(v));
+  }
+  std::uint32_t unite(std::uint32_t a, std::uint32_t b) {
+    if (a == b || b == 0) return a;
+    if (a == 0) return b;
+    return cached(union_cache_, a, b, [&] {
+      std::vector<std::uint32_t> v;
+      std::set_union(sets_[a].begin(), sets_[a].end(), sets_[b].begin(), sets_[b].end(), std::back_inserter(v));
+      return v;
+    });
+  }
+  std::uint32_t intersect(std::uint32_t a, std::uint32_t b) {
+    if (a == b) return a;
+    if (a == 0 || b == 0) return 0;
+    return cached(intersect_cache_, a, b, [&] {
+      std::vector<std::uint32_t> v;
+      std::set_intersection(sets_[a].begin(), sets_[a].end(), sets_[b].begin(), sets_[b].end(),
+                            std::back_inserter(v));
+      return v;
+    });
+  }
+
+ private:
+  std::vector<std::vector<std::uint32_t>> sets_;
+  std::map<std::vector<std::uint32_t>, std::uint32_t> index_;
+  std::unordered_map<std::uint64_t, std::uint32_t> union_cache_, intersect_cache_;
+
+  std::uint32_t intern(std::vector<std::uint32_t> v) {
+    auto [it, fresh] = index_.emplace(std::move(v), static_cast<std::uint32_t>(sets_.size()));
+    if (fresh) sets_.push_back(it->first);
+    return it->second;
+  }
+  template <class F>
+  std::uint32_t cached(std::unordered_map<std::uint64_t, std::uint32_t>& cache, std::uint32_t a, std::uint32_t b,
+                       F compute) {
+    std::uint64_t key = (static_cast<std::uint64_t>(a) << 32) | b;
+    if (auto it = cache.find(key); it != cache.end()) return it->second;
+    std::uint32_t id = intern(compute());
+    cache.emplace(key, id);
+    return id;
+  }
+};
+
+std::string spell(const std::vector<Token>& toks, std::size_t from = 0) {
+  std::string s;
+  for (std::size_t i = from; i < toks.size(); ++i) {
+    if (i > from && toks[i].space_before) s += ' ';
+    s += toks[i].text;
+  }
+  return s;
+}
+
+SourceSpan span_of(const std::vector<Token>& toks, std::size_t from, SourceSpan fallback) {
+  if (from >= toks.size()) return fallback;
+  return {toks[from].span.begin, toks.back().span.end};
+}
+
+class Preprocessor {
+ public:
+  Preprocessor(const Options& o, SourceManager& sm, Diagnostics& d) : opts_(o), sm_(sm), diags_(d) {}
+
+  Preprocessed run(std::uint32_t file, const std::string& dir) {
+    define_builtins();
+    push_file(file, dir, sm_.path(file));
+    if (!opts_.no_stdlib) {
+      if (auto text = stdlib::find(kStdlibName)) {
+        std::uint32_t id = sm_.add(kStdlibName, std::string(*text));
+        push_file(id, "", std::string("<stdlib>/") + kStdlibName);
+      } else {
+        diags_.error({}, "the standard library rcx.nqh is missing from this build");
+      }
+    }
+    Stream main;
+    main.reads_files = true;
+    Token t;
+    while (!aborted_ && pull(main, t, true)) {
+      if (t.kind == TokenKind::Identifier && try_expand(main, t, 0)) continue;
+      out_.tokens.push_back(std::move(t));
+    }
+    Token end;
+    end.kind = TokenKind::End;
+    end.line_start = true;
+    end.span = last_span_;
+    out_.tokens.push_back(end);
+    return std::move(out_);
+  }
+
+ private:
+  const Options& opts_;
+  SourceManager& sm_;
+  Diagnostics& diags_;
+  std::vector<Macro> macros_;                          // by id; ids are never reused
+  std::unordered_map<std::string, std::uint32_t> defined_;  // name -> id
+  std::vector<OpenFile> files_;
+  std::vector<Cond> conds_;
+  std::unordered_set<std::string> reported_recursion_;
+  HideSets hide_sets_;
+  std::size_t expanded_tokens_ = 0;
+  std::size_t input_tokens_ = 0;
+  bool aborted_ = false;
+  SourceSpan last_span_;
+  Preprocessed out_;
+
+  // ------------------------------------------------------------ macros --
+
+  void define_text(const std::string& name, const std::string& value, std::uint32_t file) {
+    Macro m;
+    m.name = name;
+    m.body = lex(value, file, diags_);
+    m.body.pop_back();  // End
+    for (auto& t : m.body) t.line_start = false;
+    set_macro(std::move(m));
+  }
+
+  void define_builtins() {
+    std::uint32_t cmd = sm_.add("<command line>", "");
+    define_text("__RCX", "1", cmd);
+    define_text("__RCXC__", "1", cmd);
+    for (const auto& [name, value] : opts_.defines) define_text(name, value.empty() ? "1" : value, cmd);
+    for (const auto& name : opts_.undefines) defined_.erase(name);
+  }
+
+  void set_macro(Macro m) {
+    std::string name = m.name;
+    macros_.push_back(std::move(m));
+    defined_[name] = static_cast<std::uint32_t>(macros_.size() - 1);
+  }
+
+  const Macro* find_macro(const std::string& name) const {
+    auto it = defined_.find(name);
+    return it == defined_.end() ? nullptr : &macros_[it->second];
+  }
+
+  // ------------------------------------------------------------- files --
+
+  void push_file(std::uint32_t file, const std::string& dir, const std::string& key) {
+    OpenFile f;
+    f.tokens = lex(sm_.text(file), file, diags_);
+    input_tokens_ += f.tokens.size();
+    f.file = file;
+    f.dir = dir;
+    f.key = key;
+    f.conds_at_entry = conds_.size();
+    files_.push_back(std::move(f));
+  }
+
+  // Pops finished files; false when every file is done.
+  bool current_file_token(Token*& t) {
+    while (!files_.empty()) {
+      OpenFile& f = files_.back();
+      if (f.tokens[f.pos].kind != TokenKind::End) {
+        t = &f.tokens[f.pos];
+        return true;
+      }
+      for (std::size_t i = conds_.size(); i > f.conds_at_entry; --i)
+        diags_.error(conds_[i - 1].span, "unterminated conditional directive (#endif missing)");
+      conds_.resize(f.conds_at_entry);
+      last_span_ = f.tokens[f.pos].span;
+      files_.pop_back();
+    }
+    return false;
+  }
+
+  bool active() const { return conds_.empty() || conds_.back().active; }
+
+  // Next raw token of `s`. For the main stream, reads files: handles
+  // directives (when `directives`) and skips inactive conditional text.
+  bool pull(Stream& s, Token& out, bool directives) {
+    if (!s.stack.empty()) {
+      out = std::move(s.stack.back());
+      s.stack.pop_back();
+      return true;
+    }
+    if (!s.reads_files) return false;
+    for (;;) {
+      Token* t = nullptr;
+      if (!current_file_token(t)) return false;
+      if (directives && t->line_start && t->is("#")) {
+        directive();
+        if (aborted_) return false;
+        continue;
+      }
+      if (!active()) {
+        ++files_.back().pos;
+        continue;
+      }
+      out = *t;
+      ++files_.back().pos;
+      return true;
+    }
+  }
+
+  // Is the next token of `s` a '(' (without consuming anything)?
+  bool next_is_lparen(Stream& s) {
+    if (!s.stack.empty()) return s.stack.back().is("(");
+    if (!s.reads_files) return false;
+    Token* t = nullptr;
+    if (!current_file_token(t)) return false;
+    if (t->line_start && t->is("#")) return false;
+    return active() && t->is("(");
+  }
+
+  // The rest of the current directive line (tokens up to the next line start).
+  std::vector<Token> line_tokens() {
+    std::vector<Token> line;
+    OpenFile& f = files_.back();
+    while (f.tokens[f.pos].kind != TokenKind::End && !f.tokens[f.pos].line_start)
+      line.push_back(f.tokens[f.pos++]);
+    return line;
+  }
+
+  // ---------------------------------------------------------- expansion --
+
+  // If `t` names a macro that may expand here, expands it onto `s`'s stack.
+  bool try_expand(Stream& s, const Token& t, std::size_t depth) {
+    auto it = defined_.find(t.text);
+    if (it == defined_.end()) return false;
+    std::uint32_t id = it->second;
+    const Macro& m = macros_[id];
+    if (hide_sets_.contains(t.hide, id)) {
+      if (reported_recursion_.insert(m.name).second)
+        diags_.error(t.span, "macro '" + m.name + "' is defined in terms of itself (recursive macros never end)");
+      return false;
+    }
+    if (depth > kMaxExpansionDepth) {
+      diags_.error(t.span, "macro expansion nested too deeply");
+      aborted_ = true;
+      return false;
+    }
+    std::vector<std::vector<Token>> args;
+    std::uint32_t hide = t.hide;
+    if (m.function_like) {
+      if (!next_is_lparen(s)) return false;
+      Token rparen;
+      if (!collect_args(s, t, m, args, rparen)) return true;
+      hide = hide_sets_.intersect(t.hide, rparen.hide);
+    }
+    hide = hide_sets_.with(hide, id);
+    std::uint32_t exp = sm_.add_expansion({m.name, t.span});
+    std::vector<Token> result = substitute(m, args, hide, exp, depth);
+    expanded_tokens_ += result.size();
+    if (expanded_tokens_ > kExpansionBase + kExpansionPerInputToken * input_tokens_) {
+      diags_.error(t.span, "macro expansion of '" + m.name + "' grows without bound");
+      aborted_ = true;
+      return true;
+    }
+    // The first token of an expansion takes the spacing of the macro name.
+    if (!result.empty()) {
+      result.front().space_before = t.space_before;
+      result.front().line_start = false;
+    }
+    for (auto r = result.rbegin(); r != result.rend(); ++r) s.stack.push_back(std::move(*r));
+    return true;
+  }
+
+  bool collect_args(Stream& s, const Token& name, const Macro& m, std::vector<std::vector<Token>>& args,
+                    Token& rparen) {
+    Token t;
+    pull(s, t, false);  // '('
+    args.emplace_back();
+    int depth = 0;
+    for (;;) {
+      if (!pull(s, t, false)) {
+        diags_.error(name.span, "unterminated argument list invoking macro '" + m.name + "'");
+        return false;
+      }
+      if (t.is("(")) ++depth;
+      if (t.is(")")) {
+        if (depth == 0) break;
+        --depth;
+      }
+      if (t.is(",") && depth == 0) {
+        args.emplace_back();
+        continue;
+      }
+      t.line_start = false;
+      args.back().push_back(std::move(t));
+    }
+    rparen = t;
+    // `F()` passes no argument to a macro without parameters.
+    if (m.params.empty() && args.size() == 1 && args[0].empty()) args.clear();
+    if (args.size() != m.params.size()) {
+      auto& d = diags_.error({name.span.begin, rparen.span.end},
+                             "macro '" + m.name + "' takes " + std::to_string(m.params.size()) + " argument" +
+                                 (m.params.size() == 1 ? "" : "s") + ", but " + std::to_string(args.size()) +
+                                 (args.size() == 1 ? " was" : " were") + " given");
+      d.notes.push_back({m.span, "macro '" + m.name + "' is defined here"});
+      return false;
+    }
+    return true;
+  }
+
+  // Fully expands a token list on its own (a macro argument, an #if line).
+  std::vector<Token> expand_list(std::vector<Token> in, std::size_t depth) {
+    Stream s;
+    s.stack.assign(std::make_move_iterator(in.rbegin()), std::make_move_iterator(in.rend()));
+    std::vector<Token> out;
+    Token t;
+    while (!aborted_ && pull(s, t, false)) {
+      if (t.kind == TokenKind::Identifier && try_expand(s, t, depth + 1)) continue;
+      out.push_back(std::move(t));
+    }
+    return out;
+  }
+
+  int param_index(const Macro& m, const Token& t) const {
+    if (!m.function_like || t.kind != TokenKind::Identifier) return -1;
+    for (std::size_t i = 0; i < m.params.size(); ++i)
+      if (m.params[i] == t.text) return static_cast<int>(i);
+    return -1;
+  }
+
+  Token stringize(const std::vector<Token>& arg, const Token& hash) {
+    Token t;
+    t.kind = TokenKind::String;
+    t.span = hash.span;
+    std::string raw = spell(arg);
+    t.text = "\"";
+    for (char c : raw) {
+      if (c == '"' || c == '\\') t.text += '\\';
+      t.text += c;
+    }
+    t.text += '"';
+    return t;
+  }
+
+  // Joins two tokens with ##; the result must lex as exactly one token.
+  Token paste(const Token& a, const Token& b) {
+    std::string text = a.text + b.text;
+    Diagnostics scratch;
+    auto toks = lex(text, a.span.begin.file, scratch);
+    Token t = a;
+    t.text = text;
+    if (toks.size() != 2 || scratch.has_errors()) {
+      diags_.error(a.span, "pasting '" + a.text + "' and '" + b.text + "' does not give a valid token");
+      return t;
+    }
+    t.kind = toks[0].kind;
+    return t;
+  }
+
+  std::vector<Token> substitute(const Macro& m, const std::vector<std::vector<Token>>& args,
+                                std::uint32_t hide, std::uint32_t exp, std::size_t depth) {
+    // Pass 1: each body token becomes a segment; parameters next to ## stay
+    // unexpanded, other parameters are fully expanded first (as in C).
+    struct Segment {
+      std::vector<Token> toks;
+      bool paste = false;  // a ## operator
+    };
+    std::vector<Segment> segs;
+    const auto& body = m.body;
+    for (std::size_t i = 0; i < body.size(); ++i) {
+      const Token& t = body[i];
+      if (t.is("##") && i > 0 && i + 1 < body.size()) {
+        segs.push_back({{}, true});
+        continue;
+      }
+      if (m.function_like && t.is("#") && i + 1 < body.size() && param_index(m, body[i + 1]) >= 0) {
+        Token str = stringize(args[static_cast<std::size_t>(param_index(m, body[i + 1]))], t);
+        str.span.begin.expansion = str.span.end.expansion = exp;
+        str.space_before = t.space_before;
+        segs.push_back({{str}, false});
+        ++i;
+        continue;
+      }
+      int p = param_index(m, t);
+      if (p >= 0) {
+        bool near_paste = (i > 0 && body[i - 1].is("##")) || (i + 1 < body.size() && body[i + 1].is("##"));
+        const auto& arg = args[static_cast<std::size_t>(p)];
+        segs.push_back({near_paste ? arg : expand_list(arg, depth), false});
+        if (!segs.back().toks.empty()) segs.back().toks.front().space_before = t.space_before;
+        continue;
+      }
+      Token copy = t;
+      copy.span.begin.expansion = copy.span.end.expansion = exp;
+      segs.push_back({{copy}, false});
+    }
+    // Pass 2: apply ## between neighbouring segments (an empty side pastes
+    // to nothing, like C's placemarkers).
+    std::vector<Token> out;
+    bool paste_next = false;
+    bool last_empty = true;
+    for (auto& seg : segs) {
+      if (seg.paste) {
+        paste_next = true;
+        continue;
+      }
+      if (paste_next && !last_empty && !seg.toks.empty()) {
+        out.back() = paste(out.back(), seg.toks.front());
+        out.insert(out.end(), seg.toks.begin() + 1, seg.toks.end());
+      } else {
+        out.insert(out.end(), seg.toks.begin(), seg.toks.end());
+      }
+      last_empty = seg.toks.empty() && (paste_next ? last_empty : true);
+      paste_next = false;
+    }
+    for (auto& t : out) t.hide = hide_sets_.unite(t.hide, hide);
+    return out;
+  }
+
+  // --------------------------------------------------------- directives --
+
+  void directive() {
+    OpenFile& f = files_.back();
+    Token hash = f.tokens[f.pos++];
+    std::vector<Token> line = line_tokens();
+    if (line.empty()) return;  // the null directive
+    const Token& name = line[0];
+    const std::string& d = name.text;
+    if (d == "if" || d == "ifdef" || d == "ifndef") return begin_if(d, line, hash);
+    if (d == "elif") return do_elif(line, hash);
+    if (d == "else") return do_else(line, hash);
+    if (d == "endif") return do_endif(line, hash);
+    if (!active()) return;
+    if (d == "define") return do_define(line);
+    if (d == "undef") return do_undef(line);
+    if (d == "include") return do_include(line, hash);
+    if (d == "error") {
+      diags_.error({hash.span.begin, line.back().span.end}, "#error " + spell(line, 1));
+      return;
+    }
+    if (d == "warning") {
+      diags_.warning({hash.span.begin, line.back().span.end}, "#warning " + spell(line, 1));
+      return;
+    }
+    if (d == "pragma") return do_pragma(line);
+    diags_.error(name.span, "unknown preprocessor directive '#" + d + "'");
+  }
+
+  void extra_tokens(const std::vector<Token>& line, std::size_t from) {
+    if (line.size() > from)
+      diags_.warning(span_of(line, from, line[0].span),
+                     "extra tokens after #" + line[0].text + " are ignored");
+  }
+
+  void begin_if(const std::string& d, const std::vector<Token>& line, const Token& hash) {
+    Cond c;
+    c.parent_active = active();
+    c.span = {hash.span.begin, line[0].span.end};
+    bool value = false;
+    if (c.parent_active) {
+      if (d == "if") {
+        value = eval_condition(line);
+      } else if (line.size() < 2 || line[1].kind != TokenKind::Identifier) {
+        diags_.error(line.size() < 2 ? line[0].span : line[1].span, "#" + d + " needs a macro name");
+      } else {
+        value = (find_macro(line[1].text) != nullptr) == (d == "ifdef");
+        extra_tokens(line, 2);
+      }
+    }
+    c.active = c.parent_active && value;
+    c.taken = c.active;
+    conds_.push_back(c);
+  }
+
+  bool check_open_group(const std::vector<Token>& line) {
+    if (conds_.size() <= files_.back().conds_at_entry) {
+      diags_.error(line[0].span, "#" + line[0].text + " without #if");
+      return false;
+    }
+    if (conds_.back().seen_else) {
+      auto& e = diags_.error(line[0].span, "#" + line[0].text + " after #else");
+      e.notes.push_back({conds_.back().span, "the conditional started here"});
+      return false;
+    }
+    return true;
+  }
+
+  void do_elif(const std::vector<Token>& line, const Token&) {
+    if (!check_open_group(line)) return;
+    Cond& c = conds_.back();
+    if (!c.parent_active || c.taken) {
+      c.active = false;
+      return;
+    }
+    c.active = eval_condition(line);
+    c.taken = c.active;
+  }
+
+  void do_else(const std::vector<Token>& line, const Token&) {
+    if (!check_open_group(line)) return;
+    Cond& c = conds_.back();
+    c.seen_else = true;
+    c.active = c.parent_active && !c.taken;
+    c.taken = true;
+    extra_tokens(line, 1);
+  }
+
+  void do_endif(const std::vector<Token>& line, const Token&) {
+    if (conds_.size() <= files_.back().conds_at_entry) {
+      diags_.error(line[0].span, "#endif without #if");
+      return;
+    }
+    conds_.pop_back();
+    if (active()) extra_tokens(line, 1);
+  }
+
+  void do_define(const std::vector<Token>& line) {
+    if (line.size() < 2 || line[1].kind != TokenKind::Identifier) {
+      diags_.error(line.size() < 2 ? line[0].span : line[1].span, "#define needs a macro name");
+      return;
+    }
+    Macro m;
+    m.name = line[1].text;
+    m.span = line[1].span;
+    if (m.name == "defined") {
+      diags_.error(line[1].span, "'defined' cannot be used as a macro name");
+      return;
+    }
+    std::size_t i = 2;
+    if (i < line.size() && line[i].is("(") && !line[i].space_before) {
+      m.function_like = true;
+      ++i;
+      bool ok = false;
+      if (i < line.size() && line[i].is(")")) {
+        ok = true;
+        ++i;
+      }
+      while (!ok && i < line.size()) {
+        if (line[i].kind != TokenKind::Identifier) break;
+        if (std::find(m.params.begin(), m.params.end(), line[i].text) != m.params.end()) {
+          diags_.error(line[i].span, "duplicate macro parameter '" + line[i].text + "'");
+          return;
+        }
+        m.params.push_back(line[i].text);
+        ++i;
+        if (i < line.size() && line[i].is(")")) {
+          ok = true;
+          ++i;
+        } else if (i < line.size() && line[i].is(",")) {
+          ++i;
+        } else {
+          break;
+        }
+      }
+      if (!ok) {
+        diags_.error(i < line.size() ? line[i].span : line.back().span,
+                     "expected a parameter name or ')' in the parameter list of macro '" + m.name + "'");
+        return;
+      }
+    }
+    m.body.assign(line.begin() + static_cast<std::ptrdiff_t>(i), line.end());
+    if (!m.body.empty()) m.body.front().space_before = false;
+    for (std::size_t k = 0; k < m.body.size(); ++k) {
+      bool edge = k == 0 || k + 1 == m.body.size();
+      if (m.body[k].is("##") && edge) {
+        diags_.error(m.body[k].span, "'##' cannot appear at either end of a macro body");
+        return;
+      }
+      if (m.function_like && m.body[k].is("#") &&
+          (k + 1 == m.body.size() || param_index(m, m.body[k + 1]) < 0)) {
+        diags_.error(m.body[k].span, "'#' is not followed by a macro parameter");
+        return;
+      }
+    }
+    if (const Macro* old = find_macro(m.name); old && !same_definition(*old, m)) {
+      auto& w = diags_.warning(m.span, "macro '" + m.name + "' redefined");
+      if (old->span.begin.valid()) w.notes.push_back({old->span, "the previous definition is here"});
+    }
+    set_macro(std::move(m));
+  }
+
+  static bool same_definition(const Macro& a, const Macro& b) {
+    if (a.function_like != b.function_like || a.params != b.params || a.body.size() != b.body.size()) return false;
+    for (std::size_t i = 0; i < a.body.size(); ++i)
+      if (a.body[i].text != b.body[i].text || (i > 0 && a.body[i].space_before != b.body[i].space_before))
+        return false;
+    return true;
+  }
+
+  void do_undef(const std::vector<Token>& line) {
+    if (line.size() < 2 || line[1].kind != TokenKind::Identifier) {
+      diags_.error(line.size() < 2 ? line[0].span : line[1].span, "#undef needs a macro name");
+      return;
+    }
+    defined_.erase(line[1].text);
+    extra_tokens(line, 2);
+  }
+
+  std::optional<std::string> read_file(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) return std::nullopt;
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+  }
+
+  void do_include(const std::vector<Token>& line, const Token& hash) {
+    std::vector<Token> rest(line.begin() + 1, line.end());
+    if (!rest.empty() && rest[0].kind == TokenKind::Identifier) rest = expand_list(rest, 0);
+    std::string name;
+    if (!rest.empty() && rest[0].kind == TokenKind::String) {
+      name = rest[0].text.substr(1, rest[0].text.size() - 2);
+    } else if (!rest.empty() && rest[0].is("<") && rest.back().is(">") && rest.size() > 2) {
+      for (std::size_t i = 1; i + 1 < rest.size(); ++i) name += rest[i].text;
+    } else {
+      diags_.error(line[0].span, "#include expects \"FILE\" or <FILE>");
+      return;
+    }
+    SourceSpan where = {hash.span.begin, line.back().span.end};
+    if (files_.size() >= kMaxIncludeDepth) {
+      diags_.error(where, "#include nested too deeply (more than " + std::to_string(kMaxIncludeDepth) + " levels)");
+      return;
+    }
+    // Search: the including file's folder, each -I folder, then the stdlib.
+    std::vector<std::string> dirs;
+    if (!files_.back().dir.empty()) dirs.push_back(files_.back().dir);
+    dirs.insert(dirs.end(), opts_.include_dirs.begin(), opts_.include_dirs.end());
+    for (const auto& d : dirs) {
+      fs::path p = fs::path(d) / name;
+      std::error_code ec;
+      if (!fs::is_regular_file(p, ec)) continue;
+      auto text = read_file(p.string());
+      if (!text) continue;
+      std::string key = fs::weakly_canonical(p, ec).string();
+      if (!enter_checked(key, where)) return;
+      std::uint32_t id = sm_.add(p.lexically_normal().string(), std::move(*text));
+      push_file(id, p.parent_path().string(), key);
+      return;
+    }
+    if (auto text = stdlib::find(name)) {
+      std::string key = "<stdlib>/" + name;
+      if (!enter_checked(key, where)) return;
+      std::uint32_t id = sm_.add(name, std::string(*text));
+      push_file(id, "", key);
+      return;
+    }
+    diags_.error(where, "cannot find include file '" + name + "'");
+  }
+
+  // False (with a diagnostic naming the chain) if `key` is already open.
+  bool enter_checked(const std::string& key, SourceSpan where) {
+    for (std::size_t i = 0; i < files_.size(); ++i) {
+      if (files_[i].key != key) continue;
+      std::string chain;
+      for (std::size_t j = i; j < files_.size(); ++j) chain += sm_.path(files_[j].file) + " -> ";
+      chain += sm_.path(files_[i].file);
+      diags_.error(where, "#include cycle: " + chain);
+      return false;
+    }
+    return true;
+  }
+
+  void do_pragma(const std::vector<Token>& line) {
+    if (line.size() < 2) {
+      diags_.warning(line[0].span, "empty #pragma ignored");
+      return;
+    }
+    const Token& what = line[1];
+    if (what.is_identifier("noinit")) {
+      out_.pragmas.noinit = true;
+      extra_tokens(line, 2);
+      return;
+    }
+    if (what.is_identifier("init")) {
+      if (line.size() < 3 || line[2].kind != TokenKind::Identifier) {
+        diags_.error(what.span, "#pragma init needs the name of a sub or function");
+        return;
+      }
+      out_.pragmas.init = line[2].text;
+      out_.pragmas.init_span = line[2].span;
+      extra_tokens(line, 3);
+      return;
+    }
+    if (what.is_identifier("reserve")) {
+      std::vector<Token> nums = expand_list(std::vector<Token>(line.begin() + 2, line.end()), 0);
+      std::vector<std::int64_t> values;
+      for (const auto& t : nums) {
+        std::int64_t v = 0;
+        if (t.is(",")) continue;
+        if (!number_value(t, v)) {
+          diags_.error(t.span, "#pragma reserve expects numbers: #pragma reserve LO [HI]");
+          return;
+        }
+        values.push_back(v);
+      }
+      if (values.empty() || values.size() > 2) {
+        diags_.error(what.span, "#pragma reserve expects one or two slot numbers: #pragma reserve LO [HI]");
+        return;
+      }
+      std::int64_t lo = values[0], hi = values.size() == 2 ? values[1] : values[0];
+      if (lo < 0 || hi > 31 || lo > hi) {
+        diags_.error(span_of(line, 2, what.span), "#pragma reserve range " + std::to_string(lo) + ".." +
+                                                    std::to_string(hi) + " is not within variable slots 0..31");
+        return;
+      }
+      out_.pragmas.reserve.push_back({static_cast<int>(lo), static_cast<int>(hi), span_of(line, 0, what.span)});
+      return;
+    }
+    diags_.warning(what.span, "unknown #pragma '" + what.text + "' ignored");
+  }
+
+  // ------------------------------------------------------ #if evaluation --
+
+  bool eval_condition(const std::vector<Token>& line) {
+    // Replace `defined X` / `defined(X)` before expanding macros.
+    std::vector<Token> toks;
+    for (std::size_t i = 1; i < line.size(); ++i) {
+      if (!line[i].is_identifier("defined")) {
+        toks.push_back(line[i]);
+        continue;
+      }
+      std::size_t j = i + 1;
+      bool paren = j < line.size() && line[j].is("(");
+      if (paren) ++j;
+      if (j >= line.size() || line[j].kind != TokenKind::Identifier || (paren && (j + 1 >= line.size() || !line[j + 1].is(")")))) {
+        diags_.error(line[i].span, "'defined' needs a macro name: defined(NAME)");
+        return false;
+      }
+      Token v = line[i];
+      v.kind = TokenKind::Number;
+      v.text = find_macro(line[j].text) ? "1" : "0";
+      toks.push_back(v);
+      i = paren ? j + 1 : j;
+    }
+    std::size_t before = diags_.error_count();
+    toks = expand_list(std::move(toks), 0);
+    if (diags_.error_count() != before) return false;
+    if (toks.empty()) {
+      diags_.error(line[0].span, "#" + line[0].text + " needs an expression");
+      return false;
+    }
+    CondEval ev{toks, diags_, 0, false};
+    std::int64_t v = ev.ternary();
+    if (!ev.failed && ev.pos < toks.size()) ev.fail(toks[ev.pos], "unexpected '" + toks[ev.pos].text + "' in #if expression");
+    return !ev.failed && v != 0;
+  }
+
+  // A recursive-descent evaluator of #if expressions over 64-bit integers.
+  struct CondEval {
+    const std::vector<Token>& toks;
+    Diagnostics& diags;
+    std::size_t pos;
+    bool failed;
+
+    void fail(const Token& at, const std::string& msg) {
+      if (!failed) diags.error(at.span, msg);
+      failed = true;
+    }
+    bool accept(std::string_view p) {
+      if (pos < toks.size() && toks[pos].is(p)) {
+        ++pos;
+        return true;
+      }
+      return false;
+    }
+    const Token& here() const { return pos < toks.size() ? toks[pos] : toks.back(); }
+
+    std::int64_t ternary() {
+      std::int64_t c = binary(0);
+      if (!accept("?")) return c;
+      std::int64_t a = ternary();
+      if (!accept(":")) fail(here(), "expected ':' in #if expression");
+      std::int64_t b = ternary();
+      return c ? a : b;
+    }
+
+    static int precedence(const Token& t) {
+      if (t.kind != TokenKind::Punct) return -1;
+      static const std::pair<std::string_view, int> table[] = {
+          {"||", 1}, {"&&", 2}, {"|", 3}, {"^", 4}, {"&", 5}, {"==", 6}, {"!=", 6}, {"<", 7}, {"<=", 7},
+          {">", 7}, {">=", 7}, {"<<", 8}, {">>", 8}, {"+", 9}, {"-", 9}, {"*", 10}, {"/", 10}, {"%", 10}};
+      for (auto& [op, p] : table)
+        if (t.text == op) return p;
+      return -1;
+    }
+
+    std::int64_t binary(int min_prec) {
+      std::int64_t lhs = unary();
+      for (;;) {
+        if (pos >= toks.size() || failed) return lhs;
+        const Token& op = toks[pos];
+        int p = precedence(op);
+        if (p < 0 || p < min_prec) return lhs;
+        ++pos;
+        std::int64_t rhs = binary(p + 1);
+        lhs = apply(op, lhs, rhs);
+      }
+    }
+
+    std::int64_t apply(const Token& op, std::int64_t a, std::int64_t b) {
+      const std::string& o = op.text;
+      if ((o == "/" || o == "%") && b == 0) {
+        fail(op, "division by zero in #if expression");
+        return 0;
+      }
+      auto ua = static_cast<std::uint64_t>(a), ub = static_cast<std::uint64_t>(b);
+      if (o == "||") return a || b;
+      if (o == "&&") return a && b;
+      if (o == "|") return a | b;
+      if (o == "^") return a ^ b;
+      if (o == "&") return a & b;
+      if (o == "==") return a == b;
+      if (o == "!=") return a != b;
+      if (o == "<") return a < b;
+      if (o == "<=") return a <= b;
+      if (o == ">") return a > b;
+      if (o == ">=") return a >= b;
+      if (o == "<<") return static_cast<std::int64_t>(ua << (ub & 63));
+      if (o == ">>") return a >> (ub & 63);
+      if (o == "+") return static_cast<std::int64_t>(ua + ub);
+      if (o == "-") return static_cast<std::int64_t>(ua - ub);
+      if (o == "*") return static_cast<std::int64_t>(ua * ub);
+      if (a == INT64_MIN && b == -1) return o == "/" ? a : 0;
+      if (o == "/") return a / b;
+      return a % b;
+    }
+
+    std::int64_t unary() {
+      if (pos >= toks.size()) {
+        fail(toks.back(), "#if expression ends too early");
+        return 0;
+      }
+      const Token& t = toks[pos];
+      if (accept("-")) return static_cast<std::int64_t>(0 - static_cast<std::uint64_t>(unary()));
+      if (accept("+")) return unary();
+      if (accept("!")) return !unary();
+      if (accept("~")) return ~unary();
+      if (accept("(")) {
+        std::int64_t v = ternary();
+        if (!accept(")")) fail(here(), "expected ')' in #if expression");
+        return v;
+      }
+      ++pos;
+      if (t.kind == TokenKind::Number || t.kind == TokenKind::Char) {
+        std::int64_t v = 0;
+        if (!number_value(t, v)) fail(t, "invalid number '" + t.text + "'");
+        return v;
+      }
+      if (t.kind == TokenKind::Identifier) return t.text == "true" ? 1 : 0;  // C: unknown names are 0
+      fail(t, "unexpected '" + t.text + "' in #if expression");
+      return 0;
+    }
+  };
+};
+
+}  // namespace
+
+Preprocessed preprocess(std::uint32_t file, const std::string& dir, const Options& options, SourceManager& sm,
+                        Diagnostics& diags) {
+  Preprocessor pp(options, sm, diags);
+  return pp.run(file, dir);
+}
+
+SourceLoc presumed_loc(const SourceLoc& loc, const SourceManager& sm) {
+  SourceLoc l = loc;
+  for (int guard = 0; l.expansion != 0 && guard < 256; ++guard) l = sm.expansion(l.expansion).site.begin;
+  return l;
+}
+
+std::string tokens_to_text(const std::vector<Token>& tokens, const SourceManager& sm) {
+  std::string out;
+  std::uint32_t file = UINT32_MAX;
+  std::uint32_t line = 0;
+  for (const auto& t : tokens) {
+    if (t.kind == TokenKind::End) break;
+    SourceLoc at = presumed_loc(t.span.begin, sm);
+    if (at.file != file || at.line < line || at.line > line + 8) {
+      if (!out.empty()) out += '\n';
+      out += "# " + std::to_string(at.line) + " \"" + sm.path(at.file) + "\"\n";
+      file = at.file;
+      line = at.line;
+    } else if (at.line > line) {
+      out.append(at.line - line, '\n');
+      line = at.line;
+    } else if (t.space_before) {
+      out += ' ';
+    }
+    out += t.text;
+  }
+  out += '\n';
+  return out;
+}
+
+}  // namespace rcxc::frontend

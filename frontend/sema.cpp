@@ -1,0 +1,782 @@
+#include "frontend/sema.h"
+
+#include <functional>
+#include <map>
+#include <set>
+#include <string>
+#include <unordered_map>
+
+#include "frontend/fold.h"
+
+namespace rcxc::frontend {
+namespace {
+
+using namespace ast;
+
+std::string kind_name(SymbolKind k) {
+  switch (k) {
+    case SymbolKind::Global: return "global variable";
+    case SymbolKind::Local: return "local variable";
+    case SymbolKind::Param: return "parameter";
+    case SymbolKind::Task: return "task";
+    case SymbolKind::Sub: return "sub";
+    case SymbolKind::Function: return "function";
+    case SymbolKind::Label: return "label";
+  }
+  return "name";
+}
+
+bool is_variable(const Symbol& s) {
+  return s.kind == SymbolKind::Global || s.kind == SymbolKind::Local || s.kind == SymbolKind::Param;
+}
+
+// A variable that may be written: not a `const` parameter.
+bool is_writable(const Symbol& s) {
+  if (s.kind == SymbolKind::Param)
+    return s.param_kind == ParamKind::Value || s.param_kind == ParamKind::Reference;
+  return s.kind == SymbolKind::Global || s.kind == SymbolKind::Local;
+}
+
+// How an expression's value is used, for call and condition checks.
+enum class Use { Value, Discarded, Condition };
+
+class Checker {
+ public:
+  Checker(Program& p, Diagnostics& d) : prog_(p), diags_(d) {}
+
+  void run() {
+    declare_top_level();
+    for (auto& g : prog_.globals) check_global(g);
+    for (std::size_t i = 0; i < prog_.functions.size(); ++i) check_function(prog_.functions[i]);
+    for (auto& t : prog_.tasks) check_body(t.symbol, t.body);
+    for (auto& s : prog_.subs) check_body(s.symbol, s.body);
+    check_limits();
+    check_function_recursion();
+    check_pragmas();
+  }
+
+ private:
+  Program& prog_;
+  Diagnostics& diags_;
+  std::unordered_map<std::string, SymbolId> globals_;
+  std::vector<std::unordered_map<std::string, SymbolId>> scopes_;  // innermost last
+  SymbolId owner_ = kNoSymbol;
+  bool in_function_ = false;
+  std::unordered_map<std::string, SymbolId> labels_;
+  std::set<std::string> reported_undefined_;
+  int loop_depth_ = 0;
+  int breakable_depth_ = 0;
+  std::vector<Switch*> switches_;
+  std::map<SymbolId, std::set<SymbolId>> function_calls_;  // function -> functions it calls
+
+  // ------------------------------------------------------------ symbols --
+
+  SymbolId add_symbol(Symbol s) {
+    prog_.symbols.push_back(std::move(s));
+    return static_cast<SymbolId>(prog_.symbols.size() - 1);
+  }
+
+  void redefinition(const std::string& name, SourceSpan span, SymbolId previous) {
+    auto& d = diags_.error(span, "redefinition of '" + name + "'");
+    const Symbol& p = prog_.symbols[previous];
+    d.notes.push_back({p.span, "previous definition of '" + name + "' (a " + kind_name(p.kind) + ") is here"});
+  }
+
+  SymbolId declare_global(SymbolKind kind, const std::string& name, SourceSpan span, std::uint32_t index) {
+    SymbolId id = add_symbol({kind, name, span, index, kNoSymbol, ParamKind::Value, false});
+    auto [it, fresh] = globals_.emplace(name, id);
+    if (!fresh) redefinition(name, span, it->second);
+    return id;
+  }
+
+  void declare_top_level() {
+    for (std::uint32_t i = 0; i < prog_.globals.size(); ++i)
+      prog_.globals[i].symbol = declare_global(SymbolKind::Global, prog_.globals[i].name, prog_.globals[i].span, i);
+    for (std::uint32_t i = 0; i < prog_.tasks.size(); ++i)
+      prog_.tasks[i].symbol = declare_global(SymbolKind::Task, prog_.tasks[i].name, prog_.tasks[i].span, i);
+    for (std::uint32_t i = 0; i < prog_.subs.size(); ++i)
+      prog_.subs[i].symbol = declare_global(SymbolKind::Sub, prog_.subs[i].name, prog_.subs[i].span, i);
+    for (std::uint32_t i = 0; i < prog_.functions.size(); ++i)
+      prog_.functions[i].symbol =
+          declare_global(SymbolKind::Function, prog_.functions[i].name, prog_.functions[i].span, i);
+  }
+
+  SymbolId declare_local(SymbolKind kind, const std::string& name, SourceSpan span, std::uint32_t index,
+                         ParamKind pk = ParamKind::Value) {
+    SymbolId id = add_symbol({kind, name, span, index, owner_, pk, false});
+    auto [it, fresh] = scopes_.back().emplace(name, id);
+    if (!fresh) redefinition(name, span, it->second);
+    return id;
+  }
+
+  std::optional<SymbolId> lookup(const std::string& name) const {
+    for (auto s = scopes_.rbegin(); s != scopes_.rend(); ++s)
+      if (auto it = s->find(name); it != s->end()) return it->second;
+    if (auto it = globals_.find(name); it != globals_.end()) return it->second;
+    return std::nullopt;
+  }
+
+  void undefined(const std::string& name, SourceSpan span, const std::string& what) {
+    // One report per name and body keeps a misspelt name from flooding.
+    if (!reported_undefined_.insert(name).second) return;
+    diags_.error(span, "'" + name + "' is not declared" + what);
+  }
+
+  // ------------------------------------------------------ declarations --
+
+  void check_global(VarDecl& g) {
+    if (!g.init) return;
+    scopes_.clear();
+    std::size_t errors_before = diags_.error_count();
+    expr(*g.init, Use::Value);
+    if (!g.init->constant && diags_.error_count() == errors_before)
+      diags_.error(g.init->span, "the initial value of global '" + g.name + "' must be a constant expression");
+  }
+
+  void begin_body(SymbolId owner) {
+    owner_ = owner;
+    scopes_.assign(1, {});
+    labels_.clear();
+    reported_undefined_.clear();
+    loop_depth_ = breakable_depth_ = 0;
+    switches_.clear();
+  }
+
+  void check_function(Function& f) {
+    begin_body(f.symbol);
+    in_function_ = true;
+    for (std::uint32_t i = 0; i < f.params.size(); ++i) {
+      Param& p = f.params[i];
+      p.symbol = declare_local(SymbolKind::Param, p.name, p.span, i, p.kind);
+    }
+    collect_labels(f.body);
+    block_contents(f.body);
+    in_function_ = false;
+    report_unused();
+  }
+
+  void check_body(SymbolId owner, Stmt& body) {
+    begin_body(owner);
+    collect_labels(body);
+    block_contents(body);
+    report_unused();
+  }
+
+  // A body's block shares the scope of the parameters (like C).
+  void block_contents(Stmt& body) {
+    if (auto* b = as<Block>(body)) {
+      statements(b->stmts);
+    } else {
+      stmt(body);
+    }
+  }
+
+  void report_unused() {
+    for (SymbolId id = 0; id < prog_.symbols.size(); ++id) {
+      const Symbol& s = prog_.symbols[id];
+      if (s.owner == owner_ && s.kind == SymbolKind::Local && !s.used)
+        diags_.warning(s.span, "unused variable '" + s.name + "'");
+    }
+  }
+
+  // Labels are visible in the whole body, so gotos may jump forward.
+  void collect_labels(Stmt& s) {
+    std::function<void(Stmt&)> walk = [&](Stmt& st) {
+      std::visit(
+          [&](auto& n) {
+            using N = std::decay_t<decltype(n)>;
+            if constexpr (std::is_same_v<N, Labeled>) {
+              SymbolId id = add_symbol({SymbolKind::Label, n.label, n.label_span, 0, owner_, ParamKind::Value, false});
+              auto [it, fresh] = labels_.emplace(n.label, id);
+              if (!fresh) {
+                auto& d = diags_.error(n.label_span, "label '" + n.label + "' is defined twice");
+                d.notes.push_back({prog_.symbols[it->second].span, "the first definition is here"});
+              }
+              n.symbol = it->second;
+              walk(*n.body);
+            } else if constexpr (std::is_same_v<N, Block>) {
+              for (auto& c : n.stmts) walk(c);
+            } else if constexpr (std::is_same_v<N, If>) {
+              walk(*n.then_branch);
+              if (n.else_branch) walk(**n.else_branch);
+            } else if constexpr (std::is_same_v<N, While> || std::is_same_v<N, Until> || std::is_same_v<N, DoWhile> ||
+                                 std::is_same_v<N, Repeat> || std::is_same_v<N, Switch> || std::is_same_v<N, Case> ||
+                                 std::is_same_v<N, Default> || std::is_same_v<N, For>) {
+              walk(*n.body);
+            }
+          },
+          st.node);
+    };
+    walk(s);
+  }
+
+  // --------------------------------------------------------- statements --
+
+  static bool ends_flow(const Stmt& s) {
+    return as<Break>(s) || as<Continue>(s) || as<Return>(s) || as<Goto>(s);
+  }
+  static bool is_jump_target(const Stmt& s) { return as<Labeled>(s) || as<Case>(s) || as<Default>(s); }
+
+  void statements(std::vector<Stmt>& list) {
+    scopes_.emplace_back();
+    bool dead = false;
+    bool warned = false;
+    for (auto& s : list) {
+      if (is_jump_target(s)) dead = false;
+      if (dead && !warned && !as<Empty>(s)) {
+        diags_.warning(s.span, "unreachable code");
+        warned = true;
+      }
+      stmt(s);
+      if (ends_flow(s)) dead = true;
+    }
+    scopes_.pop_back();
+  }
+
+  void condition(Expr& e) {
+    expr(e, Use::Condition);
+    if (const auto* a = as<Assign>(e); a && a->op == AssignOp::Assign)
+      diags_.warning(e.span, "assignment used as a condition; did you mean '=='?");
+  }
+
+  void loop_body(Stmt& body) {
+    ++loop_depth_;
+    ++breakable_depth_;
+    stmt(body);
+    --loop_depth_;
+    --breakable_depth_;
+  }
+
+  void stmt(Stmt& s) {
+    std::visit([&](auto& n) { visit_stmt(n, s); }, s.node);
+  }
+
+  void visit_stmt(Block& b, Stmt&) { statements(b.stmts); }
+  void visit_stmt(DeclStmt& d, Stmt&) {
+    for (auto& v : d.vars) {
+      if (v.init) expr(*v.init, Use::Value);  // before declaring: `int x = x;` is an error
+      v.symbol = declare_local(SymbolKind::Local, v.name, v.span, 0);
+    }
+  }
+  void visit_stmt(ExprStmt& e, Stmt&) {
+    expr(e.expr, Use::Discarded);
+    bool effect = as<Assign>(e.expr) || as<Call>(e.expr);
+    if (const auto* u = as<Unary>(e.expr))
+      effect = u->op == UnaryOp::PreInc || u->op == UnaryOp::PreDec || u->op == UnaryOp::PostInc ||
+               u->op == UnaryOp::PostDec;
+    if (!effect) diags_.warning(e.expr.span, "expression result unused");
+  }
+  void visit_stmt(If& n, Stmt&) {
+    condition(n.cond);
+    stmt(*n.then_branch);
+    if (n.else_branch) stmt(**n.else_branch);
+  }
+  void visit_stmt(While& n, Stmt&) {
+    condition(n.cond);
+    loop_body(*n.body);
+  }
+  void visit_stmt(DoWhile& n, Stmt&) {
+    loop_body(*n.body);
+    condition(n.cond);
+  }
+  void visit_stmt(Until& n, Stmt&) {
+    condition(n.cond);
+    loop_body(*n.body);
+  }
+  void visit_stmt(For& n, Stmt&) {
+    scopes_.emplace_back();  // a declaration in `for (int i = ...` belongs to the loop
+    if (n.init) stmt(**n.init);
+    if (n.cond) condition(*n.cond);
+    if (n.step) expr(*n.step, Use::Discarded);
+    loop_body(*n.body);
+    scopes_.pop_back();
+  }
+  void visit_stmt(Repeat& n, Stmt&) {
+    expr(n.count, Use::Value);
+    loop_body(*n.body);
+  }
+  void visit_stmt(Switch& n, Stmt&) {
+    expr(n.value, Use::Value);
+    switches_.push_back(&n);
+    ++breakable_depth_;
+    stmt(*n.body);
+    --breakable_depth_;
+    switches_.pop_back();
+  }
+  void visit_stmt(Case& n, Stmt& s) {
+    expr(n.value, Use::Value);
+    if (switches_.empty()) {
+      diags_.error(s.span, "'case' outside a switch");
+    } else if (!n.value.constant) {
+      diags_.error(n.value.span, "a case value must be a constant expression");
+    } else {
+      add_case(n.value.constant, s.span, n.index);
+    }
+    stmt(*n.body);
+  }
+  void visit_stmt(Default& n, Stmt& s) {
+    if (switches_.empty())
+      diags_.error(s.span, "'default' outside a switch");
+    else
+      add_case(std::nullopt, s.span, n.index);
+    stmt(*n.body);
+  }
+  void add_case(std::optional<std::int16_t> value, SourceSpan span, std::uint32_t& index) {
+    Switch& sw = *switches_.back();
+    for (const auto& c : sw.cases) {
+      if (c.value != value) continue;
+      auto& d = diags_.error(span, value ? "duplicate case value " + std::to_string(*value)
+                                         : std::string("more than one 'default' in a switch"));
+      d.notes.push_back({c.span, "the previous one is here"});
+      return;
+    }
+    index = static_cast<std::uint32_t>(sw.cases.size());
+    sw.cases.push_back({value, span});
+  }
+  void visit_stmt(Break&, Stmt& s) {
+    if (breakable_depth_ == 0) diags_.error(s.span, "'break' outside a loop or switch");
+  }
+  void visit_stmt(Continue&, Stmt& s) {
+    if (loop_depth_ == 0) diags_.error(s.span, "'continue' outside a loop");
+  }
+  void visit_stmt(Return&, Stmt&) {}
+  void visit_stmt(Goto& n, Stmt& s) {
+    auto it = labels_.find(n.label);
+    if (it == labels_.end()) {
+      diags_.error(s.span, "label '" + n.label + "' is not defined in this " +
+                               kind_name(prog_.symbols[owner_].kind));
+      return;
+    }
+    n.symbol = it->second;
+    prog_.symbols[n.symbol].used = true;
+  }
+  void visit_stmt(Labeled& n, Stmt&) { stmt(*n.body); }
+  void task_ref(const std::string& name, SymbolId& symbol, const Stmt& s, const char* verb) {
+    auto id = lookup(name);
+    if (!id) {
+      diags_.error(s.span, "cannot " + std::string(verb) + " '" + name + "': there is no task of that name");
+      return;
+    }
+    if (prog_.symbols[*id].kind != SymbolKind::Task) {
+      diags_.error(s.span, "cannot " + std::string(verb) + " '" + name + "': it is a " +
+                               kind_name(prog_.symbols[*id].kind) + ", not a task");
+      return;
+    }
+    symbol = *id;
+    prog_.symbols[*id].used = true;
+  }
+  void visit_stmt(StartTask& n, Stmt& s) { task_ref(n.task, n.symbol, s, "start"); }
+  void visit_stmt(StopTask& n, Stmt& s) { task_ref(n.task, n.symbol, s, "stop"); }
+  void visit_stmt(Asm& n, Stmt&) {
+    for (auto& item : n.items) std::visit([&](auto& i) { asm_item(i); }, item);
+  }
+  void visit_stmt(Empty&, Stmt&) {}
+
+  // --------------------------------------------------------------- asm --
+
+  // Inside an inline function a `const` parameter is known only at each
+  // call; such operands are checked when lowering substitutes them.
+  bool depends_on_const_param(const Expr& e) const {
+    if (const auto* n = as<Name>(e)) {
+      if (n->symbol == kNoSymbol) return false;
+      const Symbol& s = prog_.symbols[n->symbol];
+      return s.kind == SymbolKind::Param &&
+             (s.param_kind == ParamKind::Const || s.param_kind == ParamKind::ConstReference);
+    }
+    bool any = false;
+    visit_children(e, [&](const Expr& c) { any = any || depends_on_const_param(c); });
+    return any;
+  }
+
+  template <class F>
+  static void visit_children(const Expr& e, F&& f) {
+    std::visit(
+        [&](const auto& n) {
+          using N = std::decay_t<decltype(n)>;
+          if constexpr (std::is_same_v<N, Unary>) f(*n.operand);
+          if constexpr (std::is_same_v<N, Binary>) {
+            f(*n.lhs);
+            f(*n.rhs);
+          }
+          if constexpr (std::is_same_v<N, Assign>) {
+            f(*n.target);
+            f(*n.value);
+          }
+          if constexpr (std::is_same_v<N, Conditional>) {
+            f(*n.cond);
+            f(*n.then_value);
+            f(*n.else_value);
+          }
+          if constexpr (std::is_same_v<N, Call>)
+            for (const auto& a : n.args) f(a);
+          if constexpr (std::is_same_v<N, Source>) {
+            f(*n.type);
+            f(*n.arg);
+          }
+          if constexpr (std::is_same_v<N, SourceArg>) f(*n.operand);
+        },
+        e.node);
+  }
+
+  void asm_item(AsmByte& b) {
+    expr(b.value, Use::Value);
+    if (b.source_pair) return;
+    if (!b.value.constant) {
+      if (!depends_on_const_param(b.value))
+        diags_.error(b.value.span, "an asm byte must be a constant (write $name for a variable)");
+      return;
+    }
+    int v = *b.value.constant;
+    if (v < -128 || v > 255)
+      diags_.error(b.value.span, "asm byte value " + std::to_string(v) + " does not fit in a byte");
+  }
+
+  void asm_item(AsmInstr& in) {
+    for (auto& o : in.operands) expr(o, Use::Value);
+    const rcx::OpcodeInfo* info = rcx::by_mnemonic(in.mnemonic);
+    if (!info) {
+      diags_.error(in.mnemonic_span, "unknown asm mnemonic '" + in.mnemonic + "'");
+      return;
+    }
+    if (!info->is_command()) {
+      diags_.error(in.mnemonic_span, "'" + in.mnemonic + "' (" + std::string(info->name) +
+                                         ") is a host request, not a program instruction");
+      return;
+    }
+    // The operands as written: Argument fields ride with their Source.
+    std::vector<const rcx::Operand*> written;
+    for (const auto& o : info->operands) {
+      if (o.role == rcx::Role::Argument) continue;
+      if (o.role == rcx::Role::Offset || o.role == rcx::Role::Extension || o.role == rcx::Role::Length ||
+          o.role == rcx::Role::Data || o.role == rcx::Role::Checksum || o.role == rcx::Role::OpSource ||
+          o.count != 1) {
+        diags_.error(in.mnemonic_span, "'" + in.mnemonic + "' cannot be written in asm; use C control flow instead");
+        return;
+      }
+      written.push_back(&o);
+    }
+    if (in.operands.size() != written.size()) {
+      diags_.error(in.span, "'" + in.mnemonic + "' takes " + std::to_string(written.size()) + " operand" +
+                                (written.size() == 1 ? "" : "s") + ", but " + std::to_string(in.operands.size()) +
+                                (in.operands.size() == 1 ? " was" : " were") + " given");
+      return;
+    }
+    in.op = info->op;
+    for (std::size_t i = 0; i < written.size(); ++i) asm_operand(in, *written[i], in.operands[i]);
+  }
+
+  void asm_operand(const AsmInstr& in, const rcx::Operand& o, const Expr& e) {
+    std::string what = "operand '" + std::string(o.name) + "' of '" + in.mnemonic + "'";
+    if (o.role == rcx::Role::Source) return;  // any value; lowering maps it
+    if (o.role == rcx::Role::Variable) {
+      const auto* n = as<Name>(e);
+      if (!n || n->symbol == kNoSymbol || !is_writable(prog_.symbols[n->symbol]))
+        diags_.error(e.span, what + " must be a variable");
+      return;
+    }
+    if (!e.constant) {
+      if (!depends_on_const_param(e)) diags_.error(e.span, what + " must be a constant");
+      return;
+    }
+    int v = *e.constant;
+    bool byte = rcx::field_size(o.type) == 1;
+    bool fits = byte ? (v >= -128 && v <= 255) : true;
+    if (!fits) diags_.error(e.span, what + " is " + std::to_string(v) + ", which does not fit in a byte");
+  }
+
+  // -------------------------------------------------------- expressions --
+
+  void expr(Expr& e, Use use) {
+    std::visit([&](auto& n) { visit_expr(n, e, use); }, e.node);
+  }
+
+  void visit_expr(IntLit& n, Expr& e, Use) {
+    if (n.value > 0xFFFF || n.value < -0x8000)
+      diags_.warning(e.span, "integer constant " + std::to_string(n.value) + " does not fit in 16 bits; it becomes " +
+                                 std::to_string(wrap16(n.value)));
+    e.constant = wrap16(n.value);
+  }
+
+  void visit_expr(Name& n, Expr& e, Use) {
+    auto id = lookup(n.name);
+    if (!id) {
+      undefined(n.name, e.span, "");
+      return;
+    }
+    const Symbol& s = prog_.symbols[*id];
+    if (!is_variable(s)) {
+      diags_.error(e.span, "'" + n.name + "' is a " + kind_name(s.kind) + ", not a variable");
+      return;
+    }
+    n.symbol = *id;
+    prog_.symbols[*id].used = true;
+  }
+
+  void visit_expr(Unary& n, Expr& e, Use) {
+    expr(*n.operand, Use::Value);
+    if (n.op == UnaryOp::PreInc || n.op == UnaryOp::PreDec || n.op == UnaryOp::PostInc ||
+        n.op == UnaryOp::PostDec) {
+      require_writable(*n.operand, n.op == UnaryOp::PreInc || n.op == UnaryOp::PostInc ? "increment" : "decrement");
+      return;
+    }
+    if (n.operand->constant) e.constant = fold_unary(n.op, *n.operand->constant);
+  }
+
+  void visit_expr(Binary& n, Expr& e, Use) {
+    expr(*n.lhs, Use::Value);
+    expr(*n.rhs, Use::Value);
+    const auto& a = n.lhs->constant;
+    const auto& b = n.rhs->constant;
+    bool divides = n.op == BinaryOp::Div || n.op == BinaryOp::Mod;
+    if (a && b) {
+      e.constant = fold_binary(n.op, *a, *b);
+      if (!e.constant) diags_.error(n.rhs->span, "division by zero in a constant expression");
+      return;
+    }
+    if (a && n.op == BinaryOp::LogAnd && *a == 0) e.constant = 0;
+    if (a && n.op == BinaryOp::LogOr && *a != 0) e.constant = 1;
+    if (divides && b && *b == 0)
+      diags_.warning(n.rhs->span, "division by zero (at run time the firmware leaves the value unchanged)");
+  }
+
+  void visit_expr(Assign& n, Expr&, Use) {
+    expr(*n.value, Use::Value);
+    expr(*n.target, Use::Value);
+    require_writable(*n.target, "assign to");
+    if ((n.op == AssignOp::Div || n.op == AssignOp::Mod) && n.value->constant && *n.value->constant == 0)
+      diags_.warning(n.value->span, "division by zero (at run time the firmware leaves the value unchanged)");
+  }
+
+  void require_writable(const Expr& target, const std::string& verb) {
+    const auto* n = as<Name>(target);
+    if (!n) {
+      diags_.error(target.span, "cannot " + verb + " this expression: it is not a variable");
+      return;
+    }
+    if (n->symbol == kNoSymbol) return;  // already reported
+    const Symbol& s = prog_.symbols[n->symbol];
+    if (!is_writable(s)) diags_.error(target.span, "cannot " + verb + " '" + s.name + "': it is a constant parameter");
+  }
+
+  void visit_expr(Conditional& n, Expr& e, Use) {
+    expr(*n.cond, Use::Value);
+    expr(*n.then_value, Use::Value);
+    expr(*n.else_value, Use::Value);
+    if (n.cond->constant) {
+      const auto& chosen = *n.cond->constant ? n.then_value->constant : n.else_value->constant;
+      e.constant = chosen;
+    }
+  }
+
+  void visit_expr(Call& n, Expr& e, Use use) {
+    std::size_t errors_before = diags_.error_count();
+    for (auto& a : n.args) expr(a, Use::Value);
+    bool args_ok = diags_.error_count() == errors_before;
+    auto id = lookup(n.callee);
+    if (!id) {
+      undefined(n.callee, n.callee_span, " (no sub or function of that name)");
+      return;
+    }
+    const Symbol& s = prog_.symbols[*id];
+    if (s.kind == SymbolKind::Task) {
+      diags_.error(e.span, "'" + n.callee + "' is a task: use 'start " + n.callee + ";' to run it");
+      return;
+    }
+    if (s.kind != SymbolKind::Sub && s.kind != SymbolKind::Function) {
+      diags_.error(n.callee_span, "'" + n.callee + "' is a " + kind_name(s.kind) + ", not a sub or function");
+      return;
+    }
+    n.symbol = *id;
+    prog_.symbols[*id].used = true;
+    if (use != Use::Discarded)
+      diags_.error(e.span, "'" + n.callee + "' does not return a value; call it as a statement");
+    if (s.kind == SymbolKind::Sub) {
+      if (!n.args.empty()) diags_.error(e.span, "sub '" + n.callee + "' takes no arguments");
+      return;
+    }
+    const Function& f = prog_.functions[s.index];
+    if (in_function_) function_calls_[owner_].insert(*id);
+    if (n.args.size() != f.params.size()) {
+      auto& d = diags_.error(e.span, "function '" + n.callee + "' takes " + std::to_string(f.params.size()) +
+                                         " argument" + (f.params.size() == 1 ? "" : "s") + ", but " +
+                                         std::to_string(n.args.size()) + (n.args.size() == 1 ? " was" : " were") +
+                                         " given");
+      d.notes.push_back({f.span, "'" + n.callee + "' is defined here"});
+      return;
+    }
+    if (args_ok)  // an argument that failed already has its error
+      for (std::size_t i = 0; i < f.params.size(); ++i) check_argument(f, f.params[i], n.args[i]);
+  }
+
+  // The source type a `const int &` parameter must carry because the body
+  // takes __source_arg(param, TYPE) of it, directly or by passing it on to
+  // another function's such parameter. Lets `SetSensor(Timer(1), ...)` be
+  // reported at the call. nullopt when there is no such requirement.
+  std::optional<std::int16_t> required_source_type(const Function& f, SymbolId param, int depth = 0) {
+    if (depth > 32) return std::nullopt;
+    std::optional<std::int16_t> found;
+    std::function<void(const Expr&)> scan_expr = [&](const Expr& e) {
+      if (found) return;
+      if (const auto* sa = as<SourceArg>(e)) {
+        const auto* n = as<Name>(*sa->operand);
+        if (n && n->symbol == param && sa->type_required) found = sa->type_required;
+      }
+      if (const auto* c = as<Call>(e); c && c->symbol != kNoSymbol &&
+                                        prog_.symbols[c->symbol].kind == SymbolKind::Function) {
+        const Function& g = prog_.functions[prog_.symbols[c->symbol].index];
+        for (std::size_t i = 0; i < c->args.size() && i < g.params.size() && !found; ++i) {
+          const auto* n = as<Name>(c->args[i]);
+          if (n && n->symbol == param && &g != &f) found = required_source_type(g, g.params[i].symbol, depth + 1);
+        }
+      }
+      visit_children(e, scan_expr);
+    };
+    std::function<void(const Stmt&)> scan = [&](const Stmt& st) {
+      std::visit(
+          [&](const auto& n) {
+            using N = std::decay_t<decltype(n)>;
+            if constexpr (std::is_same_v<N, Block>) {
+              for (const auto& c : n.stmts) scan(c);
+            } else if constexpr (std::is_same_v<N, ExprStmt>) {
+              scan_expr(n.expr);
+            } else if constexpr (std::is_same_v<N, Asm>) {
+              for (const auto& item : n.items) {
+                if (const auto* in = std::get_if<AsmInstr>(&item))
+                  for (const auto& o : in->operands) scan_expr(o);
+              }
+            } else if constexpr (std::is_same_v<N, If>) {
+              scan(*n.then_branch);
+              if (n.else_branch) scan(**n.else_branch);
+            }
+          },
+          st.node);
+    };
+    scan(f.body);
+    return found;
+  }
+
+  void check_argument(const Function& f, const Param& p, const Expr& arg) {
+    if (p.kind == ParamKind::ConstReference && !depends_on_const_param(arg)) {
+      if (auto type = required_source_type(f, p.symbol)) {
+        const auto* src = as<Source>(arg);
+        if (!src || src->type_value != *type) {
+          std::string what = *type == static_cast<int>(rcx::Source::SensorValue)
+                                 ? std::string("a sensor (SENSOR_1, SENSOR_2 or SENSOR_3)")
+                                 : "a " + std::string(rcx::source_name(*type)) + " source";
+          auto& d = diags_.error(arg.span, "argument for '" + p.name + "' of '" + f.name + "' must be " + what);
+          d.notes.push_back({p.span, "parameter declared here"});
+        }
+      }
+    }
+    if (p.kind == ParamKind::Reference) {
+      const auto* n = as<Name>(arg);
+      if (!n || (n->symbol != kNoSymbol && !is_writable(prog_.symbols[n->symbol]))) {
+        auto& d = diags_.error(arg.span, "argument for 'int &" + p.name + "' of '" + f.name + "' must be a variable");
+        d.notes.push_back({p.span, "parameter declared here"});
+      }
+    } else if (p.kind == ParamKind::Const) {
+      if (!arg.constant && !depends_on_const_param(arg)) {
+        auto& d = diags_.error(arg.span, "argument for 'const int " + p.name + "' of '" + f.name +
+                                             "' must be a constant expression");
+        d.notes.push_back({p.span, "parameter declared here"});
+      }
+    }
+  }
+
+  void visit_expr(Source& n, Expr& e, Use) {
+    expr(*n.type, Use::Value);
+    expr(*n.arg, Use::Value);
+    if (!n.type->constant || !n.arg->constant) {
+      if (!depends_on_const_param(e))
+        diags_.error(e.span, "both operands of __source(TYPE, ARG) must be constant expressions");
+      return;
+    }
+    int type = *n.type->constant;
+    if (type < 0 || type > 15 || (type >= 5 && type <= 7)) {
+      diags_.error(n.type->span, "source type " + std::to_string(type) + " does not exist on the RCX");
+      return;
+    }
+    n.type_value = static_cast<std::int16_t>(type);
+    n.arg_value = *n.arg->constant;
+    if (type == static_cast<int>(rcx::Source::Immediate)) e.constant = n.arg_value;
+  }
+
+  void visit_expr(SourceArg& n, Expr& e, Use) {
+    expr(*n.operand, Use::Value);
+    if (depends_on_const_param(*n.operand)) return;  // known at each call
+    const auto* src = as<Source>(*n.operand);
+    if (!src) {
+      diags_.error(n.operand->span, n.type_required == static_cast<int>(rcx::Source::SensorValue)
+                                        ? std::string("argument must be a sensor (SENSOR_1, SENSOR_2 or SENSOR_3)")
+                                        : std::string("__source_arg needs a source expression such as Timer(0)"));
+      return;
+    }
+    if (n.type_required && src->type_value != *n.type_required) {
+      diags_.error(n.operand->span, "argument must be a " + std::string(rcx::source_name(*n.type_required)) +
+                                        " source, not a " + std::string(rcx::source_name(src->type_value)));
+      return;
+    }
+    e.constant = src->arg_value;
+  }
+
+  // ------------------------------------------------------------ program --
+
+  void check_limits() {
+    bool has_main = false;
+    for (const auto& t : prog_.tasks) has_main = has_main || t.name == "main";
+    if (!has_main) diags_.error({}, "the program has no 'task main()': the RCX starts a program at task main");
+    if (prog_.tasks.size() > static_cast<std::size_t>(kMaxTasks)) {
+      auto& d = diags_.error(prog_.tasks[kMaxTasks].span,
+                             "too many tasks: " + std::to_string(prog_.tasks.size()) + " (the RCX runs at most " +
+                                 std::to_string(kMaxTasks) + ")");
+      d.notes.push_back({prog_.tasks[0].span, "the first task is here"});
+    }
+  }
+
+  void check_function_recursion() {
+    // Inline functions are expanded at each call, so a cycle never ends.
+    std::map<SymbolId, int> state;  // 1 = on the path, 2 = done
+    std::vector<SymbolId> path;
+    std::function<void(SymbolId)> dfs = [&](SymbolId f) {
+      state[f] = 1;
+      path.push_back(f);
+      for (SymbolId g : function_calls_[f]) {
+        if (state[g] == 1) {
+          std::string chain;
+          auto start = std::find(path.begin(), path.end(), g);
+          for (auto it = start; it != path.end(); ++it) chain += prog_.symbols[*it].name + " -> ";
+          chain += prog_.symbols[g].name;
+          diags_.error(prog_.symbols[g].span, "inline functions call each other in a cycle: " + chain +
+                                                  " (they are expanded at each call, so this never ends)");
+        } else if (state[g] == 0) {
+          dfs(g);
+        }
+      }
+      path.pop_back();
+      state[f] = 2;
+    };
+    for (const auto& [f, calls] : function_calls_)
+      if (state[f] == 0) dfs(f);
+  }
+
+  void check_pragmas() {
+    if (!prog_.pragmas.init) return;
+    auto it = globals_.find(*prog_.pragmas.init);
+    if (it == globals_.end() || (prog_.symbols[it->second].kind != SymbolKind::Sub &&
+                                 prog_.symbols[it->second].kind != SymbolKind::Function)) {
+      diags_.error(prog_.pragmas.init_span,
+                   "#pragma init names '" + *prog_.pragmas.init + "', which is not a sub or function");
+      return;
+    }
+    prog_.symbols[it->second].used = true;
+  }
+};
+
+}  // namespace
+
+void check(Program& program, Diagnostics& diags) {
+  program.symbols.clear();
+  Checker(program, diags).run();
+}
+
+}  // namespace rcxc::frontend

@@ -1,0 +1,16 @@
+// Semantic analysis: resolves every name to a symbol, folds constant
+// expressions (16-bit wrap), checks calls, loops, switches, labels, asm and
+// limits, and warns about unused variables, unreachable code and assignments
+// used as conditions. Reports as many independent problems as it can.
+#pragma once
+
+#include "frontend/ast.h"
+#include "frontend/diagnostics.h"
+
+namespace rcxc::frontend {
+
+inline constexpr int kMaxTasks = 10;  // the firmware's task slots
+
+void check(ast::Program& program, Diagnostics& diags);
+
+}  // namespace rcxc::frontend

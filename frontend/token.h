@@ -1,0 +1,47 @@
+// Preprocessing tokens: what the re2c lexer produces from one file's text,
+// what the preprocessor rearranges, and what the parser finally reads.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "frontend/diagnostics.h"
+
+namespace rcxc::frontend {
+
+enum class TokenKind : std::uint8_t {
+  End,         // end of the file
+  Identifier,  // keywords too: the parser tells them apart
+  Number,      // decimal or 0x hex, as spelled
+  Char,        // 'a', as spelled with quotes
+  String,      // "text", as spelled with quotes
+  Punct,       // operators and punctuation, incl. # ## and $
+  Unknown,     // a character that starts no token (already diagnosed)
+};
+
+struct Token {
+  TokenKind kind = TokenKind::End;
+  std::string text;
+  SourceSpan span;
+  bool line_start = false;    // first token on its line (directives start so)
+  bool space_before = false;  // whitespace precedes it (for # and -E output)
+  // Macros that must not expand this token again (the "hide set" of the
+  // classic expansion algorithm), as an id into the preprocessor's table of
+  // interned sets; 0 is the empty set.
+  std::uint32_t hide = 0;
+
+  bool is(std::string_view punct) const { return kind == TokenKind::Punct && text == punct; }
+  bool is_identifier(std::string_view name) const { return kind == TokenKind::Identifier && text == name; }
+};
+
+// Splits `text` (file `file` of the SourceManager) into tokens, ending with
+// one End token. Lexical errors (unterminated comment, stray character) are
+// reported and lexing goes on.
+std::vector<Token> lex(std::string_view text, std::uint32_t file, Diagnostics& diags);
+
+// The value of a Number or Char token, or nullopt-like false when malformed.
+bool number_value(const Token& t, std::int64_t& value);
+
+}  // namespace rcxc::frontend

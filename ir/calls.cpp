@@ -1,0 +1,200 @@
+// Subroutine calls versus the firmware's single return address (see passes.h).
+#include <algorithm>
+#include <fmt/format.h>
+
+#include "ir/liveness.h"
+#include "ir/passes.h"
+
+namespace rcxc::ir {
+namespace {
+
+constexpr int kCallSize = 2;  // call opcode + index
+
+struct CallSite {
+  FuncId caller;
+  BlockId block;
+  std::size_t index;
+};
+
+std::vector<CallSite> calls_to(const Program& p, FuncId callee) {
+  std::vector<CallSite> sites;
+  for (std::size_t f = 0; f < p.functions.size(); ++f)
+    for (std::size_t b = 0; b < p.functions[f].blocks.size(); ++b) {
+      const auto& instrs = p.functions[f].blocks[b].instrs;
+      for (std::size_t i = 0; i < instrs.size(); ++i)
+        if (callee_of(instrs[i]) == callee)
+          sites.push_back({static_cast<FuncId>(f), static_cast<BlockId>(b), i});
+    }
+  return sites;
+}
+
+std::vector<FuncId> callees(const Function& f) {
+  std::vector<FuncId> out;
+  for (const auto& b : f.blocks)
+    for (const auto& in : b.instrs)
+      if (FuncId g = callee_of(in); g >= 0 && std::find(out.begin(), out.end(), g) == out.end()) out.push_back(g);
+  return out;
+}
+
+// Depth-first search for a call cycle; fills `cycle` with the names on it.
+bool find_cycle(const Program& p, FuncId f, std::vector<int>& state, std::vector<FuncId>& stack,
+                std::vector<std::string>& cycle) {
+  state[static_cast<std::size_t>(f)] = 1;
+  stack.push_back(f);
+  for (FuncId g : callees(p.functions[static_cast<std::size_t>(f)])) {
+    if (state[static_cast<std::size_t>(g)] == 1) {
+      auto from = std::find(stack.begin(), stack.end(), g);
+      for (auto it = from; it != stack.end(); ++it) cycle.push_back(p.functions[static_cast<std::size_t>(*it)].name);
+      cycle.push_back(p.functions[static_cast<std::size_t>(g)].name);
+      return true;
+    }
+    if (state[static_cast<std::size_t>(g)] == 0 && find_cycle(p, g, state, stack, cycle)) return true;
+  }
+  stack.pop_back();
+  state[static_cast<std::size_t>(f)] = 2;
+  return false;
+}
+
+bool report_recursion(const Program& p, Diagnostics& diags) {
+  std::vector<int> state(p.functions.size(), 0);
+  for (std::size_t f = 0; f < p.functions.size(); ++f) {
+    std::vector<FuncId> stack;
+    std::vector<std::string> cycle;
+    if (state[f] == 0 && find_cycle(p, static_cast<FuncId>(f), state, stack, cycle)) {
+      std::string path;
+      for (const auto& name : cycle) path += (path.empty() ? "" : " -> ") + name;
+      const Function& first = p.functions[static_cast<std::size_t>(p.find_function(cycle.front()))];
+      diags.error(first.span, fmt::format("recursive subroutine calls are not possible on the RCX: {}", path));
+      return true;
+    }
+  }
+  return false;
+}
+
+// Inlines every call in `f` (callees first), so the subroutine calls nothing.
+void flatten(Program& p, FuncId f, std::vector<bool>& done, Log& log) {
+  if (done[static_cast<std::size_t>(f)]) return;
+  done[static_cast<std::size_t>(f)] = true;
+  for (FuncId g : callees(p.functions[static_cast<std::size_t>(f)])) flatten(p, g, done, log);
+  for (;;) {
+    auto sites = std::vector<CallSite>{};
+    for (std::size_t b = 0; b < p.functions[static_cast<std::size_t>(f)].blocks.size() && sites.empty(); ++b) {
+      const auto& instrs = p.functions[static_cast<std::size_t>(f)].blocks[b].instrs;
+      for (std::size_t i = 0; i < instrs.size(); ++i)
+        if (callee_of(instrs[i]) >= 0) {
+          sites.push_back({f, static_cast<BlockId>(b), i});
+          break;
+        }
+    }
+    if (sites.empty()) return;
+    FuncId g = callee_of(p.functions[static_cast<std::size_t>(f)].blocks[static_cast<std::size_t>(sites[0].block)].instrs[sites[0].index]);
+    log.push_back(fmt::format("sub {} inlined into sub {} (a subroutine cannot call another on the RCX)",
+                              p.functions[static_cast<std::size_t>(g)].name, p.functions[static_cast<std::size_t>(f)].name));
+    inline_call(p, f, sites[0].block, sites[0].index);
+  }
+}
+
+void inline_everywhere(Program& p, FuncId g) {
+  for (;;) {
+    auto sites = calls_to(p, g);
+    if (sites.empty()) break;
+    inline_call(p, sites[0].caller, sites[0].block, sites[0].index);
+  }
+  p.functions[static_cast<std::size_t>(g)].blocks.clear();
+  p.functions[static_cast<std::size_t>(g)].repeats.clear();
+}
+
+// Bytes inlining `g` at every call site adds (negative: saves).
+int inline_growth(const Program& p, FuncId g) {
+  int n = static_cast<int>(calls_to(p, g).size());
+  int s = estimate_size(p.functions[static_cast<std::size_t>(g)]);
+  return n * s - (s + kCallSize * n);
+}
+
+std::vector<FuncId> live_subs(const Program& p) {
+  std::vector<FuncId> subs;
+  for (std::size_t f = 0; f < p.functions.size(); ++f)
+    if (p.functions[f].kind == FuncKind::Sub && !p.functions[f].blocks.empty()) subs.push_back(static_cast<FuncId>(f));
+  return subs;
+}
+
+}  // namespace
+
+int estimate_size(const Function& f) {
+  int size = 0;
+  for (const auto& b : f.blocks) {
+    for (const auto& in : b.instrs) size += in.raw ? static_cast<int>(in.args.size()) : rcx::command_size(rcx::info(in.op)).value_or(4);
+    if (std::holds_alternative<Branch>(b.term)) size += 7;
+    if (std::holds_alternative<Jump>(b.term) || std::holds_alternative<LoopTest>(b.term)) size += 2;
+  }
+  return size;
+}
+
+void inline_call(Program& p, FuncId caller, BlockId block, std::size_t index) {
+  Function& f = p.functions[static_cast<std::size_t>(caller)];
+  const Instr call = f.blocks[static_cast<std::size_t>(block)].instrs[index];
+  const Function callee = p.functions[static_cast<std::size_t>(callee_of(call))];
+
+  // Split: the instructions after the call continue in a new block.
+  BlockId rest = add_block(f);
+  Block& head = f.blocks[static_cast<std::size_t>(block)];
+  Block& tail = f.blocks[static_cast<std::size_t>(rest)];
+  tail.instrs.assign(head.instrs.begin() + static_cast<long>(index) + 1, head.instrs.end());
+  tail.term = head.term;
+  tail.span = head.span;
+  head.instrs.resize(index);
+  for (auto& r : f.repeats)
+    if (r.setup == block && !tail.instrs.empty()) r.setup = rest;
+
+  auto base = static_cast<BlockId>(f.blocks.size());
+  for (const auto& cb : callee.blocks) {
+    Block copy = cb;
+    for (auto& in : copy.instrs)
+      if (in.span.begin.line == 0) in.span = call.span;
+    if (std::holds_alternative<Exit>(copy.term)) {
+      copy.term = Jump{rest};
+    } else {
+      offset_targets(copy.term, base);
+    }
+    f.blocks.push_back(std::move(copy));
+  }
+  for (auto r : callee.repeats) {
+    r.setup += base;
+    r.head += base;
+    f.repeats.push_back(r);
+  }
+  f.blocks[static_cast<std::size_t>(block)].term = Jump{base};
+  // Lay the copy out right after the call site, then the continuation.
+  auto count = static_cast<BlockId>(callee.blocks.size());
+  for (BlockId k = 0; k < count; ++k) move_block(f, base + k, block + 1 + k);
+  move_block(f, rest + count, block + 1 + count);
+}
+
+bool resolve_calls(Program& p, OptLevel level, Diagnostics& diags, Log& log) {
+  if (report_recursion(p, diags)) return false;
+  std::vector<bool> done(p.functions.size(), false);
+  for (FuncId s : live_subs(p)) flatten(p, s, done, log);
+  // Subroutines no task calls any more are dropped.
+  for (FuncId s : live_subs(p))
+    if (calls_to(p, s).empty()) {
+      log.push_back(fmt::format("sub {} is not called: dropped", p.functions[static_cast<std::size_t>(s)].name));
+      p.functions[static_cast<std::size_t>(s)].blocks.clear();
+    }
+  for (auto subs = live_subs(p); subs.size() > static_cast<std::size_t>(8); subs = live_subs(p)) {
+    FuncId cheapest = *std::min_element(subs.begin(), subs.end(), [&](FuncId a, FuncId b) {
+      return inline_growth(p, a) < inline_growth(p, b);
+    });
+    log.push_back(fmt::format("sub {} inlined at its calls (more than 8 subroutines; {:+} bytes)",
+                              p.functions[static_cast<std::size_t>(cheapest)].name, inline_growth(p, cheapest)));
+    inline_everywhere(p, cheapest);
+  }
+  if (level == OptLevel::Os)
+    for (FuncId s : live_subs(p))
+      if (int growth = inline_growth(p, s); growth <= 0) {
+        log.push_back(fmt::format("sub {} inlined at its calls ({:+} bytes)", p.functions[static_cast<std::size_t>(s)].name, growth));
+        inline_everywhere(p, s);
+      }
+  return true;
+}
+
+}  // namespace rcxc::ir

@@ -1,0 +1,67 @@
+// Dead store removal (see passes.h).
+#include "ir/liveness.h"
+#include "ir/passes.h"
+
+namespace rcxc::ir {
+namespace {
+
+// Instructions whose only effect is the value they leave in a variable.
+bool pure_variable_write(const Instr& in) {
+  if (in.raw) return false;
+  switch (in.op) {
+    case rcx::Op::SetVariable:
+    case rcx::Op::AddToVariable:
+    case rcx::Op::SubtractFromVariable:
+    case rcx::Op::MultiplyVariable:
+    case rcx::Op::DivideVariable:
+    case rcx::Op::AndVariable:
+    case rcx::Op::OrVariable:
+    case rcx::Op::AbsoluteValue:
+    case rcx::Op::SignVariable: return true;
+    default: return false;
+  }
+}
+
+bool remove_in(const Program& p, Function& f, const std::vector<VarSet>& footprints) {
+  Liveness L = compute_liveness(p, f, footprints);
+  bool removed = false;
+  for (std::size_t b = 0; b < f.blocks.size(); ++b) {
+    Block& block = f.blocks[b];
+    VarSet live = L.live_out[b];
+    for (VarId v : reads_of(block.term))
+      if (p.vars[static_cast<std::size_t>(v)].kind != VarKind::Global) live.add(v);
+    std::vector<bool> keep(block.instrs.size(), true);
+    for (std::size_t k = block.instrs.size(); k-- > 0;) {
+      const Instr& in = block.instrs[k];
+      if (pure_variable_write(in)) {
+        VarId dest = in.args[0].value;
+        if (p.vars[static_cast<std::size_t>(dest)].kind != VarKind::Global && !live.has(dest)) {
+          keep[k] = false;
+          removed = true;
+          continue;
+        }
+      }
+      step_back(p, in, footprints, live);
+    }
+    std::vector<Instr> kept;
+    for (std::size_t k = 0; k < block.instrs.size(); ++k)
+      if (keep[k]) kept.push_back(std::move(block.instrs[k]));
+    block.instrs = std::move(kept);
+  }
+  return removed;
+}
+
+}  // namespace
+
+void remove_dead_stores(Program& p) {
+  // Removing one store can make the stores feeding it dead: repeat.
+  for (int round = 0; round < 8; ++round) {
+    auto footprints = function_footprints(p);
+    bool any = false;
+    for (auto& f : p.functions)
+      if (!f.blocks.empty()) any |= remove_in(p, f, footprints);
+    if (!any) break;
+  }
+}
+
+}  // namespace rcxc::ir

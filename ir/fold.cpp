@@ -1,0 +1,162 @@
+// Constant propagation and folding (see passes.h).
+#include <map>
+
+#include "ir/liveness.h"
+#include "ir/passes.h"
+
+namespace rcxc::ir {
+namespace {
+
+// Lattice value of one variable: not reached yet, one constant, or varying.
+struct Value {
+  enum Kind : std::uint8_t { Unreached, Const, Varying } kind = Unreached;
+  int c = 0;
+  friend bool operator==(const Value&, const Value&) = default;
+};
+using State = std::vector<Value>;
+
+Value meet(Value a, Value b) {
+  if (a.kind == Value::Unreached) return b;
+  if (b.kind == Value::Unreached) return a;
+  if (a.kind == Value::Const && b.kind == Value::Const && a.c == b.c) return a;
+  return {Value::Varying, 0};
+}
+
+struct Folder {
+  const Program& p;
+  const std::vector<VarSet>& footprints;
+
+  bool private_var(VarId v) const { return p.vars[static_cast<std::size_t>(v)].kind != VarKind::Global; }
+
+  std::optional<int> known(const State& s, const Operand& o) const {
+    if (o.is_imm()) return o.value;
+    if (o.is_var() && private_var(o.value) && s[static_cast<std::size_t>(o.value)].kind == Value::Const)
+      return s[static_cast<std::size_t>(o.value)].c;
+    return std::nullopt;
+  }
+
+  void vary(State& s, VarId v) const {
+    if (private_var(v)) s[static_cast<std::size_t>(v)] = {Value::Varying, 0};
+  }
+
+  // The effect of one instruction on the state.
+  void transfer(const Instr& in, State& s) const {
+    FuncId g = callee_of(in);
+    if (g >= 0)
+      for (VarId v : footprints[static_cast<std::size_t>(g)].members()) vary(s, v);
+    if (in.raw) {
+      for (const auto& a : in.args)
+        if (a.is_var()) vary(s, a.value);
+      return;
+    }
+    VarUse u = uses_of(in);
+    if (u.writes.empty()) return;
+    VarId dest = u.writes.front();
+    if (!private_var(dest)) return;
+    std::optional<int> result;
+    if (in.args.size() == 2) {
+      auto src = known(s, in.args[1]);
+      auto old = known(s, in.args[0]);
+      if (src && (old || in.op == rcx::Op::SetVariable || in.op == rcx::Op::AbsoluteValue ||
+                  in.op == rcx::Op::SignVariable))
+        result = arithmetic(in.op, old.value_or(0), *src);
+      // x*0 and x&0 are 0 whatever x was.
+      if (src && *src == 0 && (in.op == rcx::Op::MultiplyVariable || in.op == rcx::Op::AndVariable)) result = 0;
+    }
+    s[static_cast<std::size_t>(dest)] = result ? Value{Value::Const, *result} : Value{Value::Varying, 0};
+  }
+
+  // Rewrites `in` given the state before it; returns false to delete it.
+  bool rewrite(Instr& in, const State& s) const {
+    if (in.raw) return true;
+    auto slots = operand_slots(in.op);
+    for (std::size_t i = 0; i < in.args.size() && i < slots.size(); ++i) {
+      if (slots[i]->role == rcx::Role::Variable) continue;
+      auto c = known(s, in.args[i]);
+      if (c && !in.args[i].is_imm() && accepts(in.op, i, Operand::imm(*c))) in.args[i] = Operand::imm(*c);
+    }
+    if (in.args.size() != 2 || slots.empty() || slots[0]->role != rcx::Role::Variable) return true;
+    const Operand& dest = in.args[0];
+    const Operand& src = in.args[1];
+    if (in.op == rcx::Op::SetVariable && src == dest) return false;
+    if (src.is_imm()) {
+      int v = src.value;
+      switch (in.op) {
+        case rcx::Op::AddToVariable:
+        case rcx::Op::SubtractFromVariable:
+        case rcx::Op::OrVariable: if (v == 0) return false; break;
+        case rcx::Op::MultiplyVariable:
+        case rcx::Op::DivideVariable: if (v == 1) return false; break;
+        case rcx::Op::AndVariable: if (v == -1) return false; break;
+        default: break;
+      }
+    }
+    // An arithmetic step whose result is known becomes a plain set: same
+    // size, and the steps before it may then be dead.
+    State after = s;
+    transfer(in, after);
+    if (dest.is_var() && private_var(dest.value) && in.op != rcx::Op::SetVariable &&
+        after[static_cast<std::size_t>(dest.value)].kind == Value::Const) {
+      in.op = rcx::Op::SetVariable;
+      in.args[1] = Operand::imm(after[static_cast<std::size_t>(dest.value)].c);
+    }
+    return true;
+  }
+};
+
+void fold_function(const Program& p, Function& f, const std::vector<VarSet>& footprints) {
+  Folder folder{p, footprints};
+  std::size_t n = f.blocks.size(), nv = p.vars.size();
+  std::vector<State> in(n, State(nv));
+  in[0].assign(nv, Value{Value::Varying, 0});
+  std::vector<bool> queued(n, false);
+  std::vector<BlockId> work{0};
+  queued[0] = true;
+  while (!work.empty() && nv != 0) {
+    BlockId b = work.back();
+    work.pop_back();
+    queued[static_cast<std::size_t>(b)] = false;
+    State s = in[static_cast<std::size_t>(b)];
+    for (const auto& instr : f.blocks[static_cast<std::size_t>(b)].instrs) folder.transfer(instr, s);
+    for (BlockId succ : successors(f.blocks[static_cast<std::size_t>(b)].term)) {
+      State& target = in[static_cast<std::size_t>(succ)];
+      bool changed = false;
+      for (std::size_t v = 0; v < nv; ++v) {
+        Value m = meet(target[v], s[v]);
+        changed |= !(m == target[v]);
+        target[v] = m;
+      }
+      if (changed && !queued[static_cast<std::size_t>(succ)]) {
+        queued[static_cast<std::size_t>(succ)] = true;
+        work.push_back(succ);
+      }
+    }
+  }
+  for (std::size_t b = 0; b < n; ++b) {
+    Block& block = f.blocks[b];
+    State s = in[b];
+    std::vector<Instr> kept;
+    for (auto& instr : block.instrs) {
+      bool keep = folder.rewrite(instr, s);
+      folder.transfer(instr, s);
+      if (keep) kept.push_back(std::move(instr));
+    }
+    block.instrs = std::move(kept);
+    if (auto* br = std::get_if<Branch>(&block.term)) {
+      auto a = folder.known(s, br->a), c = folder.known(s, br->b);
+      if (a) br->a = Operand::imm(*a);
+      if (c) br->b = Operand::imm(*c);
+      if (a && c) block.term = Jump{evaluate(br->cmp, *a, *c) ? br->then : br->otherwise};
+    }
+  }
+}
+
+}  // namespace
+
+void fold_constants(Program& p) {
+  auto footprints = function_footprints(p);
+  for (auto& f : p.functions)
+    if (!f.blocks.empty()) fold_function(p, f, footprints);
+}
+
+}  // namespace rcxc::ir

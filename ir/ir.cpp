@@ -1,0 +1,309 @@
+#include "ir/ir.h"
+
+#include <fmt/format.h>
+
+namespace rcxc::ir {
+
+Cmp negate(Cmp c) {
+  switch (c) {
+    case Cmp::LE: return Cmp::GT;
+    case Cmp::GE: return Cmp::LT;
+    case Cmp::NE: return Cmp::EQ;
+    case Cmp::EQ: return Cmp::NE;
+    case Cmp::LT: return Cmp::GE;
+    case Cmp::GT: return Cmp::LE;
+  }
+  return c;
+}
+
+Cmp swap(Cmp c) {
+  switch (c) {
+    case Cmp::LE: return Cmp::GE;
+    case Cmp::GE: return Cmp::LE;
+    case Cmp::LT: return Cmp::GT;
+    case Cmp::GT: return Cmp::LT;
+    case Cmp::NE:
+    case Cmp::EQ: return c;
+  }
+  return c;
+}
+
+bool evaluate(Cmp c, int a, int b) {
+  auto x = static_cast<std::int16_t>(a);
+  auto y = static_cast<std::int16_t>(b);
+  switch (c) {
+    case Cmp::LE: return x <= y;
+    case Cmp::GE: return x >= y;
+    case Cmp::NE: return x != y;
+    case Cmp::EQ: return x == y;
+    case Cmp::LT: return x < y;
+    case Cmp::GT: return x > y;
+  }
+  return false;
+}
+
+std::optional<int> arithmetic(rcx::Op op, int dest, int src) {
+  long d = static_cast<std::int16_t>(dest), s = static_cast<std::int16_t>(src);
+  switch (op) {
+    case rcx::Op::SetVariable: return wrap16(s);
+    case rcx::Op::AddToVariable: return wrap16(d + s);
+    case rcx::Op::SubtractFromVariable: return wrap16(d - s);
+    case rcx::Op::MultiplyVariable: return wrap16(d * s);
+    // Division by zero leaves the variable unchanged (seed); C rounding.
+    case rcx::Op::DivideVariable: return s == 0 ? wrap16(d) : wrap16(d / s);
+    case rcx::Op::AndVariable: return wrap16(d & s);
+    case rcx::Op::OrVariable: return wrap16(d | s);
+    case rcx::Op::AbsoluteValue: return s == -32768 ? 32767 : wrap16(s < 0 ? -s : s);
+    case rcx::Op::SignVariable: return s > 0 ? 1 : (s < 0 ? -1 : 0);
+    default: return std::nullopt;
+  }
+}
+
+VarId Program::add_var(std::string name, VarKind kind, SourceSpan span) {
+  vars.push_back(Var{std::move(name), kind, std::nullopt, span});
+  return static_cast<VarId>(vars.size() - 1);
+}
+
+FuncId Program::find_function(const std::string& name) const {
+  for (std::size_t i = 0; i < functions.size(); ++i)
+    if (functions[i].name == name) return static_cast<FuncId>(i);
+  return -1;
+}
+
+BlockId add_block(Function& f) {
+  f.blocks.emplace_back();
+  return static_cast<BlockId>(f.blocks.size() - 1);
+}
+
+std::vector<BlockId> successors(const Terminator& t) {
+  if (const auto* j = std::get_if<Jump>(&t)) return {j->target};
+  if (const auto* b = std::get_if<Branch>(&t)) return {b->then, b->otherwise};
+  if (const auto* l = std::get_if<LoopTest>(&t)) return {l->body, l->exit};
+  return {};
+}
+
+void offset_targets(Terminator& t, BlockId delta) {
+  if (auto* j = std::get_if<Jump>(&t)) j->target += delta;
+  if (auto* b = std::get_if<Branch>(&t)) {
+    b->then += delta;
+    b->otherwise += delta;
+  }
+  if (auto* l = std::get_if<LoopTest>(&t)) {
+    l->body += delta;
+    l->exit += delta;
+  }
+}
+
+void retarget(Terminator& t, BlockId from, BlockId to) {
+  auto fix = [&](BlockId& b) {
+    if (b == from) b = to;
+  };
+  if (auto* j = std::get_if<Jump>(&t)) fix(j->target);
+  if (auto* b = std::get_if<Branch>(&t)) {
+    fix(b->then);
+    fix(b->otherwise);
+  }
+  if (auto* l = std::get_if<LoopTest>(&t)) {
+    fix(l->body);
+    fix(l->exit);
+  }
+}
+
+namespace {
+// Applies `map` (old id -> new id, -1 = gone) to every block reference.
+void renumber(Function& f, const std::vector<BlockId>& map) {
+  auto fix = [&](BlockId& b) { b = map[static_cast<std::size_t>(b)]; };
+  for (auto& b : f.blocks) {
+    if (auto* j = std::get_if<Jump>(&b.term)) fix(j->target);
+    if (auto* br = std::get_if<Branch>(&b.term)) {
+      fix(br->then);
+      fix(br->otherwise);
+    }
+    if (auto* l = std::get_if<LoopTest>(&b.term)) {
+      fix(l->body);
+      fix(l->exit);
+    }
+  }
+  std::vector<Repeat> kept;
+  for (auto r : f.repeats) {
+    fix(r.setup);
+    fix(r.head);
+    if (r.setup >= 0 && r.head >= 0) kept.push_back(r);
+  }
+  f.repeats = std::move(kept);
+}
+}  // namespace
+
+void permute_blocks(Function& f, const std::vector<BlockId>& order) {
+  std::vector<BlockId> map(order.size());
+  std::vector<Block> blocks(order.size());
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    map[static_cast<std::size_t>(order[i])] = static_cast<BlockId>(i);
+    blocks[i] = std::move(f.blocks[static_cast<std::size_t>(order[i])]);
+  }
+  f.blocks = std::move(blocks);
+  renumber(f, map);
+}
+
+void move_block(Function& f, BlockId from, BlockId to) {
+  if (from == to) return;
+  std::vector<BlockId> order(f.blocks.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<BlockId>(i);
+  order.erase(order.begin() + from);
+  order.insert(order.begin() + to, from);
+  permute_blocks(f, order);
+}
+
+void remove_blocks(Function& f, const std::vector<bool>& keep) {
+  std::vector<BlockId> map(f.blocks.size(), -1);
+  std::vector<Block> blocks;
+  for (std::size_t i = 0; i < f.blocks.size(); ++i)
+    if (keep[i]) {
+      map[i] = static_cast<BlockId>(blocks.size());
+      blocks.push_back(std::move(f.blocks[i]));
+    }
+  f.blocks = std::move(blocks);
+  renumber(f, map);
+}
+
+std::vector<const rcx::Operand*> operand_slots(rcx::Op op) {
+  std::vector<const rcx::Operand*> slots;
+  for (const auto& operand : rcx::info(op).operands)
+    if (operand.role != rcx::Role::Argument && operand.role != rcx::Role::Offset &&
+        operand.role != rcx::Role::Extension)
+      slots.push_back(&operand);
+  return slots;
+}
+
+bool fits_field(rcx::FieldType t, int v) {
+  switch (t) {
+    case rcx::FieldType::Byte: return v >= -128 && v <= 127;
+    case rcx::FieldType::UByte: return v >= 0 && v <= 255;
+    case rcx::FieldType::Short:
+    case rcx::FieldType::ShortBE: return v >= -32768 && v <= 32767;
+    case rcx::FieldType::UShort:
+    case rcx::FieldType::UShortBE: return v >= 0 && v <= 65535;
+  }
+  return false;
+}
+
+namespace {
+const rcx::Operand* argument_of(const rcx::OpcodeInfo& info, const rcx::Operand* source) {
+  auto index = static_cast<std::int8_t>(source - info.operands.data());
+  for (const auto& operand : info.operands)
+    if (operand.role == rcx::Role::Argument && operand.pairs_with == index) return &operand;
+  return nullptr;
+}
+}  // namespace
+
+bool accepts(rcx::Op op, std::size_t slot, const Operand& o) {
+  auto slots = operand_slots(op);
+  if (slot >= slots.size()) return false;
+  const rcx::Operand& operand = *slots[slot];
+  switch (operand.role) {
+    case rcx::Role::Variable: return o.is_var();
+    case rcx::Role::Source:
+    case rcx::Role::OpSource: {
+      if (o.kind == Operand::Kind::Func) return false;
+      if (!rcx::allows(operand.allowed, o.source)) return false;
+      // Variables get a slot 0..31, which fits every argument field.
+      if (o.is_var()) return true;
+      const auto* arg = argument_of(rcx::info(op), &operand);
+      return arg == nullptr || fits_field(arg->type, o.value);
+    }
+    default:
+      if (o.kind == Operand::Kind::Func) return true;
+      return o.is_imm() && fits_field(operand.type, o.value);
+  }
+}
+
+VarUse uses_of(const Instr& in) {
+  VarUse u;
+  if (in.raw) {
+    // Raw bytes may read or write a named variable in any way: treat every
+    // mention as a read so nothing around it is removed or reordered.
+    for (const auto& a : in.args)
+      if (a.is_var()) u.reads.push_back(a.value);
+    return u;
+  }
+  const auto& info = rcx::info(in.op);
+  std::size_t next = 0;
+  for (const auto& operand : info.operands) {
+    if (operand.role == rcx::Role::Argument || operand.role == rcx::Role::Offset ||
+        operand.role == rcx::Role::Extension)
+      continue;
+    if (next >= in.args.size()) break;
+    const Operand& a = in.args[next++];
+    if (!a.is_var()) continue;
+    if (operand.role == rcx::Role::Variable) {
+      u.writes.push_back(a.value);
+      if (in.op != rcx::Op::SetVariable) u.reads.push_back(a.value);
+    } else {
+      u.reads.push_back(a.value);
+    }
+  }
+  return u;
+}
+
+std::vector<VarId> reads_of(const Terminator& t) {
+  std::vector<VarId> r;
+  if (const auto* b = std::get_if<Branch>(&t)) {
+    if (b->a.is_var()) r.push_back(b->a.value);
+    if (b->b.is_var()) r.push_back(b->b.value);
+  }
+  return r;
+}
+
+namespace {
+
+std::string operand_text(const Program& p, const Operand& o) {
+  switch (o.kind) {
+    case Operand::Kind::Imm: return std::to_string(o.value);
+    case Operand::Kind::Var:
+      return (o.value >= 0 && static_cast<std::size_t>(o.value) < p.vars.size() && !p.vars[o.value].name.empty())
+                 ? fmt::format("%{}", p.vars[o.value].name)
+                 : fmt::format("%t{}", o.value);
+    case Operand::Kind::Src: return fmt::format("{}({})", rcx::source_name(o.source), o.value);
+    case Operand::Kind::Func:
+      return (o.value >= 0 && static_cast<std::size_t>(o.value) < p.functions.size())
+                 ? fmt::format("@{}", p.functions[o.value].name)
+                 : fmt::format("@f{}", o.value);
+  }
+  return "?";
+}
+
+constexpr std::string_view kCmpText[] = {"<=", ">=", "!=", "==", "<", ">"};
+
+std::string term_text(const Program& p, const Terminator& t) {
+  if (const auto* j = std::get_if<Jump>(&t)) return fmt::format("jump b{}", j->target);
+  if (const auto* b = std::get_if<Branch>(&t))
+    return fmt::format("if {} {} {} then b{} else b{}", operand_text(p, b->a), kCmpText[static_cast<int>(b->cmp)],
+                       operand_text(p, b->b), b->then, b->otherwise);
+  if (const auto* l = std::get_if<LoopTest>(&t)) return fmt::format("loop{} b{} exit b{}", l->loop, l->body, l->exit);
+  return "exit";
+}
+
+}  // namespace
+
+std::string to_string(const Program& p, const Function& f) {
+  std::string out = fmt::format("{} {}\n", f.kind == FuncKind::Task ? "task" : "sub", f.name);
+  for (std::size_t b = 0; b < f.blocks.size(); ++b) {
+    out += fmt::format("b{}:\n", b);
+    for (const auto& in : f.blocks[b].instrs) {
+      out += fmt::format("  {}", in.raw ? std::string_view("raw") : rcx::info(in.op).mnemonic);
+      for (std::size_t i = 0; i < in.args.size(); ++i)
+        out += fmt::format("{}{}", i ? ", " : " ", operand_text(p, in.args[i]));
+      out += "\n";
+    }
+    out += "  " + term_text(p, f.blocks[b].term) + "\n";
+  }
+  return out;
+}
+
+std::string to_string(const Program& p) {
+  std::string out;
+  for (const auto& f : p.functions) out += to_string(p, f);
+  return out;
+}
+
+}  // namespace rcxc::ir

@@ -1,0 +1,183 @@
+// The compiler's intermediate representation.
+//
+// A Program is a list of Functions (tasks and subroutines) and a table of
+// variables. Every function is a list of basic blocks; a block is a list of
+// instructions and one terminator. Instructions are RCX opcodes (rows of the
+// opcode table in runtime/opcodes.h) whose operands are Operands: an RCX
+// source/argument pair, an immediate, a program variable or compiler temporary
+// that is not yet bound to one of the 32 slots, or a reference to a function.
+// Control flow lives only in terminators, so passes can reorder blocks and the
+// backend can choose near or far branch forms at the end.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "frontend/diagnostics.h"
+#include "runtime/opcodes.h"
+
+namespace rcxc::ir {
+
+using VarId = int;
+using BlockId = int;
+using FuncId = int;
+
+// One operand. Var/Imm/Src are values an opcode's source/argument pair can
+// name (Var becomes source 0 with the variable's slot once slots are chosen);
+// Func names a task or subroutine (its index is chosen by the backend).
+struct Operand {
+  enum class Kind : std::uint8_t { Imm, Var, Src, Func };
+  Kind kind = Kind::Imm;
+  int source = 2;  // RCX source (Imm: 2, Var: 0, Src: the source)
+  int value = 0;   // Imm: the constant; Var: VarId; Src: argument; Func: FuncId
+
+  static Operand imm(int v) { return {Kind::Imm, 2, v}; }
+  static Operand var(VarId id) { return {Kind::Var, 0, id}; }
+  static Operand src(int source, int argument) {
+    if (source == 2) return imm(argument);
+    return {Kind::Src, source, argument};
+  }
+  static Operand func(FuncId id) { return {Kind::Func, 0, id}; }
+
+  bool is_imm() const { return kind == Kind::Imm; }
+  bool is_var() const { return kind == Kind::Var; }
+  bool is_var(VarId id) const { return kind == Kind::Var && value == id; }
+  friend bool operator==(const Operand&, const Operand&) = default;
+};
+
+// One instruction: an opcode of the table and one Operand per operand of
+// the table's layout, where a Source+Argument pair is ONE operand (the
+// pair's Argument entry takes no Operand of its own). A raw instruction
+// (asm byte lists) holds bytes as Imm operands and variable slots as Var.
+struct Instr {
+  rcx::Op op = rcx::Op::SetVariable;
+  std::vector<Operand> args;
+  bool raw = false;
+  SourceSpan span{};
+};
+
+// Comparisons a branch can test. The firmware has <=, >=, != and ==; the
+// strict ones are rewritten by the backend.
+enum class Cmp : std::uint8_t { LE, GE, NE, EQ, LT, GT };
+Cmp negate(Cmp c);
+Cmp swap(Cmp c);  // a c b  <=>  b swap(c) a
+// The comparison evaluated on 16-bit signed values.
+bool evaluate(Cmp c, int a, int b);
+
+struct Jump {
+  BlockId target = 0;
+};
+// if (a cmp b) goto then else goto otherwise.
+struct Branch {
+  Cmp cmp = Cmp::EQ;
+  Operand a, b;
+  BlockId then = 0, otherwise = 0;
+};
+// Head of a `repeat` that uses the firmware loop counter: decrement the
+// counter; if it went below zero pop it and go to `exit`, else go to `body`.
+struct LoopTest {
+  int loop = 0;
+  BlockId body = 0, exit = 0;
+};
+// Leaves the function: end of a task, return from a subroutine.
+struct Exit {};
+using Terminator = std::variant<Jump, Branch, LoopTest, Exit>;
+
+struct Block {
+  std::vector<Instr> instrs;
+  Terminator term = Exit{};
+  SourceSpan span{};
+};
+
+// A `repeat` loop in its firmware loop counter form: the block that pushes
+// the counter (its last instruction is the loopset) and the LoopTest block.
+// `escapes` is set when control can leave the body other than through the
+// LoopTest (break, return, goto): the counter would stay pushed, so such
+// loops are rewritten to use a variable.
+struct Repeat {
+  BlockId setup = 0;
+  BlockId head = 0;
+  bool escapes = false;
+  bool counter = true;  // false once rewritten to a variable counter
+};
+
+enum class FuncKind : std::uint8_t { Task, Sub };
+
+struct Function {
+  std::string name;
+  FuncKind kind = FuncKind::Task;
+  std::vector<Block> blocks;  // blocks[0] is the entry; order is the layout
+  std::vector<Repeat> repeats;
+  SourceSpan span{};
+};
+
+enum class VarKind : std::uint8_t { Global, Local, Temp };
+
+struct Var {
+  std::string name;
+  VarKind kind = VarKind::Temp;
+  std::optional<int> slot;  // fixed slot (e.g. asm wants it), else chosen
+  SourceSpan span{};
+};
+
+struct Program {
+  std::vector<Function> functions;
+  std::vector<Var> vars;
+  std::uint32_t reserved_slots = 0;  // bit n: #pragma reserve keeps slot n free
+
+  VarId add_var(std::string name, VarKind kind, SourceSpan span = {});
+  FuncId find_function(const std::string& name) const;  // -1 if absent
+};
+
+// Reading and writing a function's blocks.
+BlockId add_block(Function& f);
+std::vector<BlockId> successors(const Terminator& t);
+// Adds `delta` to every block `t` refers to.
+void offset_targets(Terminator& t, BlockId delta);
+// Rewrites every reference to block `from` in `t` to `to`.
+void retarget(Terminator& t, BlockId from, BlockId to);
+
+// The operands of an opcode as the IR sees them: the table's operands
+// minus the Argument half of each Source/Argument pair and minus branch
+// offsets, which the backend fills in.
+std::vector<const rcx::Operand*> operand_slots(rcx::Op op);
+// Whether `o` can be operand `slot` of `op` as is: its source is allowed
+// there and an immediate fits the argument field. When not, the value must
+// go through a temporary variable first.
+bool accepts(rcx::Op op, std::size_t slot, const Operand& o);
+// Whether a 16-bit value fits a table field.
+bool fits_field(rcx::FieldType t, int v);
+
+// 16-bit wrap-around.
+constexpr int wrap16(long v) { return static_cast<std::int16_t>(static_cast<std::uint16_t>(v & 0xffff)); }
+// The firmware's variable arithmetic (set/add/sub/mul/div/and/or/abs/sgn)
+// on constants: `dest` is the variable's old value, `src` the operand.
+// std::nullopt for opcodes that are not variable arithmetic.
+std::optional<int> arithmetic(rcx::Op op, int dest, int src);
+
+// Reorders the blocks: `order` lists every old BlockId once, in the new
+// layout order (order[0] must be the entry, 0).
+void permute_blocks(Function& f, const std::vector<BlockId>& order);
+// Moves block `from` so that it becomes layout position `to` (0 = entry is
+// not allowed to move), renumbering every reference.
+void move_block(Function& f, BlockId from, BlockId to);
+// Deletes the blocks for which keep[b] is false (none may be referenced by
+// a kept block) and renumbers the rest in order.
+void remove_blocks(Function& f, const std::vector<bool>& keep);
+
+// Variables an instruction reads and writes (Var operands only).
+struct VarUse {
+  std::vector<VarId> reads;
+  std::vector<VarId> writes;  // a write that fully replaces the old value
+};
+VarUse uses_of(const Instr& in);
+std::vector<VarId> reads_of(const Terminator& t);
+
+// Human-readable dump (tests and -v).
+std::string to_string(const Program& p);
+std::string to_string(const Program& p, const Function& f);
+
+}  // namespace rcxc::ir

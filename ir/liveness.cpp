@@ -1,0 +1,88 @@
+#include "ir/liveness.h"
+
+namespace rcxc::ir {
+
+bool VarSet::merge(const VarSet& o) {
+  bool changed = false;
+  for (std::size_t i = 0; i < bits.size(); ++i) {
+    std::uint64_t n = bits[i] | o.bits[i];
+    changed |= n != bits[i];
+    bits[i] = n;
+  }
+  return changed;
+}
+
+std::vector<VarId> VarSet::members() const {
+  std::vector<VarId> out;
+  for (std::size_t i = 0; i < bits.size(); ++i)
+    for (int b = 0; b < 64; ++b)
+      if ((bits[i] >> b) & 1u) out.push_back(static_cast<VarId>(i * 64 + static_cast<std::size_t>(b)));
+  return out;
+}
+
+FuncId callee_of(const Instr& in) {
+  if (in.raw || in.op != rcx::Op::CallSubroutine || in.args.empty()) return -1;
+  return in.args[0].kind == Operand::Kind::Func ? in.args[0].value : -1;
+}
+
+std::vector<VarSet> function_footprints(const Program& p) {
+  std::vector<VarSet> own(p.functions.size(), VarSet(p.vars.size()));
+  for (std::size_t f = 0; f < p.functions.size(); ++f)
+    for (const auto& b : p.functions[f].blocks) {
+      for (const auto& in : b.instrs)
+        for (const auto& a : in.args)
+          if (a.is_var()) own[f].add(a.value);
+      for (VarId v : reads_of(b.term)) own[f].add(v);
+    }
+  // Follow calls until nothing changes (recursion, if any, terminates too).
+  bool changed = true;
+  while (changed) {
+    changed = false;
+    for (std::size_t f = 0; f < p.functions.size(); ++f)
+      for (const auto& b : p.functions[f].blocks)
+        for (const auto& in : b.instrs) {
+          FuncId g = callee_of(in);
+          if (g >= 0 && static_cast<std::size_t>(g) != f) changed |= own[f].merge(own[static_cast<std::size_t>(g)]);
+        }
+  }
+  return own;
+}
+
+namespace {
+bool tracked(const Program& p, VarId v) { return p.vars[static_cast<std::size_t>(v)].kind != VarKind::Global; }
+}  // namespace
+
+void step_back(const Program& p, const Instr& in, const std::vector<VarSet>& footprints, VarSet& live) {
+  VarUse u = uses_of(in);
+  for (VarId v : u.writes)
+    if (tracked(p, v)) live.remove(v);
+  for (VarId v : u.reads)
+    if (tracked(p, v)) live.add(v);
+  FuncId g = callee_of(in);
+  if (g >= 0 && static_cast<std::size_t>(g) < footprints.size())
+    for (VarId v : footprints[static_cast<std::size_t>(g)].members())
+      if (tracked(p, v)) live.add(v);
+}
+
+Liveness compute_liveness(const Program& p, const Function& f, const std::vector<VarSet>& footprints) {
+  std::size_t n = f.blocks.size();
+  Liveness L{std::vector<VarSet>(n, VarSet(p.vars.size())), std::vector<VarSet>(n, VarSet(p.vars.size()))};
+  bool changed = true;
+  while (changed) {
+    changed = false;
+    for (std::size_t i = n; i-- > 0;) {
+      const Block& b = f.blocks[i];
+      VarSet out(p.vars.size());
+      for (BlockId s : successors(b.term)) out.merge(L.live_in[static_cast<std::size_t>(s)]);
+      VarSet live = out;
+      for (VarId v : reads_of(b.term))
+        if (tracked(p, v)) live.add(v);
+      for (std::size_t k = b.instrs.size(); k-- > 0;) step_back(p, b.instrs[k], footprints, live);
+      L.live_out[i] = std::move(out);
+      changed |= L.live_in[i].merge(live);
+    }
+  }
+  return L;
+}
+
+}  // namespace rcxc::ir

@@ -1,0 +1,46 @@
+// Which variables hold a value that may still be read, at every point of a
+// function (classic backward dataflow over the blocks). Globals are left
+// out: they are visible to every task and are never considered dead.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "ir/ir.h"
+
+namespace rcxc::ir {
+
+// A set of VarIds as bits.
+struct VarSet {
+  std::vector<std::uint64_t> bits;
+
+  explicit VarSet(std::size_t n = 0) : bits((n + 63) / 64, 0) {}
+  bool has(VarId v) const { return (bits[static_cast<std::size_t>(v) / 64] >> (v % 64)) & 1u; }
+  void add(VarId v) { bits[static_cast<std::size_t>(v) / 64] |= std::uint64_t{1} << (v % 64); }
+  void remove(VarId v) { bits[static_cast<std::size_t>(v) / 64] &= ~(std::uint64_t{1} << (v % 64)); }
+  // Adds `o`; returns whether anything changed.
+  bool merge(const VarSet& o);
+  std::vector<VarId> members() const;
+};
+
+// Variables each function may read or write, including through the
+// subroutines it calls (the calls are followed transitively).
+std::vector<VarSet> function_footprints(const Program& p);
+
+struct Liveness {
+  std::vector<VarSet> live_in;   // per block
+  std::vector<VarSet> live_out;  // per block
+};
+
+// `footprints` from function_footprints: a call is taken to read every
+// variable the callee touches, so nothing the callee needs is thought dead.
+Liveness compute_liveness(const Program& p, const Function& f, const std::vector<VarSet>& footprints);
+
+// Steps backward through a block: `live` starts as the block's live-out and
+// after step(i) holds the set live before instruction i.
+void step_back(const Program& p, const Instr& in, const std::vector<VarSet>& footprints, VarSet& live);
+
+// The function a call-like instruction enters in the same task (call), or -1.
+FuncId callee_of(const Instr& in);
+
+}  // namespace rcxc::ir

@@ -1,0 +1,990 @@
+#include "ir/lower.h"
+
+#include <algorithm>
+#include <map>
+
+#include <fmt/format.h>
+
+namespace rcxc::ir {
+namespace {
+
+using rcx::Op;
+
+// What a name stands for while lowering: a variable, or (const and
+// const-reference parameters) an expression substituted at every use.
+struct Binding {
+  VarId var = -1;
+  const ast::Expr* expr = nullptr;
+};
+
+// An enclosing loop or switch: where break and continue go.
+struct LoopContext {
+  BlockId break_to = 0;
+  BlockId continue_to = -1;  // -1: a switch (continue passes through it)
+  int repeat = -1;           // index in Function::repeats, for counter loops
+};
+
+// One task/sub body or one inline expansion.
+struct Frame {
+  BlockId return_to = -1;  // -1: leave the task/sub
+  std::map<ast::SymbolId, BlockId> labels;
+  std::size_t loop_base = 0;
+};
+
+struct Lowerer {
+  Lowerer(const ast::Program& program, Diagnostics& d) : ast(program), diags(d) {}
+
+  const ast::Program& ast;
+  Diagnostics& diags;
+  Program out;
+  FuncId fid = 0;
+  BlockId cur = 0;
+  std::vector<BlockId> entered;  // layout: blocks in the order code enters them
+  std::map<ast::SymbolId, Binding> env;
+  std::vector<VarId> globals;
+  std::vector<LoopContext> loops;
+  std::vector<std::vector<BlockId>> switches;
+  std::vector<Frame> frames;
+  std::vector<ast::SymbolId> expanding;
+  bool has_goto = false;
+  SourceSpan span{};
+
+  Function& fn() { return out.functions[static_cast<std::size_t>(fid)]; }
+
+  void error(SourceSpan at, std::string message) { diags.error(at, std::move(message)); }
+
+  // ------------------------------------------------------------ emitting --
+
+  BlockId new_block() {
+    BlockId b = add_block(fn());
+    fn().blocks[static_cast<std::size_t>(b)].span = span;
+    return b;
+  }
+  void enter(BlockId b) {
+    cur = b;
+    entered.push_back(b);
+  }
+  void emit(Op op, std::vector<Operand> args) {
+    fn().blocks[static_cast<std::size_t>(cur)].instrs.push_back(Instr{op, std::move(args), false, span});
+  }
+  void terminate(Terminator t) { fn().blocks[static_cast<std::size_t>(cur)].term = t; }
+  void jump(BlockId b) { terminate(Jump{b}); }
+  // After break/return/goto: what follows is reached only through a label.
+  void dead_code() { enter(new_block()); }
+  VarId temp() { return out.add_var("", VarKind::Temp); }
+
+  // ----------------------------------------------------------- constants --
+
+  std::optional<Binding> binding(const ast::Name& n) {
+    if (n.symbol == ast::kNoSymbol) return std::nullopt;
+    const ast::Symbol& s = ast.symbol(n.symbol);
+    if (s.kind == ast::SymbolKind::Global && s.index < globals.size()) return Binding{globals[s.index], nullptr};
+    auto it = env.find(n.symbol);
+    if (it == env.end()) return std::nullopt;
+    return it->second;
+  }
+
+  // The source node an expression stands for, through substitutions.
+  const ast::Source* source_of(const ast::Expr& e) {
+    if (const auto* s = ast::as<ast::Source>(e)) return s;
+    if (const auto* n = ast::as<ast::Name>(e))
+      if (auto b = binding(*n); b && b->expr) return source_of(*b->expr);
+    return nullptr;
+  }
+
+  std::optional<int> constant(const ast::Expr& e) {
+    if (e.constant) return *e.constant;
+    return std::visit([&](const auto& node) { return constant_of(node); }, e.node);
+  }
+  std::optional<int> constant_of(const ast::IntLit& n) { return wrap16(static_cast<long>(n.value)); }
+  std::optional<int> constant_of(const ast::Name& n) {
+    auto b = binding(n);
+    if (b && b->expr) return constant(*b->expr);
+    return std::nullopt;
+  }
+  std::optional<int> constant_of(const ast::Unary& u) {
+    auto x = constant(*u.operand);
+    if (!x) return std::nullopt;
+    switch (u.op) {
+      case ast::UnaryOp::Negate: return wrap16(-static_cast<long>(*x));
+      case ast::UnaryOp::BitNot: return wrap16(~static_cast<long>(*x));
+      case ast::UnaryOp::LogNot: return *x == 0 ? 1 : 0;
+      case ast::UnaryOp::Plus: return *x;
+      default: return std::nullopt;
+    }
+  }
+  std::optional<int> constant_of(const ast::Binary& b) {
+    auto l = constant(*b.lhs);
+    if (b.op == ast::BinaryOp::LogAnd && l && *l == 0) return 0;
+    if (b.op == ast::BinaryOp::LogOr && l && *l != 0) return 1;
+    auto r = constant(*b.rhs);
+    if (!l || !r) return std::nullopt;
+    return binary_constant(b.op, *l, *r);
+  }
+  std::optional<int> constant_of(const ast::Conditional& c) {
+    auto k = constant(*c.cond);
+    if (!k) return std::nullopt;
+    return constant(*k ? *c.then_value : *c.else_value);
+  }
+  std::optional<int> constant_of(const ast::SourceArg& s) {
+    const ast::Source* src = source_of(*s.operand);
+    if (!src) return std::nullopt;
+    auto type = constant(*src->type);
+    if (s.type_required && type && *type != *s.type_required) return std::nullopt;
+    return constant(*src->arg);
+  }
+  template <class T>
+  std::optional<int> constant_of(const T&) {
+    return std::nullopt;
+  }
+
+  // 16-bit semantics of every binary operator, the same as the code the
+  // lowering emits for it (division by zero leaves the dividend, as the
+  // firmware does; >> shifts in zeros, as nqc's code does).
+  static std::optional<int> binary_constant(ast::BinaryOp op, int l, int r) {
+    long a = static_cast<std::int16_t>(l), b = static_cast<std::int16_t>(r);
+    switch (op) {
+      case ast::BinaryOp::Mul: return wrap16(a * b);
+      case ast::BinaryOp::Div: return b == 0 ? wrap16(a) : wrap16(a / b);
+      case ast::BinaryOp::Mod: return b == 0 ? wrap16(a) : wrap16(a - wrap16(a / b) * b);
+      case ast::BinaryOp::Add: return wrap16(a + b);
+      case ast::BinaryOp::Sub: return wrap16(a - b);
+      case ast::BinaryOp::Shl: return (b < 0 || b > 15) ? 0 : wrap16(a << b);
+      case ast::BinaryOp::Shr: return (b < 0 || b > 15) ? 0 : wrap16(static_cast<long>(static_cast<std::uint16_t>(a) >> b));
+      case ast::BinaryOp::Lt: return a < b;
+      case ast::BinaryOp::Le: return a <= b;
+      case ast::BinaryOp::Gt: return a > b;
+      case ast::BinaryOp::Ge: return a >= b;
+      case ast::BinaryOp::Eq: return a == b;
+      case ast::BinaryOp::Ne: return a != b;
+      case ast::BinaryOp::BitAnd: return wrap16(a & b);
+      case ast::BinaryOp::BitXor: return wrap16(a ^ b);
+      case ast::BinaryOp::BitOr: return wrap16(a | b);
+      case ast::BinaryOp::LogAnd: return (a != 0 && b != 0) ? 1 : 0;
+      case ast::BinaryOp::LogOr: return (a != 0 || b != 0) ? 1 : 0;
+    }
+    return std::nullopt;
+  }
+
+  // ---------------------------------------------------------- predicates --
+
+  std::optional<VarId> var_of(const ast::Expr& e) {
+    if (const auto* n = ast::as<ast::Name>(e)) {
+      auto b = binding(*n);
+      if (!b) return std::nullopt;
+      if (b->expr) return var_of(*b->expr);
+      return b->var;
+    }
+    return std::nullopt;
+  }
+
+  // Whether evaluating `e` reads variable `v` (through substitutions too).
+  bool reads(const ast::Expr& e, VarId v) {
+    if (const auto* n = ast::as<ast::Name>(e)) {
+      auto b = binding(*n);
+      return b && (b->expr ? reads(*b->expr, v) : b->var == v);
+    }
+    if (const auto* u = ast::as<ast::Unary>(e)) return reads(*u->operand, v);
+    if (const auto* b = ast::as<ast::Binary>(e)) return reads(*b->lhs, v) || reads(*b->rhs, v);
+    if (const auto* a = ast::as<ast::Assign>(e)) return reads(*a->target, v) || reads(*a->value, v);
+    if (const auto* c = ast::as<ast::Conditional>(e))
+      return reads(*c->cond, v) || reads(*c->then_value, v) || reads(*c->else_value, v);
+    return false;
+  }
+
+  bool has_effects(const ast::Expr& e) {
+    if (ast::as<ast::Assign>(e) || ast::as<ast::Call>(e)) return true;
+    if (const auto* n = ast::as<ast::Name>(e)) {
+      auto b = binding(*n);
+      return b && b->expr && has_effects(*b->expr);
+    }
+    if (const auto* u = ast::as<ast::Unary>(e))
+      return u->op == ast::UnaryOp::PreInc || u->op == ast::UnaryOp::PreDec || u->op == ast::UnaryOp::PostInc ||
+             u->op == ast::UnaryOp::PostDec || has_effects(*u->operand);
+    if (const auto* b = ast::as<ast::Binary>(e)) return has_effects(*b->lhs) || has_effects(*b->rhs);
+    if (const auto* c = ast::as<ast::Conditional>(e))
+      return has_effects(*c->cond) || has_effects(*c->then_value) || has_effects(*c->else_value);
+    return false;
+  }
+
+  // --------------------------------------------------------- expressions --
+
+  // An operand holding e's value: an immediate, a variable or an RCX source
+  // when e is one, else a temporary computed here.
+  Operand value(const ast::Expr& e) {
+    if (auto c = constant(e)) return Operand::imm(*c);
+    if (const auto* n = ast::as<ast::Name>(e)) {
+      auto b = binding(*n);
+      if (b && b->expr) return value(*b->expr);
+      if (b) return Operand::var(b->var);
+      error(e.span, fmt::format("'{}' is not a variable here", n->name));
+      return Operand::imm(0);
+    }
+    if (const auto* s = ast::as<ast::Source>(e)) {
+      auto type = constant(*s->type), arg = constant(*s->arg);
+      if (!type || !arg || *type < 0 || *type > 15) {
+        error(e.span, "__source needs a constant source type (0..15) and argument");
+        return Operand::imm(0);
+      }
+      return Operand::src(*type, *arg);
+    }
+    VarId t = temp();
+    into(t, e);
+    return Operand::var(t);
+  }
+
+  // An operand `op` accepts at `slot`, through a temporary if needed.
+  Operand operand_for(Op op, std::size_t slot, const ast::Expr& e) {
+    Operand v = value(e);
+    if (accepts(op, slot, v)) return v;
+    VarId t = temp();
+    emit(Op::SetVariable, {Operand::var(t), v});
+    return Operand::var(t);
+  }
+  // The second operand of variable arithmetic (variable or immediate).
+  Operand arith_value(const ast::Expr& e) { return operand_for(Op::AddToVariable, 1, e); }
+
+  // An operand a test-and-branch can compare (not random or program number,
+  // argument within a byte so either position works).
+  Operand test_value(const ast::Expr& e) {
+    Operand v = value(e);
+    bool ok = v.kind != Operand::Kind::Src ||
+              (v.source != 4 && v.source != 8 && v.source >= 0 && v.value >= -128 && v.value <= 127);
+    if (ok) return v;
+    VarId t = temp();
+    emit(Op::SetVariable, {Operand::var(t), v});
+    return Operand::var(t);
+  }
+
+  void set(VarId d, Operand v) {
+    if (!v.is_var(d)) emit(Op::SetVariable, {Operand::var(d), v});
+  }
+  void arith(Op op, VarId d, Operand v) { emit(op, {Operand::var(d), v}); }
+
+  static std::optional<Op> direct_op(ast::BinaryOp op) {
+    switch (op) {
+      case ast::BinaryOp::Add: return Op::AddToVariable;
+      case ast::BinaryOp::Sub: return Op::SubtractFromVariable;
+      case ast::BinaryOp::Mul: return Op::MultiplyVariable;
+      case ast::BinaryOp::Div: return Op::DivideVariable;
+      case ast::BinaryOp::BitAnd: return Op::AndVariable;
+      case ast::BinaryOp::BitOr: return Op::OrVariable;
+      default: return std::nullopt;
+    }
+  }
+
+  // d = e, for any e (also one that reads d).
+  void into(VarId d, const ast::Expr& e) {
+    if (!reads(e, d)) return compute(d, e);
+    if (const auto* b = ast::as<ast::Binary>(e)) {
+      auto op = direct_op(b->op);
+      auto lhs = var_of(*b->lhs);
+      if (op && lhs && *lhs == d && !reads(*b->rhs, d) && !has_effects(*b->lhs)) {
+        arith(*op, d, arith_value(*b->rhs));  // x = x + e  ->  x += e
+        return;
+      }
+    }
+    if (auto v = var_of(e); v && *v == d) return;
+    VarId t = temp();
+    compute(t, e);
+    set(d, Operand::var(t));
+  }
+
+  // d = e where e does not read d (so d can hold partial results).
+  void compute(VarId d, const ast::Expr& e) {
+    if (auto c = constant(e)) return set(d, Operand::imm(*c));
+    if (const auto* n = ast::as<ast::Name>(e)) {
+      auto b = binding(*n);
+      if (b && b->expr) return into(d, *b->expr);
+      return set(d, value(e));
+    }
+    if (ast::as<ast::Source>(e)) return set(d, value(e));
+    if (const auto* u = ast::as<ast::Unary>(e)) return unary(d, *u, e);
+    if (const auto* b = ast::as<ast::Binary>(e)) return binary(d, *b, e);
+    if (const auto* a = ast::as<ast::Assign>(e)) return set(d, Operand::var(assign(*a, e.span)));
+    if (const auto* c = ast::as<ast::Conditional>(e)) {
+      BlockId t = new_block(), f = new_block(), join = new_block();
+      cond(*c->cond, t, f);
+      enter(t);
+      into(d, *c->then_value);
+      jump(join);
+      enter(f);
+      into(d, *c->else_value);
+      jump(join);
+      enter(join);
+      return;
+    }
+    if (ast::as<ast::SourceArg>(e)) {
+      error(e.span, "__source_arg needs a source expression such as SENSOR_1");
+      return;
+    }
+    error(e.span, "a call has no value");
+  }
+
+  // d = 0 or 1: the truth of e.
+  void truth(VarId d, const ast::Expr& e) {
+    BlockId t = new_block(), join = new_block();
+    set(d, Operand::imm(0));
+    cond(e, t, join);
+    enter(t);
+    set(d, Operand::imm(1));
+    jump(join);
+    enter(join);
+  }
+
+  void unary(VarId d, const ast::Unary& u, const ast::Expr& e) {
+    switch (u.op) {
+      case ast::UnaryOp::Plus: return into(d, *u.operand);
+      case ast::UnaryOp::Negate:
+        into(d, *u.operand);
+        return arith(Op::MultiplyVariable, d, Operand::imm(-1));
+      case ast::UnaryOp::BitNot:  // ~x == -x - 1 in two's complement
+        into(d, *u.operand);
+        arith(Op::MultiplyVariable, d, Operand::imm(-1));
+        return arith(Op::SubtractFromVariable, d, Operand::imm(1));
+      case ast::UnaryOp::LogNot: return truth(d, e);
+      case ast::UnaryOp::PreInc:
+      case ast::UnaryOp::PreDec:
+        if (auto v = step(u, e.span)) set(d, Operand::var(*v));
+        return;
+      case ast::UnaryOp::PostInc:
+      case ast::UnaryOp::PostDec: {
+        auto v = var_of(*u.operand);
+        if (!v) return error(e.span, "++ and -- need a variable");
+        set(d, Operand::var(*v));
+        step(u, e.span);
+        return;
+      }
+    }
+  }
+
+  // ++x / --x / x++ / x-- as a statement; returns the variable.
+  std::optional<VarId> step(const ast::Unary& u, SourceSpan at) {
+    auto v = var_of(*u.operand);
+    if (!v) {
+      error(at, "++ and -- need a variable");
+      return std::nullopt;
+    }
+    bool inc = u.op == ast::UnaryOp::PreInc || u.op == ast::UnaryOp::PostInc;
+    arith(inc ? Op::AddToVariable : Op::SubtractFromVariable, *v, Operand::imm(1));
+    return v;
+  }
+
+  void binary(VarId d, const ast::Binary& b, const ast::Expr& e) {
+    if (auto op = direct_op(b.op)) {
+      into(d, *b.lhs);
+      return arith(*op, d, arith_value(*b.rhs));
+    }
+    switch (b.op) {
+      case ast::BinaryOp::Mod: {
+        // a % b == a - (a / b) * b with the firmware's truncating division.
+        Operand x = arith_value(*b.lhs), y = arith_value(*b.rhs);
+        set(d, x);
+        arith(Op::DivideVariable, d, y);
+        arith(Op::MultiplyVariable, d, y);
+        arith(Op::SubtractFromVariable, d, x);
+        return arith(Op::MultiplyVariable, d, Operand::imm(-1));
+      }
+      case ast::BinaryOp::BitXor: {
+        // a ^ b == (a | b) - (a & b)
+        Operand x = arith_value(*b.lhs), y = arith_value(*b.rhs);
+        VarId t = temp();
+        set(d, x);
+        arith(Op::OrVariable, d, y);
+        set(t, x);
+        arith(Op::AndVariable, t, y);
+        return arith(Op::SubtractFromVariable, d, Operand::var(t));
+      }
+      case ast::BinaryOp::Shl: return shift(d, b, true);
+      case ast::BinaryOp::Shr: return shift(d, b, false);
+      default: return truth(d, e);
+    }
+  }
+
+  // d >>= n for a constant n in 1..14, shifting in zeros: a negative value
+  // loses its sign bit first, which then reappears n places lower.
+  void shift_right_const(VarId d, int n) {
+    BlockId neg = new_block(), pos = new_block(), join = new_block();
+    terminate(Branch{Cmp::LT, Operand::var(d), Operand::imm(0), neg, pos});
+    enter(neg);
+    arith(Op::AndVariable, d, Operand::imm(0x7fff));
+    arith(Op::DivideVariable, d, Operand::imm(1 << n));
+    arith(Op::OrVariable, d, Operand::imm(1 << (15 - n)));
+    jump(join);
+    enter(pos);
+    arith(Op::DivideVariable, d, Operand::imm(1 << n));
+    jump(join);
+    enter(join);
+  }
+
+  void shift_const(VarId d, bool left, int n) {
+    if (n <= 0) return;
+    if (n >= 16) return set(d, Operand::imm(0));
+    if (left) return arith(Op::MultiplyVariable, d, Operand::imm(wrap16(1L << n)));
+    if (n == 15) {  // only the sign bit survives
+      BlockId neg = new_block(), join = new_block();
+      BlockId pos = new_block();
+      terminate(Branch{Cmp::LT, Operand::var(d), Operand::imm(0), neg, pos});
+      enter(neg);
+      set(d, Operand::imm(1));
+      jump(join);
+      enter(pos);
+      set(d, Operand::imm(0));
+      jump(join);
+      enter(join);
+      return;
+    }
+    shift_right_const(d, n);
+  }
+
+  void shift(VarId d, const ast::Binary& b, bool left) {
+    if (auto n = constant(*b.rhs)) {
+      into(d, *b.lhs);
+      return shift_const(d, left, *n);
+    }
+    // Shift one place per iteration, count in a temporary.
+    VarId count = temp();
+    into(count, *b.rhs);
+    if (reads(*b.lhs, d)) {
+      VarId t = temp();
+      into(t, *b.lhs);
+      set(d, Operand::var(t));
+    } else {
+      into(d, *b.lhs);
+    }
+    BlockId head = new_block(), body = new_block(), done = new_block();
+    jump(head);
+    enter(head);
+    terminate(Branch{Cmp::GT, Operand::var(count), Operand::imm(0), body, done});
+    enter(body);
+    if (left)
+      arith(Op::AddToVariable, d, Operand::var(d));
+    else
+      shift_right_const(d, 1);
+    arith(Op::SubtractFromVariable, count, Operand::imm(1));
+    jump(head);
+    enter(done);
+  }
+
+  // Performs `target op= value`; returns the target variable.
+  VarId assign(const ast::Assign& a, SourceSpan at) {
+    auto v = var_of(*a.target);
+    if (!v) {
+      error(at, "the left side of an assignment must be a variable");
+      return temp();
+    }
+    auto binary_op = [&]() -> std::optional<ast::BinaryOp> {
+      switch (a.op) {
+        case ast::AssignOp::Add: return ast::BinaryOp::Add;
+        case ast::AssignOp::Sub: return ast::BinaryOp::Sub;
+        case ast::AssignOp::Mul: return ast::BinaryOp::Mul;
+        case ast::AssignOp::Div: return ast::BinaryOp::Div;
+        case ast::AssignOp::Mod: return ast::BinaryOp::Mod;
+        case ast::AssignOp::BitAnd: return ast::BinaryOp::BitAnd;
+        case ast::AssignOp::BitOr: return ast::BinaryOp::BitOr;
+        case ast::AssignOp::BitXor: return ast::BinaryOp::BitXor;
+        case ast::AssignOp::Shl: return ast::BinaryOp::Shl;
+        case ast::AssignOp::Shr: return ast::BinaryOp::Shr;
+        default: return std::nullopt;
+      }
+    }();
+    switch (a.op) {
+      case ast::AssignOp::Assign: into(*v, *a.value); break;
+      case ast::AssignOp::Abs: arith(Op::AbsoluteValue, *v, arith_value(*a.value)); break;
+      case ast::AssignOp::Sign: arith(Op::SignVariable, *v, arith_value(*a.value)); break;
+      default:
+        if (auto op = direct_op(*binary_op)) {
+          arith(*op, *v, arith_value(*a.value));
+        } else {
+          ast::Expr whole{ast::Binary{*binary_op, *a.target, *a.value}, at, std::nullopt};
+          into(*v, whole);
+        }
+    }
+    return *v;
+  }
+
+  // Evaluates e for its side effects only.
+  void effect(const ast::Expr& e) {
+    span = e.span;
+    if (const auto* a = ast::as<ast::Assign>(e)) {
+      assign(*a, e.span);
+    } else if (const auto* u = ast::as<ast::Unary>(e); u && u->op != ast::UnaryOp::Negate &&
+                                                       u->op != ast::UnaryOp::BitNot && u->op != ast::UnaryOp::LogNot &&
+                                                       u->op != ast::UnaryOp::Plus) {
+      step(*u, e.span);
+    } else if (const auto* c = ast::as<ast::Call>(e)) {
+      call(*c, e.span);
+    } else if (const auto* k = ast::as<ast::Conditional>(e)) {
+      BlockId t = new_block(), f = new_block(), join = new_block();
+      cond(*k->cond, t, f);
+      enter(t);
+      effect(*k->then_value);
+      jump(join);
+      enter(f);
+      effect(*k->else_value);
+      jump(join);
+      enter(join);
+    } else if (has_effects(e)) {
+      value(e);
+    }
+  }
+
+  // --------------------------------------------------------- conditions --
+
+  static std::optional<Cmp> comparison(ast::BinaryOp op) {
+    switch (op) {
+      case ast::BinaryOp::Lt: return Cmp::LT;
+      case ast::BinaryOp::Le: return Cmp::LE;
+      case ast::BinaryOp::Gt: return Cmp::GT;
+      case ast::BinaryOp::Ge: return Cmp::GE;
+      case ast::BinaryOp::Eq: return Cmp::EQ;
+      case ast::BinaryOp::Ne: return Cmp::NE;
+      default: return std::nullopt;
+    }
+  }
+
+  // Ends the current block with a branch to t when e is true, else to f.
+  void cond(const ast::Expr& e, BlockId t, BlockId f) {
+    if (auto c = constant(e)) return jump(*c ? t : f);
+    if (const auto* n = ast::as<ast::Name>(e))
+      if (auto b = binding(*n); b && b->expr) return cond(*b->expr, t, f);
+    if (const auto* u = ast::as<ast::Unary>(e); u && u->op == ast::UnaryOp::LogNot) return cond(*u->operand, f, t);
+    if (const auto* b = ast::as<ast::Binary>(e)) {
+      if (b->op == ast::BinaryOp::LogAnd || b->op == ast::BinaryOp::LogOr) {
+        BlockId mid = new_block();
+        if (b->op == ast::BinaryOp::LogAnd)
+          cond(*b->lhs, mid, f);
+        else
+          cond(*b->lhs, t, mid);
+        enter(mid);
+        return cond(*b->rhs, t, f);
+      }
+      if (auto cmp = comparison(b->op)) {
+        Operand x = test_value(*b->lhs);
+        Operand y = test_value(*b->rhs);
+        return terminate(Branch{*cmp, x, y, t, f});
+      }
+    }
+    terminate(Branch{Cmp::NE, test_value(e), Operand::imm(0), t, f});
+  }
+
+  // --------------------------------------------------------------- calls --
+
+  FuncId function_of(ast::SymbolId id) {
+    const ast::Symbol& s = ast.symbol(id);
+    if (s.kind == ast::SymbolKind::Task) return static_cast<FuncId>(s.index);
+    if (s.kind == ast::SymbolKind::Sub) return static_cast<FuncId>(ast.tasks.size() + s.index);
+    return -1;
+  }
+
+  void call(const ast::Call& c, SourceSpan at) {
+    if (c.symbol == ast::kNoSymbol) return error(at, fmt::format("'{}' is not defined", c.callee));
+    const ast::Symbol& s = ast.symbol(c.symbol);
+    if (s.kind == ast::SymbolKind::Sub) {
+      if (!c.args.empty()) return error(at, fmt::format("sub {} takes no arguments", c.callee));
+      return emit(Op::CallSubroutine, {Operand::func(function_of(c.symbol))});
+    }
+    if (s.kind != ast::SymbolKind::Function || s.index >= ast.functions.size())
+      return error(at, fmt::format("'{}' cannot be called", c.callee));
+    expand(ast.functions[s.index], c, at);
+  }
+
+  void expand(const ast::Function& f, const ast::Call& c, SourceSpan at) {
+    if (std::find(expanding.begin(), expanding.end(), f.symbol) != expanding.end()) {
+      std::string cycle;
+      bool on = false;
+      for (ast::SymbolId id : expanding) {
+        on = on || id == f.symbol;
+        if (on) cycle += ast.symbol(id).name + " -> ";
+      }
+      return error(at, fmt::format("inline function {} calls itself: {}{}", f.name, cycle, f.name));
+    }
+    if (c.args.size() != f.params.size())
+      return error(at, fmt::format("{} takes {} arguments, {} given", f.name, f.params.size(), c.args.size()));
+    // Arguments are evaluated in the caller's scope, before any binding.
+    std::vector<std::pair<ast::SymbolId, Binding>> bound;
+    for (std::size_t i = 0; i < f.params.size(); ++i) {
+      const ast::Param& p = f.params[i];
+      const ast::Expr& arg = c.args[i];
+      switch (p.kind) {
+        case ast::ParamKind::Value: {
+          VarId v = out.add_var(p.name, VarKind::Local, p.span);
+          into(v, arg);
+          bound.push_back({p.symbol, Binding{v, nullptr}});
+          break;
+        }
+        case ast::ParamKind::Reference: {
+          auto v = var_of(arg);
+          if (!v) {
+            error(arg.span, fmt::format("parameter '{}' of {} is a reference (int &): pass a variable", p.name, f.name));
+            return;
+          }
+          bound.push_back({p.symbol, Binding{*v, nullptr}});
+          break;
+        }
+        case ast::ParamKind::Const:
+        case ast::ParamKind::ConstReference: bound.push_back({p.symbol, Binding{-1, &arg}}); break;
+      }
+    }
+    std::vector<std::pair<ast::SymbolId, std::optional<Binding>>> saved;
+    for (const auto& [sym, b] : bound) {
+      auto it = env.find(sym);
+      saved.push_back({sym, it == env.end() ? std::nullopt : std::optional<Binding>(it->second)});
+      env[sym] = b;
+    }
+    expanding.push_back(f.symbol);
+    BlockId done = new_block();
+    frames.push_back(Frame{done, {}, loops.size()});
+    statement(f.body);
+    frames.pop_back();
+    expanding.pop_back();
+    jump(done);
+    enter(done);
+    for (const auto& [sym, b] : saved) {
+      if (b)
+        env[sym] = *b;
+      else
+        env.erase(sym);
+    }
+  }
+
+  // ---------------------------------------------------------- statements --
+
+  void escape_repeats(std::size_t from) {
+    for (std::size_t i = from; i < loops.size(); ++i)
+      if (loops[i].repeat >= 0) fn().repeats[static_cast<std::size_t>(loops[i].repeat)].escapes = true;
+  }
+
+  BlockId label_block(ast::SymbolId id) {
+    auto& labels = frames.back().labels;
+    auto it = labels.find(id);
+    if (it != labels.end()) return it->second;
+    BlockId b = new_block();
+    labels[id] = b;
+    return b;
+  }
+
+  void statement(const ast::Stmt& s) {
+    span = s.span;
+    std::visit([&](const auto& node) { lower_stmt(node, s); }, s.node);
+  }
+
+  void lower_stmt(const ast::Block& b, const ast::Stmt&) {
+    for (const auto& s : b.stmts) statement(s);
+  }
+  void lower_stmt(const ast::DeclStmt& d, const ast::Stmt&) {
+    for (const auto& v : d.vars) {
+      VarId id = out.add_var(v.name, VarKind::Local, v.span);
+      env[v.symbol] = Binding{id, nullptr};
+      if (v.init) into(id, *v.init);
+    }
+  }
+  void lower_stmt(const ast::ExprStmt& e, const ast::Stmt&) { effect(e.expr); }
+  void lower_stmt(const ast::If& i, const ast::Stmt&) {
+    BlockId t = new_block(), f = i.else_branch ? new_block() : -1, join = new_block();
+    cond(i.cond, t, i.else_branch ? f : join);
+    enter(t);
+    statement(*i.then_branch);
+    jump(join);
+    if (i.else_branch) {
+      enter(f);
+      statement(**i.else_branch);
+      jump(join);
+    }
+    enter(join);
+  }
+
+  // test-first loop: head tests, body, back to head (rotated later).
+  void loop(const ast::Expr* c, bool negate_cond, const ast::Stmt& body, const ast::Expr* step_expr) {
+    BlockId head = new_block(), start = new_block(), next = step_expr ? new_block() : head, exit = new_block();
+    jump(head);
+    enter(head);
+    if (c == nullptr)
+      jump(start);
+    else if (negate_cond)
+      cond(*c, exit, start);
+    else
+      cond(*c, start, exit);
+    enter(start);
+    loops.push_back({exit, next, -1});
+    statement(body);
+    loops.pop_back();
+    jump(next);
+    if (step_expr) {
+      enter(next);
+      effect(*step_expr);
+      jump(head);
+    }
+    enter(exit);
+  }
+  void lower_stmt(const ast::While& w, const ast::Stmt&) { loop(&w.cond, false, *w.body, nullptr); }
+  void lower_stmt(const ast::Until& u, const ast::Stmt&) { loop(&u.cond, true, *u.body, nullptr); }
+  void lower_stmt(const ast::For& f, const ast::Stmt&) {
+    if (f.init) statement(**f.init);
+    loop(f.cond ? &*f.cond : nullptr, false, *f.body, f.step ? &*f.step : nullptr);
+  }
+  void lower_stmt(const ast::DoWhile& d, const ast::Stmt&) {
+    BlockId body = new_block(), test = new_block(), exit = new_block();
+    jump(body);
+    enter(body);
+    loops.push_back({exit, test, -1});
+    statement(*d.body);
+    loops.pop_back();
+    jump(test);
+    enter(test);
+    if (d.until)
+      cond(d.cond, exit, body);
+    else
+      cond(d.cond, body, exit);
+    enter(exit);
+  }
+  void lower_stmt(const ast::Repeat& r, const ast::Stmt&) {
+    BlockId head = new_block(), body = new_block(), exit = new_block();
+    auto n = constant(r.count);
+    if (n && *n <= 0) {  // runs no time: the body is unreachable
+      jump(exit);
+      enter(body);
+      loops.push_back({exit, exit, -1});
+      statement(*r.body);
+      loops.pop_back();
+      jump(exit);
+      enter(exit);
+      return;
+    }
+    Operand count = operand_for(Op::SetLoopCounter, 0, r.count);
+    emit(Op::SetLoopCounter, {count});
+    auto index = static_cast<int>(fn().repeats.size());
+    fn().repeats.push_back(ir::Repeat{cur, head, false, true});
+    jump(head);
+    enter(head);
+    terminate(LoopTest{index, body, exit});
+    enter(body);
+    loops.push_back({exit, head, index});
+    statement(*r.body);
+    loops.pop_back();
+    jump(head);
+    enter(exit);
+  }
+  void lower_stmt(const ast::Switch& s, const ast::Stmt&) {
+    Operand v = test_value(s.value);
+    std::vector<BlockId> cases;
+    BlockId exit = new_block(), fallback = exit;
+    for (const auto& c : s.cases) {
+      cases.push_back(new_block());
+      if (!c.value) fallback = cases.back();
+    }
+    for (std::size_t i = 0; i < s.cases.size(); ++i) {
+      if (!s.cases[i].value) continue;
+      BlockId next = new_block();
+      terminate(Branch{Cmp::EQ, v, Operand::imm(*s.cases[i].value), cases[i], next});
+      enter(next);
+    }
+    jump(fallback);
+    dead_code();
+    switches.push_back(cases);
+    loops.push_back({exit, -1, -1});
+    statement(*s.body);
+    loops.pop_back();
+    switches.pop_back();
+    jump(exit);
+    enter(exit);
+  }
+  void case_label(std::uint32_t index, const ast::Stmt& body, const ast::Stmt& s) {
+    if (switches.empty() || index >= switches.back().size()) return error(s.span, "case label outside a switch");
+    BlockId b = switches.back()[index];
+    jump(b);
+    enter(b);
+    statement(body);
+  }
+  void lower_stmt(const ast::Case& c, const ast::Stmt& s) { case_label(c.index, *c.body, s); }
+  void lower_stmt(const ast::Default& d, const ast::Stmt& s) { case_label(d.index, *d.body, s); }
+  void lower_stmt(const ast::Break&, const ast::Stmt& s) {
+    if (loops.size() <= frames.back().loop_base) return error(s.span, "break outside a loop or switch");
+    escape_repeats(loops.size() - 1);
+    jump(loops.back().break_to);
+    dead_code();
+  }
+  void lower_stmt(const ast::Continue&, const ast::Stmt& s) {
+    for (std::size_t i = loops.size(); i-- > frames.back().loop_base;) {
+      if (loops[i].continue_to < 0) continue;
+      escape_repeats(i + 1);
+      jump(loops[i].continue_to);
+      dead_code();
+      return;
+    }
+    error(s.span, "continue outside a loop");
+  }
+  void lower_stmt(const ast::Return&, const ast::Stmt&) {
+    escape_repeats(frames.back().loop_base);
+    if (frames.back().return_to >= 0)
+      jump(frames.back().return_to);
+    else
+      terminate(Exit{});
+    dead_code();
+  }
+  void lower_stmt(const ast::Goto& g, const ast::Stmt& s) {
+    if (g.symbol == ast::kNoSymbol) return error(s.span, fmt::format("label '{}' is not defined", g.label));
+    has_goto = true;
+    jump(label_block(g.symbol));
+    dead_code();
+  }
+  void lower_stmt(const ast::Labeled& l, const ast::Stmt&) {
+    BlockId b = label_block(l.symbol);
+    jump(b);
+    enter(b);
+    statement(*l.body);
+  }
+  void task_op(Op op, ast::SymbolId id, const std::string& name, const ast::Stmt& s) {
+    FuncId f = id == ast::kNoSymbol ? -1 : function_of(id);
+    if (f < 0 || ast.symbol(id).kind != ast::SymbolKind::Task) return error(s.span, fmt::format("'{}' is not a task", name));
+    emit(op, {Operand::func(f)});
+  }
+  void lower_stmt(const ast::StartTask& t, const ast::Stmt& s) { task_op(Op::StartTask, t.symbol, t.task, s); }
+  void lower_stmt(const ast::StopTask& t, const ast::Stmt& s) { task_op(Op::StopTask, t.symbol, t.task, s); }
+  void lower_stmt(const ast::Empty&, const ast::Stmt&) {}
+  void lower_stmt(const ast::Asm& a, const ast::Stmt&) {
+    std::vector<Operand> bytes;
+    auto flush = [&] {
+      if (bytes.empty()) return;
+      fn().blocks[static_cast<std::size_t>(cur)].instrs.push_back(Instr{Op::SetVariable, bytes, true, span});
+      bytes.clear();
+    };
+    for (const auto& item : a.items) {
+      if (const auto* b = std::get_if<ast::AsmByte>(&item)) {
+        asm_byte(*b, bytes);
+      } else {
+        flush();
+        asm_instr(std::get<ast::AsmInstr>(item));
+      }
+    }
+    flush();
+  }
+  void asm_byte(const ast::AsmByte& b, std::vector<Operand>& bytes) {
+    if (!b.source_pair) {
+      auto c = constant(b.value);
+      if (!c) return error(b.span, "an asm byte must be a constant");
+      bytes.push_back(Operand::imm(*c & 0xff));
+      return;
+    }
+    Operand v = value(b.value);
+    if (v.is_var()) {
+      bytes.insert(bytes.end(), {Operand::imm(0), v, Operand::imm(0)});
+    } else {
+      bytes.insert(bytes.end(), {Operand::imm(v.source), Operand::imm(v.value & 0xff), Operand::imm((v.value >> 8) & 0xff)});
+    }
+  }
+  void asm_instr(const ast::AsmInstr& in) {
+    span = in.span;
+    if (!in.op) return error(in.span, fmt::format("unknown instruction '{}'", in.mnemonic));
+    auto slots = operand_slots(*in.op);
+    if (slots.size() != in.operands.size())
+      return error(in.span, fmt::format("{} takes {} operands, {} given", in.mnemonic, slots.size(), in.operands.size()));
+    std::vector<Operand> args;
+    for (std::size_t i = 0; i < slots.size(); ++i) {
+      const ast::Expr& e = in.operands[i];
+      switch (slots[i]->role) {
+        case rcx::Role::Variable: {
+          auto v = var_of(e);
+          if (!v) return error(e.span, fmt::format("operand '{}' of {} must be a variable", slots[i]->name, in.mnemonic));
+          args.push_back(Operand::var(*v));
+          break;
+        }
+        case rcx::Role::Source:
+        case rcx::Role::OpSource: {
+          Operand o = operand_for(*in.op, i, e);
+          if (!accepts(*in.op, i, o))
+            return error(e.span, fmt::format("operand '{}' of {} cannot take this value", slots[i]->name, in.mnemonic));
+          args.push_back(o);
+          break;
+        }
+        default: {
+          auto c = constant(e);
+          if (!c || !fits_field(slots[i]->type, *c))
+            return error(e.span, fmt::format("operand '{}' of {} must be a constant that fits", slots[i]->name, in.mnemonic));
+          args.push_back(Operand::imm(*c));
+        }
+      }
+    }
+    span = in.span;
+    emit(*in.op, std::move(args));
+  }
+
+  // ------------------------------------------------------------ functions --
+
+  void startup() {
+    for (std::size_t g = 0; g < ast.globals.size(); ++g)
+      if (ast.globals[g].init) into(globals[g], *ast.globals[g].init);
+    const auto& pragmas = ast.pragmas;
+    if (pragmas.noinit) return;
+    if (pragmas.init) {
+      ast::Call c{*pragmas.init, pragmas.init_span, {}, ast::kNoSymbol};
+      for (ast::SymbolId i = 0; i < ast.symbols.size(); ++i)
+        if (ast.symbols[i].name == *pragmas.init &&
+            (ast.symbols[i].kind == ast::SymbolKind::Function || ast.symbols[i].kind == ast::SymbolKind::Sub))
+          c.symbol = i;
+      return call(c, pragmas.init_span);
+    }
+    // As nqc -Trcx: all outputs full power (7) and forward.
+    emit(Op::SetMotorPower, {Operand::imm(0x07), Operand::imm(7)});
+    emit(Op::SetMotorDirection, {Operand::imm(0x87)});
+  }
+
+  void body(FuncId f, const ast::Stmt& stmt, bool is_main) {
+    fid = f;
+    entered.clear();
+    has_goto = false;
+    span = stmt.span;
+    enter(new_block());
+    frames.push_back(Frame{-1, {}, loops.size()});
+    if (is_main) startup();
+    statement(stmt);
+    frames.pop_back();
+    if (has_goto)
+      for (auto& r : fn().repeats) r.escapes = true;
+    // Lay blocks out in the order code entered them; blocks never entered
+    // hold no code and go last.
+    std::vector<BlockId> order;
+    std::vector<bool> placed(fn().blocks.size(), false);
+    for (BlockId b : entered)
+      if (!placed[static_cast<std::size_t>(b)]) {
+        placed[static_cast<std::size_t>(b)] = true;
+        order.push_back(b);
+      }
+    for (std::size_t b = 0; b < placed.size(); ++b)
+      if (!placed[b]) order.push_back(static_cast<BlockId>(b));
+    permute_blocks(fn(), order);
+  }
+
+  std::optional<Program> run() {
+    for (const auto& r : ast.pragmas.reserve) {
+      if (r.lo < 0 || r.hi > 31 || r.lo > r.hi) {
+        error(r.span, fmt::format("#pragma reserve {} {}: slots are 0..31", r.lo, r.hi));
+        continue;
+      }
+      for (int s = r.lo; s <= r.hi; ++s) out.reserved_slots |= 1u << s;
+    }
+    for (const auto& g : ast.globals) globals.push_back(out.add_var(g.name, VarKind::Global, g.span));
+    for (const auto& t : ast.tasks) out.functions.push_back(Function{t.name, FuncKind::Task, {}, {}, t.span});
+    for (const auto& s : ast.subs) out.functions.push_back(Function{s.name, FuncKind::Sub, {}, {}, s.span});
+    bool has_main = false;
+    for (std::size_t i = 0; i < ast.tasks.size(); ++i) {
+      bool is_main = ast.tasks[i].name == "main";
+      has_main |= is_main;
+      body(static_cast<FuncId>(i), ast.tasks[i].body, is_main);
+    }
+    for (std::size_t i = 0; i < ast.subs.size(); ++i)
+      body(static_cast<FuncId>(ast.tasks.size() + i), ast.subs[i].body, false);
+    if (!has_main) error({}, "the program has no task main (the RCX starts task main)");
+    if (diags.has_errors()) return std::nullopt;
+    return std::move(out);
+  }
+};
+
+}  // namespace
+
+std::optional<Program> lower(const ast::Program& program, Diagnostics& diags) {
+  Lowerer l(program, diags);
+  return l.run();
+}
+
+}  // namespace rcxc::ir

@@ -1,0 +1,65 @@
+// The IR passes, one per file, and the pipeline that runs them.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "frontend/diagnostics.h"
+#include "ir/ir.h"
+
+namespace rcxc::ir {
+
+enum class OptLevel { O0, O1, Os };
+
+// What the passes did, for `rcxc compile -v`.
+using Log = std::vector<std::string>;
+
+// fold.cpp: propagates constants held in task-private variables (locals
+// and temporaries; never globals, which other tasks may change), folds
+// arithmetic and branches on constants, and drops instructions that do
+// nothing (x += 0, x = x, ...).
+void fold_constants(Program& p);
+
+// deadstore.cpp: removes writes to locals and temporaries whose value is
+// never read.
+void remove_dead_stores(Program& p);
+
+// cfg.cpp: threads jumps through empty blocks, turns branches whose both
+// targets agree into jumps, and deletes blocks no path reaches (dead code
+// after unconditional jumps).
+void simplify_cfg(Function& f);
+
+// rotate.cpp: places the test of a while/for loop after its body, so the
+// body falls into the test and the test branches back (one branch per
+// iteration instead of two, never larger).
+void rotate_loops(Function& f);
+
+// repeat.cpp: keeps the firmware loop counter for `repeat` loops where it
+// is safe (nesting, counted across subroutine calls, at most 4 deep; no
+// exit other than the loop's end) and rewrites the others to count in a
+// variable.
+void assign_loop_counters(Program& p, Log& log);
+// Rewrites one counter loop to a variable counter.
+void demote_repeat(Program& p, Function& f, std::size_t repeat_index);
+
+// calls.cpp: makes subroutine calls fit the firmware: rejects recursion
+// (naming the cycle), inlines subroutines called from subroutines (one
+// return address per task), drops subroutines nobody calls, inlines
+// subroutines while there are more than 8 (cheapest first) and, with -Os,
+// wherever inlining is not larger than calling. Returns false on error.
+bool resolve_calls(Program& p, OptLevel level, Diagnostics& diags, Log& log);
+// Replaces the call at (block, index) of `caller` by a copy of `callee`.
+void inline_call(Program& p, FuncId caller, BlockId block, std::size_t index);
+// Bytes a function's code takes when every branch is near (an estimate).
+int estimate_size(const Function& f);
+
+// slots.cpp: binds every variable to one of the 32 slots. Variables share
+// a slot only when they are never live at once and can never be used by two
+// tasks at the same time. Returns slot per VarId (-1: unused variable), or
+// an empty vector after reporting which variables hold the slots.
+std::vector<int> allocate_slots(const Program& p, Diagnostics& diags);
+
+// pipeline.cpp: everything above in order. Returns false on error.
+bool optimize(Program& p, OptLevel level, Diagnostics& diags, Log& log);
+
+}  // namespace rcxc::ir

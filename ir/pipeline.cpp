@@ -1,0 +1,26 @@
+// The order the passes run in (see passes.h).
+#include "ir/passes.h"
+
+namespace rcxc::ir {
+
+bool optimize(Program& p, OptLevel level, Diagnostics& diags, Log& log) {
+  if (!resolve_calls(p, level, diags, log)) return false;
+  if (level != OptLevel::O0) {
+    for (int round = 0; round < 3; ++round) {
+      fold_constants(p);
+      remove_dead_stores(p);
+      for (auto& f : p.functions) simplify_cfg(f);
+    }
+  }
+  // Needed at every level: a counter loop left by a jump must not keep its
+  // counter pushed.
+  assign_loop_counters(p, log);
+  if (level != OptLevel::O0)
+    for (auto& f : p.functions) {
+      simplify_cfg(f);
+      rotate_loops(f);
+    }
+  return true;
+}
+
+}  // namespace rcxc::ir

@@ -1,0 +1,152 @@
+// Variable slot allocation (see passes.h).
+#include <bit>
+#include <fmt/format.h>
+
+#include "ir/liveness.h"
+#include "ir/passes.h"
+
+namespace rcxc::ir {
+namespace {
+
+constexpr int kSlots = 32;
+using TaskMask = std::uint64_t;
+
+bool live_function(const Function& f) { return !f.blocks.empty(); }
+
+// Which tasks may execute each function: a task runs its own code and the
+// subroutines it calls.
+std::vector<TaskMask> tasks_running(const Program& p, const std::vector<VarSet>&) {
+  std::vector<TaskMask> mask(p.functions.size(), 0);
+  int task_no = 0;
+  for (std::size_t t = 0; t < p.functions.size(); ++t) {
+    if (p.functions[t].kind != FuncKind::Task || !live_function(p.functions[t])) continue;
+    TaskMask bit = TaskMask{1} << (task_no++ % 64);
+    std::vector<FuncId> work{static_cast<FuncId>(t)};
+    while (!work.empty()) {
+      FuncId f = work.back();
+      work.pop_back();
+      if (mask[static_cast<std::size_t>(f)] & bit) continue;
+      mask[static_cast<std::size_t>(f)] |= bit;
+      for (const auto& b : p.functions[static_cast<std::size_t>(f)].blocks)
+        for (const auto& in : b.instrs)
+          if (FuncId g = callee_of(in); g >= 0) work.push_back(g);
+    }
+  }
+  return mask;
+}
+
+struct Graph {
+  std::vector<VarSet> edges;
+  void add(VarId a, VarId b) {
+    if (a == b) return;
+    edges[static_cast<std::size_t>(a)].add(b);
+    edges[static_cast<std::size_t>(b)].add(a);
+  }
+};
+
+void add_liveness_edges(const Program& p, const Function& f, const std::vector<VarSet>& footprints, Graph& g) {
+  Liveness L = compute_liveness(p, f, footprints);
+  auto entry = L.live_in[0].members();
+  for (VarId a : entry)
+    for (VarId b : entry) g.add(a, b);
+  for (std::size_t b = 0; b < f.blocks.size(); ++b) {
+    const Block& block = f.blocks[b];
+    VarSet live = L.live_out[b];
+    for (VarId v : reads_of(block.term))
+      if (p.vars[static_cast<std::size_t>(v)].kind != VarKind::Global) live.add(v);
+    for (std::size_t k = block.instrs.size(); k-- > 0;) {
+      const Instr& in = block.instrs[k];
+      auto after = live.members();
+      for (VarId w : uses_of(in).writes)
+        for (VarId l : after) g.add(w, l);
+      if (FuncId callee = callee_of(in); callee >= 0)
+        for (VarId x : footprints[static_cast<std::size_t>(callee)].members())
+          for (VarId l : after) g.add(x, l);
+      step_back(p, in, footprints, live);
+    }
+  }
+}
+
+std::string holder_name(const Var& v) { return v.name.empty() ? std::string("a compiler temporary") : "'" + v.name + "'"; }
+
+void report_exhaustion(const Program& p, VarId failed, const std::vector<int>& slot, Diagnostics& diags) {
+  const Var& v = p.vars[static_cast<std::size_t>(failed)];
+  auto& d = diags.error(v.span, fmt::format("no variable slot left for {}: the RCX has {} and all are taken",
+                                            holder_name(v), kSlots));
+  for (int s = 0; s < kSlots; ++s) {
+    std::string holders;
+    if ((p.reserved_slots >> s) & 1u) holders = "#pragma reserve";
+    for (std::size_t u = 0; u < slot.size(); ++u)
+      if (slot[u] == s && static_cast<VarId>(u) != failed)
+        holders += (holders.empty() ? "" : ", ") + holder_name(p.vars[u]);
+    d.notes.push_back({v.span, fmt::format("slot {} is held by {}", s, holders.empty() ? "nothing free for it here" : holders)});
+  }
+}
+
+}  // namespace
+
+std::vector<int> allocate_slots(const Program& p, Diagnostics& diags) {
+  std::size_t nv = p.vars.size();
+  auto footprints = function_footprints(p);
+  auto running = tasks_running(p, footprints);
+  std::vector<bool> used(nv, false);
+  std::vector<TaskMask> var_tasks(nv, 0);
+  for (std::size_t f = 0; f < p.functions.size(); ++f) {
+    if (!live_function(p.functions[f])) continue;
+    for (const auto& b : p.functions[f].blocks) {
+      auto note = [&](VarId v) {
+        used[static_cast<std::size_t>(v)] = true;
+        var_tasks[static_cast<std::size_t>(v)] |= running[f];
+      };
+      for (const auto& in : b.instrs)
+        for (const auto& a : in.args)
+          if (a.is_var()) note(a.value);
+      for (VarId v : reads_of(b.term)) note(v);
+    }
+  }
+  Graph g{std::vector<VarSet>(nv, VarSet(nv))};
+  // Variables that two tasks may touch at once never share a slot.
+  for (std::size_t a = 0; a < nv; ++a)
+    for (std::size_t b = a + 1; b < nv; ++b)
+      if (used[a] && used[b] && std::popcount(var_tasks[a] | var_tasks[b]) > 1)
+        g.add(static_cast<VarId>(a), static_cast<VarId>(b));
+  for (const auto& f : p.functions)
+    if (live_function(f)) add_liveness_edges(p, f, footprints, g);
+
+  std::vector<int> slot(nv, -1);
+  std::uint32_t global_slots = p.reserved_slots;
+  auto assign = [&](VarId v, bool global) {
+    std::uint32_t taken = global_slots;
+    if (!global)
+      for (VarId n : g.edges[static_cast<std::size_t>(v)].members())
+        if (slot[static_cast<std::size_t>(n)] >= 0) taken |= 1u << slot[static_cast<std::size_t>(n)];
+    if (global)
+      for (std::size_t u = 0; u < nv; ++u)
+        if (slot[u] >= 0) taken |= 1u << slot[u];
+    const auto& fixed = p.vars[static_cast<std::size_t>(v)].slot;
+    if (fixed) {
+      slot[static_cast<std::size_t>(v)] = *fixed;
+    } else {
+      if (taken == 0xffffffffu) return false;
+      slot[static_cast<std::size_t>(v)] = std::countr_one(taken);
+    }
+    if (global) global_slots |= 1u << slot[static_cast<std::size_t>(v)];
+    return true;
+  };
+  // Fixed slots first, then globals (each its own slot), then the rest.
+  for (int pass = 0; pass < 3; ++pass)
+    for (std::size_t v = 0; v < nv; ++v) {
+      if (!used[v]) continue;
+      const Var& var = p.vars[v];
+      bool global = var.kind == VarKind::Global;
+      int want = var.slot ? 0 : (global ? 1 : 2);
+      if (want != pass) continue;
+      if (!assign(static_cast<VarId>(v), global || var.slot.has_value())) {
+        report_exhaustion(p, static_cast<VarId>(v), slot, diags);
+        return {};
+      }
+    }
+  return slot;
+}
+
+}  // namespace rcxc::ir

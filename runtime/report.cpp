@@ -1,0 +1,221 @@
+#include "runtime/report.h"
+
+#include <fmt/format.h>
+
+namespace rcx {
+namespace {
+
+constexpr const char* kOutputNames[kOutputs] = {"A", "B", "C"};
+
+// Milliseconds as an integer when whole, else fractional.
+nlohmann::json ms(Micros us) {
+  if (us % kMicrosPerMs == 0) return us / kMicrosPerMs;
+  return static_cast<double>(us) / static_cast<double>(kMicrosPerMs);
+}
+
+std::string task_label(const Image& image, int task) {
+  std::string name = image.name_of(SymbolType::Task, task);
+  return name.empty() ? fmt::format("task {}", task) : fmt::format("task {} ({})", task, name);
+}
+
+std::string var_label(const Image& image, int index) {
+  std::string name = image.name_of(SymbolType::Variable, index);
+  return name.empty() ? fmt::format("var{}", index) : name;
+}
+
+nlohmann::json output_json(const Output& o) {
+  return {{"mode", to_string(o.mode)}, {"dir", to_string(o.dir)}, {"power", o.power}};
+}
+
+std::string event_text(const Event& e, const Image& image) {
+  switch (e.kind) {
+    case EventKind::Output:
+      return fmt::format("output {} {} {} power {}", kOutputNames[e.index], to_string(e.output.mode),
+                         to_string(e.output.dir), e.output.power);
+    case EventKind::Sound: return fmt::format("sound {}", e.value);
+    case EventKind::Tone: return fmt::format("tone {} Hz for {} ms", e.value, e.duration * 10);
+    case EventKind::Display: return fmt::format("display {}", e.value);
+    case EventKind::MessageSent: return fmt::format("message sent {}", e.value);
+    case EventKind::Datalog: return fmt::format("datalog 0x{:02x} = {}", e.type, e.value);
+    case EventKind::TaskStart: return task_label(image, e.index) + " started";
+    case EventKind::TaskStop: return task_label(image, e.index) + " stopped";
+    case EventKind::Sensor:
+      return fmt::format("input: sensor {} {} {}", e.index + 1, e.type == 0 ? "raw" : "rotation", e.value);
+    case EventKind::Variable: return fmt::format("{} = {}", var_label(image, e.index), e.value);
+  }
+  return "?";
+}
+
+std::string format_ms(Micros us) { return fmt::format("{}.{:03d}", us / kMicrosPerMs, us % kMicrosPerMs); }
+
+}  // namespace
+
+nlohmann::json event_json(const Event& e, const Image& image) {
+  nlohmann::json j = {{"t", ms(e.t_us)}, {"kind", to_string(e.kind)}};
+  switch (e.kind) {
+    case EventKind::Output:
+      j["output"] = kOutputNames[e.index];
+      j.update(output_json(e.output));
+      break;
+    case EventKind::Sound: j["sound"] = e.value; break;
+    case EventKind::Tone: j["freq"] = e.value, j["duration"] = e.duration; break;
+    case EventKind::Display: j["display"] = e.value; break;
+    case EventKind::MessageSent: j["value"] = e.value; break;
+    case EventKind::Datalog: j["type"] = e.type, j["value"] = e.value; break;
+    case EventKind::TaskStart:
+    case EventKind::TaskStop: {
+      j["task"] = e.index;
+      std::string name = image.name_of(SymbolType::Task, e.index);
+      if (!name.empty()) j["name"] = name;
+      break;
+    }
+    case EventKind::Sensor:
+      j["sensor"] = e.index + 1;
+      j[e.type == 0 ? "raw" : "rotation"] = e.value;
+      break;
+    case EventKind::Variable: j["var"] = e.index, j["value"] = e.value; break;
+  }
+  return j;
+}
+
+nlohmann::json report_json(const Machine& m, const Image& image) {
+  const State& s = m.state();
+  nlohmann::json j;
+  j["time_ms"] = ms(m.now_us());
+  j["stop"] = to_string(m.stop().kind);
+  if (m.stop().fault) {
+    const Fault& f = *m.stop().fault;
+    j["fault"] = {{"task", f.task}, {"address", f.address}, {"opcode", f.opcode}, {"message", f.message}};
+    if (f.sub >= 0) j["fault"]["sub"] = f.sub;
+  }
+  j["vars"] = nlohmann::json::array();
+  for (auto v : s.vars) j["vars"].push_back(v);
+  j["globals"] = nlohmann::json::object();
+  for (const auto& sym : image.symbols)
+    if (sym.type == SymbolType::Variable && sym.index < kMaxVariables) j["globals"][sym.name] = s.vars[sym.index];
+  for (int i = 0; i < kOutputs; ++i) j["outputs"][kOutputNames[i]] = output_json(s.outputs[static_cast<std::size_t>(i)]);
+  j["message"] = s.message;
+  j["display"] = s.display;
+  j["datalog"] = nlohmann::json::array();
+  for (const auto& e : s.datalog) j["datalog"].push_back(e.value);
+  j["events"] = nlohmann::json::array();
+  for (const auto& e : s.events)
+    if (e.kind != EventKind::Sensor && e.kind != EventKind::Variable) j["events"].push_back(event_json(e, image));
+  return j;
+}
+
+nlohmann::json trace_json(const Machine& m, const Image& image) {
+  nlohmann::json j = nlohmann::json::array();
+  for (const auto& e : m.state().events) j.push_back(event_json(e, image));
+  return j;
+}
+
+std::string timeline_text(const Machine& m, const Image& image) {
+  const State& s = m.state();
+  std::string out;
+  for (const auto& e : s.events)
+    if (e.kind != EventKind::Variable) out += fmt::format("{:>12} ms  {}\n", format_ms(e.t_us), event_text(e, image));
+  out += fmt::format("stopped: {} at {} ms\n", to_string(m.stop().kind), format_ms(m.now_us()));
+  if (m.stop().fault) {
+    const Fault& f = *m.stop().fault;
+    out += fmt::format("fault: {}{}, address {}, opcode 0x{:02x}: {}\n", task_label(image, f.task),
+                       f.sub >= 0 ? fmt::format(" in sub {}", f.sub) : "", f.address, f.opcode & 0xff, f.message);
+  }
+  for (int i = 0; i < kOutputs; ++i) {
+    const Output& o = s.outputs[static_cast<std::size_t>(i)];
+    out += fmt::format("output {}: {} {} power {}\n", kOutputNames[i], to_string(o.mode), to_string(o.dir), o.power);
+  }
+  for (int i = 0; i < kMaxVariables; ++i) {
+    std::string name = image.name_of(SymbolType::Variable, i);
+    if (!name.empty() || s.vars[static_cast<std::size_t>(i)] != 0)
+      out += fmt::format("var[{}]{} = {}\n", i, name.empty() ? "" : " " + name, s.vars[static_cast<std::size_t>(i)]);
+  }
+  out += fmt::format("message: {}  display: {}\n", s.message, s.display);
+  if (!s.datalog.empty()) {
+    out += "datalog:";
+    for (const auto& e : s.datalog) out += fmt::format(" {}", e.value);
+    out += "\n";
+  }
+  return out;
+}
+
+// ------------------------------------------------------------ VCD
+
+namespace {
+
+std::string bits(int value, int width) {
+  std::string b;
+  for (int i = width - 1; i >= 0; --i) b += ((value >> i) & 1) ? '1' : '0';
+  return b;
+}
+
+struct VcdSignal {
+  std::string id, name;
+  int width;
+};
+
+}  // namespace
+
+std::string trace_vcd(const Machine& m, const Image& image) {
+  // Identifiers: printable ASCII from '!' on, one per signal.
+  std::vector<VcdSignal> signals;
+  auto add = [&](std::string name, int width) {
+    int n = static_cast<int>(signals.size());
+    std::string id(1, static_cast<char>('!' + n % 90));
+    if (n >= 90) id += static_cast<char>('!' + n / 90);
+    signals.push_back({id, std::move(name), width});
+    return n;
+  };
+  int out_mode[kOutputs], out_dir[kOutputs], out_power[kOutputs], raw[kSensors], rot[kSensors], vars[kMaxVariables];
+  for (int i = 0; i < kOutputs; ++i) {
+    out_mode[i] = add(fmt::format("out_{}_mode", kOutputNames[i]), 2);  // 0 float, 1 off, 2 on
+    out_dir[i] = add(fmt::format("out_{}_rev", kOutputNames[i]), 1);
+    out_power[i] = add(fmt::format("out_{}_power", kOutputNames[i]), 3);
+  }
+  for (int i = 0; i < kSensors; ++i) {
+    raw[i] = add(fmt::format("sensor_{}_raw", i + 1), 10);
+    rot[i] = add(fmt::format("sensor_{}_rotation", i + 1), 16);
+  }
+  for (int i = 0; i < kMaxVariables; ++i) vars[i] = add(var_label(image, i), 16);
+  int sound = add("sound", 8);
+  int tone = add("tone_hz", 16);
+  int message = add("message_sent", 8);
+
+  std::string out = "$date rcxc run $end\n$version rcxc emulator $end\n$timescale 1us $end\n$scope module rcx $end\n";
+  for (const auto& s : signals) out += fmt::format("$var wire {} {} {} $end\n", s.width, s.id, s.name);
+  out += "$upscope $end\n$enddefinitions $end\n";
+  auto value = [&](int signal, int v) {
+    const VcdSignal& s = signals[static_cast<std::size_t>(signal)];
+    return s.width == 1 ? fmt::format("{}{}\n", v & 1, s.id) : fmt::format("b{} {}\n", bits(v, s.width), s.id);
+  };
+  out += "#0\n$dumpvars\n";
+  Output initial;
+  for (int i = 0; i < kOutputs; ++i)
+    out += value(out_mode[i], static_cast<int>(initial.mode)) + value(out_dir[i], 0) + value(out_power[i], initial.power);
+  for (int i = 0; i < kSensors; ++i) out += value(raw[i], Sensor{}.raw) + value(rot[i], 0);
+  for (int i = 0; i < kMaxVariables; ++i) out += value(vars[i], 0);
+  out += value(sound, 0) + value(tone, 0) + value(message, 0) + "$end\n";
+  Micros last = 0;
+  for (const auto& e : m.state().events) {
+    std::string change;
+    switch (e.kind) {
+      case EventKind::Output:
+        change = value(out_mode[e.index], static_cast<int>(e.output.mode)) +
+                 value(out_dir[e.index], e.output.dir == Direction::Reverse) + value(out_power[e.index], e.output.power);
+        break;
+      case EventKind::Sensor: change = value(e.type == 0 ? raw[e.index] : rot[e.index], e.value); break;
+      case EventKind::Variable: change = value(vars[e.index], e.value); break;
+      case EventKind::Sound: change = value(sound, e.value + 1); break;  // 0 = silence, n+1 = sound n
+      case EventKind::Tone: change = value(tone, e.value); break;
+      case EventKind::MessageSent: change = value(message, e.value); break;
+      default: break;
+    }
+    if (change.empty()) continue;
+    if (e.t_us > last) out += fmt::format("#{}\n", e.t_us), last = e.t_us;
+    out += change;
+  }
+  out += fmt::format("#{}\n", std::max(m.now_us(), last));
+  return out;
+}
+
+}  // namespace rcx

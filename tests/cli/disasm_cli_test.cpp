@@ -1,0 +1,69 @@
+// `rcxc disasm` end to end on hand-built images.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "runtime/image.h"
+#include "tests/support/process.h"
+
+using rcxc::test::run_rcxc;
+
+namespace {
+
+std::string write_temp(const std::string& dir, const std::vector<std::uint8_t>& bytes) {
+  std::string p = dir + "/d.rcx";
+  std::ofstream(p, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+  return p;
+}
+
+}  // namespace
+
+TEST(DisasmCli, ListsTasksAndSubsWithAddressesMnemonicsOperandsBytes) {
+  rcx::Image img;
+  // task 0: set var[0] = 5; chk 10 >= var[0] -> 18 (the offset field is at 11, +7); jmp back to 0.
+  img.fragments.push_back({rcx::FragmentType::Task, 0,
+                           {0x14, 0x00, 0x02, 0x05, 0x00,                     //  0 set var[0], 5
+                            0x85, 0x42, 0x00, 0x0a, 0x00, 0x00, 0x07,         //  5 chk 10 >= var[0], 18
+                            0x27, 0x8d,                                       // 12 jmp 0 (13 - 0x8d + 128)
+                            0x13, 0x05, 0x02, 0x03,                           // 14 pwr AC, 3
+                            0x10}});                                          // 18 not a command
+  img.fragments.push_back({rcx::FragmentType::Subroutine, 2, {0x51, 0x03, 0xf6}});
+  img.symbols.push_back({rcx::SymbolType::Task, 0, "main"});
+  img.symbols.push_back({rcx::SymbolType::Subroutine, 2, "beep"});
+  std::string dir = rcxc::test::make_temp_dir();
+  auto r = run_rcxc({"disasm", write_temp(dir, rcx::write_image(img))});
+  std::filesystem::remove_all(dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string& out = r.out;
+  EXPECT_NE(out.find("task 0 main (19 bytes)"), std::string::npos) << out;
+  EXPECT_NE(out.find("0000  set var[0], 5"), std::string::npos) << out;
+  EXPECT_NE(out.find("14 00 02 05 00"), std::string::npos) << out;
+  EXPECT_NE(out.find("0005  chk 10 >= var[0], 18"), std::string::npos) << out;
+  EXPECT_NE(out.find("0012  jmp 0"), std::string::npos) << out;
+  EXPECT_NE(out.find("0014  pwr AC, 3"), std::string::npos) << out;
+  EXPECT_NE(out.find("0018  ??? 0x10"), std::string::npos) << out;
+  EXPECT_NE(out.find("sub 2 beep (3 bytes)"), std::string::npos) << out;
+  EXPECT_NE(out.find("0000  sound 3"), std::string::npos) << out;
+  EXPECT_NE(out.find("0002  ret"), std::string::npos) << out;
+}
+
+TEST(DisasmCli, MotorCodesAreSpelledOut) {
+  rcx::Image img;
+  img.fragments.push_back({rcx::FragmentType::Task, 0, {0x21, 0x85, 0x21, 0x42, 0x21, 0x07, 0xe1, 0x87, 0xe1, 0x02, 0xe1, 0x41}});
+  std::string dir = rcxc::test::make_temp_dir();
+  auto r = run_rcxc({"disasm", write_temp(dir, rcx::write_image(img))});
+  std::filesystem::remove_all(dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const char* line : {"out AC, on", "out B, off", "out ABC, float", "dir ABC, fwd", "dir B, rev", "dir A, flip"})
+    EXPECT_NE(r.out.find(line), std::string::npos) << line << "\n" << r.out;
+}
+
+TEST(DisasmCli, BadFileIsAClearError) {
+  std::string dir = rcxc::test::make_temp_dir();
+  auto r = run_rcxc({"disasm", write_temp(dir, {'R', 'C', 'X', 'I', 9, 9})});
+  std::filesystem::remove_all(dir);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("rcxc disasm:"), std::string::npos);
+  EXPECT_TRUE(r.out.empty());
+}

@@ -1,0 +1,164 @@
+// `rcxc run` end to end: loading, options, scenario errors, report, traces,
+// exit codes.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "runtime/image.h"
+#include "tests/support/process.h"
+
+using rcxc::test::run_rcxc;
+
+namespace {
+
+// task 0 "main": var0 = 5; A on; Wait(10); A off.  Variable 0 is "count".
+std::vector<std::uint8_t> program_bytes() {
+  rcx::Image img;
+  img.fragments.push_back({rcx::FragmentType::Task, 0,
+                           {0x14, 0x00, 0x02, 0x05, 0x00, 0x21, 0x81, 0x43, 0x02, 0x0a, 0x00, 0x21, 0x41}});
+  img.symbols.push_back({rcx::SymbolType::Task, 0, "main"});
+  img.symbols.push_back({rcx::SymbolType::Variable, 0, "count"});
+  return rcx::write_image(img);
+}
+
+struct TempDir {
+  std::string path = rcxc::test::make_temp_dir();
+  ~TempDir() { std::filesystem::remove_all(path); }
+  std::string write(const std::string& name, const std::string& text) const {
+    std::string p = path + "/" + name;
+    std::ofstream(p, std::ios::binary) << text;
+    return p;
+  }
+  std::string write(const std::string& name, const std::vector<std::uint8_t>& bytes) const {
+    return write(name, std::string(bytes.begin(), bytes.end()));
+  }
+};
+
+}  // namespace
+
+TEST(RunCli, ReportJson) {
+  TempDir d;
+  auto r = run_rcxc({"run", d.write("p.rcx", program_bytes()), "--report", "json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["stop"], "ended");
+  EXPECT_EQ(j["globals"]["count"], 5);
+  EXPECT_EQ(j["outputs"]["A"]["mode"], "off");
+  // 2 ms per instruction: A on at 2 ms, the wait at 4 ms, A off at 104 ms, end at 106 ms.
+  EXPECT_EQ(j["time_ms"], 106);
+  EXPECT_EQ(j["events"][1]["t"], 2);
+  EXPECT_EQ(j["events"][2]["t"], 104);
+}
+
+TEST(RunCli, TimelineByDefault) {
+  TempDir d;
+  auto r = run_rcxc({"run", d.write("p.rcx", program_bytes())});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("output A on fwd power 7"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("stopped: ended at 106.000 ms"), std::string::npos) << r.out;
+}
+
+TEST(RunCli, TimeLimitAndInstructionCost) {
+  TempDir d;
+  auto r = run_rcxc({"run", d.write("p.rcx", program_bytes()), "--for", "50", "--report", "json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["stop"], "time_limit");
+  EXPECT_EQ(j["time_ms"], 50);
+  r = run_rcxc({"run", d.write("p.rcx", program_bytes()), "--instruction-us", "1000", "--report", "json"});
+  EXPECT_EQ(nlohmann::json::parse(r.out)["time_ms"], 103);
+}
+
+TEST(RunCli, ScenarioFeedsInputs) {
+  TempDir d;
+  // task 0: var0 = SENSOR_1 raw after Wait(100).
+  rcx::Image img;
+  img.fragments.push_back({rcx::FragmentType::Task, 0, {0x43, 0x02, 0x64, 0x00, 0x14, 0x00, 0x0c, 0x00, 0x00}});
+  auto scenario = d.write("s.toml", "[[input]]\nat_ms = 300\nsensor = 1\nraw = 444\n");
+  auto r = run_rcxc({"run", d.write("p.rcx", rcx::write_image(img)), "--scenario", scenario, "--report", "json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(nlohmann::json::parse(r.out)["vars"][0], 444);
+}
+
+TEST(RunCli, ScenarioErrorNamesTheLine) {
+  TempDir d;
+  auto scenario = d.write("s.toml", "[[input]]\nat_ms = 300\nsensor = 1\nraw = 5000\n");
+  auto r = run_rcxc({"run", d.write("p.rcx", program_bytes()), "--scenario", scenario});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("s.toml:4: 'raw' = 5000 is out of range 0..1023"), std::string::npos) << r.err;
+  EXPECT_TRUE(r.out.empty());
+}
+
+TEST(RunCli, BadImageIsAClearError) {
+  TempDir d;
+  auto r = run_rcxc({"run", d.write("bad.rcx", std::string("RCXI\x02\x01"))});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("bad.rcx"), std::string::npos) << r.err;
+  r = run_rcxc({"run", d.path + "/missing.rcx"});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("cannot open"), std::string::npos) << r.err;
+}
+
+TEST(RunCli, NqcSourceNeedsTheCompiler) {
+  TempDir d;
+  auto r = run_rcxc({"run", d.write("p.nqc", "task main() {}\n")});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("compiling .nqc needs the compiler"), std::string::npos) << r.err;
+  EXPECT_TRUE(r.out.empty());
+}
+
+TEST(RunCli, FaultExitsWithFailureAndReports) {
+  TempDir d;
+  rcx::Image img;
+  img.fragments.push_back({rcx::FragmentType::Task, 0, {0x27, 0x7f}});
+  auto r = run_rcxc({"run", d.write("f.rcx", rcx::write_image(img)), "--report", "json"});
+  EXPECT_EQ(r.exit_code, 1);
+  auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["stop"], "fault");
+  EXPECT_EQ(j["fault"]["opcode"], 0x27);
+}
+
+TEST(RunCli, BadOptionsAreUsageErrors) {
+  TempDir d;
+  auto p = d.write("p.rcx", program_bytes());
+  EXPECT_EQ(run_rcxc({"run", p, "--report", "xml"}).exit_code, 2);
+  EXPECT_EQ(run_rcxc({"run", p, "--for", "-5"}).exit_code, 2);
+  EXPECT_EQ(run_rcxc({"run", p, "--trace", d.path + "/t.txt"}).exit_code, 2);
+  EXPECT_EQ(run_rcxc({"run"}).exit_code, 2);
+}
+
+TEST(RunCli, TracesAreWritten) {
+  TempDir d;
+  auto p = d.write("p.rcx", program_bytes());
+  auto r = run_rcxc({"run", p, "--trace", d.path + "/t.vcd"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::ifstream vcd(d.path + "/t.vcd");
+  std::string text((std::istreambuf_iterator<char>(vcd)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("$enddefinitions $end"), std::string::npos);
+  EXPECT_NE(text.find(" count $end"), std::string::npos);
+  r = run_rcxc({"run", p, "--trace", d.path + "/t.json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::ifstream js(d.path + "/t.json");
+  auto j = nlohmann::json::parse(js);
+  ASSERT_TRUE(j.is_array());
+  EXPECT_EQ(j[0]["kind"], "task_start");
+  r = run_rcxc({"run", p, "--trace", d.path + "/no/such/dir/t.json"});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("cannot write trace"), std::string::npos);
+}
+
+TEST(RunCli, SeedChangesRandomValues) {
+  TempDir d;
+  rcx::Image img;
+  std::vector<std::uint8_t> c;
+  for (int i = 0; i < 8; ++i) c.insert(c.end(), {0x14, static_cast<std::uint8_t>(i), 0x04, 0xe8, 0x03});  // Random(1000)
+  img.fragments.push_back({rcx::FragmentType::Task, 0, c});
+  auto p = d.write("r.rcx", rcx::write_image(img));
+  auto a = nlohmann::json::parse(run_rcxc({"run", p, "--report", "json", "--seed", "7"}).out)["vars"];
+  auto b = nlohmann::json::parse(run_rcxc({"run", p, "--report", "json", "--seed", "7"}).out)["vars"];
+  auto c2 = nlohmann::json::parse(run_rcxc({"run", p, "--report", "json", "--seed", "8"}).out)["vars"];
+  EXPECT_EQ(a, b);
+  EXPECT_NE(a, c2);
+}

@@ -1,0 +1,129 @@
+// The re2c lexer: token kinds, exact spans, comments, line starts, errors.
+#include <gtest/gtest.h>
+
+#include "frontend/token.h"
+
+using namespace rcxc;
+using namespace rcxc::frontend;
+
+namespace {
+
+std::vector<std::string> texts(const std::vector<Token>& toks) {
+  std::vector<std::string> out;
+  for (const auto& t : toks)
+    if (t.kind != TokenKind::End) out.push_back(t.text);
+  return out;
+}
+
+}  // namespace
+
+TEST(Lexer, SplitsOperatorsLongestFirst) {
+  Diagnostics d;
+  auto toks = lex("a||=b+-=c<<=d>>=e&&f||g==h!=i<=j>=k<<l>>m++n--", 0, d);
+  EXPECT_EQ(texts(toks), (std::vector<std::string>{"a", "||=", "b", "+-=", "c", "<<=", "d", ">>=", "e", "&&", "f",
+                                                   "||", "g", "==", "h", "!=", "i", "<=", "j", ">=", "k", "<<", "l",
+                                                   ">>", "m", "++", "n", "--"}));
+  EXPECT_FALSE(d.has_errors());
+}
+
+TEST(Lexer, SpansCountLinesAndColumnsFromOne) {
+  Diagnostics d;
+  auto toks = lex("task main()\n{\n  x = 0x1F;\n}", 7, d);
+  ASSERT_EQ(toks.size(), 11u);
+  EXPECT_EQ(toks[0].span.begin.file, 7u);
+  EXPECT_EQ(toks[1].text, "main");
+  EXPECT_EQ(toks[1].span.begin.line, 1u);
+  EXPECT_EQ(toks[1].span.begin.column, 6u);
+  EXPECT_EQ(toks[1].span.end.column, 10u);
+  EXPECT_EQ(toks[5].text, "x");
+  EXPECT_EQ(toks[5].span.begin.line, 3u);
+  EXPECT_EQ(toks[5].span.begin.column, 3u);
+  EXPECT_EQ(toks[7].kind, TokenKind::Number);
+  EXPECT_EQ(toks[7].text, "0x1F");
+  EXPECT_EQ(toks.back().kind, TokenKind::End);
+}
+
+TEST(Lexer, CommentsAreSkippedAndKeepLineNumbers) {
+  Diagnostics d;
+  auto toks = lex("a /* one\ntwo */ b // rest\nc", 0, d);
+  ASSERT_EQ(texts(toks), (std::vector<std::string>{"a", "b", "c"}));
+  EXPECT_EQ(toks[1].span.begin.line, 2u);
+  EXPECT_EQ(toks[1].span.begin.column, 8u);
+  EXPECT_EQ(toks[2].span.begin.line, 3u);
+  EXPECT_TRUE(toks[2].line_start);
+  EXPECT_FALSE(toks[1].line_start);
+  EXPECT_TRUE(toks[1].space_before);
+}
+
+TEST(Lexer, LineStartMarksDirectivesAndBackslashJoinsLines) {
+  Diagnostics d;
+  auto toks = lex("#define X \\\n  1\n# if X", 0, d);
+  ASSERT_EQ(texts(toks), (std::vector<std::string>{"#", "define", "X", "1", "#", "if", "X"}));
+  EXPECT_TRUE(toks[0].line_start);
+  EXPECT_FALSE(toks[3].line_start);  // continued line
+  EXPECT_TRUE(toks[4].line_start);
+}
+
+TEST(Lexer, NumbersAndCharacters) {
+  Diagnostics d;
+  auto toks = lex("10 010 0x7fff 0XFFFF 'a' '\\n' 99999999999999999999999", 0, d);
+  std::int64_t v = 0;
+  ASSERT_TRUE(number_value(toks[0], v));
+  EXPECT_EQ(v, 10);
+  ASSERT_TRUE(number_value(toks[1], v));
+  EXPECT_EQ(v, 10);  // nqc reads a leading 0 as decimal, not octal
+  ASSERT_TRUE(number_value(toks[2], v));
+  EXPECT_EQ(v, 32767);
+  ASSERT_TRUE(number_value(toks[3], v));
+  EXPECT_EQ(v, 65535);
+  EXPECT_EQ(toks[4].kind, TokenKind::Char);
+  ASSERT_TRUE(number_value(toks[4], v));
+  EXPECT_EQ(v, 97);
+  ASSERT_TRUE(number_value(toks[5], v));
+  EXPECT_EQ(v, 10);
+  ASSERT_TRUE(number_value(toks[6], v));
+  EXPECT_GT(v, 0xFFFF);  // too big: reported by sema as not fitting
+}
+
+TEST(Lexer, MalformedNumbersAreRejected) {
+  Diagnostics d;
+  auto toks = lex("12ab 0x", 0, d);
+  std::int64_t v = 0;
+  EXPECT_FALSE(number_value(toks[0], v));
+  EXPECT_FALSE(number_value(toks[1], v));
+}
+
+TEST(Lexer, UnterminatedCommentIsAnErrorAtItsStart) {
+  Diagnostics d;
+  auto toks = lex("a\n  /* never closed\n", 0, d);
+  ASSERT_EQ(d.error_count(), 1u);
+  EXPECT_EQ(d.all()[0].message, "unterminated /* comment");
+  EXPECT_EQ(d.all()[0].span.begin.line, 2u);
+  EXPECT_EQ(d.all()[0].span.begin.column, 3u);
+  EXPECT_EQ(toks.back().kind, TokenKind::End);
+}
+
+TEST(Lexer, StrayCharactersAreReportedAndLexingGoesOn) {
+  Diagnostics d;
+  auto toks = lex("a @ b ` c", 0, d);
+  EXPECT_EQ(d.error_count(), 2u);
+  EXPECT_EQ(d.all()[0].message, "stray character '@' in program");
+  EXPECT_EQ(d.all()[0].span.begin.column, 3u);
+  EXPECT_EQ(toks[4].text, "c");
+}
+
+TEST(Lexer, UnterminatedStringStopsAtEndOfLine) {
+  Diagnostics d;
+  auto toks = lex("\"abc\nx", 0, d);
+  ASSERT_EQ(d.error_count(), 1u);
+  EXPECT_EQ(d.all()[0].message, "missing terminating \" character");
+  EXPECT_EQ(toks[1].text, "x");
+}
+
+TEST(Lexer, EmbeddedNulIsAnErrorNotTheEnd) {
+  Diagnostics d;
+  std::string text("a\0b", 3);
+  auto toks = lex(text, 0, d);
+  EXPECT_EQ(d.error_count(), 1u);
+  EXPECT_EQ(texts(toks), (std::vector<std::string>{"a", "b"}));
+}

@@ -1,0 +1,225 @@
+// The preprocessor: macros (# and ##), conditionals, includes, pragmas,
+// expansion locations, and the limits that keep it from looping.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "frontend/preprocess.h"
+#include "tests/frontend/frontend_test_util.h"
+#include "tests/support/process.h"
+
+using namespace rcxc;
+using namespace rcxc::frontend;
+
+namespace {
+
+struct PP {
+  SourceManager sm;
+  Diagnostics diags;
+  Preprocessed out;
+  std::string joined;  // token texts separated by single spaces
+};
+
+PP run_pp(const std::string& src, Options options = {}, const std::string& name = "t.nqc",
+          const std::string& dir = "") {
+  PP p;
+  options.no_stdlib = true;
+  std::uint32_t f = p.sm.add(name, src);
+  p.out = preprocess(f, dir, options, p.sm, p.diags);
+  for (const auto& t : p.out.tokens) {
+    if (t.kind == TokenKind::End) break;
+    if (!p.joined.empty()) p.joined += ' ';
+    p.joined += t.text;
+  }
+  return p;
+}
+
+std::vector<std::string> messages(const Diagnostics& d) {
+  std::vector<std::string> out;
+  for (const auto& x : d.all()) out.push_back(x.message);
+  return out;
+}
+
+void write(const std::filesystem::path& p, const std::string& text) {
+  std::ofstream(p) << text;
+}
+
+}  // namespace
+
+TEST(Preprocessor, ObjectAndFunctionMacros) {
+  auto p = run_pp("#define N 3\n#define ADD(a, b) ((a) + (b))\nx = ADD(N, 4 * N);\n");
+  EXPECT_EQ(p.joined, "x = ( ( 3 ) + ( 4 * 3 ) ) ;");
+  EXPECT_FALSE(p.diags.has_errors());
+}
+
+TEST(Preprocessor, FunctionMacroNameWithoutParenthesesIsLeftAlone) {
+  auto p = run_pp("#define F(a) a\nF + F(1)\n");
+  EXPECT_EQ(p.joined, "F + 1");
+}
+
+TEST(Preprocessor, StringizeAndPaste) {
+  auto p = run_pp("#define STR(x) #x\n#define CAT(a, b) a##b\n#define XCAT(a, b) CAT(a, b)\n#define N 7\n"
+                  "STR(a  +  \"q\") CAT(foo, bar) CAT(N, 1) XCAT(N, 1) CAT(, z)\n");
+  EXPECT_EQ(p.joined, "\"a + \\\"q\\\"\" foobar N1 71 z");
+  EXPECT_FALSE(p.diags.has_errors());
+}
+
+TEST(Preprocessor, PastingThatMakesNoTokenIsAnError) {
+  auto p = run_pp("#define CAT(a, b) a##b\nCAT(+, /)\n");
+  EXPECT_EQ(messages(p.diags), (std::vector<std::string>{"pasting '+' and '/' does not give a valid token"}));
+}
+
+TEST(Preprocessor, ArgumentsArePreExpandedButNotRescannedIntoRecursion) {
+  // C's rule: an argument's macros expand before substitution; a macro's own
+  // name inside its expansion is not expanded again.
+  auto p = run_pp("#define ID(x) x\n#define TWO 2\nID(ID(TWO))\n");
+  EXPECT_EQ(p.joined, "2");
+  EXPECT_FALSE(p.diags.has_errors());
+}
+
+TEST(Preprocessor, RecursiveMacroIsDiagnosedOnce) {
+  // nqc says "circular definition"; we explain and never loop.
+  auto p = run_pp("#define foo foo + 1\n#define A B\n#define B A\nx = foo; y = A; z = foo;\n");
+  EXPECT_EQ(messages(p.diags),
+            (std::vector<std::string>{"macro 'foo' is defined in terms of itself (recursive macros never end)",
+                                      "macro 'A' is defined in terms of itself (recursive macros never end)"}));
+}
+
+TEST(Preprocessor, ExponentialExpansionStopsWithAnError) {
+  std::string src;
+  src += "#define M0 x x\n";
+  for (int i = 1; i <= 40; ++i)
+    src += "#define M" + std::to_string(i) + " M" + std::to_string(i - 1) + " M" + std::to_string(i - 1) + "\n";
+  src += "M40\n";
+  auto p = run_pp(src);
+  ASSERT_TRUE(p.diags.has_errors());
+  EXPECT_NE(p.diags.all().back().message.find("grows without bound"), std::string::npos);
+}
+
+TEST(Preprocessor, WrongArgumentCountNamesTheMacro) {
+  auto p = run_pp("#define F(a, b) a\nF(1)\nF(1, 2, 3)\n");
+  EXPECT_EQ(messages(p.diags), (std::vector<std::string>{"macro 'F' takes 2 arguments, but 1 was given",
+                                                         "macro 'F' takes 2 arguments, but 3 were given"}));
+  EXPECT_EQ(p.diags.all()[0].span.begin.line, 2u);
+  EXPECT_EQ(p.diags.all()[0].notes.at(0).message, "macro 'F' is defined here");
+}
+
+TEST(Preprocessor, UnterminatedMacroCallIsAnError) {
+  auto p = run_pp("#define F(a) a\nF(1, \n");
+  EXPECT_EQ(messages(p.diags), (std::vector<std::string>{"unterminated argument list invoking macro 'F'"}));
+}
+
+TEST(Preprocessor, ConditionalsWithExpressionsAndDefined) {
+  auto p = run_pp(
+      "#define A 2\n"
+      "#if A * 3 == 6 && defined(A) && !defined B\nyes1\n#else\nno1\n#endif\n"
+      "#if 0\nno2\n#elif (1 << 4) % 5 == 1 ? 0 : 1\nno3\n#elif -1 < 0\nyes2\n#else\nno4\n#endif\n"
+      "#ifdef A\nyes3\n#endif\n#ifndef A\nno5\n#endif\n"
+      "#if UNKNOWN_NAME\nno6\n#endif\n"
+      "#if 0\n#if 1\nno7\n#else\nno8\n#endif\n#error not reached\n#endif\n");
+  EXPECT_EQ(p.joined, "yes1 yes2 yes3");
+  EXPECT_FALSE(p.diags.has_errors()) << p.diags.all()[0].message;
+}
+
+TEST(Preprocessor, ConditionalErrors) {
+  auto p = run_pp("#if 1 / 0\n#endif\n#else\n#endif\n#if 1\n#else\n#elif 1\n#endif\n#if (1\n#endif\n#if 1\n");
+  EXPECT_EQ(messages(p.diags),
+            (std::vector<std::string>{"division by zero in #if expression", "#else without #if", "#endif without #if",
+                                      "#elif after #else", "expected ')' in #if expression",
+                                      "unterminated conditional directive (#endif missing)"}));
+}
+
+TEST(Preprocessor, ErrorWarningUndefAndUnknownDirectives) {
+  auto p = run_pp("#define X 1\n#undef X\n#ifdef X\nbad\n#endif\n#error stop  here\n#warning careful\n#frob\n");
+  EXPECT_EQ(messages(p.diags), (std::vector<std::string>{"#error stop here", "#warning careful",
+                                                         "unknown preprocessor directive '#frob'"}));
+  EXPECT_EQ(p.diags.all()[1].severity, Severity::Warning);
+  EXPECT_EQ(p.joined, "");
+}
+
+TEST(Preprocessor, RedefinitionWithADifferentBodyWarns) {
+  auto p = run_pp("#define X 1\n#define X 1\n#define X 2\n");
+  ASSERT_EQ(p.diags.all().size(), 1u);
+  EXPECT_EQ(p.diags.all()[0].severity, Severity::Warning);
+  EXPECT_EQ(p.diags.all()[0].message, "macro 'X' redefined");
+  EXPECT_EQ(p.diags.all()[0].span.begin.line, 3u);
+}
+
+TEST(Preprocessor, CommandLineDefinesAndPredefinedMacros) {
+  Options o;
+  o.defines = {{"SPEED", "5"}, {"FLAG", "1"}, {"GONE", "1"}};
+  o.undefines = {"GONE"};
+  auto p = run_pp("SPEED FLAG GONE __RCX\n", o);
+  EXPECT_EQ(p.joined, "5 1 GONE 1");
+}
+
+TEST(Preprocessor, PragmasBecomeProgramData) {
+  auto p = run_pp("#pragma noinit\n#pragma init Setup\n#pragma reserve 3 5\n#pragma reserve 31\n#pragma frob\n");
+  EXPECT_TRUE(p.out.pragmas.noinit);
+  ASSERT_TRUE(p.out.pragmas.init.has_value());
+  EXPECT_EQ(*p.out.pragmas.init, "Setup");
+  ASSERT_EQ(p.out.pragmas.reserve.size(), 2u);
+  EXPECT_EQ(p.out.pragmas.reserve[0].lo, 3);
+  EXPECT_EQ(p.out.pragmas.reserve[0].hi, 5);
+  EXPECT_EQ(p.out.pragmas.reserve[1].lo, 31);
+  EXPECT_EQ(p.out.pragmas.reserve[1].hi, 31);
+  EXPECT_EQ(messages(p.diags), (std::vector<std::string>{"unknown #pragma 'frob' ignored"}));
+}
+
+TEST(Preprocessor, ReserveOutsideTheSlotsIsAnError) {
+  auto p = run_pp("#pragma reserve 30 32\n#pragma reserve 5 2\n");
+  EXPECT_EQ(messages(p.diags),
+            (std::vector<std::string>{"#pragma reserve range 30..32 is not within variable slots 0..31",
+                                      "#pragma reserve range 5..2 is not within variable slots 0..31"}));
+}
+
+TEST(Preprocessor, DiagnosticInsideAMacroNamesTheExpansion) {
+  auto r = test::run_frontend("#define BAD (1 / 0)\n#define USE BAD + 1\nint g = USE;\ntask main() {}\n", true);
+  EXPECT_EQ(r.text(),
+            "test.nqc:1:18: error: division by zero in a constant expression\n"
+            "  #define BAD (1 / 0)\n"
+            "                   ^\n"
+            "test.nqc:2:13: note: in expansion of macro 'BAD'\n"
+            "  #define USE BAD + 1\n"
+            "              ^~~\n"
+            "test.nqc:3:9: note: in expansion of macro 'USE'\n"
+            "  int g = USE;\n"
+            "          ^~~\n");
+}
+
+TEST(Preprocessor, IncludeSearchesFileFolderThenIncludeDirsThenStdlib) {
+  namespace fs = std::filesystem;
+  fs::path root = test::make_temp_dir();
+  fs::create_directories(root / "src");
+  fs::create_directories(root / "inc");
+  write(root / "src" / "local.nqh", "#define LOCAL 1\n");
+  write(root / "inc" / "extra.nqh", "#define EXTRA 2\n");
+  write(root / "inc" / "local.nqh", "#define LOCAL 99\n");  // shadowed by the file's own folder
+  Options o;
+  o.include_dirs = {(root / "inc").string()};
+  auto p = run_pp("#include \"local.nqh\"\n#include <extra.nqh>\n#include \"rcx.nqh\"\nLOCAL EXTRA OUT_C\n", o,
+                  (root / "src" / "main.nqc").string(), (root / "src").string());
+  EXPECT_FALSE(p.diags.has_errors()) << p.diags.all()[0].message;
+  EXPECT_NE(p.joined.find("1 2 4"), std::string::npos) << p.joined;
+  fs::remove_all(root);
+}
+
+TEST(Preprocessor, MissingIncludeAndIncludeCycleAreErrors) {
+  namespace fs = std::filesystem;
+  fs::path root = test::make_temp_dir();
+  write(root / "a.nqh", "#include \"b.nqh\"\n");
+  write(root / "b.nqh", "#include \"a.nqh\"\n");
+  auto p = run_pp("#include \"a.nqh\"\n#include \"nope.nqh\"\n", {}, (root / "m.nqc").string(), root.string());
+  auto m = messages(p.diags);
+  ASSERT_EQ(m.size(), 2u);
+  EXPECT_EQ(m[0].rfind("#include cycle: ", 0), 0u) << m[0];
+  EXPECT_NE(m[0].find("a.nqh -> "), std::string::npos) << m[0];
+  EXPECT_EQ(m[1], "cannot find include file 'nope.nqh'");
+  fs::remove_all(root);
+}
+
+TEST(Preprocessor, PreprocessedTextKeepsLinesAndMarksFiles) {
+  PP p = run_pp("#define TWO 2\nint x = TWO;\n\ntask main()\n{\n  x++;\n}\n");
+  EXPECT_EQ(tokens_to_text(p.out.tokens, p.sm), "# 2 \"t.nqc\"\nint x = 2;\n\ntask main()\n{\nx++;\n}\n");
+}

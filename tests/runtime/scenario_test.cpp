@@ -1,0 +1,83 @@
+// Scenario files: every input kind, and errors that name the line.
+#include "runtime/scenario.h"
+
+#include <gtest/gtest.h>
+
+using namespace rcx;
+
+namespace {
+
+std::vector<TimedInput> ok(std::string_view text) {
+  auto r = parse_scenario(text, "s.toml");
+  if (auto* e = std::get_if<ScenarioError>(&r)) ADD_FAILURE() << e->message;
+  return std::get_if<std::vector<TimedInput>>(&r) ? std::get<std::vector<TimedInput>>(r) : std::vector<TimedInput>{};
+}
+
+std::string error(std::string_view text) {
+  auto r = parse_scenario(text, "s.toml");
+  auto* e = std::get_if<ScenarioError>(&r);
+  return e ? e->message : "(no error)";
+}
+
+}  // namespace
+
+TEST(Scenario, AllInputKinds) {
+  auto inputs = ok(R"(
+[[input]]
+at_ms = 1500
+message = 7
+
+[[input]]
+at_ms = 500
+sensor = 2
+raw = 300
+
+[[input]]
+at_ms = 600
+sensor = 3
+rotation = -16
+
+[[input]]
+at_ms = 700
+battery_mv = 7200
+)");
+  ASSERT_EQ(inputs.size(), 4u);
+  // Sorted by time.
+  EXPECT_EQ(inputs[0].at_us, 500'000);
+  auto* raw = std::get_if<SensorRawInput>(&inputs[0].input);
+  ASSERT_TRUE(raw);
+  EXPECT_EQ(raw->sensor, 1);  // sensor 2 is index 1
+  EXPECT_EQ(raw->raw, 300);
+  auto* rot = std::get_if<RotationInput>(&inputs[1].input);
+  ASSERT_TRUE(rot);
+  EXPECT_EQ(rot->sensor, 2);
+  EXPECT_EQ(rot->position, -16);
+  EXPECT_EQ(std::get<BatteryInput>(inputs[2].input).millivolts, 7200);
+  EXPECT_EQ(std::get<MessageInput>(inputs[3].input).value, 7);
+  EXPECT_EQ(inputs[3].at_us, 1'500'000);
+}
+
+TEST(Scenario, EmptyFileIsNoInputs) { EXPECT_TRUE(ok("").empty()); }
+
+TEST(Scenario, ErrorsNameTheLine) {
+  EXPECT_EQ(error("[[input]]\nat_ms = 1\nsensor = 4\nraw = 3\n"), "s.toml:3: 'sensor' = 4 is out of range 1..3");
+  EXPECT_EQ(error("[[input]]\nat_ms = 1\nsensor = 1\nraw = 1024\n"), "s.toml:4: 'raw' = 1024 is out of range 0..1023");
+  EXPECT_NE(error("[[input]]\nat_ms = 1\nsensr = 1\nraw = 3\n").find("s.toml:3: unknown key 'sensr'"), std::string::npos);
+  EXPECT_EQ(error("[[input]]\nat_ms = \"soon\"\nmessage = 1\n"), "s.toml:2: 'at_ms' must be an integer");
+  EXPECT_EQ(error("[[input]]\nat_ms = -5\nmessage = 1\n"), "s.toml:2: 'at_ms' = -5 is out of range 0..9223372036854775");
+  EXPECT_EQ(error("[[input]]\nat_ms = 1\nmessage = 256\n"), "s.toml:3: 'message' = 256 is out of range 0..255");
+  EXPECT_NE(error("[[input]]\nmessage = 1\n").find("s.toml:1: input without 'at_ms'"), std::string::npos);
+  EXPECT_NE(error("[[input]]\nat_ms = 1\n").find("exactly one of"), std::string::npos);
+  EXPECT_NE(error("[[input]]\nat_ms = 1\nmessage = 1\nbattery_mv = 9000\n").find("exactly one of"), std::string::npos);
+  EXPECT_NE(error("[[input]]\nat_ms = 1\nraw = 100\n").find("'sensor' goes with"), std::string::npos);
+  EXPECT_NE(error("[[input]]\nat_ms = 1\nsensor = 1\nmessage = 1\n").find("'sensor' goes with"), std::string::npos);
+  EXPECT_NE(error("speed = 3\n").find("s.toml:1: unknown key 'speed'"), std::string::npos);
+  EXPECT_NE(error("input = 3\n").find("[[input]]"), std::string::npos);
+  EXPECT_EQ(error("[[input]\n").rfind("s.toml:1:", 0), 0u);  // TOML syntax error
+}
+
+TEST(Scenario, MissingFile) {
+  auto r = read_scenario_file("/nonexistent/dir/s.toml");
+  ASSERT_TRUE(std::holds_alternative<ScenarioError>(r));
+  EXPECT_NE(std::get<ScenarioError>(r).message.find("cannot open"), std::string::npos);
+}

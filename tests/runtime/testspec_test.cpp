@@ -1,0 +1,175 @@
+// Semantic-test directives: parsing, and checking against real emulator runs
+// of hand-assembled bytecode (bytes from the seed's layouts).
+#include "runtime/testspec.h"
+
+#include <gtest/gtest.h>
+
+using namespace rcx;
+using namespace rcx::semtest;
+
+namespace {
+
+Spec parse_ok(std::string_view text) {
+  auto r = parse_spec(text);
+  if (auto* e = std::get_if<std::vector<SpecError>>(&r)) {
+    ADD_FAILURE() << "line " << e->front().line << ": " << e->front().message;
+    return {};
+  }
+  return std::get<Spec>(std::move(r));
+}
+
+std::vector<SpecError> parse_bad(std::string_view text) {
+  auto r = parse_spec(text);
+  if (auto* e = std::get_if<std::vector<SpecError>>(&r)) return *e;
+  ADD_FAILURE() << "expected a parse error for: " << text;
+  return {};
+}
+
+// task 0: var0 = 5; sound 3; tone 440 for 50; wait 100; A on; var1 = 7
+Image sample_image() {
+  Image img;
+  img.fragments.push_back({FragmentType::Task, 0,
+                           {0x14, 0x00, 0x02, 0x05, 0x00,   // set var0, 5
+                            0x51, 0x03,                     // sound 3
+                            0x23, 0xb8, 0x01, 0x32,         // tone 440, 50
+                            0x43, 0x02, 0x64, 0x00,         // wait 100 (1 s)
+                            0x21, 0x81,                     // A on
+                            0x14, 0x01, 0x02, 0x07, 0x00}});// set var1, 7
+  img.symbols.push_back({SymbolType::Task, 0, "main"});
+  img.symbols.push_back({SymbolType::Variable, 0, "x"});
+  return img;
+}
+
+Machine run_sample(const Spec& spec) {
+  Machine m;
+  EXPECT_FALSE(m.load(0, sample_image()).has_value());
+  for (const auto& in : spec.inputs) m.schedule(in);
+  m.start_program();
+  m.run(spec.run_for_us.value_or(10'000'000));
+  return m;
+}
+
+}  // namespace
+
+TEST(TestSpec, ParsesDirectivesInComments) {
+  Spec s = parse_ok(
+      "// @for 2.5s\n"
+      "int x; // @seed 42\n"
+      "// @input at 500ms: sensor 1 raw 200\n"
+      "// @input at 100: sensor 2 pressed\n"
+      "  //   @input at 1s: message 9\n"
+      "// @expect global x == 5\n"
+      "// @expect output A: on fwd 7\n"
+      "// @expect event at 1000ms+-10ms: tone 440 50\n"
+      "// @expect no event: sound 1\n"
+      "// @expect count sound == 1\n"
+      "// not a directive: x @ y\n");
+  EXPECT_EQ(s.run_for_us, 2'500'000);
+  EXPECT_EQ(s.seed, 42u);
+  ASSERT_EQ(s.inputs.size(), 3u);
+  EXPECT_EQ(s.inputs[0].at_us, 100'000);  // sorted by time
+  EXPECT_EQ(std::get<SensorRawInput>(s.inputs[0].input).sensor, 1);
+  EXPECT_EQ(std::get<SensorRawInput>(s.inputs[1].input).raw, 200);
+  EXPECT_EQ(std::get<MessageInput>(s.inputs[2].input).value, 9);
+  ASSERT_EQ(s.expectations.size(), 5u);
+  EXPECT_EQ(s.expectations[0].line, 6);
+  auto& ev = std::get<ExpectEvent>(s.expectations[2].check);
+  EXPECT_EQ(ev.at_us, 1'000'000);
+  EXPECT_EQ(ev.tolerance_us, 10'000);
+  EXPECT_EQ(ev.pattern.value, 440);
+  EXPECT_EQ(ev.pattern.duration, 50);
+  EXPECT_TRUE(std::get<ExpectEvent>(s.expectations[3].check).absent);
+}
+
+TEST(TestSpec, ParsesExpectedDiagnostics) {
+  Spec s = parse_ok("// @expect-error line 12: undefined variable 'y'\n// @expect-warning: unused variable\n");
+  ASSERT_EQ(s.diagnostics.size(), 2u);
+  EXPECT_TRUE(s.diagnostics[0].error);
+  EXPECT_EQ(s.diagnostics[0].at_line, 12);
+  EXPECT_EQ(s.diagnostics[0].text, "undefined variable 'y'");
+  EXPECT_FALSE(s.diagnostics[1].error);
+  EXPECT_EQ(s.diagnostics[1].at_line, std::nullopt);
+  EXPECT_EQ(s.diagnostics[1].text, "unused variable");
+  EXPECT_TRUE(s.expects_compile_error());
+}
+
+TEST(TestSpec, ReportsEveryMalformedDirectiveWithItsLine) {
+  auto errors = parse_bad(
+      "// @expect global x = 5\n"
+      "// @input at 5parsecs: message 1\n"
+      "// @input at 1s: sensor 4 raw 10\n"
+      "// @expect event: honk\n"
+      "// @frobnicate\n"
+      "// @expect output D: on\n"
+      "// @input at 1s: message 300\n");
+  ASSERT_EQ(errors.size(), 7u);
+  EXPECT_EQ(errors[0].line, 1);
+  EXPECT_NE(errors[0].message.find("comparison"), std::string::npos);
+  EXPECT_NE(errors[1].message.find("like 500ms"), std::string::npos);
+  EXPECT_NE(errors[2].message.find("out of range 1..3"), std::string::npos);
+  EXPECT_NE(errors[3].message.find("unknown event 'honk'"), std::string::npos);
+  EXPECT_NE(errors[4].message.find("unknown directive '@frobnicate'"), std::string::npos);
+  EXPECT_NE(errors[5].message.find("A, B or C"), std::string::npos);
+  EXPECT_NE(errors[6].message.find("0..255"), std::string::npos);
+}
+
+TEST(TestSpec, PassingRunHasNoFailures) {
+  Spec s = parse_ok(
+      "// @expect stop ended\n"
+      "// @expect global x == 5\n"
+      "// @expect var 1 >= 7\n"
+      "// @expect output A: on fwd 7\n"
+      "// @expect event: sound 3\n"
+      "// @expect event at 1s: output A on\n"
+      "// @expect count tone 440 == 1\n"
+      "// @expect no event: sound 1\n"
+      "// @expect event: task-stop main\n");
+  Machine m = run_sample(s);
+  auto failures = check_run(s, m, sample_image());
+  for (const auto& f : failures) ADD_FAILURE() << f.line << ": " << f.message;
+}
+
+TEST(TestSpec, FailingExpectationsSayWhatHappened) {
+  Spec s = parse_ok(
+      "// @expect global x == 6\n"
+      "// @expect output A: off\n"
+      "// @expect event at 200ms+-10ms: output A on\n"
+      "// @expect global nope == 1\n"
+      "// @expect stop time_limit\n"
+      "// @expect datalog: 1 2\n");
+  Machine m = run_sample(s);
+  auto failures = check_run(s, m, sample_image());
+  ASSERT_EQ(failures.size(), 6u);
+  EXPECT_EQ(failures[0].line, 1);
+  EXPECT_NE(failures[0].message.find("got x = 5"), std::string::npos) << failures[0].message;
+  EXPECT_NE(failures[1].message.find("output A is on fwd 7"), std::string::npos) << failures[1].message;
+  EXPECT_NE(failures[2].message.find("output A on fwd 7"), std::string::npos) << failures[2].message;
+  EXPECT_NE(failures[3].message.find("no global variable 'nope'"), std::string::npos);
+  EXPECT_NE(failures[4].message.find("'ended'"), std::string::npos) << failures[4].message;
+  EXPECT_NE(failures[5].message.find("[]"), std::string::npos) << failures[5].message;
+}
+
+TEST(TestSpec, UnexpectedFaultFailsTheTest) {
+  Image img;
+  img.fragments.push_back({FragmentType::Task, 0, {0x27, 0x70}});  // jmp far outside the code
+  Machine m;
+  ASSERT_FALSE(m.load(0, img).has_value());
+  m.start_program();
+  m.run(1'000'000);
+  ASSERT_EQ(m.stop().kind, StopKind::Fault);
+  Spec quiet = parse_ok("");
+  EXPECT_EQ(check_run(quiet, m, img).size(), 1u);
+  Spec expects = parse_ok("// @expect stop fault\n");
+  EXPECT_TRUE(check_run(expects, m, img).empty());
+}
+
+TEST(TestSpec, DiagnosticsMatchByLineAndText) {
+  Spec s = parse_ok("// @expect-error line 3: undefined variable\n");
+  EXPECT_TRUE(check_diagnostics(s, {{true, 3, "undefined variable 'q'"}}).empty());
+  auto wrong_line = check_diagnostics(s, {{true, 4, "undefined variable 'q'"}});
+  ASSERT_EQ(wrong_line.size(), 1u);
+  EXPECT_NE(wrong_line[0].message.find("line 4: error: undefined variable 'q'"), std::string::npos);
+  Spec none = parse_ok("");
+  EXPECT_EQ(check_diagnostics(none, {{true, 2, "syntax error"}}).size(), 1u);
+  EXPECT_TRUE(check_diagnostics(none, {{false, 2, "unused variable 'z'"}}).empty());
+}
