@@ -101,11 +101,26 @@ TEST(RunCli, BadImageIsAClearError) {
   EXPECT_NE(r.err.find("cannot open"), std::string::npos) << r.err;
 }
 
-TEST(RunCli, NqcSourceNeedsTheCompiler) {
+TEST(RunCli, NqcSourceIsCompiledInMemory) {
   TempDir d;
-  auto r = run_rcxc({"run", d.write("p.nqc", "task main() {}\n")});
+  auto r = run_rcxc({"run", d.write("p.nqc", "int speed;\ntask main() { speed = 3; On(OUT_B); Wait(20); Off(OUT_B); }\n"),
+                     "--report", "json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["stop"], "ended");
+  EXPECT_EQ(j["globals"]["speed"], 3);
+  EXPECT_EQ(j["outputs"]["B"]["mode"], "off");
+  int b_changes = 0;
+  for (const auto& e : j["events"]) b_changes += e["kind"] == "output" && e["output"] == "B";
+  EXPECT_EQ(b_changes, 2);  // on, then off 0.2 s later
+}
+
+TEST(RunCli, NqcCompileErrorsAreReported) {
+  TempDir d;
+  auto r = run_rcxc({"run", d.write("bad.nqc", "task main() { x = ; }\n")});
   EXPECT_EQ(r.exit_code, 1);
-  EXPECT_NE(r.err.find("compiling .nqc needs the compiler"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("bad.nqc:1"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("does not compile"), std::string::npos) << r.err;
   EXPECT_TRUE(r.out.empty());
 }
 
