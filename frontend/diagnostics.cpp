@@ -151,7 +151,9 @@ std::string render_json(const Diagnostic& d, const SourceManager& sm) {
     nj["message"] = n.message;
     j["notes"].push_back(std::move(nj));
   }
-  return j.dump();
+  // Source text need not be UTF-8; bad bytes become U+FFFD instead of
+  // making the dump throw.
+  return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 
 }  // namespace rcxc
