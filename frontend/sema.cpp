@@ -91,31 +91,15 @@ class Checker {
 
   // In source order, so a redefinition is reported at the later one.
   void declare_top_level() {
+    auto declare = [&](auto& items, const TopLevelRef& ref) {
+      auto& item = items.at(ref.index);
+      item.symbol = declare_global(ref.kind, item.name, item.span, ref.index);
+    };
     for (const TopLevelRef& ref : prog_.order) {
-      switch (ref.kind) {
-        case SymbolKind::Global: {
-          auto& g = prog_.globals.at(ref.index);
-          g.symbol = declare_global(ref.kind, g.name, g.span, ref.index);
-          break;
-        }
-        case SymbolKind::Task: {
-          auto& t = prog_.tasks.at(ref.index);
-          t.symbol = declare_global(ref.kind, t.name, t.span, ref.index);
-          break;
-        }
-        case SymbolKind::Sub: {
-          auto& t = prog_.subs.at(ref.index);
-          t.symbol = declare_global(ref.kind, t.name, t.span, ref.index);
-          break;
-        }
-        case SymbolKind::Function: {
-          auto& f = prog_.functions.at(ref.index);
-          f.symbol = declare_global(ref.kind, f.name, f.span, ref.index);
-          break;
-        }
-        default:
-          break;
-      }
+      if (ref.kind == SymbolKind::Global) declare(prog_.globals, ref);
+      if (ref.kind == SymbolKind::Task) declare(prog_.tasks, ref);
+      if (ref.kind == SymbolKind::Sub) declare(prog_.subs, ref);
+      if (ref.kind == SymbolKind::Function) declare(prog_.functions, ref);
     }
   }
 
