@@ -6,6 +6,7 @@
 #include <iostream>
 #include <variant>
 
+#include "backend/compile.h"
 #include "cli/commands.h"
 #include "runtime/image.h"
 #include "runtime/report.h"
@@ -29,10 +30,22 @@ bool ends_with(const std::string& s, std::string_view suffix) {
   return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
+// An .nqc file compiled with the default options (stdlib, -Os); the
+// diagnostics are printed here, the error text names the file.
+std::variant<rcx::Image, std::string> compile_in_memory(const std::string& path) {
+  SourceManager sm;
+  Diagnostics diags;
+  ir::Log log;
+  auto out = backend::compile_file(path, frontend::Options{}, ir::OptLevel::Os, sm, diags, log);
+  for (const auto& d : diags.all()) std::cerr << render_text(d, sm);
+  if (!out) return fmt::format("{}: does not compile", path);
+  return std::move(out->image);
+}
+
 // The one place a FILE becomes a program image. `.nqc` sources will be
 // compiled in memory here once the compiler exists.
 std::variant<rcx::Image, std::string> load_program(const std::string& path) {
-  if (ends_with(path, ".nqc")) return fmt::format("{}: compiling .nqc needs the compiler, which is not part of this build yet", path);
+  if (ends_with(path, ".nqc")) return compile_in_memory(path);
   auto image = rcx::read_image_file(path);
   if (auto* e = std::get_if<rcx::ImageError>(&image)) return e->message;
   return std::get<rcx::Image>(std::move(image));
