@@ -179,14 +179,34 @@ bool output_settings_visible(const Program& p) {
   return false;
 }
 
+// Outputs a function switches on (all when a code is not constant).
+int outputs_switched_on(const Function& f) {
+  int on = 0;
+  for (const auto& b : f.blocks)
+    for (const auto& in : b.instrs)
+      if (!in.raw && in.op == rcx::Op::SetMotorOnOff)
+        on |= in.args[0].is_imm() ? ((in.args[0].value & 0x80) ? (in.args[0].value & 7) : 0) : 7;
+  return on;
+}
+
 // Backward liveness of output settings in main: bit 2*o is output o's
 // power, bit 2*o+1 its direction. A running motor shows both; setting one
 // without a flip hides the earlier value; starting a task or calling a
 // subroutine may show anything.
 constexpr int kAllSettings = 0x3f;
 
-int settings_step_back(const Instr& in, int live) {
-  if (in.raw || in.op == rcx::Op::CallSubroutine || in.op == rcx::Op::StartTask) return kAllSettings;
+// Settings (both of each output) of the outputs `mask` has.
+int settings_of(int mask) {
+  int s = 0;
+  for (int o = 0; o < kOutputs; ++o)
+    if ((mask >> o) & 1) s |= 3 << (2 * o);
+  return s;
+}
+
+// `started_show`: settings another task may show once started.
+int settings_step_back(const Instr& in, int live, int started_show) {
+  if (in.raw || in.op == rcx::Op::CallSubroutine) return kAllSettings;
+  if (in.op == rcx::Op::StartTask) return live | started_show;
   if (!is_motor_op(in)) return live;
   if (!in.args[0].is_imm()) return kAllSettings;
   int code = in.args[0].value;
@@ -210,7 +230,7 @@ int settings_step_back(const Instr& in, int live) {
 }
 
 // Settings live right after main's startup code.
-int live_after_startup(const Function& main) {
+int live_after_startup(const Function& main, int started_show) {
   std::size_t n = main.blocks.size();
   std::vector<int> live_in(n, 0);
   for (bool changed = true; changed;) {
@@ -220,7 +240,7 @@ int live_after_startup(const Function& main) {
       for (BlockId s : successors(main.blocks[b].term)) live |= live_in[static_cast<std::size_t>(s)];
       const auto& instrs = main.blocks[b].instrs;
       std::size_t stop = b == 0 ? static_cast<std::size_t>(main.startup) : 0;
-      for (std::size_t i = instrs.size(); i-- > stop;) live = settings_step_back(instrs[i], live);
+      for (std::size_t i = instrs.size(); i-- > stop;) live = settings_step_back(instrs[i], live, started_show);
       changed |= live != live_in[b];
       live_in[b] = live;
     }
@@ -234,7 +254,11 @@ void trim_startup(Program& p) {
   if (output_settings_visible(p)) return;
   for (auto& f : p.functions) {
     if (f.startup == 0 || f.blocks.empty()) continue;
-    int live = live_after_startup(f);
+    // Outputs the other tasks and subroutines switch on.
+    int others_on = 0;
+    for (const auto& g : p.functions)
+      if (&g != &f) others_on |= outputs_switched_on(g);
+    int live = live_after_startup(f, settings_of(others_on));
     auto& instrs = f.blocks[0].instrs;
     int kept = 0;
     std::vector<Instr> out;
