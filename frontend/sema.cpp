@@ -89,23 +89,44 @@ class Checker {
     return id;
   }
 
+  // In source order, so a redefinition is reported at the later one.
   void declare_top_level() {
-    for (std::uint32_t i = 0; i < prog_.globals.size(); ++i)
-      prog_.globals[i].symbol = declare_global(SymbolKind::Global, prog_.globals[i].name, prog_.globals[i].span, i);
-    for (std::uint32_t i = 0; i < prog_.tasks.size(); ++i)
-      prog_.tasks[i].symbol = declare_global(SymbolKind::Task, prog_.tasks[i].name, prog_.tasks[i].span, i);
-    for (std::uint32_t i = 0; i < prog_.subs.size(); ++i)
-      prog_.subs[i].symbol = declare_global(SymbolKind::Sub, prog_.subs[i].name, prog_.subs[i].span, i);
-    for (std::uint32_t i = 0; i < prog_.functions.size(); ++i)
-      prog_.functions[i].symbol =
-          declare_global(SymbolKind::Function, prog_.functions[i].name, prog_.functions[i].span, i);
+    for (const TopLevelRef& ref : prog_.order) {
+      switch (ref.kind) {
+        case SymbolKind::Global: {
+          auto& g = prog_.globals.at(ref.index);
+          g.symbol = declare_global(ref.kind, g.name, g.span, ref.index);
+          break;
+        }
+        case SymbolKind::Task: {
+          auto& t = prog_.tasks.at(ref.index);
+          t.symbol = declare_global(ref.kind, t.name, t.span, ref.index);
+          break;
+        }
+        case SymbolKind::Sub: {
+          auto& t = prog_.subs.at(ref.index);
+          t.symbol = declare_global(ref.kind, t.name, t.span, ref.index);
+          break;
+        }
+        case SymbolKind::Function: {
+          auto& f = prog_.functions.at(ref.index);
+          f.symbol = declare_global(ref.kind, f.name, f.span, ref.index);
+          break;
+        }
+        default:
+          break;
+      }
+    }
   }
 
   SymbolId declare_local(SymbolKind kind, const std::string& name, SourceSpan span, std::uint32_t index,
                          ParamKind pk = ParamKind::Value) {
     SymbolId id = add_symbol({kind, name, span, index, owner_, pk, false});
     auto [it, fresh] = scopes_.back().emplace(name, id);
-    if (!fresh) redefinition(name, span, it->second);
+    if (!fresh) {
+      redefinition(name, span, it->second);
+      prog_.symbols[id].used = true;  // one report is enough
+    }
     return id;
   }
 

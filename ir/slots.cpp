@@ -75,11 +75,14 @@ void report_exhaustion(const Program& p, VarId failed, const std::vector<int>& s
                                             holder_name(v), kSlots));
   for (int s = 0; s < kSlots; ++s) {
     std::string holders;
+    SourceSpan where = v.span;
     if ((p.reserved_slots >> s) & 1u) holders = "#pragma reserve";
     for (std::size_t u = 0; u < slot.size(); ++u)
-      if (slot[u] == s && static_cast<VarId>(u) != failed)
+      if (slot[u] == s && static_cast<VarId>(u) != failed) {
+        if (holders.empty() && p.vars[u].span.begin.valid()) where = p.vars[u].span;
         holders += (holders.empty() ? "" : ", ") + holder_name(p.vars[u]);
-    d.notes.push_back({v.span, fmt::format("slot {} is held by {}", s, holders.empty() ? "nothing free for it here" : holders)});
+      }
+    d.notes.push_back({where, fmt::format("slot {} is held by {}", s, holders.empty() ? "a variable live at the same time" : holders)});
   }
 }
 

@@ -322,6 +322,10 @@ void parse_directive(std::string_view text, int line, Spec& spec) {
     spec.scenario_file = c.next();
     if (spec.scenario_file.empty()) throw ParseFail{"expected a scenario file name"};
     need_end(c);
+  } else if (word == "nqc-differs") {
+    // A note for the comparison runs: nqc's code for this program is known to
+    // behave differently (the reason follows); `rcxc test --nqc` skips it.
+    spec.nqc_differs = true;
   } else if (word == "input") {
     need(c, "at");
     Micros at = need_time(c, "input time");
@@ -329,7 +333,9 @@ void parse_directive(std::string_view text, int line, Spec& spec) {
     spec.inputs.push_back({at, need_input(c)});
     need_end(c);
   } else if (word == "expect") {
-    Expectation e{line, std::string(text), need_expect(c)};
+    std::string_view what = text.substr(space);
+    what.remove_prefix(std::min(what.find_first_not_of(" \t"), what.size()));
+    Expectation e{line, std::string(what), need_expect(c)};
     need_end(c);
     spec.expectations.push_back(std::move(e));
   } else if (word == "expect-error" || word == "expect-warning") {
@@ -354,7 +360,7 @@ void parse_directive(std::string_view text, int line, Spec& spec) {
     spec.diagnostics.push_back(std::move(d));
   } else {
     throw ParseFail{fmt::format(
-        "unknown directive '@{}' (for, seed, scenario, input, expect, expect-error, expect-warning)", word)};
+        "unknown directive '@{}' (for, seed, scenario, input, expect, expect-error, expect-warning, nqc-differs)", word)};
   }
 }
 

@@ -329,6 +329,7 @@ class Machine {
   std::array<ProgramSlot, kPrograms> slots_{};
   std::array<TaskState, kMaxTasks> tasks_{};
   int active_count_ = 0;
+  unsigned active_mask_ = 0;              // bit n = task n active
   // Decoded instruction caches for the current program: tasks, then subs.
   std::array<std::vector<Decoded>, kMaxTasks + kMaxSubroutines> decoded_{};
   std::vector<TimedInput> inputs_;        // sorted by time; consumed from `next_input_`

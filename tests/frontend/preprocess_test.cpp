@@ -223,3 +223,13 @@ TEST(Preprocessor, PreprocessedTextKeepsLinesAndMarksFiles) {
   PP p = run_pp("#define TWO 2\nint x = TWO;\n\ntask main()\n{\n  x++;\n}\n");
   EXPECT_EQ(tokens_to_text(p.out.tokens, p.sm), "# 2 \"t.nqc\"\nint x = 2;\n\ntask main()\n{\nx++;\n}\n");
 }
+
+TEST(Preprocessor, ArgumentDuplicationThatExplodesStopsWithAnError) {
+  std::string call;
+  for (int i = 0; i < 40; ++i) call += "D(";
+  call += "1";
+  for (int i = 0; i < 40; ++i) call += ")";
+  auto p = run_pp("#define D(x) x x\n" + call + "\n");
+  ASSERT_TRUE(p.diags.has_errors());
+  EXPECT_NE(p.diags.all().back().message.find("grows without bound"), std::string::npos);
+}

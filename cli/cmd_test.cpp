@@ -1,0 +1,154 @@
+// `rcxc test FILE...|DIR...`: semantic tests. Each .nqc file's `// @`
+// directives (docs/testing.md) say what inputs it sees and what must
+// happen; the program is compiled, run on the emulator, and checked.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+#include "cli/commands.h"
+#include "cli/external_nqc.h"
+#include "cli/program_loader.h"
+#include "runtime/scenario.h"
+#include "runtime/testspec.h"
+#include "runtime/vm.h"
+
+namespace rcxc::cli {
+namespace {
+
+namespace fs = std::filesystem;
+using rcx::semtest::Failure;
+
+struct TestOptions {
+  std::vector<std::string> paths;
+  std::string nqc;  // non-empty: compile with this nqc instead of rcxc
+  bool verbose = false;
+};
+
+constexpr rcx::Micros kDefaultRunUs = 60'000'000;
+
+// The .nqc files named, folders searched recursively, in a stable order.
+std::vector<std::string> collect(const std::vector<std::string>& paths, std::vector<std::string>& missing) {
+  std::vector<std::string> files;
+  for (const auto& p : paths) {
+    std::error_code ec;
+    if (fs::is_directory(p, ec)) {
+      std::vector<std::string> found;
+      for (const auto& entry : fs::recursive_directory_iterator(p, ec))
+        if (entry.is_regular_file() && entry.path().extension() == ".nqc") found.push_back(entry.path().string());
+      std::sort(found.begin(), found.end());
+      files.insert(files.end(), found.begin(), found.end());
+    } else if (fs::is_regular_file(p, ec)) {
+      files.push_back(p);
+    } else {
+      missing.push_back(p);
+    }
+  }
+  return files;
+}
+
+struct Compiled {
+  std::optional<rcx::Image> image;
+  std::vector<rcx::semtest::CompilerMessage> messages;
+  std::string failure;  // could not compile for a reason that is not the program's
+};
+
+Compiled compile(const TestOptions& o, const std::string& file) {
+  if (!o.nqc.empty()) {
+    auto r = compile_with_nqc(o.nqc, file);
+    return {std::move(r.image), std::move(r.messages), std::move(r.failure)};
+  }
+  auto r = compile_nqc_file(file);
+  return {std::move(r.image), std::move(r.messages), {}};
+}
+
+// Runs one test file; returns its failures (empty = pass).
+std::vector<Failure> run_test(const TestOptions& o, const std::string& file, std::string& log) {
+  std::ifstream in(file, std::ios::binary);
+  std::stringstream text;
+  text << in.rdbuf();
+  if (!in) return {{0, "cannot read the file"}};
+  auto parsed = rcx::semtest::parse_spec(text.str());
+  if (auto* errors = std::get_if<std::vector<rcx::semtest::SpecError>>(&parsed)) {
+    std::vector<Failure> out;
+    for (const auto& e : *errors) out.push_back({e.line, "bad directive: " + e.message});
+    return out;
+  }
+  const auto& spec = std::get<rcx::semtest::Spec>(parsed);
+  std::vector<rcx::TimedInput> inputs = spec.inputs;
+  if (!spec.scenario_file.empty()) {
+    auto path = (fs::path(file).parent_path() / spec.scenario_file).string();
+    auto scenario = rcx::read_scenario_file(path);
+    if (auto* e = std::get_if<rcx::ScenarioError>(&scenario)) return {{0, e->message}};
+    auto& more = std::get<std::vector<rcx::TimedInput>>(scenario);
+    inputs.insert(inputs.end(), more.begin(), more.end());
+  }
+
+  if (!o.nqc.empty() && spec.nqc_differs) {
+    log = "    skipped: marked @nqc-differs\n";
+    return {};
+  }
+  Compiled c = compile(o, file);
+  if (!c.failure.empty()) return {{0, c.failure}};
+  std::vector<Failure> failures = rcx::semtest::check_diagnostics(spec, c.messages);
+  if (!c.image || spec.expects_compile_error()) {
+    if (c.image && spec.expects_compile_error()) failures.push_back({0, "the program compiled"});
+    return failures;
+  }
+
+  rcx::Config config;
+  config.seed = spec.seed;
+  rcx::Machine machine(config);
+  if (auto error = machine.load(0, *c.image)) {
+    failures.push_back({0, "cannot load the program: " + *error});
+    return failures;
+  }
+  for (const auto& input : inputs) machine.schedule(input);
+  machine.start_program();
+  machine.run(spec.run_for_us.value_or(kDefaultRunUs));
+  auto run_failures = rcx::semtest::check_run(spec, machine, *c.image);
+  failures.insert(failures.end(), run_failures.begin(), run_failures.end());
+  if (o.verbose || !failures.empty())
+    log = fmt::format("    run stopped with '{}' at {} ms\n", rcx::to_string(machine.stop().kind),
+                      machine.now_us() / rcx::kMicrosPerMs);
+  return failures;
+}
+
+int run(const TestOptions& o) {
+  std::vector<std::string> missing;
+  auto files = collect(o.paths, missing);
+  for (const auto& m : missing) std::cerr << "rcxc test: no such file or folder: " << m << "\n";
+  if (files.empty() && missing.empty()) std::cerr << "rcxc test: no .nqc files found\n";
+  int passed = 0, failed = 0;
+  for (const auto& file : files) {
+    std::string log;
+    auto failures = run_test(o, file, log);
+    std::cout << (failures.empty() ? "PASS " : "FAIL ") << file << "\n";
+    for (const auto& f : failures) {
+      std::string where = f.line > 0 ? fmt::format("{}:{}: ", file, f.line) : file + ": ";
+      std::cout << "  " << where << f.message << "\n";
+    }
+    std::cout << log;
+    (failures.empty() ? passed : failed)++;
+  }
+  std::cout << fmt::format("{} passed, {} failed\n", passed, failed);
+  return (failed == 0 && missing.empty() && !files.empty()) ? kExitOk : kExitFailure;
+}
+
+}  // namespace
+
+void register_test(CLI::App& app, int& exit_code) {
+  auto* cmd = app.add_subcommand("test", "Run semantic tests: .nqc programs with // @expect directives");
+  auto o = std::make_shared<TestOptions>();
+  cmd->add_option("PATHS", o->paths, ".nqc files, or folders to search for them")->required();
+  cmd->add_option("--nqc", o->nqc, "compile with this nqc (path or name) instead of rcxc, for comparison")
+      ->expected(0, 1)
+      ->default_str("nqc");
+  cmd->add_flag("-v,--verbose", o->verbose, "say how every run ended");
+  cmd->callback([&exit_code, o] { exit_code = run(*o); });
+}
+
+}  // namespace rcxc::cli

@@ -1,0 +1,23 @@
+// Compiling with the reference compiler, nqc, for comparisons: `rcxc test
+// --nqc` runs a test's program as nqc compiles it, on the same emulator.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "runtime/image.h"
+#include "runtime/testspec.h"
+
+namespace rcxc::cli {
+
+struct ExternalCompile {
+  std::optional<rcx::Image> image;                    // nullopt: did not compile
+  std::vector<rcx::semtest::CompilerMessage> messages;
+  std::string failure;                                // nqc could not be run at all
+};
+
+// Runs `nqc -Trcx -O<tmp> FILE` (`nqc` is a path or a name found on PATH).
+ExternalCompile compile_with_nqc(const std::string& nqc, const std::string& file);
+
+}  // namespace rcxc::cli

@@ -1,0 +1,96 @@
+// `rcxc test` end to end: pass/fail lines, failure messages, exit codes.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "tests/support/process.h"
+
+using rcxc::test::run_rcxc;
+
+namespace {
+
+struct TempDir {
+  std::string path = rcxc::test::make_temp_dir();
+  ~TempDir() { std::filesystem::remove_all(path); }
+  std::string write(const std::string& name, const std::string& text) const {
+    std::string p = path + "/" + name;
+    std::ofstream(p) << text;
+    return p;
+  }
+};
+
+constexpr const char* kCounter =
+    "int n;\n"
+    "task main() { repeat (3) { n += 2; PlaySound(SOUND_CLICK); } }\n";
+
+}  // namespace
+
+TEST(TestCommand, PassingTestExitsZero) {
+  TempDir d;
+  auto f = d.write("ok.nqc", std::string("// @expect global n == 6\n// @expect count sound 0 == 3\n") + kCounter);
+  auto r = run_rcxc({"test", f});
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("PASS " + f), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("1 passed, 0 failed"), std::string::npos) << r.out;
+}
+
+TEST(TestCommand, FailingTestShowsExpectedAndActual) {
+  TempDir d;
+  auto f = d.write("bad.nqc", std::string("// @expect global n == 7\n") + kCounter);
+  auto r = run_rcxc({"test", f});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.out.find("FAIL " + f), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find(f + ":1: expected global n == 7; got n = 6"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("0 passed, 1 failed"), std::string::npos) << r.out;
+}
+
+TEST(TestCommand, FolderRunsEveryFileAndCountsBoth) {
+  TempDir d;
+  d.write("a.nqc", std::string("// @expect global n == 6\n") + kCounter);
+  d.write("b.nqc", std::string("// @expect global n == 5\n") + kCounter);
+  d.write("notes.txt", "not a test");
+  auto r = run_rcxc({"test", d.path});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.out.find("1 passed, 1 failed"), std::string::npos) << r.out;
+}
+
+TEST(TestCommand, ExpectedCompileErrorPasses) {
+  TempDir d;
+  auto f = d.write("err.nqc", "// @expect-error line 2: not declared\ntask main() { zork = 1; }\n");
+  auto r = run_rcxc({"test", f});
+  EXPECT_EQ(r.exit_code, 0) << r.out;
+}
+
+TEST(TestCommand, UnexpectedCompileErrorFails) {
+  TempDir d;
+  auto f = d.write("err.nqc", "task main() { zork = 1; }\n");
+  auto r = run_rcxc({"test", f});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.out.find("unexpected compile error"), std::string::npos) << r.out;
+}
+
+TEST(TestCommand, BadDirectiveIsReportedWithItsLine) {
+  TempDir d;
+  auto f = d.write("dir.nqc", std::string("\n// @expect global n ~ 6\n") + kCounter);
+  auto r = run_rcxc({"test", f});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.out.find(f + ":2: bad directive"), std::string::npos) << r.out;
+}
+
+TEST(TestCommand, MissingPathIsAnError) {
+  auto r = run_rcxc({"test", "/no/such/file.nqc"});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("no such file or folder"), std::string::npos) << r.err;
+}
+
+TEST(TestCommand, InputsDriveTheProgram) {
+  TempDir d;
+  auto f = d.write("touch.nqc",
+                   "// @input at 300ms: sensor 1 pressed\n"
+                   "// @expect event at 300ms: output A on fwd\n"
+                   "// @expect stop ended\n"
+                   "task main() { SetSensor(SENSOR_1, SENSOR_TOUCH); until (SENSOR_1 == 1); On(OUT_A); }\n");
+  auto r = run_rcxc({"test", f});
+  EXPECT_EQ(r.exit_code, 0) << r.out;
+}
