@@ -144,7 +144,11 @@ std::variant<DownloadReport, DownloadError> download(Link& link, const Image& im
   auto contact = step(Op::Alive, {}, true);
   link.options.retries = retries;
   if (contact) return *contact;
-  if (auto e = step(Op::StopAllTasks, {})) return *e;
+  if (auto e = step(Op::StopAllTasks, {})) {
+    // It answered Alive but not this: without firmware only the ROM answers.
+    e->message += " (if the RCX shows no program number, install firmware: rcxc remote firmware FILE.srec)";
+    return *e;
+  }
   if (auto e = step(Op::SetProgramNumber, {options.program - 1})) return *e;
   if (auto e = step(Op::DeleteAllTasks, {})) return *e;
   if (auto e = step(Op::DeleteAllSubroutines, {})) return *e;

@@ -158,15 +158,7 @@ std::variant<std::monostate, LinkError> send_only(Link& link, Bytes request) {
 
 Bytes request_payload(const OpcodeInfo& op, std::span<const int> values) {
   Bytes out{op.code};
-  std::size_t next = 0;
-  for (const auto& o : op.operands) {
-    for (int i = 0; i < o.count; ++i) {
-      std::size_t at = out.size();
-      out.resize(at + static_cast<std::size_t>(field_size(o.type)));
-      write_field(o.type, next < values.size() ? values[next] : 0, out.data() + at);
-      ++next;
-    }
-  }
+  append_fields(out, op.operands, values);
   return out;
 }
 
@@ -193,16 +185,7 @@ Bytes transfer_payload(int index, std::span<const std::uint8_t> data) {
 }
 
 int reply_field(const OpcodeInfo& op, std::span<const std::uint8_t> reply, std::string_view name, int element) {
-  std::size_t offset = 1;
-  for (const auto& o : op.reply) {
-    std::size_t size = static_cast<std::size_t>(field_size(o.type));
-    if (o.name == name) {
-      offset += size * static_cast<std::size_t>(element);
-      return offset + size <= reply.size() ? read_field(o.type, reply.data() + offset) : 0;
-    }
-    offset += size * o.count;
-  }
-  return 0;
+  return field_value(op.reply, reply, name, element);
 }
 
 }  // namespace rcx
