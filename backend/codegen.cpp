@@ -4,6 +4,7 @@
 
 #include "backend/branch.h"
 #include "backend/encode.h"
+#include "backend/outline.h"
 
 namespace rcxc::backend {
 namespace {
@@ -250,44 +251,63 @@ void add_symbols(const ir::Program& p, const std::vector<int>& slots, const Indi
 
 }  // namespace
 
-std::optional<Output> generate(const ir::Program& p, const std::vector<int>& slots, Diagnostics& diags) {
+std::optional<Output> generate(const ir::Program& p, const std::vector<int>& slots, Diagnostics& diags,
+                               const GenerateOptions& options, std::vector<std::string>* log) {
   auto idx = number_functions(p, diags);
   if (!idx) return std::nullopt;
   Selector sel{p, slots, *idx, diags};
-  Output out;
+  std::vector<Selected> selected;
   for (int pass = 0; pass < 2; ++pass)
     for (std::size_t f = 0; f < p.functions.size(); ++f) {
       const auto& fn = p.functions[f];
       bool task = fn.kind == ir::FuncKind::Task;
       if (idx->of[f] < 0 || task != (pass == 0)) continue;
-      std::vector<int> block_start;
-      auto code = sel.select_function(fn, block_start);
+      Selected s;
+      auto code = sel.select_function(fn, s.block_start);
       if (!code) return std::nullopt;
-      FragmentCode frag;
-      frag.function = static_cast<ir::FuncId>(f);
-      frag.type = task ? rcx::FragmentType::Task : rcx::FragmentType::Subroutine;
-      frag.index = idx->of[f];
-      frag.name = fn.name;
-      std::string err = assemble(*code, block_start, frag.code, frag.instrs);
-      if (!err.empty()) {
-        diags.error(fn.span, fmt::format("{} {}: {}", task ? "task" : "sub", fn.name, err));
-        return std::nullopt;
-      }
-      if (static_cast<int>(frag.code.size()) > kMaxFragmentBytes) {
-        diags.error(fn.span, fmt::format("{} {} is {} bytes long; a task or subroutine can be at most {} bytes",
-                                         task ? "task" : "sub", fn.name, frag.code.size(), kMaxFragmentBytes));
-        return std::nullopt;
-      }
-      out.code_bytes += static_cast<int>(frag.code.size());
-      out.image.fragments.push_back({frag.type, static_cast<std::uint8_t>(frag.index), frag.code});
-      out.fragments.push_back(std::move(frag));
+      s.function = static_cast<int>(f);
+      s.type = task ? rcx::FragmentType::Task : rcx::FragmentType::Subroutine;
+      s.index = idx->of[f];
+      s.name = fn.name;
+      s.code = std::move(*code);
+      selected.push_back(std::move(s));
     }
-  if (out.code_bytes > kProgramMemoryBytes) {
-    diags.error({}, fmt::format("the program needs {} bytes of code; the RCX has room for {}", out.code_bytes,
+  std::vector<std::string> discarded;
+  if (options.outline) outline(selected, log ? *log : discarded);
+  Output out;
+  int memory = 0;
+  for (auto& s : selected) {
+    bool task = s.type == rcx::FragmentType::Task;
+    SourceSpan span = s.function >= 0 ? p.functions[static_cast<std::size_t>(s.function)].span : SourceSpan{};
+    FragmentCode frag;
+    frag.function = s.function;
+    frag.type = s.type;
+    frag.index = s.index;
+    frag.name = s.name;
+    std::string err = assemble(s.code, s.block_start, frag.code, frag.instrs);
+    if (!err.empty()) {
+      diags.error(span, fmt::format("{} {}: {}", task ? "task" : "sub", s.name, err));
+      return std::nullopt;
+    }
+    if (static_cast<int>(frag.code.size()) > kMaxFragmentBytes) {
+      diags.error(span, fmt::format("{} {} is {} bytes long; a task or subroutine can be at most {} bytes",
+                                    task ? "task" : "sub", s.name, frag.code.size(), kMaxFragmentBytes));
+      return std::nullopt;
+    }
+    out.code_bytes += static_cast<int>(frag.code.size());
+    memory += static_cast<int>(frag.code.size()) + (task ? 0 : 1);  // the firmware appends a return to subs
+    out.image.fragments.push_back({frag.type, static_cast<std::uint8_t>(frag.index), frag.code});
+    out.fragments.push_back(std::move(frag));
+  }
+  if (memory > kProgramMemoryBytes) {
+    diags.error({}, fmt::format("the program needs {} bytes of program memory; the RCX has {}", memory,
                                 kProgramMemoryBytes));
     return std::nullopt;
   }
   add_symbols(p, slots, *idx, out.image);
+  for (const auto& s : selected)
+    if (s.function < 0)
+      out.image.symbols.push_back({rcx::SymbolType::Subroutine, static_cast<std::uint8_t>(s.index), s.name});
   std::vector<bool> used(32, false);
   for (int s : slots)
     if (s >= 0 && s < 32) used[static_cast<std::size_t>(s)] = true;

@@ -15,6 +15,7 @@
 #include "frontend/diagnostics.h"
 #include "ir/ir.h"
 #include "runtime/image.h"
+#include "runtime/vm.h"
 
 namespace rcxc::backend {
 
@@ -23,10 +24,10 @@ inline constexpr int kMaxTasks = rcx::kMaxTasks;
 inline constexpr int kMaxSubroutines = rcx::kMaxSubroutines;
 // Largest fragment a download can announce (the length is a 16-bit short).
 inline constexpr int kMaxFragmentBytes = 32767;
-// Program memory of the RCX 1.0/2.0 firmware shared by one program's
-// fragments (the brick has about 6 KB for all user programs; one program
-// may use all of it).
-inline constexpr int kProgramMemoryBytes = 6000;
+// User program memory of the brick (the emulator's figure, runtime/vm.h);
+// one program may use all of it. Subroutines take one more byte each for
+// the return the firmware appends.
+inline constexpr int kProgramMemoryBytes = rcx::kMemoryBytes;
 
 // One emitted instruction, for listings.
 struct Emitted {
@@ -51,7 +52,13 @@ struct Output {
   int slots_used = 0;
 };
 
+struct GenerateOptions {
+  bool outline = false;  // move repeated task code into new subroutines (-Os)
+};
+
 // `slots` gives the slot of every VarId (-1 if unused), from allocate_slots.
-std::optional<Output> generate(const ir::Program& p, const std::vector<int>& slots, Diagnostics& diags);
+// Decisions (outlining) are appended to `log` when given.
+std::optional<Output> generate(const ir::Program& p, const std::vector<int>& slots, Diagnostics& diags,
+                               const GenerateOptions& options = {}, std::vector<std::string>* log = nullptr);
 
 }  // namespace rcxc::backend

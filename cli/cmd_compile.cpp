@@ -4,7 +4,12 @@
 #include <memory>
 
 #include "cli/commands.h"
+#include "backend/compile.h"
+#include "backend/listing.h"
 #include "frontend/frontend.h"
+#include "runtime/image.h"
+
+#include <fstream>
 
 namespace rcxc::cli {
 namespace {
@@ -21,6 +26,8 @@ struct CompileArgs {
   bool no_stdlib = false;
   bool preprocess_only = false;
   bool no_warnings = false;
+  std::string listing;  // "-" = standard output
+  bool verbose = false;
 };
 
 frontend::Options frontend_options(const CompileArgs& a) {
@@ -40,6 +47,39 @@ frontend::Options frontend_options(const CompileArgs& a) {
 
 void print_diagnostics(const Diagnostics& diags, const SourceManager& sm, bool json) {
   for (const auto& d : diags.all()) std::cerr << (json ? render_json(d, sm) + "\n" : render_text(d, sm));
+}
+
+// FILE.nqc -> FILE.rcx unless -o says otherwise.
+std::string image_path(const CompileArgs& a) {
+  if (!a.output.empty()) return a.output;
+  std::string base = a.file;
+  auto dot = base.find_last_of('.');
+  if (dot != std::string::npos && base.find('/', dot) == std::string::npos) base.resize(dot);
+  return base + ".rcx";
+}
+
+bool write_bytes(const std::string& path, const std::string& bytes) {
+  std::ofstream f(path, std::ios::binary);
+  f << bytes;
+  return static_cast<bool>(f);
+}
+
+int write_outputs(const CompileArgs& a, const backend::Output& out, const SourceManager& sm) {
+  auto image = rcx::write_image(out.image);
+  std::string path = image_path(a);
+  if (!write_bytes(path, std::string(image.begin(), image.end()))) {
+    std::cerr << "rcxc compile: cannot write " << path << "\n";
+    return kExitFailure;
+  }
+  if (a.listing.empty()) return kExitOk;
+  std::string text = backend::listing(out, &sm);
+  if (a.listing == "-") {
+    std::cout << text;
+  } else if (!write_bytes(a.listing, text)) {
+    std::cerr << "rcxc compile: cannot write " << a.listing << "\n";
+    return kExitFailure;
+  }
+  return kExitOk;
 }
 
 int run_compile(const CompileArgs& a) {
@@ -62,11 +102,14 @@ int run_compile(const CompileArgs& a) {
     std::cout << *text;
     return kExitOk;
   }
-  auto program = frontend::parse_program(a.file, options, sm, diags);
+  ir::Log log;
+  auto level = a.optimize == "0" ? ir::OptLevel::O0 : a.optimize == "1" ? ir::OptLevel::O1 : ir::OptLevel::Os;
+  auto out = backend::compile_file(a.file, options, level, sm, diags, log);
   print_diagnostics(diags, sm, json);
-  if (!program) return kExitFailure;
-  std::cerr << "rcxc compile: code generation is not part of this build yet\n";
-  return kExitFailure;
+  if (a.verbose)
+    for (const auto& line : log) std::cerr << "rcxc: " << line << "\n";
+  if (!out) return kExitFailure;
+  return write_outputs(a, *out, sm);
 }
 
 }  // namespace
@@ -85,9 +128,21 @@ void register_compile(CLI::App& app, int& exit_code) {
   cmd->add_flag("-w", args->no_warnings, "Do not report warnings");
   cmd->add_option("-O", args->optimize, "Optimisation: -O0, -O1 or -Os (default)")
       ->check(CLI::IsMember({"0", "1", "s"}));
+  cmd->add_option("--listing", args->listing, "Write a listing to FILE (or standard output without =FILE)")
+      ->expected(0, 1)
+      ->default_str("-");
+  cmd->add_flag("-v,--verbose", args->verbose, "Report what the optimiser did (inlining, loop counters, sizes)");
   cmd->add_option("--diagnostics", args->diagnostics, "Diagnostics format: text (default) or json")
       ->check(CLI::IsMember({"text", "json"}));
-  cmd->callback([&exit_code, args] { exit_code = run_compile(*args); });
+  cmd->callback([&exit_code, args] {
+    try {
+      exit_code = run_compile(*args);
+    } catch (const std::exception& e) {
+      // A bug or an exhausted machine; say so rather than abort.
+      std::cerr << "rcxc compile: internal error: " << e.what() << "\n";
+      exit_code = kExitFailure;
+    }
+  });
 }
 
 }  // namespace rcxc::cli

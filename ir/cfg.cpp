@@ -46,12 +46,85 @@ void remove_unreachable(Function& f) {
   remove_blocks(f, seen);
 }
 
+// Appends a block to its only predecessor when that one jumps to it, so
+// straight-line code (an inline function's body and what follows the
+// call) is one block for the passes that work inside blocks.
+void merge_straight_lines(Function& f) {
+  std::vector<int> preds(f.blocks.size(), 0);
+  for (const auto& b : f.blocks)
+    for (BlockId s : successors(b.term)) ++preds[static_cast<std::size_t>(s)];
+  std::vector<bool> keep(f.blocks.size(), true);
+  for (std::size_t a = 0; a < f.blocks.size(); ++a) {
+    if (!keep[a]) continue;
+    for (;;) {
+      const auto* j = std::get_if<Jump>(&f.blocks[a].term);
+      if (j == nullptr) break;
+      BlockId b = j->target;
+      auto bi = static_cast<std::size_t>(b);
+      bool head = false;
+      for (const auto& r : f.repeats) head |= r.head == b;
+      if (b == 0 || bi == a || preds[bi] != 1 || head || !keep[bi]) break;
+      Block& from = f.blocks[bi];
+      Block& to = f.blocks[a];
+      for (auto& in : from.instrs) to.instrs.push_back(std::move(in));
+      to.term = from.term;
+      from.instrs.clear();
+      from.term = Exit{};
+      keep[bi] = false;
+      for (auto& r : f.repeats)
+        if (r.setup == b) r.setup = static_cast<BlockId>(a);
+    }
+  }
+  remove_blocks(f, keep);
+}
+
+bool same_instr(const Instr& a, const Instr& b) { return a.op == b.op && a.raw == b.raw && a.args == b.args; }
+
+// Cross-jumping: when every way into a block is a jump from a block ending
+// with the same instruction, that instruction moves into the join (an
+// if/else whose branches both end with Wait(t) keeps one Wait).
+void merge_tails(Function& f) {
+  std::vector<std::vector<BlockId>> preds(f.blocks.size());
+  for (std::size_t b = 0; b < f.blocks.size(); ++b)
+    for (BlockId s : successors(f.blocks[b].term)) preds[static_cast<std::size_t>(s)].push_back(static_cast<BlockId>(b));
+  for (std::size_t j = 1; j < f.blocks.size(); ++j) {
+    auto& from = preds[j];
+    if (from.size() < 2 || is_repeat_block(f, static_cast<BlockId>(j))) continue;
+    bool all_jumps = true;
+    for (BlockId p : from) {
+      const Block& pb = f.blocks[static_cast<std::size_t>(p)];
+      // Main's startup code stays first in the entry block.
+      bool startup_only = p == 0 && static_cast<int>(pb.instrs.size()) <= f.startup;
+      all_jumps &= std::holds_alternative<Jump>(pb.term) && p != static_cast<BlockId>(j) &&
+                   !is_repeat_block(f, p) && !startup_only;
+    }
+    if (!all_jumps) continue;
+    for (;;) {
+      const Block& first = f.blocks[static_cast<std::size_t>(from[0])];
+      if (first.instrs.empty()) break;
+      const Instr& tail = first.instrs.back();
+      bool same = true;
+      for (BlockId p : from) {
+        const auto& instrs = f.blocks[static_cast<std::size_t>(p)].instrs;
+        same &= !instrs.empty() && same_instr(instrs.back(), tail);
+      }
+      if (!same) break;
+      Instr moved = tail;
+      for (BlockId p : from) f.blocks[static_cast<std::size_t>(p)].instrs.pop_back();
+      auto& join = f.blocks[j].instrs;
+      join.insert(join.begin(), std::move(moved));
+    }
+  }
+}
+
 }  // namespace
 
 void simplify_cfg(Function& f) {
   if (f.blocks.empty()) return;
   thread_jumps(f);
   remove_unreachable(f);
+  merge_tails(f);
+  merge_straight_lines(f);
 }
 
 }  // namespace rcxc::ir

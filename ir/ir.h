@@ -112,6 +112,9 @@ struct Function {
   std::vector<Block> blocks;  // blocks[0] is the entry; order is the layout
   std::vector<Repeat> repeats;
   SourceSpan span{};
+  // The first `startup` instructions of the entry block are main's startup
+  // code: they run before any other task can have been started.
+  int startup = 0;
 };
 
 enum class VarKind : std::uint8_t { Global, Local, Temp };

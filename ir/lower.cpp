@@ -149,8 +149,10 @@ struct Lowerer {
       case ast::BinaryOp::Mod: return b == 0 ? wrap16(a) : wrap16(a - wrap16(a / b) * b);
       case ast::BinaryOp::Add: return wrap16(a + b);
       case ast::BinaryOp::Sub: return wrap16(a - b);
-      case ast::BinaryOp::Shl: return (b < 0 || b > 15) ? 0 : wrap16(a << b);
-      case ast::BinaryOp::Shr: return (b < 0 || b > 15) ? 0 : wrap16(static_cast<long>(static_cast<std::uint16_t>(a) >> b));
+      // Shift counts: negative shifts nothing, 16 or more shifts all out.
+      case ast::BinaryOp::Shl: return b < 0 ? wrap16(a) : b > 15 ? 0 : wrap16(a << b);
+      case ast::BinaryOp::Shr:
+        return b < 0 ? wrap16(a) : b > 15 ? 0 : wrap16(static_cast<long>(static_cast<std::uint16_t>(a) >> b));
       case ast::BinaryOp::Lt: return a < b;
       case ast::BinaryOp::Le: return a <= b;
       case ast::BinaryOp::Gt: return a > b;
@@ -285,6 +287,11 @@ struct Lowerer {
       }
     }
     if (auto v = var_of(e); v && *v == d) return;
+    if (const auto* u = ast::as<ast::Unary>(e);
+        u && (u->op == ast::UnaryOp::Negate || u->op == ast::UnaryOp::BitNot)) {
+      auto operand = var_of(*u->operand);
+      if (operand && *operand == d) return unary(d, *u, e);  // x = -x: in place
+    }
     VarId t = temp();
     compute(t, e);
     set(d, Operand::var(t));
@@ -505,7 +512,7 @@ struct Lowerer {
 
   // Evaluates e for its side effects only.
   void effect(const ast::Expr& e) {
-    span = e.span;
+    if (expanding.empty()) span = e.span;
     if (const auto* a = ast::as<ast::Assign>(e)) {
       assign(*a, e.span);
     } else if (const auto* u = ast::as<ast::Unary>(e); u && u->op != ast::UnaryOp::Negate &&
@@ -665,7 +672,9 @@ struct Lowerer {
   }
 
   void statement(const ast::Stmt& s) {
-    span = s.span;
+    // Inside an inline expansion the code keeps the call's line, so a
+    // listing shows the user's statement rather than the library's.
+    if (expanding.empty()) span = s.span;
     std::visit([&](const auto& node) { lower_stmt(node, s); }, s.node);
   }
 
@@ -874,7 +883,7 @@ struct Lowerer {
     }
   }
   void asm_instr(const ast::AsmInstr& in) {
-    span = in.span;
+    if (expanding.empty()) span = in.span;
     if (!in.op) return error(in.span, fmt::format("unknown instruction '{}'", in.mnemonic));
     auto slots = operand_slots(*in.op);
     if (slots.size() != in.operands.size())
@@ -899,21 +908,31 @@ struct Lowerer {
         }
         default: {
           auto c = constant(e);
-          if (!c || !fits_field(slots[i]->type, *c))
-            return error(e.span, fmt::format("operand '{}' of {} must be a constant that fits", slots[i]->name, in.mnemonic));
+          if (!c) return error(e.span, fmt::format("operand '{}' of {} must be a constant", slots[i]->name, in.mnemonic));
+          if (!fits_field(slots[i]->type, *c) && rcx::field_size(slots[i]->type) == 1) {
+            // As nqc does, a byte field keeps the low byte of the value.
+            diags.warning(e.span, fmt::format("operand '{}' of {} is {}, which does not fit a byte: using {}",
+                                              slots[i]->name, in.mnemonic, *c, *c & 0xff));
+            c = *c & 0xff;
+          }
+          if (!fits_field(slots[i]->type, *c))
+            return error(e.span, fmt::format("operand '{}' of {} must fit its field", slots[i]->name, in.mnemonic));
           args.push_back(Operand::imm(*c));
         }
       }
     }
-    span = in.span;
     emit(*in.op, std::move(args));
   }
 
   // ------------------------------------------------------------ functions --
 
   void startup() {
+    default_startup();
     for (std::size_t g = 0; g < ast.globals.size(); ++g)
       if (ast.globals[g].init) into(globals[g], *ast.globals[g].init);
+  }
+
+  void default_startup() {
     const auto& pragmas = ast.pragmas;
     if (pragmas.noinit) return;
     if (pragmas.init) {
@@ -927,6 +946,7 @@ struct Lowerer {
     // As nqc -Trcx: all outputs full power (7) and forward.
     emit(Op::SetMotorPower, {Operand::imm(0x07), Operand::imm(7)});
     emit(Op::SetMotorDirection, {Operand::imm(0x87)});
+    fn().startup = 2;
   }
 
   void body(FuncId f, const ast::Stmt& stmt, bool is_main) {
@@ -964,8 +984,8 @@ struct Lowerer {
       for (int s = r.lo; s <= r.hi; ++s) out.reserved_slots |= 1u << s;
     }
     for (const auto& g : ast.globals) globals.push_back(out.add_var(g.name, VarKind::Global, g.span));
-    for (const auto& t : ast.tasks) out.functions.push_back(Function{t.name, FuncKind::Task, {}, {}, t.span});
-    for (const auto& s : ast.subs) out.functions.push_back(Function{s.name, FuncKind::Sub, {}, {}, s.span});
+    for (const auto& t : ast.tasks) out.functions.push_back(Function{t.name, FuncKind::Task, {}, {}, t.span, 0});
+    for (const auto& s : ast.subs) out.functions.push_back(Function{s.name, FuncKind::Sub, {}, {}, s.span, 0});
     bool has_main = false;
     for (std::size_t i = 0; i < ast.tasks.size(); ++i) {
       bool is_main = ast.tasks[i].name == "main";

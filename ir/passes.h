@@ -24,6 +24,25 @@ void fold_constants(Program& p);
 // never read.
 void remove_dead_stores(Program& p);
 
+// motors.cpp: removes motor commands (direction, on/off, power) that set
+// what the output already has, for outputs only one task commands.
+void remove_redundant_motor_commands(Program& p);
+// Narrows main's startup code (all outputs full power, forward) to the
+// settings some later instruction can show, and drops what none shows: an
+// output's power and direction show when it runs (outputs are off when a
+// program starts), so a setting replaced before the output is switched on
+// is dead. Kept whole when the program reads motor states, selects the
+// display or uses raw asm.
+void trim_startup(Program& p);
+
+// peephole.cpp: within a block, runs of motor commands (with only
+// instructions between that neither read nor change outputs) become the
+// fewest commands giving the same final output states (OnRev(OUT_A);
+// OnFwd(OUT_C) needs one on/off command, not two); a sensor mode equal to
+// the default the sensor type just set (slope 0) is dropped.
+void merge_motor_commands(Function& f);
+void drop_redundant_sensor_modes(Function& f);
+
 // cfg.cpp: threads jumps through empty blocks, turns branches whose both
 // targets agree into jumps, and deletes blocks no path reaches (dead code
 // after unconditional jumps).

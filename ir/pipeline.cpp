@@ -11,6 +11,14 @@ bool optimize(Program& p, OptLevel level, Diagnostics& diags, Log& log) {
       remove_dead_stores(p);
       for (auto& f : p.functions) simplify_cfg(f);
     }
+    if (level == OptLevel::Os) {
+      for (auto& f : p.functions) {
+        merge_motor_commands(f);
+        drop_redundant_sensor_modes(f);
+      }
+      trim_startup(p);
+      remove_redundant_motor_commands(p);
+    }
   }
   // Needed at every level: a counter loop left by a jump must not keep its
   // counter pushed.

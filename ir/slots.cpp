@@ -1,4 +1,5 @@
 // Variable slot allocation (see passes.h).
+#include <array>
 #include <bit>
 #include <fmt/format.h>
 
@@ -75,11 +76,14 @@ void report_exhaustion(const Program& p, VarId failed, const std::vector<int>& s
                                             holder_name(v), kSlots));
   for (int s = 0; s < kSlots; ++s) {
     std::string holders;
+    SourceSpan where = v.span;
     if ((p.reserved_slots >> s) & 1u) holders = "#pragma reserve";
     for (std::size_t u = 0; u < slot.size(); ++u)
-      if (slot[u] == s && static_cast<VarId>(u) != failed)
+      if (slot[u] == s && static_cast<VarId>(u) != failed) {
+        if (holders.empty() && p.vars[u].span.begin.valid()) where = p.vars[u].span;
         holders += (holders.empty() ? "" : ", ") + holder_name(p.vars[u]);
-    d.notes.push_back({v.span, fmt::format("slot {} is held by {}", s, holders.empty() ? "nothing free for it here" : holders)});
+      }
+    d.notes.push_back({where, fmt::format("slot {} is held by {}", s, holders.empty() ? "a variable live at the same time" : holders)});
   }
 }
 
@@ -104,22 +108,24 @@ std::vector<int> allocate_slots(const Program& p, Diagnostics& diags) {
       for (VarId v : reads_of(b.term)) note(v);
     }
   }
-  Graph g{std::vector<VarSet>(nv, VarSet(nv))};
-  // Variables that two tasks may touch at once never share a slot.
-  for (std::size_t a = 0; a < nv; ++a)
-    for (std::size_t b = a + 1; b < nv; ++b)
-      if (used[a] && used[b] && std::popcount(var_tasks[a] | var_tasks[b]) > 1)
-        g.add(static_cast<VarId>(a), static_cast<VarId>(b));
+  Graph g{std::vector<VarSet>(nv)};
   for (const auto& f : p.functions)
     if (live_function(f)) add_liveness_edges(p, f, footprints, g);
 
   std::vector<int> slot(nv, -1);
   std::uint32_t global_slots = p.reserved_slots;
+  // The tasks whose variables each slot holds: variables that two tasks
+  // may touch at once never share a slot.
+  std::array<TaskMask, kSlots> slot_tasks{};
   auto assign = [&](VarId v, bool global) {
     std::uint32_t taken = global_slots;
-    if (!global)
+    TaskMask mine = var_tasks[static_cast<std::size_t>(v)];
+    if (!global) {
       for (VarId n : g.edges[static_cast<std::size_t>(v)].members())
         if (slot[static_cast<std::size_t>(n)] >= 0) taken |= 1u << slot[static_cast<std::size_t>(n)];
+      for (int s = 0; s < kSlots; ++s)
+        if (std::popcount(slot_tasks[static_cast<std::size_t>(s)] | mine) > 1) taken |= 1u << s;
+    }
     if (global)
       for (std::size_t u = 0; u < nv; ++u)
         if (slot[u] >= 0) taken |= 1u << slot[u];
@@ -131,6 +137,7 @@ std::vector<int> allocate_slots(const Program& p, Diagnostics& diags) {
       slot[static_cast<std::size_t>(v)] = std::countr_one(taken);
     }
     if (global) global_slots |= 1u << slot[static_cast<std::size_t>(v)];
+    slot_tasks[static_cast<std::size_t>(slot[static_cast<std::size_t>(v)])] |= mine;
     return true;
   };
   // Fixed slots first, then globals (each its own slot), then the rest.

@@ -1,0 +1,32 @@
+// Outlining: the opposite of inlining. An instruction sequence repeated in
+// the tasks (OnFwd(OUT_A); Wait(100); in a tutorial program, say) moves into
+// a new subroutine that every copy calls, when that makes the code smaller:
+// n copies of s bytes cost n*s; a subroutine costs s + 1 (the firmware
+// appends a return) plus a 2-byte call per copy.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "backend/branch.h"
+
+namespace rcxc::backend {
+
+// One function's machine code before assembly.
+struct Selected {
+  int function = -1;  // FuncId, -1 for an outlined subroutine
+  rcx::FragmentType type = rcx::FragmentType::Task;
+  int index = 0;
+  std::string name;
+  std::vector<MInstr> code;
+  std::vector<int> block_start;
+};
+
+// Outlines into new subroutines while it saves bytes and subroutine
+// indices are free (at most `kMaxSubroutines` in all). Only task code is
+// outlined (a subroutine cannot call another); sequences never contain
+// branches, calls, loop counters or raw asm, and never a branch target
+// except at their start. Each decision is appended to `log`.
+void outline(std::vector<Selected>& fragments, std::vector<std::string>& log);
+
+}  // namespace rcxc::backend

@@ -1,0 +1,136 @@
+// Merging of motor commands and dropping of sensor modes the type already
+// set (see passes.h).
+#include <algorithm>
+#include <map>
+
+#include "ir/passes.h"
+
+namespace rcxc::ir {
+namespace {
+
+using rcx::Op;
+
+// A motor command whose effect is known: code/power immediates, no flip.
+bool mergeable(const Instr& in) {
+  if (in.raw || in.args.empty() || !in.args[0].is_imm()) return false;
+  switch (in.op) {
+    case Op::SetMotorDirection: return (in.args[0].value & 0x40) == 0;
+    case Op::SetMotorOnOff: return true;
+    case Op::SetMotorPower: return in.args[1].is_imm() && in.args[1].value >= 0 && in.args[1].value <= 7;
+    default: return false;
+  }
+}
+
+bool reads_motor_state(const Instr& in) {
+  for (const auto& a : in.args)
+    if (a.kind == Operand::Kind::Src && a.source == 3) return true;
+  return false;
+}
+
+// Instructions a motor command may move across: they neither depend on
+// nor change the outputs, and take no time to speak of.
+bool neutral(const Instr& in) {
+  if (in.raw || reads_motor_state(in)) return false;
+  switch (in.op) {
+    case Op::SetVariable: case Op::AddToVariable: case Op::SubtractFromVariable: case Op::MultiplyVariable:
+    case Op::DivideVariable: case Op::AndVariable: case Op::OrVariable: case Op::AbsoluteValue:
+    case Op::SignVariable: case Op::SetSensorType: case Op::SetSensorMode: case Op::ClearSensorValue:
+    case Op::ClearTimer: case Op::PlaySound: case Op::PlayTone: case Op::ClearMessage: case Op::SendMessage:
+      return true;
+    default: return false;
+  }
+}
+
+// The fewest commands giving every output the final direction, mode and
+// power the commands in `window` leave, in the order power, direction,
+// mode (so an output is switched on with its final settings).
+std::vector<Instr> net_commands(const std::vector<const Instr*>& window) {
+  std::map<int, int> power, dir, mode;  // output bit -> value
+  for (const Instr* in : window) {
+    int mask = in->args[0].value & 7;
+    for (int bit = 1; bit <= 4; bit <<= 1) {
+      if (!(mask & bit)) continue;
+      int code = in->args[0].value;
+      if (in->op == Op::SetMotorPower) power[bit] = in->args[1].value;
+      if (in->op == Op::SetMotorDirection) dir[bit] = code & 0x80;
+      if (in->op == Op::SetMotorOnOff) mode[bit] = code & 0xc0;
+    }
+  }
+  auto group = [](const std::map<int, int>& m) {
+    std::map<int, int> by_value;  // value -> output mask
+    for (auto [bit, v] : m) by_value[v] |= bit;
+    return by_value;
+  };
+  std::vector<Instr> out;
+  SourceSpan span = window.back()->span;
+  for (auto [v, mask] : group(power)) out.push_back(Instr{Op::SetMotorPower, {Operand::imm(mask), Operand::imm(v)}, false, span});
+  for (auto [v, mask] : group(dir)) out.push_back(Instr{Op::SetMotorDirection, {Operand::imm(mask | v)}, false, span});
+  for (auto [v, mask] : group(mode)) out.push_back(Instr{Op::SetMotorOnOff, {Operand::imm(mask | v)}, false, span});
+  return out;
+}
+
+// `first`: instructions before it stay as they are (main's startup code).
+void merge_block(Block& b, std::size_t first) {
+  std::vector<Instr> result;
+  std::size_t n = b.instrs.size();
+  for (std::size_t i = 0; i < std::min(first, n); ++i) result.push_back(std::move(b.instrs[i]));
+  for (std::size_t i = std::min(first, n); i < n;) {
+    if (!mergeable(b.instrs[i])) {
+      result.push_back(std::move(b.instrs[i++]));
+      continue;
+    }
+    // The window: from i to the last motor command reachable across
+    // neutral instructions.
+    std::size_t last = i;
+    for (std::size_t j = i; j < n && (mergeable(b.instrs[j]) || neutral(b.instrs[j])); ++j)
+      if (mergeable(b.instrs[j])) last = j;
+    std::vector<const Instr*> motors;
+    for (std::size_t j = i; j <= last; ++j)
+      if (mergeable(b.instrs[j])) motors.push_back(&b.instrs[j]);
+    std::vector<Instr> merged = net_commands(motors);
+    if (merged.size() < motors.size()) {
+      for (std::size_t j = i; j <= last; ++j)
+        if (!mergeable(b.instrs[j])) result.push_back(std::move(b.instrs[j]));
+      for (auto& m : merged) result.push_back(std::move(m));
+    } else {
+      for (std::size_t j = i; j <= last; ++j) result.push_back(std::move(b.instrs[j]));
+    }
+    i = last + 1;
+  }
+  b.instrs = std::move(result);
+}
+
+// The mode Set sensor type gives each type (seed: raw, boolean, celsius,
+// percent, angle), as a mode byte with slope 0.
+int default_mode_code(int type) {
+  static constexpr int kModes[] = {0, 1, 5, 4, 7};
+  return (type >= 0 && type <= 4) ? kModes[type] << 5 : -1;
+}
+
+void drop_default_modes(Block& b) {
+  std::vector<Instr> kept;
+  for (std::size_t i = 0; i < b.instrs.size(); ++i) {
+    const Instr& in = b.instrs[i];
+    bool redundant = false;
+    if (!in.raw && in.op == Op::SetSensorMode && i > 0) {
+      const Instr& prev = b.instrs[i - 1];
+      redundant = !prev.raw && prev.op == Op::SetSensorType && prev.args[0] == in.args[0] &&
+                  in.args[1].is_imm() && prev.args[1].is_imm() && default_mode_code(prev.args[1].value) == in.args[1].value;
+    }
+    if (!redundant) kept.push_back(in);
+  }
+  b.instrs = std::move(kept);
+}
+
+}  // namespace
+
+void merge_motor_commands(Function& f) {
+  for (std::size_t b = 0; b < f.blocks.size(); ++b)
+    merge_block(f.blocks[b], b == 0 ? static_cast<std::size_t>(f.startup) : 0);
+}
+
+void drop_redundant_sensor_modes(Function& f) {
+  for (auto& b : f.blocks) drop_default_modes(b);
+}
+
+}  // namespace rcxc::ir

@@ -1,0 +1,384 @@
+// The compiler's output run on the emulator (runtime/vm.h): operators
+// against a C reference over edge values, subroutine nesting, many subs,
+// slot exhaustion, branch forms at the near/far boundary, the corpus.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <random>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "backend/compile.h"
+#include "runtime/vm.h"
+
+using namespace rcxc;
+
+namespace {
+
+struct Compiled {
+  std::optional<backend::Output> out;
+  Diagnostics diags;
+  ir::Log log;
+  std::string messages;
+};
+
+Compiled compile(const std::string& text, ir::OptLevel level = ir::OptLevel::Os, bool stdlib = false) {
+  Compiled c;
+  SourceManager sm;
+  frontend::Options options;
+  options.no_stdlib = !stdlib;
+  c.out = backend::compile_source("test.nqc", text, options, level, sm, c.diags, c.log);
+  for (const auto& d : c.diags.all()) c.messages += render_text(d, sm);
+  return c;
+}
+
+// Runs the image until every task ended (or `limit_ms`), returns the machine.
+rcx::Machine run(const rcx::Image& image, std::int64_t limit_ms = 60'000) {
+  rcx::Machine m;
+  auto err = m.load(0, image);
+  EXPECT_FALSE(err.has_value()) << *err;
+  m.start_program();
+  m.run(limit_ms * rcx::kMicrosPerMs);
+  return m;
+}
+
+int global(const rcx::Machine& m, const rcx::Image& image, const std::string& name) {
+  for (const auto& s : image.symbols)
+    if (s.type == rcx::SymbolType::Variable && s.name == name) return m.state().vars[s.index];
+  ADD_FAILURE() << "no variable " << name;
+  return 0;
+}
+
+std::int16_t w(long v) { return static_cast<std::int16_t>(static_cast<std::uint16_t>(v & 0xffff)); }
+
+// The C reference on 16-bit values, with the documented choices where C
+// leaves it open: x / 0 and x % 0 leave x (the firmware's division), >>
+// shifts in zeros (as nqc's code does), shift counts < 0 shift nothing and
+// counts > 15 shift everything out.
+std::map<std::string, std::function<int(int, int)>> binary_reference() {
+  return {
+      {"+", [](int a, int b) { return w(a + b); }},
+      {"-", [](int a, int b) { return w(a - b); }},
+      {"*", [](int a, int b) { return w(static_cast<long>(a) * b); }},
+      {"/", [](int a, int b) { return b == 0 ? a : w(a / b); }},
+      {"%", [](int a, int b) { return b == 0 ? a : (b == -1 ? 0 : w(a % b)); }},
+      {"&", [](int a, int b) { return w(a & b); }},
+      {"|", [](int a, int b) { return w(a | b); }},
+      {"^", [](int a, int b) { return w(a ^ b); }},
+      {"<<", [](int a, int b) { return b < 0 ? a : b > 15 ? 0 : w(static_cast<long>(a) * (1L << b)); }},
+      {">>", [](int a, int b) { return b < 0 ? a : b > 15 ? 0 : w(static_cast<std::uint16_t>(a) >> b); }},
+      {"<", [](int a, int b) { return a < b ? 1 : 0; }},
+      {"<=", [](int a, int b) { return a <= b ? 1 : 0; }},
+      {">", [](int a, int b) { return a > b ? 1 : 0; }},
+      {">=", [](int a, int b) { return a >= b ? 1 : 0; }},
+      {"==", [](int a, int b) { return a == b ? 1 : 0; }},
+      {"!=", [](int a, int b) { return a != b ? 1 : 0; }},
+      {"&&", [](int a, int b) { return (a != 0 && b != 0) ? 1 : 0; }},
+      {"||", [](int a, int b) { return (a != 0 || b != 0) ? 1 : 0; }},
+  };
+}
+
+std::vector<int> edge_values() {
+  std::vector<int> v{-32768, -1, 0, 1, 32767, 2, -2, 7, -300, 12345};
+  std::mt19937 rng(42);
+  std::uniform_int_distribution<int> any(-32768, 32767);
+  for (int i = 0; i < 4; ++i) v.push_back(any(rng));
+  return v;
+}
+
+std::vector<int> shift_counts() { return {0, 1, 2, 3, 7, 8, 14, 15, 16, -1}; }
+
+// Checks `a OP b` for every pair, 20 results per program. The operands
+// are globals, so nothing is folded at compile time: the code runs.
+void check_binary(const std::string& op, const std::vector<int>& lhs, const std::vector<int>& rhs, bool constant_rhs) {
+  auto ref = binary_reference().at(op);
+  std::vector<std::pair<int, int>> pairs;
+  for (int a : lhs)
+    for (int b : rhs) pairs.emplace_back(a, b);
+  for (std::size_t base = 0; base < pairs.size(); base += 20) {
+    std::size_t n = std::min<std::size_t>(20, pairs.size() - base);
+    std::string decls = "int a, b";
+    std::string body;
+    for (std::size_t k = 0; k < n; ++k) {
+      auto [a, b] = pairs[base + k];
+      decls += fmt::format(", r{}", k);
+      if (constant_rhs)
+        body += fmt::format("  a = {}; r{} = a {} ({});\n", a, k, op, b);
+      else
+        body += fmt::format("  a = {}; b = {}; r{} = a {} b;\n", a, b, k, op);
+    }
+    std::string src = decls + ";\ntask main() {\n" + body + "}\n";
+    auto c = compile(src);
+    ASSERT_TRUE(c.out) << c.messages << src;
+    auto m = run(c.out->image);
+    ASSERT_EQ(m.stop().kind, rcx::StopKind::Ended) << src;
+    for (std::size_t k = 0; k < n; ++k) {
+      auto [a, b] = pairs[base + k];
+      EXPECT_EQ(global(m, c.out->image, fmt::format("r{}", k)), ref(a, b))
+          << a << " " << op << " " << b << (constant_rhs ? " (constant right side)" : "");
+    }
+  }
+}
+
+}  // namespace
+
+class BinaryOperator : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(BinaryOperator, MatchesTheReferenceOnEdgeValues) {
+  const std::string& op = GetParam();
+  bool shift = op == "<<" || op == ">>";
+  check_binary(op, edge_values(), shift ? shift_counts() : edge_values(), false);
+}
+
+TEST_P(BinaryOperator, MatchesTheReferenceWithAConstantRightSide) {
+  const std::string& op = GetParam();
+  bool shift = op == "<<" || op == ">>";
+  check_binary(op, edge_values(), shift ? shift_counts() : std::vector<int>{-32768, -1, 0, 1, 3, 32767}, true);
+}
+
+std::string operator_name(const ::testing::TestParamInfo<std::string>& info) {
+  static const std::map<std::string, std::string> names{
+      {"+", "Add"}, {"-", "Sub"}, {"*", "Mul"}, {"/", "Div"}, {"%", "Mod"}, {"&", "And"},
+      {"|", "Or"}, {"^", "Xor"}, {"<<", "Shl"}, {">>", "Shr"}, {"<", "Lt"}, {"<=", "Le"},
+      {">", "Gt"}, {">=", "Ge"}, {"==", "Eq"}, {"!=", "Ne"}, {"&&", "LogAnd"}, {"||", "LogOr"}};
+  return names.at(info.param);
+}
+
+INSTANTIATE_TEST_SUITE_P(Operators, BinaryOperator,
+                         ::testing::Values("+", "-", "*", "/", "%", "&", "|", "^", "<<", ">>", "<", "<=", ">", ">=",
+                                           "==", "!=", "&&", "||"),
+                         operator_name);
+
+TEST(Emulate, UnaryOperatorsAndConditional) {
+  auto values = edge_values();
+  // 5 results per value: 5 values per program fit the 32 slots.
+  for (std::size_t from = 0; from < values.size(); from += 5) {
+    std::string d = "int a", b;
+    std::size_t to = std::min(values.size(), from + 5);
+    for (std::size_t k = from; k < to; ++k) {
+      d += fmt::format(", n{0}, c{0}, l{0}, q{0}, s{0}", k);
+      b += fmt::format("  a = {1}; n{0} = -a; c{0} = ~a; l{0} = !a; q{0} = a > 0 ? a : -a; s{0} = a; s{0} = -s{0};\n",
+                       k, values[k]);
+    }
+    std::string src = d + ";\ntask main() {\n" + b + "}\n";
+    auto c = compile(src);
+    ASSERT_TRUE(c.out) << c.messages;
+    auto m = run(c.out->image);
+    for (std::size_t k = from; k < to; ++k) {
+      int a = values[k];
+      EXPECT_EQ(global(m, c.out->image, fmt::format("n{}", k)), w(-a)) << a;
+      EXPECT_EQ(global(m, c.out->image, fmt::format("c{}", k)), w(~a)) << a;
+      EXPECT_EQ(global(m, c.out->image, fmt::format("l{}", k)), a == 0 ? 1 : 0) << a;
+      EXPECT_EQ(global(m, c.out->image, fmt::format("q{}", k)), a > 0 ? a : w(-a)) << a;
+      EXPECT_EQ(global(m, c.out->image, fmt::format("s{}", k)), w(-a)) << a;
+    }
+  }
+}
+
+TEST(Emulate, CompoundAssignmentsAndIncrements) {
+  auto c = compile(R"(
+int x, y, z, p, q;
+task main() {
+  x = 7; x += 5; x -= 2; x *= 3; x /= 4; x %= 5;      // ((7+5-2)*3/4) % 5 = 7 % 5 = 2
+  y = -9; y ||= y;                                  // abs
+  z = -9; z +-= z;                                  // sign
+  p = 5; q = p++ + 10;                              // q = 15, p = 6
+  p <<= 2; p ^= 3; p >>= 1;                         // 24 ^ 3 = 27, >> 1 = 13
+}
+)");
+  ASSERT_TRUE(c.out) << c.messages;
+  auto m = run(c.out->image);
+  EXPECT_EQ(global(m, c.out->image, "x"), 2);
+  EXPECT_EQ(global(m, c.out->image, "y"), 9);
+  EXPECT_EQ(global(m, c.out->image, "z"), -1);
+  EXPECT_EQ(global(m, c.out->image, "q"), 15);
+  EXPECT_EQ(global(m, c.out->image, "p"), 13);
+}
+
+TEST(Emulate, ControlFlowStatements) {
+  auto c = compile(R"(
+int i, sum, evens, sw, rep, nested, dw;
+task main() {
+  sum = 0; evens = 0;
+  for (i = 0; i < 10; i++) { if (i == 7) continue; sum += i; if (i % 2 == 0) evens++; }
+  i = 0; while (true) { i++; if (i >= 5) break; }
+  sw = 0;
+  switch (i) { case 1: sw = 1; break; case 5: sw = 5; case 6: sw += 10; break; default: sw = -1; }
+  rep = 0; repeat (3) { repeat (4) rep++; }
+  nested = 0; repeat (2) repeat (2) repeat (2) repeat (2) repeat (2) nested++;
+  dw = 0; do { dw += 3; } while (dw < 10);
+  until (dw == 0) dw -= 3;
+}
+)");
+  ASSERT_TRUE(c.out) << c.messages;
+  auto m = run(c.out->image);
+  EXPECT_EQ(global(m, c.out->image, "sum"), 45 - 7);
+  EXPECT_EQ(global(m, c.out->image, "evens"), 5);
+  EXPECT_EQ(global(m, c.out->image, "i"), 5);
+  EXPECT_EQ(global(m, c.out->image, "sw"), 15);
+  EXPECT_EQ(global(m, c.out->image, "rep"), 12);
+  EXPECT_EQ(global(m, c.out->image, "nested"), 32);  // 5 deep: one level counts in a variable
+  EXPECT_EQ(global(m, c.out->image, "dw"), 0);
+}
+
+TEST(Emulate, RepeatLeftByBreakDoesNotDisturbOuterCounters) {
+  auto c = compile(R"(
+int outer, inner;
+task main() {
+  outer = 0; inner = 0;
+  repeat (3) { outer++; repeat (10) { inner++; if (inner % 4 == 0) break; } }
+}
+)");
+  ASSERT_TRUE(c.out) << c.messages;
+  auto m = run(c.out->image);
+  EXPECT_EQ(global(m, c.out->image, "outer"), 3);
+  EXPECT_EQ(global(m, c.out->image, "inner"), 12);
+}
+
+TEST(Emulate, InlineFunctionParameterKinds) {
+  auto c = compile(R"(
+int g, r, v, k;
+void by_value(int x) { x = x + 1; r = x; }
+void by_ref(int &x) { x = x * 2; }
+void by_const(const int x) { k = x * 3; }
+void by_expr(const int &e) { g = 0; v = e; g = 5; v += e; }
+task main() {
+  g = 10; by_value(g); by_ref(g); by_const(7); by_expr(g + 1);
+}
+)");
+  ASSERT_TRUE(c.out) << c.messages;
+  auto m = run(c.out->image);
+  EXPECT_EQ(global(m, c.out->image, "r"), 11);
+  EXPECT_EQ(global(m, c.out->image, "k"), 21);
+  // by_expr re-evaluates g + 1 at each use: 0 + 1, then 5 + 1.
+  EXPECT_EQ(global(m, c.out->image, "v"), 7);
+  EXPECT_EQ(global(m, c.out->image, "g"), 5);
+}
+
+TEST(Emulate, NestedSubsThreeDeepFromSeveralTasks) {
+  auto c = compile(R"(
+int a, b, c, done1, done2;
+sub inner() { c = c + 1; }
+sub middle() { b = b + 1; inner(); }
+sub outer() { a = a + 1; middle(); }
+task main() { a = 0; b = 0; c = 0; done1 = 0; done2 = 0; start second; outer(); outer(); done1 = 1; }
+task second() { outer(); done2 = 1; }
+)");
+  ASSERT_TRUE(c.out) << c.messages;
+  auto m = run(c.out->image);
+  EXPECT_EQ(m.stop().kind, rcx::StopKind::Ended);
+  EXPECT_EQ(global(m, c.out->image, "a"), 3);
+  EXPECT_EQ(global(m, c.out->image, "b"), 3);
+  EXPECT_EQ(global(m, c.out->image, "c"), 3);
+  EXPECT_EQ(global(m, c.out->image, "done1"), 1);
+  EXPECT_EQ(global(m, c.out->image, "done2"), 1);
+}
+
+TEST(Emulate, RecursionIsADiagnosticNamingTheCycle) {
+  auto c = compile("sub a() { b(); }\nsub b() { a(); }\ntask main() { a(); }\n");
+  EXPECT_FALSE(c.out);
+  EXPECT_NE(c.messages.find("a -> b -> a"), std::string::npos) << c.messages;
+}
+
+TEST(Emulate, MoreThanEightSubsStillWork) {
+  std::string src = "int n;\n";
+  for (int i = 0; i < 11; ++i) src += fmt::format("sub s{0}() {{ n = n + {0}; }}\n", i);
+  src += "task main() { n = 0;";
+  for (int i = 0; i < 11; ++i) src += fmt::format(" s{0}(); s{0}();", i);
+  src += " }\n";
+  auto c = compile(src, ir::OptLevel::O1);
+  ASSERT_TRUE(c.out) << c.messages;
+  int subs = 0;
+  for (const auto& f : c.out->image.fragments) subs += f.type == rcx::FragmentType::Subroutine ? 1 : 0;
+  EXPECT_LE(subs, 8);
+  auto m = run(c.out->image);
+  EXPECT_EQ(global(m, c.out->image, "n"), 2 * 55);
+}
+
+TEST(Emulate, SlotExhaustionListsTheHolders) {
+  std::string src = "int ";
+  for (int i = 0; i < 33; ++i) src += fmt::format("{}v{}", i ? ", " : "", i);
+  src += ";\ntask main() {";
+  for (int i = 0; i < 33; ++i) src += fmt::format(" v{} = {};", i, i);
+  src += " }\n";
+  auto c = compile(src);
+  EXPECT_FALSE(c.out);
+  EXPECT_NE(c.messages.find("no variable slot left for 'v32'"), std::string::npos) << c.messages;
+  EXPECT_NE(c.messages.find("slot 0 is held by 'v0'"), std::string::npos) << c.messages;
+}
+
+TEST(Emulate, LocalsInDisjointScopesShareSlots) {
+  std::string src = "int out;\ntask main() { out = 0;";
+  // 40 locals in separate blocks: more than 32, but never live together.
+  for (int i = 0; i < 40; ++i) src += fmt::format(" {{ int l{0}; l{0} = out; out = l{0} + 1; }}", i);
+  src += " }\n";
+  auto c = compile(src, ir::OptLevel::O0);
+  ASSERT_TRUE(c.out) << c.messages;
+  auto m = run(c.out->image);
+  EXPECT_EQ(global(m, c.out->image, "out"), 40);
+}
+
+TEST(Emulate, PragmaReserveKeepsSlotsFree) {
+  auto c = compile("#pragma reserve 0 3\nint x;\ntask main() { x = 5; }\n");
+  ASSERT_TRUE(c.out) << c.messages;
+  for (const auto& s : c.out->image.symbols)
+    if (s.type == rcx::SymbolType::Variable && s.name == "x") {
+      EXPECT_GE(s.index, 4);
+    }
+}
+
+TEST(Emulate, BranchesAcrossTheNearFarBoundary) {
+  // if bodies of n one-byte instructions (ClearMessage) plus an increment:
+  // the branch around them is near up to 127 bytes away, far beyond.
+  for (int n : {110, 115, 116, 117, 118, 119, 120, 121, 122, 130}) {
+    std::string body;
+    for (int i = 0; i < n; ++i) body += "asm { 0x90 }; ";
+    auto c = compile(fmt::format(R"(
+int x, hits, loops;
+task main() {{
+  hits = 0; loops = 0;
+  x = 1; if (x == 0) {{ {0} hits = 100; }}
+  x = 0; if (x == 0) {{ {0} hits++; }}
+  do {{ {0} loops++; }} while (loops < 3);
+}}
+)",
+                                 body),
+                     ir::OptLevel::O0);
+    ASSERT_TRUE(c.out) << c.messages;
+    auto m = run(c.out->image);
+    EXPECT_EQ(global(m, c.out->image, "hits"), 1) << n;
+    EXPECT_EQ(global(m, c.out->image, "loops"), 3) << n;
+  }
+}
+
+TEST(Emulate, CorpusCompilesAndRuns) {
+  std::filesystem::path corpus(RCXC_CORPUS_DIR);
+  if (!std::filesystem::exists(corpus)) GTEST_SKIP() << "no corpus at " << corpus;
+  int compiled = 0;
+  for (const auto& entry : std::filesystem::recursive_directory_iterator(corpus)) {
+    if (entry.path().extension() != ".nqc") continue;
+    std::ifstream in(entry.path());
+    std::stringstream text;
+    text << in.rdbuf();
+    auto name = entry.path().filename().string();
+    auto c = compile(text.str(), ir::OptLevel::Os, true);
+    // Two tutorial programs are wrong on purpose: an undefined output and
+    // an array, which the RCX does not have.
+    if (name == "01_errors.nqc" || name == "03_variables.nqc") {
+      EXPECT_FALSE(c.out) << name;
+      continue;
+    }
+    ASSERT_TRUE(c.out) << name << "\n" << c.messages;
+    ++compiled;
+    rcx::Machine m;
+    ASSERT_FALSE(m.load(0, c.out->image).has_value()) << name;
+    m.start_program();
+    m.run(5000 * rcx::kMicrosPerMs);
+    EXPECT_FALSE(m.stop().fault.has_value()) << name << ": " << m.stop().fault->message;
+  }
+  EXPECT_GE(compiled, 40);
+}

@@ -1,0 +1,316 @@
+// The IR passes on hand-built IR.
+#include <gtest/gtest.h>
+
+#include "ir/liveness.h"
+#include "ir/passes.h"
+#include "tests/ir/ir_builder.h"
+
+using namespace rcxc;
+using namespace rcxc::ir;
+using namespace rcxc::ir::test;
+
+namespace {
+
+std::size_t count_ops(const Function& f, rcx::Op op) {
+  std::size_t n = 0;
+  for (const auto& b : f.blocks)
+    for (const auto& in : b.instrs) n += (!in.raw && in.op == op) ? 1 : 0;
+  return n;
+}
+
+}  // namespace
+
+TEST(Fold, TemporaryConstantsReachTheirUse) {
+  Builder b;
+  VarId t = b.temp();
+  FuncId f = b.function("main");
+  b.block(f, {set(t, I(3)), add(t, I(4)), wait(V(t))});
+  fold_constants(b.p);
+  remove_dead_stores(b.p);
+  const auto& instrs = b.at(f, 0).instrs;
+  ASSERT_EQ(instrs.size(), 1u);
+  EXPECT_EQ(instrs[0].op, rcx::Op::Wait);
+  EXPECT_EQ(instrs[0].args[0], I(7));
+}
+
+TEST(Fold, GlobalsAreNeverAssumedConstant) {
+  // Another task may change a global between two instructions.
+  Builder b;
+  VarId g = b.global("g");
+  FuncId f = b.function("main");
+  b.block(f, {set(g, I(3)), wait(V(g))});
+  fold_constants(b.p);
+  remove_dead_stores(b.p);
+  ASSERT_EQ(b.at(f, 0).instrs.size(), 2u);
+  EXPECT_EQ(b.at(f, 0).instrs[1].args[0], V(g));
+}
+
+TEST(Fold, ConstantBranchBecomesJumpAndDeadCodeGoes) {
+  Builder b;
+  VarId t = b.temp();
+  FuncId f = b.function("main");
+  b.block(f, {set(t, I(1))}, Branch{Cmp::EQ, V(t), I(0), 1, 2});
+  b.block(f, {sound(1)}, Jump{3});
+  b.block(f, {sound(2)}, Jump{3});
+  b.block(f, {sound(3)});
+  fold_constants(b.p);
+  remove_dead_stores(b.p);
+  simplify_cfg(b.fn(f));
+  // Only the else path survives, merged into one straight block.
+  ASSERT_EQ(b.fn(f).blocks.size(), 1u);
+  const auto& instrs = b.fn(f).blocks[0].instrs;
+  ASSERT_EQ(instrs.size(), 2u);
+  EXPECT_EQ(instrs[0].args[0], I(2));
+  EXPECT_EQ(instrs[1].args[0], I(3));
+}
+
+TEST(Fold, IdentitiesDisappear) {
+  Builder b;
+  VarId g = b.global("g");
+  FuncId f = b.function("main");
+  b.block(f, {add(g, I(0)), op(rcx::Op::MultiplyVariable, {V(g), I(1)}), set(g, V(g)), wait(V(g))});
+  fold_constants(b.p);
+  EXPECT_EQ(b.at(f, 0).instrs.size(), 1u);
+}
+
+TEST(Fold, DivisionByZeroKeepsTheValueAsTheFirmwareDoes) {
+  EXPECT_EQ(arithmetic(rcx::Op::DivideVariable, 17, 0), 17);
+  EXPECT_EQ(arithmetic(rcx::Op::DivideVariable, -32768, -1), -32768);
+  EXPECT_EQ(arithmetic(rcx::Op::AbsoluteValue, 0, -32768), 32767);
+  EXPECT_EQ(arithmetic(rcx::Op::MultiplyVariable, 300, 300), static_cast<std::int16_t>(90000 & 0xffff));
+}
+
+TEST(Cfg, JumpsThreadThroughEmptyBlocks) {
+  Builder b;
+  VarId g = b.global("g");
+  FuncId f = b.function("main");
+  b.block(f, {}, Branch{Cmp::EQ, V(g), I(0), 1, 3});
+  b.block(f, {}, Jump{2});
+  b.block(f, {}, Jump{4});
+  b.block(f, {sound(2)});
+  b.block(f, {sound(1)});
+  simplify_cfg(b.fn(f));
+  // The two empty blocks are gone; the branch goes straight to sound 1.
+  const auto& blocks = b.fn(f).blocks;
+  ASSERT_EQ(blocks.size(), 3u);
+  const auto& br = std::get<Branch>(blocks[0].term);
+  EXPECT_EQ(blocks[static_cast<std::size_t>(br.then)].instrs.at(0).args[0], I(1));
+  EXPECT_EQ(blocks[static_cast<std::size_t>(br.otherwise)].instrs.at(0).args[0], I(2));
+}
+
+TEST(Rotate, LoopTestMovesBelowTheBody) {
+  Builder b;
+  VarId g = b.global("g");
+  FuncId f = b.function("main");
+  b.block(f, {sound(0)}, Jump{1});
+  b.block(f, {}, Branch{Cmp::NE, V(g), I(0), 2, 3});  // test
+  b.block(f, {sound(1)}, Jump{1});                    // body, jumps back
+  b.block(f, {sound(2)});                             // exit
+  rotate_loops(b.fn(f));
+  // Layout: entry, body, test, exit; the body falls into the test.
+  const auto& blocks = b.fn(f).blocks;
+  ASSERT_EQ(blocks.size(), 4u);
+  EXPECT_EQ(std::get<Jump>(blocks[0].term).target, 2);
+  EXPECT_EQ(std::get<Jump>(blocks[1].term).target, 2);
+  const auto& br = std::get<Branch>(blocks[2].term);
+  EXPECT_EQ(br.then, 1);
+  EXPECT_EQ(br.otherwise, 3);
+}
+
+TEST(Repeat, EscapingLoopCountsInAVariable) {
+  Builder b;
+  FuncId f = b.function("main");
+  b.block(f, {loopset(I(5))}, Jump{1});
+  b.block(f, {}, LoopTest{0, 2, 3});
+  b.block(f, {sound(1)}, Jump{1});
+  b.block(f, {});
+  b.fn(f).repeats.push_back(Repeat{0, 1, true, true});
+  Log log;
+  assign_loop_counters(b.p, log);
+  EXPECT_EQ(count_ops(b.fn(f), rcx::Op::SetLoopCounter), 0u);
+  EXPECT_EQ(count_ops(b.fn(f), rcx::Op::SubtractFromVariable), 1u);
+  EXPECT_FALSE(b.fn(f).repeats[0].counter);
+}
+
+TEST(Repeat, FifthNestedLoopCountsInAVariable) {
+  Builder b;
+  FuncId f = b.function("main");
+  // Five nested repeats: setups 0,2,4,6,8 heads 1,3,5,7,9, innermost body 10.
+  for (int level = 0; level < 5; ++level) {
+    BlockId setup = b.block(f, {loopset(I(2))}, Jump{2 * level + 1});
+    BlockId head = b.block(f, {}, LoopTest{level, 2 * level + 2, level == 0 ? 11 : 2 * level - 1});
+    b.fn(f).repeats.push_back(Repeat{setup, head, false, true});
+  }
+  b.block(f, {sound(1)}, Jump{9});
+  b.block(f, {});
+  Log log;
+  assign_loop_counters(b.p, log);
+  int counters = 0;
+  for (const auto& r : b.fn(f).repeats) counters += r.counter ? 1 : 0;
+  EXPECT_EQ(counters, 4);
+  EXPECT_FALSE(b.fn(f).repeats[4].counter);
+}
+
+TEST(Calls, NestedSubIsInlinedIntoItsCaller) {
+  Builder b;
+  FuncId main = b.function("main");
+  FuncId outer = b.function("outer", FuncKind::Sub);
+  FuncId inner = b.function("inner", FuncKind::Sub);
+  b.block(main, {call(outer), call(outer)});
+  b.block(outer, {sound(1), call(inner), sound(3)});
+  b.block(inner, {sound(2)});
+  Diagnostics d;
+  Log log;
+  ASSERT_TRUE(resolve_calls(b.p, OptLevel::O1, d, log));
+  EXPECT_EQ(count_ops(b.fn(outer), rcx::Op::CallSubroutine), 0u);
+  EXPECT_EQ(count_ops(b.fn(outer), rcx::Op::PlaySound), 3u);
+  // inner is no longer called by anyone: dropped.
+  EXPECT_TRUE(b.fn(inner).blocks.empty());
+  EXPECT_FALSE(log.empty());
+}
+
+TEST(Calls, RecursionIsReportedWithTheCycle) {
+  Builder b;
+  FuncId main = b.function("main");
+  FuncId x = b.function("x", FuncKind::Sub);
+  FuncId y = b.function("y", FuncKind::Sub);
+  b.block(main, {call(x)});
+  b.block(x, {call(y)});
+  b.block(y, {call(x)});
+  Diagnostics d;
+  Log log;
+  EXPECT_FALSE(resolve_calls(b.p, OptLevel::O1, d, log));
+  ASSERT_EQ(d.error_count(), 1u);
+  EXPECT_NE(d.all()[0].message.find("x -> y -> x"), std::string::npos) << d.all()[0].message;
+}
+
+TEST(Calls, AtMostEightSubsRemain) {
+  Builder b;
+  FuncId main = b.function("main");
+  std::vector<Instr> calls;
+  for (int i = 0; i < 10; ++i) {
+    FuncId s = b.function("s" + std::to_string(i), FuncKind::Sub);
+    std::vector<Instr> body(static_cast<std::size_t>(i + 1), sound(i % 6));
+    b.block(s, body);
+    calls.push_back(call(s));
+    calls.push_back(call(s));
+  }
+  b.block(main, calls);
+  Diagnostics d;
+  Log log;
+  ASSERT_TRUE(resolve_calls(b.p, OptLevel::O1, d, log));
+  int subs = 0;
+  for (const auto& f : b.p.functions) subs += (f.kind == FuncKind::Sub && !f.blocks.empty()) ? 1 : 0;
+  EXPECT_EQ(subs, 8);
+  // The two smallest (s0, s1) were inlined: cheapest first.
+  EXPECT_TRUE(b.fn(1).blocks.empty());
+  EXPECT_TRUE(b.fn(2).blocks.empty());
+}
+
+TEST(Slots, DisjointTemporariesShareASlot) {
+  Builder b;
+  VarId t1 = b.temp(), t2 = b.temp();
+  FuncId f = b.function("main");
+  b.block(f, {set(t1, Operand::src(1, 0)), wait(V(t1)), set(t2, Operand::src(1, 1)), wait(V(t2))});
+  Diagnostics d;
+  auto slots = allocate_slots(b.p, d);
+  ASSERT_EQ(slots.size(), 2u);
+  EXPECT_EQ(slots[0], slots[1]);
+}
+
+TEST(Slots, OverlappingTemporariesDoNot) {
+  Builder b;
+  VarId t1 = b.temp(), t2 = b.temp();
+  FuncId f = b.function("main");
+  b.block(f, {set(t1, Operand::src(1, 0)), set(t2, Operand::src(1, 1)), wait(V(t1)), wait(V(t2))});
+  Diagnostics d;
+  auto slots = allocate_slots(b.p, d);
+  ASSERT_EQ(slots.size(), 2u);
+  EXPECT_NE(slots[0], slots[1]);
+}
+
+TEST(Slots, TasksNeverShare) {
+  Builder b;
+  VarId t1 = b.temp(), t2 = b.temp();
+  FuncId m = b.function("main"), o = b.function("other");
+  b.block(m, {set(t1, Operand::src(1, 0)), wait(V(t1))});
+  b.block(o, {set(t2, Operand::src(1, 1)), wait(V(t2))});
+  Diagnostics d;
+  auto slots = allocate_slots(b.p, d);
+  EXPECT_NE(slots[0], slots[1]);
+}
+
+TEST(Slots, ASubsVariablesAvoidWhatIsLiveAcrossItsCall) {
+  Builder b;
+  VarId kept = b.temp(), sub_local = b.temp(), after = b.temp();
+  FuncId m = b.function("main");
+  FuncId s = b.function("s", FuncKind::Sub);
+  b.block(m, {set(kept, Operand::src(1, 0)), call(s), wait(V(kept)), set(after, Operand::src(1, 2)), wait(V(after))});
+  b.block(s, {set(sub_local, Operand::src(1, 1)), wait(V(sub_local))});
+  Diagnostics d;
+  auto slots = allocate_slots(b.p, d);
+  EXPECT_NE(slots[static_cast<std::size_t>(kept)], slots[static_cast<std::size_t>(sub_local)]);
+  // `after` is born after the call returned: it may reuse the sub's slot.
+  EXPECT_EQ(slots[static_cast<std::size_t>(after)], slots[static_cast<std::size_t>(kept)]);
+}
+
+TEST(Slots, ReservedSlotsAreSkipped) {
+  Builder b;
+  VarId g = b.global("g");
+  FuncId f = b.function("main");
+  b.block(f, {set(g, I(1))});
+  b.p.reserved_slots = 0x7;
+  Diagnostics d;
+  auto slots = allocate_slots(b.p, d);
+  EXPECT_EQ(slots[static_cast<std::size_t>(g)], 3);
+}
+
+TEST(Slots, ExhaustionNamesTheHolders) {
+  Builder b;
+  FuncId f = b.function("main");
+  std::vector<Instr> body;
+  for (int i = 0; i < 33; ++i) body.push_back(set(b.global("g" + std::to_string(i)), I(i)));
+  b.block(f, body);
+  Diagnostics d;
+  EXPECT_TRUE(allocate_slots(b.p, d).empty());
+  ASSERT_EQ(d.error_count(), 1u);
+  const auto& diag = d.all()[0];
+  EXPECT_NE(diag.message.find("'g32'"), std::string::npos);
+  ASSERT_EQ(diag.notes.size(), 32u);
+  EXPECT_EQ(diag.notes[5].message, "slot 5 is held by 'g5'");
+}
+
+TEST(Motors, RepeatedCommandsOfTheOnlyCommandingTaskGo) {
+  Builder b;
+  FuncId f = b.function("main");
+  auto dir = [](int code) { return op(rcx::Op::SetMotorDirection, {I(code)}); };
+  auto out = [](int code) { return op(rcx::Op::SetMotorOnOff, {I(code)}); };
+  b.block(f, {dir(0x81), out(0x81), wait(I(10)), dir(0x81), out(0x81), wait(I(10)), dir(0x01)});
+  remove_redundant_motor_commands(b.p);
+  EXPECT_EQ(b.at(f, 0).instrs.size(), 5u);  // the second forward/on pair is gone
+}
+
+TEST(Motors, OutputsOfTwoTasksAreLeftAlone) {
+  Builder b;
+  FuncId f = b.function("main"), g = b.function("other");
+  auto out = [](int code) { return op(rcx::Op::SetMotorOnOff, {I(code)}); };
+  b.block(f, {out(0x81), wait(I(10)), out(0x81)});
+  b.block(g, {out(0x41)});
+  remove_redundant_motor_commands(b.p);
+  EXPECT_EQ(b.at(f, 0).instrs.size(), 3u);
+}
+
+TEST(Motors, RunsOfCommandsMerge) {
+  Builder b;
+  FuncId f = b.function("main");
+  auto dir = [](int code) { return op(rcx::Op::SetMotorDirection, {I(code)}); };
+  auto out = [](int code) { return op(rcx::Op::SetMotorOnOff, {I(code)}); };
+  // OnRev(A); OnFwd(C): two directions, one on.
+  b.block(f, {dir(0x01), out(0x81), dir(0x84), out(0x84), wait(I(5))});
+  merge_motor_commands(b.fn(f));
+  const auto& instrs = b.at(f, 0).instrs;
+  ASSERT_EQ(instrs.size(), 4u);
+  EXPECT_EQ(instrs[2].op, rcx::Op::SetMotorOnOff);
+  EXPECT_EQ(instrs[2].args[0], I(0x85));
+  EXPECT_EQ(instrs[3].op, rcx::Op::Wait);
+}
