@@ -25,6 +25,14 @@ struct Cursor {
   }
 };
 
+// A character for a message: itself when printable, else its code.
+std::string describe_char(char ch) {
+  auto u = static_cast<unsigned char>(ch);
+  if (u >= 0x20 && u < 0x7f) return std::string("'") + ch + "'";
+  static const char* hex = "0123456789abcdef";
+  return std::string("'\\x") + hex[u >> 4] + hex[u & 15] + "'";
+}
+
 // Skips a /* comment */ whose opening was just read; false if unterminated.
 bool skip_block_comment(Cursor& c) {
   while (c.p < c.limit) {
@@ -126,8 +134,7 @@ std::vector<Token> lex(std::string_view text, std::uint32_t file, Diagnostics& d
       | "+=" | "-=" | "*=" | "/=" | "%=" | "&=" | "|=" | "^="
       | [-+*/%&|^~!<>=?:;,.(){}[\]#$] { emit(TokenKind::Punct, start); continue; }
       * {
-        diags.error({c.loc(start), c.loc(c.p)},
-                    "stray character '" + std::string(start, c.p) + "' in program");
+        diags.error({c.loc(start), c.loc(c.p)}, "stray character " + describe_char(*start) + " in program");
         emit(TokenKind::Unknown, start);
         if (too_many(start)) return out;
         continue;

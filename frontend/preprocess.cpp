@@ -699,6 +699,7 @@ class Preprocessor {
       std::string key = fs::weakly_canonical(p, ec).string();
       if (!enter_checked(key, where)) return;
       std::uint32_t id = sm_.add(p.lexically_normal().string(), std::move(*text));
+      sm_.set_include_site(id, where);
       push_file(id, p.parent_path().string(), key);
       return;
     }
@@ -706,6 +707,7 @@ class Preprocessor {
       std::string key = "<stdlib>/" + name;
       if (!enter_checked(key, where)) return;
       std::uint32_t id = sm_.add(name, std::string(*text));
+      sm_.set_include_site(id, where);
       push_file(id, "", key);
       return;
     }

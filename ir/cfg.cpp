@@ -78,12 +78,52 @@ void merge_straight_lines(Function& f) {
   remove_blocks(f, keep);
 }
 
+bool same_instr(const Instr& a, const Instr& b) { return a.op == b.op && a.raw == b.raw && a.args == b.args; }
+
+// Cross-jumping: when every way into a block is a jump from a block ending
+// with the same instruction, that instruction moves into the join (an
+// if/else whose branches both end with Wait(t) keeps one Wait).
+void merge_tails(Function& f) {
+  std::vector<std::vector<BlockId>> preds(f.blocks.size());
+  for (std::size_t b = 0; b < f.blocks.size(); ++b)
+    for (BlockId s : successors(f.blocks[b].term)) preds[static_cast<std::size_t>(s)].push_back(static_cast<BlockId>(b));
+  for (std::size_t j = 1; j < f.blocks.size(); ++j) {
+    auto& from = preds[j];
+    if (from.size() < 2 || is_repeat_block(f, static_cast<BlockId>(j))) continue;
+    bool all_jumps = true;
+    for (BlockId p : from) {
+      const Block& pb = f.blocks[static_cast<std::size_t>(p)];
+      // Main's startup code stays first in the entry block.
+      bool startup_only = p == 0 && static_cast<int>(pb.instrs.size()) <= f.startup;
+      all_jumps &= std::holds_alternative<Jump>(pb.term) && p != static_cast<BlockId>(j) &&
+                   !is_repeat_block(f, p) && !startup_only;
+    }
+    if (!all_jumps) continue;
+    for (;;) {
+      const Block& first = f.blocks[static_cast<std::size_t>(from[0])];
+      if (first.instrs.empty()) break;
+      const Instr& tail = first.instrs.back();
+      bool same = true;
+      for (BlockId p : from) {
+        const auto& instrs = f.blocks[static_cast<std::size_t>(p)].instrs;
+        same &= !instrs.empty() && same_instr(instrs.back(), tail);
+      }
+      if (!same) break;
+      Instr moved = tail;
+      for (BlockId p : from) f.blocks[static_cast<std::size_t>(p)].instrs.pop_back();
+      auto& join = f.blocks[j].instrs;
+      join.insert(join.begin(), std::move(moved));
+    }
+  }
+}
+
 }  // namespace
 
 void simplify_cfg(Function& f) {
   if (f.blocks.empty()) return;
   thread_jumps(f);
   remove_unreachable(f);
+  merge_tails(f);
   merge_straight_lines(f);
 }
 

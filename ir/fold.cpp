@@ -1,5 +1,7 @@
 // Constant propagation and folding (see passes.h).
-#include <map>
+#include <algorithm>
+#include <climits>
+#include <cstdint>
 
 #include "ir/liveness.h"
 #include "ir/passes.h"
@@ -7,19 +9,40 @@
 namespace rcxc::ir {
 namespace {
 
-// Lattice value of one variable: not reached yet, one constant, or varying.
-struct Value {
-  enum Kind : std::uint8_t { Unreached, Const, Varying } kind = Unreached;
-  int c = 0;
-  friend bool operator==(const Value&, const Value&) = default;
-};
-using State = std::vector<Value>;
+// What is known at a point: the variables holding a known constant (sorted
+// by VarId; any variable not listed may hold anything), or nothing yet for
+// a block no path has reached.
+struct State {
+  bool reached = false;
+  std::vector<std::pair<VarId, int>> consts;
 
-Value meet(Value a, Value b) {
-  if (a.kind == Value::Unreached) return b;
-  if (b.kind == Value::Unreached) return a;
-  if (a.kind == Value::Const && b.kind == Value::Const && a.c == b.c) return a;
-  return {Value::Varying, 0};
+  std::optional<int> get(VarId v) const {
+    auto it = std::lower_bound(consts.begin(), consts.end(), std::pair<VarId, int>{v, INT32_MIN});
+    if (it != consts.end() && it->first == v) return it->second;
+    return std::nullopt;
+  }
+  void vary(VarId v) {
+    auto it = std::lower_bound(consts.begin(), consts.end(), std::pair<VarId, int>{v, INT32_MIN});
+    if (it != consts.end() && it->first == v) consts.erase(it);
+  }
+  void set(VarId v, int c) {
+    auto it = std::lower_bound(consts.begin(), consts.end(), std::pair<VarId, int>{v, INT32_MIN});
+    if (it != consts.end() && it->first == v)
+      it->second = c;
+    else
+      consts.insert(it, {v, c});
+  }
+  friend bool operator==(const State&, const State&) = default;
+};
+
+// Merges what arrives along one more edge.
+State meet(const State& a, const State& b) {
+  if (!a.reached) return b;
+  if (!b.reached) return a;
+  State m{true, {}};
+  for (const auto& [v, c] : a.consts)
+    if (auto other = b.get(v); other && *other == c) m.consts.emplace_back(v, c);
+  return m;
 }
 
 struct Folder {
@@ -30,14 +53,11 @@ struct Folder {
 
   std::optional<int> known(const State& s, const Operand& o) const {
     if (o.is_imm()) return o.value;
-    if (o.is_var() && private_var(o.value) && s[static_cast<std::size_t>(o.value)].kind == Value::Const)
-      return s[static_cast<std::size_t>(o.value)].c;
+    if (o.is_var() && private_var(o.value)) return s.get(o.value);
     return std::nullopt;
   }
 
-  void vary(State& s, VarId v) const {
-    if (private_var(v)) s[static_cast<std::size_t>(v)] = {Value::Varying, 0};
-  }
+  void vary(State& s, VarId v) const { s.vary(v); }
 
   // The effect of one instruction on the state.
   void transfer(const Instr& in, State& s) const {
@@ -63,7 +83,10 @@ struct Folder {
       // x*0 and x&0 are 0 whatever x was.
       if (src && *src == 0 && (in.op == rcx::Op::MultiplyVariable || in.op == rcx::Op::AndVariable)) result = 0;
     }
-    s[static_cast<std::size_t>(dest)] = result ? Value{Value::Const, *result} : Value{Value::Varying, 0};
+    if (result)
+      s.set(dest, *result);
+    else
+      s.vary(dest);
   }
 
   // Rewrites `in` given the state before it; returns false to delete it.
@@ -95,10 +118,11 @@ struct Folder {
     // size, and the steps before it may then be dead.
     State after = s;
     transfer(in, after);
-    if (dest.is_var() && private_var(dest.value) && in.op != rcx::Op::SetVariable &&
-        after[static_cast<std::size_t>(dest.value)].kind == Value::Const) {
-      in.op = rcx::Op::SetVariable;
-      in.args[1] = Operand::imm(after[static_cast<std::size_t>(dest.value)].c);
+    if (dest.is_var() && private_var(dest.value) && in.op != rcx::Op::SetVariable) {
+      if (auto c = after.get(dest.value)) {
+        in.op = rcx::Op::SetVariable;
+        in.args[1] = Operand::imm(*c);
+      }
     }
     return true;
   }
@@ -106,13 +130,13 @@ struct Folder {
 
 void fold_function(const Program& p, Function& f, const std::vector<VarSet>& footprints) {
   Folder folder{p, footprints};
-  std::size_t n = f.blocks.size(), nv = p.vars.size();
-  std::vector<State> in(n, State(nv));
-  in[0].assign(nv, Value{Value::Varying, 0});
+  std::size_t n = f.blocks.size();
+  std::vector<State> in(n);
+  in[0].reached = true;
   std::vector<bool> queued(n, false);
   std::vector<BlockId> work{0};
   queued[0] = true;
-  while (!work.empty() && nv != 0) {
+  while (!work.empty()) {
     BlockId b = work.back();
     work.pop_back();
     queued[static_cast<std::size_t>(b)] = false;
@@ -120,15 +144,13 @@ void fold_function(const Program& p, Function& f, const std::vector<VarSet>& foo
     for (const auto& instr : f.blocks[static_cast<std::size_t>(b)].instrs) folder.transfer(instr, s);
     for (BlockId succ : successors(f.blocks[static_cast<std::size_t>(b)].term)) {
       State& target = in[static_cast<std::size_t>(succ)];
-      bool changed = false;
-      for (std::size_t v = 0; v < nv; ++v) {
-        Value m = meet(target[v], s[v]);
-        changed |= !(m == target[v]);
-        target[v] = m;
-      }
-      if (changed && !queued[static_cast<std::size_t>(succ)]) {
-        queued[static_cast<std::size_t>(succ)] = true;
-        work.push_back(succ);
+      State m = meet(target, s);
+      if (!(m == target)) {
+        target = std::move(m);
+        if (!queued[static_cast<std::size_t>(succ)]) {
+          queued[static_cast<std::size_t>(succ)] = true;
+          work.push_back(succ);
+        }
       }
     }
   }

@@ -1,23 +1,29 @@
 #include "ir/liveness.h"
 
+#include <algorithm>
+#include <iterator>
+
 namespace rcxc::ir {
 
-bool VarSet::merge(const VarSet& o) {
-  bool changed = false;
-  for (std::size_t i = 0; i < bits.size(); ++i) {
-    std::uint64_t n = bits[i] | o.bits[i];
-    changed |= n != bits[i];
-    bits[i] = n;
-  }
-  return changed;
+bool VarSet::has(VarId v) const { return std::binary_search(items.begin(), items.end(), v); }
+
+void VarSet::add(VarId v) {
+  auto it = std::lower_bound(items.begin(), items.end(), v);
+  if (it == items.end() || *it != v) items.insert(it, v);
 }
 
-std::vector<VarId> VarSet::members() const {
+void VarSet::remove(VarId v) {
+  auto it = std::lower_bound(items.begin(), items.end(), v);
+  if (it != items.end() && *it == v) items.erase(it);
+}
+
+bool VarSet::merge(const VarSet& o) {
   std::vector<VarId> out;
-  for (std::size_t i = 0; i < bits.size(); ++i)
-    for (int b = 0; b < 64; ++b)
-      if ((bits[i] >> b) & 1u) out.push_back(static_cast<VarId>(i * 64 + static_cast<std::size_t>(b)));
-  return out;
+  out.reserve(items.size() + o.items.size());
+  std::set_union(items.begin(), items.end(), o.items.begin(), o.items.end(), std::back_inserter(out));
+  bool changed = out.size() != items.size();
+  items = std::move(out);
+  return changed;
 }
 
 FuncId callee_of(const Instr& in) {

@@ -10,17 +10,20 @@
 
 namespace rcxc::ir {
 
-// A set of VarIds as bits.
+// A set of VarIds, kept as a sorted vector: the sets the passes handle
+// (variables live at one point, a function's footprint) are small, so this
+// stays small where a bit per program variable and block would not.
 struct VarSet {
-  std::vector<std::uint64_t> bits;
+  std::vector<VarId> items;
 
-  explicit VarSet(std::size_t n = 0) : bits((n + 63) / 64, 0) {}
-  bool has(VarId v) const { return (bits[static_cast<std::size_t>(v) / 64] >> (v % 64)) & 1u; }
-  void add(VarId v) { bits[static_cast<std::size_t>(v) / 64] |= std::uint64_t{1} << (v % 64); }
-  void remove(VarId v) { bits[static_cast<std::size_t>(v) / 64] &= ~(std::uint64_t{1} << (v % 64)); }
+  explicit VarSet(std::size_t = 0) {}
+  bool has(VarId v) const;
+  void add(VarId v);
+  void remove(VarId v);
   // Adds `o`; returns whether anything changed.
   bool merge(const VarSet& o);
-  std::vector<VarId> members() const;
+  const std::vector<VarId>& members() const { return items; }
+  friend bool operator==(const VarSet&, const VarSet&) = default;
 };
 
 // Variables each function may read or write, including through the

@@ -28,9 +28,11 @@ void remove_dead_stores(Program& p);
 // what the output already has, for outputs only one task commands.
 void remove_redundant_motor_commands(Program& p);
 // Narrows main's startup code (all outputs full power, forward) to the
-// outputs the program ever switches on, and drops it when there are none:
-// an output's power and direction only show when it runs (unless the
-// program reads motor states, selects the display or uses raw asm).
+// settings some later instruction can show, and drops what none shows: an
+// output's power and direction show when it runs (outputs are off when a
+// program starts), so a setting replaced before the output is switched on
+// is dead. Kept whole when the program reads motor states, selects the
+// display or uses raw asm.
 void trim_startup(Program& p);
 
 // peephole.cpp: within a block, runs of motor commands (with only

@@ -1,4 +1,5 @@
 // Variable slot allocation (see passes.h).
+#include <array>
 #include <bit>
 #include <fmt/format.h>
 
@@ -107,22 +108,24 @@ std::vector<int> allocate_slots(const Program& p, Diagnostics& diags) {
       for (VarId v : reads_of(b.term)) note(v);
     }
   }
-  Graph g{std::vector<VarSet>(nv, VarSet(nv))};
-  // Variables that two tasks may touch at once never share a slot.
-  for (std::size_t a = 0; a < nv; ++a)
-    for (std::size_t b = a + 1; b < nv; ++b)
-      if (used[a] && used[b] && std::popcount(var_tasks[a] | var_tasks[b]) > 1)
-        g.add(static_cast<VarId>(a), static_cast<VarId>(b));
+  Graph g{std::vector<VarSet>(nv)};
   for (const auto& f : p.functions)
     if (live_function(f)) add_liveness_edges(p, f, footprints, g);
 
   std::vector<int> slot(nv, -1);
   std::uint32_t global_slots = p.reserved_slots;
+  // The tasks whose variables each slot holds: variables that two tasks
+  // may touch at once never share a slot.
+  std::array<TaskMask, kSlots> slot_tasks{};
   auto assign = [&](VarId v, bool global) {
     std::uint32_t taken = global_slots;
-    if (!global)
+    TaskMask mine = var_tasks[static_cast<std::size_t>(v)];
+    if (!global) {
       for (VarId n : g.edges[static_cast<std::size_t>(v)].members())
         if (slot[static_cast<std::size_t>(n)] >= 0) taken |= 1u << slot[static_cast<std::size_t>(n)];
+      for (int s = 0; s < kSlots; ++s)
+        if (std::popcount(slot_tasks[static_cast<std::size_t>(s)] | mine) > 1) taken |= 1u << s;
+    }
     if (global)
       for (std::size_t u = 0; u < nv; ++u)
         if (slot[u] >= 0) taken |= 1u << slot[u];
@@ -134,6 +137,7 @@ std::vector<int> allocate_slots(const Program& p, Diagnostics& diags) {
       slot[static_cast<std::size_t>(v)] = std::countr_one(taken);
     }
     if (global) global_slots |= 1u << slot[static_cast<std::size_t>(v)];
+    slot_tasks[static_cast<std::size_t>(slot[static_cast<std::size_t>(v)])] |= mine;
     return true;
   };
   // Fixed slots first, then globals (each its own slot), then the rest.

@@ -136,3 +136,10 @@ TEST(Lexer, BinaryInputStopsAfterAFewDozenErrors) {
   EXPECT_EQ(d.all().back().message, "too many invalid characters; is this an NQC source file?");
   EXPECT_EQ(toks.back().kind, TokenKind::End);
 }
+
+TEST(Lexer, UnprintableStrayCharactersAreShownByCode) {
+  Diagnostics d;
+  lex("a \xfd b", 0, d);
+  ASSERT_EQ(d.error_count(), 1u);
+  EXPECT_EQ(d.all()[0].message, "stray character '\\xfd' in program");
+}

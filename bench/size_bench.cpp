@@ -1,0 +1,127 @@
+// Code size: for every corpus program, rcxc's code bytes and variable slots
+// against `nqc -Trcx` (when nqc is installed), as a table with the totals,
+// plus the compile time of each program as the benchmark proper.
+//
+// The corpus is found through the RCXC_CORPUS_DIR environment variable, or
+// next to the source tree (../shared/corpus).
+#include <benchmark/benchmark.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <optional>
+#include <regex>
+#include <set>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "backend/compile.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path corpus_dir() {
+  if (const char* env = std::getenv("RCXC_CORPUS_DIR")) return env;
+  return fs::path(__FILE__).parent_path().parent_path().parent_path() / "shared" / "corpus";
+}
+
+std::vector<fs::path> corpus_files() {
+  std::vector<fs::path> files;
+  if (!fs::exists(corpus_dir())) return files;
+  for (const auto& e : fs::recursive_directory_iterator(corpus_dir()))
+    if (e.path().extension() == ".nqc") files.push_back(e.path());
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+struct Size {
+  int bytes = 0;
+  int slots = 0;
+};
+
+std::optional<Size> ours(const fs::path& file) {
+  rcxc::SourceManager sm;
+  rcxc::Diagnostics diags;
+  rcxc::ir::Log log;
+  auto out = rcxc::backend::compile_file(file.string(), {}, rcxc::ir::OptLevel::Os, sm, diags, log);
+  if (!out) return std::nullopt;
+  return Size{out->code_bytes, out->slots_used};
+}
+
+// nqc's listing ends with "Total size: N bytes" and names variables as
+// "*** Var N = name".
+std::optional<Size> theirs(const fs::path& file) {
+  std::string cmd = "nqc -Trcx -L '" + file.string() + "' 2>/dev/null";
+  FILE* pipe = popen(cmd.c_str(), "r");
+  if (pipe == nullptr) return std::nullopt;
+  std::string text;
+  std::array<char, 4096> buf{};
+  while (std::size_t n = fread(buf.data(), 1, buf.size(), pipe)) text.append(buf.data(), n);
+  if (pclose(pipe) != 0) return std::nullopt;
+  std::smatch m;
+  if (!std::regex_search(text, m, std::regex("Total size: ([0-9]+) bytes"))) return std::nullopt;
+  Size s{std::stoi(m[1]), 0};
+  std::set<int> vars;
+  std::regex var("\\*\\*\\* Var ([0-9]+) =");
+  for (auto it = std::sregex_iterator(text.begin(), text.end(), var); it != std::sregex_iterator(); ++it)
+    vars.insert(std::stoi((*it)[1]));
+  s.slots = static_cast<int>(vars.size());
+  return s;
+}
+
+void print_table() {
+  int ours_total = 0, theirs_total = 0, larger = 0;
+  std::cout << fmt::format("{:<24} {:>9} {:>9} {:>6} {:>10} {:>10}\n", "program", "rcxc", "nqc", "ratio", "rcxc slots",
+                           "nqc slots");
+  for (const auto& f : corpus_files()) {
+    auto a = ours(f);
+    auto b = theirs(f);
+    std::string name = f.filename().string();
+    if (!a) {
+      std::cout << fmt::format("{:<24} {:>9} {:>9}\n", name, "error", b ? std::to_string(b->bytes) : "error");
+      continue;
+    }
+    if (!b) {
+      std::cout << fmt::format("{:<24} {:>9} {:>9} {:>6} {:>10}\n", name, a->bytes, "-", "-", a->slots);
+      continue;
+    }
+    ours_total += a->bytes;
+    theirs_total += b->bytes;
+    larger += a->bytes > b->bytes ? 1 : 0;
+    std::cout << fmt::format("{:<24} {:>9} {:>9} {:>6.2f} {:>10} {:>10}\n", name, a->bytes, b->bytes,
+                             static_cast<double>(a->bytes) / b->bytes, a->slots, b->slots);
+  }
+  if (theirs_total > 0)
+    std::cout << fmt::format("{:<24} {:>9} {:>9} {:>6.3f}   ({} programs larger than nqc's)\n", "total", ours_total,
+                             theirs_total, static_cast<double>(ours_total) / theirs_total, larger);
+  else
+    std::cout << "(nqc not installed or corpus absent: no comparison)\n";
+}
+
+void BM_Compile(benchmark::State& state, const fs::path& file) {
+  std::optional<Size> size;
+  for (auto _ : state) {
+    size = ours(file);
+    benchmark::DoNotOptimize(size);
+  }
+  if (size) {
+    state.counters["code_bytes"] = size->bytes;
+    state.counters["slots"] = size->slots;
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  print_table();
+  for (const auto& f : corpus_files())
+    benchmark::RegisterBenchmark(("compile/" + f.filename().string()).c_str(), BM_Compile, f);
+  benchmark::Initialize(&argc, argv);
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

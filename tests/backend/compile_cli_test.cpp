@@ -1,0 +1,105 @@
+// `rcxc compile` end to end: the image it writes, -o, --listing, -O, -v,
+// and the exit codes.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "runtime/image.h"
+#include "tests/support/process.h"
+
+using rcxc::test::run_rcxc;
+
+namespace {
+
+struct TempDir {
+  std::string path = rcxc::test::make_temp_dir();
+  ~TempDir() { std::filesystem::remove_all(path); }
+  std::string write(const std::string& name, const std::string& text) const {
+    std::string p = path + "/" + name;
+    std::ofstream(p, std::ios::binary) << text;
+    return p;
+  }
+  std::vector<std::uint8_t> read(const std::string& name) const {
+    std::ifstream in(path + "/" + name, std::ios::binary);
+    std::stringstream s;
+    s << in.rdbuf();
+    std::string t = s.str();
+    return {t.begin(), t.end()};
+  }
+};
+
+const char* kProgram = R"(int count;
+task main() {
+  count = 0;
+  repeat (3) count++;
+  PlaySound(SOUND_UP);
+}
+)";
+
+}  // namespace
+
+TEST(CompileCli, WritesAnImageNextToTheSource) {
+  TempDir d;
+  auto r = run_rcxc({"compile", d.write("p.nqc", kProgram)});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto bytes = d.read("p.rcx");
+  auto image = rcx::read_image(bytes);
+  ASSERT_TRUE(std::holds_alternative<rcx::Image>(image));
+  const auto& img = std::get<rcx::Image>(image);
+  ASSERT_NE(img.find(rcx::FragmentType::Task, 0), nullptr);
+  EXPECT_EQ(img.name_of(rcx::SymbolType::Task, 0), "main");
+  EXPECT_EQ(img.name_of(rcx::SymbolType::Variable, 0), "count");
+}
+
+TEST(CompileCli, OutputOptionAndListingToStdout) {
+  TempDir d;
+  auto r = run_rcxc({"compile", d.write("p.nqc", kProgram), "-o", d.path + "/out.rcx", "--listing"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_FALSE(d.read("out.rcx").empty());
+  EXPECT_NE(r.out.find("task 0 main"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("loopset"), std::string::npos) << r.out;  // repeat uses the loop counter
+  EXPECT_NE(r.out.find("p.nqc:4:"), std::string::npos) << r.out;  // source lines
+}
+
+TEST(CompileCli, ListingToAFile) {
+  TempDir d;
+  auto r = run_rcxc({"compile", d.write("p.nqc", kProgram), "--listing=" + d.path + "/p.lst"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto text = d.read("p.lst");
+  EXPECT_NE(std::string(text.begin(), text.end()).find("sound"), std::string::npos);
+}
+
+TEST(CompileCli, VerboseReportsDecisions) {
+  TempDir d;
+  auto r = run_rcxc({"compile", d.write("p.nqc", "sub a() { PlaySound(1); }\nsub b() { a(); }\ntask main() { b(); b(); }\n"),
+                     "-v", "-O1"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("sub a inlined into sub b"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("bytes of code"), std::string::npos) << r.err;
+}
+
+TEST(CompileCli, OptimisationLevelsDiffer) {
+  TempDir d;
+  std::string src = d.write("p.nqc", "int x;\ntask main() { OnFwd(OUT_A); Wait(10); OnFwd(OUT_A); x = 2 + 3; }\n");
+  auto o0 = run_rcxc({"compile", src, "-O0", "-o", d.path + "/o0.rcx"});
+  auto os = run_rcxc({"compile", src, "-Os", "-o", d.path + "/os.rcx"});
+  ASSERT_EQ(o0.exit_code, 0) << o0.err;
+  ASSERT_EQ(os.exit_code, 0) << os.err;
+  EXPECT_LT(d.read("os.rcx").size(), d.read("o0.rcx").size());
+}
+
+TEST(CompileCli, ErrorsExitWithOne) {
+  TempDir d;
+  auto r = run_rcxc({"compile", d.write("p.nqc", "task main() { x = 1; }\n")});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("error"), std::string::npos);
+  EXPECT_FALSE(std::filesystem::exists(d.path + "/p.rcx"));
+}
+
+TEST(CompileCli, BadOptimisationLevelIsUsageError) {
+  TempDir d;
+  auto r = run_rcxc({"compile", d.write("p.nqc", kProgram), "-O3"});
+  EXPECT_EQ(r.exit_code, 2);
+}
