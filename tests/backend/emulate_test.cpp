@@ -382,3 +382,21 @@ TEST(Emulate, CorpusCompilesAndRuns) {
   }
   EXPECT_GE(compiled, 40);
 }
+
+TEST(Emulate, HugeTaskGetsADiagnosticNotACrash) {
+  // nqc crashes on a 20 000-line task; rcxc reports that it does not fit.
+  std::string src = "int x, y, z;\ntask main() {\n";
+  for (int i = 0; i < 20000; ++i) {
+    switch (i % 4) {
+      case 0: src += fmt::format("  x = x + {} * y;\n", i % 100); break;
+      case 1: src += fmt::format("  if (x > {}) y = x % 7; else z = y ^ x;\n", i % 50); break;
+      case 2: src += fmt::format("  OnFwd(OUT_A); Wait({});\n", i % 300); break;
+      default: src += "  z = (x << 2) + (y >> 1);\n";
+    }
+  }
+  src += "}\n";
+  auto c = compile(src, ir::OptLevel::Os, true);
+  EXPECT_FALSE(c.out);
+  EXPECT_NE(c.messages.find("task main is"), std::string::npos) << c.messages.substr(0, 500);
+  EXPECT_NE(c.messages.find("at most 32767 bytes"), std::string::npos);
+}
