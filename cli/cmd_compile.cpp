@@ -134,7 +134,15 @@ void register_compile(CLI::App& app, int& exit_code) {
   cmd->add_flag("-v,--verbose", args->verbose, "Report what the optimiser did (inlining, loop counters, sizes)");
   cmd->add_option("--diagnostics", args->diagnostics, "Diagnostics format: text (default) or json")
       ->check(CLI::IsMember({"text", "json"}));
-  cmd->callback([&exit_code, args] { exit_code = run_compile(*args); });
+  cmd->callback([&exit_code, args] {
+    try {
+      exit_code = run_compile(*args);
+    } catch (const std::exception& e) {
+      // A bug or an exhausted machine; say so rather than abort.
+      std::cerr << "rcxc compile: internal error: " << e.what() << "\n";
+      exit_code = kExitFailure;
+    }
+  });
 }
 
 }  // namespace rcxc::cli

@@ -21,7 +21,7 @@ struct DownloadArgs {
   std::optional<std::string> port;
   int program = 1;
   bool run = false;
-  int retries = 20;
+  int retries = 30;
   bool no_sound = false;
   bool verbose = false;
 };

@@ -6,8 +6,8 @@
 #include <iostream>
 #include <variant>
 
-#include "backend/compile.h"
 #include "cli/commands.h"
+#include "cli/program_loader.h"
 #include "runtime/image.h"
 #include "runtime/report.h"
 #include "runtime/scenario.h"
@@ -30,25 +30,25 @@ bool ends_with(const std::string& s, std::string_view suffix) {
   return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
-// An .nqc file compiled with the default options (stdlib, -Os); the
-// diagnostics are printed here, the error text names the file.
-std::variant<rcx::Image, std::string> compile_in_memory(const std::string& path) {
-  SourceManager sm;
-  Diagnostics diags;
-  ir::Log log;
-  auto out = backend::compile_file(path, frontend::Options{}, ir::OptLevel::Os, sm, diags, log);
-  for (const auto& d : diags.all()) std::cerr << render_text(d, sm);
-  if (!out) return fmt::format("{}: does not compile", path);
-  return std::move(out->image);
-}
-
-// The one place a FILE becomes a program image. `.nqc` sources will be
-// compiled in memory here once the compiler exists.
+// The one place a FILE becomes a program image: `.nqc` sources are compiled
+// in memory exactly as `rcxc compile` would (diagnostics go to stderr),
+// anything else is read as an .rcx image.
 std::variant<rcx::Image, std::string> load_program(const std::string& path) {
-  if (ends_with(path, ".nqc")) return compile_in_memory(path);
+  if (ends_with(path, ".nqc")) {
+    CompileResult compiled = compile_file(path, {});
+    for (const auto& d : compiled.diagnostics.all()) std::cerr << render_text(d, compiled.sources);
+    if (!compiled.output) return fmt::format("{}: the program does not compile", path);
+    return std::move(compiled.output->image);
+  }
   auto image = rcx::read_image_file(path);
   if (auto* e = std::get_if<rcx::ImageError>(&image)) return e->message;
   return std::get<rcx::Image>(std::move(image));
+}
+
+// Symbol names come from the image and may be any bytes: invalid UTF-8 is
+// replaced rather than thrown about.
+std::string json_text(const nlohmann::json& j) {
+  return j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 
 bool write_file(const std::string& path, const std::string& text) {
@@ -92,11 +92,11 @@ int run(const RunOptions& o) {
   machine.run(o.for_ms * rcx::kMicrosPerMs);
 
   if (o.report == "json")
-    std::cout << rcx::report_json(machine, image).dump(2) << "\n";
+    std::cout << json_text(rcx::report_json(machine, image)) << "\n";
   else
     std::cout << rcx::timeline_text(machine, image);
   if (!o.trace.empty()) {
-    std::string text = ends_with(o.trace, ".vcd") ? rcx::trace_vcd(machine, image) : rcx::trace_json(machine, image).dump(2) + "\n";
+    std::string text = ends_with(o.trace, ".vcd") ? rcx::trace_vcd(machine, image) : json_text(rcx::trace_json(machine, image)) + "\n";
     if (!write_file(o.trace, text)) {
       std::cerr << "rcxc run: cannot write trace file " << o.trace << "\n";
       return kExitFailure;
@@ -114,7 +114,7 @@ int run(const RunOptions& o) {
 void register_run(CLI::App& app, int& exit_code) {
   auto* cmd = app.add_subcommand("run", "Run a program on the RCX emulator in virtual time");
   auto o = std::make_shared<RunOptions>();
-  cmd->add_option("FILE", o->file, ".rcx image (or .nqc source once the compiler exists)")->required();
+  cmd->add_option("FILE", o->file, ".rcx image or .nqc source (compiled in memory)")->required();
   cmd->add_option("--scenario", o->scenario, "TOML file of timed inputs ([[input]] tables)");
   cmd->add_option("--for", o->for_ms, "virtual time limit in ms (default 60000)")->check(CLI::Range(int64_t{1}, int64_t{1} << 40));
   cmd->add_option("--seed", o->seed, "seed of the random source (default 1)");

@@ -87,6 +87,10 @@ std::vector<Failure> run_test(const TestOptions& o, const std::string& file, std
     inputs.insert(inputs.end(), more.begin(), more.end());
   }
 
+  if (!o.nqc.empty() && spec.nqc_differs) {
+    log = "    skipped: marked @nqc-differs\n";
+    return {};
+  }
   Compiled c = compile(o, file);
   if (!c.failure.empty()) return {{0, c.failure}};
   std::vector<Failure> failures = rcx::semtest::check_diagnostics(spec, c.messages);

@@ -17,6 +17,7 @@ void register_compile(CLI::App& app, int& exit_code);
 void register_run(CLI::App& app, int& exit_code);
 void register_disasm(CLI::App& app, int& exit_code);
 void register_test(CLI::App& app, int& exit_code);
+void register_compare(CLI::App& app, int& exit_code);
 void register_brick(CLI::App& app, int& exit_code);
 void register_download(CLI::App& app, int& exit_code);
 void register_remote(CLI::App& app, int& exit_code);

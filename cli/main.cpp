@@ -17,6 +17,7 @@ int main(int argc, char** argv) {
   rcxc::cli::register_run(app, exit_code);
   rcxc::cli::register_disasm(app, exit_code);
   rcxc::cli::register_test(app, exit_code);
+  rcxc::cli::register_compare(app, exit_code);
   rcxc::cli::register_brick(app, exit_code);
   rcxc::cli::register_download(app, exit_code);
   rcxc::cli::register_remote(app, exit_code);

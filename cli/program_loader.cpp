@@ -1,18 +1,13 @@
 #include "cli/program_loader.h"
 
 #include "backend/compile.h"
-#include "ir/lower.h"
 
 namespace rcxc::cli {
 
 CompileResult compile_file(const std::string& path, const CompileRequest& request, Diagnostics diags) {
   CompileResult r;
   r.diagnostics = std::move(diags);
-  auto program = frontend::parse_program(path, request.frontend, r.sources, r.diagnostics);
-  if (!program) return r;
-  auto lowered = ir::lower(*program, r.diagnostics);
-  if (!lowered || r.diagnostics.has_errors()) return r;
-  r.output = backend::compile(std::move(*lowered), request.level, r.diagnostics, r.log);
+  r.output = backend::compile_file(path, request.frontend, request.level, r.sources, r.diagnostics, r.log);
   if (r.diagnostics.has_errors()) r.output.reset();
   return r;
 }

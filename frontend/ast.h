@@ -402,6 +402,12 @@ struct Pragmas {
   std::vector<Reserve> reserve;
 };
 
+// A top-level declaration, by kind and position in its Program vector.
+struct TopLevelRef {
+  SymbolKind kind = SymbolKind::Global;  // Global, Task, Sub or Function
+  std::uint32_t index = 0;
+};
+
 struct Program {
   std::vector<VarDecl> globals;
   std::vector<Task> tasks;       // in source order; `main` is wherever it is
@@ -409,6 +415,9 @@ struct Program {
   std::vector<Function> functions;
   Pragmas pragmas;
   std::vector<Symbol> symbols;   // filled by sema; SymbolId indexes this
+  // Every top-level declaration in the order of the (preprocessed) source:
+  // stdlib first, then the program. Filled by the parser.
+  std::vector<TopLevelRef> order;
 
   const Symbol& symbol(SymbolId id) const { return symbols.at(id); }
 };

@@ -8,7 +8,7 @@
 namespace rcxc {
 
 std::uint32_t SourceManager::add(std::string path, std::string text) {
-  File f{std::move(path), std::move(text), {0}};
+  File f{std::move(path), std::move(text), {0}, {}};
   for (std::size_t i = 0; i < f.text.size(); ++i)
     if (f.text[i] == '\n') f.line_starts.push_back(i + 1);
   files_.push_back(std::move(f));
@@ -43,6 +43,23 @@ std::vector<Note> SourceManager::expansion_notes(const SourceLoc& loc) const {
     notes.push_back({e.site, "in expansion of macro '" + e.macro + "'"});
     if (e.site.begin.expansion >= id) break;
     id = e.site.begin.expansion;
+  }
+  return notes;
+}
+
+void SourceManager::set_include_site(std::uint32_t file, SourceSpan site) {
+  if (file < files_.size()) files_[file].included_from = site;
+}
+
+std::vector<Note> SourceManager::include_notes(const SourceLoc& loc) const {
+  std::vector<Note> notes;
+  std::uint32_t file = loc.file;
+  // Include nesting is bounded by the preprocessor; the guard is for safety.
+  for (std::size_t guard = 0; file < files_.size() && guard < 256; ++guard) {
+    const SourceSpan& site = files_[file].included_from;
+    if (!site.begin.valid()) break;
+    notes.push_back({site, "'" + files_[file].path + "' was included from here"});
+    file = site.begin.file;
   }
   return notes;
 }
@@ -120,10 +137,14 @@ nlohmann::json location_json(const SourceSpan& span, const SourceManager& sm) {
   return j;
 }
 
-// The diagnostic's own notes, each preceded by the macro expansions that
-// led to its location, and the expansions of the main location first.
+// The notes to print: first the macro expansions and #includes that led to
+// the main location, then the diagnostic's own notes, each followed by the
+// expansions that led to it.
 std::vector<Note> all_notes(const Diagnostic& d, const SourceManager& sm) {
   std::vector<Note> notes = sm.expansion_notes(d.span.begin);
+  SourceLoc outer = notes.empty() ? d.span.begin : notes.back().span.begin;
+  auto included = sm.include_notes(outer);
+  notes.insert(notes.end(), included.begin(), included.end());
   for (const auto& n : d.notes) {
     notes.push_back(n);
     auto more = sm.expansion_notes(n.span.begin);
@@ -151,7 +172,9 @@ std::string render_json(const Diagnostic& d, const SourceManager& sm) {
     nj["message"] = n.message;
     j["notes"].push_back(std::move(nj));
   }
-  return j.dump();
+  // Source text need not be UTF-8; bad bytes become U+FFFD instead of
+  // making the dump throw.
+  return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 
 }  // namespace rcxc

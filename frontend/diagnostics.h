@@ -59,11 +59,17 @@ class SourceManager {
   // The notes "in expansion of macro X" for a location, innermost first.
   std::vector<Note> expansion_notes(const SourceLoc& loc) const;
 
+  // Where `file` was #included (so diagnostics in it can say so).
+  void set_include_site(std::uint32_t file, SourceSpan site);
+  // The notes "FILE was included from here" for a location, innermost first.
+  std::vector<Note> include_notes(const SourceLoc& loc) const;
+
  private:
   struct File {
     std::string path;
     std::string text;
     std::vector<std::size_t> line_starts;
+    SourceSpan included_from;  // invalid when not #included
   };
   std::vector<File> files_;
   std::vector<MacroExpansion> expansions_;

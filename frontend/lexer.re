@@ -25,6 +25,14 @@ struct Cursor {
   }
 };
 
+// A character for a message: itself when printable, else its code.
+std::string describe_char(char ch) {
+  auto u = static_cast<unsigned char>(ch);
+  if (u >= 0x20 && u < 0x7f) return std::string("'") + ch + "'";
+  static const char* hex = "0123456789abcdef";
+  return std::string("'\\x") + hex[u >> 4] + hex[u & 15] + "'";
+}
+
 // Skips a /* comment */ whose opening was just read; false if unterminated.
 bool skip_block_comment(Cursor& c) {
   while (c.p < c.limit) {
@@ -47,6 +55,21 @@ std::vector<Token> lex(std::string_view text, std::uint32_t file, Diagnostics& d
   std::vector<Token> out;
   bool line_start = true;
   bool space = false;
+
+  // A file full of stray characters is not NQC (a binary, say): stop after
+  // a few dozen reports rather than one per byte.
+  constexpr int kMaxLexErrors = 40;
+  int lex_errors = 0;
+  auto too_many = [&](const char* at) {
+    if (++lex_errors < kMaxLexErrors) return false;
+    diags.error({c.loc(at), c.loc(at)}, "too many invalid characters; is this an NQC source file?");
+    Token end;
+    end.kind = TokenKind::End;
+    end.span = {c.loc(at), c.loc(at)};
+    end.line_start = true;
+    out.push_back(std::move(end));
+    return true;
+  };
 
   auto emit = [&](TokenKind kind, const char* start) {
     Token t;
@@ -81,6 +104,7 @@ std::vector<Token> lex(std::string_view text, std::uint32_t file, Diagnostics& d
           return out;
         }
         diags.error({c.loc(start), c.loc(c.p)}, "stray NUL character in source");
+        if (too_many(start)) return out;
         continue;
       }
       [ \t\v\f\r]+ { space = true; continue; }
@@ -103,15 +127,16 @@ std::vector<Token> lex(std::string_view text, std::uint32_t file, Diagnostics& d
         while (c.p < c.limit && *c.p != '\n') ++c.p;
         diags.error({c.loc(start), c.loc(start + 1)}, std::string("missing terminating ") + *start + " character");
         emit(TokenKind::Unknown, start);
+        if (too_many(start)) return out;
         continue;
       }
       "||=" | "+-=" | "<<=" | ">>=" | "##" | "&&" | "||" | "==" | "!=" | "<=" | ">=" | "<<" | ">>" | "++" | "--"
       | "+=" | "-=" | "*=" | "/=" | "%=" | "&=" | "|=" | "^="
       | [-+*/%&|^~!<>=?:;,.(){}[\]#$] { emit(TokenKind::Punct, start); continue; }
       * {
-        diags.error({c.loc(start), c.loc(c.p)},
-                    "stray character '" + std::string(start, c.p) + "' in program");
+        diags.error({c.loc(start), c.loc(c.p)}, "stray character " + describe_char(*start) + " in program");
         emit(TokenKind::Unknown, start);
+        if (too_many(start)) return out;
         continue;
       }
     */

@@ -71,6 +71,9 @@ Stmt mks(StmtNode n, const SourceSpan& s) { return Stmt{std::move(n), s}; }
 Expr bin(BinaryOp op, Expr a, Expr b, const SourceSpan& s) { return mk(Binary{op, std::move(a), std::move(b)}, s); }
 Expr asg(AssignOp op, Expr a, Expr b, const SourceSpan& s) { return mk(Assign{op, std::move(a), std::move(b)}, s); }
 Expr un(UnaryOp op, Expr a, const SourceSpan& s) { return mk(Unary{op, std::move(a)}, s); }
+void note_order(Program& p, SymbolKind kind, std::size_t index) {
+  p.order.push_back(TopLevelRef{kind, static_cast<std::uint32_t>(index)});
+}
 }  // namespace
 }
 
@@ -128,13 +131,33 @@ program
   ;
 
 top
-  : INT declarators ';'       { for (auto& v : $2) feed.program.globals.push_back(std::move(v)); }
-  | TASK IDENT '(' ')' block  { feed.program.tasks.push_back(Task{$2, @2, std::move($5), kNoSymbol}); }
-  | SUB IDENT '(' ')' block   { feed.program.subs.push_back(Sub{$2, @2, std::move($5), kNoSymbol}); }
+  : INT declarators ';'
+      {
+        for (auto& v : $2) {
+          note_order(feed.program, SymbolKind::Global, feed.program.globals.size());
+          feed.program.globals.push_back(std::move(v));
+        }
+      }
+  | TASK IDENT '(' ')' block
+      {
+        note_order(feed.program, SymbolKind::Task, feed.program.tasks.size());
+        feed.program.tasks.push_back(Task{$2, @2, std::move($5), kNoSymbol});
+      }
+  | SUB IDENT '(' ')' block
+      {
+        note_order(feed.program, SymbolKind::Sub, feed.program.subs.size());
+        feed.program.subs.push_back(Sub{$2, @2, std::move($5), kNoSymbol});
+      }
   | VOID IDENT '(' params_opt ')' block
-      { feed.program.functions.push_back(Function{$2, @2, std::move($4), std::move($6), kNoSymbol}); }
+      {
+        note_order(feed.program, SymbolKind::Function, feed.program.functions.size());
+        feed.program.functions.push_back(Function{$2, @2, std::move($4), std::move($6), kNoSymbol});
+      }
   | INLINE VOID IDENT '(' params_opt ')' block
-      { feed.program.functions.push_back(Function{$3, @3, std::move($5), std::move($7), kNoSymbol}); }
+      {
+        note_order(feed.program, SymbolKind::Function, feed.program.functions.size());
+        feed.program.functions.push_back(Function{$3, @3, std::move($5), std::move($7), kNoSymbol});
+      }
   | ';'
   | error ';'
   | error '}'

@@ -16,7 +16,9 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr std::size_t kMaxIncludeDepth = 64;
-constexpr std::size_t kMaxExpansionDepth = 200;
+// Macro calls nested inside macro arguments, e.g. F(F(F(...))): each level
+// costs a few stack frames, so this also bounds stack use.
+constexpr std::size_t kMaxExpansionDepth = 2000;
 // Tokens macro expansion may produce in one compilation: a base plus a
 // multiple of the tokens read from files. Far above what real programs need
 // (the stdlib's macros add a few tokens each), low enough that exponentially
@@ -315,7 +317,6 @@ class Preprocessor {
     hide = hide_sets_.with(hide, id);
     std::uint32_t exp = sm_.add_expansion({m.name, t.span});
     std::vector<Token> result = substitute(m, args, hide, exp, depth);
-    expanded_tokens_ += result.size();
     if (expanded_tokens_ > kExpansionBase + kExpansionPerInputToken * input_tokens_) {
       diags_.error(t.span, "macro expansion of '" + m.name + "' grows without bound");
       aborted_ = true;
@@ -426,6 +427,7 @@ class Preprocessor {
     };
     std::vector<Segment> segs;
     const auto& body = m.body;
+    std::vector<bool> param_used(m.params.size(), false);
     for (std::size_t i = 0; i < body.size(); ++i) {
       const Token& t = body[i];
       if (t.is("##") && i > 0 && i + 1 < body.size()) {
@@ -445,10 +447,15 @@ class Preprocessor {
         bool near_paste = (i > 0 && body[i - 1].is("##")) || (i + 1 < body.size() && body[i + 1].is("##"));
         const auto& arg = args[static_cast<std::size_t>(p)];
         segs.push_back({near_paste ? arg : expand_list(arg, depth), false});
+        // Growth is what the body adds: its own tokens, and an argument's
+        // tokens each time it is used again (F(x) x x doubles its input).
+        if (param_used[static_cast<std::size_t>(p)]) expanded_tokens_ += segs.back().toks.size();
+        param_used[static_cast<std::size_t>(p)] = true;
         if (!segs.back().toks.empty()) segs.back().toks.front().space_before = t.space_before;
         continue;
       }
       Token copy = t;
+      ++expanded_tokens_;
       copy.span.begin.expansion = copy.span.end.expansion = exp;
       segs.push_back({{copy}, false});
     }
@@ -692,6 +699,7 @@ class Preprocessor {
       std::string key = fs::weakly_canonical(p, ec).string();
       if (!enter_checked(key, where)) return;
       std::uint32_t id = sm_.add(p.lexically_normal().string(), std::move(*text));
+      sm_.set_include_site(id, where);
       push_file(id, p.parent_path().string(), key);
       return;
     }
@@ -699,6 +707,7 @@ class Preprocessor {
       std::string key = "<stdlib>/" + name;
       if (!enter_checked(key, where)) return;
       std::uint32_t id = sm_.add(name, std::string(*text));
+      sm_.set_include_site(id, where);
       push_file(id, "", key);
       return;
     }

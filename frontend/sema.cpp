@@ -7,6 +7,7 @@
 #include <unordered_map>
 
 #include "frontend/fold.h"
+#include "frontend/ranges.h"
 
 namespace rcxc::frontend {
 namespace {
@@ -89,23 +90,28 @@ class Checker {
     return id;
   }
 
+  // In source order, so a redefinition is reported at the later one.
   void declare_top_level() {
-    for (std::uint32_t i = 0; i < prog_.globals.size(); ++i)
-      prog_.globals[i].symbol = declare_global(SymbolKind::Global, prog_.globals[i].name, prog_.globals[i].span, i);
-    for (std::uint32_t i = 0; i < prog_.tasks.size(); ++i)
-      prog_.tasks[i].symbol = declare_global(SymbolKind::Task, prog_.tasks[i].name, prog_.tasks[i].span, i);
-    for (std::uint32_t i = 0; i < prog_.subs.size(); ++i)
-      prog_.subs[i].symbol = declare_global(SymbolKind::Sub, prog_.subs[i].name, prog_.subs[i].span, i);
-    for (std::uint32_t i = 0; i < prog_.functions.size(); ++i)
-      prog_.functions[i].symbol =
-          declare_global(SymbolKind::Function, prog_.functions[i].name, prog_.functions[i].span, i);
+    auto declare = [&](auto& items, const TopLevelRef& ref) {
+      auto& item = items.at(ref.index);
+      item.symbol = declare_global(ref.kind, item.name, item.span, ref.index);
+    };
+    for (const TopLevelRef& ref : prog_.order) {
+      if (ref.kind == SymbolKind::Global) declare(prog_.globals, ref);
+      if (ref.kind == SymbolKind::Task) declare(prog_.tasks, ref);
+      if (ref.kind == SymbolKind::Sub) declare(prog_.subs, ref);
+      if (ref.kind == SymbolKind::Function) declare(prog_.functions, ref);
+    }
   }
 
   SymbolId declare_local(SymbolKind kind, const std::string& name, SourceSpan span, std::uint32_t index,
                          ParamKind pk = ParamKind::Value) {
     SymbolId id = add_symbol({kind, name, span, index, owner_, pk, false});
     auto [it, fresh] = scopes_.back().emplace(name, id);
-    if (!fresh) redefinition(name, span, it->second);
+    if (!fresh) {
+      redefinition(name, span, it->second);
+      prog_.symbols[id].used = true;  // one report is enough
+    }
     return id;
   }
 
@@ -467,7 +473,10 @@ class Checker {
 
   void asm_operand(const AsmInstr& in, const rcx::Operand& o, const Expr& e) {
     std::string what = "operand '" + std::string(o.name) + "' of '" + in.mnemonic + "'";
-    if (o.role == rcx::Role::Source) return;  // any value; lowering maps it
+    if (o.role == rcx::Role::Source) {  // any value; lowering maps it
+      check_range(in, o, e);
+      return;
+    }
     if (o.role == rcx::Role::Variable) {
       const auto* n = as<Name>(e);
       if (!n || n->symbol == kNoSymbol || !is_writable(prog_.symbols[n->symbol]))
@@ -481,7 +490,21 @@ class Checker {
     int v = *e.constant;
     bool byte = rcx::field_size(o.type) == 1;
     bool fits = byte ? (v >= -128 && v <= 255) : true;
-    if (!fits) diags_.error(e.span, what + " is " + std::to_string(v) + ", which does not fit in a byte");
+    if (!fits) {
+      diags_.error(e.span, what + " is " + std::to_string(v) + ", which does not fit in a byte");
+      return;
+    }
+    check_range(in, o, e);
+  }
+
+  void check_range(const AsmInstr& in, const rcx::Operand& o, const Expr& e) {
+    auto range = operand_range(in.mnemonic, o.name);
+    if (!range || !e.constant) return;
+    int v = *e.constant;
+    if (v < range->first || v > range->second)
+      diags_.warning(e.span, "operand '" + std::string(o.name) + "' of '" + in.mnemonic + "' is " + std::to_string(v) +
+                                 ", outside the RCX's range " + std::to_string(range->first) + ".." +
+                                 std::to_string(range->second));
   }
 
   // -------------------------------------------------------- expressions --
@@ -604,8 +627,10 @@ class Checker {
       d.notes.push_back({f.span, "'" + n.callee + "' is defined here"});
       return;
     }
-    if (args_ok)  // an argument that failed already has its error
-      for (std::size_t i = 0; i < f.params.size(); ++i) check_argument(f, f.params[i], n.args[i]);
+    if (!args_ok) return;  // an argument that failed already has its error
+    for (std::size_t i = 0; i < f.params.size(); ++i) check_argument(f, f.params[i], n.args[i]);
+    // From tasks and subs only: by then every function body is resolved.
+    if (!in_function_) check_call_ranges(prog_, f, n.args, e.span, diags_);
   }
 
   // The source type a `const int &` parameter must carry because the body

@@ -26,18 +26,7 @@ void note(Brick& b, std::string message) {
 
 // Field `name` of a request, read through the opcode table.
 int field(std::span<const std::uint8_t> request, std::string_view name, int element = 0) {
-  const OpcodeInfo* op = request_at(request[0]);
-  std::size_t offset = 1;
-  for (const auto& o : op->operands) {
-    std::size_t size = static_cast<std::size_t>(field_size(o.type));
-    if (o.name == name) {
-      offset += size * static_cast<std::size_t>(element);
-      return offset + size <= request.size() ? read_field(o.type, request.data() + offset) : 0;
-    }
-    if (o.role == Role::Data) return 0;
-    offset += size * o.count;
-  }
-  return 0;
+  return field_value(request_at(request[0])->operands, request, name, element);
 }
 
 bool key_is(std::span<const std::uint8_t> request, const std::array<int, 5>& key) {
@@ -49,18 +38,8 @@ bool key_is(std::span<const std::uint8_t> request, const std::array<int, 5>& key
 // A reply to `request`: the complement opcode, then `fields` written by the
 // reply layout of the table (repeated fields take consecutive values).
 Bytes reply_with(std::span<const std::uint8_t> request, std::span<const int> fields = {}) {
-  const OpcodeInfo* op = request_at(request[0]);
   Bytes out{reply_code(request[0])};
-  std::size_t next = 0;
-  for (const auto& o : op->reply) {
-    if (o.role == Role::Data) break;
-    for (int i = 0; i < o.count; ++i) {
-      std::size_t at = out.size();
-      out.resize(at + static_cast<std::size_t>(field_size(o.type)));
-      write_field(o.type, next < fields.size() ? fields[next] : 0, out.data() + at);
-      ++next;
-    }
-  }
+  append_fields(out, request_at(request[0])->reply, fields);
   return out;
 }
 

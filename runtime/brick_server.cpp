@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <algorithm>
 #include <chrono>
 #include <thread>
 
@@ -69,10 +70,12 @@ BrickWire::BrickWire(Brick& brick, double noise, std::uint64_t seed, bool echo)
 
 void BrickWire::advance(Micros us) {
   elapsed_us_ += us;
+  since_write_us_ += us;
   brick_.vm.run_until(brick_.vm.now_us() + us);
 }
 
 std::optional<TransportError> BrickWire::write(std::span<const std::uint8_t> bytes) {
+  since_write_us_ = 0;
   advance(static_cast<Micros>(bytes.size()) * kByteMicros);
   if (echo_) inbox_.insert(inbox_.end(), bytes.begin(), bytes.end());
   Bytes reply = hear(brick_, apply_noise(noise_, bytes));
@@ -84,7 +87,9 @@ std::optional<TransportError> BrickWire::write(std::span<const std::uint8_t> byt
 
 std::variant<std::vector<std::uint8_t>, TransportError> BrickWire::read(Millis timeout) {
   if (inbox_.empty()) {
-    advance(std::chrono::duration_cast<std::chrono::microseconds>(timeout).count());
+    // The host started its clock when it wrote; the bytes took part of it.
+    Micros wait = std::chrono::duration_cast<std::chrono::microseconds>(timeout).count();
+    advance(std::max<Micros>(0, wait - since_write_us_));
     return Bytes{};
   }
   Bytes out;

@@ -50,6 +50,7 @@ class BrickWire final : public Transport {
   bool echo_;
   Bytes inbox_;
   Micros elapsed_us_ = 0;
+  Micros since_write_us_ = 0;  // line time since the last write (a read timeout counts from the write)
 };
 
 }  // namespace rcx

@@ -37,7 +37,8 @@ struct Sender {
   const ProgressFn& progress;
   DownloadReport report;
   DownloadProgress where;
-  int block = 0;  // current block size, adapted to the line
+  int block = 0;    // current block size, adapted to the line
+  int ceiling = 0;  // blocks grow back up to this; lowered by each restart
 };
 
 void report_progress(Sender& s) {
@@ -74,7 +75,7 @@ std::optional<DownloadError> send_blocks(Sender& s, const Fragment& f) {
     // next ones; a clean one lets them grow back, slowly.
     bool retried = s.link.stats.attempts - before > 1;
     s.block = retried ? std::max(s.options.min_block, s.block / 2)
-                      : std::min(s.options.max_block, s.block + std::max(1, s.block / 4));
+                      : std::min(s.ceiling, s.block + std::max(1, s.block / 4));
     offset += n;
     ++sequence;
     ++s.report.blocks;
@@ -104,6 +105,7 @@ std::optional<DownloadError> send_fragment(Sender& s, const Fragment& f) {
     if (!last_error) return std::nullopt;
     s.where.done = done_before;
     s.block = std::max(s.options.min_block, s.block / 4);
+    s.ceiling = s.block;  // a restart loses the fragment's progress: never risk it twice
   }
   return last_error;
 }
@@ -127,7 +129,7 @@ std::optional<DownloadError> check_image(const Image& image, const DownloadOptio
 std::variant<DownloadReport, DownloadError> download(Link& link, const Image& image, const DownloadOptions& options,
                                                      const ProgressFn& progress) {
   if (auto e = check_image(image, options)) return *e;
-  Sender s{link, options, progress, {}, {}, options.max_block};
+  Sender s{link, options, progress, {}, {}, options.max_block, options.max_block};
   for (const auto& f : image.fragments) s.where.total += f.code.size();
 
   auto step = [&](Op op, std::initializer_list<int> values, bool first = false) -> std::optional<DownloadError> {
@@ -135,8 +137,18 @@ std::variant<DownloadReport, DownloadError> download(Link& link, const Image& im
     if (auto* e = std::get_if<DownloadError>(&r)) return *e;
     return std::nullopt;
   };
-  if (auto e = step(Op::Alive, {}, true)) return *e;
-  if (auto e = step(Op::StopAllTasks, {})) return *e;
+  // First contact gets few retries: a brick that is off should be reported
+  // in a second or two; once it has answered, the line is worth persisting on.
+  const int retries = link.options.retries;
+  link.options.retries = std::min(retries, options.contact_retries);
+  auto contact = step(Op::Alive, {}, true);
+  link.options.retries = retries;
+  if (contact) return *contact;
+  if (auto e = step(Op::StopAllTasks, {})) {
+    // It answered Alive but not this: without firmware only the ROM answers.
+    e->message += " (if the RCX shows no program number, install firmware: rcxc remote firmware FILE.srec)";
+    return *e;
+  }
   if (auto e = step(Op::SetProgramNumber, {options.program - 1})) return *e;
   if (auto e = step(Op::DeleteAllTasks, {})) return *e;
   if (auto e = step(Op::DeleteAllSubroutines, {})) return *e;

@@ -20,7 +20,7 @@
 namespace rcx {
 
 struct DownloadOptions {
-  int program = 1;          // slot 1..5 as users count (sent as 0..4)
+  int program = 1;            // slot 1..5 as users count (sent as 0..4)
   bool run = false;         // start task 0 afterwards
   int max_block = 64;       // largest Transfer data block
   int min_block = 4;        // blocks shrink towards this on a noisy link
@@ -29,6 +29,7 @@ struct DownloadOptions {
   // cannot be resent smaller, but a fresh Start download can use any size.
   int block_attempts = 8;
   int fragment_attempts = 12;  // Start downloads per fragment
+  int contact_retries = 7;     // retries of the first Alive
   bool sound = true;        // play the download-done sound
 };
 

@@ -43,15 +43,6 @@ SizeResult operands_size(std::span<const Operand> operands, std::span<const std:
 // the count being the request's; on error the reply has no records.
 constexpr int kDlrecSize = 3;
 
-int request_field(std::span<const std::uint8_t> request, const OpcodeInfo& op, std::string_view name) {
-  int offset = 1;
-  for (const auto& o : op.operands) {
-    if (o.name == name) return read_field(o.type, request.data() + offset);
-    offset += field_size(o.type) * o.count;
-  }
-  return 0;
-}
-
 }  // namespace
 
 Bytes frame(std::span<const std::uint8_t> payload) {
@@ -83,7 +74,7 @@ SizeResult reply_size(std::span<const std::uint8_t> request) {
     auto full = operands_size(op->operands, request);
     if (auto* n = std::get_if<int>(&full); n == nullptr || static_cast<int>(request.size()) < *n)
       return SizeError{"truncated Upload datalog request"};
-    int count = request_field(request, *op, "count");
+    int count = field_value(op->operands, request, "count");
     if (count < 0 || count * kDlrecSize > 2 * kMaxTransferBlock)
       return SizeError{fmt::format("datalog count {} is out of range", count)};
     return 1 + kDlrecSize * count;
@@ -202,6 +193,33 @@ Bytes with_toggle(Bytes payload, bool toggle) {
   if (op == nullptr || !op->toggles) return payload;
   payload[0] = toggle ? alternate_form(op->code) : op->code;
   return payload;
+}
+
+void append_fields(Bytes& out, std::span<const Operand> layout, std::span<const int> values) {
+  std::size_t next = 0;
+  for (const auto& o : layout) {
+    if (o.role == Role::Data) return;
+    for (int i = 0; i < o.count; ++i, ++next) {
+      std::size_t at = out.size();
+      out.resize(at + static_cast<std::size_t>(field_size(o.type)));
+      write_field(o.type, next < values.size() ? values[next] : 0, out.data() + at);
+    }
+  }
+}
+
+int field_value(std::span<const Operand> layout, std::span<const std::uint8_t> payload, std::string_view name,
+                int element) {
+  std::size_t offset = 1;
+  for (const auto& o : layout) {
+    std::size_t size = static_cast<std::size_t>(field_size(o.type));
+    if (o.name == name) {
+      offset += size * static_cast<std::size_t>(element);
+      return offset + size <= payload.size() ? read_field(o.type, payload.data() + offset) : 0;
+    }
+    if (o.role == Role::Data) return 0;
+    offset += size * o.count;
+  }
+  return 0;
 }
 
 bool answers(std::span<const std::uint8_t> reply, std::span<const std::uint8_t> request) {

@@ -79,6 +79,16 @@ inline std::size_t pending(const Decoder& decoder) { return decoder.buffer.size(
 // table's code, true = code ^ 0x08); opcodes without a second form unchanged.
 Bytes with_toggle(Bytes payload, bool toggle);
 
+// Fields of a payload by a layout of the opcode table (operands or reply).
+// `append_fields` writes `values` in layout order (a repeated field takes
+// `count` values, missing values are 0) and stops at a Data field;
+// `field_value` reads field `name` (element `element` of a repeated field)
+// from a payload whose byte 0 is the opcode, or 0 when it is not there.
+struct Operand;
+void append_fields(Bytes& out, std::span<const Operand> layout, std::span<const int> values);
+int field_value(std::span<const Operand> layout, std::span<const std::uint8_t> payload, std::string_view name,
+                int element = 0);
+
 // Does `reply` answer `request` (reply opcode = complement of request opcode)?
 bool answers(std::span<const std::uint8_t> reply, std::span<const std::uint8_t> request);
 

@@ -3,6 +3,8 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <chrono>
+#include <cmath>
 
 #include "runtime/opcodes.h"
 
@@ -44,8 +46,12 @@ Attempt attempt_once(Link& link, const Bytes& request, const Bytes& framed, Mill
   Decoder decoder = reply_decoder(request);
   const bool expects_reply = request_at(request[0]) != nullptr && request_at(request[0])->replies;
   if (!expects_reply && echo_left == 0) return result;
+  // One deadline for the whole reply: a line that trickles bytes must not
+  // stretch the wait forever.
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
   while (true) {
-    auto got = link.port->read(timeout);
+    auto left = std::chrono::duration_cast<Millis>(deadline - std::chrono::steady_clock::now());
+    auto got = link.port->read(std::max(left, Millis(0)));
     if (auto* err = std::get_if<TransportError>(&got)) {
       result.fatal = *err;
       return result;
@@ -70,6 +76,10 @@ Attempt attempt_once(Link& link, const Bytes& request, const Bytes& framed, Mill
   result.echo_missing = echo_left > 0;
   if (pending(decoder) > 0) reject(link, fmt::format("{} bytes of an incomplete reply", pending(decoder)));
   return result;
+}
+
+Millis line_time(const Link& link, std::size_t bytes) {
+  return Millis(static_cast<long>(std::ceil(static_cast<double>(bytes) * link.options.byte_seconds * 1000.0)));
 }
 
 std::string request_name(const Bytes& request) {
@@ -106,7 +116,7 @@ std::variant<Bytes, LinkError> transact(Link& link, Bytes request) {
   auto reply_len = reply_size(request);
   if (auto* e = std::get_if<SizeError>(&reply_len)) return LinkError{e->reason, false};
   std::size_t reply_wire = 3 + 2 * static_cast<std::size_t>(std::get<int>(reply_len)) + 2;
-  Millis timeout = wire_time((link.port->echoes() ? framed.size() : 0) + reply_wire) + link.options.reply_grace;
+  Millis timeout = line_time(link, (link.port->echoes() ? framed.size() : 0) + reply_wire) + link.options.reply_grace;
 
   Millis backoff = link.options.backoff;
   bool heard = false, echoed = false;
@@ -141,22 +151,14 @@ std::variant<std::monostate, LinkError> send_only(Link& link, Bytes request) {
   if (auto e = greet(link, request)) return *e;
   ++link.stats.requests;
   const Bytes framed = frame(request);
-  Attempt a = attempt_once(link, request, framed, wire_time(framed.size()) + link.options.reply_grace);
+  Attempt a = attempt_once(link, request, framed, line_time(link, framed.size()) + link.options.reply_grace);
   if (a.fatal) return LinkError{a.fatal->message, false};
   return std::monostate{};
 }
 
 Bytes request_payload(const OpcodeInfo& op, std::span<const int> values) {
   Bytes out{op.code};
-  std::size_t next = 0;
-  for (const auto& o : op.operands) {
-    for (int i = 0; i < o.count; ++i) {
-      std::size_t at = out.size();
-      out.resize(at + static_cast<std::size_t>(field_size(o.type)));
-      write_field(o.type, next < values.size() ? values[next] : 0, out.data() + at);
-      ++next;
-    }
-  }
+  append_fields(out, op.operands, values);
   return out;
 }
 
@@ -183,16 +185,7 @@ Bytes transfer_payload(int index, std::span<const std::uint8_t> data) {
 }
 
 int reply_field(const OpcodeInfo& op, std::span<const std::uint8_t> reply, std::string_view name, int element) {
-  std::size_t offset = 1;
-  for (const auto& o : op.reply) {
-    std::size_t size = static_cast<std::size_t>(field_size(o.type));
-    if (o.name == name) {
-      offset += size * static_cast<std::size_t>(element);
-      return offset + size <= reply.size() ? read_field(o.type, reply.data() + offset) : 0;
-    }
-    offset += size * o.count;
-  }
-  return 0;
+  return field_value(op.reply, reply, name, element);
 }
 
 }  // namespace rcx

@@ -14,10 +14,13 @@
 namespace rcx {
 
 struct LinkOptions {
-  int retries = 20;                // attempts after the first, per request
+  int retries = 30;                // attempts after the first, per request
   Millis reply_grace{150};         // brick think time added to the wire time
   Millis backoff{20};              // first pause before a retry, doubled each time
   Millis max_backoff{400};         // the pause never grows beyond this
+  // Seconds a byte takes on the line, for reply timeouts: 2400 baud for real
+  // towers; tests against a full-speed virtual brick set it to 0.
+  double byte_seconds = kByteSeconds;
 };
 
 // Counters a caller can show or a test can check.

@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <cctype>
+
 namespace rcx {
 namespace {
 
@@ -21,6 +23,13 @@ std::string task_label(const Image& image, int task) {
 std::string var_label(const Image& image, int index) {
   std::string name = image.name_of(SymbolType::Variable, index);
   return name.empty() ? fmt::format("var{}", index) : name;
+}
+
+// VCD identifiers end at whitespace: keep names to [A-Za-z0-9_].
+std::string vcd_name(std::string name) {
+  for (char& c : name)
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_') c = '_';
+  return name;
 }
 
 nlohmann::json output_json(const Output& o) {
@@ -176,7 +185,7 @@ std::string trace_vcd(const Machine& m, const Image& image) {
     raw[i] = add(fmt::format("sensor_{}_raw", i + 1), 10);
     rot[i] = add(fmt::format("sensor_{}_rotation", i + 1), 16);
   }
-  for (int i = 0; i < kMaxVariables; ++i) vars[i] = add(var_label(image, i), 16);
+  for (int i = 0; i < kMaxVariables; ++i) vars[i] = add(vcd_name(var_label(image, i)), 16);
   int sound = add("sound", 8);
   int tone = add("tone_hz", 16);
   int message = add("message_sent", 8);

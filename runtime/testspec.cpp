@@ -322,6 +322,10 @@ void parse_directive(std::string_view text, int line, Spec& spec) {
     spec.scenario_file = c.next();
     if (spec.scenario_file.empty()) throw ParseFail{"expected a scenario file name"};
     need_end(c);
+  } else if (word == "nqc-differs") {
+    // A note for the comparison runs: nqc's code for this program is known to
+    // behave differently (the reason follows); `rcxc test --nqc` skips it.
+    spec.nqc_differs = true;
   } else if (word == "input") {
     need(c, "at");
     Micros at = need_time(c, "input time");
@@ -356,7 +360,7 @@ void parse_directive(std::string_view text, int line, Spec& spec) {
     spec.diagnostics.push_back(std::move(d));
   } else {
     throw ParseFail{fmt::format(
-        "unknown directive '@{}' (for, seed, scenario, input, expect, expect-error, expect-warning)", word)};
+        "unknown directive '@{}' (for, seed, scenario, input, expect, expect-error, expect-warning, nqc-differs)", word)};
   }
 }
 

@@ -69,6 +69,7 @@ struct Spec {
   std::string scenario_file;      // as written (relative to the test file)
   std::optional<Micros> run_for_us;
   std::uint64_t seed = 1;
+  bool nqc_differs = false;       // `@nqc-differs: reason`
   std::vector<Expectation> expectations;
   std::vector<ExpectDiagnostic> diagnostics;
   bool expects_compile_error() const;

@@ -8,7 +8,6 @@
 
 #include <cerrno>
 #include <cstdlib>
-#include <cmath>
 #include <cstring>
 #include <thread>
 
@@ -118,10 +117,6 @@ std::string open_advice(const std::string& path) {
 }
 
 }  // namespace
-
-Millis wire_time(std::size_t n) {
-  return Millis(static_cast<long>(std::ceil(static_cast<double>(n) * kByteSeconds * 1000.0)));
-}
 
 PortSpec resolve_port(const std::optional<std::string>& option, const std::optional<std::string>& environment) {
   std::string name = option ? *option : environment ? *environment : std::string("usb");

@@ -21,8 +21,6 @@ using Millis = std::chrono::milliseconds;
 
 // 2400 baud, 11 bits a byte (start, 8 data, odd parity, stop): 4.58 ms a byte.
 inline constexpr double kByteSeconds = 11.0 / 2400.0;
-// Wire time of `n` bytes at 2400 baud, rounded up.
-Millis wire_time(std::size_t n);
 
 struct TransportError {
   std::string message;

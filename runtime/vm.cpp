@@ -1,7 +1,9 @@
 #include "runtime/vm.h"
 
-#include <algorithm>
 #include <fmt/format.h>
+
+#include <algorithm>
+#include <bit>
 
 #include "runtime/sensors.h"
 
@@ -11,6 +13,7 @@ namespace {
 constexpr Micros kTickUs = 10'000;          // 1/100 s: timers, waits, tone durations
 constexpr Micros kMinuteUs = 60'000'000;
 constexpr int kSoundQueueDepth = 8;
+constexpr unsigned kAllTasks = (1u << kMaxTasks) - 1;
 // How long each system sound plays, in 1/100 s (our choice, see docs).
 constexpr int kSoundDuration[6] = {10, 30, 50, 50, 30, 40};
 constexpr std::uint8_t kFirmwareKey[5] = {1, 3, 5, 7, 11};
@@ -89,6 +92,10 @@ int disallowed_source(const OpcodeInfo& info, const std::array<int, 5>& v) {
 Decoded decode_command(std::span<const std::uint8_t> code, int address) {
   Decoded d;
   d.size = 1;
+  if (address < 0 || address >= static_cast<int>(code.size())) {
+    d.error = static_cast<std::uint8_t>(DecodeError::Truncated);
+    return d;
+  }
   const OpcodeInfo* info = command_at(code[static_cast<std::size_t>(address)]);
   if (info == nullptr) {
     d.error = static_cast<std::uint8_t>(DecodeError::NotACommand);
@@ -395,6 +402,7 @@ void Machine::set_message(int value) { state_.message = value & 0xff; }
 void Machine::start_task_now(int task) {
   TaskState& t = tasks_[static_cast<std::size_t>(task)];
   if (!t.active) ++active_count_;
+  active_mask_ |= 1u << task;
   t = TaskState{};
   t.active = true;
   t.wake_us = now_us_;
@@ -408,6 +416,7 @@ void Machine::end_task(int task) {
   if (!t.active) return;
   t.active = false;
   --active_count_;
+  active_mask_ &= ~(1u << task);
   Event e{now_us_, EventKind::TaskStop};
   e.index = task;
   emit(e);
@@ -701,8 +710,10 @@ bool Machine::step(int task) {
   }
   auto& cache = decoded_[static_cast<std::size_t>(t.sub < 0 ? task : kMaxTasks + t.sub)];
   if (cache.size() != code->size()) cache.assign(code->size(), Decoded{});
-  Decoded& d = cache[static_cast<std::size_t>(t.pc)];
-  if (d.size == 0) d = decode_command(*code, t.pc);
+  Decoded& cached = cache[static_cast<std::size_t>(t.pc)];
+  if (cached.size == 0) cached = decode_command(*code, t.pc);
+  // A copy: the instruction may delete or replace code, which drops the cache.
+  const Decoded d = cached;
   int opcode = (*code)[static_cast<std::size_t>(t.pc)];
   if (d.error != 0) {
     fault(task, t, opcode, to_string(static_cast<DecodeError>(d.error)));
@@ -840,15 +851,18 @@ void Machine::loop(Micros until_us, bool stop_when_idle) {
       return;
     }
     if (now_us_ >= until_us) return;
+    // The first active, awake task at or after the round-robin cursor:
+    // rotate the active-task bit mask so the cursor is bit 0.
     int chosen = -1;
-    for (int k = 0; k < kMaxTasks; ++k) {
-      int i = next_task_ + k;
-      if (i >= kMaxTasks) i -= kMaxTasks;
-      const TaskState& t = tasks_[static_cast<std::size_t>(i)];
-      if (t.active && t.wake_us <= now_us_) {
+    unsigned rotated = ((active_mask_ >> next_task_) | (active_mask_ << (kMaxTasks - next_task_))) & kAllTasks;
+    while (rotated != 0) {
+      int k = std::countr_zero(rotated);
+      int i = next_task_ + k >= kMaxTasks ? next_task_ + k - kMaxTasks : next_task_ + k;
+      if (tasks_[static_cast<std::size_t>(i)].wake_us <= now_us_) {
         chosen = i;
         break;
       }
+      rotated &= rotated - 1;
     }
     if (chosen < 0) {  // everyone waits: jump to the next thing that happens
       Micros next = std::min({next_wake(), next_input, until_us});

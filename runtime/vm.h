@@ -177,9 +177,11 @@ struct TaskState {
   Micros wake_us = 0;             // waiting until (active tasks only)
   int sub = -1;                   // executing subroutine, -1 = task body
   int pc = 0;
-  // The firmware keeps ONE return address per task. call_depth counts
-  // calls since the task body: 1 = normal, 2+ = the nested-call breakage
-  // (the outer subroutine's return then stops every task).
+  // The firmware keeps ONE return address per task. call_depth: 0 = in the
+  // task body, 1 = in a subroutine called from it, 2 = in a subroutine called
+  // from a subroutine (the return address now points into the outer one),
+  // 3 = back in the outer one with no return address left: its return stops
+  // every task.
   int call_depth = 0;
   int return_sub = -1;
   int return_pc = 0;
@@ -210,7 +212,7 @@ struct State {
   bool firmware_present = true;
   int program = 0;                              // current program slot
   // Datalog: `datalog_capacity` data entries allocated (plus the size
-  // entry), `datalog` holds the ones written so far. -1 = none allocated.
+  // entry, always present), `datalog` holds the ones written so far.
   int datalog_capacity = 0;
   std::vector<DatalogEntry> datalog;
   std::vector<Event> events;
@@ -329,6 +331,7 @@ class Machine {
   std::array<ProgramSlot, kPrograms> slots_{};
   std::array<TaskState, kMaxTasks> tasks_{};
   int active_count_ = 0;
+  unsigned active_mask_ = 0;              // bit n = task n active
   // Decoded instruction caches for the current program: tasks, then subs.
   std::array<std::vector<Decoded>, kMaxTasks + kMaxSubroutines> decoded_{};
   std::vector<TimedInput> inputs_;        // sorted by time; consumed from `next_input_`

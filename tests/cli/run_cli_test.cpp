@@ -103,17 +103,25 @@ TEST(RunCli, BadImageIsAClearError) {
 
 TEST(RunCli, NqcSourceIsCompiledInMemory) {
   TempDir d;
-  auto r = run_rcxc({"run", d.write("p.nqc", "int x;\ntask main() { x = 3; PlaySound(SOUND_UP); }\n")});
-  EXPECT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_NE(r.out.find("task 0 (main) started"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("sound 3"), std::string::npos) << r.out;
+  auto r = run_rcxc({"run", d.write("p.nqc", "int speed;\ntask main() { speed = 3; On(OUT_B); Wait(20); Off(OUT_B); }\n"),
+                     "--report", "json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["stop"], "ended");
+  EXPECT_EQ(j["globals"]["speed"], 3);
+  EXPECT_EQ(j["outputs"]["B"]["mode"], "off");
+  int b_changes = 0;
+  for (const auto& e : j["events"]) b_changes += e["kind"] == "output" && e["output"] == "B";
+  EXPECT_EQ(b_changes, 2);  // on, then off 0.2 s later
 }
 
-TEST(RunCli, NqcSourceThatDoesNotCompileFails) {
+TEST(RunCli, NqcCompileErrorsAreReported) {
   TempDir d;
-  auto r = run_rcxc({"run", d.write("p.nqc", "task main() { undefined_thing(); }\n")});
+  auto r = run_rcxc({"run", d.write("bad.nqc", "task main() { x = ; }\n")});
   EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("bad.nqc:1"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("does not compile"), std::string::npos) << r.err;
+  EXPECT_TRUE(r.out.empty());
 }
 
 TEST(RunCli, FaultExitsWithFailureAndReports) {
@@ -168,4 +176,20 @@ TEST(RunCli, SeedChangesRandomValues) {
   auto c2 = nlohmann::json::parse(run_rcxc({"run", p, "--report", "json", "--seed", "8"}).out)["vars"];
   EXPECT_EQ(a, b);
   EXPECT_NE(a, c2);
+}
+
+TEST(RunCli, OddSymbolNamesDoNotBreakReportsOrTraces) {
+  TempDir d;
+  rcx::Image img;
+  img.fragments.push_back({rcx::FragmentType::Task, 0, {0x14, 0x00, 0x02, 0x05, 0x00}});
+  img.symbols.push_back({rcx::SymbolType::Variable, 0, std::string("bad \xff name")});
+  auto p = d.write("odd.rcx", rcx::write_image(img));
+  auto r = run_rcxc({"run", p, "--report", "json", "--trace", d.path + "/t.vcd"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["vars"][0], 5);
+  EXPECT_EQ(j["globals"].size(), 1u);
+  std::ifstream vcd(d.path + "/t.vcd");
+  std::string text((std::istreambuf_iterator<char>(vcd)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find(" bad___name $end"), std::string::npos) << text;
 }

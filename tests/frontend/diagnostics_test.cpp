@@ -61,3 +61,12 @@ TEST(Diagnostics, SourceLinesHandleCrLfAndOutOfRange) {
   EXPECT_EQ(sm.line(f, 3), "");
   EXPECT_EQ(sm.line(f, 0), "");
 }
+
+TEST(Diagnostics, JsonSurvivesBytesThatAreNotUtf8) {
+  SourceManager sm;
+  auto f = sm.add("a.nqc", "x\n");
+  Diagnostics diags;
+  diags.error({{f, 1, 1}, {f, 1, 2}}, std::string("bad \xfd byte"));
+  auto j = nlohmann::json::parse(render_json(diags.all()[0], sm));
+  EXPECT_EQ(j["message"], "bad \xef\xbf\xbd byte");  // U+FFFD
+}

@@ -127,3 +127,19 @@ TEST(Lexer, EmbeddedNulIsAnErrorNotTheEnd) {
   EXPECT_EQ(d.error_count(), 1u);
   EXPECT_EQ(texts(toks), (std::vector<std::string>{"a", "b"}));
 }
+
+TEST(Lexer, BinaryInputStopsAfterAFewDozenErrors) {
+  Diagnostics d;
+  std::string junk(10000, '\x01');
+  auto toks = lex(junk, 0, d);
+  EXPECT_EQ(d.error_count(), 41u);
+  EXPECT_EQ(d.all().back().message, "too many invalid characters; is this an NQC source file?");
+  EXPECT_EQ(toks.back().kind, TokenKind::End);
+}
+
+TEST(Lexer, UnprintableStrayCharactersAreShownByCode) {
+  Diagnostics d;
+  lex("a \xfd b", 0, d);
+  ASSERT_EQ(d.error_count(), 1u);
+  EXPECT_EQ(d.all()[0].message, "stray character '\\xfd' in program");
+}

@@ -223,3 +223,34 @@ TEST(Preprocessor, PreprocessedTextKeepsLinesAndMarksFiles) {
   PP p = run_pp("#define TWO 2\nint x = TWO;\n\ntask main()\n{\n  x++;\n}\n");
   EXPECT_EQ(tokens_to_text(p.out.tokens, p.sm), "# 2 \"t.nqc\"\nint x = 2;\n\ntask main()\n{\nx++;\n}\n");
 }
+
+TEST(Preprocessor, ArgumentDuplicationThatExplodesStopsWithAnError) {
+  std::string call;
+  for (int i = 0; i < 40; ++i) call += "D(";
+  call += "1";
+  for (int i = 0; i < 40; ++i) call += ")";
+  auto p = run_pp("#define D(x) x x\n" + call + "\n");
+  ASSERT_TRUE(p.diags.has_errors());
+  EXPECT_NE(p.diags.all().back().message.find("grows without bound"), std::string::npos);
+}
+
+TEST(Preprocessor, DiagnosticInAnIncludedFileSaysWhereItWasIncluded) {
+  namespace fs = std::filesystem;
+  fs::path root = test::make_temp_dir();
+  write(root / "inner.nqh", "int z = 1 / 0;\n");
+  write(root / "outer.nqh", "\n#include \"inner.nqh\"\n");
+  std::string main_path = (root / "main.nqc").string();
+  write(main_path, "#include \"outer.nqh\"\ntask main() { }\n");
+  SourceManager sm;
+  Diagnostics diags;
+  Options o;
+  o.no_stdlib = true;
+  auto program = parse_program(main_path, o, sm, diags);
+  ASSERT_EQ(diags.all().size(), 1u);
+  std::string inner = (root / "inner.nqh").string(), outer = (root / "outer.nqh").string();
+  EXPECT_EQ(render_text(diags.all()[0], sm),
+            inner + ":1:13: error: division by zero in a constant expression\n  int z = 1 / 0;\n              ^\n" +
+                outer + ":2:1: note: '" + inner + "' was included from here\n  #include \"inner.nqh\"\n  ^~~~~~~~~~~~~~~~~~~~\n" +
+                main_path + ":1:1: note: '" + outer + "' was included from here\n  #include \"outer.nqh\"\n  ^~~~~~~~~~~~~~~~~~~~\n");
+  fs::remove_all(root);
+}

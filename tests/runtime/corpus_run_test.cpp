@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <optional>
 
 #include "runtime/image.h"
 #include "runtime/vm.h"
@@ -32,9 +33,11 @@ Compiled compile_with_nqc(const fs::path& source, const std::string& dir) {
   return {true, std::get<rcx::Image>(image)};
 }
 
-void require_tools() {
-  if (!fs::exists(kNqc)) GTEST_SKIP() << "nqc is not installed";
-  if (!fs::is_directory(RCXC_CORPUS_DIR)) GTEST_SKIP() << "no corpus at " << RCXC_CORPUS_DIR;
+// Why the corpus tests cannot run here, or "" when they can.
+std::string missing_tools() {
+  if (!fs::exists(kNqc)) return "nqc is not installed";
+  if (!fs::is_directory(RCXC_CORPUS_DIR)) return std::string("no corpus at ") + RCXC_CORPUS_DIR;
+  return "";
 }
 
 rcx::Machine run_image(const rcx::Image& image, rcx::Micros limit_ms) {
@@ -46,10 +49,27 @@ rcx::Machine run_image(const rcx::Image& image, rcx::Micros limit_ms) {
   return m;
 }
 
+// Compiles tutorial/NAME.nqc with nqc and runs it for up to a minute;
+// nullopt with the reason in `skip` when that cannot be done here.
+std::optional<rcx::Machine> run_tutorial(const std::string& name, std::string& skip) {
+  skip = missing_tools();
+  fs::path source = fs::path(RCXC_CORPUS_DIR) / "tutorial" / (name + ".nqc");
+  if (skip.empty() && !fs::exists(source)) skip = name + ".nqc is not in the corpus";
+  if (!skip.empty()) return std::nullopt;
+  std::string dir = rcxc::test::make_temp_dir();
+  Compiled c = compile_with_nqc(source, dir);
+  fs::remove_all(dir);
+  if (!c.ok) {
+    ADD_FAILURE() << "nqc could not compile " << source;
+    return std::nullopt;
+  }
+  return run_image(c.image, 60'000);
+}
+
 }  // namespace
 
 TEST(CorpusRun, EveryNqcImageRunsWithoutFault) {
-  require_tools();
+  if (auto skip = missing_tools(); !skip.empty()) GTEST_SKIP() << skip;
   std::string dir = rcxc::test::make_temp_dir();
   int compiled = 0;
   for (const auto& entry : fs::recursive_directory_iterator(RCXC_CORPUS_DIR)) {
@@ -66,14 +86,10 @@ TEST(CorpusRun, EveryNqcImageRunsWithoutFault) {
 }
 
 TEST(CorpusRun, DatalogTutorialLogsBothVariables) {
-  require_tools();
-  fs::path source = fs::path(RCXC_CORPUS_DIR) / "tutorial" / "12_datalog.nqc";
-  if (!fs::exists(source)) GTEST_SKIP() << "12_datalog.nqc not in the corpus";
-  std::string dir = rcxc::test::make_temp_dir();
-  Compiled c = compile_with_nqc(source, dir);
-  fs::remove_all(dir);
-  ASSERT_TRUE(c.ok);
-  rcx::Machine m = run_image(c.image, 60'000);
+  std::string skip;
+  auto run = run_tutorial("12_datalog", skip);
+  if (!run) GTEST_SKIP() << skip;
+  const rcx::Machine& m = *run;
   // The program: datalog of 100, then 50 times log move_time (0, 1, ...) and
   // turn_time (50, 49, ...).
   EXPECT_EQ(m.stop().kind, rcx::StopKind::Ended);
@@ -87,14 +103,10 @@ TEST(CorpusRun, DatalogTutorialLogsBothVariables) {
 }
 
 TEST(CorpusRun, SubsTutorialTurnsAtTheExpectedTimes) {
-  require_tools();
-  fs::path source = fs::path(RCXC_CORPUS_DIR) / "tutorial" / "06_subs.nqc";
-  if (!fs::exists(source)) GTEST_SKIP() << "06_subs.nqc not in the corpus";
-  std::string dir = rcxc::test::make_temp_dir();
-  Compiled c = compile_with_nqc(source, dir);
-  fs::remove_all(dir);
-  ASSERT_TRUE(c.ok);
-  rcx::Machine m = run_image(c.image, 60'000);
+  std::string skip;
+  auto run = run_tutorial("06_subs", skip);
+  if (!run) GTEST_SKIP() << skip;
+  const rcx::Machine& m = *run;
   // 2 ms per instruction: pwr, dir, dir, out (A and C on at 6 ms); Wait(100)
   // at 8 ms; the call at 1008 ms; the sub's first instruction reverses C at 1010 ms.
   std::vector<rcx::Event> outs;

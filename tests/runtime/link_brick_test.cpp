@@ -2,6 +2,7 @@
 // silences, download sequence rules, firmware, retransmissions.
 #include <gtest/gtest.h>
 
+#include <set>
 #include <string>
 
 #include "runtime/brick.h"
@@ -217,6 +218,68 @@ TEST(LinkBrick, NoiseLosesOrFlipsAboutTheRequestedShare) {
   for (auto v : out) changed += v != 0xA5;
   EXPECT_GT(changed, 350);  // 5% of 10000 = 500, within a wide margin
   EXPECT_LT(changed, 650);
+}
+
+}  // namespace
+}  // namespace rcx
+
+namespace rcx {
+namespace {
+
+// Every request of the seed gets its reply (with the reply layout of the
+// table) when its arguments are valid; Set message is the one without.
+TEST(LinkBrickAll, EveryRequestIsAnswered) {
+  struct Case {
+    Op op;
+    std::vector<int> values;
+  };
+  const std::vector<Case> cases = {
+      {Op::AbsoluteValue, {1, 2, -5}}, {Op::Alive, {}}, {Op::AddToVariable, {1, 2, 5}},
+      {Op::AndVariable, {1, 2, 3}}, {Op::ClearSensorValue, {0}}, {Op::ClearTimer, {1}},
+      {Op::DeleteAllSubroutines, {}}, {Op::DeleteAllTasks, {}}, {Op::DatalogNext, {0, 1}},
+      {Op::DeleteSubroutine, {2}}, {Op::DeleteTask, {3}}, {Op::DivideVariable, {1, 2, 2}},
+      {Op::GetMemoryMap, {}}, {Op::GetBatteryPower, {}}, {Op::GetValue, {9, 0}},
+      {Op::GetVersions, {1, 3, 5, 7, 11}}, {Op::MultiplyVariable, {1, 2, 3}}, {Op::OrVariable, {1, 2, 8}},
+      {Op::PlaySound, {2}}, {Op::PlayTone, {440, 50}}, {Op::SetDatalogSize, {10}}, {Op::SetDisplay, {2, 1}},
+      {Op::SetMotorOnOff, {0x81}}, {Op::SetMotorDirection, {0x82}}, {Op::SetMotorPower, {0x07, 2, 3}},
+      {Op::SetPowerDownDelay, {10}}, {Op::SetProgramNumber, {1}}, {Op::SetSensorMode, {0, 0x20}},
+      {Op::SetSensorType, {1, 1}}, {Op::SetTime, {10, 30}}, {Op::SetTransmitterRange, {1}},
+      {Op::SetVariable, {1, 2, 9}}, {Op::SignVariable, {1, 2, -9}}, {Op::StartTaskDownload, {0, 0, 2}},
+      {Op::TransferData, {}}, {Op::StartSubroutineDownload, {0, 1, 2}}, {Op::StopAllTasks, {}},
+      {Op::StartTask, {0}}, {Op::StopTask, {0}}, {Op::SubtractFromVariable, {1, 2, 1}},
+      {Op::UploadDatalog, {0, 1}}, {Op::PowerOff, {}},
+  };
+  Brick b = make_brick();
+  bool toggle = false;
+  std::set<Op> covered;
+  for (const auto& c : cases) {
+    Bytes request = c.op == Op::TransferData ? transfer_payload(0, Bytes{0xF6, 0xF6})
+                                             : request_payload(info(c.op), c.values);
+    request = with_toggle(request, toggle);
+    toggle = !toggle;
+    auto reply = answer(b, request);
+    ASSERT_TRUE(reply.has_value()) << info(c.op).name << ": " << (b.log.empty() ? "" : b.log.back());
+    EXPECT_TRUE(answers(*reply, request)) << info(c.op).name;
+    auto size = reply_size(request);
+    ASSERT_TRUE(std::holds_alternative<int>(size));
+    EXPECT_EQ(static_cast<int>(reply->size()), std::get<int>(size)) << info(c.op).name;
+    covered.insert(c.op);
+  }
+  // Firmware requests are covered by the firmware tests; Set message has no reply.
+  for (const auto& op : opcodes()) {
+    if (op.is_request() && op.replies && !covered.count(op.op)) {
+      EXPECT_TRUE(op.op == Op::DeleteFirmware || op.op == Op::StartFirmwareDownload || op.op == Op::UnlockFirmware)
+          << op.name << " is not covered";
+    }
+  }
+  // Their effects reached the machine.
+  EXPECT_EQ(b.vm.state().transmitter_range, 1);
+  EXPECT_EQ(b.vm.state().power_down_minutes, 10);
+  EXPECT_EQ(b.vm.clock_minutes(), 10 * 60 + 30);
+  EXPECT_EQ(b.vm.program(), 1);
+  EXPECT_EQ(b.vm.stop().kind, StopKind::PowerOff);
+  // Powered off: silence.
+  EXPECT_EQ(answer(b, Bytes{0x18}), std::nullopt);
 }
 
 }  // namespace

@@ -106,6 +106,20 @@ TEST(LinkDownload, NoBrickIsACleanFailure) {
   EXPECT_NE(std::get<DownloadError>(result).message.find("Alive"), std::string::npos);
 }
 
+TEST(LinkDownload, ABrickWithoutFirmwareIsExplained) {
+  Brick brick = make_brick();
+  brick.vm.set_firmware_present(false);
+  BrickWire wire(brick, 0.0, 1);
+  LinkOptions options;
+  options.retries = 2;
+  Link link = make_link(wire, options);
+  auto result = download(link, sample_image(), {});
+  ASSERT_TRUE(std::holds_alternative<DownloadError>(result));
+  EXPECT_EQ(std::get<DownloadError>(result).kind, DownloadFailure::LinkFailed);
+  EXPECT_NE(std::get<DownloadError>(result).message.find("install firmware"), std::string::npos)
+      << std::get<DownloadError>(result).message;
+}
+
 TEST(LinkDownload, TooLargeForTheBrickIsRefused) {
   Brick brick = make_brick();
   BrickWire wire(brick, 0.0, 1);

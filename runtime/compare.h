@@ -1,0 +1,41 @@
+// Comparing what two runs did, as a robot's owner would see it: outputs,
+// sounds and tones, the display, messages sent, the datalog, and (for runs
+// that ended by themselves) the final values of global variables by name. Used to check that rcxc's code
+// behaves like nqc's for the same program under the same inputs.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "runtime/image.h"
+#include "runtime/vm.h"
+
+namespace rcx {
+
+// Two events match when they are equal and their times differ by at most
+// `absolute_us + relative * t` (t = the later time). The firmware takes a
+// fixed time per instruction, so two compilers' code drifts apart in time
+// in proportion to how long it has run.
+struct TimeTolerance {
+  Micros absolute_us = 50'000;
+  double relative = 0.02;
+};
+
+struct RunView {
+  const Machine* machine = nullptr;
+  const Image* image = nullptr;
+  std::string label;  // "rcxc", "nqc"
+};
+
+struct RunComparison {
+  bool same = true;
+  std::vector<std::string> differences;  // one line each
+  std::string side_by_side;              // both event lists, aligned, when they differ
+};
+
+RunComparison compare_runs(const RunView& a, const RunView& b, TimeTolerance tolerance = {});
+
+// The observable events of a run as text lines ("1020ms output A on rev 7").
+std::vector<std::string> observable_lines(const Machine& machine);
+
+}  // namespace rcx

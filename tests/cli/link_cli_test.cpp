@@ -1,0 +1,181 @@
+// `rcxc brick`, `rcxc download` and `rcxc remote` end to end: the real
+// binary serving a pty, other invocations (and nqc, when installed) talking to it.
+#include <gtest/gtest.h>
+#include <poll.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <thread>
+
+#include "runtime/image.h"
+#include "runtime/transport.h"
+#include "tests/support/process.h"
+
+namespace {
+
+using rcxc::test::run_process;
+using rcxc::test::run_rcxc;
+
+// `rcxc brick --pty --fast ...` running in the background; the pty path is
+// the first line it prints. Stopped with SIGINT, as a user would.
+struct BrickProcess {
+  pid_t pid = -1;
+  int out = -1;
+  std::string path;
+  int exit_code = -1;
+
+  explicit BrickProcess(std::vector<std::string> extra = {}) {
+    int p[2];
+    if (::pipe(p) != 0) return;
+    pid = ::fork();
+    if (pid == 0) {
+      ::dup2(p[1], 1);
+      ::close(p[0]);
+      ::close(p[1]);
+      std::vector<std::string> args{RCXC_BINARY, "brick", "--pty", "--fast"};
+      args.insert(args.end(), extra.begin(), extra.end());
+      std::vector<char*> argv;
+      for (auto& a : args) argv.push_back(a.data());
+      argv.push_back(nullptr);
+      ::execv(argv[0], argv.data());
+      ::_exit(127);
+    }
+    ::close(p[1]);
+    out = p[0];
+    // Read the first line (the pty path), waiting at most 10 s.
+    char c;
+    pollfd fd{out, POLLIN, 0};
+    while (::poll(&fd, 1, 10000) > 0 && ::read(out, &c, 1) == 1 && c != '\n') path += c;
+  }
+  int stop() {
+    if (pid > 0) {
+      ::kill(pid, SIGINT);
+      int status = 0;
+      ::waitpid(pid, &status, 0);
+      exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+      pid = -1;
+    }
+    if (out >= 0) ::close(out);
+    out = -1;
+    return exit_code;
+  }
+  ~BrickProcess() { stop(); }
+};
+
+std::string write_temp(const std::string& name, const std::vector<std::uint8_t>& bytes) {
+  std::string dir = rcxc::test::make_temp_dir();
+  std::string path = dir + "/" + name;
+  std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()),
+                                               static_cast<std::streamsize>(bytes.size()));
+  return path;
+}
+
+// task 0: var 0 = 7; var 0 *= 6 (the bytes nqc emits for `x = 7; x = x * 6;`).
+std::string sample_rcx() {
+  rcx::Image image;
+  image.fragments.push_back({rcx::FragmentType::Task, 0, {0x14, 0x00, 0x02, 0x07, 0x00, 0x54, 0x00, 0x02, 0x06, 0x00}});
+  image.symbols.push_back({rcx::SymbolType::Task, 0, "main"});
+  return write_temp("prog.rcx", rcx::write_image(image));
+}
+
+std::string get_var0(const std::string& port) {
+  for (int i = 0; i < 100; ++i) {
+    auto r = run_rcxc({"remote", "--port", port, "get", "var", "0"});
+    if (r.exit_code != 0) return "error: " + r.err;
+    if (r.out == "42\n") return r.out;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return "never 42";
+}
+
+TEST(LinkCli, BrickPrintsItsPtyAndStopsOnInterrupt) {
+  BrickProcess brick;
+  ASSERT_EQ(brick.path.rfind("/dev/", 0), 0u) << brick.path;
+  EXPECT_TRUE(std::filesystem::exists(brick.path));
+  auto r = run_rcxc({"remote", "--port", brick.path, "versions"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.out, "ROM 3.1, firmware 3.9\n");
+  EXPECT_EQ(brick.stop(), 0);
+}
+
+TEST(LinkCli, DownloadRunThenReadTheVariable) {
+  BrickProcess brick;
+  ASSERT_FALSE(brick.path.empty());
+  auto r = run_rcxc({"download", "--port", brick.path, sample_rcx(), "--run"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("downloaded 10 bytes to program 1"), std::string::npos) << r.err;
+  EXPECT_EQ(r.out, "");
+  EXPECT_EQ(r.err.find('\r'), std::string::npos);  // no progress bar when stderr is not a terminal
+  EXPECT_EQ(get_var0(brick.path), "42\n");
+}
+
+TEST(LinkCli, RcxPortEnvironmentSelectsThePort) {
+  BrickProcess brick;
+  ASSERT_FALSE(brick.path.empty());
+  auto r = run_process({"/usr/bin/env", "RCX_PORT=" + brick.path, RCXC_BINARY, "remote", "alive"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.out, "the RCX is alive\n");
+}
+
+TEST(LinkCli, NqcDownloadsAndRunsOnTheVirtualBrick) {
+  if (::access("/usr/bin/nqc", X_OK) != 0) GTEST_SKIP() << "nqc is not installed";
+  BrickProcess brick;
+  ASSERT_FALSE(brick.path.empty());
+  std::string src = write_temp("prog.nqc", {});
+  std::ofstream(src) << "int x;\ntask main() {\n  x = 7;\n  x = x * 6;\n}\n";
+  auto d = run_process({"/usr/bin/nqc", "-S" + brick.path, "-d", src});
+  ASSERT_EQ(d.exit_code, 0) << d.out << d.err;
+  auto run = run_process({"/usr/bin/nqc", "-S" + brick.path, "-run"});
+  ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
+  EXPECT_EQ(get_var0(brick.path), "42\n");
+}
+
+TEST(LinkCli, NqcSourceNeedsTheCompiler) {
+  auto r = run_rcxc({"download", "--port", "/dev/null", "prog.nqc"});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("compiler"), std::string::npos) << r.err;
+}
+
+TEST(LinkCli, MissingPortIsExit3) {
+  auto d = run_rcxc({"download", "--port", "/dev/no-such-tower", sample_rcx()});
+  EXPECT_EQ(d.exit_code, 3) << d.err;
+  EXPECT_NE(d.err.find("does not exist"), std::string::npos) << d.err;
+  auto r = run_rcxc({"remote", "--port", "/dev/no-such-tower", "alive"});
+  EXPECT_EQ(r.exit_code, 3);
+}
+
+TEST(LinkCli, SilentBrickIsExit4) {
+  auto pty = rcx::open_pty();  // nobody answers on it
+  ASSERT_TRUE(std::holds_alternative<rcx::Pty>(pty));
+  auto& p = std::get<rcx::Pty>(pty);
+  auto d = run_rcxc({"download", "--port", p.slave_path, "--retries", "1", sample_rcx()});
+  EXPECT_EQ(d.exit_code, 4) << d.err;
+  auto r = run_rcxc({"remote", "--port", p.slave_path, "--retries", "0", "battery"});
+  EXPECT_EQ(r.exit_code, 4) << r.err;
+  rcx::close_pty(p);
+}
+
+TEST(LinkCli, BadInvocationsAreUsageErrors) {
+  EXPECT_EQ(run_rcxc({"brick"}).exit_code, 2);
+  EXPECT_EQ(run_rcxc({"brick", "--pty", "--noise", "2"}).exit_code, 2);
+  EXPECT_EQ(run_rcxc({"download"}).exit_code, 2);
+  EXPECT_EQ(run_rcxc({"download", "x.rcx", "--program", "9"}).exit_code, 2);
+  BrickProcess brick;
+  ASSERT_FALSE(brick.path.empty());
+  auto r = run_rcxc({"remote", "--port", brick.path, "fly"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("unknown action"), std::string::npos) << r.err;
+}
+
+TEST(LinkCli, BadImageIsExit1) {
+  std::string path = write_temp("bad.rcx", {'R', 'C', 'X', 'I', 0x09});
+  auto r = run_rcxc({"download", "--port", "/dev/null", path});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("bad.rcx"), std::string::npos) << r.err;
+}
+
+}  // namespace

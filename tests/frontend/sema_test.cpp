@@ -1,0 +1,299 @@
+// Semantic analysis: a table of malformed programs, each with the exact
+// diagnostics expected (line, column, severity, text), plus the annotations
+// lowering relies on (symbols, folded constants, switch cases, asm opcodes).
+#include <gtest/gtest.h>
+
+#include "frontend/frontend.h"
+#include "tests/frontend/frontend_test_util.h"
+
+using namespace rcxc;
+using namespace rcxc::ast;
+using rcxc::test::run_frontend;
+
+namespace {
+
+struct BadProgram {
+  const char* name;
+  const char* source;
+  std::vector<std::string> expected;
+  bool stdlib = false;  // most programs are compiled without rcx.nqh
+};
+
+const BadProgram kCases[] = {
+    {"UndefinedVariable", "task main()\n{\n  int x;\n  x = y + 1;\n}\n", {"4:7: error: 'y' is not declared"}},
+    {"UndefinedNameReportedOncePerBody", "task main()\n{\n  q = 1;\n  q = 2;\n}\n",
+     {"3:3: error: 'q' is not declared"}},
+    {"UndefinedFunction", "task main()\n{\n  nothing();\n}\n",
+     {"3:3: error: 'nothing' is not declared (no sub or function of that name)"}},
+    {"DuplicateGlobal", "int a;\nint a;\ntask main() { a = 1; }\n", {"2:5: error: redefinition of 'a'"}},
+    {"TaskAndSubShareNames", "sub main() { }\ntask main() { }\n", {"2:6: error: redefinition of 'main'"}},
+    {"DuplicateLocalSameScope", "task main()\n{\n  int a;\n  int a;\n  a = 1;\n}\n",
+     {"4:7: error: redefinition of 'a'"}},
+    {"ShadowingInInnerScopeIsFine", "int a;\ntask main()\n{\n  int a;\n  { int a; a = 2; }\n  a = 1;\n}\n", {}},
+    {"LocalNotVisibleOutsideItsBlock", "task main()\n{\n  { int a; a = 1; }\n  a = 2;\n}\n",
+     {"4:3: error: 'a' is not declared"}},
+    {"MissingMain", "task other() { }\n",
+     {"0:0: error: the program has no 'task main()': the RCX starts a program at task main"}},
+    {"TooManyTasks",
+     "task main() { }\ntask t1() { }\ntask t2() { }\ntask t3() { }\ntask t4() { }\ntask t5() { }\n"
+     "task t6() { }\ntask t7() { }\ntask t8() { }\ntask t9() { }\ntask t10() { }\n",
+     {"11:6: error: too many tasks: 11 (the RCX runs at most 10)"}},
+    {"BreakOutsideLoop", "task main()\n{\n  break;\n}\n", {"3:3: error: 'break' outside a loop or switch"}},
+    {"ContinueInSwitchOnly", "task main()\n{\n  int x;\n  switch (x) { case 1: continue; }\n}\n",
+     {"4:24: error: 'continue' outside a loop"}},
+    {"BreakInSwitchIsFine", "task main()\n{\n  int x;\n  switch (x) { case 1: break; }\n}\n", {}},
+    {"CaseOutsideSwitch", "task main()\n{\n  case 1: ;\n}\n", {"3:3: error: 'case' outside a switch"}},
+    {"DefaultOutsideSwitch", "task main()\n{\n  default: ;\n}\n", {"3:3: error: 'default' outside a switch"}},
+    {"DuplicateCaseValuesAfterFolding",
+     "task main()\n{\n  int x;\n  switch (x)\n  {\n    case 2: break;\n    case 1 + 1: break;\n  }\n}\n",
+     {"7:5: error: duplicate case value 2"}},
+    {"TwoDefaults", "task main()\n{\n  int x;\n  switch (x) { default: break; default: break; }\n}\n",
+     {"4:32: error: more than one 'default' in a switch"}},
+    {"NonConstantCase", "task main()\n{\n  int x;\n  switch (x) { case x: break; }\n}\n",
+     {"4:21: error: a case value must be a constant expression"}},
+    {"UnknownTaskInStart", "task main()\n{\n  start nothing;\n}\n",
+     {"3:3: error: cannot start 'nothing': there is no task of that name"}},
+    {"StopASub", "sub s() { }\ntask main()\n{\n  stop s;\n}\n",
+     {"4:3: error: cannot stop 's': it is a sub, not a task"}},
+    {"GotoUndefinedLabel", "task main()\n{\n  goto away;\n}\n",
+     {"3:3: error: label 'away' is not defined in this task"}},
+    {"DuplicateLabel", "task main()\n{\n  here: ;\n  here: ;\n}\n", {"4:3: error: label 'here' is defined twice"}},
+    {"GotoForwardIsFine", "task main()\n{\n  goto end;\n  end: ;\n}\n", {}},
+    {"WrongArgumentCount", "void f(int a) { }\ntask main()\n{\n  f(1, 2);\n}\n",
+     {"4:3: error: function 'f' takes 1 argument, but 2 were given"}},
+    {"SubTakesNoArguments", "sub s() { }\ntask main()\n{\n  s(1);\n}\n",
+     {"4:3: error: sub 's' takes no arguments"}},
+    {"ReferenceNeedsVariable", "void f(int &a) { a = 1; }\ntask main()\n{\n  f(3);\n}\n",
+     {"4:5: error: argument for 'int &a' of 'f' must be a variable"}},
+    {"ConstNeedsConstant", "void f(const int a) { }\ntask main()\n{\n  int v;\n  f(v);\n}\n",
+     {"5:5: error: argument for 'const int a' of 'f' must be a constant expression"}},
+    {"ConstParamForwardedIsFine",
+     "void g(const int a) { }\nvoid f(const int b) { g(b + 1); }\ntask main()\n{\n  f(2);\n}\n", {}},
+    {"ConstParamIsReadOnly", "void f(const int a) { a = 2; }\ntask main() { f(1); }\n",
+     {"1:23: error: cannot assign to 'a': it is a constant parameter"}},
+    {"ConstReferenceIsReadOnly", "void f(const int &a) { a++; }\ntask main() { int v; f(v); }\n",
+     {"1:24: error: cannot increment 'a': it is a constant parameter"}},
+    {"CallUsedAsValue", "sub s() { }\ntask main()\n{\n  int x;\n  x = s();\n}\n",
+     {"5:7: error: 's' does not return a value; call it as a statement"}},
+    {"CallingATask", "task main()\n{\n  main();\n}\n", {"3:3: error: 'main' is a task: use 'start main;' to run it"}},
+    {"TaskUsedAsVariable", "task main()\n{\n  int x;\n  x = main;\n}\n",
+     {"4:7: error: 'main' is a task, not a variable"}},
+    {"AssignToNonVariable", "task main()\n{\n  int x;\n  x + 1 = 2;\n}\n",
+     {"4:3: error: cannot assign to this expression: it is not a variable"}},
+    {"RecursiveInlineFunctions", "void a() { b(); }\nvoid b() { a(); }\ntask main() { a(); }\n",
+     {"1:6: error: inline functions call each other in a cycle: a -> b -> a (they are expanded at each call, so "
+      "this never ends)"}},
+    {"ConstantDivisionByZero", "int g;\ntask main()\n{\n  g = 4 / (2 - 2);\n}\n",
+     {"4:11: error: division by zero in a constant expression"}},
+    {"ConstantModuloByZero", "int g = 5 % 0;\ntask main() { g++; }\n",
+     {"1:13: error: division by zero in a constant expression"}},
+    {"GlobalInitialiserMustBeConstant", "int a;\nint b = a;\ntask main() { b++; }\n",
+     {"2:9: error: the initial value of global 'b' must be a constant expression"}},
+    {"RuntimeDivisionByConstantZeroWarns", "int g;\ntask main()\n{\n  g /= 0;\n}\n",
+     {"4:8: warning: division by zero (at run time the firmware leaves the value unchanged)"}},
+    {"LiteralTooBigForSixteenBits", "int g;\ntask main()\n{\n  g = 70000;\n}\n",
+     {"4:7: warning: integer constant 70000 does not fit in 16 bits; it becomes 4464"}},
+    {"UnusedLocal", "task main()\n{\n  int spare;\n}\n", {"3:7: warning: unused variable 'spare'"}},
+    {"UnreachableAfterBreak", "task main()\n{\n  int x;\n  while (true)\n  {\n    break;\n    x++;\n  }\n}\n",
+     {"7:5: warning: unreachable code"}},
+    {"LabelMakesCodeReachable", "task main()\n{\n  goto b;\n  b: ;\n}\n", {}},
+    {"AssignmentInCondition", "task main()\n{\n  int x;\n  if (x = 2) x++;\n}\n",
+     {"4:7: warning: assignment used as a condition; did you mean '=='?"}},
+    {"ExpressionResultUnused", "task main()\n{\n  int x;\n  x + 1;\n}\n", {"4:3: warning: expression result unused"}},
+    {"SourceTypeMustExist", "int g;\ntask main()\n{\n  g = __source(6, 0);\n}\n",
+     {"4:16: error: source type 6 does not exist on the RCX"}},
+    {"SourceOperandsMustBeConstant", "int g;\ntask main()\n{\n  g = __source(g, 0);\n}\n",
+     {"4:7: error: both operands of __source(TYPE, ARG) must be constant expressions"}},
+    {"SensorArgumentMustBeASensor", "task main()\n{\n  SetSensor(__source(1, 1), SENSOR_TOUCH);\n}\n",
+     {"3:13: error: argument for 'sensor' of 'SetSensor' must be a sensor (SENSOR_1, SENSOR_2 or SENSOR_3)"}, true},
+    {"SensorArgumentMustNotBeANumber", "task main()\n{\n  ClearSensor(0);\n}\n",
+     {"3:15: error: argument for 'sensor' of 'ClearSensor' must be a sensor (SENSOR_1, SENSOR_2 or SENSOR_3)"}, true},
+    {"UnknownMnemonic", "task main()\n{\n  asm { frob 1; }\n}\n", {"3:9: error: unknown asm mnemonic 'frob'"}},
+    {"MnemonicOperandCount", "task main()\n{\n  asm { pwr 1; }\n}\n",
+     {"3:9: error: 'pwr' takes 2 operands, but 1 was given"}},
+    {"HostRequestIsNotAnInstruction", "task main()\n{\n  asm { alive; }\n}\n",
+     {"3:9: error: 'alive' (Alive) is a host request, not a program instruction"}},
+    {"BranchesAreNotWrittenInAsm", "task main()\n{\n  asm { jmp 3; }\n}\n",
+     {"3:9: error: 'jmp' cannot be written in asm; use C control flow instead"}},
+    {"AsmVariableOperand", "task main()\n{\n  asm { set 3, 4; }\n}\n",
+     {"3:13: error: operand 'index' of 'set' must be a variable"}},
+    {"AsmConstantOperand", "int v;\ntask main()\n{\n  asm { sound v; }\n}\n",
+     {"4:15: error: operand 'sound' of 'sound' must be a constant"}},
+    {"AsmByteRange", "task main()\n{\n  asm { 0x51, 300 };\n}\n", {"3:15: error: asm byte value 300 does not fit in a byte"}},
+    {"AsmByteNeedsConstant", "int v;\ntask main()\n{\n  asm { 0x14, v };\n}\n",
+     {"4:15: error: an asm byte must be a constant (write $name for a variable)"}},
+    {"ConstantOutsideTheFirmwareRangeWarnsAtTheCall", "task main()\n{\n  PlaySound(6);\n  SetWatch(12, 60);\n}\n",
+     {"3:3: warning: 'PlaySound' passes 6 as operand 'sound' of 'sound', outside the RCX's range 0..5",
+      "4:3: warning: 'SetWatch' passes 60 as operand 'minutes' of 'settime', outside the RCX's range 0..59"},
+     true},
+    {"RangeFollowsArgumentsThroughNestedFunctions",
+     "void Beep(const int n) { PlaySound(n + 1); }\nvoid Twice() { Beep(5); }\ntask main()\n{\n  Twice();\n}\n",
+     {"5:3: warning: 'Twice' passes 6 as operand 'sound' of 'sound', outside the RCX's range 0..5"}, true},
+    {"AsmOperandOutsideTheFirmwareRange", "task main()\n{\n  asm { timerclr 4; }\n}\n",
+     {"3:18: warning: operand 'timer' of 'timerclr' is 4, outside the RCX's range 0..3"}},
+    {"PragmaInitMustNameASub", "#pragma init Nope\ntask main() { }\n",
+     {"1:14: error: #pragma init names 'Nope', which is not a sub or function"}},
+    {"ManyIndependentErrorsInOneRun",
+     "task main()\n{\n  a = 1;\n  start b;\n  c();\n  3 = 4;\n}\n",
+     {"3:3: error: 'a' is not declared", "4:3: error: cannot start 'b': there is no task of that name",
+      "5:3: error: 'c' is not declared (no sub or function of that name)",
+      "6:3: error: cannot assign to this expression: it is not a variable"}},
+};
+
+class Malformed : public ::testing::TestWithParam<BadProgram> {};
+
+}  // namespace
+
+TEST_P(Malformed, GivesExactlyTheExpectedDiagnostics) {
+  const BadProgram& c = GetParam();
+  auto r = run_frontend(c.source, !c.stdlib);
+  EXPECT_EQ(r.brief(), c.expected) << r.text();
+  bool errors = false;
+  for (const auto& e : c.expected) errors = errors || e.find(": error: ") != std::string::npos;
+  EXPECT_EQ(r.program.has_value(), !errors);
+}
+
+INSTANTIATE_TEST_SUITE_P(Table, Malformed, ::testing::ValuesIn(kCases),
+                         [](const auto& info) { return std::string(info.param.name); });
+
+TEST(Sema, NamesResolveToSymbols) {
+  auto r = run_frontend(
+      "int g;\nsub s() { g = 2; }\nvoid f(int &r) { r = 1; }\ntask main()\n{\n  int l;\n  f(l);\n  s();\n  g = l;\n}\n",
+      true);
+  ASSERT_TRUE(r.program) << r.text();
+  const Program& p = *r.program;
+  const auto& body = std::get<Block>(p.tasks[0].body.node).stmts;
+  const auto& call_f = std::get<Call>(std::get<ExprStmt>(body[1].node).expr.node);
+  EXPECT_EQ(p.symbol(call_f.symbol).kind, SymbolKind::Function);
+  EXPECT_EQ(p.symbol(call_f.symbol).index, 0u);
+  const auto& arg = std::get<Name>(call_f.args[0].node);
+  EXPECT_EQ(p.symbol(arg.symbol).kind, SymbolKind::Local);
+  EXPECT_EQ(p.symbol(arg.symbol).owner, p.tasks[0].symbol);
+  const auto& call_s = std::get<Call>(std::get<ExprStmt>(body[2].node).expr.node);
+  EXPECT_EQ(p.symbol(call_s.symbol).kind, SymbolKind::Sub);
+  const auto& assign = std::get<Assign>(std::get<ExprStmt>(body[3].node).expr.node);
+  const auto& target = std::get<Name>(assign.target->node);
+  EXPECT_EQ(target.symbol, p.globals[0].symbol);
+  EXPECT_EQ(std::get<Name>(assign.value->node).symbol, arg.symbol);
+  const auto& param = p.functions[0].params[0];
+  EXPECT_EQ(p.symbol(param.symbol).kind, SymbolKind::Param);
+  EXPECT_EQ(p.symbol(param.symbol).param_kind, ParamKind::Reference);
+}
+
+TEST(Sema, ConstantsFoldWithSixteenBitWrap) {
+  auto r = run_frontend(
+      "int a = 32767 + 1;\nint b = -32768 / -1;\nint c = 0xFFFF;\nint d = 1 << 15;\nint e = -7 / 2;\n"
+      "int f = -7 % 2;\nint g = (3 > 2) ? 10 : 20;\nint h = 5 && 0 || 2;\nint i = ~0 >> 4;\nint j = 1 << 16;\n"
+      "task main() { }\n",
+      true);
+  ASSERT_TRUE(r.program) << r.text();
+  std::vector<std::int16_t> got;
+  for (const auto& g : r.program->globals) got.push_back(*g.init->constant);
+  // C semantics on int16: division truncates toward zero, >> is arithmetic.
+  EXPECT_EQ(got, (std::vector<std::int16_t>{-32768, -32768, -1, -32768, -3, -1, 10, 1, -1, 0}));
+}
+
+TEST(Sema, SourcesAndSensorIndexesFold) {
+  auto r = run_frontend("int a = __source_arg(SENSOR_2, 9);\nint b;\ntask main() { b = Timer(3) + SENSOR_3; }\n");
+  ASSERT_TRUE(r.program) << r.text();
+  EXPECT_EQ(r.program->globals[0].init->constant, std::optional<std::int16_t>(1));
+  const auto& body = std::get<Block>(r.program->tasks[0].body.node).stmts;
+  const auto& sum = std::get<Binary>(std::get<Assign>(std::get<ExprStmt>(body[0].node).expr.node).value->node);
+  const auto& timer = std::get<Source>(sum.lhs->node);
+  EXPECT_EQ(timer.type_value, 1);
+  EXPECT_EQ(timer.arg_value, 3);
+  const auto& sensor = std::get<Source>(sum.rhs->node);
+  EXPECT_EQ(sensor.type_value, 9);
+  EXPECT_EQ(sensor.arg_value, 2);
+}
+
+TEST(Sema, FoldConstantSeesThroughSubstitutedSources) {
+  // What lowering does after substituting `const int &sensor` with SENSOR_1.
+  Expr src{Source{Expr{IntLit{9}, {}, 9}, Expr{IntLit{0}, {}, 0}, 9, 0}, {}, std::nullopt};
+  Expr arg{SourceArg{src, std::int16_t{9}}, {}, std::nullopt};
+  EXPECT_EQ(frontend::fold_constant(arg), std::optional<std::int16_t>(0));
+  Expr timer{Source{Expr{IntLit{1}, {}, 1}, Expr{IntLit{0}, {}, 0}, 1, 0}, {}, std::nullopt};
+  Expr bad{SourceArg{timer, std::int16_t{9}}, {}, std::nullopt};
+  Diagnostics d;
+  EXPECT_FALSE(frontend::fold_constant(bad, &d).has_value());
+  ASSERT_EQ(d.error_count(), 1u);
+  EXPECT_EQ(d.all()[0].message, "argument must be a sensor source");
+  Expr div{Binary{BinaryOp::Div, Expr{IntLit{1}, {}, 1}, Expr{IntLit{0}, {}, 0}}, {}, std::nullopt};
+  EXPECT_FALSE(frontend::fold_constant(div, &d).has_value());
+  EXPECT_EQ(d.all().back().message, "division by zero in a constant expression");
+}
+
+TEST(Sema, SwitchCasesAreListedInOrder) {
+  auto r = run_frontend(
+      "task main()\n{\n  int x;\n  switch (x)\n  {\n    case 3: x = 1;\n    default: x = 2;\n    case -1: { case 7: x = 0; }\n  }\n}\n",
+      true);
+  ASSERT_TRUE(r.program) << r.text();
+  const auto& sw = std::get<Switch>(std::get<Block>(r.program->tasks[0].body.node).stmts[1].node);
+  ASSERT_EQ(sw.cases.size(), 4u);
+  EXPECT_EQ(sw.cases[0].value, std::optional<std::int16_t>(3));
+  EXPECT_FALSE(sw.cases[1].value.has_value());
+  EXPECT_EQ(sw.cases[2].value, std::optional<std::int16_t>(-1));
+  EXPECT_EQ(sw.cases[3].value, std::optional<std::int16_t>(7));
+  const auto& body = std::get<Block>(sw.body->node).stmts;
+  EXPECT_EQ(std::get<ast::Case>(body[2].node).index, 2u);
+}
+
+TEST(Sema, StdlibApiChecksClean) {
+  // Every API name of the surface spec, used once.
+  auto r = run_frontend(
+      "int v;\n"
+      "task main()\n{\n"
+      "  SetOutput(OUT_A + OUT_B, OUT_ON); SetDirection(OUT_C, OUT_REV); SetPower(OUT_A | OUT_C, OUT_HALF);\n"
+      "  On(OUT_A); Off(OUT_B); Float(OUT_C); Fwd(OUT_A); Rev(OUT_B); Toggle(OUT_C);\n"
+      "  OnFwd(OUT_A); OnRev(OUT_B); OnFor(OUT_C, 100); SetPower(OUT_A, OUT_LOW); SetPower(OUT_B, OUT_FULL);\n"
+      "  SetOutput(OUT_A, OUT_OFF); SetOutput(OUT_A, OUT_FLOAT); SetDirection(OUT_A, OUT_FWD);\n"
+      "  SetDirection(OUT_A, OUT_TOGGLE);\n"
+      "  SetSensor(SENSOR_1, SENSOR_TOUCH); SetSensor(SENSOR_2, SENSOR_LIGHT); SetSensor(SENSOR_3, SENSOR_ROTATION);\n"
+      "  SetSensor(SENSOR_1, SENSOR_CELSIUS); SetSensor(SENSOR_1, SENSOR_FAHRENHEIT);\n"
+      "  SetSensor(SENSOR_1, SENSOR_PULSE); SetSensor(SENSOR_1, SENSOR_EDGE);\n"
+      "  SetSensorType(SENSOR_1, SENSOR_TYPE_NONE); SetSensorType(SENSOR_1, SENSOR_TYPE_TOUCH);\n"
+      "  SetSensorType(SENSOR_1, SENSOR_TYPE_TEMPERATURE); SetSensorType(SENSOR_1, SENSOR_TYPE_LIGHT);\n"
+      "  SetSensorType(SENSOR_1, SENSOR_TYPE_ROTATION);\n"
+      "  SetSensorMode(SENSOR_2, SENSOR_MODE_RAW); SetSensorMode(SENSOR_2, SENSOR_MODE_BOOL + 10);\n"
+      "  SetSensorMode(SENSOR_2, SENSOR_MODE_EDGE); SetSensorMode(SENSOR_2, SENSOR_MODE_PULSE);\n"
+      "  SetSensorMode(SENSOR_2, SENSOR_MODE_PERCENT); SetSensorMode(SENSOR_2, SENSOR_MODE_CELSIUS);\n"
+      "  SetSensorMode(SENSOR_2, SENSOR_MODE_FAHRENHEIT); SetSensorMode(SENSOR_2, SENSOR_MODE_ROTATION);\n"
+      "  ClearSensor(SENSOR_3);\n"
+      "  v = SensorValue(S1) + SensorType(S2) + SensorMode(S3) + SensorValueRaw(0) + SensorValueBool(1);\n"
+      "  v = SENSOR_1 + SENSOR_2 + SENSOR_3 + Timer(0) + Watch() + Message() + Random(10) + Program();\n"
+      "  ClearTimer(2); Wait(v); Wait(Random(50)); SetWatch(12, 30);\n"
+      "  PlaySound(SOUND_CLICK); PlaySound(SOUND_DOUBLE_BEEP); PlaySound(SOUND_DOWN); PlaySound(SOUND_UP);\n"
+      "  PlaySound(SOUND_LOW_BEEP); PlaySound(SOUND_FAST_UP); PlayTone(440, 50);\n"
+      "  SelectDisplay(DISPLAY_WATCH); SelectDisplay(DISPLAY_SENSOR_1); SelectDisplay(DISPLAY_SENSOR_2);\n"
+      "  SelectDisplay(DISPLAY_SENSOR_3); SelectDisplay(DISPLAY_OUT_A); SelectDisplay(DISPLAY_OUT_B);\n"
+      "  SelectDisplay(DISPLAY_OUT_C);\n"
+      "  ClearMessage(); SendMessage(v); SetTxPower(TX_POWER_LO); SetTxPower(TX_POWER_HI);\n"
+      "  CreateDatalog(100); AddToDatalog(v); AddToDatalog(SENSOR_1);\n"
+      "  SetSleepTime(5); SleepNow(); StopAllTasks();\n"
+      "  v = true + false;\n"
+      "}\n");
+  EXPECT_TRUE(r.program.has_value());
+  EXPECT_EQ(r.brief(), std::vector<std::string>{}) << r.text();
+}
+
+TEST(Sema, StdlibValuesFollowTheFirmware) {
+  // Output bits, modes and sensor codes as the seed defines them.
+  struct Want {
+    const char* name;
+    int value;
+  };
+  const Want wants[] = {
+      {"OUT_A", 1}, {"OUT_B", 2}, {"OUT_C", 4}, {"OUT_ON", 0x80}, {"OUT_OFF", 0x40}, {"OUT_FLOAT", 0},
+      {"OUT_FWD", 0x80}, {"OUT_REV", 0}, {"OUT_TOGGLE", 0x40}, {"OUT_LOW", 0}, {"OUT_FULL", 7},
+      {"SENSOR_TYPE_TOUCH", 1}, {"SENSOR_TYPE_TEMPERATURE", 2}, {"SENSOR_TYPE_LIGHT", 3},
+      {"SENSOR_TYPE_ROTATION", 4}, {"SENSOR_MODE_BOOL", 0x20}, {"SENSOR_MODE_PERCENT", 0x80},
+      {"SENSOR_MODE_ROTATION", 0xe0}, {"SOUND_FAST_UP", 5}, {"TX_POWER_HI", 1}, {"S3", 2},
+  };
+  std::string src;
+  for (const auto& w : wants) src += std::string("int g_") + w.name + " = " + w.name + ";\n";
+  src += "task main() { }\n";
+  auto r2 = run_frontend(src);
+  ASSERT_TRUE(r2.program) << r2.text();
+  for (std::size_t i = 0; i < std::size(wants); ++i)
+    EXPECT_EQ(r2.program->globals[i].init->constant, std::optional<std::int16_t>(wants[i].value)) << wants[i].name;
+}

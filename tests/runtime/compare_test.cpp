@@ -1,0 +1,105 @@
+// Behaviour comparison of two runs (the nqc equivalence check), on
+// hand-assembled programs whose timing is known from the seed.
+#include "runtime/compare.h"
+
+#include <gtest/gtest.h>
+
+using namespace rcx;
+using Bytes = std::vector<std::uint8_t>;
+
+namespace {
+
+struct RunResult {
+  Image image;
+  Machine machine;
+};
+
+// Each program: an optional prefix, then "A on; wait W; sound 2".
+RunResult run_program(Bytes prefix, int wait_ticks, Micros limit_us = 5'000'000, std::string var_name = "v") {
+  RunResult r;
+  Bytes code = prefix;
+  for (int b : {0x21, 0x81, 0x43, 0x02, wait_ticks & 0xff, wait_ticks >> 8, 0x51, 0x02})
+    code.push_back(static_cast<std::uint8_t>(b));
+  r.image.fragments.push_back({FragmentType::Task, 0, code});
+  r.image.symbols.push_back({SymbolType::Variable, 0, var_name});
+  EXPECT_FALSE(r.machine.load(0, r.image).has_value());
+  r.machine.start_program();
+  r.machine.run(limit_us);
+  return r;
+}
+
+const Bytes kSetVar5 = {0x14, 0x00, 0x02, 0x05, 0x00};
+const Bytes kSetVar6 = {0x14, 0x00, 0x02, 0x06, 0x00};
+
+RunComparison compare(const RunResult& a, const RunResult& b) {
+  return compare_runs({&a.machine, &a.image, "one"}, {&b.machine, &b.image, "two"});
+}
+
+}  // namespace
+
+TEST(Compare, IdenticalProgramsAreTheSame) {
+  RunResult a = run_program(kSetVar5, 100), b = run_program(kSetVar5, 100);
+  auto c = compare(a, b);
+  EXPECT_TRUE(c.same);
+  EXPECT_TRUE(c.side_by_side.empty());
+}
+
+TEST(Compare, ExtraInstructionsWithinToleranceAreTheSame) {
+  // One more instruction (2 ms) before the same events: well inside 50 ms.
+  RunResult a = run_program(kSetVar5, 100);
+  Bytes two = kSetVar5;
+  two.insert(two.end(), kSetVar5.begin(), kSetVar5.end());
+  RunResult b = run_program(two, 100);
+  EXPECT_TRUE(compare(a, b).same);
+}
+
+TEST(Compare, DifferentEventValueIsReportedSideBySide) {
+  RunResult a = run_program(kSetVar5, 100);
+  RunResult b = run_program(kSetVar5, 100);
+  // Same timing, different sound: patch b's sound number and rerun.
+  RunResult c;
+  c.image = b.image;
+  c.image.fragments[0].code.back() = 0x03;
+  ASSERT_FALSE(c.machine.load(0, c.image).has_value());
+  c.machine.start_program();
+  c.machine.run(5'000'000);
+  auto r = compare(a, c);
+  EXPECT_FALSE(r.same);
+  ASSERT_FALSE(r.differences.empty());
+  EXPECT_NE(r.differences[0].find("sound 2"), std::string::npos) << r.differences[0];
+  EXPECT_NE(r.differences[0].find("sound 3"), std::string::npos) << r.differences[0];
+  EXPECT_NE(r.side_by_side.find("| "), std::string::npos);
+  EXPECT_NE(r.side_by_side.find('*'), std::string::npos) << r.side_by_side;
+}
+
+TEST(Compare, EventTooLateIsADifference) {
+  RunResult a = run_program(kSetVar5, 100), b = run_program(kSetVar5, 150);  // sound at ~1 s vs ~1.5 s
+  auto r = compare(a, b);
+  EXPECT_FALSE(r.same);
+  EXPECT_NE(r.differences[0].find("allowed difference"), std::string::npos) << r.differences[0];
+}
+
+TEST(Compare, FinalGlobalsComparedWhenBothRunsEnded) {
+  RunResult a = run_program(kSetVar5, 10), b = run_program(kSetVar6, 10);
+  auto r = compare(a, b);
+  EXPECT_FALSE(r.same);
+  EXPECT_NE(r.differences[0].find("global 'v' = 5 (one) but 6 (two)"), std::string::npos) << r.differences[0];
+}
+
+TEST(Compare, GlobalsOfRunsCutByTheTimeLimitAreNotCompared) {
+  // Both still waiting when the run is cut at 0.5 s.
+  RunResult a = run_program(kSetVar5, 100, 500'000), b = run_program(kSetVar6, 100, 500'000);
+  ASSERT_EQ(a.machine.stop().kind, StopKind::TimeLimit);
+  EXPECT_TRUE(compare(a, b).same);
+}
+
+TEST(Compare, GlobalsInOnlyOneImageAreIgnored) {
+  RunResult a = run_program(kSetVar5, 10, 5'000'000, "v"), b = run_program(kSetVar5, 10, 5'000'000, "param");
+  EXPECT_TRUE(compare(a, b).same);
+}
+
+TEST(Compare, EventJustBeforeTheCutOffIsNotADifference) {
+  // The sound comes at ~1 s; cut one run at 1.01 s and the other at 0.99 s.
+  RunResult a = run_program(kSetVar5, 100, 1'010'000), b = run_program(kSetVar5, 100, 990'000);
+  EXPECT_TRUE(compare(a, b).same);
+}

@@ -1,0 +1,148 @@
+// The whole path over a real pseudo-terminal: the brick served on the pty
+// master (echoing like a serial tower), the host on the slave as a serial
+// port. The brick answers at full speed so the test does not wait for 2400 baud.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <thread>
+
+#include "runtime/brick_server.h"
+#include "runtime/download.h"
+#include "runtime/remote.h"
+
+namespace rcx {
+namespace {
+
+// A brick served on a pty in a thread until the fixture ends.
+struct PtyBrick : ::testing::Test {
+  Brick brick = make_brick();
+  Pty pty;
+  int stop[2] = {-1, -1};
+  std::thread server;
+  std::optional<TransportError> server_error;
+
+  void start(double noise = 0.0) {
+    auto opened = open_pty();
+    ASSERT_TRUE(std::holds_alternative<Pty>(opened)) << std::get<TransportError>(opened).message;
+    pty = std::move(std::get<Pty>(opened));
+    ASSERT_EQ(::pipe(stop), 0);
+    ServeOptions options;
+    options.pace = false;
+    options.noise = noise;
+    options.seed = 11;
+    options.stop_fd = stop[0];
+    server = std::thread([this, options] { server_error = serve(brick, *pty.master, options); });
+  }
+  void TearDown() override {
+    if (server.joinable()) {
+      (void)!::write(stop[1], "x", 1);
+      server.join();
+    }
+    for (int fd : stop)
+      if (fd >= 0) ::close(fd);
+    close_pty(pty);
+  }
+  std::unique_ptr<Transport> host() {
+    auto port = open_port({pty.slave_path, PortKind::Serial});
+    EXPECT_TRUE(std::holds_alternative<std::unique_ptr<Transport>>(port));
+    return std::move(std::get<std::unique_ptr<Transport>>(port));
+  }
+};
+
+Image program() {
+  // task 0: var 4 = 1234; start task 3. task 3: var 5 = var 4.
+  Image image;
+  image.fragments.push_back({FragmentType::Task, 0, {0x14, 0x04, 0x02, 0xD2, 0x04, 0x71, 0x03}});
+  image.fragments.push_back({FragmentType::Task, 3, {0x14, 0x05, 0x00, 0x04, 0x00}});
+  return image;
+}
+
+TEST_F(PtyBrick, ResolvesThePtyAsASerialTower) {
+  start();
+  EXPECT_EQ(resolve_port(pty.slave_path, std::nullopt).kind, PortKind::Serial);
+  auto port = host();
+  ASSERT_TRUE(port);
+  EXPECT_TRUE(port->echoes());
+}
+
+TEST_F(PtyBrick, DownloadRunAndReadAVariable) {
+  start();
+  auto port = host();
+  ASSERT_TRUE(port);
+  Link link = make_link(*port);
+  DownloadOptions options;
+  options.run = true;
+  auto result = download(link, program(), options);
+  ASSERT_TRUE(std::holds_alternative<DownloadReport>(result)) << std::get<DownloadError>(result).message;
+  // The program runs in real time on the brick; give it a moment.
+  std::string value;
+  for (int i = 0; i < 50 && value != "1234\n"; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    auto r = run_remote(link, {"get", "var", "5"});
+    ASSERT_TRUE(std::holds_alternative<std::string>(r)) << std::get<RemoteError>(r).message;
+    value = std::get<std::string>(r);
+  }
+  EXPECT_EQ(value, "1234\n");
+  EXPECT_EQ(link.stats.attempts, link.stats.requests);  // a clean line: no retries
+}
+
+TEST_F(PtyBrick, NoisyLineStillVerifiesOrFailsCleanly) {
+  start(0.05);
+  auto port = host();
+  ASSERT_TRUE(port);
+  LinkOptions fast;
+  fast.reply_grace = Millis(15);
+  fast.backoff = Millis(1);
+  fast.max_backoff = Millis(5);
+  fast.byte_seconds = 0;  // the brick answers at full speed
+  int verified = 0;
+  for (int run = 0; run < 3; ++run) {
+    Link link = make_link(*port, fast);
+    auto result = download(link, program(), {});
+    if (!std::holds_alternative<DownloadReport>(result)) continue;
+    ++verified;
+  }
+  TearDown();  // stop the server before looking at the brick
+  ASSERT_FALSE(server_error) << server_error->message;
+  EXPECT_GE(verified, 1);
+  if (verified > 0) {
+    EXPECT_EQ(brick.vm.slot(0).tasks[0], program().fragments[0].code);
+    EXPECT_EQ(brick.vm.slot(0).tasks[3], program().fragments[1].code);
+  }
+}
+
+TEST(LinkPort, ResolvesAliasesAndTheEnvironment) {
+  EXPECT_EQ(resolve_port(std::nullopt, std::nullopt).path, kUsbTowerPath);
+  EXPECT_EQ(resolve_port(std::nullopt, std::nullopt).kind, PortKind::Usb);
+  EXPECT_EQ(resolve_port(std::string("serial"), std::nullopt).path, kSerialTowerPath);
+  EXPECT_EQ(resolve_port(std::nullopt, std::string("serial")).kind, PortKind::Serial);
+  EXPECT_EQ(resolve_port(std::string("usb"), std::string("serial")).kind, PortKind::Usb);  // --port wins
+  EXPECT_EQ(resolve_port(std::string("usb:/dev/x"), std::nullopt).path, "/dev/x");
+  EXPECT_EQ(resolve_port(std::string("serial:/dev/y"), std::nullopt).kind, PortKind::Serial);
+}
+
+TEST(LinkPort, MissingDeviceSaysWhatToCheck) {
+  auto r = open_port({"/dev/nonexistent-tower", PortKind::Usb});
+  ASSERT_TRUE(std::holds_alternative<TransportError>(r));
+  EXPECT_NE(std::get<TransportError>(r).message.find("does not exist"), std::string::npos);
+}
+
+TEST(LinkPort, APtyNobodyServesTimesOutCleanly) {
+  auto opened = open_pty();
+  ASSERT_TRUE(std::holds_alternative<Pty>(opened));
+  Pty pty = std::move(std::get<Pty>(opened));
+  auto port = open_port({pty.slave_path, PortKind::Serial});
+  ASSERT_TRUE(std::holds_alternative<std::unique_ptr<Transport>>(port));
+  LinkOptions quick;
+  quick.retries = 1;
+  quick.reply_grace = Millis(5);
+  quick.backoff = Millis(1);
+  Link link = make_link(*std::get<std::unique_ptr<Transport>>(port), quick);
+  auto r = transact(link, Bytes{0x10});
+  ASSERT_TRUE(std::holds_alternative<LinkError>(r));
+  EXPECT_NE(std::get<LinkError>(r).message.find("not even the echo"), std::string::npos);
+  close_pty(pty);
+}
+
+}  // namespace
+}  // namespace rcx
