@@ -37,8 +37,11 @@ struct Candidate {
   }
 };
 
-bool is_block_start(const Selected& f, std::size_t i) {
-  return std::find(f.block_start.begin(), f.block_start.end(), static_cast<int>(i)) != f.block_start.end();
+std::vector<bool> block_starts(const Selected& f) {
+  std::vector<bool> starts(f.code.size() + 1, false);
+  for (int b : f.block_start)
+    if (b >= 0 && static_cast<std::size_t>(b) < starts.size()) starts[static_cast<std::size_t>(b)] = true;
+  return starts;
 }
 
 // Every repeated sequence and where it occurs, keyed by its bytes.
@@ -47,12 +50,13 @@ Candidate best_candidate(const std::vector<Selected>& fragments) {
   for (std::size_t f = 0; f < fragments.size(); ++f) {
     const Selected& frag = fragments[f];
     if (frag.type != rcx::FragmentType::Task) continue;
+    auto starts = block_starts(frag);
     for (std::size_t i = 0; i < frag.code.size(); ++i) {
       std::string key;
       int bytes = 0;
       for (std::size_t len = 1; len <= kMaxSequence && i + len <= frag.code.size(); ++len) {
         const MInstr& m = frag.code[i + len - 1];
-        if (!outlinable(m) || (len > 1 && is_block_start(frag, i + len - 1))) break;
+        if (!outlinable(m) || (len > 1 && starts[i + len - 1])) break;
         key.append(m.bytes.begin(), m.bytes.end());
         key.push_back('\x7f');  // instruction boundary
         bytes += static_cast<int>(m.bytes.size());
@@ -71,18 +75,32 @@ Candidate best_candidate(const std::vector<Selected>& fragments) {
   return best;
 }
 
-void replace(Selected& frag, std::size_t start, std::size_t length, int sub) {
-  MInstr call;
-  call.op = rcx::Op::CallSubroutine;
-  call.bytes = {rcx::info(rcx::Op::CallSubroutine).code, static_cast<std::uint8_t>(sub)};
-  call.span = frag.code[start].span;
-  frag.code.erase(frag.code.begin() + static_cast<long>(start), frag.code.begin() + static_cast<long>(start + length));
-  frag.code.insert(frag.code.begin() + static_cast<long>(start), call);
-  auto shrink = static_cast<int>(length) - 1;
-  for (int& b : frag.block_start)
-    if (b > static_cast<int>(start)) b -= shrink;
-  for (auto& m : frag.code)
-    if (m.target.block < 0 && m.target.instr > static_cast<int>(start)) m.target.instr -= shrink;
+// Replaces the sequences of `length` instructions at `starts` (ascending,
+// not overlapping) by calls of subroutine `sub`, in one pass.
+void replace(Selected& frag, const std::vector<std::size_t>& starts, std::size_t length, int sub) {
+  std::vector<MInstr> code;
+  std::vector<int> map(frag.code.size() + 1, 0);  // old index -> new index
+  std::size_t next = 0;
+  for (std::size_t i = 0; i < frag.code.size();) {
+    map[i] = static_cast<int>(code.size());
+    if (next < starts.size() && starts[next] == i) {
+      MInstr call;
+      call.op = rcx::Op::CallSubroutine;
+      call.bytes = {rcx::info(rcx::Op::CallSubroutine).code, static_cast<std::uint8_t>(sub)};
+      call.span = frag.code[i].span;
+      for (std::size_t k = 1; k < length; ++k) map[i + k] = static_cast<int>(code.size());
+      code.push_back(std::move(call));
+      i += length;
+      ++next;
+    } else {
+      code.push_back(std::move(frag.code[i++]));
+    }
+  }
+  map[frag.code.size()] = static_cast<int>(code.size());
+  for (int& b : frag.block_start) b = map[static_cast<std::size_t>(b)];
+  for (auto& m : code)
+    if (m.target.block < 0 && m.target.instr >= 0) m.target.instr = map[static_cast<std::size_t>(m.target.instr)];
+  frag.code = std::move(code);
 }
 
 }  // namespace
@@ -106,11 +124,12 @@ void outline(std::vector<Selected>& fragments, std::vector<std::string>& log) {
     sub.block_start = {0};
     log.push_back(fmt::format("{} copies of a {}-byte sequence outlined into sub {} ({} bytes saved)", c.places.size(),
                               c.bytes, sub.index, c.saving()));
-    // Replace from the back so earlier positions stay valid.
-    std::sort(c.places.begin(), c.places.end(), [](const Occurrence& a, const Occurrence& b) {
-      return a.fragment != b.fragment ? a.fragment > b.fragment : a.start > b.start;
-    });
-    for (const auto& o : c.places) replace(fragments[o.fragment], o.start, c.length, sub.index);
+    std::map<std::size_t, std::vector<std::size_t>> by_fragment;
+    for (const auto& o : c.places) by_fragment[o.fragment].push_back(o.start);
+    for (auto& [f, starts] : by_fragment) {
+      std::sort(starts.begin(), starts.end());
+      replace(fragments[f], starts, c.length, sub.index);
+    }
     fragments.push_back(std::move(sub));
     ++subs;
   }

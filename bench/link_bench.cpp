@@ -38,16 +38,23 @@ Image program(std::size_t bytes) {
 // Framing of a message with `payload` bytes: header, doubled bytes, checksum pair.
 double message_bytes(double payload) { return 3 + 2 * payload + 2; }
 
-// The least a download of `bytes` can cost on a serial tower at 2400 baud:
-// every byte is heard twice by the host (echo), each Transfer data block of
-// at most 64 bytes carries 6 bytes of header and a 2-byte reply, plus the
-// framing of the eight fixed requests (alive, stop, program, delete x2,
-// start download, sound) and their replies.
+// The least a download of `bytes` (one task) can cost at 2400 baud: the
+// framed requests and replies a download cannot do without (Alive, Stop all
+// tasks, Set program number, Delete all tasks and subroutines, Start task
+// download, the Transfer data blocks of at most 64 bytes, the download-done
+// sound), every byte sent twice (value and complement) at 11 bits. A serial
+// tower's echo overlaps the sending, so it adds nothing.
 double floor_seconds(std::size_t bytes) {
-  double blocks = std::ceil(static_cast<double>(bytes) / 64.0);
-  double wire = 2 * static_cast<double>(bytes) + blocks * (message_bytes(6) - 0 + message_bytes(2));
-  wire += 7 * (message_bytes(2) + message_bytes(2));
-  return wire * kByteSeconds;  // the echo overlaps the sending (half duplex)
+  const double blocks = std::ceil(static_cast<double>(bytes) / 64.0);
+  // request payload, reply payload
+  double wire = message_bytes(1) + message_bytes(1)     // alive
+                + message_bytes(1) + message_bytes(1)   // stop all tasks
+                + message_bytes(2) + message_bytes(1)   // set program number
+                + 2 * (message_bytes(1) + message_bytes(1))  // delete all tasks, subroutines
+                + message_bytes(6) + message_bytes(2)   // start task download
+                + message_bytes(2) + message_bytes(1);  // play sound
+  wire += blocks * (message_bytes(6) + message_bytes(2)) + 2 * static_cast<double>(bytes);
+  return wire * kByteSeconds;
 }
 
 struct PacedBrick {

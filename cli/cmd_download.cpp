@@ -2,12 +2,14 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <iterator>
 
 #include <fmt/format.h>
 
+#include "backend/compile.h"
 #include "cli/commands.h"
 #include "runtime/download.h"
 #include "runtime/image.h"
@@ -24,18 +26,36 @@ struct DownloadArgs {
   int retries = 30;
   bool no_sound = false;
   bool verbose = false;
+  std::vector<std::string> include_dirs;
 };
 
 bool ends_with(const std::string& s, std::string_view suffix) {
   return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
-// Reads the image to download, or says why not.
-std::variant<rcx::Image, std::string> load(const std::string& file) {
-  if (ends_with(file, ".nqc") || ends_with(file, ".nqh"))
-    return fmt::format("{}: downloading NQC source needs the compiler, which is not in this build yet; "
-                       "compile it to an .rcx image first (nqc -Trcx -Oprog.rcx {}) and download that",
-                       file, file);
+// Compiles NQC source in memory (default options, -Os), printing its
+// diagnostics; nullopt after errors.
+std::optional<rcx::Image> compile(const std::string& file, const std::vector<std::string>& include_dirs) {
+  SourceManager sm;
+  Diagnostics diags;
+  frontend::Options options;
+  options.include_dirs = include_dirs;
+  ir::Log log;
+  auto out = backend::compile_file(file, options, ir::OptLevel::Os, sm, diags, log);
+  for (const auto& d : diags.all()) std::cerr << render_text(d, sm);
+  if (!out) return std::nullopt;
+  return out->image;
+}
+
+// Reads (or compiles) the image to download, or says why not; an empty
+// message means the compiler already reported the errors.
+std::variant<rcx::Image, std::string> load(const std::string& file, const std::vector<std::string>& include_dirs) {
+  if (ends_with(file, ".nqc")) {
+    if (!std::filesystem::exists(file)) return fmt::format("cannot read {}", file);
+    auto image = compile(file, include_dirs);
+    if (!image) return std::string();
+    return *image;
+  }
   std::ifstream in(file, std::ios::binary);
   if (!in) return fmt::format("cannot read {}", file);
   std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -68,9 +88,9 @@ int exit_code_for(rcx::DownloadFailure kind) {
 }
 
 int run_download(const DownloadArgs& a) {
-  auto image = load(a.file);
+  auto image = load(a.file, a.include_dirs);
   if (auto* e = std::get_if<std::string>(&image)) {
-    std::cerr << "rcxc download: " << *e << "\n";
+    if (!e->empty()) std::cerr << "rcxc download: " << *e << "\n";
     return kExitFailure;
   }
   auto opened = rcx::open_user_port(a.port);
@@ -108,9 +128,10 @@ int run_download(const DownloadArgs& a) {
 }  // namespace
 
 void register_download(CLI::App& app, int& exit_code) {
-  auto* cmd = app.add_subcommand("download", "Download a program (.rcx image) into the RCX over the IR tower");
+  auto* cmd = app.add_subcommand("download", "Compile if needed and download a program into the RCX over the IR tower");
   auto a = std::make_shared<DownloadArgs>();
-  cmd->add_option("FILE", a->file, ".rcx image (or .nqc source once the compiler is in)")->required();
+  cmd->add_option("FILE", a->file, ".nqc source (compiled first) or .rcx image")->required();
+  cmd->add_option("-I", a->include_dirs, "Include directory for .nqc source");
   cmd->add_option("--port", a->port, "Tower device: usb, serial, a path (default: RCX_PORT, else usb)");
   cmd->add_option("--program", a->program, "Program slot 1..5")->check(CLI::Range(1, 5));
   cmd->add_flag("--run", a->run, "Start the program after downloading");
@@ -118,7 +139,8 @@ void register_download(CLI::App& app, int& exit_code) {
   cmd->add_flag("--no-sound", a->no_sound, "Do not play the download-done sound");
   cmd->add_flag("-v,--verbose", a->verbose, "Say why replies were rejected");
   cmd->footer(
-      "Exit codes: 0 downloaded and every block acknowledged; 1 bad input or the RCX refused it;\n"
+      "Exit codes: 0 downloaded and every block acknowledged; 1 bad input (compile errors, a bad image) or the\n"
+      "RCX refused it;\n"
       "2 bad command line; 3 the port could not be opened; 4 the RCX did not answer or the link failed.");
   cmd->callback([&exit_code, a] { exit_code = run_download(*a); });
 }

@@ -2,7 +2,9 @@
 // a timeline, or a JSON report, and optionally writes a trace file.
 #include <fmt/format.h>
 
+#include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <iostream>
 #include <variant>
 
@@ -11,6 +13,7 @@
 #include "runtime/image.h"
 #include "runtime/report.h"
 #include "runtime/scenario.h"
+#include "runtime/testspec.h"
 #include "runtime/vm.h"
 
 namespace rcxc::cli {
@@ -20,6 +23,7 @@ struct RunOptions {
   std::string file;
   std::string scenario;
   std::int64_t for_ms = 60'000;
+  bool for_given = false;
   std::uint64_t seed = 1;
   std::string report;
   std::string trace;
@@ -57,6 +61,33 @@ bool write_file(const std::string& path, const std::string& text) {
   return static_cast<bool>(out);
 }
 
+// A program with test directives (docs/testing.md) carries its own inputs:
+// without --scenario they drive the run, and @for sets the time limit unless
+// --for is given. Says so on stderr, so the timeline is never a surprise.
+bool inputs_from_source(const RunOptions& o, std::vector<rcx::TimedInput>& inputs, std::int64_t& run_ms) {
+  std::ifstream in(o.file, std::ios::binary);
+  std::stringstream text;
+  text << in.rdbuf();
+  auto parsed = rcx::semtest::parse_spec(text.str());
+  if (!std::holds_alternative<rcx::semtest::Spec>(parsed)) return true;  // `rcxc test` reports bad directives
+  const auto& spec = std::get<rcx::semtest::Spec>(parsed);
+  if (spec.inputs.empty() && spec.scenario_file.empty() && !spec.run_for_us) return true;
+  inputs = spec.inputs;
+  if (!spec.scenario_file.empty()) {
+    auto path = (std::filesystem::path(o.file).parent_path() / spec.scenario_file).string();
+    auto scenario = rcx::read_scenario_file(path);
+    if (auto* e = std::get_if<rcx::ScenarioError>(&scenario)) {
+      std::cerr << "rcxc run: " << e->message << "\n";
+      return false;
+    }
+    auto& more = std::get<std::vector<rcx::TimedInput>>(scenario);
+    inputs.insert(inputs.end(), more.begin(), more.end());
+  }
+  if (spec.run_for_us && !o.for_given) run_ms = *spec.run_for_us / rcx::kMicrosPerMs;
+  std::cerr << "rcxc run: using the inputs written in " << o.file << " (// @input, @for; --scenario overrides)\n";
+  return true;
+}
+
 int run(const RunOptions& o) {
   if (!o.trace.empty() && !ends_with(o.trace, ".vcd") && !ends_with(o.trace, ".json")) {
     std::cerr << "rcxc run: --trace file must end in .vcd or .json: " << o.trace << "\n";
@@ -77,6 +108,10 @@ int run(const RunOptions& o) {
     }
     inputs = std::get<std::vector<rcx::TimedInput>>(std::move(parsed));
   }
+  std::int64_t run_ms = o.for_ms;
+  if (o.scenario.empty() && ends_with(o.file, ".nqc")) {
+    if (!inputs_from_source(o, inputs, run_ms)) return kExitFailure;
+  }
   rcx::Config config;
   config.seed = o.seed;
   config.instruction_cost_us = o.instruction_us;
@@ -89,7 +124,7 @@ int run(const RunOptions& o) {
   if (!image.find(rcx::FragmentType::Task, 0)) std::cerr << "rcxc run: warning: " << o.file << " has no task 0 to start\n";
   for (const auto& in : inputs) machine.schedule(in);
   machine.start_program();
-  machine.run(o.for_ms * rcx::kMicrosPerMs);
+  machine.run(run_ms * rcx::kMicrosPerMs);
 
   if (o.report == "json")
     std::cout << json_text(rcx::report_json(machine, image)) << "\n";
@@ -122,7 +157,11 @@ void register_run(CLI::App& app, int& exit_code) {
   cmd->add_option("--trace", o->trace, "write a trace: F.vcd (GTKWave) or F.json (events)");
   cmd->add_option("--instruction-us", o->instruction_us, "virtual cost of one instruction in microseconds (default 2000)")
       ->check(CLI::Range(int64_t{1}, int64_t{1'000'000}));
-  cmd->callback([&exit_code, o] { exit_code = run(*o); });
+  auto* for_option = cmd->get_option("--for");
+  cmd->callback([&exit_code, o, for_option] {
+    o->for_given = for_option->count() > 0;
+    exit_code = run(*o);
+  });
 }
 
 }  // namespace rcxc::cli

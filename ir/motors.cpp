@@ -144,13 +144,27 @@ struct MotorPass {
   }
 };
 
+// Whether some instruction starts task `f` (for main: restarts it, so its
+// startup code can run while other tasks run).
+bool started_anywhere(const Program& p, FuncId f) {
+  for (const auto& fn : p.functions)
+    for (const auto& b : fn.blocks)
+      for (const auto& in : b.instrs)
+        if (!in.raw && in.op == rcx::Op::StartTask && in.args[0].kind == Operand::Kind::Func && in.args[0].value == f)
+          return true;
+  return false;
+}
+
 std::vector<int> function_touches(const Program& p) {
   std::vector<int> t(p.functions.size(), 0);
   for (std::size_t f = 0; f < p.functions.size(); ++f) {
     const Function& fn = p.functions[f];
+    // Main's startup code runs before any other task exists, unless
+    // something restarts main.
+    int skip = started_anywhere(p, static_cast<FuncId>(f)) ? 0 : fn.startup;
     for (std::size_t b = 0; b < fn.blocks.size(); ++b)
       for (std::size_t i = 0; i < fn.blocks[b].instrs.size(); ++i)
-        if (!(b == 0 && static_cast<int>(i) < fn.startup)) t[f] |= touched(fn.blocks[b].instrs[i]);
+        if (!(b == 0 && static_cast<int>(i) < skip)) t[f] |= touched(fn.blocks[b].instrs[i]);
   }
   for (bool changed = true; changed;) {
     changed = false;
@@ -166,121 +180,7 @@ std::vector<int> function_touches(const Program& p) {
   return t;
 }
 
-// Whether any instruction can show an output's power or direction other
-// than by running the motor: raw bytes, motor state reads, the display.
-bool output_settings_visible(const Program& p) {
-  for (const auto& f : p.functions)
-    for (const auto& b : f.blocks)
-      for (const auto& in : b.instrs) {
-        if (in.raw || in.op == rcx::Op::SetDisplay) return true;
-        for (const auto& a : in.args)
-          if (a.kind == Operand::Kind::Src && a.source == 3) return true;
-      }
-  return false;
-}
-
-// Outputs a function switches on (all when a code is not constant).
-int outputs_switched_on(const Function& f) {
-  int on = 0;
-  for (const auto& b : f.blocks)
-    for (const auto& in : b.instrs)
-      if (!in.raw && in.op == rcx::Op::SetMotorOnOff)
-        on |= in.args[0].is_imm() ? ((in.args[0].value & 0x80) ? (in.args[0].value & 7) : 0) : 7;
-  return on;
-}
-
-// Backward liveness of output settings in main: bit 2*o is output o's
-// power, bit 2*o+1 its direction. A running motor shows both; setting one
-// without a flip hides the earlier value; starting a task or calling a
-// subroutine may show anything.
-constexpr int kAllSettings = 0x3f;
-
-// Settings (both of each output) of the outputs `mask` has.
-int settings_of(int mask) {
-  int s = 0;
-  for (int o = 0; o < kOutputs; ++o)
-    if ((mask >> o) & 1) s |= 3 << (2 * o);
-  return s;
-}
-
-// `started_show`: settings another task may show once started.
-int settings_step_back(const Instr& in, int live, int started_show) {
-  if (in.raw || in.op == rcx::Op::CallSubroutine) return kAllSettings;
-  if (in.op == rcx::Op::StartTask) return live | started_show;
-  if (!is_motor_op(in)) return live;
-  if (!in.args[0].is_imm()) return kAllSettings;
-  int code = in.args[0].value;
-  for (int o = 0; o < kOutputs; ++o) {
-    if (!((code >> o) & 1)) continue;
-    int power = 1 << (2 * o), dir = 1 << (2 * o + 1);
-    switch (in.op) {
-      case rcx::Op::SetMotorOnOff:
-        if (code & 0x80) live |= power | dir;
-        break;
-      case rcx::Op::SetMotorDirection:
-        live = (code & 0x40) ? (live | dir) : (live & ~dir);
-        break;
-      default: {
-        const Operand& level = in.args[1];
-        if (level.is_imm() && level.value >= 0 && level.value <= 7) live &= ~power;
-      }
-    }
-  }
-  return live;
-}
-
-// Settings live right after main's startup code.
-int live_after_startup(const Function& main, int started_show) {
-  std::size_t n = main.blocks.size();
-  std::vector<int> live_in(n, 0);
-  for (bool changed = true; changed;) {
-    changed = false;
-    for (std::size_t b = n; b-- > 0;) {
-      int live = 0;
-      for (BlockId s : successors(main.blocks[b].term)) live |= live_in[static_cast<std::size_t>(s)];
-      const auto& instrs = main.blocks[b].instrs;
-      std::size_t stop = b == 0 ? static_cast<std::size_t>(main.startup) : 0;
-      for (std::size_t i = instrs.size(); i-- > stop;) live = settings_step_back(instrs[i], live, started_show);
-      changed |= live != live_in[b];
-      live_in[b] = live;
-    }
-  }
-  return live_in[0];
-}
-
 }  // namespace
-
-void trim_startup(Program& p) {
-  if (output_settings_visible(p)) return;
-  for (auto& f : p.functions) {
-    if (f.startup == 0 || f.blocks.empty()) continue;
-    // Outputs the other tasks and subroutines switch on.
-    int others_on = 0;
-    for (const auto& g : p.functions)
-      if (&g != &f) others_on |= outputs_switched_on(g);
-    int live = live_after_startup(f, settings_of(others_on));
-    auto& instrs = f.blocks[0].instrs;
-    int kept = 0;
-    std::vector<Instr> out;
-    for (std::size_t i = 0; i < instrs.size(); ++i) {
-      bool startup = static_cast<int>(i) < f.startup;
-      if (startup && instrs[i].args[0].is_imm()) {
-        // Keep the outputs whose setting some later instruction shows.
-        int code = instrs[i].args[0].value;
-        int shift = instrs[i].op == rcx::Op::SetMotorPower ? 0 : 1;
-        int mask = 0;
-        for (int o = 0; o < kOutputs; ++o)
-          if (((code >> o) & 1) && ((live >> (2 * o + shift)) & 1)) mask |= 1 << o;
-        if (mask == 0) continue;
-        instrs[i].args[0].value = (code & ~7) | mask;
-      }
-      kept += startup ? 1 : 0;
-      out.push_back(std::move(instrs[i]));
-    }
-    instrs = std::move(out);
-    f.startup = kept;
-  }
-}
 
 void remove_redundant_motor_commands(Program& p) {
   MotorPass pass{p, function_touches(p), 0};

@@ -27,13 +27,6 @@ void remove_dead_stores(Program& p);
 // motors.cpp: removes motor commands (direction, on/off, power) that set
 // what the output already has, for outputs only one task commands.
 void remove_redundant_motor_commands(Program& p);
-// Narrows main's startup code (all outputs full power, forward) to the
-// settings some later instruction can show, and drops what none shows: an
-// output's power and direction show when it runs (outputs are off when a
-// program starts), so a setting replaced before the output is switched on
-// is dead. Kept whole when the program reads motor states, selects the
-// display or uses raw asm.
-void trim_startup(Program& p);
 
 // peephole.cpp: within a block, runs of motor commands (with only
 // instructions between that neither read nor change outputs) become the

@@ -16,7 +16,6 @@ bool optimize(Program& p, OptLevel level, Diagnostics& diags, Log& log) {
         merge_motor_commands(f);
         drop_redundant_sensor_modes(f);
       }
-      trim_startup(p);
       remove_redundant_motor_commands(p);
     }
   }

@@ -10,25 +10,10 @@
 #include "tests/support/process.h"
 
 using rcxc::test::run_rcxc;
+using rcxc::test::TempDir;
 
 namespace {
 
-struct TempDir {
-  std::string path = rcxc::test::make_temp_dir();
-  ~TempDir() { std::filesystem::remove_all(path); }
-  std::string write(const std::string& name, const std::string& text) const {
-    std::string p = path + "/" + name;
-    std::ofstream(p, std::ios::binary) << text;
-    return p;
-  }
-  std::vector<std::uint8_t> read(const std::string& name) const {
-    std::ifstream in(path + "/" + name, std::ios::binary);
-    std::stringstream s;
-    s << in.rdbuf();
-    std::string t = s.str();
-    return {t.begin(), t.end()};
-  }
-};
 
 const char* kProgram = R"(int count;
 task main() {

@@ -382,3 +382,69 @@ TEST(Emulate, CorpusCompilesAndRuns) {
   }
   EXPECT_GE(compiled, 40);
 }
+
+TEST(Emulate, HugeTaskGetsADiagnosticNotACrash) {
+  // nqc crashes on a 20 000-line task; rcxc reports that it does not fit.
+  std::string src = "int x, y, z;\ntask main() {\n";
+  for (int i = 0; i < 20000; ++i) {
+    switch (i % 4) {
+      case 0: src += fmt::format("  x = x + {} * y;\n", i % 100); break;
+      case 1: src += fmt::format("  if (x > {}) y = x % 7; else z = y ^ x;\n", i % 50); break;
+      case 2: src += fmt::format("  OnFwd(OUT_A); Wait({});\n", i % 300); break;
+      default: src += "  z = (x << 2) + (y >> 1);\n";
+    }
+  }
+  src += "}\n";
+  auto c = compile(src, ir::OptLevel::Os, true);
+  EXPECT_FALSE(c.out);
+  EXPECT_NE(c.messages.find("task main is"), std::string::npos) << c.messages.substr(0, 500);
+  EXPECT_NE(c.messages.find("at most 32767 bytes"), std::string::npos);
+}
+
+TEST(Emulate, GotoLabelsAndAsm) {
+  auto c = compile(R"(
+#pragma reserve 0 0
+int n, a, b;
+task main() {
+  n = 0;
+again:
+  n++;
+  if (n < 4) goto again;
+  repeat (3) { a = a + 1; if (a == 2) goto out; }
+out:
+  asm { set b, 40; add b, n; }      // mnemonic form: b = 40 + n
+  asm { 0x14, 0, $a, 0x24, 0, 2, 10, 0 }  // raw: set var[0], a; add var[0], 10
+}
+)");
+  ASSERT_TRUE(c.out) << c.messages;
+  auto m = run(c.out->image);
+  EXPECT_EQ(global(m, c.out->image, "n"), 4);
+  EXPECT_EQ(global(m, c.out->image, "b"), 44);
+  EXPECT_EQ(global(m, c.out->image, "a"), 2);
+  EXPECT_EQ(m.state().vars[0], 12);  // slot 0 is reserved: only the raw bytes use it
+}
+
+TEST(Emulate, StartAndStopTasksWithTheLibrary) {
+  auto c = compile(R"(
+int ticks, seen;
+task counter() { while (true) { ticks++; Wait(1); } }
+task main() {
+  ticks = 0;
+  start counter;
+  Wait(50);
+  stop counter;
+  seen = ticks;
+  Wait(50);
+  OnFwd(OUT_A);
+}
+)",
+                   ir::OptLevel::Os, true);
+  ASSERT_TRUE(c.out) << c.messages;
+  auto m = run(c.out->image, 2000);
+  int seen = global(m, c.out->image, "seen");
+  EXPECT_GT(seen, 10);
+  EXPECT_EQ(global(m, c.out->image, "ticks"), seen);  // stopped: no more ticks
+  EXPECT_EQ(m.state().outputs[0].mode, rcx::OutputMode::On);
+  EXPECT_EQ(m.state().outputs[0].dir, rcx::Direction::Forward);
+  EXPECT_EQ(m.state().outputs[0].power, 7);
+}

@@ -134,10 +134,23 @@ TEST(LinkCli, NqcDownloadsAndRunsOnTheVirtualBrick) {
   EXPECT_EQ(get_var0(brick.path), "42\n");
 }
 
-TEST(LinkCli, NqcSourceNeedsTheCompiler) {
-  auto r = run_rcxc({"download", "--port", "/dev/null", "prog.nqc"});
+TEST(LinkCli, DownloadCompilesNqcSource) {
+  BrickProcess brick;
+  ASSERT_FALSE(brick.path.empty());
+  std::string src = write_temp("prog.nqc", {});
+  std::ofstream(src) << "int x;\ntask main() {\n  x = 7;\n  x = x * 6;\n}\n";
+  auto r = run_rcxc({"download", "--port", brick.path, src, "--run"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(get_var0(brick.path), "42\n");
+}
+
+TEST(LinkCli, CompileErrorsAreExit1BeforeTouchingThePort) {
+  std::string src = write_temp("bad.nqc", {});
+  std::ofstream(src) << "task main() { y = 1; }\n";
+  auto r = run_rcxc({"download", "--port", "/dev/no-such-tower", src});
   EXPECT_EQ(r.exit_code, 1);
-  EXPECT_NE(r.err.find("compiler"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("bad.nqc:1:"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("no-such-tower"), std::string::npos) << r.err;
 }
 
 TEST(LinkCli, MissingPortIsExit3) {

@@ -10,6 +10,7 @@
 #include "tests/support/process.h"
 
 using rcxc::test::run_rcxc;
+using rcxc::test::TempDir;
 
 namespace {
 
@@ -23,18 +24,6 @@ std::vector<std::uint8_t> program_bytes() {
   return rcx::write_image(img);
 }
 
-struct TempDir {
-  std::string path = rcxc::test::make_temp_dir();
-  ~TempDir() { std::filesystem::remove_all(path); }
-  std::string write(const std::string& name, const std::string& text) const {
-    std::string p = path + "/" + name;
-    std::ofstream(p, std::ios::binary) << text;
-    return p;
-  }
-  std::string write(const std::string& name, const std::vector<std::uint8_t>& bytes) const {
-    return write(name, std::string(bytes.begin(), bytes.end()));
-  }
-};
 
 }  // namespace
 

@@ -7,18 +7,10 @@
 #include "tests/support/process.h"
 
 using rcxc::test::run_rcxc;
+using rcxc::test::TempDir;
 
 namespace {
 
-struct TempDir {
-  std::string path = rcxc::test::make_temp_dir();
-  ~TempDir() { std::filesystem::remove_all(path); }
-  std::string write(const std::string& name, const std::string& text) const {
-    std::string p = path + "/" + name;
-    std::ofstream(p) << text;
-    return p;
-  }
-};
 
 constexpr const char* kCounter =
     "int n;\n"

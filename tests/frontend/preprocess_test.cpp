@@ -219,6 +219,18 @@ TEST(Preprocessor, MissingIncludeAndIncludeCycleAreErrors) {
   fs::remove_all(root);
 }
 
+TEST(Preprocessor, GuardedFilesMayIncludeEachOther) {
+  namespace fs = std::filesystem;
+  fs::path root = test::make_temp_dir();
+  write(root / "a.nqh", "#ifndef A_NQH\n#define A_NQH\n#include \"b.nqh\"\n#define FROM_A 1\n#endif\n");
+  write(root / "b.nqh", "#ifndef B_NQH\n#define B_NQH\n#include \"a.nqh\"\n#define FROM_B 2\n#endif\n");
+  auto p = run_pp("#include \"a.nqh\"\n#include \"b.nqh\"\nFROM_A FROM_B\n", {}, (root / "m.nqc").string(),
+                  root.string());
+  EXPECT_FALSE(p.diags.has_errors()) << messages(p.diags)[0];
+  EXPECT_NE(p.joined.find("1 2"), std::string::npos) << p.joined;
+  fs::remove_all(root);
+}
+
 TEST(Preprocessor, PreprocessedTextKeepsLinesAndMarksFiles) {
   PP p = run_pp("#define TWO 2\nint x = TWO;\n\ntask main()\n{\n  x++;\n}\n");
   EXPECT_EQ(tokens_to_text(p.out.tokens, p.sm), "# 2 \"t.nqc\"\nint x = 2;\n\ntask main()\n{\nx++;\n}\n");

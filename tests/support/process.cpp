@@ -7,6 +7,9 @@
 
 #include <cerrno>
 #include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <stdexcept>
 
 namespace rcxc::test {
@@ -80,6 +83,29 @@ std::string make_temp_dir() {
   std::string tmpl = std::string(base ? base : "/tmp") + "/rcxc-test-XXXXXX";
   if (!mkdtemp(tmpl.data())) throw std::runtime_error("mkdtemp failed");
   return tmpl;
+}
+
+TempDir::~TempDir() {
+  std::error_code ec;
+  std::filesystem::remove_all(path, ec);
+}
+
+std::string TempDir::write(const std::string& name, const std::string& text) const {
+  std::string p = path + "/" + name;
+  std::ofstream(p, std::ios::binary) << text;
+  return p;
+}
+
+std::string TempDir::write(const std::string& name, const std::vector<std::uint8_t>& bytes) const {
+  return write(name, std::string(bytes.begin(), bytes.end()));
+}
+
+std::vector<std::uint8_t> TempDir::read(const std::string& name) const {
+  std::ifstream in(path + "/" + name, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  std::string t = s.str();
+  return {t.begin(), t.end()};
 }
 
 }  // namespace rcxc::test

@@ -2,6 +2,7 @@
 // its exit code, stdout and stderr.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -21,5 +22,18 @@ ProcessResult run_rcxc(const std::vector<std::string>& args, const std::string& 
 
 // A fresh empty directory under the system temp dir, removed by the caller.
 std::string make_temp_dir();
+
+// A temporary folder for one test, removed with everything in it at the end.
+struct TempDir {
+  std::string path = make_temp_dir();
+  TempDir() = default;
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  ~TempDir();
+  // Writes a file in the folder and returns its path.
+  std::string write(const std::string& name, const std::string& text) const;
+  std::string write(const std::string& name, const std::vector<std::uint8_t>& bytes) const;
+  std::vector<std::uint8_t> read(const std::string& name) const;
+};
 
 }  // namespace rcxc::test
