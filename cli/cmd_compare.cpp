@@ -132,7 +132,7 @@ void register_compare(CLI::App& app, int& exit_code) {
   auto o = std::make_shared<CompareOptions>();
   cmd->add_option("FILE", o->file, "NQC source file")->required();
   cmd->add_option("--scenario", o->scenarios, "Scenario TOML file (repeatable); default: built-in scenarios");
-  cmd->add_option("--nqc", o->nqc, "The nqc to compare with (path or name)");
+  cmd->add_option("--nqc-path", o->nqc, "The nqc to compare with (path or name; default: nqc on PATH)");
   cmd->add_option("--for", o->for_ms, "Virtual milliseconds per run (default 20000)")->check(CLI::PositiveNumber);
   cmd->add_option("--seed", o->seed, "Random seed for both runs");
   cmd->add_option("--instruction-us", o->instruction_us, "Virtual time per instruction (default 10)")

@@ -144,11 +144,15 @@ void register_test(CLI::App& app, int& exit_code) {
   auto* cmd = app.add_subcommand("test", "Run semantic tests: .nqc programs with // @expect directives");
   auto o = std::make_shared<TestOptions>();
   cmd->add_option("PATHS", o->paths, ".nqc files, or folders to search for them")->required();
-  cmd->add_option("--nqc", o->nqc, "compile with this nqc (path or name) instead of rcxc, for comparison")
-      ->expected(0, 1)
-      ->default_str("nqc");
+  auto use_nqc = std::make_shared<bool>(false);
+  auto nqc_path = std::make_shared<std::string>("nqc");
+  cmd->add_flag("--nqc", *use_nqc, "compile with nqc instead of rcxc, for comparison");
+  cmd->add_option("--nqc-path", *nqc_path, "the nqc to use with --nqc (path or name; default: nqc on PATH)");
   cmd->add_flag("-v,--verbose", o->verbose, "say how every run ended");
-  cmd->callback([&exit_code, o] { exit_code = run(*o); });
+  cmd->callback([&exit_code, o, use_nqc, nqc_path] {
+    o->nqc = *use_nqc ? *nqc_path : std::string();
+    exit_code = run(*o);
+  });
 }
 
 }  // namespace rcxc::cli

@@ -56,7 +56,12 @@ ExternalCompile compile_with_nqc(const std::string& nqc, const std::string& file
   }
   std::string image_path = dir + "/out.rcx", log_path = dir + "/log.txt";
   std::string out_arg = "-O" + image_path;
-  std::vector<char*> argv{const_cast<char*>(nqc.c_str()), const_cast<char*>("-Trcx"), out_arg.data(),
+  // nqc searches includes from the current folder; rcxc from the including
+  // file's folder first. -I gives nqc the same start.
+  std::string dir_arg = "-I" + (std::filesystem::path(file).parent_path().empty()
+                                    ? std::string(".")
+                                    : std::filesystem::path(file).parent_path().string());
+  std::vector<char*> argv{const_cast<char*>(nqc.c_str()), const_cast<char*>("-Trcx"), dir_arg.data(), out_arg.data(),
                           const_cast<char*>(file.c_str()), nullptr};
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);

@@ -86,3 +86,13 @@ TEST(TestCommand, InputsDriveTheProgram) {
   auto r = run_rcxc({"test", f});
   EXPECT_EQ(r.exit_code, 0) << r.out;
 }
+
+TEST(TestCommand, NqcFlagTakesNoValueSoEveryPathIsATest) {
+  if (rcxc::test::run_process({"/bin/sh", "-c", "command -v nqc"}).exit_code != 0) GTEST_SKIP() << "nqc not installed";
+  TempDir d;
+  auto a = d.write("a.nqc", std::string("// @expect global n == 6\n") + kCounter);
+  auto b = d.write("b.nqc", std::string("// @expect global n == 6\n") + kCounter);
+  auto r = run_rcxc({"test", "--nqc", a, b});
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("2 passed, 0 failed"), std::string::npos) << r.out;
+}
