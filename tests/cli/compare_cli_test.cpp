@@ -1,0 +1,70 @@
+// `rcxc compare` end to end, with a stand-in for nqc (--nqc-path) that writes
+// an image of our choosing, so both "same" and a real difference are known.
+#include <gtest/gtest.h>
+
+#include <sys/stat.h>
+
+#include "runtime/image.h"
+#include "tests/support/process.h"
+
+using rcxc::test::run_rcxc;
+using rcxc::test::TempDir;
+
+namespace {
+
+// A fake nqc: copies IMAGE to the file named by its -O option.
+std::string fake_nqc(const TempDir& d, const std::string& image) {
+  std::string script = d.write("fake-nqc",
+                               "#!/bin/sh\n"
+                               "for a in \"$@\"; do case \"$a\" in -O*) cp '" + image + "' \"${a#-O}\";; esac; done\n");
+  chmod(script.c_str(), 0755);
+  return script;
+}
+
+// task main: touch on input 1; wait for a press; play `sound`.
+std::string image_playing(const TempDir& d, int sound) {
+  rcx::Image img;
+  img.fragments.push_back({rcx::FragmentType::Task, 0,
+                           {0x13, 0x07, 0x02, 0x07, 0xe1, 0x87,                // startup: pwr ABC 7, dir ABC fwd
+                            0x32, 0x00, 0x01, 0x42, 0x00, 0x20,                // touch sensor, boolean mode
+                            0x85, 0x82, 0x09, 0x01, 0x00, 0x00, 0xfa,          // chk 1 != sensor 0, back to itself
+                            0x51, static_cast<std::uint8_t>(sound)}});         // play sound
+  img.symbols.push_back({rcx::SymbolType::Task, 0, "main"});
+  return d.write("fake.rcx", rcx::write_image(img));
+}
+
+constexpr const char* kSource =
+    "task main() { SetSensor(SENSOR_1, SENSOR_TOUCH); until (SENSOR_1 == 1); PlaySound(SOUND_UP); }\n";
+
+}  // namespace
+
+TEST(CompareCli, SameBehaviourIsSame) {
+  TempDir d;
+  auto r = run_rcxc({"compare", d.write("p.nqc", kSource), "--nqc-path", fake_nqc(d, image_playing(d, 3))});
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_EQ(r.out.find("DIFFERENT"), std::string::npos) << r.out;
+}
+
+TEST(CompareCli, ADifferentSoundIsADifferenceNoInputShiftCanHide) {
+  TempDir d;
+  auto r = run_rcxc({"compare", d.write("p.nqc", kSource), "--nqc-path", fake_nqc(d, image_playing(d, 2))});
+  EXPECT_EQ(r.exit_code, 1) << r.out;
+  EXPECT_NE(r.out.find("DIFFERENT"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("sound 3"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("sound 2"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find(" | "), std::string::npos) << r.out;  // side by side
+}
+
+TEST(CompareCli, MissingNqcIsNotComparable) {
+  TempDir d;
+  auto r = run_rcxc({"compare", d.write("p.nqc", kSource), "--nqc-path", "/no/such/nqc"});
+  EXPECT_EQ(r.exit_code, 3) << r.out << r.err;
+}
+
+TEST(CompareCli, ProgramRcxcRejectsButNqcAcceptsFails) {
+  TempDir d;
+  auto r = run_rcxc({"compare", d.write("p.nqc", "task main() { nope(); }\n"), "--nqc-path",
+                     fake_nqc(d, image_playing(d, 3))});
+  EXPECT_EQ(r.exit_code, 1) << r.out;
+  EXPECT_NE(r.out.find("nqc compiles this program but rcxc does not"), std::string::npos) << r.out;
+}
