@@ -2,7 +2,6 @@
 // a timeline, or a JSON report, and optionally writes a trace file.
 #include <fmt/format.h>
 
-#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <iostream>
@@ -72,17 +71,12 @@ bool inputs_from_source(const RunOptions& o, std::vector<rcx::TimedInput>& input
   if (!std::holds_alternative<rcx::semtest::Spec>(parsed)) return true;  // `rcxc test` reports bad directives
   const auto& spec = std::get<rcx::semtest::Spec>(parsed);
   if (spec.inputs.empty() && spec.scenario_file.empty() && !spec.run_for_us) return true;
-  inputs = spec.inputs;
-  if (!spec.scenario_file.empty()) {
-    auto path = (std::filesystem::path(o.file).parent_path() / spec.scenario_file).string();
-    auto scenario = rcx::read_scenario_file(path);
-    if (auto* e = std::get_if<rcx::ScenarioError>(&scenario)) {
-      std::cerr << "rcxc run: " << e->message << "\n";
-      return false;
-    }
-    auto& more = std::get<std::vector<rcx::TimedInput>>(scenario);
-    inputs.insert(inputs.end(), more.begin(), more.end());
+  auto gathered = rcx::semtest::all_inputs(spec, o.file);
+  if (auto* error = std::get_if<std::string>(&gathered)) {
+    std::cerr << "rcxc run: " << *error << "\n";
+    return false;
   }
+  inputs = std::get<std::vector<rcx::TimedInput>>(std::move(gathered));
   if (spec.run_for_us && !o.for_given) run_ms = *spec.run_for_us / rcx::kMicrosPerMs;
   std::cerr << "rcxc run: using the inputs written in " << o.file << " (// @input, @for; --scenario overrides)\n";
   return true;

@@ -12,7 +12,6 @@
 #include "cli/commands.h"
 #include "cli/external_nqc.h"
 #include "cli/program_loader.h"
-#include "runtime/scenario.h"
 #include "runtime/testspec.h"
 #include "runtime/vm.h"
 
@@ -78,15 +77,9 @@ std::vector<Failure> run_test(const TestOptions& o, const std::string& file, std
     return out;
   }
   const auto& spec = std::get<rcx::semtest::Spec>(parsed);
-  std::vector<rcx::TimedInput> inputs = spec.inputs;
-  if (!spec.scenario_file.empty()) {
-    auto path = (fs::path(file).parent_path() / spec.scenario_file).string();
-    auto scenario = rcx::read_scenario_file(path);
-    if (auto* e = std::get_if<rcx::ScenarioError>(&scenario)) return {{0, e->message}};
-    auto& more = std::get<std::vector<rcx::TimedInput>>(scenario);
-    inputs.insert(inputs.end(), more.begin(), more.end());
-  }
-
+  auto gathered = rcx::semtest::all_inputs(spec, file);
+  if (auto* error = std::get_if<std::string>(&gathered)) return {{0, *error}};
+  const auto& inputs = std::get<std::vector<rcx::TimedInput>>(gathered);
   if (!o.nqc.empty() && spec.nqc_differs) {
     log = "    skipped: marked @nqc-differs\n";
     return {};

@@ -3,9 +3,12 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include "runtime/scenario.h"
+
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <filesystem>
 
 namespace rcx::semtest {
 namespace {
@@ -490,6 +493,17 @@ std::optional<std::string> check_one(const Check& check, const Machine& m, const
 }
 
 }  // namespace
+
+std::variant<std::vector<TimedInput>, std::string> all_inputs(const Spec& spec, const std::string& test_path) {
+  std::vector<TimedInput> inputs = spec.inputs;
+  if (spec.scenario_file.empty()) return inputs;
+  auto path = (std::filesystem::path(test_path).parent_path() / spec.scenario_file).string();
+  auto scenario = read_scenario_file(path);
+  if (auto* e = std::get_if<ScenarioError>(&scenario)) return e->message;
+  auto& more = std::get<std::vector<TimedInput>>(scenario);
+  inputs.insert(inputs.end(), more.begin(), more.end());
+  return inputs;
+}
 
 bool Spec::expects_compile_error() const {
   return std::any_of(diagnostics.begin(), diagnostics.end(), [](const ExpectDiagnostic& d) { return d.error; });

@@ -75,6 +75,10 @@ struct Spec {
   bool expects_compile_error() const;
 };
 
+// The spec's @input lines plus the inputs of its @scenario file (a path
+// relative to the folder of `test_path`), or the scenario file's error.
+std::variant<std::vector<TimedInput>, std::string> all_inputs(const Spec& spec, const std::string& test_path);
+
 struct SpecError {
   int line = 0;
   std::string message;

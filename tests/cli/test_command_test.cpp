@@ -96,3 +96,23 @@ TEST(TestCommand, NqcFlagTakesNoValueSoEveryPathIsATest) {
   EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
   EXPECT_NE(r.out.find("2 passed, 0 failed"), std::string::npos) << r.out;
 }
+
+TEST(TestCommand, ScenarioFileBesideTheTestFeedsInputs) {
+  TempDir d;
+  d.write("press.toml", "[[input]]\nat_ms = 300\nsensor = 1\nraw = 100\n");
+  auto f = d.write("s.nqc",
+                   "// @scenario press.toml\n"
+                   "// @expect event at 300ms: output A on fwd\n"
+                   "task main() { SetSensor(SENSOR_1, SENSOR_TOUCH); until (SENSOR_1 == 1); On(OUT_A); }\n");
+  auto r = run_rcxc({"test", f});
+  EXPECT_EQ(r.exit_code, 0) << r.out;
+}
+
+TEST(TestCommand, BrokenScenarioFileFailsWithItsLine) {
+  TempDir d;
+  d.write("bad.toml", "[[input]]\nat_ms = 300\nsensor = 9\nraw = 100\n");
+  auto f = d.write("s.nqc", std::string("// @scenario bad.toml\n") + kCounter);
+  auto r = run_rcxc({"test", f});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.out.find("bad.toml:"), std::string::npos) << r.out;
+}
