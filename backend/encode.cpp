@@ -5,16 +5,12 @@
 namespace rcxc::backend {
 namespace {
 
+// The encoder takes a value in either reading of the field's bits (signed
+// or unsigned): whether an operand is in its legal range is the caller's
+// check (ir::fits_field); here only the bit width matters.
 bool fits(rcx::FieldType t, int v) {
-  switch (t) {
-    case rcx::FieldType::Byte: return v >= -128 && v <= 255;
-    case rcx::FieldType::UByte: return v >= 0 && v <= 255;
-    case rcx::FieldType::Short:
-    case rcx::FieldType::ShortBE: return v >= -32768 && v <= 65535;
-    case rcx::FieldType::UShort:
-    case rcx::FieldType::UShortBE: return v >= 0 && v <= 65535;
-  }
-  return false;
+  const int bits = 8 * rcx::field_size(t);
+  return v >= -(1 << (bits - 1)) && v < (1 << bits);
 }
 
 }  // namespace
