@@ -3,7 +3,6 @@
 #include <fmt/format.h>
 
 #include <fstream>
-#include <sstream>
 #include <iostream>
 #include <variant>
 
@@ -64,10 +63,7 @@ bool write_file(const std::string& path, const std::string& text) {
 // without --scenario they drive the run, and @for sets the time limit unless
 // --for is given. Says so on stderr, so the timeline is never a surprise.
 bool inputs_from_source(const RunOptions& o, std::vector<rcx::TimedInput>& inputs, std::int64_t& run_ms) {
-  std::ifstream in(o.file, std::ios::binary);
-  std::stringstream text;
-  text << in.rdbuf();
-  auto parsed = rcx::semtest::parse_spec(text.str());
+  auto parsed = rcx::semtest::parse_spec_file(o.file);
   if (!std::holds_alternative<rcx::semtest::Spec>(parsed)) return true;  // `rcxc test` reports bad directives
   const auto& spec = std::get<rcx::semtest::Spec>(parsed);
   if (spec.inputs.empty() && spec.scenario_file.empty() && !spec.run_for_us) return true;

@@ -5,9 +5,7 @@
 
 #include <algorithm>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
-#include <sstream>
 
 #include "cli/commands.h"
 #include "cli/external_nqc.h"
@@ -66,14 +64,10 @@ Compiled compile(const TestOptions& o, const std::string& file) {
 
 // Runs one test file; returns its failures (empty = pass).
 std::vector<Failure> run_test(const TestOptions& o, const std::string& file, std::string& log) {
-  std::ifstream in(file, std::ios::binary);
-  std::stringstream text;
-  text << in.rdbuf();
-  if (!in) return {{0, "cannot read the file"}};
-  auto parsed = rcx::semtest::parse_spec(text.str());
+  auto parsed = rcx::semtest::parse_spec_file(file);
   if (auto* errors = std::get_if<std::vector<rcx::semtest::SpecError>>(&parsed)) {
     std::vector<Failure> out;
-    for (const auto& e : *errors) out.push_back({e.line, "bad directive: " + e.message});
+    for (const auto& e : *errors) out.push_back({e.line, e.line > 0 ? "bad directive: " + e.message : e.message});
     return out;
   }
   const auto& spec = std::get<rcx::semtest::Spec>(parsed);

@@ -9,6 +9,8 @@
 #include <charconv>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 
 namespace rcx::semtest {
 namespace {
@@ -531,6 +533,14 @@ std::variant<Spec, std::vector<SpecError>> parse_spec(std::string_view source) {
   std::stable_sort(spec.inputs.begin(), spec.inputs.end(),
                    [](const TimedInput& a, const TimedInput& b) { return a.at_us < b.at_us; });
   return spec;
+}
+
+std::variant<Spec, std::vector<SpecError>> parse_spec_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream text;
+  text << in.rdbuf();
+  if (!in) return std::vector<SpecError>{{0, "cannot read " + path}};
+  return parse_spec(text.str());
 }
 
 std::vector<Failure> check_diagnostics(const Spec& spec, const std::vector<CompilerMessage>& messages) {

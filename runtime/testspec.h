@@ -87,6 +87,8 @@ struct SpecError {
 // Parses every `@` directive in `source`. All malformed directives are
 // reported (not just the first).
 std::variant<Spec, std::vector<SpecError>> parse_spec(std::string_view source);
+// The same for the file at `path` (an unreadable file is one SpecError, line 0).
+std::variant<Spec, std::vector<SpecError>> parse_spec_file(const std::string& path);
 
 // A diagnostic the compiler produced, reduced to what expectations match.
 struct CompilerMessage {
