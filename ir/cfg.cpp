@@ -23,8 +23,16 @@ BlockId final_target(const Function& f, BlockId b) {
 }
 
 void thread_jumps(Function& f) {
-  for (auto& block : f.blocks) {
-    for (BlockId s : successors(block.term)) retarget(block.term, s, final_target(f, s));
+  for (std::size_t b = 0; b < f.blocks.size(); ++b) {
+    Block& block = f.blocks[b];
+    const auto* loop = std::get_if<LoopTest>(&block.term);
+    for (BlockId s : successors(block.term)) {
+      BlockId to = final_target(f, s);
+      // The loop counter only branches forward: an exit threaded back past
+      // the test would cost two jumps where the empty block costs one.
+      if (loop && s == loop->exit && to <= static_cast<BlockId>(b)) continue;
+      retarget(block.term, s, to);
+    }
     if (auto* br = std::get_if<Branch>(&block.term); br && br->then == br->otherwise)
       block.term = Jump{br->then};
   }

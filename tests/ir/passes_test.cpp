@@ -98,6 +98,29 @@ TEST(Cfg, JumpsThreadThroughEmptyBlocks) {
   EXPECT_EQ(blocks[static_cast<std::size_t>(br.otherwise)].instrs.at(0).args[0], I(2));
 }
 
+TEST(Cfg, LoopCounterExitIsNotThreadedBackward) {
+  // while (true) { repeat (4) sound(1); }: the repeat's exit is an empty
+  // block jumping back to the while. Threading it would make the exit a
+  // backward target, which the forward-only loop counter reaches only over
+  // two jumps; the empty block costs one.
+  Builder b;
+  FuncId f = b.function("main");
+  b.block(f, {sound(0)}, Jump{1});
+  b.block(f, {loopset(I(4))}, Jump{2});  // while head: repeat setup
+  b.block(f, {}, LoopTest{0, 3, 4});
+  b.block(f, {sound(1)}, Jump{2});
+  b.block(f, {}, Jump{1});  // repeat exit -> while head
+  b.fn(f).repeats.push_back(Repeat{1, 2, false, true});
+  simplify_cfg(b.fn(f));
+  const auto& blocks = b.fn(f).blocks;
+  const Block* test = nullptr;
+  BlockId at = -1;
+  for (std::size_t i = 0; i < blocks.size(); ++i)
+    if (std::holds_alternative<LoopTest>(blocks[i].term)) test = &blocks[i], at = static_cast<BlockId>(i);
+  ASSERT_NE(test, nullptr);
+  EXPECT_GT(std::get<LoopTest>(test->term).exit, at);
+}
+
 TEST(Rotate, LoopTestMovesBelowTheBody) {
   Builder b;
   VarId g = b.global("g");
