@@ -27,6 +27,7 @@ struct OutputState {
 };
 struct State {
   bool reached = false;
+  bool alone = false;  // no other task can be running
   std::array<OutputState, kOutputs> out{};
   friend bool operator==(const State&, const State&) = default;
 };
@@ -39,6 +40,7 @@ void merge_into(State& into, const State& from) {
     into = from;
     return;
   }
+  into.alone = into.alone && from.alone;
   for (int o = 0; o < kOutputs; ++o) {
     into.out[o].dir = merge_field(into.out[o].dir, from.out[o].dir);
     into.out[o].mode = merge_field(into.out[o].mode, from.out[o].mode);
@@ -83,17 +85,66 @@ Effect effect_of(const Instr& in) {
   }
 }
 
+// What is known where a subroutine is entered (all its calls merged) and
+// where it returns (all its returns merged).
+struct Summary {
+  State entry;
+  State exit;
+  friend bool operator==(const Summary&, const Summary&) = default;
+};
+
+bool starts_a_task(const Instr& in) { return in.raw || in.op == rcx::Op::StartTask; }
+
 struct MotorPass {
   const Program& p;
-  std::vector<int> touches;  // per function: outputs it (and its callees) command
-  int tracked = 0;           // outputs this function may track
+  std::vector<int> touches;      // per function: outputs it (and its callees) command
+  std::vector<bool> starts;      // per function: it (or a callee) starts a task
+  std::vector<int> tracked;      // per function: outputs only the task running it commands
+  std::vector<bool> analysed;    // functions exactly one task runs
+  std::vector<Summary> summary;  // per analysed subroutine
+  bool recording = false;        // whether apply() records call and return states
+  FuncId current = -1;
+
+  // While main is the only task running (before it starts any, when no
+  // task restarts it), no other task can touch any output.
+  int tracked_now(const State& s) const { return s.alone ? 7 : tracked[static_cast<std::size_t>(current)]; }
+
+  void forget_untracked(State& s) const {
+    for (int o = 0; o < kOutputs; ++o)
+      if (!((tracked_now(s) >> o) & 1)) s.out[o] = {};
+  }
+
+  void apply_call(FuncId g, State& s) {
+    auto gi = static_cast<std::size_t>(g);
+    if (!analysed[gi]) {
+      for (int o = 0; o < kOutputs; ++o)
+        if ((touches[gi] >> o) & 1) s.out[o] = {};
+      s.alone = s.alone && !starts[gi];
+      forget_untracked(s);
+      return;
+    }
+    if (recording) merge_into(summary[gi].entry, s);
+    const State& back = summary[gi].exit;
+    if (!back.reached) {  // not known to return (yet): nothing after it is reached
+      s.reached = false;
+      return;
+    }
+    for (int o = 0; o < kOutputs; ++o)
+      if ((touches[gi] >> o) & 1) s.out[o] = back.out[o];
+    s.alone = s.alone && back.alone;
+    forget_untracked(s);
+  }
 
   // Applies `in` to `s`; returns whether it changed nothing at all.
-  bool apply(const Instr& in, State& s) const {
+  bool apply(const Instr& in, State& s) {
+    if (!s.reached) return false;
     if (FuncId g = callee_of(in); g >= 0) {
-      for (int o = 0; o < kOutputs; ++o)
-        if ((touches[static_cast<std::size_t>(g)] >> o) & 1) s.out[o] = {};
+      apply_call(g, s);
       return false;
+    }
+    if (starts_a_task(in) && s.alone) {
+      s.alone = false;
+      forget_untracked(s);
     }
     int mask = touched(in);
     if (mask == 0) return false;
@@ -104,42 +155,60 @@ struct MotorPass {
     }
     Effect e = effect_of(in);
     if (e.field == nullptr) return true;
+    int tracked_here = tracked_now(s);
     bool redundant = true;
     for (int o = 0; o < kOutputs; ++o) {
       if (!((mask >> o) & 1)) continue;
       int& field = s.out[o].*e.field;
       int next = e.flip ? (field == kUnknown ? kUnknown : 1 - field) : e.value;
-      if (e.flip || next == kUnknown || field != next || !((tracked >> o) & 1)) redundant = false;
+      if (e.flip || next == kUnknown || field != next || !((tracked_here >> o) & 1)) redundant = false;
       field = next;
     }
-    for (int o = 0; o < kOutputs; ++o)
-      if (!((tracked >> o) & 1)) s.out[o] = {};
+    forget_untracked(s);
     return redundant;
   }
 
-  void run(Function& f) {
-    std::size_t n = f.blocks.size();
-    std::vector<State> in(n);
-    in[0].reached = true;
+  State entry_of(FuncId f, bool main_alone) const {
+    const Function& fn = p.functions[static_cast<std::size_t>(f)];
+    if (fn.kind == FuncKind::Sub) return summary[static_cast<std::size_t>(f)].entry;
+    State s;
+    s.reached = true;
+    s.alone = main_alone && fn.name == "main";
+    return s;
+  }
+
+  // The state at the start of every block of `f`.
+  std::vector<State> block_states(FuncId f, const State& entry) {
+    current = f;
+    const Function& fn = p.functions[static_cast<std::size_t>(f)];
+    std::vector<State> in(fn.blocks.size());
+    in[0] = entry;
     for (bool changed = true; changed;) {
       changed = false;
-      for (std::size_t b = 0; b < n; ++b) {
+      for (std::size_t b = 0; b < fn.blocks.size(); ++b) {
         if (!in[b].reached) continue;
         State s = in[b];
-        for (const auto& instr : f.blocks[b].instrs) apply(instr, s);
-        for (BlockId succ : successors(f.blocks[b].term)) {
+        for (const auto& instr : fn.blocks[b].instrs) apply(instr, s);
+        if (recording && std::holds_alternative<Exit>(fn.blocks[b].term) && fn.kind == FuncKind::Sub)
+          merge_into(summary[static_cast<std::size_t>(f)].exit, s);
+        for (BlockId succ : successors(fn.blocks[b].term)) {
           State before = in[static_cast<std::size_t>(succ)];
           merge_into(in[static_cast<std::size_t>(succ)], s);
           changed |= !(before == in[static_cast<std::size_t>(succ)]);
         }
       }
     }
-    for (std::size_t b = 0; b < n; ++b) {
+    return in;
+  }
+
+  void remove_redundant(Function& fn, FuncId f, const std::vector<State>& in) {
+    current = f;
+    for (std::size_t b = 0; b < fn.blocks.size(); ++b) {
       State s = in[b];
       std::vector<Instr> kept;
-      for (auto& instr : f.blocks[b].instrs)
-        if (!apply(instr, s) || !in[b].reached) kept.push_back(std::move(instr));
-      f.blocks[b].instrs = std::move(kept);
+      for (auto& instr : fn.blocks[b].instrs)
+        if (!apply(instr, s)) kept.push_back(std::move(instr));
+      fn.blocks[b].instrs = std::move(kept);
     }
   }
 };
@@ -180,15 +249,34 @@ std::vector<int> function_touches(const Program& p) {
   return t;
 }
 
+
+std::vector<bool> function_starts(const Program& p) {
+  std::vector<bool> starts(p.functions.size(), false);
+  for (std::size_t f = 0; f < p.functions.size(); ++f)
+    for (const auto& b : p.functions[f].blocks)
+      for (const auto& in : b.instrs) starts[f] = starts[f] || starts_a_task(in);
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (std::size_t f = 0; f < p.functions.size(); ++f)
+      for (const auto& b : p.functions[f].blocks)
+        for (const auto& in : b.instrs)
+          if (FuncId g = callee_of(in); g >= 0 && starts[static_cast<std::size_t>(g)] && !starts[f])
+            changed = starts[f] = true;
+  }
+  return starts;
+}
+
 }  // namespace
 
 void remove_redundant_motor_commands(Program& p) {
-  MotorPass pass{p, function_touches(p), 0};
+  std::size_t n = p.functions.size();
+  MotorPass pass{p, function_touches(p), function_starts(p), std::vector<int>(n, 0), std::vector<bool>(n, false),
+                 std::vector<Summary>(n)};
   // Which tasks command each output, and which tasks run each function.
-  std::vector<std::vector<FuncId>> runners(p.functions.size());
+  std::vector<std::vector<FuncId>> runners(n);
   std::array<int, kOutputs> commanders{};
   std::array<FuncId, kOutputs> owner{-1, -1, -1};
-  for (std::size_t t = 0; t < p.functions.size(); ++t) {
+  for (std::size_t t = 0; t < n; ++t) {
     if (p.functions[t].kind != FuncKind::Task || p.functions[t].blocks.empty()) continue;
     for (int o = 0; o < kOutputs; ++o)
       if ((pass.touches[t] >> o) & 1) {
@@ -207,12 +295,28 @@ void remove_redundant_motor_commands(Program& p) {
           if (FuncId g = callee_of(in); g >= 0) work.push_back(g);
     }
   }
-  for (std::size_t f = 0; f < p.functions.size(); ++f) {
+  for (std::size_t f = 0; f < n; ++f) {
     if (p.functions[f].blocks.empty() || runners[f].size() != 1) continue;
-    pass.tracked = 0;
+    pass.analysed[f] = true;
     for (int o = 0; o < kOutputs; ++o)
-      if (commanders[o] <= 1 && (commanders[o] == 0 || owner[o] == runners[f][0])) pass.tracked |= 1 << o;
-    pass.run(p.functions[f]);
+      if (commanders[o] <= 1 && (commanders[o] == 0 || owner[o] == runners[f][0])) pass.tracked[f] |= 1 << o;
+  }
+  FuncId main = p.find_function("main");
+  bool main_alone = main >= 0 && !started_anywhere(p, main);
+  // Subroutine summaries depend on their callers and callers on the
+  // summaries: iterate until nothing changes (states only ever widen).
+  pass.recording = true;
+  for (bool changed = true; changed;) {
+    auto before = pass.summary;
+    for (std::size_t f = 0; f < n; ++f)
+      if (pass.analysed[f]) pass.block_states(static_cast<FuncId>(f), pass.entry_of(static_cast<FuncId>(f), main_alone));
+    changed = !(before == pass.summary);
+  }
+  pass.recording = false;
+  for (std::size_t f = 0; f < n; ++f) {
+    if (!pass.analysed[f]) continue;
+    auto in = pass.block_states(static_cast<FuncId>(f), pass.entry_of(static_cast<FuncId>(f), main_alone));
+    pass.remove_redundant(p.functions[f], static_cast<FuncId>(f), in);
   }
 }
 

@@ -317,10 +317,61 @@ TEST(Motors, OutputsOfTwoTasksAreLeftAlone) {
   Builder b;
   FuncId f = b.function("main"), g = b.function("other");
   auto out = [](int code) { return op(rcx::Op::SetMotorOnOff, {I(code)}); };
-  b.block(f, {out(0x81), wait(I(10)), out(0x81)});
+  b.block(f, {start(g), out(0x81), wait(I(10)), out(0x81)});
   b.block(g, {out(0x41)});
   remove_redundant_motor_commands(b.p);
-  EXPECT_EQ(b.at(f, 0).instrs.size(), 3u);
+  EXPECT_EQ(b.at(f, 0).instrs.size(), 4u);
+}
+
+TEST(Motors, MainIsAloneUntilItStartsATask) {
+  // Another task commands A too, but only once main has started it.
+  Builder b;
+  FuncId f = b.function("main"), g = b.function("other");
+  auto out = [](int code) { return op(rcx::Op::SetMotorOnOff, {I(code)}); };
+  b.block(f, {out(0x81), wait(I(10)), out(0x81), start(g), out(0x81), wait(I(10)), out(0x81)});
+  b.block(g, {out(0x41)});
+  remove_redundant_motor_commands(b.p);
+  const auto& instrs = b.at(f, 0).instrs;
+  ASSERT_EQ(instrs.size(), 6u);  // only the second `on`, before the start, goes
+  EXPECT_EQ(instrs[2].op, rcx::Op::StartTask);
+}
+
+TEST(Motors, RestartedMainIsNeverAlone) {
+  Builder b;
+  FuncId f = b.function("main"), g = b.function("other");
+  auto out = [](int code) { return op(rcx::Op::SetMotorOnOff, {I(code)}); };
+  b.block(f, {out(0x81), wait(I(10)), out(0x81), start(g)});
+  b.block(g, {out(0x41), start(f)});
+  remove_redundant_motor_commands(b.p);
+  EXPECT_EQ(b.at(f, 0).instrs.size(), 4u);
+}
+
+TEST(Motors, ASubStartsFromWhatItsCallsHave) {
+  // main: OnFwd(A); sub(); Wait; sub();  sub: OnRev(A); Wait; OnFwd(A).
+  // Every call finds A on: the sub's `on` commands go, its directions stay.
+  Builder b;
+  FuncId f = b.function("main");
+  FuncId s = b.function("turn", FuncKind::Sub);
+  auto dir = [](int code) { return op(rcx::Op::SetMotorDirection, {I(code)}); };
+  auto out = [](int code) { return op(rcx::Op::SetMotorOnOff, {I(code)}); };
+  b.block(f, {dir(0x81), out(0x81), call(s), wait(I(10)), call(s), out(0x41)});
+  b.block(s, {dir(0x01), out(0x81), wait(I(5)), dir(0x81), out(0x81)});
+  remove_redundant_motor_commands(b.p);
+  EXPECT_EQ(count_ops(b.fn(s), rcx::Op::SetMotorOnOff), 0u);
+  EXPECT_EQ(count_ops(b.fn(s), rcx::Op::SetMotorDirection), 2u);
+  EXPECT_EQ(count_ops(b.fn(f), rcx::Op::SetMotorOnOff), 2u);  // on, and the final off
+}
+
+TEST(Motors, ASubCalledWithDifferentStatesKeepsItsCommands) {
+  Builder b;
+  FuncId f = b.function("main");
+  FuncId s = b.function("go", FuncKind::Sub);
+  auto out = [](int code) { return op(rcx::Op::SetMotorOnOff, {I(code)}); };
+  b.block(f, {out(0x81), call(s), out(0x41), call(s)});
+  b.block(s, {out(0x81), wait(I(5))});
+  remove_redundant_motor_commands(b.p);
+  EXPECT_EQ(count_ops(b.fn(s), rcx::Op::SetMotorOnOff), 1u);
+  EXPECT_EQ(count_ops(b.fn(f), rcx::Op::SetMotorOnOff), 2u);
 }
 
 TEST(Motors, RunsOfCommandsMerge) {
