@@ -4,6 +4,7 @@
 #include <map>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 namespace rcxc::backend {
 namespace {
@@ -12,8 +13,8 @@ constexpr std::size_t kMaxSequence = 24;  // instructions per outlined sequence
 constexpr int kCallBytes = 2;
 constexpr int kReturnBytes = 1;  // appended by the firmware to every subroutine
 
-bool outlinable(const MInstr& m) {
-  if (m.kind != MInstr::Kind::Fixed || m.raw) return false;
+bool outlinable_fixed(const MInstr& m) {
+  if (m.raw) return false;
   switch (m.op) {
     case rcx::Op::CallSubroutine:
     case rcx::Op::ReturnFromSubroutine:
@@ -21,6 +22,8 @@ bool outlinable(const MInstr& m) {
     default: return true;
   }
 }
+
+bool is_branch(const MInstr& m) { return m.kind != MInstr::Kind::Fixed; }
 
 struct Occurrence {
   std::size_t fragment;
@@ -37,29 +40,78 @@ struct Candidate {
   }
 };
 
-std::vector<bool> block_starts(const Selected& f) {
-  std::vector<bool> starts(f.code.size() + 1, false);
-  for (int b : f.block_start)
-    if (b >= 0 && static_cast<std::size_t>(b) < starts.size()) starts[static_cast<std::size_t>(b)] = true;
-  return starts;
+// Where each branch of a fragment goes, as an instruction index
+// (code.size() for the end of the code), and which branches enter each
+// instruction.
+struct Flow {
+  std::vector<int> target;              // per instruction; -1 when not a branch
+  std::vector<std::vector<int>> entered;  // per instruction: indices branching there
+};
+
+int target_index(const Selected& f, const Target& t) {
+  if (t.block == kEndOfCode) return static_cast<int>(f.code.size());
+  if (t.block >= 0) return f.block_start[static_cast<std::size_t>(t.block)];
+  return t.instr;
 }
 
-// Every repeated sequence and where it occurs, keyed by its bytes.
+Flow flow_of(const Selected& f) {
+  Flow flow;
+  flow.target.assign(f.code.size(), -1);
+  flow.entered.resize(f.code.size() + 1);
+  for (std::size_t i = 0; i < f.code.size(); ++i) {
+    if (!is_branch(f.code[i])) continue;
+    int t = target_index(f, f.code[i].target);
+    flow.target[i] = t;
+    flow.entered[static_cast<std::size_t>(t)].push_back(static_cast<int>(i));
+  }
+  return flow;
+}
+
+int size_estimate(const MInstr& m) {
+  if (!is_branch(m)) return static_cast<int>(m.bytes.size());
+  return rcx::command_size(rcx::info(branch_op(m))).value_or(0);
+}
+
+// Every repeated sequence and where it occurs, keyed by what it does.
 Candidate best_candidate(const std::vector<Selected>& fragments) {
   std::map<std::string, Candidate> seen;
   for (std::size_t f = 0; f < fragments.size(); ++f) {
     const Selected& frag = fragments[f];
     if (frag.type != rcx::FragmentType::Task) continue;
-    auto starts = block_starts(frag);
+    Flow flow = flow_of(frag);
     for (std::size_t i = 0; i < frag.code.size(); ++i) {
+      // A sequence [i, end) can be outlined when its branches stay inside
+      // it (they are copied with it and keyed by distance, so equal keys
+      // behave the same wherever they are) and no branch from outside
+      // enters it after its first instruction (one entering the first
+      // reaches the call instead). `need_end` is how far the sequence must
+      // reach for both to hold.
       std::string key;
       int bytes = 0;
+      std::size_t need_end = 0;
       for (std::size_t len = 1; len <= kMaxSequence && i + len <= frag.code.size(); ++len) {
-        const MInstr& m = frag.code[i + len - 1];
-        if (!outlinable(m) || (len > 1 && starts[i + len - 1])) break;
-        key.append(m.bytes.begin(), m.bytes.end());
+        std::size_t k = i + len - 1;
+        const MInstr& m = frag.code[k];
+        if (!is_branch(m)) {
+          if (!outlinable_fixed(m)) break;
+          key.append(m.bytes.begin(), m.bytes.end());
+        } else {
+          int t = flow.target[k];
+          if (t < static_cast<int>(i)) break;
+          need_end = std::max(need_end, static_cast<std::size_t>(t) + 1);
+          key += fmt::format("<{} {} {}>", static_cast<int>(m.kind), fmt::join(m.values, ","), t - static_cast<int>(i));
+        }
         key.push_back('\x7f');  // instruction boundary
-        bytes += static_cast<int>(m.bytes.size());
+        bytes += size_estimate(m);
+        if (k > i) {
+          bool entered_before = false;
+          for (int from : flow.entered[k]) {
+            entered_before |= from < static_cast<int>(i);
+            need_end = std::max(need_end, static_cast<std::size_t>(std::max(from, 0)) + 1);
+          }
+          if (entered_before) break;
+        }
+        if (i + len < need_end) continue;
         Candidate& c = seen[key];
         c.length = len;
         c.bytes = bytes;
@@ -119,8 +171,12 @@ void outline(std::vector<Selected>& fragments, std::vector<std::string>& log) {
     sub.index = next_index++;
     sub.name = fmt::format("__outlined{}", sub.index);
     const Selected& first = fragments[c.places[0].fragment];
-    sub.code.assign(first.code.begin() + static_cast<long>(c.places[0].start),
-                    first.code.begin() + static_cast<long>(c.places[0].start + c.length));
+    Flow flow = flow_of(first);
+    for (std::size_t k = c.places[0].start; k < c.places[0].start + c.length; ++k) {
+      MInstr m = first.code[k];
+      if (is_branch(m)) m.target = Target{-1, flow.target[k] - static_cast<int>(c.places[0].start)};
+      sub.code.push_back(std::move(m));
+    }
     sub.block_start = {0};
     log.push_back(fmt::format("{} copies of a {}-byte sequence outlined into sub {} ({} bytes saved)", c.places.size(),
                               c.bytes, sub.index, c.saving()));

@@ -25,8 +25,10 @@ struct Selected {
 // Outlines into new subroutines while it saves bytes and subroutine
 // indices are free (at most `kMaxSubroutines` in all). Only task code is
 // outlined (a subroutine cannot call another); sequences never contain
-// branches, calls, loop counters or raw asm, and never a branch target
-// except at their start. Each decision is appended to `log`.
+// calls, loop counters or raw asm, contain branches only to their own
+// instructions (`until (sem == 0); sem = 1;` moves whole), and only their
+// first instruction may be entered from outside. Each decision is appended
+// to `log`.
 void outline(std::vector<Selected>& fragments, std::vector<std::string>& log);
 
 }  // namespace rcxc::backend
