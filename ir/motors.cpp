@@ -3,10 +3,12 @@
 // The firmware keeps each output's direction, on/off/float mode and power.
 // `OnFwd(OUT_A)` right after the startup code sets direction forward again,
 // macros like `forwards(s, t)` repeat `SetPower` with the power already set,
-// and so on. An output is tracked only inside the one task that commands it
-// (with the subroutines only that task calls): there no other task can
-// change it between two instructions, so a command that sets what the
-// output already has is removed.
+// and so on. What a task knows of an output survives between its
+// instructions only where no other task can change it: the other tasks
+// never command that output, or only ever set the same value (all tasks
+// only switch A on: once on, A stays on). Before main starts a task, main
+// knows everything. A command that sets what the output already has is
+// removed.
 #include <algorithm>
 #include <array>
 
@@ -18,6 +20,7 @@ namespace {
 
 constexpr int kOutputs = 3;
 constexpr int kUnknown = -1;
+constexpr int kNoWrite = -2;  // in Writes: the field is never set
 
 struct OutputState {
   int dir = kUnknown;    // 0 reverse, 1 forward
@@ -85,6 +88,48 @@ Effect effect_of(const Instr& in) {
   }
 }
 
+// What a task (or all other tasks) may set each output field to: kNoWrite,
+// the one value it is ever set to, or kUnknown.
+using Writes = std::array<OutputState, kOutputs>;
+
+Writes nothing_written() {
+  Writes w;
+  for (auto& o : w) o = {kNoWrite, kNoWrite, kNoWrite};
+  return w;
+}
+
+int combine_write(int a, int b) {
+  if (a == kNoWrite) return b;
+  if (b == kNoWrite) return a;
+  return a == b ? a : kUnknown;
+}
+
+void combine_into(Writes& into, const Writes& from) {
+  for (int o = 0; o < kOutputs; ++o) {
+    into[o].dir = combine_write(into[o].dir, from[o].dir);
+    into[o].mode = combine_write(into[o].mode, from[o].mode);
+    into[o].power = combine_write(into[o].power, from[o].power);
+  }
+}
+
+// What one instruction (not a call) may set.
+void add_writes(const Instr& in, Writes& w) {
+  int mask = touched(in);
+  if (mask == 0) return;
+  bool known = !in.raw && is_motor_op(in) && in.args[0].is_imm();
+  Effect e = known ? effect_of(in) : Effect{};
+  if (known && e.field == nullptr) return;
+  for (int o = 0; o < kOutputs; ++o) {
+    if (!((mask >> o) & 1)) continue;
+    if (!known) {
+      w[o] = {kUnknown, kUnknown, kUnknown};
+      continue;
+    }
+    int& field = w[o].*e.field;
+    field = combine_write(field, e.flip ? kUnknown : e.value);
+  }
+}
+
 // What is known where a subroutine is entered (all its calls merged) and
 // where it returns (all its returns merged).
 struct Summary {
@@ -99,7 +144,7 @@ struct MotorPass {
   const Program& p;
   std::vector<int> touches;      // per function: outputs it (and its callees) command
   std::vector<bool> starts;      // per function: it (or a callee) starts a task
-  std::vector<int> tracked;      // per function: outputs only the task running it commands
+  std::vector<Writes> others;    // per function: what tasks not running it may set
   std::vector<bool> analysed;    // functions exactly one task runs
   std::vector<Summary> summary;  // per analysed subroutine
   bool recording = false;        // whether apply() records call and return states
@@ -107,11 +152,14 @@ struct MotorPass {
 
   // While main is the only task running (before it starts any, when no
   // task restarts it), no other task can touch any output.
-  int tracked_now(const State& s) const { return s.alone ? 7 : tracked[static_cast<std::size_t>(current)]; }
-
   void forget_untracked(State& s) const {
+    if (s.alone) return;
+    const Writes& w = others[static_cast<std::size_t>(current)];
     for (int o = 0; o < kOutputs; ++o)
-      if (!((tracked_now(s) >> o) & 1)) s.out[o] = {};
+      for (int OutputState::*field : {&OutputState::dir, &OutputState::mode, &OutputState::power}) {
+        int other = w[o].*field;
+        if (other != kNoWrite && (other == kUnknown || s.out[o].*field != other)) s.out[o].*field = kUnknown;
+      }
   }
 
   void apply_call(FuncId g, State& s) {
@@ -155,13 +203,12 @@ struct MotorPass {
     }
     Effect e = effect_of(in);
     if (e.field == nullptr) return true;
-    int tracked_here = tracked_now(s);
     bool redundant = true;
     for (int o = 0; o < kOutputs; ++o) {
       if (!((mask >> o) & 1)) continue;
       int& field = s.out[o].*e.field;
       int next = e.flip ? (field == kUnknown ? kUnknown : 1 - field) : e.value;
-      if (e.flip || next == kUnknown || field != next || !((tracked_here >> o) & 1)) redundant = false;
+      if (e.flip || next == kUnknown || field != next) redundant = false;
       field = next;
     }
     forget_untracked(s);
@@ -224,13 +271,30 @@ bool started_anywhere(const Program& p, FuncId f) {
   return false;
 }
 
+// Main's startup code runs before any other task exists, unless something
+// restarts main: it is left out of what main may do to other tasks.
+int startup_skipped(const Program& p, std::size_t f) {
+  return started_anywhere(p, static_cast<FuncId>(f)) ? 0 : p.functions[f].startup;
+}
+
+// What each function's own instructions may set (not its callees').
+std::vector<Writes> own_writes(const Program& p) {
+  std::vector<Writes> w(p.functions.size(), nothing_written());
+  for (std::size_t f = 0; f < p.functions.size(); ++f) {
+    const Function& fn = p.functions[f];
+    int skip = startup_skipped(p, f);
+    for (std::size_t b = 0; b < fn.blocks.size(); ++b)
+      for (std::size_t i = 0; i < fn.blocks[b].instrs.size(); ++i)
+        if (!(b == 0 && static_cast<int>(i) < skip)) add_writes(fn.blocks[b].instrs[i], w[f]);
+  }
+  return w;
+}
+
 std::vector<int> function_touches(const Program& p) {
   std::vector<int> t(p.functions.size(), 0);
   for (std::size_t f = 0; f < p.functions.size(); ++f) {
     const Function& fn = p.functions[f];
-    // Main's startup code runs before any other task exists, unless
-    // something restarts main.
-    int skip = started_anywhere(p, static_cast<FuncId>(f)) ? 0 : fn.startup;
+    int skip = startup_skipped(p, f);
     for (std::size_t b = 0; b < fn.blocks.size(); ++b)
       for (std::size_t i = 0; i < fn.blocks[b].instrs.size(); ++i)
         if (!(b == 0 && static_cast<int>(i) < skip)) t[f] |= touched(fn.blocks[b].instrs[i]);
@@ -270,19 +334,16 @@ std::vector<bool> function_starts(const Program& p) {
 
 void remove_redundant_motor_commands(Program& p) {
   std::size_t n = p.functions.size();
-  MotorPass pass{p, function_touches(p), function_starts(p), std::vector<int>(n, 0), std::vector<bool>(n, false),
+  MotorPass pass{p,
+                 function_touches(p),
+                 function_starts(p),
+                 std::vector<Writes>(n, nothing_written()),
+                 std::vector<bool>(n, false),
                  std::vector<Summary>(n)};
-  // Which tasks command each output, and which tasks run each function.
+  // Which tasks run each function.
   std::vector<std::vector<FuncId>> runners(n);
-  std::array<int, kOutputs> commanders{};
-  std::array<FuncId, kOutputs> owner{-1, -1, -1};
   for (std::size_t t = 0; t < n; ++t) {
     if (p.functions[t].kind != FuncKind::Task || p.functions[t].blocks.empty()) continue;
-    for (int o = 0; o < kOutputs; ++o)
-      if ((pass.touches[t] >> o) & 1) {
-        ++commanders[o];
-        owner[o] = static_cast<FuncId>(t);
-      }
     std::vector<FuncId> work{static_cast<FuncId>(t)};
     while (!work.empty()) {
       FuncId f = work.back();
@@ -295,11 +356,16 @@ void remove_redundant_motor_commands(Program& p) {
           if (FuncId g = callee_of(in); g >= 0) work.push_back(g);
     }
   }
+  // What each task may set, with the subroutines it runs.
+  auto own = own_writes(p);
+  std::vector<Writes> by_task(n, nothing_written());
+  for (std::size_t f = 0; f < n; ++f)
+    for (FuncId t : runners[f]) combine_into(by_task[static_cast<std::size_t>(t)], own[f]);
   for (std::size_t f = 0; f < n; ++f) {
     if (p.functions[f].blocks.empty() || runners[f].size() != 1) continue;
     pass.analysed[f] = true;
-    for (int o = 0; o < kOutputs; ++o)
-      if (commanders[o] <= 1 && (commanders[o] == 0 || owner[o] == runners[f][0])) pass.tracked[f] |= 1 << o;
+    for (std::size_t t = 0; t < n; ++t)
+      if (static_cast<FuncId>(t) != runners[f][0]) combine_into(pass.others[f], by_task[t]);
   }
   FuncId main = p.find_function("main");
   bool main_alone = main >= 0 && !started_anywhere(p, main);

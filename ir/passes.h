@@ -25,9 +25,10 @@ void fold_constants(Program& p);
 void remove_dead_stores(Program& p);
 
 // motors.cpp: removes motor commands (direction, on/off, power) that set
-// what the output already has, for outputs only one task commands and, in
-// main before it starts a task, for all outputs. Subroutines are entered
-// with the merge of their call sites' states.
+// what the output already has. Knowledge survives where other tasks cannot
+// change it (they never set that field, or only to the same value) and in
+// main before it starts a task. Subroutines are entered with the merge of
+// their call sites' states.
 void remove_redundant_motor_commands(Program& p);
 
 // peephole.cpp: within a block, runs of motor commands (with only

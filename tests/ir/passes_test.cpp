@@ -323,6 +323,21 @@ TEST(Motors, OutputsOfTwoTasksAreLeftAlone) {
   EXPECT_EQ(b.at(f, 0).instrs.size(), 4u);
 }
 
+TEST(Motors, WhatEveryOtherTaskAlsoSetsIsStillKnown) {
+  // Both tasks only ever switch A and C on; `other` also reverses C. In
+  // main, A stays on whatever `other` does, so the second `on A` goes; C's
+  // direction may change under main, so its second `fwd C` stays.
+  Builder b;
+  FuncId f = b.function("main"), g = b.function("other");
+  auto dir = [](int code) { return op(rcx::Op::SetMotorDirection, {I(code)}); };
+  auto out = [](int code) { return op(rcx::Op::SetMotorOnOff, {I(code)}); };
+  b.block(f, {start(g), out(0x85), dir(0x84), wait(I(10)), out(0x81), dir(0x84)});
+  b.block(g, {out(0x85), dir(0x04)});
+  remove_redundant_motor_commands(b.p);
+  EXPECT_EQ(count_ops(b.fn(f), rcx::Op::SetMotorOnOff), 1u);
+  EXPECT_EQ(count_ops(b.fn(f), rcx::Op::SetMotorDirection), 2u);
+}
+
 TEST(Motors, MainIsAloneUntilItStartsATask) {
   // Another task commands A too, but only once main has started it.
   Builder b;
