@@ -32,11 +32,11 @@ void remove_dead_stores(Program& p);
 void remove_redundant_motor_commands(Program& p);
 
 // peephole.cpp: within a block, runs of motor commands (with only
-// instructions between that neither read nor change outputs) become the
-// fewest commands giving the same final output states (OnRev(OUT_A);
-// OnFwd(OUT_C) needs one on/off command, not two); a sensor mode equal to
-// the default the sensor type just set (slope 0) is dropped.
-void merge_motor_commands(Function& f);
+// instructions between that neither read nor change outputs nor write a
+// global) become the fewest commands giving the same final output states
+// (OnRev(OUT_A); OnFwd(OUT_C) needs one on/off command, not two); a sensor
+// mode equal to the default the sensor type just set (slope 0) is dropped.
+void merge_motor_commands(Function& f, const std::vector<Var>& vars);
 void drop_redundant_sensor_modes(Function& f);
 
 // cfg.cpp: threads jumps through empty blocks, turns branches whose both

@@ -28,13 +28,19 @@ bool reads_motor_state(const Instr& in) {
 }
 
 // Instructions a motor command may move across: they neither depend on
-// nor change the outputs, and take no time to speak of.
-bool neutral(const Instr& in) {
+// nor change the outputs, and take no time to speak of. A write to a global
+// is not: another task may be waiting for it (`sem = 0;` ends a critical
+// section, and the commands inside must stay inside).
+bool neutral(const Instr& in, const std::vector<Var>& vars) {
   if (in.raw || reads_motor_state(in)) return false;
   switch (in.op) {
     case Op::SetVariable: case Op::AddToVariable: case Op::SubtractFromVariable: case Op::MultiplyVariable:
     case Op::DivideVariable: case Op::AndVariable: case Op::OrVariable: case Op::AbsoluteValue:
-    case Op::SignVariable: case Op::SetSensorType: case Op::SetSensorMode: case Op::ClearSensorValue:
+    case Op::SignVariable:
+      // args[0] is the destination variable of each of these.
+      return in.args.at(0).kind == Operand::Kind::Var &&
+             vars[static_cast<std::size_t>(in.args[0].value)].kind != VarKind::Global;
+    case Op::SetSensorType: case Op::SetSensorMode: case Op::ClearSensorValue:
     case Op::ClearTimer: case Op::PlaySound: case Op::PlayTone: case Op::ClearMessage: case Op::SendMessage:
       return true;
     default: return false;
@@ -70,7 +76,7 @@ std::vector<Instr> net_commands(const std::vector<const Instr*>& window) {
 }
 
 // `first`: instructions before it stay as they are (main's startup code).
-void merge_block(Block& b, std::size_t first) {
+void merge_block(Block& b, std::size_t first, const std::vector<Var>& vars) {
   std::vector<Instr> result;
   std::size_t n = b.instrs.size();
   for (std::size_t i = 0; i < std::min(first, n); ++i) result.push_back(std::move(b.instrs[i]));
@@ -82,7 +88,7 @@ void merge_block(Block& b, std::size_t first) {
     // The window: from i to the last motor command reachable across
     // neutral instructions.
     std::size_t last = i;
-    for (std::size_t j = i; j < n && (mergeable(b.instrs[j]) || neutral(b.instrs[j])); ++j)
+    for (std::size_t j = i; j < n && (mergeable(b.instrs[j]) || neutral(b.instrs[j], vars)); ++j)
       if (mergeable(b.instrs[j])) last = j;
     std::vector<const Instr*> motors;
     for (std::size_t j = i; j <= last; ++j)
@@ -124,9 +130,9 @@ void drop_default_modes(Block& b) {
 
 }  // namespace
 
-void merge_motor_commands(Function& f) {
+void merge_motor_commands(Function& f, const std::vector<Var>& vars) {
   for (std::size_t b = 0; b < f.blocks.size(); ++b)
-    merge_block(f.blocks[b], b == 0 ? static_cast<std::size_t>(f.startup) : 0);
+    merge_block(f.blocks[b], b == 0 ? static_cast<std::size_t>(f.startup) : 0, vars);
 }
 
 void drop_redundant_sensor_modes(Function& f) {

@@ -13,7 +13,7 @@ bool optimize(Program& p, OptLevel level, Diagnostics& diags, Log& log) {
     }
     if (level == OptLevel::Os) {
       for (auto& f : p.functions) {
-        merge_motor_commands(f);
+        merge_motor_commands(f, p.vars);
         drop_redundant_sensor_modes(f);
       }
       remove_redundant_motor_commands(p);

@@ -396,7 +396,7 @@ TEST(Motors, RunsOfCommandsMerge) {
   auto out = [](int code) { return op(rcx::Op::SetMotorOnOff, {I(code)}); };
   // OnRev(A); OnFwd(C): two directions, one on.
   b.block(f, {dir(0x01), out(0x81), dir(0x84), out(0x84), wait(I(5))});
-  merge_motor_commands(b.fn(f));
+  merge_motor_commands(b.fn(f), b.p.vars);
   const auto& instrs = b.at(f, 0).instrs;
   ASSERT_EQ(instrs.size(), 4u);
   EXPECT_EQ(instrs[2].op, rcx::Op::SetMotorOnOff);
