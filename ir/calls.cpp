@@ -1,5 +1,6 @@
 // Subroutine calls versus the firmware's single return address (see passes.h).
 #include <algorithm>
+#include <map>
 #include <fmt/format.h>
 
 #include "ir/liveness.h"
@@ -118,6 +119,33 @@ std::vector<FuncId> live_subs(const Program& p) {
   return subs;
 }
 
+// Whether `f` uses locals or temporaries (or will: a repeat left by a jump
+// counts in a variable).
+bool has_own_variables(const Program& p, FuncId f) {
+  for (const auto& r : p.functions[static_cast<std::size_t>(f)].repeats)
+    if (r.escapes) return true;
+  auto own = [&](const Operand& a) {
+    return a.is_var() && p.vars[static_cast<std::size_t>(a.value)].kind != VarKind::Global;
+  };
+  for (const auto& b : p.functions[static_cast<std::size_t>(f)].blocks) {
+    for (const auto& in : b.instrs)
+      if (std::any_of(in.args.begin(), in.args.end(), own)) return true;
+    if (const auto* br = std::get_if<Branch>(&b.term); br && (own(br->a) || own(br->b))) return true;
+  }
+  return false;
+}
+
+// Whether calls to `f` come from more than one task (after flattening,
+// only tasks call subroutines).
+bool run_by_several_tasks(const Program& p, FuncId f) {
+  FuncId first = -1;
+  for (const auto& site : calls_to(p, f)) {
+    if (first >= 0 && site.caller != first) return true;
+    first = site.caller;
+  }
+  return false;
+}
+
 }  // namespace
 
 int estimate_size(const Function& f) {
@@ -146,11 +174,28 @@ void inline_call(Program& p, FuncId caller, BlockId block, std::size_t index) {
   for (auto& r : f.repeats)
     if (r.setup == block && !tail.instrs.empty()) r.setup = rest;
 
+  // The copy gets its own locals and temporaries: copies in two tasks must
+  // not share them, and a call's locals start afresh anyway.
+  std::map<VarId, VarId> fresh;
+  auto own = [&](Operand& a) {
+    if (!a.is_var()) return;
+    const Var& v = p.vars[static_cast<std::size_t>(a.value)];
+    if (v.kind == VarKind::Global || v.slot) return;
+    auto [it, added] = fresh.try_emplace(a.value, 0);
+    if (added) it->second = p.add_var(v.name, v.kind, v.span);
+    a.value = it->second;
+  };
   auto base = static_cast<BlockId>(f.blocks.size());
   for (const auto& cb : callee.blocks) {
     Block copy = cb;
-    for (auto& in : copy.instrs)
+    for (auto& in : copy.instrs) {
       if (in.span.begin.line == 0) in.span = call.span;
+      for (auto& a : in.args) own(a);
+    }
+    if (auto* br = std::get_if<Branch>(&copy.term)) {
+      own(br->a);
+      own(br->b);
+    }
     if (std::holds_alternative<Exit>(copy.term)) {
       copy.term = Jump{rest};
     } else {
@@ -179,6 +224,15 @@ bool resolve_calls(Program& p, OptLevel level, Diagnostics& diags, Log& log) {
     if (calls_to(p, s).empty()) {
       log.push_back(fmt::format("sub {} is not called: dropped", p.functions[static_cast<std::size_t>(s)].name));
       p.functions[static_cast<std::size_t>(s)].blocks.clear();
+    }
+  // A subroutine run by several tasks keeps its locals and temporaries in
+  // one slot for all of them; inlined, every task has its own.
+  for (FuncId s : live_subs(p))
+    if (run_by_several_tasks(p, s) && has_own_variables(p, s)) {
+      log.push_back(fmt::format("sub {} inlined at its calls (run by several tasks, which would share its "
+                                "temporaries; {:+} bytes)",
+                                p.functions[static_cast<std::size_t>(s)].name, inline_growth(p, s)));
+      inline_everywhere(p, s);
     }
   for (auto subs = live_subs(p); subs.size() > static_cast<std::size_t>(8); subs = live_subs(p)) {
     FuncId cheapest = *std::min_element(subs.begin(), subs.end(), [&](FuncId a, FuncId b) {

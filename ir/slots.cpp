@@ -87,6 +87,31 @@ void report_exhaustion(const Program& p, VarId failed, const std::vector<int>& s
   }
 }
 
+// A subroutine's locals and temporaries have one slot whichever task runs
+// it: two tasks running it at once overwrite each other's values.
+void warn_shared_sub_variables(const Program& p, const std::vector<TaskMask>& running, Diagnostics& diags) {
+  std::vector<std::string> task_names;
+  for (const auto& f : p.functions)
+    if (f.kind == FuncKind::Task && live_function(f)) task_names.push_back(f.name);
+  for (std::size_t f = 0; f < p.functions.size(); ++f) {
+    const Function& fn = p.functions[f];
+    if (fn.kind != FuncKind::Sub || !live_function(fn) || std::popcount(running[f]) < 2) continue;
+    bool has_own = false;
+    for (const auto& b : fn.blocks)
+      for (const auto& in : b.instrs)
+        for (const auto& a : in.args)
+          has_own |= a.is_var() && p.vars[static_cast<std::size_t>(a.value)].kind != VarKind::Global;
+    if (!has_own) continue;
+    std::string tasks;
+    for (std::size_t t = 0; t < task_names.size() && t < 64; ++t)
+      if ((running[f] >> t) & 1) tasks += (tasks.empty() ? "'" : ", '") + task_names[t] + "'";
+    diags.warning(fn.span, fmt::format("subroutine '{}' is run by tasks {} and keeps a local or temporary value in "
+                                       "one variable slot for all of them: tasks running it at the same time "
+                                       "overwrite each other's value",
+                                       fn.name, tasks));
+  }
+}
+
 }  // namespace
 
 std::vector<int> allocate_slots(const Program& p, Diagnostics& diags) {
@@ -108,6 +133,7 @@ std::vector<int> allocate_slots(const Program& p, Diagnostics& diags) {
       for (VarId v : reads_of(b.term)) note(v);
     }
   }
+  warn_shared_sub_variables(p, running, diags);
   Graph g{std::vector<VarSet>(nv)};
   for (const auto& f : p.functions)
     if (live_function(f)) add_liveness_edges(p, f, footprints, g);
@@ -123,8 +149,12 @@ std::vector<int> allocate_slots(const Program& p, Diagnostics& diags) {
     if (!global) {
       for (VarId n : g.edges[static_cast<std::size_t>(v)].members())
         if (slot[static_cast<std::size_t>(n)] >= 0) taken |= 1u << slot[static_cast<std::size_t>(n)];
-      for (int s = 0; s < kSlots; ++s)
-        if (std::popcount(slot_tasks[static_cast<std::size_t>(s)] | mine) > 1) taken |= 1u << s;
+      // A slot serves one task's variables, or one variable that several
+      // tasks use (a subroutine's temporary) alone.
+      for (int s = 0; s < kSlots; ++s) {
+        TaskMask holders = slot_tasks[static_cast<std::size_t>(s)];
+        if (holders != 0 && (holders != mine || std::popcount(mine) > 1)) taken |= 1u << s;
+      }
     }
     if (global)
       for (std::size_t u = 0; u < nv; ++u)

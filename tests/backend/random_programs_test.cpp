@@ -38,13 +38,15 @@ class Generator {
     return out.str();
   }
 
- private:
+ protected:
   int pick(int lo, int hi) { return std::uniform_int_distribution<int>(lo, hi)(rng_); }
 
   std::string mask() {
     static const char* masks[] = {"OUT_A", "OUT_B", "OUT_C", "OUT_A+OUT_C", "OUT_A+OUT_B+OUT_C", "OUT_B+OUT_C"};
     return masks[pick(0, 5)];
   }
+
+  std::mt19937& rng() { return rng_; }
 
   void marker(std::ostringstream& out) {
     out << "  SelectDisplay(" << (markers_++ % 2 + 1) << "); Wait(" << pick(1, 3) << ");\n";
@@ -87,6 +89,63 @@ class Generator {
   std::mt19937 rng_;
   int subs_ = 0;
   int markers_ = 0;
+};
+
+// Two tasks commanding the same outputs, never at the same time: each
+// acts only in its own time windows (main at 200 ms x k, the other at
+// 200 ms x k + 100 ms, scheduled by Timer(0)), so whatever a command costs,
+// the order of everything they do is fixed.
+class TwoTaskGenerator : public Generator {
+ public:
+  using Generator::Generator;
+
+  std::string program() {
+    std::ostringstream out;
+    int steps = pick(2, 6);
+    bool shared_sub = pick(0, 1) == 1;
+    out << "int x, y;\n";
+    if (shared_sub) {
+      out << "sub both() {\n";
+      step(out);
+      out << "}\n";
+    }
+    out << "task other() {\n";
+    for (int k = 0; k < steps; ++k) {
+      out << "  until (Timer(0) >= " << 20 * k + 10 << ");\n";
+      step(out);
+      if (shared_sub && pick(0, 2) == 0) out << "  both();\n";
+    }
+    out << "}\n";
+    out << "task main() {\n  x = 0; y = 0; ClearTimer(0); start other;\n";
+    for (int k = 0; k < steps; ++k) {
+      if (k > 0) out << "  until (Timer(0) >= " << 20 * k << ");\n";
+      step(out);
+      if (shared_sub && pick(0, 2) == 0) out << "  both();\n";
+    }
+    out << "  until (Timer(0) >= " << 20 * steps + 5 << ");\n";
+    marker(out);
+    out << "}\n";
+    return out.str();
+  }
+
+ private:
+  void step(std::ostringstream& out) {
+    int n = pick(1, 4);
+    for (int i = 0; i < n; ++i) {
+      int k = pick(0, 6);
+      if (k <= 3) motor(out);
+      else if (k == 4) out << "  x += " << pick(-2, 3) << ";\n";
+      else if (k == 5) {
+        out << "  if (x > " << pick(-1, 2) << ") {\n";
+        motor(out);
+        out << "  } else {\n";
+        motor(out);
+        out << "  }\n";
+      } else {
+        out << "  SelectDisplay(" << pick(1, 6) << ");\n";
+      }
+    }
+  }
 };
 
 struct Observed {
@@ -134,6 +193,21 @@ std::optional<Observed> observe(const std::string& text, ir::OptLevel level, std
 TEST(RandomPrograms, EveryOptimisationLevelBehavesAsUnoptimised) {
   for (unsigned seed = 1; seed <= 300; ++seed) {
     std::string text = Generator(seed).program();
+    std::string error;
+    auto reference = observe(text, ir::OptLevel::O0, error);
+    ASSERT_TRUE(reference) << "seed " << seed << ": " << error << "\n" << text;
+    for (auto level : {ir::OptLevel::O1, ir::OptLevel::Os}) {
+      auto got = observe(text, level, error);
+      ASSERT_TRUE(got) << "seed " << seed << ": " << error << "\n" << text;
+      ASSERT_EQ(got->at_markers, reference->at_markers) << "seed " << seed << "\n" << text;
+      ASSERT_EQ(got->final, reference->final) << "seed " << seed << "\n" << text;
+    }
+  }
+}
+
+TEST(RandomPrograms, TwoTasksInTurnsBehaveAsUnoptimised) {
+  for (unsigned seed = 1; seed <= 300; ++seed) {
+    std::string text = TwoTaskGenerator(seed).program();
     std::string error;
     auto reference = observe(text, ir::OptLevel::O0, error);
     ASSERT_TRUE(reference) << "seed " << seed << ": " << error << "\n" << text;

@@ -192,6 +192,49 @@ TEST(Calls, NestedSubIsInlinedIntoItsCaller) {
   EXPECT_FALSE(log.empty());
 }
 
+TEST(Calls, ASubWithATemporaryRunBySeveralTasksIsInlinedWithOwnCopies) {
+  // sub both() { t = Timer(0); Wait(t); } called from two tasks: each task
+  // gets its own copy and its own temporary.
+  Builder b;
+  VarId t = b.temp();
+  FuncId main = b.function("main"), other = b.function("other");
+  FuncId both = b.function("both", FuncKind::Sub);
+  b.block(main, {start(other), call(both)});
+  b.block(other, {call(both)});
+  b.block(both, {set(t, Operand::src(1, 0)), wait(V(t))});
+  Diagnostics d;
+  Log log;
+  ASSERT_TRUE(resolve_calls(b.p, OptLevel::O1, d, log));
+  EXPECT_TRUE(b.fn(both).blocks.empty());
+  auto temp_of = [&](FuncId f) {
+    for (const auto& blk : b.fn(f).blocks)
+      for (const auto& in : blk.instrs)
+        if (in.op == rcx::Op::Wait) return in.args[0].value;
+    return -1;
+  };
+  EXPECT_GE(temp_of(main), 0);
+  EXPECT_GE(temp_of(other), 0);
+  EXPECT_NE(temp_of(main), temp_of(other));
+  Diagnostics slot_diags;
+  auto slots = allocate_slots(b.p, slot_diags);
+  ASSERT_FALSE(slots.empty());
+  EXPECT_NE(slots[static_cast<std::size_t>(temp_of(main))], slots[static_cast<std::size_t>(temp_of(other))]);
+}
+
+TEST(Calls, ASubOnlyUsingGlobalsStaysASub) {
+  Builder b;
+  VarId g = b.global("g");
+  FuncId main = b.function("main"), other = b.function("other");
+  FuncId both = b.function("both", FuncKind::Sub);
+  b.block(main, {start(other), call(both)});
+  b.block(other, {call(both)});
+  b.block(both, {add(g, I(1)), wait(V(g)), sound(1), sound(2), sound(3)});
+  Diagnostics d;
+  Log log;
+  ASSERT_TRUE(resolve_calls(b.p, OptLevel::O1, d, log));
+  EXPECT_FALSE(b.fn(both).blocks.empty());
+}
+
 TEST(Calls, RecursionIsReportedWithTheCycle) {
   Builder b;
   FuncId main = b.function("main");
@@ -275,6 +318,27 @@ TEST(Slots, ASubsVariablesAvoidWhatIsLiveAcrossItsCall) {
   EXPECT_NE(slots[static_cast<std::size_t>(kept)], slots[static_cast<std::size_t>(sub_local)]);
   // `after` is born after the call returned: it may reuse the sub's slot.
   EXPECT_EQ(slots[static_cast<std::size_t>(after)], slots[static_cast<std::size_t>(kept)]);
+}
+
+TEST(Slots, AVariableSeveralTasksUseGetsASlotOfItsOwnAndAWarning) {
+  // What inlining cannot fix any more (the allocator sees the program as
+  // it is): the shared temporary still gets a slot, shared with nothing.
+  Builder b;
+  VarId t = b.temp(), u = b.temp(), w = b.temp();
+  FuncId main = b.function("main"), other = b.function("other");
+  FuncId both = b.function("both", FuncKind::Sub);
+  b.block(main, {set(u, Operand::src(1, 0)), wait(V(u)), start(other), call(both)});
+  b.block(other, {set(w, Operand::src(1, 1)), wait(V(w)), call(both)});
+  b.block(both, {set(t, Operand::src(1, 2)), wait(V(t))});
+  Diagnostics d;
+  auto slots = allocate_slots(b.p, d);
+  ASSERT_EQ(slots.size(), 3u);
+  EXPECT_NE(slots[0], slots[1]);
+  EXPECT_NE(slots[0], slots[2]);
+  EXPECT_NE(slots[1], slots[2]);
+  EXPECT_FALSE(d.has_errors());
+  ASSERT_EQ(d.all().size(), 1u);
+  EXPECT_NE(d.all()[0].message.find("'both'"), std::string::npos);
 }
 
 TEST(Slots, ReservedSlotsAreSkipped) {
