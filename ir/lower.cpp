@@ -46,12 +46,38 @@ struct Lowerer {
   std::vector<std::vector<BlockId>> switches;
   std::vector<Frame> frames;
   std::vector<ast::SymbolId> expanding;
+  std::vector<SourceSpan> call_sites;  // where each expansion in `expanding` was called
   bool has_goto = false;
   SourceSpan span{};
 
   Function& fn() { return out.functions[static_cast<std::size_t>(fid)]; }
 
-  void error(SourceSpan at, std::string message) { diags.error(at, std::move(message)); }
+  void error(SourceSpan at, std::string message) { report(Severity::Error, at, std::move(message)); }
+  void warning(SourceSpan at, std::string message) { report(Severity::Warning, at, std::move(message)); }
+
+  static bool before(const SourceLoc& a, const SourceLoc& b) {
+    return a.line < b.line || (a.line == b.line && a.column < b.column);
+  }
+  static bool inside(const SourceSpan& inner, const SourceSpan& outer) {
+    return inner.begin.file == outer.begin.file && !before(inner.begin, outer.begin) && !before(outer.end, inner.end);
+  }
+
+  // Inside inline expansions a problem is reported at the user's own call
+  // (the outermost one), with notes down to the line where it arose: a
+  // library function's line means little to someone who only called it,
+  // and an IDE should mark the line the user wrote.
+  void report(Severity severity, SourceSpan at, std::string message) {
+    if (call_sites.empty() || inside(at, call_sites.front())) {
+      severity == Severity::Error ? diags.error(at, std::move(message)) : diags.warning(at, std::move(message));
+      return;
+    }
+    Diagnostic& d = severity == Severity::Error ? diags.error(call_sites.front(), std::move(message))
+                                                : diags.warning(call_sites.front(), std::move(message));
+    for (std::size_t i = 1; i < call_sites.size(); ++i)
+      d.notes.push_back({call_sites[i], fmt::format("in inline function '{}', which calls it here",
+                                                    ast.symbol(expanding[i - 1]).name)});
+    d.notes.push_back({at, fmt::format("in inline function '{}'", ast.symbol(expanding.back()).name)});
+  }
 
   // ------------------------------------------------------------ emitting --
 
@@ -640,11 +666,13 @@ struct Lowerer {
       env[sym] = b;
     }
     expanding.push_back(f.symbol);
+    call_sites.push_back(at);
     BlockId done = new_block();
     frames.push_back(Frame{done, {}, loops.size()});
     statement(f.body);
     frames.pop_back();
     expanding.pop_back();
+    call_sites.pop_back();
     jump(done);
     enter(done);
     for (const auto& [sym, b] : saved) {
@@ -911,7 +939,7 @@ struct Lowerer {
           if (!c) return error(e.span, fmt::format("operand '{}' of {} must be a constant", slots[i]->name, in.mnemonic));
           if (!fits_field(slots[i]->type, *c) && rcx::field_size(slots[i]->type) == 1) {
             // As nqc does, a byte field keeps the low byte of the value.
-            diags.warning(e.span, fmt::format("operand '{}' of {} is {}, which does not fit a byte: using {}",
+            warning(e.span, fmt::format("operand '{}' of {} is {}, which does not fit a byte: using {}",
                                               slots[i]->name, in.mnemonic, *c, *c & 0xff));
             c = *c & 0xff;
           }

@@ -88,3 +88,36 @@ TEST(CompileCli, BadOptimisationLevelIsUsageError) {
   auto r = run_rcxc({"compile", d.write("p.nqc", kProgram), "-O3"});
   EXPECT_EQ(r.exit_code, 2);
 }
+
+TEST(CompileCli, AProblemInsideALibraryCallIsReportedAtTheCall) {
+  // 316 does not fit sensmode's byte: the warning belongs to line 3 of the
+  // user's file, with a note showing the library line it came from.
+  TempDir d;
+  auto r = run_rcxc({"compile", d.write("p.nqc", "task main()\n{\n  SetSensorMode(SENSOR_1, 316);\n}\n"), "-o",
+                     d.path + "/p.rcx"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err.rfind(d.path + "/p.nqc:3:3: warning:", 0), 0u) << r.err;
+  EXPECT_NE(r.err.find("rcx.nqh:"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("note: in inline function 'SetSensorMode'"), std::string::npos) << r.err;
+}
+
+TEST(CompileCli, AProblemInNestedInlineFunctionsNamesEveryCall) {
+  // The value only goes wrong once outer(16) passes 316 down: reported at
+  // that call, then each call on the way to the library line.
+  TempDir d;
+  const char* src =
+      "void inner(const int m) { SetSensorMode(SENSOR_1, m); }\n"
+      "void outer(const int k) { inner(k + 300); }\n"
+      "task main()\n{\n  outer(16);\n}\n";
+  auto r = run_rcxc({"compile", d.write("p.nqc", src), "-o", d.path + "/p.rcx"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err.rfind(d.path + "/p.nqc:5:3: warning:", 0), 0u) << r.err;
+  auto outer = r.err.find("p.nqc:2:27: note: in inline function 'outer', which calls it here");
+  auto inner = r.err.find("p.nqc:1:27: note: in inline function 'inner', which calls it here");
+  auto library = r.err.find("note: in inline function 'SetSensorMode'");
+  ASSERT_NE(outer, std::string::npos) << r.err;
+  ASSERT_NE(inner, std::string::npos) << r.err;
+  ASSERT_NE(library, std::string::npos) << r.err;
+  EXPECT_LT(outer, inner);
+  EXPECT_LT(inner, library);
+}
