@@ -4,11 +4,13 @@
 #include <memory>
 
 #include "cli/commands.h"
+#include "cli/output_file.h"
 #include "backend/compile.h"
 #include "backend/listing.h"
 #include "frontend/frontend.h"
 #include "runtime/image.h"
 
+#include <filesystem>
 #include <fstream>
 
 namespace rcxc::cli {
@@ -58,16 +60,28 @@ std::string image_path(const CompileArgs& a) {
   return base + ".rcx";
 }
 
-bool write_bytes(const std::string& path, const std::string& bytes) {
-  std::ofstream f(path, std::ios::binary);
-  f << bytes;
-  return static_cast<bool>(f);
+// The source file (or an included one) that `path` names, if any: writing
+// there would destroy the program.
+std::optional<std::string> source_file_at(const std::string& path, const SourceManager& sm) {
+  for (std::uint32_t f = 0; f < sm.size(); ++f) {
+    std::error_code ec;
+    if (std::filesystem::equivalent(path, sm.path(f), ec) && !ec) return sm.path(f);
+  }
+  return std::nullopt;
 }
 
 int write_outputs(const CompileArgs& a, const backend::Output& out, const SourceManager& sm) {
   auto image = rcx::write_image(out.image);
   std::string path = image_path(a);
-  if (!write_bytes(path, std::string(image.begin(), image.end()))) {
+  for (const std::string* target : {static_cast<const std::string*>(&path), &a.listing}) {
+    if (target->empty() || *target == "-") continue;
+    if (auto source = source_file_at(*target, sm)) {
+      std::cerr << "rcxc compile: refusing to write " << *target << ": it is the source file " << *source
+                << " (choose another name)\n";
+      return kExitUsage;
+    }
+  }
+  if (!write_file_atomically(path, std::string(image.begin(), image.end()))) {
     std::cerr << "rcxc compile: cannot write " << path << "\n";
     return kExitFailure;
   }
@@ -75,7 +89,7 @@ int write_outputs(const CompileArgs& a, const backend::Output& out, const Source
   std::string text = backend::listing(out, &sm);
   if (a.listing == "-") {
     std::cout << text;
-  } else if (!write_bytes(a.listing, text)) {
+  } else if (!write_file_atomically(a.listing, text)) {
     std::cerr << "rcxc compile: cannot write " << a.listing << "\n";
     return kExitFailure;
   }

@@ -7,6 +7,7 @@
 #include <variant>
 
 #include "cli/commands.h"
+#include "cli/output_file.h"
 #include "cli/program_loader.h"
 #include "runtime/image.h"
 #include "runtime/report.h"
@@ -51,12 +52,6 @@ std::variant<rcx::Image, std::string> load_program(const std::string& path) {
 // replaced rather than thrown about.
 std::string json_text(const nlohmann::json& j) {
   return j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace);
-}
-
-bool write_file(const std::string& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary);
-  out << text;
-  return static_cast<bool>(out);
 }
 
 // A program with test directives (docs/testing.md) carries its own inputs:
@@ -122,7 +117,7 @@ int run(const RunOptions& o) {
     std::cout << rcx::timeline_text(machine, image);
   if (!o.trace.empty()) {
     std::string text = ends_with(o.trace, ".vcd") ? rcx::trace_vcd(machine, image) : json_text(rcx::trace_json(machine, image)) + "\n";
-    if (!write_file(o.trace, text)) {
+    if (!write_file_atomically(o.trace, text)) {
       std::cerr << "rcxc run: cannot write trace file " << o.trace << "\n";
       return kExitFailure;
     }

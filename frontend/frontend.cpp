@@ -24,7 +24,12 @@ std::optional<std::uint32_t> load(const std::string& path, SourceManager& sm, Di
   }
   std::ostringstream ss;
   ss << in.rdbuf();
-  return sm.add(path, ss.str());
+  std::string text = ss.str();
+  if (std::string why = not_source_reason(path, text); !why.empty()) {
+    diags.error({}, why);
+    return std::nullopt;
+  }
+  return sm.add(path, std::move(text));
 }
 
 std::string folder_of(const std::string& path) {

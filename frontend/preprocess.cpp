@@ -696,6 +696,10 @@ class Preprocessor {
       if (!fs::is_regular_file(p, ec)) continue;
       auto text = read_file(p.string());
       if (!text) continue;
+      if (std::string why = not_source_reason(p.string(), *text); !why.empty()) {
+        diags_.error(where, why);
+        return;
+      }
       std::string key = fs::weakly_canonical(p, ec).string();
       if (!enter_checked(key, where)) return;
       std::uint32_t id = sm_.add(p.lexically_normal().string(), std::move(*text));
@@ -962,6 +966,14 @@ std::string tokens_to_text(const std::vector<Token>& tokens, const SourceManager
   }
   out += '\n';
   return out;
+}
+
+std::string not_source_reason(const std::string& path, std::string_view text) {
+  if (text.substr(0, 4) == "RCXI")
+    return "'" + path + "' is an RCX image, not NQC source (rcxc run and rcxc disasm read images)";
+  if (text.substr(0, 4096).find('\0') != std::string_view::npos)
+    return "'" + path + "' is not NQC source: it holds binary data";
+  return "";
 }
 
 }  // namespace rcxc::frontend

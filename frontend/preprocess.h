@@ -32,4 +32,9 @@ std::string tokens_to_text(const std::vector<Token>& tokens, const SourceManager
 // bodies, the place in the file where the outermost macro was used.
 SourceLoc presumed_loc(const SourceLoc& loc, const SourceManager& sm);
 
+// Why `text` read from `path` cannot be NQC source (an RCX image, other
+// binary data), or "" when it may be. Checked before lexing, so a wrong
+// file gives one clear error instead of one per stray byte.
+std::string not_source_reason(const std::string& path, std::string_view text);
+
 }  // namespace rcxc::frontend

@@ -2,6 +2,7 @@
 // and the exit codes.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -120,4 +121,53 @@ TEST(CompileCli, AProblemInNestedInlineFunctionsNamesEveryCall) {
   ASSERT_NE(library, std::string::npos) << r.err;
   EXPECT_LT(outer, inner);
   EXPECT_LT(inner, library);
+}
+
+TEST(CompileCli, NeverWritesOverTheSource) {
+  TempDir d;
+  std::string src = d.write("p.nqc", kProgram);
+  auto r = run_rcxc({"compile", src, "-o", src});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("refusing to write"), std::string::npos) << r.err;
+  auto listing = run_rcxc({"compile", src, "--listing=" + src});
+  EXPECT_EQ(listing.exit_code, 2);
+  auto kept = d.read("p.nqc");
+  EXPECT_EQ(std::string(kept.begin(), kept.end()), kProgram);
+}
+
+TEST(CompileCli, NeverWritesOverAnIncludedFile) {
+  TempDir d;
+  d.write("lib.nqh", "#define N 3\n");
+  std::string src = d.write("p.nqc", "#include \"lib.nqh\"\ntask main() { Wait(N); }\n");
+  auto r = run_rcxc({"compile", src, "-o", d.path + "/lib.nqh"});
+  EXPECT_EQ(r.exit_code, 2);
+  auto kept = d.read("lib.nqh");
+  EXPECT_EQ(std::string(kept.begin(), kept.end()), "#define N 3\n");
+}
+
+TEST(CompileCli, ABrokenProgramLeavesThePreviousImage) {
+  TempDir d;
+  std::string src = d.write("p.nqc", kProgram);
+  ASSERT_EQ(run_rcxc({"compile", src}).exit_code, 0);
+  auto before = d.read("p.rcx");
+  // A broken program writes nothing; the old image stays as it was.
+  d.write("p.nqc", "task main() { x = ; }\n");
+  EXPECT_EQ(run_rcxc({"compile", src}).exit_code, 1);
+  EXPECT_EQ(d.read("p.rcx"), before);
+  EXPECT_FALSE(std::filesystem::exists(d.path + "/p.rcx.rcxc-tmp"));
+}
+
+TEST(CompileCli, AnImageGivenAsSourceIsOneClearError) {
+  TempDir d;
+  std::string src = d.write("p.nqc", kProgram);
+  ASSERT_EQ(run_rcxc({"compile", src, "-o", d.path + "/p.rcx"}).exit_code, 0);
+  auto r = run_rcxc({"compile", d.path + "/p.rcx", "-o", d.path + "/q.rcx"});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("is an RCX image, not NQC source"), std::string::npos) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  std::vector<std::uint8_t> binary = {'t', 'a', 's', 'k', 0, 1, 2};
+  d.write("b.nqc", binary);
+  auto b = run_rcxc({"compile", d.path + "/b.nqc", "-o", d.path + "/b.rcx"});
+  EXPECT_EQ(b.exit_code, 1);
+  EXPECT_NE(b.err.find("binary data"), std::string::npos) << b.err;
 }
