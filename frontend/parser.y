@@ -401,7 +401,11 @@ void yy::Parser::report_syntax_error(const context& ctx) const {
   } else if (expects_punct("')'")) {
     want = "')'";
   }
-  if (want.rfind("';'", 0) == 0 && feed.prev_end.valid()) where = {feed.prev_end, feed.prev_end};  // just after the statement
+  // A missing ';' is shown just after the statement it should end, unless
+  // that statement is in another file (the end of the library, when the
+  // first line of a program is wrong): then at what was found.
+  if (want.rfind("';'", 0) == 0 && feed.prev_end.valid() && feed.prev_end.file == where.begin.file)
+    where = {feed.prev_end, feed.prev_end};
   feed.diags.error(where, want.empty() ? "syntax error at " + found : "expected " + want + " before " + found);
 }
 

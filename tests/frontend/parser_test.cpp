@@ -211,6 +211,15 @@ TEST(Parser, SyntaxErrorsAreReportedAndParsingRecovers) {
                        }));
 }
 
+TEST(Parser, AWrongFirstLineIsReportedInTheProgramNotTheLibrary) {
+  // The token before `foo` is the library's last `}`: the error still
+  // belongs to line 1 of the program.
+  auto r = run_frontend("foo bar\ntask main() {}\n");
+  ASSERT_FALSE(r.diags.all().empty());
+  EXPECT_EQ(r.brief().front(), "1:1: error: expected ';' before 'foo'");
+  EXPECT_EQ(r.sm.path(r.diags.all().front().span.begin.file), "test.nqc");
+}
+
 TEST(Parser, MissingBraceAtEndOfFile) {
   auto r = run_frontend("task main() {\n  int x;\n", true);
   EXPECT_EQ(r.brief(), (std::vector<std::string>{"3:1: error: expected '}' before end of file"}));
