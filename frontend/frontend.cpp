@@ -37,13 +37,47 @@ std::string folder_of(const std::string& path) {
   return dir.empty() ? "." : dir;
 }
 
+bool before(const SourceLoc& a, const SourceLoc& b) {
+  return a.line < b.line || (a.line == b.line && a.column < b.column);
+}
+
+bool contains(const SourceSpan& outer, const SourceLoc& at) {
+  return at.file == outer.begin.file && at.expansion == 0 && outer.begin.expansion == 0 && !before(at, outer.begin) &&
+         before(at, outer.end);
+}
+
+// After syntax errors, the task, sub and function bodies they are in are
+// set aside (emptied) and the rest of the program is still checked, so one
+// run reports the semantic errors too. An error outside every body (a
+// broken declaration) could make all that follows look wrong: then the
+// checks are skipped, as a half-parsed declaration would only repeat it.
+void check_around_syntax_errors(ast::Program& program, Diagnostics& diags) {
+  std::vector<ast::Stmt*> bodies;
+  for (auto& t : program.tasks) bodies.push_back(&t.body);
+  for (auto& s : program.subs) bodies.push_back(&s.body);
+  for (auto& f : program.functions) bodies.push_back(&f.body);
+  std::vector<bool> broken(bodies.size(), false);
+  for (const auto& d : diags.all()) {
+    if (d.severity != Severity::Error) continue;
+    bool placed = false;
+    for (std::size_t b = 0; b < bodies.size() && !placed; ++b)
+      if (contains(bodies[b]->span, d.span.begin)) placed = broken[b] = true;
+    if (!placed) return;
+  }
+  for (std::size_t b = 0; b < bodies.size(); ++b)
+    if (broken[b]) bodies[b]->node = ast::Block{};
+  check(program, diags);
+}
+
 std::optional<ast::Program> run(std::uint32_t file, const std::string& dir, const Options& options,
                                 SourceManager& sm, Diagnostics& diags) {
   Preprocessed pp = preprocess(file, dir, options, sm, diags);
   ast::Program program = parse_tokens(pp.tokens, diags);
   program.pragmas = std::move(pp.pragmas);
-  // Checking a half-parsed program would mostly repeat the syntax errors.
-  if (diags.has_errors()) return std::nullopt;
+  if (diags.has_errors()) {
+    check_around_syntax_errors(program, diags);
+    return std::nullopt;
+  }
   check(program, diags);
   if (diags.has_errors()) return std::nullopt;
   return program;

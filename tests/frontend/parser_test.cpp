@@ -220,6 +220,23 @@ TEST(Parser, AWrongFirstLineIsReportedInTheProgramNotTheLibrary) {
   EXPECT_EQ(r.sm.path(r.diags.all().front().span.begin.file), "test.nqc");
 }
 
+TEST(Parser, SemanticErrorsElsewhereAreReportedWithSyntaxErrors) {
+  // The syntax error is in main; the undeclared name in other is still
+  // found; nothing is said about main's body beyond its syntax error.
+  auto r = run_frontend("task other()\n{\n  y = 2;\n}\ntask main()\n{\n  z = (1 + ;\n  start other;\n}\n", true);
+  EXPECT_FALSE(r.program);
+  EXPECT_EQ(r.brief(), (std::vector<std::string>{"7:12: error: expected an expression before ';'",
+                                                 "3:3: error: 'y' is not declared"}));
+}
+
+TEST(Parser, ABrokenDeclarationStopsTheChecks) {
+  // `int x y;` may have meant anything: checking on would only report
+  // uses of x and y as undeclared.
+  auto r = run_frontend("int x y;\ntask main()\n{\n  x = y;\n}\n", true);
+  EXPECT_FALSE(r.program);
+  EXPECT_EQ(r.brief(), (std::vector<std::string>{"1:6: error: expected ';' or ',' before 'y'"}));
+}
+
 TEST(Parser, MissingBraceAtEndOfFile) {
   auto r = run_frontend("task main() {\n  int x;\n", true);
   EXPECT_EQ(r.brief(), (std::vector<std::string>{"3:1: error: expected '}' before end of file"}));
