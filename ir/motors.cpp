@@ -150,8 +150,10 @@ struct MotorPass {
   bool recording = false;        // whether apply() records call and return states
   FuncId current = -1;
 
-  // While main is the only task running (before it starts any, when no
-  // task restarts it), no other task can touch any output.
+  // Drops what other tasks may change before this task's next instruction:
+  // a field they set to anything but the value known here. Nothing is
+  // dropped while main is the only task running (before it starts any,
+  // when no task restarts it).
   void forget_untracked(State& s) const {
     if (s.alone) return;
     const Writes& w = others[static_cast<std::size_t>(current)];
