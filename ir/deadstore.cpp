@@ -22,8 +22,8 @@ bool pure_variable_write(const Instr& in) {
   }
 }
 
-bool remove_in(const Program& p, Function& f, const std::vector<VarSet>& footprints) {
-  Liveness L = compute_liveness(p, f, footprints);
+bool remove_in(const Program& p, Function& f, const CallEffects& calls) {
+  Liveness L = compute_liveness(p, f, calls);
   bool removed = false;
   for (std::size_t b = 0; b < f.blocks.size(); ++b) {
     Block& block = f.blocks[b];
@@ -41,7 +41,7 @@ bool remove_in(const Program& p, Function& f, const std::vector<VarSet>& footpri
           continue;
         }
       }
-      step_back(p, in, footprints, live);
+      step_back(p, in, calls, live);
     }
     std::vector<Instr> kept;
     for (std::size_t k = 0; k < block.instrs.size(); ++k)
@@ -56,10 +56,10 @@ bool remove_in(const Program& p, Function& f, const std::vector<VarSet>& footpri
 void remove_dead_stores(Program& p) {
   // Removing one store can make the stores feeding it dead: repeat.
   for (int round = 0; round < 8; ++round) {
-    auto footprints = function_footprints(p);
+    auto calls = call_effects(p);
     bool any = false;
     for (auto& f : p.functions)
-      if (!f.blocks.empty()) any |= remove_in(p, f, footprints);
+      if (!f.blocks.empty()) any |= remove_in(p, f, calls);
     if (!any) break;
   }
 }

@@ -58,19 +58,19 @@ namespace {
 bool tracked(const Program& p, VarId v) { return p.vars[static_cast<std::size_t>(v)].kind != VarKind::Global; }
 }  // namespace
 
-void step_back(const Program& p, const Instr& in, const std::vector<VarSet>& footprints, VarSet& live) {
+void step_back(const Program& p, const Instr& in, const CallEffects& calls, VarSet& live) {
   VarUse u = uses_of(in);
   for (VarId v : u.writes)
     if (tracked(p, v)) live.remove(v);
   for (VarId v : u.reads)
     if (tracked(p, v)) live.add(v);
   FuncId g = callee_of(in);
-  if (g >= 0 && static_cast<std::size_t>(g) < footprints.size())
-    for (VarId v : footprints[static_cast<std::size_t>(g)].members())
-      if (tracked(p, v)) live.add(v);
+  if (g < 0 || static_cast<std::size_t>(g) >= calls.touches.size()) return;
+  for (VarId v : calls.touches[static_cast<std::size_t>(g)].members()) live.remove(v);
+  for (VarId v : calls.reads[static_cast<std::size_t>(g)].members()) live.add(v);
 }
 
-Liveness compute_liveness(const Program& p, const Function& f, const std::vector<VarSet>& footprints) {
+Liveness compute_liveness(const Program& p, const Function& f, const CallEffects& calls) {
   std::size_t n = f.blocks.size();
   Liveness L{std::vector<VarSet>(n, VarSet(p.vars.size())), std::vector<VarSet>(n, VarSet(p.vars.size()))};
   bool changed = true;
@@ -83,12 +83,36 @@ Liveness compute_liveness(const Program& p, const Function& f, const std::vector
       VarSet live = out;
       for (VarId v : reads_of(b.term))
         if (tracked(p, v)) live.add(v);
-      for (std::size_t k = b.instrs.size(); k-- > 0;) step_back(p, b.instrs[k], footprints, live);
+      for (std::size_t k = b.instrs.size(); k-- > 0;) step_back(p, b.instrs[k], calls, live);
       L.live_out[i] = std::move(out);
       changed |= L.live_in[i].merge(live);
     }
   }
   return L;
+}
+
+CallEffects call_effects(const Program& p) {
+  CallEffects calls;
+  calls.touches = function_footprints(p);
+  for (auto& t : calls.touches) {
+    VarSet own;
+    for (VarId v : t.members())
+      if (tracked(p, v)) own.add(v);
+    t = std::move(own);
+  }
+  // What each function reads before writing, found by its own liveness,
+  // which depends on its callees': repeated until nothing changes (it only
+  // grows, and subroutines are not recursive by the time this runs).
+  calls.reads.assign(p.functions.size(), VarSet());
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (std::size_t f = 0; f < p.functions.size(); ++f) {
+      if (p.functions[f].blocks.empty()) continue;
+      Liveness L = compute_liveness(p, p.functions[f], calls);
+      changed |= calls.reads[f].merge(L.live_in[0]);
+    }
+  }
+  return calls;
 }
 
 }  // namespace rcxc::ir

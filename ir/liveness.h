@@ -35,13 +35,22 @@ struct Liveness {
   std::vector<VarSet> live_out;  // per block
 };
 
-// `footprints` from function_footprints: a call is taken to read every
-// variable the callee touches, so nothing the callee needs is thought dead.
-Liveness compute_liveness(const Program& p, const Function& f, const std::vector<VarSet>& footprints);
+// What a call does to the variables, per callee. A subroutine shares no
+// local or temporary with its callers (inlined copies get their own), so a
+// call overwrites the callee's variables (`touches`) and needs from before
+// the call only those it reads before writing (`reads`: a local a
+// subroutine keeps from one call to the next).
+struct CallEffects {
+  std::vector<VarSet> touches;
+  std::vector<VarSet> reads;
+};
+CallEffects call_effects(const Program& p);
+
+Liveness compute_liveness(const Program& p, const Function& f, const CallEffects& calls);
 
 // Steps backward through a block: `live` starts as the block's live-out and
 // after step(i) holds the set live before instruction i.
-void step_back(const Program& p, const Instr& in, const std::vector<VarSet>& footprints, VarSet& live);
+void step_back(const Program& p, const Instr& in, const CallEffects& calls, VarSet& live);
 
 // The function a call-like instruction enters in the same task (call), or -1.
 FuncId callee_of(const Instr& in);

@@ -16,7 +16,7 @@ bool live_function(const Function& f) { return !f.blocks.empty(); }
 
 // Which tasks may execute each function: a task runs its own code and the
 // subroutines it calls.
-std::vector<TaskMask> tasks_running(const Program& p, const std::vector<VarSet>&) {
+std::vector<TaskMask> tasks_running(const Program& p) {
   std::vector<TaskMask> mask(p.functions.size(), 0);
   int task_no = 0;
   for (std::size_t t = 0; t < p.functions.size(); ++t) {
@@ -45,8 +45,8 @@ struct Graph {
   }
 };
 
-void add_liveness_edges(const Program& p, const Function& f, const std::vector<VarSet>& footprints, Graph& g) {
-  Liveness L = compute_liveness(p, f, footprints);
+void add_liveness_edges(const Program& p, const Function& f, const CallEffects& calls, Graph& g) {
+  Liveness L = compute_liveness(p, f, calls);
   auto entry = L.live_in[0].members();
   for (VarId a : entry)
     for (VarId b : entry) g.add(a, b);
@@ -61,9 +61,9 @@ void add_liveness_edges(const Program& p, const Function& f, const std::vector<V
       for (VarId w : uses_of(in).writes)
         for (VarId l : after) g.add(w, l);
       if (FuncId callee = callee_of(in); callee >= 0)
-        for (VarId x : footprints[static_cast<std::size_t>(callee)].members())
+        for (VarId x : calls.touches[static_cast<std::size_t>(callee)].members())
           for (VarId l : after) g.add(x, l);
-      step_back(p, in, footprints, live);
+      step_back(p, in, calls, live);
     }
   }
 }
@@ -116,8 +116,8 @@ void warn_shared_sub_variables(const Program& p, const std::vector<TaskMask>& ru
 
 std::vector<int> allocate_slots(const Program& p, Diagnostics& diags) {
   std::size_t nv = p.vars.size();
-  auto footprints = function_footprints(p);
-  auto running = tasks_running(p, footprints);
+  auto calls = call_effects(p);
+  auto running = tasks_running(p);
   std::vector<bool> used(nv, false);
   std::vector<TaskMask> var_tasks(nv, 0);
   for (std::size_t f = 0; f < p.functions.size(); ++f) {
@@ -136,7 +136,7 @@ std::vector<int> allocate_slots(const Program& p, Diagnostics& diags) {
   warn_shared_sub_variables(p, running, diags);
   Graph g{std::vector<VarSet>(nv)};
   for (const auto& f : p.functions)
-    if (live_function(f)) add_liveness_edges(p, f, footprints, g);
+    if (live_function(f)) add_liveness_edges(p, f, calls, g);
 
   std::vector<int> slot(nv, -1);
   std::uint32_t global_slots = p.reserved_slots;

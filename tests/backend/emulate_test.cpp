@@ -278,6 +278,24 @@ task second() { outer(); done2 = 1; }
   EXPECT_EQ(global(m, c.out->image, "done2"), 1);
 }
 
+TEST(Emulate, InlinedCopiesOfASubShareSlotsWhenTheirValuesNeverMeet) {
+  // s0 needs a temporary (x & 7) and is inlined 18 times into s1 (a sub
+  // cannot call a sub); each copy's temporary is dead outside its three
+  // instructions, so all share one slot although main calls s1 twice.
+  std::string src = "int x, p;\nsub s0() { p = p + (x & 7); }\nsub s1() {";
+  for (int i = 0; i < 18; ++i) src += " s0(); x = x + 1;";
+  src += " }\ntask main() { x = 0; p = 0; s1(); s1(); }\n";
+  for (auto level : {ir::OptLevel::O0, ir::OptLevel::Os}) {
+    auto c = compile(src, level, true);
+    ASSERT_TRUE(c.out) << c.messages;
+    EXPECT_LE(c.out->slots_used, 3);
+    auto m = run(c.out->image);
+    int expected = 0;
+    for (int i = 0; i < 36; ++i) expected += i & 7;
+    EXPECT_EQ(global(m, c.out->image, "p"), expected);
+  }
+}
+
 TEST(Emulate, RecursionIsADiagnosticNamingTheCycle) {
   auto c = compile("sub a() { b(); }\nsub b() { a(); }\ntask main() { a(); }\n");
   EXPECT_FALSE(c.out);
