@@ -95,9 +95,10 @@ class Generator {
 };
 
 // Two tasks commanding the same outputs, never at the same time: each
-// acts only in its own time windows (main at 200 ms x k, the other at
-// 200 ms x k + 100 ms, scheduled by Timer(0)), so whatever a command costs,
-// the order of everything they do is fixed.
+// acts only in its own time windows (main at 400 ms x k, the other at
+// 400 ms x k + 200 ms, scheduled by Timer(0)), so whatever a command costs,
+// the order of everything they do is fixed. A step is at most a few dozen
+// instructions, which take 4 ms each while the other task busy-waits.
 class TwoTaskGenerator : public Generator {
  public:
   using Generator::Generator;
@@ -114,18 +115,18 @@ class TwoTaskGenerator : public Generator {
     }
     out << "task other() {\n";
     for (int k = 0; k < steps; ++k) {
-      out << "  until (Timer(0) >= " << 20 * k + 10 << ");\n";
+      out << "  until (Timer(0) >= " << 40 * k + 20 << ");\n";
       step(out);
       if (shared_sub && pick(0, 2) == 0) out << "  both();\n";
     }
     out << "}\n";
     out << "task main() {\n  x = 0; y = 0; ClearTimer(0); start other;\n";
     for (int k = 0; k < steps; ++k) {
-      if (k > 0) out << "  until (Timer(0) >= " << 20 * k << ");\n";
+      if (k > 0) out << "  until (Timer(0) >= " << 40 * k << ");\n";
       step(out);
       if (shared_sub && pick(0, 2) == 0) out << "  both();\n";
     }
-    out << "  until (Timer(0) >= " << 20 * steps + 5 << ");\n";
+    out << "  until (Timer(0) >= " << 40 * steps + 30 << ");\n";
     marker(out);
     out << "}\n";
     return out.str();
@@ -389,6 +390,7 @@ TEST(RandomPrograms, EveryOptimisationLevelBehavesAsUnoptimised) {
     std::string text = Generator(seed).program();
     std::string error;
     auto reference = observe(text, ir::OptLevel::O0, error);
+    if (!reference && error.find("bytes of program memory") != std::string::npos) continue;  // too large unoptimised
     ASSERT_TRUE(reference) << "seed " << seed << ": " << error << "\n" << text;
     for (auto level : {ir::OptLevel::O1, ir::OptLevel::Os}) {
       auto got = observe(text, level, error);
