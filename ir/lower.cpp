@@ -318,9 +318,37 @@ struct Lowerer {
       auto operand = var_of(*u->operand);
       if (operand && *operand == d) return unary(d, *u, e);  // x = -x: in place
     }
+    if (is_truth_valued(e)) {
+      // x = (x > 3): each branch sets x once the test is done, which needs
+      // no temporary (19 bytes against 22).
+      BlockId t = new_block(), f = new_block(), join = new_block();
+      cond(e, t, f);
+      enter(t);
+      set(d, Operand::imm(1));
+      jump(join);
+      enter(f);
+      set(d, Operand::imm(0));
+      jump(join);
+      enter(join);
+      return;
+    }
     VarId t = temp();
     compute(t, e);
     set(d, Operand::var(t));
+  }
+
+  // Whether e's value is 0 or 1 from a test: a comparison, !, && or ||.
+  static bool is_truth_valued(const ast::Expr& e) {
+    if (const auto* u = ast::as<ast::Unary>(e)) return u->op == ast::UnaryOp::LogNot;
+    if (const auto* b = ast::as<ast::Binary>(e)) {
+      switch (b->op) {
+        case ast::BinaryOp::Lt: case ast::BinaryOp::Le: case ast::BinaryOp::Gt: case ast::BinaryOp::Ge:
+        case ast::BinaryOp::Eq: case ast::BinaryOp::Ne: case ast::BinaryOp::LogAnd: case ast::BinaryOp::LogOr:
+          return true;
+        default: return false;
+      }
+    }
+    return false;
   }
 
   // d = e where e does not read d (so d can hold partial results).
