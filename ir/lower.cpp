@@ -303,6 +303,12 @@ struct Lowerer {
 
   // d = e, for any e (also one that reads d).
   void into(VarId d, const ast::Expr& e) {
+    if (const auto* n = ast::as<ast::Name>(e)) {
+      // A `const int &` parameter stands for its argument: look at that
+      // (c = e with e bound to c - 2 is c -= 2).
+      auto b = binding(*n);
+      if (b && b->expr) return into(d, *b->expr);
+    }
     if (!reads(e, d)) return compute(d, e);
     if (const auto* b = ast::as<ast::Binary>(e)) {
       auto op = direct_op(b->op);
@@ -335,6 +341,17 @@ struct Lowerer {
     VarId t = temp();
     compute(t, e);
     set(d, Operand::var(t));
+  }
+
+  // Whether e is a variable or a constant, which arithmetic takes as it is.
+  bool is_plain_operand(const ast::Expr& e) {
+    if (constant(e)) return true;
+    if (const auto* n = ast::as<ast::Name>(e)) {
+      auto b = binding(*n);
+      if (b && b->expr) return is_plain_operand(*b->expr);
+      return b.has_value();
+    }
+    return false;
   }
 
   // Whether e's value is 0 or 1 from a test: a comparison, !, && or ||.
@@ -399,10 +416,15 @@ struct Lowerer {
       case ast::UnaryOp::Negate:
         into(d, *u.operand);
         return arith(Op::MultiplyVariable, d, Operand::imm(-1));
-      case ast::UnaryOp::BitNot:  // ~x == -x - 1 in two's complement
+      case ast::UnaryOp::BitNot: {  // ~x == -1 - x == -x - 1 in two's complement
+        if (!reads(*u.operand, d) && is_plain_operand(*u.operand)) {
+          set(d, Operand::imm(-1));
+          return arith(Op::SubtractFromVariable, d, arith_value(*u.operand));
+        }
         into(d, *u.operand);
         arith(Op::MultiplyVariable, d, Operand::imm(-1));
         return arith(Op::SubtractFromVariable, d, Operand::imm(1));
+      }
       case ast::UnaryOp::LogNot: return truth(d, e);
       case ast::UnaryOp::PreInc:
       case ast::UnaryOp::PreDec:
