@@ -118,6 +118,14 @@ struct Lowerer {
     return nullptr;
   }
 
+  // `k ? a : b` with a constant k is just a or b (what else is constant
+  // folds through constant()).
+  const ast::Expr& chosen(const ast::Expr& e) {
+    if (const auto* c = ast::as<ast::Conditional>(e))
+      if (auto k = constant(*c->cond)) return chosen(*k != 0 ? *c->then_value : *c->else_value);
+    return e;
+  }
+
   std::optional<int> constant(const ast::Expr& e) {
     if (e.constant) return *e.constant;
     return std::visit([&](const auto& node) { return constant_of(node); }, e.node);
@@ -239,7 +247,8 @@ struct Lowerer {
 
   // An operand holding e's value: an immediate, a variable or an RCX source
   // when e is one, else a temporary computed here.
-  Operand value(const ast::Expr& e) {
+  Operand value(const ast::Expr& whole) {
+    const ast::Expr& e = chosen(whole);
     if (auto c = constant(e)) return Operand::imm(*c);
     if (const auto* n = ast::as<ast::Name>(e)) {
       auto b = binding(*n);
@@ -302,7 +311,8 @@ struct Lowerer {
   }
 
   // d = e, for any e (also one that reads d).
-  void into(VarId d, const ast::Expr& e) {
+  void into(VarId d, const ast::Expr& whole) {
+    const ast::Expr& e = chosen(whole);
     if (const auto* n = ast::as<ast::Name>(e)) {
       // A `const int &` parameter stands for its argument: look at that
       // (c = e with e bound to c - 2 is c -= 2).
@@ -369,7 +379,8 @@ struct Lowerer {
   }
 
   // d = e where e does not read d (so d can hold partial results).
-  void compute(VarId d, const ast::Expr& e) {
+  void compute(VarId d, const ast::Expr& whole) {
+    const ast::Expr& e = chosen(whole);
     if (auto c = constant(e)) return set(d, Operand::imm(*c));
     if (const auto* n = ast::as<ast::Name>(e)) {
       auto b = binding(*n);
