@@ -49,6 +49,12 @@ void simplify_cfg(Function& f);
 // iteration instead of two, never larger).
 void rotate_loops(Function& f);
 
+// layout.cpp: where a test can only branch when its comparison holds
+// (a < b of two variables has no single-instruction negation) and the
+// block after it is the true side, moves the false side there when that
+// needs fewer jumps in all.
+void place_branch_targets(Function& f);
+
 // repeat.cpp: keeps the firmware loop counter for `repeat` loops where it
 // is safe (nesting, counted across subroutine calls, at most 4 deep; no
 // exit other than the loop's end) and rewrites the others to count in a

@@ -26,6 +26,7 @@ bool optimize(Program& p, OptLevel level, Diagnostics& diags, Log& log) {
     for (auto& f : p.functions) {
       simplify_cfg(f);
       rotate_loops(f);
+      place_branch_targets(f);
     }
   return true;
 }

@@ -140,6 +140,35 @@ TEST(Rotate, LoopTestMovesBelowTheBody) {
   EXPECT_EQ(br.otherwise, 3);
 }
 
+TEST(Layout, TheFalseSideFollowsATestThatOnlyBranchesWhenTrue) {
+  // if (a <= b) x = 1; else x = 0; with a, b variables: the negation
+  // a > b has no one-instruction test, so the else block moves after it.
+  Builder b;
+  VarId a = b.global("a"), c = b.global("c"), x = b.global("x");
+  FuncId f = b.function("main");
+  b.block(f, {}, Branch{Cmp::LE, V(a), V(c), 1, 2});
+  b.block(f, {set(x, I(1))}, Jump{3});  // then
+  b.block(f, {set(x, I(0))}, Jump{3});  // else
+  b.block(f, {sound(1)});
+  place_branch_targets(b.fn(f));
+  const auto& br = std::get<Branch>(b.at(f, 0).term);
+  EXPECT_EQ(br.otherwise, 1);
+  EXPECT_EQ(b.at(f, 1).instrs.at(0).args[1], I(0));
+  EXPECT_EQ(br.then, 2);
+}
+
+TEST(Layout, ATestWithANegationStaysAsItIs) {
+  Builder b;
+  VarId a = b.global("a"), x = b.global("x");
+  FuncId f = b.function("main");
+  b.block(f, {}, Branch{Cmp::LE, V(a), I(5), 1, 2});  // negation a > 5 is 6 <= a
+  b.block(f, {set(x, I(1))}, Jump{3});
+  b.block(f, {set(x, I(0))}, Jump{3});
+  b.block(f, {sound(1)});
+  place_branch_targets(b.fn(f));
+  EXPECT_EQ(std::get<Branch>(b.at(f, 0).term).then, 1);
+}
+
 TEST(Repeat, EscapingLoopCountsInAVariable) {
   Builder b;
   FuncId f = b.function("main");
