@@ -320,19 +320,31 @@ struct Lowerer {
       if (b && b->expr) return into(d, *b->expr);
     }
     if (!reads(e, d)) return compute(d, e);
+    // Below, e reads d: d may only change once what reads it is done.
     if (const auto* b = ast::as<ast::Binary>(e)) {
       auto op = direct_op(b->op);
-      auto lhs = var_of(*b->lhs);
-      if (op && lhs && *lhs == d && !reads(*b->rhs, d) && !has_effects(*b->lhs)) {
-        arith(*op, d, arith_value(*b->rhs));  // x = x + e  ->  x += e
+      if (op && !reads(*b->rhs, d) && !has_effects(*b->lhs)) {
+        into(d, *b->lhs);  // x = x + e  ->  x += e; x = (x > 1) - y likewise
+        arith(*op, d, arith_value(*b->rhs));
         return;
       }
     }
     if (auto v = var_of(e); v && *v == d) return;
     if (const auto* u = ast::as<ast::Unary>(e);
-        u && (u->op == ast::UnaryOp::Negate || u->op == ast::UnaryOp::BitNot)) {
-      auto operand = var_of(*u->operand);
-      if (operand && *operand == d) return unary(d, *u, e);  // x = -x: in place
+        u && (u->op == ast::UnaryOp::Negate || u->op == ast::UnaryOp::BitNot))
+      return unary(d, *u, e);  // x = -x, x = ~(x + 1): in place
+    if (const auto* c = ast::as<ast::Conditional>(e)) {
+      // The test reads d before either side sets it.
+      BlockId t = new_block(), f = new_block(), join = new_block();
+      cond(*c->cond, t, f);
+      enter(t);
+      into(d, *c->then_value);
+      jump(join);
+      enter(f);
+      into(d, *c->else_value);
+      jump(join);
+      enter(join);
+      return;
     }
     if (is_truth_valued(e)) {
       // x = (x > 3): each branch sets x once the test is done, which needs
