@@ -319,9 +319,12 @@ struct Lowerer {
       auto b = binding(*n);
       if (b && b->expr) return into(d, *b->expr);
     }
-    if (!reads(e, d)) return compute(d, e);
+    if (!reads(e, d) || constant(e)) return compute(d, e);
     // Below, e reads d: d may only change once what reads it is done.
     if (const auto* b = ast::as<ast::Binary>(e)) {
+      // A shift computes its count first, then works on its left side in d.
+      if (b->op == ast::BinaryOp::Shl || b->op == ast::BinaryOp::Shr)
+        return shift(d, *b, b->op == ast::BinaryOp::Shl);
       auto op = direct_op(b->op);
       if (op && !reads(*b->rhs, d) && !has_effects(*b->lhs)) {
         into(d, *b->lhs);  // x = x + e  ->  x += e; x = (x > 1) - y likewise
