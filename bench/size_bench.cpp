@@ -1,6 +1,7 @@
 // Code size: for every corpus program, rcxc's code bytes and variable slots
-// against `nqc -Trcx` (when nqc is installed), as a table with the totals,
-// plus the compile time of each program as the benchmark proper.
+// against `nqc -Trcx` (when nqc is installed), as a table with the totals;
+// then the totals over 400 random programs (tests/support/random_programs.h);
+// plus the compile time of each corpus program as the benchmark proper.
 //
 // The corpus is found through the RCXC_CORPUS_DIR environment variable, or
 // next to the source tree (../shared/corpus).
@@ -16,9 +17,12 @@
 #include <set>
 #include <sstream>
 
+#include <unistd.h>
+
 #include <fmt/format.h>
 
 #include "backend/compile.h"
+#include "tests/support/random_programs.h"
 
 namespace {
 
@@ -102,6 +106,31 @@ void print_table() {
     std::cout << "(nqc not installed or corpus absent: no comparison)\n";
 }
 
+// Random programs of arithmetic, tests and loops: a wider sample than the
+// corpus, the same seeds every run.
+void print_random_totals() {
+  fs::path dir = fs::temp_directory_path() / fmt::format("rcxc-size-{}", getpid());
+  fs::create_directories(dir);
+  fs::path file = dir / "random.nqc";
+  long ours_total = 0, theirs_total = 0;
+  int compared = 0, larger = 0;
+  for (unsigned seed = 1; seed <= 400; ++seed) {
+    std::ofstream(file) << rcxc::test::ExpressionGenerator(seed, true).program();
+    auto a = ours(file);
+    auto b = theirs(file);
+    if (!a || !b) continue;
+    ours_total += a->bytes;
+    theirs_total += b->bytes;
+    larger += a->bytes > b->bytes ? 1 : 0;
+    ++compared;
+  }
+  fs::remove_all(dir);
+  if (theirs_total > 0)
+    std::cout << fmt::format("{:<24} {:>9} {:>9} {:>6.3f}   ({} random programs, {} larger than nqc's)\n",
+                             "random programs", ours_total, theirs_total,
+                             static_cast<double>(ours_total) / theirs_total, compared, larger);
+}
+
 void BM_Compile(benchmark::State& state, const fs::path& file) {
   std::optional<Size> size;
   for (auto _ : state) {
@@ -118,6 +147,7 @@ void BM_Compile(benchmark::State& state, const fs::path& file) {
 
 int main(int argc, char** argv) {
   print_table();
+  print_random_totals();
   for (const auto& f : corpus_files())
     benchmark::RegisterBenchmark(("compile/" + f.filename().string()).c_str(), BM_Compile, f);
   benchmark::Initialize(&argc, argv);

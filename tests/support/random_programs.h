@@ -1,0 +1,301 @@
+// Generators of random NQC programs from a seed, shared by the random
+// program tests (tests/backend/random_programs_test.cpp) and the size
+// benchmark (bench/size_bench.cpp). The same seed gives the same program.
+#pragma once
+
+#include <random>
+#include <sstream>
+#include <string>
+
+namespace rcxc::test {
+
+class Generator {
+ public:
+  explicit Generator(unsigned seed) : rng_(seed) {}
+
+  std::string program() {
+    std::ostringstream out;
+    out << "int x, y;\n";
+    int subs = pick(0, 3);
+    for (int s = 0; s < subs; ++s) {
+      out << "sub s" << s << "() {\n";
+      block(out, 2, s);  // a sub may call the subs before it (inlined)
+      out << "}\n";
+    }
+    subs_ = subs;
+    out << "task main() {\n  x = 0; y = 0;\n";
+    block(out, 3, subs);
+    marker(out);
+    out << "}\n";
+    return out.str();
+  }
+
+ protected:
+  int pick(int lo, int hi) { return std::uniform_int_distribution<int>(lo, hi)(rng_); }
+
+  std::string mask() {
+    static const char* masks[] = {"OUT_A", "OUT_B", "OUT_C", "OUT_A+OUT_C", "OUT_A+OUT_B+OUT_C", "OUT_B+OUT_C"};
+    return masks[pick(0, 5)];
+  }
+
+  std::mt19937& rng() { return rng_; }
+
+  void marker(std::ostringstream& out) {
+    out << "  SelectDisplay(" << (markers_++ % 2 + 1) << "); Wait(" << pick(1, 3) << ");\n";
+  }
+
+  void motor(std::ostringstream& out) {
+    static const char* calls[] = {"OnFwd", "OnRev", "Off", "Float", "On", "Fwd", "Rev", "Toggle"};
+    int k = pick(0, 9);
+    if (k < 8) out << "  " << calls[k] << "(" << mask() << ");\n";
+    else if (k == 8) out << "  SetPower(" << mask() << ", " << pick(0, 7) << ");\n";
+    else out << "  SetPower(" << mask() << ", x & 7);\n";
+  }
+
+  void block(std::ostringstream& out, int depth, int callable) {
+    int n = pick(1, 6);
+    for (int i = 0; i < n; ++i) {
+      int k = pick(0, 11);
+      if (k <= 4) motor(out);
+      else if (k == 5) marker(out);
+      else if (k == 6) out << "  x += " << pick(-3, 5) << ";\n";
+      else if (k == 7) out << "  y = x * " << pick(1, 3) << ";\n";
+      else if (k == 8 && depth > 0) {
+        out << "  if (x > " << pick(-2, 4) << ") {\n";
+        block(out, depth - 1, callable);
+        out << "  } else {\n";
+        block(out, depth - 1, callable);
+        out << "  }\n";
+      } else if (k == 9 && depth > 0) {
+        out << "  repeat (" << pick(1, 3) << ") {\n";
+        block(out, depth - 1, callable);
+        out << "  }\n";
+      } else if (k >= 10 && callable > 0) {
+        out << "  s" << pick(0, callable - 1) << "();\n";
+      } else {
+        motor(out);
+      }
+    }
+  }
+
+  std::mt19937 rng_;
+  int subs_ = 0;
+  int markers_ = 0;
+};
+
+// Two tasks commanding the same outputs, never at the same time: each
+// acts only in its own time windows (main at 400 ms x k, the other at
+// 400 ms x k + 200 ms, scheduled by Timer(0)), so whatever a command costs,
+// the order of everything they do is fixed. A step is at most a few dozen
+// instructions, which take 4 ms each while the other task busy-waits.
+class TwoTaskGenerator : public Generator {
+ public:
+  using Generator::Generator;
+
+  std::string program() {
+    std::ostringstream out;
+    int steps = pick(2, 6);
+    bool shared_sub = pick(0, 1) == 1;
+    out << "int x, y;\n";
+    if (shared_sub) {
+      out << "sub both() {\n";
+      step(out);
+      out << "}\n";
+    }
+    out << "task other() {\n";
+    for (int k = 0; k < steps; ++k) {
+      out << "  until (Timer(0) >= " << 40 * k + 20 << ");\n";
+      step(out);
+      if (shared_sub && pick(0, 2) == 0) out << "  both();\n";
+    }
+    out << "}\n";
+    out << "task main() {\n  x = 0; y = 0; ClearTimer(0); start other;\n";
+    for (int k = 0; k < steps; ++k) {
+      if (k > 0) out << "  until (Timer(0) >= " << 40 * k << ");\n";
+      step(out);
+      if (shared_sub && pick(0, 2) == 0) out << "  both();\n";
+    }
+    out << "  until (Timer(0) >= " << 40 * steps + 30 << ");\n";
+    marker(out);
+    out << "}\n";
+    return out.str();
+  }
+
+ private:
+  void step(std::ostringstream& out) {
+    int n = pick(1, 4);
+    for (int i = 0; i < n; ++i) {
+      int k = pick(0, 6);
+      if (k <= 3) motor(out);
+      else if (k == 4) out << "  x += " << pick(-2, 3) << ";\n";
+      else if (k == 5) {
+        out << "  if (x > " << pick(-1, 2) << ") {\n";
+        motor(out);
+        out << "  } else {\n";
+        motor(out);
+        out << "  }\n";
+      } else {
+        out << "  SelectDisplay(" << pick(1, 6) << ");\n";
+      }
+    }
+  }
+};
+
+// Arithmetic, comparisons and control flow over three globals, with the
+// 16-bit edge values: every level must compute the same.
+class ExpressionGenerator {
+ public:
+  explicit ExpressionGenerator(unsigned seed, bool vary_constant_pairs = false)
+      : rng_(seed), vary_constant_pairs_(vary_constant_pairs) {}
+
+  std::string program() {
+    std::ostringstream out;
+    out << "int a, b, c, g0, g1, g2, g3;\n";
+    // Inline functions with the four parameter kinds: a value copy, a
+    // reference, a constant, and an expression evaluated at each use.
+    out << "void f0(int x, int &r) { x += " << pick(-3, 3) << "; r = (r " << binary_op() << " x); if (x > "
+        << pick(-2, 5) << ") return; r--; }\n";
+    out << "void f1(const int k, const int &e) { a = (a " << binary_op() << " k); b = (e " << binary_op()
+        << " b); c = e; }\n";
+    out << "task main() {\n  a = " << constant() << "; b = " << constant() << "; c = " << constant() << ";\n";
+    // For nqc, smaller programs: only those under 128 bytes are compared.
+    block(out, vary_constant_pairs_ ? 1 : 2);
+    out << "}\n";
+    return out.str();
+  }
+
+ private:
+  int pick(int lo, int hi) { return std::uniform_int_distribution<int>(lo, hi)(rng_); }
+  std::string var() { return std::string(1, "abc"[pick(0, 2)]); }
+  std::string constant() {
+    static const int edges[] = {-32768, -32767, -1, 0, 1, 2, 3, 7, 100, 32767};
+    // nqc misjudges comparisons against the 16-bit extremes (it drops
+    // `while (-32768 <= a && ...)` as if never true): for nqc, near-edges.
+    static const int near_edges[] = {-32000, -30001, -1, 0, 1, 2, 3, 7, 100, 32000};
+    const int* set = vary_constant_pairs_ ? near_edges : edges;
+    return pick(0, 2) == 0 ? std::to_string(pick(-300, 300)) : std::to_string(set[pick(0, 9)]);
+  }
+  std::string expr(int depth) {
+    bool constant_only = false;
+    return expr(depth, constant_only);
+  }
+  // `constant_only`: the expression has no variable in it. With
+  // `vary_constant_pairs_`, no operator gets two such operands: nqc folds
+  // those in 32 bits, where the RCX computes in 16 (see docs/compiler.md).
+  std::string expr(int depth, bool& constant_only) {
+    if (depth == 0 || pick(0, 3) == 0) {
+      constant_only = pick(0, 1) == 0;
+      return constant_only ? constant() : var();
+    }
+    static const char* binary[] = {"+", "-", "*", "/", "%", "&", "|", "^", "<", "<=", "==", "!=", ">", ">=", "&&", "||"};
+    int k = pick(0, 21);
+    bool c1 = false, c2 = false, c3 = false;
+    auto operand = [&](bool& c) { return expr(depth - 1, c); };
+    if (k < 16) {
+      std::string l = operand(c1), r = operand(c2);
+      if (vary_constant_pairs_ && c1 && c2) r = var(), c2 = false;
+      constant_only = c1 && c2;
+      return "(" + l + " " + binary[k] + " " + r + ")";
+    }
+    if (k == 16 || k == 17) {
+      std::string l = operand(c1);
+      if (vary_constant_pairs_ && c1) l = var(), c1 = false;
+      constant_only = c1;
+      return "(" + l + (k == 16 ? " << " : " >> ") + std::to_string(pick(0, 15)) + ")";
+    }
+    if (k == 18) {
+      std::string c = operand(c1), t = operand(c2), e = operand(c3);
+      constant_only = c1 && c2 && c3;
+      return "(" + c + " ? " + t + " : " + e + ")";
+    }
+    static const char* unary[] = {"-", "~", "!"};
+    std::string x = operand(c1);
+    constant_only = c1;
+    return std::string(unary[k - 19]) + "(" + x + ")";
+  }
+  void block(std::ostringstream& out, int depth) {
+    int n = pick(1, 5);
+    for (int i = 0; i < n; ++i) {
+      int k = pick(0, 12);
+      if (k <= 3) {
+        out << "  " << var() << " = " << expr(3) << ";\n";
+      } else if (k == 4) {
+        static const char* ops[] = {"+=", "-=", "*=", "/=", "%=", "&=", "|=", "^="};
+        out << "  " << var() << " " << ops[pick(0, 7)] << " " << expr(2) << ";\n";
+      } else if (k == 5) {
+        out << "  " << var() << (pick(0, 1) ? "++" : "--") << ";\n";
+      } else if (k == 6 && depth > 0) {
+        out << "  if (" << expr(2) << ") {\n";
+        block(out, depth - 1);
+        out << "  } else {\n";
+        block(out, depth - 1);
+        out << "  }\n";
+      } else if (k == 7 && depth > 0) {
+        // Bounded by a guard of its own whatever the condition does.
+        std::string g = "g" + std::to_string(depth);
+        // For nqc the guard comes first: nqc drops a loop whose condition
+        // starts with an always-true test and `&&` (docs/compiler.md).
+        std::string cond = "(" + expr(2) + ")", guard = g + " < " + std::to_string(pick(1, 4));
+        out << "  " << g << " = 0;\n  while (" << (vary_constant_pairs_ ? guard + " && " + cond : cond + " && " + guard)
+            << ") {\n  " << g << "++;\n";
+        ++in_loop_;
+        block(out, depth - 1);
+        --in_loop_;
+        out << "  }\n";
+      } else if (k == 8 && depth > 0) {
+        out << "  switch (" << var() << " & 3) {\n  case 0:\n";
+        block(out, depth - 1);
+        out << "  break;\n  case " << pick(1, 2) << ":\n";
+        block(out, depth - 1);
+        out << "  default:\n";
+        block(out, depth - 1);
+        out << "  }\n";
+      } else if (k == 9 && depth > 0) {
+        loop(out, depth);
+      } else if (k == 10) {
+        out << "  f0(" << expr(2) << ", " << var() << ");\n";
+      } else if (k == 11) {
+        out << "  f1(" << pick(-5, 5) << ", (" << var() << " " << binary_op() << " " << expr(1) << "));\n";
+      } else if (k == 12 && in_loop_ > 0) {
+        out << "  if (" << expr(2) << ") " << (pick(0, 1) ? "break" : "continue") << ";\n";
+      } else {
+        out << "  " << var() << " = " << expr(2) << ";\n";
+      }
+    }
+  }
+
+  std::string binary_op() {
+    static const char* ops[] = {"+", "-", "*", "/", "%", "&", "|", "^"};
+    return ops[pick(0, 7)];
+  }
+
+  // for, do-while and repeat loops, each bounded by a guard or count.
+  void loop(std::ostringstream& out, int depth) {
+    std::string g = "g" + std::to_string(depth);
+    std::string cond = "(" + expr(2) + ")", limit = std::to_string(pick(1, 4));
+    ++in_loop_;
+    switch (pick(0, 2)) {
+      case 0:
+        out << "  for (" << g << " = 0; " << g << " < " << limit << " && " << cond << "; " << g << "++) {\n";
+        block(out, depth - 1);
+        out << "  }\n";
+        break;
+      case 1:
+        out << "  " << g << " = 0;\n  do {\n  " << g << "++;\n";
+        block(out, depth - 1);
+        out << "  } while (" << g << " < " << limit << " && " << cond << ");\n";
+        break;
+      default:
+        out << "  repeat (" << limit << ") {\n";
+        block(out, depth - 1);
+        out << "  }\n";
+    }
+    --in_loop_;
+  }
+
+  std::mt19937 rng_;
+  bool vary_constant_pairs_ = false;
+  int in_loop_ = 0;
+};
+
+}  // namespace rcxc::test
