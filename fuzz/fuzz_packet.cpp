@@ -4,6 +4,7 @@
 // the brick's request handling is reached without the fuzzer having to learn
 // the complement framing first. A reply decoder also sees the bytes, as a
 // host waiting for the reply to the framed request would.
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <span>
