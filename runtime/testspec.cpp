@@ -338,7 +338,8 @@ void parse_directive(std::string_view text, int line, Spec& spec) {
     spec.inputs.push_back({at, need_input(c)});
     need_end(c);
   } else if (word == "expect") {
-    std::string_view what = text.substr(space);
+    // A bare `@expect` (nothing after the word) has no text to keep.
+    std::string_view what = space == std::string_view::npos ? std::string_view() : text.substr(space);
     what.remove_prefix(std::min(what.find_first_not_of(" \t"), what.size()));
     Expectation e{line, std::string(what), need_expect(c)};
     need_end(c);

@@ -113,6 +113,17 @@ TEST(TestSpec, ReportsEveryMalformedDirectiveWithItsLine) {
   EXPECT_NE(errors[6].message.find("0..255"), std::string::npos);
 }
 
+// Found by fuzz_scenario: `@expect` as the last bytes of a file (no space,
+// colon or newline after the word) threw std::out_of_range from substr.
+TEST(TestSpec, BareExpectAtEndOfFileIsAnErrorNotACrash) {
+  for (std::string_view text : {"// @expect", "// @expect\n", "// @expect:"}) {
+    auto errors = parse_bad(text);
+    ASSERT_EQ(errors.size(), 1u) << text;
+    EXPECT_EQ(errors[0].line, 1) << text;
+    EXPECT_FALSE(errors[0].message.empty()) << text;
+  }
+}
+
 TEST(TestSpec, PassingRunHasNoFailures) {
   Spec s = parse_ok(
       "// @expect stop ended\n"

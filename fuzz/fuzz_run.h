@@ -1,0 +1,20 @@
+// Shared by the fuzz targets: run an image on a fresh machine for a bounded
+// stretch of virtual time. The bound is virtual, so a program that loops
+// forever costs a fixed number of instructions (time / instruction cost).
+#pragma once
+
+#include "runtime/image.h"
+#include "runtime/vm.h"
+
+namespace rcxc::fuzz {
+
+inline constexpr rcx::Micros kRunLimitUs = 2 * 1000 * 1000;
+
+inline void run_bounded(const rcx::Image& image) {
+  rcx::Machine machine;
+  if (machine.load(0, image)) return;  // refused (too big): that is an answer too
+  machine.start_program();
+  machine.run(kRunLimitUs);
+}
+
+}  // namespace rcxc::fuzz
