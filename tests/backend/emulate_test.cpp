@@ -124,9 +124,50 @@ void check_binary(const std::string& op, const std::vector<int>& lhs, const std:
   }
 }
 
+// The result replaces an operand: x = (x OP b) + 1, y = a OP y and
+// x = b ? x OP b : -x, where the compiler works in the target variable
+// itself and must not overwrite it before its last read.
+void check_into_operand(const std::string& op, const std::vector<int>& lhs, const std::vector<int>& rhs) {
+  auto ref = binary_reference().at(op);
+  std::vector<std::pair<int, int>> pairs;
+  for (int a : lhs)
+    for (int b : rhs) pairs.emplace_back(a, b);
+  for (std::size_t base = 0; base < pairs.size(); base += 6) {
+    std::size_t n = std::min<std::size_t>(6, pairs.size() - base);
+    std::string decls = "int a, b, x, y";
+    std::string body;
+    for (std::size_t k = 0; k < n; ++k) {
+      auto [a, b] = pairs[base + k];
+      decls += fmt::format(", p{0}, q{0}, s{0}", k);
+      body += fmt::format("  a = {1}; b = {2}; x = a; x = (x {0} b) + 1; p{3} = x;\n", op, a, b, k);
+      body += fmt::format("  y = b; y = a {0} y; q{1} = y;\n", op, k);
+      body += fmt::format("  x = a; x = (b ? x {0} b : -x); s{1} = x;\n", op, k);
+    }
+    std::string src = decls + ";\ntask main() {\n" + body + "}\n";
+    auto c = compile(src);
+    ASSERT_TRUE(c.out) << c.messages << src;
+    auto m = run(c.out->image);
+    ASSERT_EQ(m.stop().kind, rcx::StopKind::Ended) << src;
+    for (std::size_t k = 0; k < n; ++k) {
+      auto [a, b] = pairs[base + k];
+      EXPECT_EQ(global(m, c.out->image, fmt::format("p{}", k)), w(ref(a, b) + 1)) << "x = (x " << op << " b) + 1, " << a << ", " << b;
+      EXPECT_EQ(global(m, c.out->image, fmt::format("q{}", k)), ref(a, b)) << "y = a " << op << " y, " << a << ", " << b;
+      EXPECT_EQ(global(m, c.out->image, fmt::format("s{}", k)), b != 0 ? ref(a, b) : w(-a))
+          << "x = b ? x " << op << " b : -x, " << a << ", " << b;
+    }
+  }
+}
+
 }  // namespace
 
 class BinaryOperator : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(BinaryOperator, MatchesTheReferenceWhenTheResultReplacesAnOperand) {
+  const std::string& op = GetParam();
+  bool shift = op == "<<" || op == ">>";
+  std::vector<int> values{-32768, -1, 0, 1, 32767, 7, -300};
+  check_into_operand(op, values, shift ? std::vector<int>{0, 1, 7, 15, 16, -1} : values);
+}
 
 TEST_P(BinaryOperator, MatchesTheReferenceOnEdgeValues) {
   const std::string& op = GetParam();
