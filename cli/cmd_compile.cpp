@@ -2,6 +2,7 @@
 // file and reports its diagnostics; with -E prints the preprocessed text.
 #include <iostream>
 #include <memory>
+#include <optional>
 
 #include "cli/commands.h"
 #include "cli/output_file.h"
@@ -10,6 +11,8 @@
 #include "frontend/frontend.h"
 #include "runtime/image.h"
 
+#include <algorithm>
+#include <cctype>
 #include <filesystem>
 #include <fstream>
 
@@ -18,7 +21,7 @@ namespace {
 
 struct CompileArgs {
   std::string file;
-  std::string output;
+  std::optional<std::string> output;
   std::vector<std::string> include_dirs;
   std::vector<std::string> defines;
   std::vector<std::string> undefines;
@@ -53,7 +56,7 @@ void print_diagnostics(const Diagnostics& diags, const SourceManager& sm, bool j
 
 // FILE.nqc -> FILE.rcx unless -o says otherwise.
 std::string image_path(const CompileArgs& a) {
-  if (!a.output.empty()) return a.output;
+  if (a.output) return *a.output;
   std::string base = a.file;
   auto dot = base.find_last_of('.');
   if (dot != std::string::npos && base.find('/', dot) == std::string::npos) base.resize(dot);
@@ -96,7 +99,27 @@ int write_outputs(const CompileArgs& a, const backend::Output& out, const Source
   return kExitOk;
 }
 
+bool is_identifier(const std::string& name) {
+  if (name.empty() || std::isdigit(static_cast<unsigned char>(name[0]))) return false;
+  return std::all_of(name.begin(), name.end(), [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; });
+}
+
+// Command-line values the option parser cannot judge: macro names and an
+// empty output name.
+std::optional<std::string> bad_arguments(const CompileArgs& a) {
+  for (const auto& d : a.defines)
+    if (!is_identifier(d.substr(0, d.find('=')))) return "-D" + d + ": a macro name must be an identifier";
+  for (const auto& u : a.undefines)
+    if (!is_identifier(u)) return "-U" + u + ": a macro name must be an identifier";
+  if (a.output && a.output->empty()) return "-o needs a file name";
+  return std::nullopt;
+}
+
 int run_compile(const CompileArgs& a) {
+  if (auto bad = bad_arguments(a)) {
+    std::cerr << "rcxc compile: " << *bad << "\n";
+    return kExitUsage;
+  }
   SourceManager sm;
   Diagnostics diags;
   for (const auto& w : a.warning_flags) {

@@ -30,6 +30,10 @@ int exit_code_for(rcx::RemoteFailure kind) {
 }
 
 int run_remote(const RemoteArgs& a) {
+  if (auto bad = rcx::check_remote(a.words)) {
+    std::cerr << "rcxc remote: " << bad->message << "\n";
+    return exit_code_for(bad->kind);
+  }
   auto opened = rcx::open_user_port(a.port);
   if (auto* e = std::get_if<rcx::TransportError>(&opened)) {
     std::cerr << "rcxc remote: " << e->message << "\n";

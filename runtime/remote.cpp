@@ -178,6 +178,19 @@ Outcome raw(Link& link, const Words& words) {
   return hex(std::get<Bytes>(r)) + "\n";
 }
 
+// The largest argument a source takes (the seed's table of sources:
+// variables 0..31, timers 0..3, motors and sensors 0..2, clock and message
+// only 0), or -1 where any value goes.
+int largest_argument(int source) {
+  switch (source) {
+    case 0: return 31;
+    case 1: return 3;
+    case 3: case 9: case 10: case 11: case 12: case 13: return 2;
+    case 14: case 15: return 0;
+    default: return -1;
+  }
+}
+
 Outcome get_value(Link& link, const Words& w) {
   if (w.size() != 3) return usage("get wants SOURCE ARG, e.g. get var 3");
   auto source = parse_source(w[1]);
@@ -186,6 +199,8 @@ Outcome get_value(Link& link, const Words& w) {
   if (!arg) return usage(fmt::format("'{}' is not an argument 0..255", w[2]));
   if (!allows(info(Op::GetValue).operands[0].allowed, *source))
     return usage(fmt::format("source {} cannot be read with Get value", source_name(*source)));
+  if (int most = largest_argument(*source); most >= 0 && (*arg < 0 || *arg > most))
+    return usage(fmt::format("{} {}: the argument of {} is 0..{}", w[1], w[2], source_name(*source), most));
   auto r = call(link, Op::GetValue, {*source, *arg});
   if (auto* e = std::get_if<RemoteError>(&r)) return *e;
   return fmt::format("{}\n", reply_field(info(Op::GetValue), std::get<Bytes>(r), "value"));
@@ -269,6 +284,31 @@ std::variant<std::string, RemoteError> run_remote(Link& link, const Words& w, co
       {"watch", " HH:MM|now"}, {"clear", ""}, {"firmware", " FILE.srec"}, {"raw", " HEX..."}};
   if (auto it = kArgs.find(a); it != kArgs.end()) return usage(fmt::format("usage: {}{}", a, it->second));
   return usage(fmt::format("unknown action '{}'\n{}", a, remote_actions_help()));
+}
+
+namespace {
+
+// A port that refuses everything: running an action over it gets as far as
+// the first request, which is past every check of the words.
+class NoPort : public Transport {
+ public:
+  std::optional<TransportError> write(std::span<const std::uint8_t>) override { return TransportError{"no port"}; }
+  std::variant<std::vector<std::uint8_t>, TransportError> read(Millis) override { return TransportError{"no port"}; }
+  bool echoes() const override { return false; }
+  void pause(Millis) override {}
+  std::string describe() const override { return "no port"; }
+};
+
+}  // namespace
+
+std::optional<RemoteError> check_remote(const std::vector<std::string>& words) {
+  NoPort port;
+  LinkOptions options;
+  options.retries = 0;
+  Link link = make_link(port, options);
+  auto result = run_remote(link, words);
+  if (auto* e = std::get_if<RemoteError>(&result); e && e->kind != RemoteFailure::Link) return *e;
+  return std::nullopt;
 }
 
 std::variant<Firmware, std::string> parse_srec(const std::string& text) {

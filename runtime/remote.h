@@ -37,6 +37,12 @@ std::string remote_actions_help();
 std::variant<std::string, RemoteError> run_remote(Link& link, const std::vector<std::string>& words,
                                                   const RemoteOptions& options = {});
 
+// What is wrong with `words` that no brick is needed to tell (an unknown
+// action, a program number out of range, an unreadable firmware file), so
+// a bad command line is reported before the tower is opened; nullopt when
+// the action can be tried.
+std::optional<RemoteError> check_remote(const std::vector<std::string>& words);
+
 // Firmware as S-records: the bytes from the lowest to the highest address
 // (gaps zero-filled) and the entry address (S7/S8/S9 record, else the lowest).
 struct Firmware {

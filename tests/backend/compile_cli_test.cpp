@@ -171,3 +171,16 @@ TEST(CompileCli, AnImageGivenAsSourceIsOneClearError) {
   EXPECT_EQ(b.exit_code, 1);
   EXPECT_NE(b.err.find("binary data"), std::string::npos) << b.err;
 }
+
+TEST(CompileCli, BadMacroNamesAndAnEmptyOutputAreUsageErrors) {
+  TempDir d;
+  std::string src = d.write("p.nqc", kProgram);
+  for (std::vector<std::string> extra : {std::vector<std::string>{"-D=3"}, {"-D3X=1"}, {"-U="}, {"-o", ""}}) {
+    std::vector<std::string> args{"compile", src};
+    args.insert(args.end(), extra.begin(), extra.end());
+    auto r = run_rcxc(args);
+    EXPECT_EQ(r.exit_code, 2) << extra[0] << ": " << r.err;
+  }
+  EXPECT_FALSE(std::filesystem::exists(d.path + "/p.rcx"));
+  EXPECT_EQ(run_rcxc({"compile", src, "-DGOOD_NAME=2", "-UOTHER"}).exit_code, 0);
+}

@@ -184,6 +184,23 @@ TEST(LinkCli, BadInvocationsAreUsageErrors) {
   EXPECT_NE(r.err.find("unknown action"), std::string::npos) << r.err;
 }
 
+TEST(LinkCli, ABadActionIsExit2EvenWithoutATower) {
+  // Wrong words are a command-line error (2) before any port is opened,
+  // not "no tower" (3) which would send the user looking for a cable.
+  for (std::vector<std::string> words : {std::vector<std::string>{"fly"}, {"run", "9"}, {"get"}, {"get", "var", "99"},
+                                         {"get", "timer", "4"}, {"message", "300"}}) {
+    std::vector<std::string> args{"remote", "--port", "/dev/no-such-tower"};
+    args.insert(args.end(), words.begin(), words.end());
+    auto r = run_rcxc(args);
+    EXPECT_EQ(r.exit_code, 2) << words[0] << ": " << r.err;
+    EXPECT_EQ(r.err.find("does not exist"), std::string::npos) << r.err;
+  }
+  auto missing = run_rcxc({"remote", "--port", "/dev/no-such-tower", "firmware", "/no/such/firmware.srec"});
+  EXPECT_EQ(missing.exit_code, 1) << missing.err;
+  // A correct action still needs the tower.
+  EXPECT_EQ(run_rcxc({"remote", "--port", "/dev/no-such-tower", "get", "var", "31"}).exit_code, 3);
+}
+
 TEST(LinkCli, BadImageIsExit1) {
   std::string path = write_temp("bad.rcx", {'R', 'C', 'X', 'I', 0x09});
   auto r = run_rcxc({"download", "--port", "/dev/null", path});
