@@ -11,6 +11,7 @@
 
 #include "backend/compile.h"
 #include "cli/commands.h"
+#include "cli/tower.h"
 #include "runtime/download.h"
 #include "runtime/image.h"
 #include "runtime/transport.h"
@@ -93,12 +94,9 @@ int run_download(const DownloadArgs& a) {
     if (!e->empty()) std::cerr << "rcxc download: " << *e << "\n";
     return kExitFailure;
   }
-  auto opened = rcx::open_user_port(a.port);
-  if (auto* e = std::get_if<rcx::TransportError>(&opened)) {
-    std::cerr << "rcxc download: " << e->message << "\n";
-    return kExitNoPort;
-  }
-  auto& port = *std::get<std::unique_ptr<rcx::Transport>>(opened);
+  auto tower = open_tower("download", a.port);
+  if (!tower) return kExitNoPort;
+  auto& port = *tower;
   rcx::LinkOptions link_options;
   link_options.retries = a.retries;
   rcx::Link link = rcx::make_link(port, link_options);

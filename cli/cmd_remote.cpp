@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "cli/commands.h"
+#include "cli/tower.h"
 #include "runtime/remote.h"
 #include "runtime/transport.h"
 
@@ -34,12 +35,9 @@ int run_remote(const RemoteArgs& a) {
     std::cerr << "rcxc remote: " << bad->message << "\n";
     return exit_code_for(bad->kind);
   }
-  auto opened = rcx::open_user_port(a.port);
-  if (auto* e = std::get_if<rcx::TransportError>(&opened)) {
-    std::cerr << "rcxc remote: " << e->message << "\n";
-    return kExitNoPort;
-  }
-  auto& port = *std::get<std::unique_ptr<rcx::Transport>>(opened);
+  auto tower = open_tower("remote", a.port);
+  if (!tower) return kExitNoPort;
+  auto& port = *tower;
   rcx::LinkOptions link_options;
   link_options.retries = a.retries;
   rcx::Link link = rcx::make_link(port, link_options);
