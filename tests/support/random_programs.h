@@ -3,6 +3,7 @@
 // benchmark (bench/size_bench.cpp). The same seed gives the same program.
 #pragma once
 
+#include <cstdint>
 #include <random>
 #include <sstream>
 #include <string>
@@ -143,23 +144,41 @@ class TwoTaskGenerator : public Generator {
 
 // Arithmetic, comparisons and control flow over three globals, with the
 // 16-bit edge values: every level must compute the same.
+// Who else reads the program: nqc (which miscompiles some constants and
+// long branches, see docs/compiler.md) or a C++ compiler, for which the text
+// is also valid C++ once a prelude makes `int` a 16-bit type computing as
+// the RCX does (tests/backend/random_programs_test.cpp).
+enum class Audience : std::uint8_t { Rcxc, Nqc, Cpp };
+
 class ExpressionGenerator {
  public:
   explicit ExpressionGenerator(unsigned seed, bool vary_constant_pairs = false)
-      : rng_(seed), vary_constant_pairs_(vary_constant_pairs) {}
+      : ExpressionGenerator(seed, vary_constant_pairs ? Audience::Nqc : Audience::Rcxc) {}
+  ExpressionGenerator(unsigned seed, Audience audience)
+      : rng_(seed), vary_constant_pairs_(audience != Audience::Rcxc), near_edges_(audience == Audience::Nqc),
+        cpp_(audience == Audience::Cpp) {}
 
   std::string program() {
     std::ostringstream out;
     out << "int a, b, c, g0, g1, g2, g3;\n";
+    if (cpp_) {
+      // Hooks the C++ prelude gives meaning to: W wraps a conditional's
+      // value in the 16-bit type, SW gives switch an integer.
+      out << "#define W(x) (x)\n#define SW(x) (x)\n";
+    }
     // Inline functions with the four parameter kinds: a value copy, a
-    // reference, a constant, and an expression evaluated at each use.
+    // reference, a constant, and an expression evaluated at each use. For
+    // C++, whose references do not re-evaluate, f1 is a macro.
     out << "void f0(int x, int &r) { x += " << pick(-3, 3) << "; r = (r " << binary_op() << " x); if (x > "
         << pick(-2, 5) << ") return; r--; }\n";
-    out << "void f1(const int k, const int &e) { a = (a " << binary_op() << " k); b = (e " << binary_op()
-        << " b); c = e; }\n";
+    std::string op1 = binary_op(), op2 = binary_op();
+    if (cpp_)
+      out << "#define f1(k, e) { a = (a " << op1 << " (k)); b = ((e) " << op2 << " b); c = (e); }\n";
+    else
+      out << "void f1(const int k, const int &e) { a = (a " << op1 << " k); b = (e " << op2 << " b); c = e; }\n";
     out << "task main() {\n  a = " << constant() << "; b = " << constant() << "; c = " << constant() << ";\n";
     // For nqc, smaller programs: only those under 128 bytes are compared.
-    block(out, vary_constant_pairs_ ? 1 : 2);
+    block(out, near_edges_ ? 1 : 2);
     out << "}\n";
     return out.str();
   }
@@ -172,7 +191,7 @@ class ExpressionGenerator {
     // nqc misjudges comparisons against the 16-bit extremes (it drops
     // `while (-32768 <= a && ...)` as if never true): for nqc, near-edges.
     static const int near_edges[] = {-32000, -30001, -1, 0, 1, 2, 3, 7, 100, 32000};
-    const int* set = vary_constant_pairs_ ? near_edges : edges;
+    const int* set = near_edges_ ? near_edges : edges;
     return pick(0, 2) == 0 ? std::to_string(pick(-300, 300)) : std::to_string(set[pick(0, 9)]);
   }
   std::string expr(int depth) {
@@ -206,7 +225,7 @@ class ExpressionGenerator {
     if (k == 18) {
       std::string c = operand(c1), t = operand(c2), e = operand(c3);
       constant_only = c1 && c2 && c3;
-      return "(" + c + " ? " + t + " : " + e + ")";
+      return std::string(cpp_ ? "W" : "") + "(" + c + " ? " + t + " : " + e + ")";
     }
     static const char* unary[] = {"-", "~", "!"};
     std::string x = operand(c1);
@@ -236,14 +255,14 @@ class ExpressionGenerator {
         // For nqc the guard comes first: nqc drops a loop whose condition
         // starts with an always-true test and `&&` (docs/compiler.md).
         std::string cond = "(" + expr(2) + ")", guard = g + " < " + std::to_string(pick(1, 4));
-        out << "  " << g << " = 0;\n  while (" << (vary_constant_pairs_ ? guard + " && " + cond : cond + " && " + guard)
+        out << "  " << g << " = 0;\n  while (" << (near_edges_ ? guard + " && " + cond : cond + " && " + guard)
             << ") {\n  " << g << "++;\n";
         ++in_loop_;
         block(out, depth - 1);
         --in_loop_;
         out << "  }\n";
       } else if (k == 8 && depth > 0) {
-        out << "  switch (" << var() << " & 3) {\n  case 0:\n";
+        out << "  switch (" << (cpp_ ? "SW(" : "(") << var() << " & 3)) {\n  case 0:\n";
         block(out, depth - 1);
         out << "  break;\n  case " << pick(1, 2) << ":\n";
         block(out, depth - 1);
@@ -295,6 +314,8 @@ class ExpressionGenerator {
 
   std::mt19937 rng_;
   bool vary_constant_pairs_ = false;
+  bool near_edges_ = false;  // for nqc: near-edge constants, smaller programs, guards first
+  bool cpp_ = false;
   int in_loop_ = 0;
 };
 
