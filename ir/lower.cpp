@@ -339,19 +339,7 @@ struct Lowerer {
     if (const auto* u = ast::as<ast::Unary>(e);
         u && (u->op == ast::UnaryOp::Negate || u->op == ast::UnaryOp::BitNot))
       return unary(d, *u, e);  // x = -x, x = ~(x + 1): in place
-    if (const auto* c = ast::as<ast::Conditional>(e)) {
-      // The test reads d before either side sets it.
-      BlockId t = new_block(), f = new_block(), join = new_block();
-      cond(*c->cond, t, f);
-      enter(t);
-      into(d, *c->then_value);
-      jump(join);
-      enter(f);
-      into(d, *c->else_value);
-      jump(join);
-      enter(join);
-      return;
-    }
+    if (const auto* c = ast::as<ast::Conditional>(e)) return conditional(d, *c);
     if (is_truth_valued(e)) {
       // x = (x > 3): each branch sets x once the test is done, which needs
       // no temporary (19 bytes against 22).
@@ -409,23 +397,26 @@ struct Lowerer {
     if (const auto* u = ast::as<ast::Unary>(e)) return unary(d, *u, e);
     if (const auto* b = ast::as<ast::Binary>(e)) return binary(d, *b, e);
     if (const auto* a = ast::as<ast::Assign>(e)) return set(d, Operand::var(assign(*a, e.span)));
-    if (const auto* c = ast::as<ast::Conditional>(e)) {
-      BlockId t = new_block(), f = new_block(), join = new_block();
-      cond(*c->cond, t, f);
-      enter(t);
-      into(d, *c->then_value);
-      jump(join);
-      enter(f);
-      into(d, *c->else_value);
-      jump(join);
-      enter(join);
-      return;
-    }
+    if (const auto* c = ast::as<ast::Conditional>(e)) return conditional(d, *c);
     if (ast::as<ast::SourceArg>(e)) {
       error(e.span, "__source_arg needs a source expression such as SENSOR_1");
       return;
     }
     error(e.span, "a call has no value");
+  }
+
+  // d = c ? t : e. The test is done before either side sets d, so the
+  // test and both sides may read d.
+  void conditional(VarId d, const ast::Conditional& c) {
+    BlockId t = new_block(), f = new_block(), join = new_block();
+    cond(*c.cond, t, f);
+    enter(t);
+    into(d, *c.then_value);
+    jump(join);
+    enter(f);
+    into(d, *c.else_value);
+    jump(join);
+    enter(join);
   }
 
   // d = 0 or 1: the truth of e.

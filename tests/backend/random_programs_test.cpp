@@ -101,6 +101,26 @@ std::optional<Observed> observe(const std::string& text, ir::OptLevel level, std
 
 }  // namespace
 
+namespace {
+
+// Whether -O1 and -Os run `text` as `reference` (its -O0 run) does.
+::testing::AssertionResult levels_agree(const std::string& text, unsigned seed, const Observed& reference) {
+  for (auto level : {ir::OptLevel::O1, ir::OptLevel::Os}) {
+    std::string error;
+    auto got = observe(text, level, error);
+    auto fail = [&](const std::string& what) {
+      return ::testing::AssertionFailure() << "seed " << seed << ": " << what << "\n" << text;
+    };
+    if (!got) return fail(error);
+    if (got->at_markers != reference.at_markers) return fail("outputs differ at a marker");
+    if (got->final != reference.final) return fail("final outputs " + got->final + " vs " + reference.final);
+    if (auto diff = differing_globals(*got, reference); !diff.empty()) return fail("globals" + diff);
+  }
+  return ::testing::AssertionSuccess();
+}
+
+}  // namespace
+
 TEST(RandomPrograms, EveryOptimisationLevelBehavesAsUnoptimised) {
   for (unsigned seed = 1; seed <= 300; ++seed) {
     std::string text = Generator(seed).program();
@@ -108,13 +128,7 @@ TEST(RandomPrograms, EveryOptimisationLevelBehavesAsUnoptimised) {
     auto reference = observe(text, ir::OptLevel::O0, error);
     if (!reference && error.find("bytes of program memory") != std::string::npos) continue;  // too large unoptimised
     ASSERT_TRUE(reference) << "seed " << seed << ": " << error << "\n" << text;
-    for (auto level : {ir::OptLevel::O1, ir::OptLevel::Os}) {
-      auto got = observe(text, level, error);
-      ASSERT_TRUE(got) << "seed " << seed << ": " << error << "\n" << text;
-      ASSERT_EQ(got->at_markers, reference->at_markers) << "seed " << seed << "\n" << text;
-      ASSERT_EQ(got->final, reference->final) << "seed " << seed << "\n" << text;
-      ASSERT_EQ(differing_globals(*got, *reference), "") << "seed " << seed << "\n" << text;
-    }
+    ASSERT_TRUE(levels_agree(text, seed, *reference));
   }
 }
 
@@ -124,13 +138,7 @@ TEST(RandomPrograms, TwoTasksInTurnsBehaveAsUnoptimised) {
     std::string error;
     auto reference = observe(text, ir::OptLevel::O0, error);
     ASSERT_TRUE(reference) << "seed " << seed << ": " << error << "\n" << text;
-    for (auto level : {ir::OptLevel::O1, ir::OptLevel::Os}) {
-      auto got = observe(text, level, error);
-      ASSERT_TRUE(got) << "seed " << seed << ": " << error << "\n" << text;
-      ASSERT_EQ(got->at_markers, reference->at_markers) << "seed " << seed << "\n" << text;
-      ASSERT_EQ(got->final, reference->final) << "seed " << seed << "\n" << text;
-      ASSERT_EQ(differing_globals(*got, *reference), "") << "seed " << seed << "\n" << text;
-    }
+    ASSERT_TRUE(levels_agree(text, seed, *reference));
   }
 }
 
@@ -146,12 +154,7 @@ TEST(RandomPrograms, ExpressionsComputeTheSameAtEveryLevel) {
     ASSERT_TRUE(reference) << "seed " << seed << ": " << error << "\n" << text;
     ++compared;
     ASSERT_TRUE(reference->ended) << "seed " << seed << "\n" << text;
-    for (auto level : {ir::OptLevel::O1, ir::OptLevel::Os}) {
-      auto got = observe(text, level, error);
-      ASSERT_TRUE(got) << "seed " << seed << ": " << error << "\n" << text;
-      ASSERT_EQ(got->final, reference->final) << "seed " << seed << "\n" << text;
-      ASSERT_EQ(differing_globals(*got, *reference), "") << "seed " << seed << "\n" << text;
-    }
+    ASSERT_TRUE(levels_agree(text, seed, *reference));
   }
   EXPECT_GT(compared, 300);
 }
