@@ -92,36 +92,47 @@ std::vector<int> edge_values() {
 
 std::vector<int> shift_counts() { return {0, 1, 2, 3, 7, 8, 14, 15, 16, -1}; }
 
-// Checks `a OP b` for every pair, 20 results per program. The operands
-// are globals, so nothing is folded at compile time: the code runs.
-void check_binary(const std::string& op, const std::vector<int>& lhs, const std::vector<int>& rhs, bool constant_rhs) {
-  auto ref = binary_reference().at(op);
+// Runs a case for every (a, b) pair, `per_program` cases to a program (the
+// 32 slots limit them): `decls(k)` names case k's result variables,
+// `stmts(k, a, b)` computes them, `check(m, image, k, a, b)` checks them.
+// The operands are globals, so nothing is folded at compile time.
+void for_pairs(const std::vector<int>& lhs, const std::vector<int>& rhs, std::size_t per_program,
+               const std::function<std::string(std::size_t)>& decls,
+               const std::function<std::string(std::size_t, int, int)>& stmts,
+               const std::function<void(const rcx::Machine&, const rcx::Image&, std::size_t, int, int)>& check) {
   std::vector<std::pair<int, int>> pairs;
   for (int a : lhs)
     for (int b : rhs) pairs.emplace_back(a, b);
-  for (std::size_t base = 0; base < pairs.size(); base += 20) {
-    std::size_t n = std::min<std::size_t>(20, pairs.size() - base);
-    std::string decls = "int a, b";
+  for (std::size_t base = 0; base < pairs.size(); base += per_program) {
+    std::size_t n = std::min(per_program, pairs.size() - base);
+    std::string declared = "int a, b, x, y";
     std::string body;
     for (std::size_t k = 0; k < n; ++k) {
-      auto [a, b] = pairs[base + k];
-      decls += fmt::format(", r{}", k);
-      if (constant_rhs)
-        body += fmt::format("  a = {}; r{} = a {} ({});\n", a, k, op, b);
-      else
-        body += fmt::format("  a = {}; b = {}; r{} = a {} b;\n", a, b, k, op);
+      declared += decls(k);
+      body += stmts(k, pairs[base + k].first, pairs[base + k].second);
     }
-    std::string src = decls + ";\ntask main() {\n" + body + "}\n";
+    std::string src = declared + ";\ntask main() {\n" + body + "}\n";
     auto c = compile(src);
     ASSERT_TRUE(c.out) << c.messages << src;
     auto m = run(c.out->image);
     ASSERT_EQ(m.stop().kind, rcx::StopKind::Ended) << src;
-    for (std::size_t k = 0; k < n; ++k) {
-      auto [a, b] = pairs[base + k];
-      EXPECT_EQ(global(m, c.out->image, fmt::format("r{}", k)), ref(a, b))
-          << a << " " << op << " " << b << (constant_rhs ? " (constant right side)" : "");
-    }
+    for (std::size_t k = 0; k < n; ++k) check(m, c.out->image, k, pairs[base + k].first, pairs[base + k].second);
   }
+}
+
+// Checks `a OP b` for every pair.
+void check_binary(const std::string& op, const std::vector<int>& lhs, const std::vector<int>& rhs, bool constant_rhs) {
+  auto ref = binary_reference().at(op);
+  for_pairs(
+      lhs, rhs, 20, [](std::size_t k) { return fmt::format(", r{}", k); },
+      [&](std::size_t k, int a, int b) {
+        return constant_rhs ? fmt::format("  a = {}; r{} = a {} ({});\n", a, k, op, b)
+                            : fmt::format("  a = {}; b = {}; r{} = a {} b;\n", a, b, k, op);
+      },
+      [&](const rcx::Machine& m, const rcx::Image& image, std::size_t k, int a, int b) {
+        EXPECT_EQ(global(m, image, fmt::format("r{}", k)), ref(a, b))
+            << a << " " << op << " " << b << (constant_rhs ? " (constant right side)" : "");
+      });
 }
 
 // The result replaces an operand: x = (x OP b) + 1, y = a OP y and
@@ -129,33 +140,19 @@ void check_binary(const std::string& op, const std::vector<int>& lhs, const std:
 // itself and must not overwrite it before its last read.
 void check_into_operand(const std::string& op, const std::vector<int>& lhs, const std::vector<int>& rhs) {
   auto ref = binary_reference().at(op);
-  std::vector<std::pair<int, int>> pairs;
-  for (int a : lhs)
-    for (int b : rhs) pairs.emplace_back(a, b);
-  for (std::size_t base = 0; base < pairs.size(); base += 6) {
-    std::size_t n = std::min<std::size_t>(6, pairs.size() - base);
-    std::string decls = "int a, b, x, y";
-    std::string body;
-    for (std::size_t k = 0; k < n; ++k) {
-      auto [a, b] = pairs[base + k];
-      decls += fmt::format(", p{0}, q{0}, s{0}", k);
-      body += fmt::format("  a = {1}; b = {2}; x = a; x = (x {0} b) + 1; p{3} = x;\n", op, a, b, k);
-      body += fmt::format("  y = b; y = a {0} y; q{1} = y;\n", op, k);
-      body += fmt::format("  x = a; x = (b ? x {0} b : -x); s{1} = x;\n", op, k);
-    }
-    std::string src = decls + ";\ntask main() {\n" + body + "}\n";
-    auto c = compile(src);
-    ASSERT_TRUE(c.out) << c.messages << src;
-    auto m = run(c.out->image);
-    ASSERT_EQ(m.stop().kind, rcx::StopKind::Ended) << src;
-    for (std::size_t k = 0; k < n; ++k) {
-      auto [a, b] = pairs[base + k];
-      EXPECT_EQ(global(m, c.out->image, fmt::format("p{}", k)), w(ref(a, b) + 1)) << "x = (x " << op << " b) + 1, " << a << ", " << b;
-      EXPECT_EQ(global(m, c.out->image, fmt::format("q{}", k)), ref(a, b)) << "y = a " << op << " y, " << a << ", " << b;
-      EXPECT_EQ(global(m, c.out->image, fmt::format("s{}", k)), b != 0 ? ref(a, b) : w(-a))
-          << "x = b ? x " << op << " b : -x, " << a << ", " << b;
-    }
-  }
+  for_pairs(
+      lhs, rhs, 6, [](std::size_t k) { return fmt::format(", p{0}, q{0}, s{0}", k); },
+      [&](std::size_t k, int a, int b) {
+        return fmt::format("  a = {1}; b = {2}; x = a; x = (x {0} b) + 1; p{3} = x;\n", op, a, b, k) +
+               fmt::format("  y = b; y = a {0} y; q{1} = y;\n", op, k) +
+               fmt::format("  x = a; x = (b ? x {0} b : -x); s{1} = x;\n", op, k);
+      },
+      [&](const rcx::Machine& m, const rcx::Image& image, std::size_t k, int a, int b) {
+        EXPECT_EQ(global(m, image, fmt::format("p{}", k)), w(ref(a, b) + 1)) << "x = (x " << op << " b) + 1, " << a << ", " << b;
+        EXPECT_EQ(global(m, image, fmt::format("q{}", k)), ref(a, b)) << "y = a " << op << " y, " << a << ", " << b;
+        EXPECT_EQ(global(m, image, fmt::format("s{}", k)), b != 0 ? ref(a, b) : w(-a))
+            << "x = b ? x " << op << " b : -x, " << a << ", " << b;
+      });
 }
 
 }  // namespace
