@@ -2,7 +2,6 @@
 // a timeline, or a JSON report, and optionally writes a trace file.
 #include <fmt/format.h>
 
-#include <fstream>
 #include <iostream>
 #include <variant>
 

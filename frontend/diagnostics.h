@@ -22,6 +22,11 @@ struct SourceLoc {
   bool valid() const { return line != 0; }
 };
 
+// Whether `a` comes before `b` in the text (both in the same file).
+inline bool before(const SourceLoc& a, const SourceLoc& b) {
+  return a.line < b.line || (a.line == b.line && a.column < b.column);
+}
+
 // A half-open range [begin, end) within one file.
 struct SourceSpan {
   SourceLoc begin;

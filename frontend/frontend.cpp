@@ -37,10 +37,6 @@ std::string folder_of(const std::string& path) {
   return dir.empty() ? "." : dir;
 }
 
-bool before(const SourceLoc& a, const SourceLoc& b) {
-  return a.line < b.line || (a.line == b.line && a.column < b.column);
-}
-
 bool contains(const SourceSpan& outer, const SourceLoc& at) {
   return at.file == outer.begin.file && at.expansion == 0 && outer.begin.expansion == 0 && !before(at, outer.begin) &&
          before(at, outer.end);

@@ -119,20 +119,14 @@ std::vector<FuncId> live_subs(const Program& p) {
   return subs;
 }
 
-// Whether `f` uses locals or temporaries (or will: a repeat left by a jump
-// counts in a variable).
-bool has_own_variables(const Program& p, FuncId f) {
+// Whether `f` uses locals or temporaries (`footprint`: what it touches),
+// or will: a repeat left by a jump counts in a variable.
+bool has_own_variables(const Program& p, FuncId f, const VarSet& footprint) {
   for (const auto& r : p.functions[static_cast<std::size_t>(f)].repeats)
     if (r.escapes) return true;
-  auto own = [&](const Operand& a) {
-    return a.is_var() && p.vars[static_cast<std::size_t>(a.value)].kind != VarKind::Global;
-  };
-  for (const auto& b : p.functions[static_cast<std::size_t>(f)].blocks) {
-    for (const auto& in : b.instrs)
-      if (std::any_of(in.args.begin(), in.args.end(), own)) return true;
-    if (const auto* br = std::get_if<Branch>(&b.term); br && (own(br->a) || own(br->b))) return true;
-  }
-  return false;
+  const auto& vars = footprint.members();
+  return std::any_of(vars.begin(), vars.end(),
+                     [&](VarId v) { return p.vars[static_cast<std::size_t>(v)].kind != VarKind::Global; });
 }
 
 // Whether calls to `f` come from more than one task (after flattening,
@@ -227,8 +221,11 @@ bool resolve_calls(Program& p, OptLevel level, Diagnostics& diags, Log& log) {
     }
   // A subroutine run by several tasks keeps its locals and temporaries in
   // one slot for all of them; inlined, every task has its own.
+  // After flattening no subroutine calls another, so inlining one into the
+  // tasks leaves the others' footprints as they are.
+  auto footprints = function_footprints(p);
   for (FuncId s : live_subs(p))
-    if (run_by_several_tasks(p, s) && has_own_variables(p, s)) {
+    if (run_by_several_tasks(p, s) && has_own_variables(p, s, footprints[static_cast<std::size_t>(s)])) {
       log.push_back(fmt::format("sub {} inlined at its calls (run by several tasks, which would share its "
                                 "temporaries; {:+} bytes)",
                                 p.functions[static_cast<std::size_t>(s)].name, inline_growth(p, s)));

@@ -55,9 +55,6 @@ struct Lowerer {
   void error(SourceSpan at, std::string message) { report(Severity::Error, at, std::move(message)); }
   void warning(SourceSpan at, std::string message) { report(Severity::Warning, at, std::move(message)); }
 
-  static bool before(const SourceLoc& a, const SourceLoc& b) {
-    return a.line < b.line || (a.line == b.line && a.column < b.column);
-  }
   static bool inside(const SourceSpan& inner, const SourceSpan& outer) {
     return inner.begin.file == outer.begin.file && !before(inner.begin, outer.begin) && !before(outer.end, inner.end);
   }

@@ -273,34 +273,29 @@ bool started_anywhere(const Program& p, FuncId f) {
   return false;
 }
 
-// Main's startup code runs before any other task exists, unless something
-// restarts main: it is left out of what main may do to other tasks.
-int startup_skipped(const Program& p, std::size_t f) {
-  return started_anywhere(p, static_cast<FuncId>(f)) ? 0 : p.functions[f].startup;
+// Visits the instructions of function `f` that can act while other tasks
+// run: all but main's startup code, unless something restarts main.
+template <class Visit>
+void each_instr_beside_other_tasks(const Program& p, std::size_t f, Visit&& visit) {
+  const Function& fn = p.functions[f];
+  int skip = started_anywhere(p, static_cast<FuncId>(f)) ? 0 : fn.startup;
+  for (std::size_t b = 0; b < fn.blocks.size(); ++b)
+    for (std::size_t i = 0; i < fn.blocks[b].instrs.size(); ++i)
+      if (!(b == 0 && static_cast<int>(i) < skip)) visit(fn.blocks[b].instrs[i]);
 }
 
 // What each function's own instructions may set (not its callees').
 std::vector<Writes> own_writes(const Program& p) {
   std::vector<Writes> w(p.functions.size(), nothing_written());
-  for (std::size_t f = 0; f < p.functions.size(); ++f) {
-    const Function& fn = p.functions[f];
-    int skip = startup_skipped(p, f);
-    for (std::size_t b = 0; b < fn.blocks.size(); ++b)
-      for (std::size_t i = 0; i < fn.blocks[b].instrs.size(); ++i)
-        if (!(b == 0 && static_cast<int>(i) < skip)) add_writes(fn.blocks[b].instrs[i], w[f]);
-  }
+  for (std::size_t f = 0; f < p.functions.size(); ++f)
+    each_instr_beside_other_tasks(p, f, [&](const Instr& in) { add_writes(in, w[f]); });
   return w;
 }
 
 std::vector<int> function_touches(const Program& p) {
   std::vector<int> t(p.functions.size(), 0);
-  for (std::size_t f = 0; f < p.functions.size(); ++f) {
-    const Function& fn = p.functions[f];
-    int skip = startup_skipped(p, f);
-    for (std::size_t b = 0; b < fn.blocks.size(); ++b)
-      for (std::size_t i = 0; i < fn.blocks[b].instrs.size(); ++i)
-        if (!(b == 0 && static_cast<int>(i) < skip)) t[f] |= touched(fn.blocks[b].instrs[i]);
-  }
+  for (std::size_t f = 0; f < p.functions.size(); ++f)
+    each_instr_beside_other_tasks(p, f, [&](const Instr& in) { t[f] |= touched(in); });
   for (bool changed = true; changed;) {
     changed = false;
     for (std::size_t f = 0; f < p.functions.size(); ++f)

@@ -89,19 +89,15 @@ void report_exhaustion(const Program& p, VarId failed, const std::vector<int>& s
 
 // A subroutine's locals and temporaries have one slot whichever task runs
 // it: two tasks running it at once overwrite each other's values.
-void warn_shared_sub_variables(const Program& p, const std::vector<TaskMask>& running, Diagnostics& diags) {
+void warn_shared_sub_variables(const Program& p, const std::vector<TaskMask>& running, const CallEffects& calls,
+                               Diagnostics& diags) {
   std::vector<std::string> task_names;
   for (const auto& f : p.functions)
     if (f.kind == FuncKind::Task && live_function(f)) task_names.push_back(f.name);
   for (std::size_t f = 0; f < p.functions.size(); ++f) {
     const Function& fn = p.functions[f];
     if (fn.kind != FuncKind::Sub || !live_function(fn) || std::popcount(running[f]) < 2) continue;
-    bool has_own = false;
-    for (const auto& b : fn.blocks)
-      for (const auto& in : b.instrs)
-        for (const auto& a : in.args)
-          has_own |= a.is_var() && p.vars[static_cast<std::size_t>(a.value)].kind != VarKind::Global;
-    if (!has_own) continue;
+    if (calls.touches[f].members().empty()) continue;  // only globals
     std::string tasks;
     for (std::size_t t = 0; t < task_names.size() && t < 64; ++t)
       if ((running[f] >> t) & 1) tasks += (tasks.empty() ? "'" : ", '") + task_names[t] + "'";
@@ -133,7 +129,7 @@ std::vector<int> allocate_slots(const Program& p, Diagnostics& diags) {
       for (VarId v : reads_of(b.term)) note(v);
     }
   }
-  warn_shared_sub_variables(p, running, diags);
+  warn_shared_sub_variables(p, running, calls, diags);
   Graph g{std::vector<VarSet>(nv)};
   for (const auto& f : p.functions)
     if (live_function(f)) add_liveness_edges(p, f, calls, g);
