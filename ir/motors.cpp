@@ -147,6 +147,7 @@ struct MotorPass {
   std::vector<Writes> others;    // per function: what tasks not running it may set
   std::vector<bool> analysed;    // functions exactly one task runs
   std::vector<Summary> summary;  // per analysed subroutine
+  std::vector<State> started;    // per task but main: merged over its start sites
   bool recording = false;        // whether apply() records call and return states
   FuncId current = -1;
 
@@ -192,9 +193,16 @@ struct MotorPass {
       apply_call(g, s);
       return false;
     }
-    if (starts_a_task(in) && s.alone) {
-      s.alone = false;
-      forget_untracked(s);
+    if (starts_a_task(in)) {
+      if (recording && !in.raw && in.args[0].kind == Operand::Kind::Func) {
+        State at = s;
+        at.alone = false;
+        merge_into(started[static_cast<std::size_t>(in.args[0].value)], at);
+      }
+      if (s.alone) {
+        s.alone = false;
+        forget_untracked(s);
+      }
     }
     int mask = touched(in);
     if (mask == 0) return false;
@@ -217,12 +225,21 @@ struct MotorPass {
     return redundant;
   }
 
-  State entry_of(FuncId f, bool main_alone) const {
+  State entry_of(FuncId f, bool main_alone) {
     const Function& fn = p.functions[static_cast<std::size_t>(f)];
     if (fn.kind == FuncKind::Sub) return summary[static_cast<std::size_t>(f)].entry;
     State s;
     s.reached = true;
-    s.alone = main_alone && fn.name == "main";
+    if (fn.name == "main") {
+      s.alone = main_alone;
+      return s;
+    }
+    // A task other than main begins with what its starters knew when they
+    // started it, less what other tasks may have changed since. Until a
+    // start is seen, nothing of it is reached.
+    s = started[static_cast<std::size_t>(f)];
+    current = f;
+    forget_untracked(s);
     return s;
   }
 
@@ -336,7 +353,8 @@ void remove_redundant_motor_commands(Program& p) {
                  function_starts(p),
                  std::vector<Writes>(n, nothing_written()),
                  std::vector<bool>(n, false),
-                 std::vector<Summary>(n)};
+                 std::vector<Summary>(n),
+                 std::vector<State>(n)};
   // Which tasks run each function.
   std::vector<std::vector<FuncId>> runners(n);
   for (std::size_t t = 0; t < n; ++t) {
@@ -364,6 +382,23 @@ void remove_redundant_motor_commands(Program& p) {
     for (std::size_t t = 0; t < n; ++t)
       if (static_cast<FuncId>(t) != runners[f][0]) combine_into(pass.others[f], by_task[t]);
   }
+  // A task begins knowing nothing when a start site is not followed (raw
+  // code, a subroutine several tasks run) or when nothing in the program
+  // starts it (the PC may).
+  State unknown;
+  unknown.reached = true;
+  std::vector<bool> start_seen(n, false);
+  for (std::size_t f = 0; f < n; ++f)
+    for (const auto& b : p.functions[f].blocks)
+      for (const auto& in : b.instrs) {
+        if (in.raw) std::fill(pass.started.begin(), pass.started.end(), unknown);
+        if (in.raw || in.op != rcx::Op::StartTask || runners[f].empty()) continue;
+        auto target = static_cast<std::size_t>(in.args[0].value);
+        start_seen[target] = true;
+        if (!pass.analysed[f]) pass.started[target] = unknown;
+      }
+  for (std::size_t f = 0; f < n; ++f)
+    if (!start_seen[f]) pass.started[f] = unknown;
   FuncId main = p.find_function("main");
   bool main_alone = main >= 0 && !started_anywhere(p, main);
   // Subroutine summaries depend on their callers and callers on the
@@ -371,9 +406,10 @@ void remove_redundant_motor_commands(Program& p) {
   pass.recording = true;
   for (bool changed = true; changed;) {
     auto before = pass.summary;
+    auto started_before = pass.started;
     for (std::size_t f = 0; f < n; ++f)
       if (pass.analysed[f]) pass.block_states(static_cast<FuncId>(f), pass.entry_of(static_cast<FuncId>(f), main_alone));
-    changed = !(before == pass.summary);
+    changed = !(before == pass.summary) || !(started_before == pass.started);
   }
   pass.recording = false;
   for (std::size_t f = 0; f < n; ++f) {

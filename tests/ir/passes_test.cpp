@@ -454,6 +454,54 @@ TEST(Motors, RestartedMainIsNeverAlone) {
   EXPECT_EQ(b.at(f, 0).instrs.size(), 4u);
 }
 
+TEST(Motors, AStartedTaskBeginsWithWhatItsStarterKnew) {
+  // main sets B forward and starts `other`, which switches B forward and on:
+  // nobody else commands B, so the direction is already set.
+  Builder b;
+  FuncId f = b.function("main"), g = b.function("other");
+  auto dir = [](int code) { return op(rcx::Op::SetMotorDirection, {I(code)}); };
+  auto out = [](int code) { return op(rcx::Op::SetMotorOnOff, {I(code)}); };
+  b.block(f, {dir(0x82), start(g), wait(I(10))});
+  b.block(g, {dir(0x82), out(0x82)});
+  remove_redundant_motor_commands(b.p);
+  EXPECT_EQ(count_ops(b.fn(g), rcx::Op::SetMotorDirection), 0u);
+  EXPECT_EQ(count_ops(b.fn(g), rcx::Op::SetMotorOnOff), 1u);
+}
+
+TEST(Motors, WhatTheStarterChangesLaterIsNotKnownToTheStartedTask) {
+  Builder b;
+  FuncId f = b.function("main"), g = b.function("other");
+  auto dir = [](int code) { return op(rcx::Op::SetMotorDirection, {I(code)}); };
+  b.block(f, {dir(0x82), start(g), dir(0x02)});
+  b.block(g, {wait(I(10)), dir(0x82)});
+  remove_redundant_motor_commands(b.p);
+  EXPECT_EQ(count_ops(b.fn(g), rcx::Op::SetMotorDirection), 1u);
+}
+
+TEST(Motors, ATaskStartedFromTwoPlacesKnowsWhatBothAgreeOn) {
+  // main starts `other` with B forward; `other` restarts itself with B
+  // reversed and A still forward.
+  Builder b;
+  FuncId f = b.function("main"), g = b.function("other");
+  auto dir = [](int code) { return op(rcx::Op::SetMotorDirection, {I(code)}); };
+  b.block(f, {dir(0x83), start(g)});
+  b.block(g, {dir(0x81), dir(0x82), wait(I(10)), dir(0x02), start(g)});
+  remove_redundant_motor_commands(b.p);
+  const auto& instrs = b.at(g, 0).instrs;
+  ASSERT_EQ(instrs.size(), 4u);  // A forward goes, B forward stays
+  EXPECT_EQ(instrs[0].args[0].value, 0x82);
+}
+
+TEST(Motors, ATaskNobodyStartsIsLeftAlone) {
+  Builder b;
+  FuncId f = b.function("main"), g = b.function("other");
+  auto dir = [](int code) { return op(rcx::Op::SetMotorDirection, {I(code)}); };
+  b.block(f, {dir(0x82), wait(I(10))});
+  b.block(g, {dir(0x82), wait(I(10)), dir(0x82)});
+  remove_redundant_motor_commands(b.p);
+  EXPECT_EQ(count_ops(b.fn(g), rcx::Op::SetMotorDirection), 1u);  // only the repeat goes
+}
+
 TEST(Motors, ASubStartsFromWhatItsCallsHave) {
   // main: OnFwd(A); sub(); Wait; sub();  sub: OnRev(A); Wait; OnFwd(A).
   // Every call finds A on: the sub's `on` commands go, its directions stay.

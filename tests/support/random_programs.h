@@ -110,7 +110,10 @@ class TwoTaskGenerator : public Generator {
       if (shared_sub && pick(0, 2) == 0) out << "  both();\n";
     }
     out << "}\n";
-    out << "task main() {\n  x = 0; y = 0; ClearTimer(0); start other;\n";
+    // Commands before the start are what `other` begins knowing.
+    out << "task main() {\n  x = 0; y = 0;\n";
+    if (pick(0, 1) == 1) step(out);
+    out << "  ClearTimer(0); start other;\n";
     for (int k = 0; k < steps; ++k) {
       if (k > 0) out << "  until (Timer(0) >= " << 40 * k << ");\n";
       step(out);
