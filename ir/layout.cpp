@@ -10,30 +10,33 @@ bool encodable(Cmp c, const Operand& a, const Operand& b) {
   return !((c == Cmp::LT || c == Cmp::GT) && !a.is_imm() && !b.is_imm());
 }
 
-// Bytes of the control transfers the layout needs: a jump to a block that
-// does not follow, a test whose fall-through is not where it should go.
-int transfer_bytes(const Function& f) {
+}  // namespace
+
+int transfer_bytes(const Function& f, std::size_t b, BlockId next) {
   constexpr int kJump = 2, kTest = 7;
-  int bytes = 0;
-  for (std::size_t i = 0; i < f.blocks.size(); ++i) {
-    auto next = static_cast<BlockId>(i + 1);
-    const Terminator& t = f.blocks[i].term;
-    if (const auto* j = std::get_if<Jump>(&t)) {
-      bytes += j->target != next ? kJump : 0;
-    } else if (const auto* br = std::get_if<Branch>(&t)) {
-      bool direct = encodable(br->cmp, br->a, br->b), negated = encodable(negate(br->cmp), br->a, br->b);
-      bool one_test = (br->otherwise == next && direct) || (br->then == next && negated);
-      bytes += kTest + (one_test ? 0 : kJump);
-    } else if (const auto* l = std::get_if<LoopTest>(&t)) {
-      // The loop counter only branches forward: an exit behind it costs
-      // two more jumps.
-      bytes += kJump + (l->body != next ? kJump : 0) + (l->exit <= static_cast<BlockId>(i) ? 2 * kJump : 0);
-    }
+  const Terminator& t = f.blocks[b].term;
+  if (const auto* j = std::get_if<Jump>(&t)) return j->target != next ? kJump : 0;
+  if (const auto* br = std::get_if<Branch>(&t)) {
+    bool direct = encodable(br->cmp, br->a, br->b), negated = encodable(negate(br->cmp), br->a, br->b);
+    bool one_test = (br->otherwise == next && direct) || (br->then == next && negated);
+    return kTest + (one_test ? 0 : kJump);
   }
+  if (const auto* l = std::get_if<LoopTest>(&t)) {
+    // The loop counter only branches forward: an exit behind it costs
+    // two more jumps.
+    return kJump + (l->body != next ? kJump : 0) + (l->exit <= static_cast<BlockId>(b) ? 2 * kJump : 0);
+  }
+  // An exit anywhere but last returns (1 byte) or jumps to the end.
+  if (next == static_cast<BlockId>(f.blocks.size())) return 0;
+  return f.kind == FuncKind::Sub ? 1 : kJump;
+}
+
+int transfer_bytes(const Function& f) {
+  int bytes = 0;
+  for (std::size_t i = 0; i < f.blocks.size(); ++i) bytes += transfer_bytes(f, i, static_cast<BlockId>(i + 1));
   return bytes;
 }
 
-}  // namespace
 
 void place_branch_targets(Function& f) {
   for (std::size_t b = 0; b < f.blocks.size(); ++b) {

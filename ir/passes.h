@@ -54,6 +54,10 @@ void rotate_loops(Function& f);
 // block after it is the true side, moves the false side there when that
 // needs fewer jumps in all.
 void place_branch_targets(Function& f);
+// The bytes of jumps and tests block b needs when block `next` is laid out
+// after it, and the sum over the function in its present order.
+int transfer_bytes(const Function& f, std::size_t b, BlockId next);
+int transfer_bytes(const Function& f);
 
 // repeat.cpp: keeps the firmware loop counter for `repeat` loops where it
 // is safe (nesting, counted across subroutine calls, at most 4 deep; no

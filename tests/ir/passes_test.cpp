@@ -140,6 +140,51 @@ TEST(Rotate, LoopTestMovesBelowTheBody) {
   EXPECT_EQ(br.otherwise, 3);
 }
 
+TEST(Rotate, ATestOfTwoBlocksMovesBelowTheBody) {
+  // while (g != 0 && a >= b) body; with a, b variables: a >= b has no
+  // one-instruction negation, so with the test on top the loop needs a
+  // jump out. Rotated
+  // (entry, body, first test, second test, exit) the second test branches
+  // back to the body and falls out.
+  Builder b;
+  VarId g = b.global("g"), x = b.global("a"), y = b.global("b");
+  FuncId f = b.function("main");
+  b.block(f, {sound(0)}, Jump{1});
+  b.block(f, {}, Branch{Cmp::NE, V(g), I(0), 2, 4});       // first test
+  b.block(f, {sound(3)}, Branch{Cmp::GE, V(x), V(y), 3, 4});  // second test
+  b.block(f, {sound(1)}, Jump{1});                          // body
+  b.block(f, {sound(2)});                                   // exit
+  int before = transfer_bytes(b.fn(f));
+  rotate_loops(b.fn(f));
+  const auto& blocks = b.fn(f).blocks;
+  ASSERT_EQ(blocks.size(), 5u);
+  EXPECT_EQ(std::get<Jump>(blocks[0].term).target, 2);  // into the first test
+  EXPECT_EQ(std::get<Jump>(blocks[1].term).target, 2);  // the body falls into it
+  const auto& second = std::get<Branch>(blocks[3].term);
+  EXPECT_EQ(second.then, 1);
+  EXPECT_EQ(second.otherwise, 4);
+  EXPECT_EQ(transfer_bytes(b.fn(f)), before - 2);
+}
+
+TEST(Rotate, ATwoBlockTestMovesAtEqualBytes) {
+  // while (g != 0 && a != b): both tests negate, so bytes are equal either
+  // way; the whole test still moves so the jump in spans only the body.
+  Builder b;
+  VarId g = b.global("g"), x = b.global("a"), y = b.global("b");
+  FuncId f = b.function("main");
+  b.block(f, {sound(0)}, Jump{1});
+  b.block(f, {}, Branch{Cmp::NE, V(g), I(0), 2, 4});
+  b.block(f, {sound(3)}, Branch{Cmp::NE, V(x), V(y), 3, 4});
+  b.block(f, {sound(1)}, Jump{1});
+  b.block(f, {sound(2)});
+  rotate_loops(b.fn(f));
+  const auto& blocks = b.fn(f).blocks;
+  ASSERT_EQ(blocks.size(), 5u);
+  ASSERT_EQ(blocks[1].instrs.size(), 1u);
+  EXPECT_EQ(blocks[1].instrs[0].args, sound(1).args);  // the body comes first
+  EXPECT_EQ(std::get<Branch>(blocks[3].term).then, 1);
+}
+
 TEST(Layout, TheFalseSideFollowsATestThatOnlyBranchesWhenTrue) {
   // if (a <= b) x = 1; else x = 0; with a, b variables: the negation
   // a > b has no one-instruction test, so the else block moves after it.
