@@ -1,7 +1,9 @@
-// Compiler speed on generated programs with many loops and tests: the
-// passes that reorder blocks must stay linear (items/second roughly the
-// same at every size). A program this long is too big for the brick, so
-// the run ends in the size diagnostic, after every pass has run.
+// Compiler speed on generated programs: many loops and tests (the passes
+// that reorder blocks), many inline calls (each copy has its own
+// variables) and many statements whose expressions branch (data-flow over
+// a long chain of joins). Time and memory must grow linearly: items/second
+// roughly the same at every size. Programs this long are too big for the
+// brick, so a run may end in the size diagnostic, after every pass.
 #include <benchmark/benchmark.h>
 
 #include <string>
@@ -19,8 +21,19 @@ std::string many_loops(int n) {
   return src + "}\n";
 }
 
-void BM_ManyLoops(benchmark::State& state) {
-  std::string src = many_loops(static_cast<int>(state.range(0)));
+std::string many_inline_calls(int n) {
+  std::string src = "int x, y;\nvoid f(int a, int &r) { r = r + a; if (r > 100) r = 0; }\ntask main() {\n";
+  for (int i = 0; i < n; ++i) src += "  f(" + std::to_string(i) + ", x); f(y, y);\n";
+  return src + "}\n";
+}
+
+std::string many_branching_expressions(int n) {
+  std::string src = "int x;\ntask main() {\n";
+  for (int i = 0; i < n; ++i) src += "  x = x * 3 + (x / 7) % 5 - (x > " + std::to_string(i) + ") + (x ? 1 : 2);\n";
+  return src + "}\n";
+}
+
+void compile(benchmark::State& state, const std::string& src) {
   for (auto _ : state) {
     rcxc::SourceManager sm;
     rcxc::Diagnostics diags;
@@ -28,9 +41,21 @@ void BM_ManyLoops(benchmark::State& state) {
     auto out = rcxc::backend::compile_source("bench.nqc", src, {}, rcxc::ir::OptLevel::Os, sm, diags, log);
     benchmark::DoNotOptimize(out);
   }
-  state.SetItemsProcessed(state.iterations() * state.range(0));  // loops
+  state.SetItemsProcessed(state.iterations() * state.range(0));
 }
+
+void BM_ManyLoops(benchmark::State& state) { compile(state, many_loops(static_cast<int>(state.range(0)))); }
 BENCHMARK(BM_ManyLoops)->Arg(1000)->Arg(4000)->Arg(16000)->Unit(benchmark::kMillisecond);
+
+void BM_ManyInlineCalls(benchmark::State& state) {
+  compile(state, many_inline_calls(static_cast<int>(state.range(0))));
+}
+BENCHMARK(BM_ManyInlineCalls)->Arg(1000)->Arg(4000)->Arg(16000)->Unit(benchmark::kMillisecond);
+
+void BM_ManyBranchingExpressions(benchmark::State& state) {
+  compile(state, many_branching_expressions(static_cast<int>(state.range(0))));
+}
+BENCHMARK(BM_ManyBranchingExpressions)->Arg(250)->Arg(1000)->Arg(4000)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

@@ -20,6 +20,43 @@ std::size_t count_ops(const Function& f, rcx::Op op) {
 
 }  // namespace
 
+TEST(Order, ReversePostorderPutsEveryJoinAfterAllWaysIn) {
+  // 0 -> {1, 2}; 1 -> 3; 2 -> 3; 3 -> 1 (a loop back); 4 unreachable.
+  Builder b;
+  VarId g = b.global("g");
+  FuncId f = b.function("main");
+  b.block(f, {}, Branch{Cmp::NE, V(g), I(0), 1, 2});
+  b.block(f, {sound(1)}, Jump{3});
+  b.block(f, {sound(2)}, Jump{3});
+  b.block(f, {}, Branch{Cmp::EQ, V(g), I(1), 1, 5});
+  b.block(f, {sound(4)}, Jump{3});
+  b.block(f, {});
+  auto index = reverse_postorder_index(b.fn(f));
+  ASSERT_EQ(index.size(), 6u);
+  EXPECT_EQ(index[0], 0);
+  EXPECT_LT(index[1], index[3]);
+  EXPECT_LT(index[2], index[3]);
+  EXPECT_LT(index[3], index[5]);
+  EXPECT_EQ(index[4], -1);
+}
+
+TEST(Fold, AConstantIsKnownAfterAJoinOnlyWhereItIsStillRead) {
+  // t = 5 before an if/else; after the join t is still read, so the use
+  // becomes the constant; u = 7 is never read again and is forgotten
+  // without changing anything.
+  Builder b;
+  VarId g = b.global("g");
+  FuncId f = b.function("main");
+  VarId t = b.temp(), u = b.temp();
+  b.block(f, {set(t, I(5)), set(u, I(7)), set(g, V(u))}, Branch{Cmp::NE, V(g), I(0), 1, 2});
+  b.block(f, {sound(1)}, Jump{3});
+  b.block(f, {sound(2)}, Jump{3});
+  b.block(f, {set(g, V(t))});
+  fold_constants(b.p);
+  EXPECT_EQ(b.at(f, 3).instrs[0].args[1], I(5));
+  EXPECT_EQ(b.at(f, 0).instrs[2].args[1], I(7));
+}
+
 TEST(Fold, TemporaryConstantsReachTheirUse) {
   Builder b;
   VarId t = b.temp();
