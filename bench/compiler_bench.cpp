@@ -1,7 +1,8 @@
 // Compiler speed on generated programs: many loops and tests (the passes
 // that reorder blocks), many inline calls (each copy has its own
-// variables) and many statements whose expressions branch (data-flow over
-// a long chain of joins). Time and memory must grow linearly: items/second
+// variables), many statements whose expressions branch (data-flow over
+// a long chain of joins) and one very long expression (lowering asks
+// about each subexpression at every level). Time and memory must grow linearly: items/second
 // roughly the same at every size. Programs this long are too big for the
 // brick, so a run may end in the size diagnostic, after every pass.
 #include <benchmark/benchmark.h>
@@ -33,6 +34,13 @@ std::string many_branching_expressions(int n) {
   return src + "}\n";
 }
 
+// One statement: x = x + x + ... (n terms), a left-deep expression.
+std::string long_expression(int n) {
+  std::string src = "int x;\ntask main() {\n  x = x";
+  for (int i = 1; i < n; ++i) src += " + x";
+  return src + ";\n}\n";
+}
+
 void compile(benchmark::State& state, const std::string& src) {
   for (auto _ : state) {
     rcxc::SourceManager sm;
@@ -56,6 +64,9 @@ void BM_ManyBranchingExpressions(benchmark::State& state) {
   compile(state, many_branching_expressions(static_cast<int>(state.range(0))));
 }
 BENCHMARK(BM_ManyBranchingExpressions)->Arg(250)->Arg(1000)->Arg(4000)->Unit(benchmark::kMillisecond);
+
+void BM_LongExpression(benchmark::State& state) { compile(state, long_expression(static_cast<int>(state.range(0)))); }
+BENCHMARK(BM_LongExpression)->Arg(1000)->Arg(5000)->Arg(20000)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 
