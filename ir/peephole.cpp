@@ -47,6 +47,29 @@ bool neutral(const Instr& in, const std::vector<Var>& vars) {
   }
 }
 
+// What the commands of a window set, per output and field. Merging keeps
+// only each field's last value, so a window must never set one field of
+// one output to two values: `On(OUT_A); Off(OUT_A);` in a loop runs the
+// motor a third of the time (a slow motor, a common NQC idiom), and
+// merged it would never run.
+struct Settings {
+  std::map<std::pair<int, int>, int> value;  // (field, output bit) -> value
+
+  // Records `in`; false (recording nothing) if it sets a field to another
+  // value than an earlier command did.
+  bool add(const Instr& in) {
+    int field = in.op == Op::SetMotorPower ? 0 : in.op == Op::SetMotorDirection ? 1 : 2;
+    int code = in.args[0].value;
+    int v = field == 0 ? in.args[1].value : field == 1 ? (code & 0x80) : (code & 0xc0);
+    for (int bit = 1; bit <= 4; bit <<= 1)
+      if (code & bit)
+        if (auto it = value.find({field, bit}); it != value.end() && it->second != v) return false;
+    for (int bit = 1; bit <= 4; bit <<= 1)
+      if (code & bit) value[{field, bit}] = v;
+    return true;
+  }
+};
+
 // The fewest commands giving every output the final direction, mode and
 // power the commands in `window` leave, in the order power, direction,
 // mode (so an output is switched on with its final settings).
@@ -86,10 +109,14 @@ void merge_block(Block& b, std::size_t first, const std::vector<Var>& vars) {
       continue;
     }
     // The window: from i to the last motor command reachable across
-    // neutral instructions.
+    // neutral instructions, up to a command that would undo one before it.
     std::size_t last = i;
-    for (std::size_t j = i; j < n && (mergeable(b.instrs[j]) || neutral(b.instrs[j], vars)); ++j)
-      if (mergeable(b.instrs[j])) last = j;
+    Settings settings;
+    for (std::size_t j = i; j < n && (mergeable(b.instrs[j]) || neutral(b.instrs[j], vars)); ++j) {
+      if (!mergeable(b.instrs[j])) continue;
+      if (!settings.add(b.instrs[j])) break;
+      last = j;
+    }
     std::vector<const Instr*> motors;
     for (std::size_t j = i; j <= last; ++j)
       if (mergeable(b.instrs[j])) motors.push_back(&b.instrs[j]);

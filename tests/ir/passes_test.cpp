@@ -626,3 +626,30 @@ TEST(Motors, RunsOfCommandsMerge) {
   EXPECT_EQ(instrs[2].args[0], I(0x85));
   EXPECT_EQ(instrs[3].op, rcx::Op::Wait);
 }
+
+TEST(Motors, APulseIsNeverMergedAway) {
+  // On(A); Off(A); and Fwd(A); Rev(A): each sets one field of A to two
+  // values; merged, the on-time (or the forward run) would vanish.
+  Builder b;
+  FuncId f = b.function("main");
+  auto dir = [](int code) { return op(rcx::Op::SetMotorDirection, {I(code)}); };
+  auto out = [](int code) { return op(rcx::Op::SetMotorOnOff, {I(code)}); };
+  b.block(f, {out(0x81), out(0x41), dir(0x81), dir(0x01)});
+  merge_motor_commands(b.fn(f), b.p.vars);
+  EXPECT_EQ(b.at(f, 0).instrs.size(), 4u);
+}
+
+TEST(Motors, AWindowEndsWhereAFieldWouldChangeAgain) {
+  // OnRev(A); OnFwd(C); Off(A): the first two merge (one "on"), the off
+  // that undoes A's on stays after them.
+  Builder b;
+  FuncId f = b.function("main");
+  auto dir = [](int code) { return op(rcx::Op::SetMotorDirection, {I(code)}); };
+  auto out = [](int code) { return op(rcx::Op::SetMotorOnOff, {I(code)}); };
+  b.block(f, {dir(0x01), out(0x81), dir(0x84), out(0x84), out(0x41)});
+  merge_motor_commands(b.fn(f), b.p.vars);
+  const auto& instrs = b.at(f, 0).instrs;
+  ASSERT_EQ(instrs.size(), 4u);
+  EXPECT_EQ(instrs[2].args[0], I(0x85));
+  EXPECT_EQ(instrs[3].args[0], I(0x41));
+}
