@@ -1,10 +1,12 @@
 // Random programs compiled without optimisation and with each level must
 // do the same: the same output states at every marker (a display change
 // followed by a wait, which no optimisation moves a motor command across),
-// the same final outputs and variables. Fixed seeds: a failure names the
+// every output switched on, off and floated as often, the same final
+// outputs and variables. Fixed seeds: a failure names the
 // seed and prints the program.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <map>
 #include <random>
 #include <sstream>
@@ -27,6 +29,11 @@ namespace {
 
 struct Observed {
   std::vector<std::string> at_markers;  // output states when each marker showed
+  // Per output, each mode it went through (on, off, float; a repeat of
+  // the mode before is no change). Optimisation moves motor commands by
+  // an instruction or two, but every switch on or off must still happen:
+  // `On(OUT_A); Off(OUT_A);` is a pulse the motor feels.
+  std::array<std::vector<int>, rcx::kOutputs> modes;
   std::string final;                // output states
   std::map<std::string, int> vars;  // globals that have a slot
   bool ended = false;
@@ -84,13 +91,19 @@ std::optional<Observed> observe(const std::string& text, ir::OptLevel level, std
     error = *err;
     return std::nullopt;
   }
+  Observed seen;
+  for (std::size_t o = 0; o < rcx::kOutputs; ++o) seen.modes[o].push_back(static_cast<int>(m.state().outputs[o].mode));
   m.start_program();
   m.run(120'000 * rcx::kMicrosPerMs);
-  Observed seen;
   seen.ended = m.stop().kind == rcx::StopKind::Ended;
   std::array<rcx::Output, rcx::kOutputs> outs{};
   for (const auto& e : m.state().events) {
-    if (e.kind == rcx::EventKind::Output) outs[static_cast<std::size_t>(e.index)] = e.output;
+    if (e.kind == rcx::EventKind::Output) {
+      auto o = static_cast<std::size_t>(e.index);
+      outs[o] = e.output;
+      auto mode = static_cast<int>(e.output.mode);
+      if (seen.modes[o].empty() || seen.modes[o].back() != mode) seen.modes[o].push_back(mode);
+    }
     if (e.kind == rcx::EventKind::Display) seen.at_markers.push_back(describe(outs));
   }
   seen.final = describe(m.state().outputs);
@@ -113,6 +126,7 @@ namespace {
     };
     if (!got) return fail(error);
     if (got->at_markers != reference.at_markers) return fail("outputs differ at a marker");
+    if (got->modes != reference.modes) return fail("an output switched on or off a different number of times");
     if (got->final != reference.final) return fail("final outputs " + got->final + " vs " + reference.final);
     if (auto diff = differing_globals(*got, reference); !diff.empty()) return fail("globals" + diff);
   }
@@ -184,9 +198,10 @@ std::optional<Observed> observe_nqc(const std::string& nqc, const test::TempDir&
     if (f.code.size() > 127) return std::nullopt;
   rcx::Machine m;
   if (m.load(0, img)) return std::nullopt;
+  Observed seen;
+  for (std::size_t o = 0; o < rcx::kOutputs; ++o) seen.modes[o].push_back(static_cast<int>(m.state().outputs[o].mode));
   m.start_program();
   m.run(120'000 * rcx::kMicrosPerMs);
-  Observed seen;
   seen.ended = m.stop().kind == rcx::StopKind::Ended;
   seen.final = describe(m.state().outputs);
   for (const auto& sym : img.symbols)
