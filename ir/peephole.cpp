@@ -71,8 +71,8 @@ struct Settings {
 };
 
 // The fewest commands giving every output the final direction, mode and
-// power the commands in `window` leave, in the order power, direction,
-// mode (so an output is switched on with its final settings).
+// power the commands in `window` leave: outputs switched off or floated
+// first, then power, direction, and the outputs switched on.
 std::vector<Instr> net_commands(const std::vector<const Instr*>& window) {
   std::map<int, int> power, dir, mode;  // output bit -> value
   for (const Instr* in : window) {
@@ -92,9 +92,16 @@ std::vector<Instr> net_commands(const std::vector<const Instr*>& window) {
   };
   std::vector<Instr> out;
   SourceSpan span = window.back()->span;
+  auto modes = [&](bool on) {
+    for (auto [v, mask] : group(mode))
+      if ((v == 0x80) == on) out.push_back(Instr{Op::SetMotorOnOff, {Operand::imm(mask | v)}, false, span});
+  };
+  // Outputs that stop do so first, so that their new power and direction
+  // never show; outputs that start do so last, with their final settings.
+  modes(false);
   for (auto [v, mask] : group(power)) out.push_back(Instr{Op::SetMotorPower, {Operand::imm(mask), Operand::imm(v)}, false, span});
   for (auto [v, mask] : group(dir)) out.push_back(Instr{Op::SetMotorDirection, {Operand::imm(mask | v)}, false, span});
-  for (auto [v, mask] : group(mode)) out.push_back(Instr{Op::SetMotorOnOff, {Operand::imm(mask | v)}, false, span});
+  modes(true);
   return out;
 }
 

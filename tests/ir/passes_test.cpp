@@ -627,6 +627,23 @@ TEST(Motors, RunsOfCommandsMerge) {
   EXPECT_EQ(instrs[3].op, rcx::Op::Wait);
 }
 
+TEST(Motors, OutputsThatStopDoSoBeforeTheirDirectionChanges) {
+  // Float(OUT_B+OUT_C); OnRev(OUT_A); Rev(OUT_C); with C running: merged,
+  // C must float before it is reversed, or it would run backwards for an
+  // instruction (a glitch the program never had).
+  Builder b;
+  FuncId f = b.function("main");
+  auto dir = [](int code) { return op(rcx::Op::SetMotorDirection, {I(code)}); };
+  auto out = [](int code) { return op(rcx::Op::SetMotorOnOff, {I(code)}); };
+  b.block(f, {out(0x06), dir(0x01), out(0x81), dir(0x04)});
+  merge_motor_commands(b.fn(f), b.p.vars);
+  const auto& instrs = b.at(f, 0).instrs;
+  ASSERT_EQ(instrs.size(), 3u);
+  EXPECT_EQ(instrs[0].args[0], I(0x06));  // B and C float
+  EXPECT_EQ(instrs[1].args[0], I(0x05));  // A and C reversed
+  EXPECT_EQ(instrs[2].args[0], I(0x81));  // A on
+}
+
 TEST(Motors, APulseIsNeverMergedAway) {
   // On(A); Off(A); and Fwd(A); Rev(A): each sets one field of A to two
   // values; merged, the on-time (or the forward run) would vanish.
