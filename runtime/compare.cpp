@@ -81,25 +81,71 @@ std::vector<const Event*> visible_events(const Machine& m) {
 // may be passed over (command order, not behaviour), and then so may a
 // state equal to the one before it.
 struct StreamWalk {
-  const std::vector<const Event*>& events;
+  const std::vector<const Event*>* list;
   Micros glitch_us;
   std::size_t at = 0;
   std::string shown;  // what the last event taken shows
 
-  bool done() const { return at >= events.size(); }
-  const Event& here() const { return *events[at]; }
+  const std::vector<const Event*>& events() const { return *list; }
+  bool done() const { return at >= events().size(); }
+  const Event& here() const { return *events()[at]; }
   bool running(const Event& e) const { return e.kind == EventKind::Output && e.output.mode == OutputMode::On; }
   // Passes over the glitch here, if it is one, and any repeat after it.
   bool skip_glitch() {
-    if (done() || at + 1 >= events.size() || !running(here())) return false;
-    const Event& next = *events[at + 1];
+    if (done() || at + 1 >= events().size() || !running(here())) return false;
+    const Event& next = *events()[at + 1];
     if (!running(next) || next.t_us - here().t_us > glitch_us) return false;
     ++at;
     while (!done() && what(here()) == shown) ++at;
     return true;
   }
-  void take() { shown = what(*events[at++]); }
+  void take() { shown = what(*events()[at++]); }
 };
+
+// How many events two walks agree on from here (up to `limit`), taking
+// glitches as they come.
+int agreement(StreamWalk a, StreamWalk b, int limit);
+
+// Where two walks disagree: passes over a glitch on one side, or on both,
+// choosing whichever lets the runs agree longest after it (a state that
+// is a glitch in one run may hold longer in the other). False when no
+// glitch helps.
+bool pass_over_glitches(StreamWalk& a, StreamWalk& b, int depth = 0) {
+  constexpr int kLookahead = 8;
+  StreamWalk a2 = a, b2 = b, a3 = a, b3 = b;
+  bool skip_a = a2.skip_glitch(), skip_b = b2.skip_glitch();
+  a3.skip_glitch();
+  b3.skip_glitch();
+  int best = 0;
+  int choice = -1;
+  auto consider = [&](int option, const StreamWalk& x, const StreamWalk& y) {
+    int n = depth > 2 ? (x.done() || y.done() || what(x.here()) == what(y.here()) ? 1 : 0) : agreement(x, y, kLookahead);
+    if (n > best) {
+      best = n;
+      choice = option;
+    }
+  };
+  if (skip_a) consider(0, a2, b);
+  if (skip_b) consider(1, a, b2);
+  if (skip_a && skip_b) consider(2, a3, b3);
+  if (choice < 0) return false;
+  if (choice != 1) a = a2;
+  if (choice != 0) b = b2;
+  return true;
+}
+
+int agreement(StreamWalk a, StreamWalk b, int limit) {
+  int n = 0;
+  while (n < limit) {
+    if (a.done() || b.done()) return n + 1;  // the rest is the caller's to judge
+    if (what(a.here()) != what(b.here()) && !pass_over_glitches(a, b, 3)) return n;
+    if (what(a.here()) != what(b.here())) continue;
+    a.take();
+    b.take();
+    ++n;
+  }
+  return n;
+}
 
 std::map<Stream, std::vector<const Event*>> streams(const Machine& m) {
   std::map<Stream, std::vector<const Event*>> out;
@@ -142,8 +188,8 @@ RunComparison compare_runs(const RunView& a, const RunView& b, TimeTolerance tol
   for (int s = 0; s <= static_cast<int>(Stream::Datalog); ++s) {
     // Outputs start floating; other streams start with nothing shown.
     std::string start = s <= static_cast<int>(Stream::OutputC) ? fmt::format("output {} float", "ABC"[s]) : "";
-    StreamWalk wa{sa[static_cast<Stream>(s)], tol.glitch_us, 0, start};
-    StreamWalk wb{sb[static_cast<Stream>(s)], tol.glitch_us, 0, start};
+    StreamWalk wa{&sa[static_cast<Stream>(s)], tol.glitch_us, 0, start};
+    StreamWalk wb{&sb[static_cast<Stream>(s)], tol.glitch_us, 0, start};
     while (!wa.done() || !wb.done()) {
       if (wa.done() || wb.done()) {
         if (wa.done() ? wb.skip_glitch() : wa.skip_glitch()) continue;
@@ -156,7 +202,7 @@ RunComparison compare_runs(const RunView& a, const RunView& b, TimeTolerance tol
       const Event& ea = wa.here();
       const Event& eb = wb.here();
       if (what(ea) != what(eb)) {
-        if (wa.skip_glitch() || wb.skip_glitch()) continue;
+        if (pass_over_glitches(wa, wb)) continue;
         r.differences.push_back(fmt::format("{}: {}  vs  {}: {}", a.label, line_of(ea), b.label, line_of(eb)));
         break;
       }

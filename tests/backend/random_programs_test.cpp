@@ -14,6 +14,7 @@
 #include <fmt/format.h>
 
 #include "backend/compile.h"
+#include "runtime/compare.h"
 #include "runtime/image.h"
 #include "runtime/vm.h"
 #include "tests/support/process.h"
@@ -227,6 +228,62 @@ TEST(RandomPrograms, ExpressionsComputeWhatNqcsCodeComputes) {
     ASSERT_EQ(differing_globals(*ours, *theirs), "") << "seed " << seed << "\n" << text;
   }
   EXPECT_GT(compared, 250);
+}
+
+namespace {
+
+// A run as `rcxc compare` makes it: 10 us per instruction, so the programs'
+// own waits dominate, and no inputs.
+std::optional<rcx::Machine> compare_run(const rcx::Image& image) {
+  rcx::Config config;
+  config.instruction_cost_us = 10;
+  rcx::Machine m(config);
+  if (m.load(0, image)) return std::nullopt;
+  m.start_program();
+  m.run(10'000 * rcx::kMicrosPerMs);
+  return m;
+}
+
+std::optional<rcx::Image> nqc_image(const std::string& nqc, const test::TempDir& dir, const std::string& text) {
+  std::string src = dir.write("motors.nqc", text);
+  std::string image_path = dir.path + "/motors.rcx";
+  if (test::run_process({nqc, "-Trcx", "-O" + image_path, src}).exit_code != 0) return std::nullopt;
+  auto image = rcx::read_image_file(image_path);
+  if (!std::holds_alternative<rcx::Image>(image)) return std::nullopt;
+  // nqc wraps test-and-branch offsets beyond 127 bytes (docs/compiler.md).
+  for (const auto& f : std::get<rcx::Image>(image).fragments)
+    if (f.code.size() > 127) return std::nullopt;
+  return std::get<rcx::Image>(image);
+}
+
+}  // namespace
+
+TEST(RandomPrograms, MotorProgramsShowWhatNqcsCodeShows) {
+  // What `rcxc compare` checks, on random motor programs nqc compiles: the
+  // same outputs switched the same way with the same settings while they
+  // run, within compare's tolerances, and the same final globals.
+  std::string nqc = find_nqc();
+  if (nqc.empty()) GTEST_SKIP() << "nqc is not installed";
+  test::TempDir dir;
+  int compared = 0;
+  for (unsigned seed = 1; seed <= 300; ++seed) {
+    std::string text = Generator(seed).program();
+    auto theirs = nqc_image(nqc, dir, text);
+    if (!theirs) continue;  // nqc refuses it (subroutines calling subroutines) or its branches are too long
+    SourceManager sm;
+    Diagnostics diags;
+    ir::Log log;
+    auto ours = backend::compile_source("motors.nqc", text, {}, ir::OptLevel::Os, sm, diags, log);
+    ASSERT_TRUE(ours) << "seed " << seed << "\n" << text;
+    auto a = compare_run(ours->image), b = compare_run(*theirs);
+    ASSERT_TRUE(a && b);
+    if (b->stop().kind == rcx::StopKind::Fault) continue;
+    ++compared;
+    auto c = rcx::compare_runs({&*a, &ours->image, "rcxc"}, {&*b, &*theirs, "nqc"}, {10 * 500, 0.005, 10 * 5});
+    ASSERT_TRUE(c.same) << "seed " << seed << ": " << (c.differences.empty() ? "" : c.differences[0]) << "\n"
+                        << c.side_by_side << text;
+  }
+  EXPECT_GT(compared, 100);
 }
 
 namespace {
