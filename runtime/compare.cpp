@@ -112,10 +112,8 @@ int agreement(StreamWalk a, StreamWalk b, int limit);
 // glitch helps.
 bool pass_over_glitches(StreamWalk& a, StreamWalk& b, int depth = 0) {
   constexpr int kLookahead = 8;
-  StreamWalk a2 = a, b2 = b, a3 = a, b3 = b;
+  StreamWalk a2 = a, b2 = b;
   bool skip_a = a2.skip_glitch(), skip_b = b2.skip_glitch();
-  a3.skip_glitch();
-  b3.skip_glitch();
   int best = 0;
   int choice = -1;
   auto consider = [&](int option, const StreamWalk& x, const StreamWalk& y) {
@@ -127,7 +125,7 @@ bool pass_over_glitches(StreamWalk& a, StreamWalk& b, int depth = 0) {
   };
   if (skip_a) consider(0, a2, b);
   if (skip_b) consider(1, a, b2);
-  if (skip_a && skip_b) consider(2, a3, b3);
+  if (skip_a && skip_b) consider(2, a2, b2);
   if (choice < 0) return false;
   if (choice != 1) a = a2;
   if (choice != 0) b = b2;
