@@ -151,10 +151,19 @@ std::map<Stream, std::vector<const Event*>> streams(const Machine& m) {
   return out;
 }
 
+// The value of each variable the image names. A name given to several
+// variables (nqc names a local like the global it shadows) says nothing
+// about which is which, so it is left out.
 std::map<std::string, int> globals(const Machine& m, const Image& image) {
   std::map<std::string, int> out;
+  std::map<std::string, int> uses;
   for (const auto& s : image.symbols)
-    if (s.type == SymbolType::Variable) out[s.name] = m.state().vars[s.index];
+    if (s.type == SymbolType::Variable) {
+      out[s.name] = m.state().vars[s.index];
+      ++uses[s.name];
+    }
+  for (const auto& [name, n] : uses)
+    if (n > 1) out.erase(name);
   return out;
 }
 

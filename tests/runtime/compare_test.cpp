@@ -155,3 +155,13 @@ TEST(Compare, AnOnOffPulseIsNeverAGlitch) {
   RunResult b = run_program(fillers(2), 100);
   EXPECT_FALSE(compare_with_glitches(a, b).same);
 }
+
+TEST(Compare, ANameGivenToSeveralVariablesIsNotCompared) {
+  // nqc names a local like the global it shadows: which "v" is the
+  // global cannot be told, so neither is compared; "w" still is.
+  RunResult a = run_program(kSetVar5, 100), b = run_program(kSetVar6, 100);
+  for (RunResult* r : {&a, &b}) r->image.symbols.push_back({SymbolType::Variable, 1, "v"});
+  EXPECT_TRUE(compare(a, b).same);
+  RunResult c = run_program(kSetVar5, 100, 5'000'000, "w"), d = run_program(kSetVar6, 100, 5'000'000, "w");
+  EXPECT_FALSE(compare(c, d).same);
+}
