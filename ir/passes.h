@@ -44,9 +44,10 @@ void drop_redundant_sensor_modes(Function& f);
 // after unconditional jumps).
 void simplify_cfg(Function& f);
 
-// rotate.cpp: places the test of a while/for loop after its body, so the
-// body falls into the test and the test branches back (one branch per
-// iteration instead of two, never larger).
+// rotate.cpp: places the test of a while/for loop (one block or several:
+// `while (a && b)`) after its body, so the body falls into the test and
+// the test branches back (one branch per iteration instead of two), when
+// that needs no more jump and test bytes.
 void rotate_loops(Function& f);
 
 // layout.cpp: where a test can only branch when its comparison holds
