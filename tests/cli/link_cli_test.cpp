@@ -208,4 +208,13 @@ TEST(LinkCli, BadImageIsExit1) {
   EXPECT_NE(r.err.find("bad.rcx"), std::string::npos) << r.err;
 }
 
+// Found by the command-line property test: the image was read with its own
+// loop, which threw on a directory and aborted (exit 134).
+TEST(LinkCli, DownloadingADirectoryIsExit1) {
+  rcxc::test::TempDir d;
+  auto r = run_rcxc({"download", "--port", "/dev/no-such-tower", d.path});
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find(d.path + ": is a directory, not an .rcx image"), std::string::npos) << r.err;
+}
+
 }  // namespace
