@@ -38,7 +38,7 @@ int run_brick(const BrickArgs& a) {
     std::cerr << "rcxc brick: only --pty is supported (the brick serves on a pseudo-terminal)\n";
     return kExitUsage;
   }
-  if (a.noise < 0.0 || a.noise > 1.0) {
+  if (!(a.noise >= 0.0 && a.noise <= 1.0)) {  // also refuses "nan"
     std::cerr << "rcxc brick: --noise must be a probability 0..1\n";
     return kExitUsage;
   }

@@ -175,6 +175,11 @@ TEST(LinkCli, SilentBrickIsExit4) {
 TEST(LinkCli, BadInvocationsAreUsageErrors) {
   EXPECT_EQ(run_rcxc({"brick"}).exit_code, 2);
   EXPECT_EQ(run_rcxc({"brick", "--pty", "--noise", "2"}).exit_code, 2);
+  // "nan" passed the range check and the brick served (found while writing
+  // the command-line property test); the time limit stops a regression here.
+  auto nan = run_rcxc({"brick", "--pty", "--noise", "nan"}, "", 10'000);
+  EXPECT_EQ(nan.exit_code, 2) << nan.err;
+  EXPECT_NE(nan.err.find("--noise must be a probability 0..1"), std::string::npos) << nan.err;
   EXPECT_EQ(run_rcxc({"download"}).exit_code, 2);
   EXPECT_EQ(run_rcxc({"download", "x.rcx", "--program", "9"}).exit_code, 2);
   BrickProcess brick;
