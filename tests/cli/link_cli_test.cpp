@@ -180,6 +180,7 @@ TEST(LinkCli, BadInvocationsAreUsageErrors) {
   auto nan = run_rcxc({"brick", "--pty", "--noise", "nan"}, "", 10'000);
   EXPECT_EQ(nan.exit_code, 2) << nan.err;
   EXPECT_NE(nan.err.find("--noise must be a probability 0..1"), std::string::npos) << nan.err;
+  EXPECT_EQ(run_rcxc({"brick", "--pty", "--noise", ""}, "", 10'000).exit_code, 2);  // not 0
   EXPECT_EQ(run_rcxc({"download"}).exit_code, 2);
   EXPECT_EQ(run_rcxc({"download", "x.rcx", "--program", "9"}).exit_code, 2);
   BrickProcess brick;
