@@ -6,9 +6,8 @@
 // "internal error", a signal or a hang. A failure prints the command to
 // reproduce it.
 #include <gtest/gtest.h>
-#include <sys/stat.h>
-#include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <random>
 #include <set>
@@ -72,26 +71,26 @@ const std::vector<CommandSpec>& commands() {
         {"-w", Takes::Nothing}, {"-O", Takes::Text}, {"--listing", Takes::OutputPath}, {"-v", Takes::Nothing},
         {"--diagnostics", Takes::Text}},
        {0, 1, 2},
-       220},
+       300},
       {"run",
        Takes::Path,
        {{"--scenario", Takes::Path}, {"--for", Takes::Number}, {"--seed", Takes::Number}, {"--report", Takes::Text},
         {"--trace", Takes::OutputPath}, {"--instruction-us", Takes::Number}},
        {0, 1, 2},
-       220},
-      {"disasm", Takes::Path, {}, {0, 1, 2}, 80},
+       300},
+      {"disasm", Takes::Path, {}, {0, 1, 2}, 150},
       {"test",
        Takes::Path,
        {{"--nqc", Takes::Nothing}, {"--nqc-path", Takes::Path}, {"-v", Takes::Nothing}},
        {0, 1, 2},
-       150,
+       200,
        true},
       {"compare",
        Takes::Path,
        {{"--scenario", Takes::Path}, {"--nqc-path", Takes::Path}, {"--for", Takes::Number}, {"--seed", Takes::Number},
         {"--instruction-us", Takes::Number}},
        {0, 1, 2, 3},
-       120,
+       200,
        true},
       // --pty is left out: with good options the brick serves until stopped
       // (BrickPty below covers it with bad ones).
@@ -100,18 +99,18 @@ const std::vector<CommandSpec>& commands() {
        {{"--noise", Takes::Number}, {"--seed", Takes::Number}, {"--fast", Takes::Nothing},
         {"--no-echo", Takes::Nothing}, {"-v", Takes::Nothing}},
        {0, 2},
-       120},
+       200},
       {"download",
        Takes::Path,
        {{"-I", Takes::Path}, {"--port", Takes::Port}, {"--program", Takes::Number}, {"--run", Takes::Nothing},
         {"--retries", Takes::Number}, {"--no-sound", Takes::Nothing}, {"-v", Takes::Nothing}},
        {1, 2, 3, 4},
-       150},
+       200},
       {"remote",
        Takes::Text,
        {{"--port", Takes::Port}, {"--csv", Takes::Nothing}, {"--retries", Takes::Number}},
        {1, 2, 3, 4},
-       150},
+       200},
   };
   return specs;
 }
@@ -127,7 +126,13 @@ class Generator {
 
   std::vector<std::string> vector_for(const CommandSpec& c) {
     std::vector<std::string> args{c.name};
-    int pieces = below(6);
+    // Mostly the positional the command needs, so that options are judged
+    // too, not only the missing argument.
+    if (c.positional != Takes::Nothing && below(8) != 0) {
+      int words = c.name == "remote" ? 1 + below(3) : 1;
+      for (int i = 0; i < words; ++i) args.push_back(value(c.positional, c.name));
+    }
+    int pieces = below(5);
     for (int i = 0; i < pieces; ++i) add_piece(c, args);
     if (c.name == "download" || c.name == "remote") {
       // The last --port wins or the repetition is refused; either way no
@@ -150,7 +155,7 @@ class Generator {
       case Takes::Path: return pick(kPaths);
       case Takes::OutputPath: return pick(kOutputPaths);
       case Takes::Port: return pick(kPorts);
-      case Takes::Text: return command == "remote" && below(2) ? pick(kRemoteWords) : pick(kTexts);
+      case Takes::Text: return command == "remote" && below(4) != 0 ? pick(kRemoteWords) : pick(kTexts);
     }
     return {};
   }
@@ -158,7 +163,7 @@ class Generator {
   void add_piece(const CommandSpec& c, std::vector<std::string>& args) {
     int kind = below(10);
     if (kind < 2 || c.options.empty()) {
-      // A positional (or stray) word.
+      // A stray word, or one more positional.
       args.push_back(kind == 0 ? pick(kStrays) : value(c.positional == Takes::Nothing ? Takes::Text : c.positional, c.name));
       return;
     }
