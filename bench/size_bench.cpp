@@ -20,6 +20,7 @@
 #include <unistd.h>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "backend/compile.h"
 #include "tests/support/random_programs.h"
@@ -113,7 +114,8 @@ void print_random_totals() {
   fs::create_directories(dir);
   fs::path file = dir / "random.nqc";
   long ours_total = 0, theirs_total = 0;
-  int compared = 0, larger = 0;
+  int compared = 0;
+  std::vector<unsigned> larger_seeds;
   for (unsigned seed = 1; seed <= 400; ++seed) {
     std::ofstream(file) << rcxc::test::ExpressionGenerator(seed, true).program();
     auto a = ours(file);
@@ -121,14 +123,15 @@ void print_random_totals() {
     if (!a || !b) continue;
     ours_total += a->bytes;
     theirs_total += b->bytes;
-    larger += a->bytes > b->bytes ? 1 : 0;
+    if (a->bytes > b->bytes) larger_seeds.push_back(seed);
     ++compared;
   }
   fs::remove_all(dir);
   if (theirs_total > 0)
     std::cout << fmt::format("{:<24} {:>9} {:>9} {:>6.3f}   ({} random programs, {} larger than nqc's)\n",
                              "random programs", ours_total, theirs_total,
-                             static_cast<double>(ours_total) / theirs_total, compared, larger);
+                             static_cast<double>(ours_total) / theirs_total, compared, larger_seeds.size());
+  if (!larger_seeds.empty()) std::cout << fmt::format("larger: seeds {}\n", fmt::join(larger_seeds, ", "));
 }
 
 void BM_Compile(benchmark::State& state, const fs::path& file) {

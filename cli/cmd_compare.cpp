@@ -34,8 +34,10 @@ struct CompareOptions {
 };
 
 rcx::TimeTolerance compare_tolerance(std::int64_t instruction_us) {
-  // 5 ms absolute covers 500 instructions of difference at 10 us each.
-  return {instruction_us * 500, 0.005};
+  // 5 ms absolute covers 500 instructions of difference at 10 us each; a
+  // running output's direction or power held for up to 5 instructions is
+  // the order of a few commands (nqc switches on, then sets direction).
+  return {instruction_us * 500, 0.005, instruction_us * 5};
 }
 
 struct Scenario {

@@ -68,6 +68,7 @@ void check_around_syntax_errors(ast::Program& program, Diagnostics& diags) {
 std::optional<ast::Program> run(std::uint32_t file, const std::string& dir, const Options& options,
                                 SourceManager& sm, Diagnostics& diags) {
   Preprocessed pp = preprocess(file, dir, options, sm, diags);
+  if (!pp.complete) return std::nullopt;
   ast::Program program = parse_tokens(pp.tokens, diags);
   program.pragmas = std::move(pp.pragmas);
   if (diags.has_errors()) {

@@ -161,6 +161,7 @@ class Preprocessor {
     end.line_start = true;
     end.span = last_span_;
     out_.tokens.push_back(end);
+    out_.complete = !aborted_;
     return std::move(out_);
   }
 

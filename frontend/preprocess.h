@@ -16,6 +16,10 @@ namespace rcxc::frontend {
 struct Preprocessed {
   std::vector<Token> tokens;  // ends with one End token
   ast::Pragmas pragmas;
+  // False when preprocessing stopped early (a macro expansion without
+  // bound): the tokens end in the middle of the program, so parsing them
+  // would only add errors about a cut the user did not make.
+  bool complete = true;
 };
 
 // Preprocesses file `file` (already added to `sm`, with `dir` as the folder

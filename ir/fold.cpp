@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <climits>
 #include <cstdint>
+#include <set>
 
 #include "ir/liveness.h"
 #include "ir/passes.h"
@@ -128,29 +129,38 @@ struct Folder {
   }
 };
 
-void fold_function(const Program& p, Function& f, const std::vector<VarSet>& footprints) {
+// What `s` knows of the variables in `live` only: a constant nobody reads
+// again is no use, and keeping them all would make the states of a long
+// program (every inline copy's parameters) grow with its length.
+State restricted(const State& s, const VarSet& live) {
+  State r{s.reached, {}};
+  for (const auto& entry : s.consts)
+    if (live.has(entry.first)) r.consts.push_back(entry);
+  return r;
+}
+
+void fold_function(const Program& p, Function& f, const std::vector<VarSet>& footprints, const CallEffects& calls) {
   Folder folder{p, footprints};
+  Liveness live = compute_liveness(p, f, calls);
   std::size_t n = f.blocks.size();
   std::vector<State> in(n);
   in[0].reached = true;
-  std::vector<bool> queued(n, false);
-  std::vector<BlockId> work{0};
-  queued[0] = true;
+  // Blocks wait in reverse postorder, so a join is visited once all the
+  // paths into it are (a sequence of if/else statements costs one visit
+  // per block, not one per path through the ones before).
+  std::vector<int> order = reverse_postorder_index(f);
+  std::set<std::pair<int, BlockId>> work{{order[0], 0}};
   while (!work.empty()) {
-    BlockId b = work.back();
-    work.pop_back();
-    queued[static_cast<std::size_t>(b)] = false;
+    BlockId b = work.begin()->second;
+    work.erase(work.begin());
     State s = in[static_cast<std::size_t>(b)];
     for (const auto& instr : f.blocks[static_cast<std::size_t>(b)].instrs) folder.transfer(instr, s);
     for (BlockId succ : successors(f.blocks[static_cast<std::size_t>(b)].term)) {
       State& target = in[static_cast<std::size_t>(succ)];
-      State m = meet(target, s);
+      State m = meet(target, restricted(s, live.live_in[static_cast<std::size_t>(succ)]));
       if (!(m == target)) {
         target = std::move(m);
-        if (!queued[static_cast<std::size_t>(succ)]) {
-          queued[static_cast<std::size_t>(succ)] = true;
-          work.push_back(succ);
-        }
+        work.emplace(order[static_cast<std::size_t>(succ)], succ);
       }
     }
   }
@@ -177,8 +187,9 @@ void fold_function(const Program& p, Function& f, const std::vector<VarSet>& foo
 
 void fold_constants(Program& p) {
   auto footprints = function_footprints(p);
+  CallEffects calls = call_effects(p);
   for (auto& f : p.functions)
-    if (!f.blocks.empty()) fold_function(p, f, footprints);
+    if (!f.blocks.empty()) fold_function(p, f, footprints, calls);
 }
 
 }  // namespace rcxc::ir

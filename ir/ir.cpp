@@ -82,6 +82,34 @@ std::vector<BlockId> successors(const Terminator& t) {
   return {};
 }
 
+std::vector<int> reverse_postorder_index(const Function& f) {
+  std::size_t n = f.blocks.size();
+  std::vector<int> index(n, -1);
+  if (n == 0) return index;
+  // Iterative depth-first search: (block, successors not yet visited).
+  std::vector<bool> seen(n, false);
+  std::vector<std::pair<BlockId, std::vector<BlockId>>> stack;
+  std::vector<BlockId> postorder;
+  seen[0] = true;
+  stack.emplace_back(0, successors(f.blocks[0].term));
+  while (!stack.empty()) {
+    auto& [b, left] = stack.back();
+    if (left.empty()) {
+      postorder.push_back(b);
+      stack.pop_back();
+      continue;
+    }
+    BlockId next = left.front();
+    left.erase(left.begin());
+    if (seen[static_cast<std::size_t>(next)]) continue;
+    seen[static_cast<std::size_t>(next)] = true;
+    stack.emplace_back(next, successors(f.blocks[static_cast<std::size_t>(next)].term));
+  }
+  for (std::size_t i = 0; i < postorder.size(); ++i)
+    index[static_cast<std::size_t>(postorder[i])] = static_cast<int>(postorder.size() - 1 - i);
+  return index;
+}
+
 void offset_targets(Terminator& t, BlockId delta) {
   if (auto* j = std::get_if<Jump>(&t)) j->target += delta;
   if (auto* b = std::get_if<Branch>(&t)) {

@@ -138,6 +138,11 @@ struct Program {
 // Reading and writing a function's blocks.
 BlockId add_block(Function& f);
 std::vector<BlockId> successors(const Terminator& t);
+// For each block its index in reverse postorder from the entry (every
+// block before its successors, loops aside); -1 for blocks no path reaches.
+// Forward data-flow visiting blocks in this order meets each join once
+// per round instead of once per path.
+std::vector<int> reverse_postorder_index(const Function& f);
 // Adds `delta` to every block `t` refers to.
 void offset_targets(Terminator& t, BlockId delta);
 // Rewrites every reference to block `from` in `t` to `to`.

@@ -1,6 +1,8 @@
 // Block order that saves jumps (see passes.h).
 #include "ir/passes.h"
 
+#include <algorithm>
+
 namespace rcxc::ir {
 namespace {
 
@@ -10,43 +12,78 @@ bool encodable(Cmp c, const Operand& a, const Operand& b) {
   return !((c == Cmp::LT || c == Cmp::GT) && !a.is_imm() && !b.is_imm());
 }
 
-// Bytes of the control transfers the layout needs: a jump to a block that
-// does not follow, a test whose fall-through is not where it should go.
-int transfer_bytes(const Function& f) {
-  constexpr int kJump = 2, kTest = 7;
-  int bytes = 0;
-  for (std::size_t i = 0; i < f.blocks.size(); ++i) {
-    auto next = static_cast<BlockId>(i + 1);
-    const Terminator& t = f.blocks[i].term;
-    if (const auto* j = std::get_if<Jump>(&t)) {
-      bytes += j->target != next ? kJump : 0;
-    } else if (const auto* br = std::get_if<Branch>(&t)) {
-      bool direct = encodable(br->cmp, br->a, br->b), negated = encodable(negate(br->cmp), br->a, br->b);
-      bool one_test = (br->otherwise == next && direct) || (br->then == next && negated);
-      bytes += kTest + (one_test ? 0 : kJump);
-    } else if (const auto* l = std::get_if<LoopTest>(&t)) {
-      // The loop counter only branches forward: an exit behind it costs
-      // two more jumps.
-      bytes += kJump + (l->body != next ? kJump : 0) + (l->exit <= static_cast<BlockId>(i) ? 2 * kJump : 0);
-    }
-  }
-  return bytes;
-}
-
 }  // namespace
 
+BlockOrder::BlockOrder(const Function& fn) : f(fn), order(fn.blocks.size()), pos(fn.blocks.size()) {
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = pos[i] = static_cast<BlockId>(i);
+}
+
+BlockId BlockOrder::after(int p) const {
+  auto next = static_cast<std::size_t>(p) + 1;
+  return next < order.size() ? order[next] : static_cast<BlockId>(order.size());
+}
+
+int BlockOrder::bytes(BlockId b, BlockId next) const {
+  constexpr int kJump = 2, kTest = 7;
+  const Terminator& t = f.blocks[static_cast<std::size_t>(b)].term;
+  if (const auto* j = std::get_if<Jump>(&t)) return j->target != next ? kJump : 0;
+  if (const auto* br = std::get_if<Branch>(&t)) {
+    bool direct = encodable(br->cmp, br->a, br->b), negated = encodable(negate(br->cmp), br->a, br->b);
+    bool one_test = (br->otherwise == next && direct) || (br->then == next && negated);
+    return kTest + (one_test ? 0 : kJump);
+  }
+  if (const auto* l = std::get_if<LoopTest>(&t)) {
+    // The loop counter only branches forward: an exit behind it costs
+    // two more jumps.
+    bool behind = position(l->exit) <= position(b);
+    return kJump + (l->body != next ? kJump : 0) + (behind ? 2 * kJump : 0);
+  }
+  // An exit anywhere but last returns (1 byte) or jumps to the end.
+  if (next == static_cast<BlockId>(order.size())) return 0;
+  return f.kind == FuncKind::Sub ? 1 : kJump;
+}
+
+int BlockOrder::total() const {
+  int sum = 0;
+  for (std::size_t p = 0; p < order.size(); ++p) sum += bytes(order[p], after(static_cast<int>(p)));
+  return sum;
+}
+
+void BlockOrder::rotate(int first, int middle, int last) {
+  std::rotate(order.begin() + first, order.begin() + middle, order.begin() + last);
+  for (int p = first; p < last; ++p) pos[static_cast<std::size_t>(order[static_cast<std::size_t>(p)])] = p;
+}
+
+void BlockOrder::apply(Function& fn) const {
+  for (std::size_t p = 0; p < order.size(); ++p)
+    if (order[p] != static_cast<BlockId>(p)) return permute_blocks(fn, order);
+}
+
+int transfer_bytes(const Function& f) { return BlockOrder(f).total(); }
+
 void place_branch_targets(Function& f) {
-  for (std::size_t b = 0; b < f.blocks.size(); ++b) {
-    const auto* br = std::get_if<Branch>(&f.blocks[b].term);
+  BlockOrder o(f);
+  for (int p = 0; p + 1 < static_cast<int>(f.blocks.size()); ++p) {
+    const auto* br = std::get_if<Branch>(&f.blocks[static_cast<std::size_t>(o.order[static_cast<std::size_t>(p)])].term);
     if (br == nullptr) continue;
-    auto here = static_cast<BlockId>(b);
     // Only the direct test exists, yet the block after is where it goes
     // when true: the false side must follow instead, or a jump is needed.
-    if (br->then != here + 1 || encodable(negate(br->cmp), br->a, br->b) || br->otherwise <= here + 1) continue;
-    Function moved = f;
-    move_block(moved, br->otherwise, here + 1);
-    if (transfer_bytes(moved) < transfer_bytes(f)) f = std::move(moved);
+    BlockId here = o.order[static_cast<std::size_t>(p)], then = o.after(p), side = br->otherwise;
+    int x = o.position(side);
+    if (br->then != then || encodable(negate(br->cmp), br->a, br->b) || x <= p + 1) continue;
+    // Loop counters between would change direction: leave those alone.
+    bool counter = std::holds_alternative<LoopTest>(f.blocks[static_cast<std::size_t>(side)].term);
+    for (int q = p + 1; q < x && !counter; ++q) {
+      const auto* l = std::get_if<LoopTest>(&f.blocks[static_cast<std::size_t>(o.order[static_cast<std::size_t>(q)])].term);
+      counter = l && l->exit == side;
+    }
+    if (counter) continue;
+    BlockId before_side = o.order[static_cast<std::size_t>(x - 1)], after_side = o.after(x);
+    int before = o.bytes(here, then) + o.bytes(before_side, side) + o.bytes(side, after_side);
+    int after = o.bytes(here, side) + o.bytes(side, then) + o.bytes(before_side, after_side);
+    if (after < before) o.rotate(p + 1, x, x + 1);
   }
+  o.apply(f);
 }
 
 }  // namespace rcxc::ir

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <map>
+#include <unordered_map>
 
 #include <fmt/format.h>
 
@@ -98,6 +99,15 @@ struct Lowerer {
 
   // ----------------------------------------------------------- constants --
 
+  void bind(ast::SymbolId symbol, std::optional<Binding> b) {
+    if (b)
+      env[symbol] = *b;
+    else
+      env.erase(symbol);
+    constants.clear();
+    reads_memo.clear();
+  }
+
   std::optional<Binding> binding(const ast::Name& n) {
     if (n.symbol == ast::kNoSymbol) return std::nullopt;
     const ast::Symbol& s = ast.symbol(n.symbol);
@@ -123,9 +133,17 @@ struct Lowerer {
     return e;
   }
 
+  // Remembered per node: lowering asks again at every level of a long
+  // expression, which would otherwise walk its subtree each time. What a
+  // node folds to depends only on the bindings, so `bind` forgets it all.
+  std::unordered_map<const ast::Expr*, std::optional<int>> constants;
+
   std::optional<int> constant(const ast::Expr& e) {
     if (e.constant) return *e.constant;
-    return std::visit([&](const auto& node) { return constant_of(node); }, e.node);
+    if (auto it = constants.find(&e); it != constants.end()) return it->second;
+    auto c = std::visit([&](const auto& node) { return constant_of(node); }, e.node);
+    constants.emplace(&e, c);
+    return c;
   }
   std::optional<int> constant_of(const ast::IntLit& n) { return wrap16(static_cast<long>(n.value)); }
   std::optional<int> constant_of(const ast::Name& n) {
@@ -215,7 +233,17 @@ struct Lowerer {
   }
 
   // Whether evaluating `e` reads variable `v` (through substitutions too).
+  // Remembered like `constants`, for the same reason.
+  std::map<std::pair<const ast::Expr*, VarId>, bool> reads_memo;
+
   bool reads(const ast::Expr& e, VarId v) {
+    if (auto it = reads_memo.find({&e, v}); it != reads_memo.end()) return it->second;
+    bool r = reads_uncached(e, v);
+    reads_memo.emplace(std::pair{&e, v}, r);
+    return r;
+  }
+
+  bool reads_uncached(const ast::Expr& e, VarId v) {
     if (const auto* n = ast::as<ast::Name>(e)) {
       auto b = binding(*n);
       return b && (b->expr ? reads(*b->expr, v) : b->var == v);
@@ -730,7 +758,7 @@ struct Lowerer {
     for (const auto& [sym, b] : bound) {
       auto it = env.find(sym);
       saved.push_back({sym, it == env.end() ? std::nullopt : std::optional<Binding>(it->second)});
-      env[sym] = b;
+      bind(sym, b);
     }
     expanding.push_back(f.symbol);
     call_sites.push_back(at);
@@ -742,12 +770,7 @@ struct Lowerer {
     call_sites.pop_back();
     jump(done);
     enter(done);
-    for (const auto& [sym, b] : saved) {
-      if (b)
-        env[sym] = *b;
-      else
-        env.erase(sym);
-    }
+    for (const auto& [sym, b] : saved) bind(sym, b);
   }
 
   // ---------------------------------------------------------- statements --
@@ -779,7 +802,7 @@ struct Lowerer {
   void lower_stmt(const ast::DeclStmt& d, const ast::Stmt&) {
     for (const auto& v : d.vars) {
       VarId id = out.add_var(v.name, VarKind::Local, v.span);
-      env[v.symbol] = Binding{id, nullptr};
+      bind(v.symbol, Binding{id, nullptr});
       if (v.init) into(id, *v.init);
     }
   }

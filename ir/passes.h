@@ -44,9 +44,10 @@ void drop_redundant_sensor_modes(Function& f);
 // after unconditional jumps).
 void simplify_cfg(Function& f);
 
-// rotate.cpp: places the test of a while/for loop after its body, so the
-// body falls into the test and the test branches back (one branch per
-// iteration instead of two, never larger).
+// rotate.cpp: places the test of a while/for loop (one block or several:
+// `while (a && b)`) after its body, so the body falls into the test and
+// the test branches back (one branch per iteration instead of two), when
+// that needs no more jump and test bytes.
 void rotate_loops(Function& f);
 
 // layout.cpp: where a test can only branch when its comparison holds
@@ -54,6 +55,28 @@ void rotate_loops(Function& f);
 // block after it is the true side, moves the false side there when that
 // needs fewer jumps in all.
 void place_branch_targets(Function& f);
+
+// A block order being decided for `f`, kept as positions so that moving
+// a run of blocks costs its length, not a renumbering of the function.
+struct BlockOrder {
+  const Function& f;
+  std::vector<BlockId> order;  // the block at each position
+  std::vector<BlockId> pos;    // the position of each block
+
+  explicit BlockOrder(const Function& fn);
+  int position(BlockId b) const { return pos[static_cast<std::size_t>(b)]; }
+  // The block after position p; blocks.size() past the last.
+  BlockId after(int p) const;
+  // Bytes of the jumps and tests block b needs when `next` follows it.
+  int bytes(BlockId b, BlockId next) const;
+  int total() const;
+  // As std::rotate over positions: [middle, last) moves to `first`.
+  void rotate(int first, int middle, int last);
+  // Renumbers `fn` (the function this order was made from) to this order.
+  void apply(Function& fn) const;
+};
+// The bytes of all jumps and tests of `f` in its present order.
+int transfer_bytes(const Function& f);
 
 // repeat.cpp: keeps the firmware loop counter for `repeat` loops where it
 // is safe (nesting, counted across subroutine calls, at most 4 deep; no

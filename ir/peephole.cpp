@@ -2,6 +2,7 @@
 // set (see passes.h).
 #include <algorithm>
 #include <map>
+#include <optional>
 
 #include "ir/passes.h"
 
@@ -47,20 +48,65 @@ bool neutral(const Instr& in, const std::vector<Var>& vars) {
   }
 }
 
+// What the commands of a window set, per output and field. Merging keeps
+// only each field's last value, so a window must never set one field of
+// one output to two values: `On(OUT_A); Off(OUT_A);` in a loop runs the
+// motor a third of the time (a slow motor, a common NQC idiom), and
+// merged it would never run.
+struct Settings {
+  std::map<std::pair<int, int>, int> value;  // (field, output bit) -> value
+
+  // Records `in`; false (recording nothing) if it sets a field to another
+  // value than an earlier command did.
+  bool add(const Instr& in) {
+    int field = in.op == Op::SetMotorPower ? 0 : in.op == Op::SetMotorDirection ? 1 : 2;
+    int code = in.args[0].value;
+    int v = field == 0 ? in.args[1].value : field == 1 ? (code & 0x80) : (code & 0xc0);
+    for (int bit = 1; bit <= 4; bit <<= 1)
+      if (code & bit)
+        if (auto it = value.find({field, bit}); it != value.end() && it->second != v) return false;
+    for (int bit = 1; bit <= 4; bit <<= 1)
+      if (code & bit) value[{field, bit}] = v;
+    return true;
+  }
+};
+
 // The fewest commands giving every output the final direction, mode and
-// power the commands in `window` leave, in the order power, direction,
-// mode (so an output is switched on with its final settings).
-std::vector<Instr> net_commands(const std::vector<const Instr*>& window) {
+// power the commands in `window` leave, or nothing when no such order
+// shows what the window shows. An output shows its direction and power
+// while it runs, so each output's switch (on, off, float) must stay on the
+// same side of its new settings as in the window: `Rev(OUT_C); Off(OUT_C);`
+// runs C backwards before stopping it, `Float(OUT_C); Rev(OUT_C);` never
+// does. The order is: switches that came first, power, direction, switches
+// that came last.
+std::optional<std::vector<Instr>> net_commands(const std::vector<const Instr*>& window) {
   std::map<int, int> power, dir, mode;  // output bit -> value
-  for (const Instr* in : window) {
-    int mask = in->args[0].value & 7;
+  std::map<int, std::size_t> mode_at, first_setting, last_setting;  // output bit -> index in window
+  for (std::size_t i = 0; i < window.size(); ++i) {
+    const Instr* in = window[i];
+    int code = in->args[0].value;
     for (int bit = 1; bit <= 4; bit <<= 1) {
-      if (!(mask & bit)) continue;
-      int code = in->args[0].value;
+      if (!(code & bit)) continue;
+      if (in->op == Op::SetMotorOnOff) {
+        mode[bit] = code & 0xc0;
+        mode_at[bit] = i;
+        continue;
+      }
       if (in->op == Op::SetMotorPower) power[bit] = in->args[1].value;
       if (in->op == Op::SetMotorDirection) dir[bit] = code & 0x80;
-      if (in->op == Op::SetMotorOnOff) mode[bit] = code & 0xc0;
+      if (!first_setting.contains(bit)) first_setting[bit] = i;
+      last_setting[bit] = i;
     }
+  }
+  std::map<int, int> early, late;  // switches before / after the settings
+  for (auto [bit, v] : mode) {
+    bool first = v != 0x80;  // no settings of its own: stop early, start late
+    if (first_setting.contains(bit)) {
+      if (mode_at[bit] < first_setting[bit]) first = true;
+      else if (mode_at[bit] > last_setting[bit]) first = false;
+      else return std::nullopt;  // a switch between two settings of one output
+    }
+    (first ? early : late)[bit] = v;
   }
   auto group = [](const std::map<int, int>& m) {
     std::map<int, int> by_value;  // value -> output mask
@@ -69,9 +115,13 @@ std::vector<Instr> net_commands(const std::vector<const Instr*>& window) {
   };
   std::vector<Instr> out;
   SourceSpan span = window.back()->span;
+  auto switches = [&](const std::map<int, int>& m) {
+    for (auto [v, mask] : group(m)) out.push_back(Instr{Op::SetMotorOnOff, {Operand::imm(mask | v)}, false, span});
+  };
+  switches(early);
   for (auto [v, mask] : group(power)) out.push_back(Instr{Op::SetMotorPower, {Operand::imm(mask), Operand::imm(v)}, false, span});
   for (auto [v, mask] : group(dir)) out.push_back(Instr{Op::SetMotorDirection, {Operand::imm(mask | v)}, false, span});
-  for (auto [v, mask] : group(mode)) out.push_back(Instr{Op::SetMotorOnOff, {Operand::imm(mask | v)}, false, span});
+  switches(late);
   return out;
 }
 
@@ -86,18 +136,22 @@ void merge_block(Block& b, std::size_t first, const std::vector<Var>& vars) {
       continue;
     }
     // The window: from i to the last motor command reachable across
-    // neutral instructions.
+    // neutral instructions, up to a command that would undo one before it.
     std::size_t last = i;
-    for (std::size_t j = i; j < n && (mergeable(b.instrs[j]) || neutral(b.instrs[j], vars)); ++j)
-      if (mergeable(b.instrs[j])) last = j;
+    Settings settings;
+    for (std::size_t j = i; j < n && (mergeable(b.instrs[j]) || neutral(b.instrs[j], vars)); ++j) {
+      if (!mergeable(b.instrs[j])) continue;
+      if (!settings.add(b.instrs[j])) break;
+      last = j;
+    }
     std::vector<const Instr*> motors;
     for (std::size_t j = i; j <= last; ++j)
       if (mergeable(b.instrs[j])) motors.push_back(&b.instrs[j]);
-    std::vector<Instr> merged = net_commands(motors);
-    if (merged.size() < motors.size()) {
+    auto merged = net_commands(motors);
+    if (merged && merged->size() < motors.size()) {
       for (std::size_t j = i; j <= last; ++j)
         if (!mergeable(b.instrs[j])) result.push_back(std::move(b.instrs[j]));
-      for (auto& m : merged) result.push_back(std::move(m));
+      for (auto& m : *merged) result.push_back(std::move(m));
     } else {
       for (std::size_t j = i; j <= last; ++j) result.push_back(std::move(b.instrs[j]));
     }

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <map>
 
 namespace rcx {
@@ -36,8 +37,9 @@ Stream stream_of(const Event& e) {
 std::string what(const Event& e) {
   switch (e.kind) {
     case EventKind::Output:
-      return fmt::format("output {} {} {} {}", "ABC"[e.index % 3], to_string(e.output.mode),
-                         e.output.dir == Direction::Forward ? "fwd" : "rev", e.output.power);
+      if (e.output.mode != OutputMode::On) return fmt::format("output {} {}", "ABC"[e.index % 3], to_string(e.output.mode));
+      return fmt::format("output {} on {} {}", "ABC"[e.index % 3], e.output.dir == Direction::Forward ? "fwd" : "rev",
+                         e.output.power);
     case EventKind::Sound: return fmt::format("sound {}", e.value);
     case EventKind::Tone: return fmt::format("tone {} {}", e.value, e.duration);
     case EventKind::Display: return fmt::format("display {}", e.value);
@@ -53,17 +55,115 @@ Micros allowance(const TimeTolerance& tol, Micros t) {
 
 std::string line_of(const Event& e) { return fmt::format("{}ms {}", e.t_us / kMicrosPerMs, what(e)); }
 
-std::map<Stream, std::vector<const Event*>> streams(const Machine& m) {
-  std::map<Stream, std::vector<const Event*>> out;
-  for (const auto& e : m.state().events)
-    if (observable(e)) out[stream_of(e)].push_back(&e);
+// The observable events of a run. An output's direction and power show
+// only while it runs: changing them while it is off or floating changes
+// nothing a robot does (the next "on" shows them), so such events are left
+// out, as are events that leave what shows unchanged.
+std::vector<const Event*> visible_events(const Machine& m) {
+  std::array<std::string, kOutputs> shown;
+  for (std::size_t o = 0; o < kOutputs; ++o) shown[o] = "output " + std::string(1, "ABC"[o]) + " float";
+  std::vector<const Event*> out;
+  for (const auto& e : m.state().events) {
+    if (!observable(e)) continue;
+    if (e.kind == EventKind::Output) {
+      std::string now = what(e);
+      auto o = static_cast<std::size_t>(e.index) % kOutputs;
+      if (now == shown[o]) continue;
+      shown[o] = std::move(now);
+    }
+    out.push_back(&e);
+  }
   return out;
 }
 
+// One run's events of one stream, walked while comparing: a running
+// output's state that the next running state replaces within `glitch_us`
+// may be passed over (command order, not behaviour), and then so may a
+// state equal to the one before it.
+struct StreamWalk {
+  const std::vector<const Event*>* list;
+  Micros glitch_us;
+  std::size_t at = 0;
+  std::string shown;  // what the last event taken shows
+
+  const std::vector<const Event*>& events() const { return *list; }
+  bool done() const { return at >= events().size(); }
+  const Event& here() const { return *events()[at]; }
+  bool running(const Event& e) const { return e.kind == EventKind::Output && e.output.mode == OutputMode::On; }
+  // Passes over the glitch here, if it is one, and any repeat after it.
+  bool skip_glitch() {
+    if (done() || at + 1 >= events().size() || !running(here())) return false;
+    const Event& next = *events()[at + 1];
+    if (!running(next) || next.t_us - here().t_us > glitch_us) return false;
+    ++at;
+    while (!done() && what(here()) == shown) ++at;
+    return true;
+  }
+  void take() { shown = what(*events()[at++]); }
+};
+
+// How many events two walks agree on from here (up to `limit`), taking
+// glitches as they come.
+int agreement(StreamWalk a, StreamWalk b, int limit);
+
+// Where two walks disagree: passes over a glitch on one side, or on both,
+// choosing whichever lets the runs agree longest after it (a state that
+// is a glitch in one run may hold longer in the other). False when no
+// glitch helps.
+bool pass_over_glitches(StreamWalk& a, StreamWalk& b, int depth = 0) {
+  constexpr int kLookahead = 8;
+  StreamWalk a2 = a, b2 = b;
+  bool skip_a = a2.skip_glitch(), skip_b = b2.skip_glitch();
+  int best = 0;
+  int choice = -1;
+  auto consider = [&](int option, const StreamWalk& x, const StreamWalk& y) {
+    int n = depth > 2 ? (x.done() || y.done() || what(x.here()) == what(y.here()) ? 1 : 0) : agreement(x, y, kLookahead);
+    if (n > best) {
+      best = n;
+      choice = option;
+    }
+  };
+  if (skip_a) consider(0, a2, b);
+  if (skip_b) consider(1, a, b2);
+  if (skip_a && skip_b) consider(2, a2, b2);
+  if (choice < 0) return false;
+  if (choice != 1) a = a2;
+  if (choice != 0) b = b2;
+  return true;
+}
+
+int agreement(StreamWalk a, StreamWalk b, int limit) {
+  int n = 0;
+  while (n < limit) {
+    if (a.done() || b.done()) return n + 1;  // the rest is the caller's to judge
+    if (what(a.here()) != what(b.here()) && !pass_over_glitches(a, b, 3)) return n;
+    if (what(a.here()) != what(b.here())) continue;
+    a.take();
+    b.take();
+    ++n;
+  }
+  return n;
+}
+
+std::map<Stream, std::vector<const Event*>> streams(const Machine& m) {
+  std::map<Stream, std::vector<const Event*>> out;
+  for (const Event* e : visible_events(m)) out[stream_of(*e)].push_back(e);
+  return out;
+}
+
+// The value of each variable the image names. A name given to several
+// variables (nqc names a local like the global it shadows) says nothing
+// about which is which, so it is left out.
 std::map<std::string, int> globals(const Machine& m, const Image& image) {
   std::map<std::string, int> out;
+  std::map<std::string, int> uses;
   for (const auto& s : image.symbols)
-    if (s.type == SymbolType::Variable) out[s.name] = m.state().vars[s.index];
+    if (s.type == SymbolType::Variable) {
+      out[s.name] = m.state().vars[s.index];
+      ++uses[s.name];
+    }
+  for (const auto& [name, n] : uses)
+    if (n > 1) out.erase(name);
   return out;
 }
 
@@ -84,8 +184,7 @@ std::string side_by_side(const RunView& a, const RunView& b) {
 
 std::vector<std::string> observable_lines(const Machine& machine) {
   std::vector<std::string> out;
-  for (const auto& e : machine.state().events)
-    if (observable(e)) out.push_back(line_of(e));
+  for (const Event* e : visible_events(machine)) out.push_back(line_of(*e));
   return out;
 }
 
@@ -94,19 +193,23 @@ RunComparison compare_runs(const RunView& a, const RunView& b, TimeTolerance tol
   const Micros end_us = std::min(a.machine->now_us(), b.machine->now_us());
   auto sa = streams(*a.machine), sb = streams(*b.machine);
   for (int s = 0; s <= static_cast<int>(Stream::Datalog); ++s) {
-    const auto& xa = sa[static_cast<Stream>(s)];
-    const auto& xb = sb[static_cast<Stream>(s)];
-    for (std::size_t i = 0; i < std::max(xa.size(), xb.size()); ++i) {
-      if (i >= xa.size() || i >= xb.size()) {
-        const Event* extra = i < xa.size() ? xa[i] : xb[i];
+    // Outputs start floating; other streams start with nothing shown.
+    std::string start = s <= static_cast<int>(Stream::OutputC) ? fmt::format("output {} float", "ABC"[s]) : "";
+    StreamWalk wa{&sa[static_cast<Stream>(s)], tol.glitch_us, 0, start};
+    StreamWalk wb{&sb[static_cast<Stream>(s)], tol.glitch_us, 0, start};
+    while (!wa.done() || !wb.done()) {
+      if (wa.done() || wb.done()) {
+        if (wa.done() ? wb.skip_glitch() : wa.skip_glitch()) continue;
+        const Event& extra = wa.done() ? wb.here() : wa.here();
         // The other run may simply have been cut off just before it.
-        if (extra->t_us >= end_us - allowance(tol, end_us)) break;
-        r.differences.push_back(fmt::format("only {} has: {}", i < xa.size() ? a.label : b.label, line_of(*extra)));
+        if (extra.t_us >= end_us - allowance(tol, end_us)) break;
+        r.differences.push_back(fmt::format("only {} has: {}", wa.done() ? b.label : a.label, line_of(extra)));
         break;
       }
-      const Event& ea = *xa[i];
-      const Event& eb = *xb[i];
+      const Event& ea = wa.here();
+      const Event& eb = wb.here();
       if (what(ea) != what(eb)) {
+        if (pass_over_glitches(wa, wb)) continue;
         r.differences.push_back(fmt::format("{}: {}  vs  {}: {}", a.label, line_of(ea), b.label, line_of(eb)));
         break;
       }
@@ -117,6 +220,8 @@ RunComparison compare_runs(const RunView& a, const RunView& b, TimeTolerance tol
                                             allowed / kMicrosPerMs));
         break;
       }
+      wa.take();
+      wb.take();
     }
   }
   // Final values mean something only for runs that ended: a program still

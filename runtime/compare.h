@@ -19,6 +19,10 @@ namespace rcx {
 struct TimeTolerance {
   Micros absolute_us = 50'000;
   double relative = 0.02;
+  // An output's direction or power that holds for at most this long while
+  // the output keeps running is a glitch of command order (`On(OUT_C);
+  // OnFwd(OUT_C);` runs C the old way for an instruction), not behaviour.
+  Micros glitch_us = 0;
 };
 
 struct RunView {
@@ -35,7 +39,9 @@ struct RunComparison {
 
 RunComparison compare_runs(const RunView& a, const RunView& b, TimeTolerance tolerance = {});
 
-// The observable events of a run as text lines ("1020ms output A on rev 7").
+// The observable events of a run as text lines ("1020ms output A on rev 7",
+// "1500ms output A off"): an output's direction and power appear only
+// while it is on, and a change nobody could see is no line.
 std::vector<std::string> observable_lines(const Machine& machine);
 
 }  // namespace rcx

@@ -1,10 +1,12 @@
 // Random programs compiled without optimisation and with each level must
 // do the same: the same output states at every marker (a display change
 // followed by a wait, which no optimisation moves a motor command across),
-// the same final outputs and variables. Fixed seeds: a failure names the
+// every output switched on, off and floated as often, the same final
+// outputs and variables. Fixed seeds: a failure names the
 // seed and prints the program.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <map>
 #include <random>
 #include <sstream>
@@ -12,6 +14,7 @@
 #include <fmt/format.h>
 
 #include "backend/compile.h"
+#include "runtime/compare.h"
 #include "runtime/image.h"
 #include "runtime/vm.h"
 #include "tests/support/process.h"
@@ -27,6 +30,11 @@ namespace {
 
 struct Observed {
   std::vector<std::string> at_markers;  // output states when each marker showed
+  // Per output, each mode it went through (on, off, float; a repeat of
+  // the mode before is no change). Optimisation moves motor commands by
+  // an instruction or two, but every switch on or off must still happen:
+  // `On(OUT_A); Off(OUT_A);` is a pulse the motor feels.
+  std::array<std::vector<int>, rcx::kOutputs> modes;
   std::string final;                // output states
   std::map<std::string, int> vars;  // globals that have a slot
   bool ended = false;
@@ -84,13 +92,19 @@ std::optional<Observed> observe(const std::string& text, ir::OptLevel level, std
     error = *err;
     return std::nullopt;
   }
+  Observed seen;
+  for (std::size_t o = 0; o < rcx::kOutputs; ++o) seen.modes[o].push_back(static_cast<int>(m.state().outputs[o].mode));
   m.start_program();
   m.run(120'000 * rcx::kMicrosPerMs);
-  Observed seen;
   seen.ended = m.stop().kind == rcx::StopKind::Ended;
   std::array<rcx::Output, rcx::kOutputs> outs{};
   for (const auto& e : m.state().events) {
-    if (e.kind == rcx::EventKind::Output) outs[static_cast<std::size_t>(e.index)] = e.output;
+    if (e.kind == rcx::EventKind::Output) {
+      auto o = static_cast<std::size_t>(e.index);
+      outs[o] = e.output;
+      auto mode = static_cast<int>(e.output.mode);
+      if (seen.modes[o].empty() || seen.modes[o].back() != mode) seen.modes[o].push_back(mode);
+    }
     if (e.kind == rcx::EventKind::Display) seen.at_markers.push_back(describe(outs));
   }
   seen.final = describe(m.state().outputs);
@@ -113,6 +127,7 @@ namespace {
     };
     if (!got) return fail(error);
     if (got->at_markers != reference.at_markers) return fail("outputs differ at a marker");
+    if (got->modes != reference.modes) return fail("an output switched on or off a different number of times");
     if (got->final != reference.final) return fail("final outputs " + got->final + " vs " + reference.final);
     if (auto diff = differing_globals(*got, reference); !diff.empty()) return fail("globals" + diff);
   }
@@ -184,9 +199,10 @@ std::optional<Observed> observe_nqc(const std::string& nqc, const test::TempDir&
     if (f.code.size() > 127) return std::nullopt;
   rcx::Machine m;
   if (m.load(0, img)) return std::nullopt;
+  Observed seen;
+  for (std::size_t o = 0; o < rcx::kOutputs; ++o) seen.modes[o].push_back(static_cast<int>(m.state().outputs[o].mode));
   m.start_program();
   m.run(120'000 * rcx::kMicrosPerMs);
-  Observed seen;
   seen.ended = m.stop().kind == rcx::StopKind::Ended;
   seen.final = describe(m.state().outputs);
   for (const auto& sym : img.symbols)
@@ -212,6 +228,62 @@ TEST(RandomPrograms, ExpressionsComputeWhatNqcsCodeComputes) {
     ASSERT_EQ(differing_globals(*ours, *theirs), "") << "seed " << seed << "\n" << text;
   }
   EXPECT_GT(compared, 250);
+}
+
+namespace {
+
+// A run as `rcxc compare` makes it: 10 us per instruction, so the programs'
+// own waits dominate, and no inputs.
+std::optional<rcx::Machine> compare_run(const rcx::Image& image) {
+  rcx::Config config;
+  config.instruction_cost_us = 10;
+  rcx::Machine m(config);
+  if (m.load(0, image)) return std::nullopt;
+  m.start_program();
+  m.run(10'000 * rcx::kMicrosPerMs);
+  return m;
+}
+
+std::optional<rcx::Image> nqc_image(const std::string& nqc, const test::TempDir& dir, const std::string& text) {
+  std::string src = dir.write("motors.nqc", text);
+  std::string image_path = dir.path + "/motors.rcx";
+  if (test::run_process({nqc, "-Trcx", "-O" + image_path, src}).exit_code != 0) return std::nullopt;
+  auto image = rcx::read_image_file(image_path);
+  if (!std::holds_alternative<rcx::Image>(image)) return std::nullopt;
+  // nqc wraps test-and-branch offsets beyond 127 bytes (docs/compiler.md).
+  for (const auto& f : std::get<rcx::Image>(image).fragments)
+    if (f.code.size() > 127) return std::nullopt;
+  return std::get<rcx::Image>(image);
+}
+
+}  // namespace
+
+TEST(RandomPrograms, MotorProgramsShowWhatNqcsCodeShows) {
+  // What `rcxc compare` checks, on random motor programs nqc compiles: the
+  // same outputs switched the same way with the same settings while they
+  // run, within compare's tolerances, and the same final globals.
+  std::string nqc = find_nqc();
+  if (nqc.empty()) GTEST_SKIP() << "nqc is not installed";
+  test::TempDir dir;
+  int compared = 0;
+  for (unsigned seed = 1; seed <= 300; ++seed) {
+    std::string text = Generator(seed).program();
+    auto theirs = nqc_image(nqc, dir, text);
+    if (!theirs) continue;  // nqc refuses it (subroutines calling subroutines) or its branches are too long
+    SourceManager sm;
+    Diagnostics diags;
+    ir::Log log;
+    auto ours = backend::compile_source("motors.nqc", text, {}, ir::OptLevel::Os, sm, diags, log);
+    ASSERT_TRUE(ours) << "seed " << seed << "\n" << text;
+    auto a = compare_run(ours->image), b = compare_run(*theirs);
+    ASSERT_TRUE(a && b);
+    if (b->stop().kind == rcx::StopKind::Fault) continue;
+    ++compared;
+    auto c = rcx::compare_runs({&*a, &ours->image, "rcxc"}, {&*b, &*theirs, "nqc"}, {10 * 500, 0.005, 10 * 5});
+    ASSERT_TRUE(c.same) << "seed " << seed << ": " << (c.differences.empty() ? "" : c.differences[0]) << "\n"
+                        << c.side_by_side << text;
+  }
+  EXPECT_GT(compared, 100);
 }
 
 namespace {

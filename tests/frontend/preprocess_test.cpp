@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "frontend/frontend.h"
 #include "frontend/preprocess.h"
 #include "tests/frontend/frontend_test_util.h"
 #include "tests/support/process.h"
@@ -95,6 +96,21 @@ TEST(Preprocessor, ExponentialExpansionStopsWithAnError) {
   auto p = run_pp(src);
   ASSERT_TRUE(p.diags.has_errors());
   EXPECT_NE(p.diags.all().back().message.find("grows without bound"), std::string::npos);
+}
+
+TEST(Preprocessor, AStoppedExpansionIsTheOnlyError) {
+  // The tokens end where the expansion stopped: parsing them would report
+  // a missing '}' at the end of the library, which the user never wrote.
+  std::string src = "#define M0 x++;\n";
+  for (int i = 1; i <= 30; ++i)
+    src += "#define M" + std::to_string(i) + " M" + std::to_string(i - 1) + " M" + std::to_string(i - 1) + "\n";
+  src += "int x;\ntask main() { M30 }\n";
+  SourceManager sm;
+  Diagnostics diags;
+  auto program = parse_source("grow.nqc", src, {}, sm, diags);
+  EXPECT_FALSE(program);
+  ASSERT_EQ(diags.all().size(), 1u);
+  EXPECT_EQ(diags.all()[0].message, "macro expansion of 'M0' grows without bound");
 }
 
 TEST(Preprocessor, WrongArgumentCountNamesTheMacro) {

@@ -20,6 +20,43 @@ std::size_t count_ops(const Function& f, rcx::Op op) {
 
 }  // namespace
 
+TEST(Order, ReversePostorderPutsEveryJoinAfterAllWaysIn) {
+  // 0 -> {1, 2}; 1 -> 3; 2 -> 3; 3 -> 1 (a loop back); 4 unreachable.
+  Builder b;
+  VarId g = b.global("g");
+  FuncId f = b.function("main");
+  b.block(f, {}, Branch{Cmp::NE, V(g), I(0), 1, 2});
+  b.block(f, {sound(1)}, Jump{3});
+  b.block(f, {sound(2)}, Jump{3});
+  b.block(f, {}, Branch{Cmp::EQ, V(g), I(1), 1, 5});
+  b.block(f, {sound(4)}, Jump{3});
+  b.block(f, {});
+  auto index = reverse_postorder_index(b.fn(f));
+  ASSERT_EQ(index.size(), 6u);
+  EXPECT_EQ(index[0], 0);
+  EXPECT_LT(index[1], index[3]);
+  EXPECT_LT(index[2], index[3]);
+  EXPECT_LT(index[3], index[5]);
+  EXPECT_EQ(index[4], -1);
+}
+
+TEST(Fold, AConstantIsKnownAfterAJoinOnlyWhereItIsStillRead) {
+  // t = 5 before an if/else; after the join t is still read, so the use
+  // becomes the constant; u = 7 is never read again and is forgotten
+  // without changing anything.
+  Builder b;
+  VarId g = b.global("g");
+  FuncId f = b.function("main");
+  VarId t = b.temp(), u = b.temp();
+  b.block(f, {set(t, I(5)), set(u, I(7)), set(g, V(u))}, Branch{Cmp::NE, V(g), I(0), 1, 2});
+  b.block(f, {sound(1)}, Jump{3});
+  b.block(f, {sound(2)}, Jump{3});
+  b.block(f, {set(g, V(t))});
+  fold_constants(b.p);
+  EXPECT_EQ(b.at(f, 3).instrs[0].args[1], I(5));
+  EXPECT_EQ(b.at(f, 0).instrs[2].args[1], I(7));
+}
+
 TEST(Fold, TemporaryConstantsReachTheirUse) {
   Builder b;
   VarId t = b.temp();
@@ -138,6 +175,51 @@ TEST(Rotate, LoopTestMovesBelowTheBody) {
   const auto& br = std::get<Branch>(blocks[2].term);
   EXPECT_EQ(br.then, 1);
   EXPECT_EQ(br.otherwise, 3);
+}
+
+TEST(Rotate, ATestOfTwoBlocksMovesBelowTheBody) {
+  // while (g != 0 && a >= b) body; with a, b variables: a >= b has no
+  // one-instruction negation, so with the test on top the loop needs a
+  // jump out. Rotated
+  // (entry, body, first test, second test, exit) the second test branches
+  // back to the body and falls out.
+  Builder b;
+  VarId g = b.global("g"), x = b.global("a"), y = b.global("b");
+  FuncId f = b.function("main");
+  b.block(f, {sound(0)}, Jump{1});
+  b.block(f, {}, Branch{Cmp::NE, V(g), I(0), 2, 4});       // first test
+  b.block(f, {sound(3)}, Branch{Cmp::GE, V(x), V(y), 3, 4});  // second test
+  b.block(f, {sound(1)}, Jump{1});                          // body
+  b.block(f, {sound(2)});                                   // exit
+  int before = transfer_bytes(b.fn(f));
+  rotate_loops(b.fn(f));
+  const auto& blocks = b.fn(f).blocks;
+  ASSERT_EQ(blocks.size(), 5u);
+  EXPECT_EQ(std::get<Jump>(blocks[0].term).target, 2);  // into the first test
+  EXPECT_EQ(std::get<Jump>(blocks[1].term).target, 2);  // the body falls into it
+  const auto& second = std::get<Branch>(blocks[3].term);
+  EXPECT_EQ(second.then, 1);
+  EXPECT_EQ(second.otherwise, 4);
+  EXPECT_EQ(transfer_bytes(b.fn(f)), before - 2);
+}
+
+TEST(Rotate, ATwoBlockTestMovesAtEqualBytes) {
+  // while (g != 0 && a != b): both tests negate, so bytes are equal either
+  // way; the whole test still moves so the jump in spans only the body.
+  Builder b;
+  VarId g = b.global("g"), x = b.global("a"), y = b.global("b");
+  FuncId f = b.function("main");
+  b.block(f, {sound(0)}, Jump{1});
+  b.block(f, {}, Branch{Cmp::NE, V(g), I(0), 2, 4});
+  b.block(f, {sound(3)}, Branch{Cmp::NE, V(x), V(y), 3, 4});
+  b.block(f, {sound(1)}, Jump{1});
+  b.block(f, {sound(2)});
+  rotate_loops(b.fn(f));
+  const auto& blocks = b.fn(f).blocks;
+  ASSERT_EQ(blocks.size(), 5u);
+  ASSERT_EQ(blocks[1].instrs.size(), 1u);
+  EXPECT_EQ(blocks[1].instrs[0].args, sound(1).args);  // the body comes first
+  EXPECT_EQ(std::get<Branch>(blocks[3].term).then, 1);
 }
 
 TEST(Layout, TheFalseSideFollowsATestThatOnlyBranchesWhenTrue) {
@@ -543,4 +625,48 @@ TEST(Motors, RunsOfCommandsMerge) {
   EXPECT_EQ(instrs[2].op, rcx::Op::SetMotorOnOff);
   EXPECT_EQ(instrs[2].args[0], I(0x85));
   EXPECT_EQ(instrs[3].op, rcx::Op::Wait);
+}
+
+TEST(Motors, OutputsThatStopDoSoBeforeTheirDirectionChanges) {
+  // Float(OUT_B+OUT_C); OnRev(OUT_A); Rev(OUT_C); with C running: merged,
+  // C must float before it is reversed, or it would run backwards for an
+  // instruction (a glitch the program never had).
+  Builder b;
+  FuncId f = b.function("main");
+  auto dir = [](int code) { return op(rcx::Op::SetMotorDirection, {I(code)}); };
+  auto out = [](int code) { return op(rcx::Op::SetMotorOnOff, {I(code)}); };
+  b.block(f, {out(0x06), dir(0x01), out(0x81), dir(0x04)});
+  merge_motor_commands(b.fn(f), b.p.vars);
+  const auto& instrs = b.at(f, 0).instrs;
+  ASSERT_EQ(instrs.size(), 3u);
+  EXPECT_EQ(instrs[0].args[0], I(0x06));  // B and C float
+  EXPECT_EQ(instrs[1].args[0], I(0x05));  // A and C reversed
+  EXPECT_EQ(instrs[2].args[0], I(0x81));  // A on
+}
+
+TEST(Motors, APulseIsNeverMergedAway) {
+  // On(A); Off(A); and Fwd(A); Rev(A): each sets one field of A to two
+  // values; merged, the on-time (or the forward run) would vanish.
+  Builder b;
+  FuncId f = b.function("main");
+  auto dir = [](int code) { return op(rcx::Op::SetMotorDirection, {I(code)}); };
+  auto out = [](int code) { return op(rcx::Op::SetMotorOnOff, {I(code)}); };
+  b.block(f, {out(0x81), out(0x41), dir(0x81), dir(0x01)});
+  merge_motor_commands(b.fn(f), b.p.vars);
+  EXPECT_EQ(b.at(f, 0).instrs.size(), 4u);
+}
+
+TEST(Motors, AWindowEndsWhereAFieldWouldChangeAgain) {
+  // OnRev(A); OnFwd(C); Off(A): the first two merge (one "on"), the off
+  // that undoes A's on stays after them.
+  Builder b;
+  FuncId f = b.function("main");
+  auto dir = [](int code) { return op(rcx::Op::SetMotorDirection, {I(code)}); };
+  auto out = [](int code) { return op(rcx::Op::SetMotorOnOff, {I(code)}); };
+  b.block(f, {dir(0x01), out(0x81), dir(0x84), out(0x84), out(0x41)});
+  merge_motor_commands(b.fn(f), b.p.vars);
+  const auto& instrs = b.at(f, 0).instrs;
+  ASSERT_EQ(instrs.size(), 4u);
+  EXPECT_EQ(instrs[2].args[0], I(0x85));
+  EXPECT_EQ(instrs[3].args[0], I(0x41));
 }

@@ -103,3 +103,65 @@ TEST(Compare, EventJustBeforeTheCutOffIsNotADifference) {
   RunResult a = run_program(kSetVar5, 100, 1'010'000), b = run_program(kSetVar5, 100, 990'000);
   EXPECT_TRUE(compare(a, b).same);
 }
+
+TEST(Compare, DirectionChangesWhileAnOutputIsOffAreNotADifference) {
+  // One run reverses A and sets it forward again while A floats; a robot
+  // shows nothing of that, and A then runs forward in both.
+  RunResult a = run_program({0xe1, 0x01, 0xe1, 0x81}, 100);
+  RunResult b = run_program({0xe1, 0x81, 0xe1, 0x81}, 100);
+  auto c = compare(a, b);
+  EXPECT_TRUE(c.same) << c.side_by_side;
+  for (const auto& line : observable_lines(a.machine)) EXPECT_EQ(line.find("rev"), std::string::npos) << line;
+}
+
+TEST(Compare, ADirectionPulseWhileRunningIsADifference) {
+  // A runs and is reversed for one instruction in one run only.
+  RunResult a = run_program({0x21, 0x81, 0xe1, 0x01, 0xe1, 0x81}, 100);
+  Bytes filler = {0x21, 0x81};
+  for (const Bytes* part : {&kSetVar5, &kSetVar5}) filler.insert(filler.end(), part->begin(), part->end());
+  RunResult b = run_program(filler, 100);
+  auto c = compare(a, b);
+  EXPECT_FALSE(c.same);
+  ASSERT_FALSE(c.differences.empty());
+  EXPECT_NE(c.differences[0].find("output A on rev 7"), std::string::npos) << c.differences[0];
+}
+
+namespace {
+RunComparison compare_with_glitches(const RunResult& a, const RunResult& b) {
+  TimeTolerance tol;
+  tol.glitch_us = 5 * 2'000;  // five instructions at the default 2 ms
+  return compare_runs({&a.machine, &a.image, "one"}, {&b.machine, &b.image, "two"}, tol);
+}
+// n instructions nothing observes: B set forward while it floats.
+Bytes fillers(int n) {
+  Bytes out;
+  for (int i = 0; i < n; ++i) out.insert(out.end(), {0xe1, 0x82});
+  return out;
+}
+}  // namespace
+
+TEST(Compare, ARunningOutputsBriefOldDirectionIsAGlitchOfCommandOrder) {
+  // A reversed while floating, switched on (running reversed for one
+  // instruction), then set forward: nqc's order for On(OUT_A); OnFwd(OUT_A).
+  RunResult a = run_program({0xe1, 0x01, 0x21, 0x81, 0xe1, 0x81}, 100);
+  RunResult b = run_program(fillers(3), 100);
+  EXPECT_FALSE(compare(a, b).same);
+  auto c = compare_with_glitches(a, b);
+  EXPECT_TRUE(c.same) << c.side_by_side << (c.differences.empty() ? "" : c.differences[0]);
+}
+
+TEST(Compare, AnOnOffPulseIsNeverAGlitch) {
+  RunResult a = run_program({0x21, 0x81, 0x21, 0x41}, 100);
+  RunResult b = run_program(fillers(2), 100);
+  EXPECT_FALSE(compare_with_glitches(a, b).same);
+}
+
+TEST(Compare, ANameGivenToSeveralVariablesIsNotCompared) {
+  // nqc names a local like the global it shadows: which "v" is the
+  // global cannot be told, so neither is compared; "w" still is.
+  RunResult a = run_program(kSetVar5, 100), b = run_program(kSetVar6, 100);
+  for (RunResult* r : {&a, &b}) r->image.symbols.push_back({SymbolType::Variable, 1, "v"});
+  EXPECT_TRUE(compare(a, b).same);
+  RunResult c = run_program(kSetVar5, 100, 5'000'000, "w"), d = run_program(kSetVar6, 100, 5'000'000, "w");
+  EXPECT_FALSE(compare(c, d).same);
+}
