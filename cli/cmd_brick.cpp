@@ -38,7 +38,7 @@ int run_brick(const BrickArgs& a) {
     std::cerr << "rcxc brick: only --pty is supported (the brick serves on a pseudo-terminal)\n";
     return kExitUsage;
   }
-  if (a.noise < 0.0 || a.noise > 1.0) {
+  if (!(a.noise >= 0.0 && a.noise <= 1.0)) {  // also refuses "nan"
     std::cerr << "rcxc brick: --noise must be a probability 0..1\n";
     return kExitUsage;
   }
@@ -83,7 +83,10 @@ void register_brick(CLI::App& app, int& exit_code) {
   auto* cmd = app.add_subcommand("brick", "Run a virtual RCX that speaks the IR protocol on a pseudo-terminal");
   auto a = std::make_shared<BrickArgs>();
   cmd->add_flag("--pty", a->pty, "Serve on a new pseudo-terminal; its path is printed as the first line");
-  cmd->add_option("--noise", a->noise, "Lose or corrupt each byte with this probability (0..1)");
+  // The range check also refuses an empty value, which would otherwise read
+  // as 0; run_brick refuses NaN, which a range check lets through.
+  cmd->add_option("--noise", a->noise, "Lose or corrupt each byte with this probability (0..1)")
+      ->check(CLI::Range(0.0, 1.0));
   cmd->add_option("--seed", a->seed, "Seed of the noise");
   cmd->add_flag("--fast", a->fast, "Answer at full speed instead of 2400 baud");
   cmd->add_flag("--no-echo", a->no_echo, "Do not echo (behave like a USB tower)");

@@ -196,7 +196,8 @@ void register_compare(CLI::App& app, int& exit_code) {
   cmd->add_option("FILE", o->file, "NQC source file")->required();
   cmd->add_option("--scenario", o->scenarios, "Scenario TOML file (repeatable); default: built-in scenarios");
   cmd->add_option("--nqc-path", o->nqc, "The nqc to compare with (path or name; default: nqc on PATH)");
-  cmd->add_option("--for", o->for_ms, "Virtual milliseconds per run (default 20000)")->check(CLI::PositiveNumber);
+  cmd->add_option("--for", o->for_ms, "Virtual milliseconds per run (default 20000)")
+      ->check(CLI::Range(std::int64_t{1}, kMaxRunMs));
   cmd->add_option("--seed", o->seed, "Random seed for both runs");
   cmd->add_option("--instruction-us", o->instruction_us, "Virtual time per instruction (default 10)")
       ->check(CLI::Range(1, 100000));

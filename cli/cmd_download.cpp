@@ -3,9 +3,7 @@
 
 #include <chrono>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
-#include <iterator>
 
 #include <fmt/format.h>
 
@@ -57,12 +55,9 @@ std::variant<rcx::Image, std::string> load(const std::string& file, const std::v
     if (!image) return std::string();
     return *image;
   }
-  std::ifstream in(file, std::ios::binary);
-  if (!in) return fmt::format("cannot read {}", file);
-  std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  auto image = rcx::read_image(bytes);
-  if (auto* e = std::get_if<rcx::ImageError>(&image)) return fmt::format("{}: {}", file, e->message);
-  return std::get<rcx::Image>(image);
+  auto image = rcx::read_image_file(file);
+  if (auto* e = std::get_if<rcx::ImageError>(&image)) return e->message;
+  return std::get<rcx::Image>(std::move(image));
 }
 
 // "[########............]  120/300 bytes  40%  52 B/s", redrawn in place.

@@ -135,7 +135,7 @@ void register_run(CLI::App& app, int& exit_code) {
   auto o = std::make_shared<RunOptions>();
   cmd->add_option("FILE", o->file, ".rcx image or .nqc source (compiled in memory)")->required();
   cmd->add_option("--scenario", o->scenario, "TOML file of timed inputs ([[input]] tables)");
-  cmd->add_option("--for", o->for_ms, "virtual time limit in ms (default 60000)")->check(CLI::Range(int64_t{1}, int64_t{1} << 40));
+  cmd->add_option("--for", o->for_ms, "virtual time limit in ms (default 60000)")->check(CLI::Range(std::int64_t{1}, kMaxRunMs));
   cmd->add_option("--seed", o->seed, "seed of the random source (default 1)");
   cmd->add_option("--report", o->report, "print a report instead of the timeline: json")->check(CLI::IsMember({"json"}));
   cmd->add_option("--trace", o->trace, "write a trace: F.vcd (GTKWave) or F.json (events)");

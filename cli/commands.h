@@ -4,6 +4,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include <cstdint>
+
 namespace rcxc::cli {
 
 // Exit codes shared by every subcommand (documented in README.md).
@@ -12,6 +14,10 @@ inline constexpr int kExitFailure = 1;  // the input was bad or the run failed
 inline constexpr int kExitUsage = 2;    // the command line was bad
 inline constexpr int kExitNoPort = 3;   // IR link: the port could not be opened
 inline constexpr int kExitNoReply = 4;  // IR link: the brick did not answer / the link failed
+
+// The longest virtual run --for accepts (about 35 years): milliseconds times
+// 1000 must still fit the emulator's 64-bit microsecond clock.
+inline constexpr std::int64_t kMaxRunMs = std::int64_t{1} << 40;
 
 void register_compile(CLI::App& app, int& exit_code);
 void register_run(CLI::App& app, int& exit_code);

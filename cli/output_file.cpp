@@ -6,6 +6,17 @@
 namespace rcxc::cli {
 
 bool write_file_atomically(const std::string& path, const std::string& bytes) {
+  // Anything but a plain file (-o /dev/null, a FIFO, a symbolic link such as
+  // /dev/stderr) is written through: renaming over it would replace the
+  // device or the link itself with a regular file.
+  std::error_code status_error;
+  auto status = std::filesystem::symlink_status(path, status_error);
+  if (std::filesystem::exists(status) && !std::filesystem::is_regular_file(status)) {
+    std::ofstream f(path, std::ios::binary);
+    f << bytes;
+    f.close();
+    return static_cast<bool>(f);
+  }
   std::string temp = path + ".rcxc-tmp";
   {
     std::ofstream f(temp, std::ios::binary);

@@ -1,7 +1,12 @@
 // Bytes as NQC source: the whole compiler at -O0 and -Os, then the image it
-// produced runs on the emulator for a bounded virtual time.
+// produced runs on the emulator for a bounded virtual time. An accepted
+// program the emulator refuses or faults on is a compiler bug, unless the
+// source has `asm` (the one way to write arbitrary bytes): the target
+// aborts so libFuzzer keeps the input.
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
 #include <string>
 
 #include "backend/compile.h"
@@ -16,7 +21,17 @@ void compile_and_run(const std::string& text, rcxc::ir::OptLevel level) {
   rcxc::frontend::Options options;
   auto out = rcxc::backend::compile_source("fuzz.nqc", text, options, level, sm, diags, log);
   for (const auto& d : diags.all()) (void)rcxc::render_text(d, sm);
-  if (out) rcxc::fuzz::run_bounded(out->image);
+  if (!out) return;
+  auto outcome = rcxc::fuzz::run_bounded(out->image);
+  if (text.find("asm") != std::string::npos) return;
+  if (outcome.refused) {
+    std::fprintf(stderr, "fuzz_compile: the emulator refuses the image: %s\n", outcome.refused->c_str());
+    std::abort();
+  }
+  if (outcome.stop.kind == rcx::StopKind::Fault) {
+    std::fprintf(stderr, "fuzz_compile: the compiled program faults: %s\n", outcome.stop.fault->message.c_str());
+    std::abort();
+  }
 }
 
 }  // namespace

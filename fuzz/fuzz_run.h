@@ -3,6 +3,9 @@
 // forever costs a fixed number of instructions (time / instruction cost).
 #pragma once
 
+#include <optional>
+#include <string>
+
 #include "runtime/image.h"
 #include "runtime/vm.h"
 
@@ -10,11 +13,19 @@ namespace rcxc::fuzz {
 
 inline constexpr rcx::Micros kRunLimitUs = 2 * 1000 * 1000;
 
-inline void run_bounded(const rcx::Image& image) {
+// How the bounded run ended; `refused` holds the loader's reason when the
+// machine would not take the image at all.
+struct RunOutcome {
+  std::optional<std::string> refused;
+  rcx::StopInfo stop;
+};
+
+inline RunOutcome run_bounded(const rcx::Image& image) {
   rcx::Machine machine;
-  if (machine.load(0, image)) return;  // refused (too big): that is an answer too
+  if (auto refused = machine.load(0, image)) return {refused, {}};  // too big: that is an answer too
   machine.start_program();
   machine.run(kRunLimitUs);
+  return {std::nullopt, machine.stop()};
 }
 
 }  // namespace rcxc::fuzz

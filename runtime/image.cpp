@@ -1,6 +1,7 @@
 #include "runtime/image.h"
 
 #include <fmt/format.h>
+#include <filesystem>
 
 #include <fstream>
 #include <iterator>
@@ -147,6 +148,9 @@ std::vector<std::uint8_t> write_image(const Image& image) {
 }
 
 std::variant<Image, ImageError> read_image_file(const std::string& path) {
+  // Reading a directory through a filebuf throws (EISDIR) instead of failing.
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) return ImageError{fmt::format("{}: is a directory, not an .rcx image", path)};
   std::ifstream in(path, std::ios::binary);
   if (!in) return ImageError{fmt::format("{}: cannot open file", path)};
   std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <optional>
 #include <sstream>
@@ -88,6 +89,9 @@ std::variant<std::vector<TimedInput>, ScenarioError> parse_scenario(std::string_
 }
 
 std::variant<std::vector<TimedInput>, ScenarioError> read_scenario_file(const std::string& path) {
+  // A directory opens as a stream that reads as empty: an empty scenario.
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) return ScenarioError{fmt::format("{}: is a directory, not a scenario file", path)};
   std::ifstream in(path);
   if (!in) return ScenarioError{fmt::format("{}: cannot open scenario file", path)};
   std::stringstream text;

@@ -68,3 +68,13 @@ TEST(CompareCli, ProgramRcxcRejectsButNqcAcceptsFails) {
   EXPECT_EQ(r.exit_code, 1) << r.out;
   EXPECT_NE(r.out.find("nqc compiles this program but rcxc does not"), std::string::npos) << r.out;
 }
+
+// --for took any positive number, and --for times 1000 (microseconds)
+// overflowed a signed 64-bit value: undefined behaviour, in practice a run
+// that ended at once and compared nothing. It has run's limit now.
+TEST(CompareCli, ForBeyondTheClockIsAUsageError) {
+  TempDir d;
+  auto r = run_rcxc({"compare", d.write("p.nqc", kSource), "--for", "9223372036854775807"});
+  EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
+  EXPECT_NE(r.err.find("--for"), std::string::npos) << r.err;
+}

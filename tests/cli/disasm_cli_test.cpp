@@ -67,3 +67,14 @@ TEST(DisasmCli, BadFileIsAClearError) {
   EXPECT_NE(r.err.find("rcxc disasm:"), std::string::npos);
   EXPECT_TRUE(r.out.empty());
 }
+
+// Found by the command-line property test: these aborted (uncaught
+// std::ios_base::failure from reading a directory) with exit 134.
+TEST(DisasmCli, DirectoryIsAnErrorNotACrash) {
+  rcxc::test::TempDir d;
+  for (const char* command : {"disasm", "run"}) {
+    auto r = run_rcxc({command, d.path});
+    EXPECT_EQ(r.exit_code, 1) << command << ": " << r.err;
+    EXPECT_NE(r.err.find(d.path + ": is a directory, not an .rcx image"), std::string::npos) << command << ": " << r.err;
+  }
+}

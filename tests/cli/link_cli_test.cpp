@@ -175,6 +175,12 @@ TEST(LinkCli, SilentBrickIsExit4) {
 TEST(LinkCli, BadInvocationsAreUsageErrors) {
   EXPECT_EQ(run_rcxc({"brick"}).exit_code, 2);
   EXPECT_EQ(run_rcxc({"brick", "--pty", "--noise", "2"}).exit_code, 2);
+  // "nan" passed the range check and the brick served (found while writing
+  // the command-line property test); the time limit stops a regression here.
+  auto nan = run_rcxc({"brick", "--pty", "--noise", "nan"}, "", 10'000);
+  EXPECT_EQ(nan.exit_code, 2) << nan.err;
+  EXPECT_NE(nan.err.find("--noise must be a probability 0..1"), std::string::npos) << nan.err;
+  EXPECT_EQ(run_rcxc({"brick", "--pty", "--noise", ""}, "", 10'000).exit_code, 2);  // not 0
   EXPECT_EQ(run_rcxc({"download"}).exit_code, 2);
   EXPECT_EQ(run_rcxc({"download", "x.rcx", "--program", "9"}).exit_code, 2);
   BrickProcess brick;
@@ -206,6 +212,15 @@ TEST(LinkCli, BadImageIsExit1) {
   auto r = run_rcxc({"download", "--port", "/dev/null", path});
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("bad.rcx"), std::string::npos) << r.err;
+}
+
+// Found by the command-line property test: the image was read with its own
+// loop, which threw on a directory and aborted (exit 134).
+TEST(LinkCli, DownloadingADirectoryIsExit1) {
+  rcxc::test::TempDir d;
+  auto r = run_rcxc({"download", "--port", "/dev/no-such-tower", d.path});
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find(d.path + ": is a directory, not an .rcx image"), std::string::npos) << r.err;
 }
 
 }  // namespace

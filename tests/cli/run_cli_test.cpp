@@ -182,3 +182,10 @@ TEST(RunCli, OddSymbolNamesDoNotBreakReportsOrTraces) {
   std::string text((std::istreambuf_iterator<char>(vcd)), std::istreambuf_iterator<char>());
   EXPECT_NE(text.find(" bad___name $end"), std::string::npos) << text;
 }
+
+TEST(RunCli, ScenarioThatIsADirectoryIsExit1) {
+  TempDir d;
+  auto r = run_rcxc({"run", d.write("p.rcx", program_bytes()), "--scenario", d.path});
+  EXPECT_EQ(r.exit_code, 1) << r.out;
+  EXPECT_NE(r.err.find(d.path + ": is a directory, not a scenario file"), std::string::npos) << r.err;
+}

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
+
 using namespace rcx;
 using Bytes = std::vector<std::uint8_t>;
 
@@ -92,4 +94,15 @@ TEST(Image, ErrorsSayWhere) {
   Bytes b = kNqcImage;
   b[4] = 0x03;
   EXPECT_EQ(error_of(b).rfind("offset 4:", 0), 0u);
+}
+
+// Found by the command-line property test: `rcxc disasm .` aborted, because
+// reading a directory through a filebuf throws instead of failing.
+TEST(Image, ReadingADirectoryIsAnErrorNotACrash) {
+  auto dir = std::filesystem::temp_directory_path() / "rcxc-image-test-dir.rcx";
+  std::filesystem::create_directories(dir);
+  auto result = read_image_file(dir.string());
+  std::filesystem::remove(dir);
+  ASSERT_TRUE(std::holds_alternative<ImageError>(result));
+  EXPECT_EQ(std::get<ImageError>(result).message, dir.string() + ": is a directory, not an .rcx image");
 }

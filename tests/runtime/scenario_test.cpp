@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
+
 using namespace rcx;
 
 namespace {
@@ -74,6 +76,17 @@ TEST(Scenario, ErrorsNameTheLine) {
   EXPECT_NE(error("speed = 3\n").find("s.toml:1: unknown key 'speed'"), std::string::npos);
   EXPECT_NE(error("input = 3\n").find("[[input]]"), std::string::npos);
   EXPECT_EQ(error("[[input]\n").rfind("s.toml:1:", 0), 0u);  // TOML syntax error
+}
+
+// A directory used to read as an empty scenario, so `rcxc run P --scenario
+// DIR` ran without inputs and exited 0.
+TEST(Scenario, DirectoryIsAnError) {
+  auto dir = std::filesystem::temp_directory_path() / "rcxc-scenario-test-dir";
+  std::filesystem::create_directories(dir);
+  auto r = read_scenario_file(dir.string());
+  std::filesystem::remove(dir);
+  ASSERT_TRUE(std::holds_alternative<ScenarioError>(r));
+  EXPECT_EQ(std::get<ScenarioError>(r).message, dir.string() + ": is a directory, not a scenario file");
 }
 
 TEST(Scenario, MissingFile) {

@@ -6,6 +6,8 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <chrono>
+#include <csignal>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -14,7 +16,7 @@
 
 namespace rcxc::test {
 
-ProcessResult run_process(const std::vector<std::string>& argv, const std::string& stdin_text) {
+ProcessResult run_process(const std::vector<std::string>& argv, const std::string& stdin_text, int timeout_ms) {
   int in[2], out[2], err[2];
   if (pipe(in) || pipe(out) || pipe(err)) throw std::runtime_error("pipe failed");
   pid_t pid = fork();
@@ -39,9 +41,21 @@ ProcessResult run_process(const std::vector<std::string>& argv, const std::strin
   else fcntl(in[1], F_SETFL, O_NONBLOCK);
   bool in_open = !stdin_text.empty();
   bool out_open = true, err_open = true;
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
   while (out_open || err_open) {
+    int wait_ms = -1;
+    if (timeout_ms > 0) {
+      auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+      if (left.count() <= 0) {
+        // Its output may be held open by its own children too: stop reading.
+        kill(pid, SIGKILL);
+        r.timed_out = true;
+        break;
+      }
+      wait_ms = static_cast<int>(left.count());
+    }
     pollfd fds[3] = {{out[0], POLLIN, 0}, {err[0], POLLIN, 0}, {in_open ? in[1] : -1, POLLOUT, 0}};
-    if (poll(fds, 3, -1) < 0) {
+    if (poll(fds, 3, wait_ms) < 0) {
       if (errno == EINTR) continue;
       break;
     }
@@ -72,10 +86,10 @@ ProcessResult run_process(const std::vector<std::string>& argv, const std::strin
   return r;
 }
 
-ProcessResult run_rcxc(const std::vector<std::string>& args, const std::string& stdin_text) {
+ProcessResult run_rcxc(const std::vector<std::string>& args, const std::string& stdin_text, int timeout_ms) {
   std::vector<std::string> argv{RCXC_BINARY};
   argv.insert(argv.end(), args.begin(), args.end());
-  return run_process(argv, stdin_text);
+  return run_process(argv, stdin_text, timeout_ms);
 }
 
 std::string make_temp_dir() {

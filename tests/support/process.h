@@ -9,16 +9,19 @@
 namespace rcxc::test {
 
 struct ProcessResult {
-  int exit_code = -1;
+  int exit_code = -1;  // 128 + N when killed by signal N
   std::string out;
   std::string err;
+  bool timed_out = false;  // killed (SIGKILL) after the time limit
 };
 
 // Runs `argv` (argv[0] is the program path) with `stdin_text` on its stdin.
-ProcessResult run_process(const std::vector<std::string>& argv, const std::string& stdin_text = "");
+// With `timeout_ms` > 0 the process is killed when it has not ended by then.
+ProcessResult run_process(const std::vector<std::string>& argv, const std::string& stdin_text = "",
+                          int timeout_ms = 0);
 
 // Runs the rcxc binary under test with `args`.
-ProcessResult run_rcxc(const std::vector<std::string>& args, const std::string& stdin_text = "");
+ProcessResult run_rcxc(const std::vector<std::string>& args, const std::string& stdin_text = "", int timeout_ms = 0);
 
 // A fresh empty directory under the system temp dir, removed by the caller.
 std::string make_temp_dir();

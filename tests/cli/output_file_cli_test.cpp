@@ -1,0 +1,69 @@
+// Where `rcxc compile` writes: outputs were written beside their path and
+// renamed over it, so `-o /dev/null` (run as root) replaced the device, and
+// `--listing /dev/stderr` replaced the link, with regular files. Devices,
+// pipes and links are now written through; these tests use a FIFO and links
+// in a temporary folder, never the real /dev.
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <filesystem>
+
+#include "tests/support/process.h"
+
+using rcxc::test::run_rcxc;
+using rcxc::test::TempDir;
+
+namespace {
+
+const char* kProgram = "task main() { On(OUT_A); }\n";
+
+TEST(OutputFileCli, AFifoStaysAFifoAndReceivesTheImage) {
+  TempDir d;
+  std::string fifo = d.path + "/out.rcx";
+  ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+  // A reader first, so the compiler's open for writing does not wait.
+  int reader = open(fifo.c_str(), O_RDONLY | O_NONBLOCK);
+  ASSERT_GE(reader, 0);
+  auto r = run_rcxc({"compile", d.write("p.nqc", kProgram), "-o", fifo}, "", 10'000);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(std::filesystem::symlink_status(fifo).type(), std::filesystem::file_type::fifo);
+  char head[4] = {};
+  EXPECT_EQ(read(reader, head, sizeof head), 4);
+  close(reader);
+  EXPECT_EQ(std::string(head, 4), "RCXI");  // the .rcx signature
+}
+
+TEST(OutputFileCli, ALinkIsWrittenThroughAndStaysALink) {
+  TempDir d;
+  std::string target = d.write("real.rcx", "old");
+  std::string link = d.path + "/link.rcx";
+  std::filesystem::create_symlink(target, link);
+  auto r = run_rcxc({"compile", d.write("p.nqc", kProgram), "-o", link});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(std::filesystem::is_symlink(link));
+  auto bytes = d.read("real.rcx");
+  ASSERT_GE(bytes.size(), 4u);
+  EXPECT_EQ(std::string(bytes.begin(), bytes.begin() + 4), "RCXI");
+}
+
+TEST(OutputFileCli, AListingThroughALinkToStandardErrorArrivesThere) {
+  TempDir d;
+  std::string link = d.path + "/err";
+  std::filesystem::create_symlink("/proc/self/fd/2", link);
+  auto r = run_rcxc({"compile", d.write("p.nqc", kProgram), "-o", d.path + "/p.rcx", "--listing", link});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(std::filesystem::is_symlink(link));
+  EXPECT_NE(r.err.find("task 0 main"), std::string::npos) << r.err;
+}
+
+TEST(OutputFileCli, ADirectoryIsNotWritable) {
+  TempDir d;
+  std::filesystem::create_directory(d.path + "/out");
+  auto r = run_rcxc({"compile", d.write("p.nqc", kProgram), "-o", d.path + "/out"});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("cannot write " + d.path + "/out"), std::string::npos) << r.err;
+}
+
+}  // namespace
