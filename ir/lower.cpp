@@ -370,14 +370,7 @@ struct Lowerer {
       // no temporary (19 bytes against 22).
       BlockId t = new_block(), f = new_block(), join = new_block();
       cond(e, t, f);
-      enter(t);
-      set(d, Operand::imm(1));
-      jump(join);
-      enter(f);
-      set(d, Operand::imm(0));
-      jump(join);
-      enter(join);
-      return;
+      return one_or_zero(d, t, f, join);
     }
     VarId t = temp();
     compute(t, e);
@@ -440,6 +433,18 @@ struct Lowerer {
     jump(join);
     enter(f);
     into(d, *c.else_value);
+    jump(join);
+    enter(join);
+  }
+
+  // After a branch to `one` or `zero`: d = 1 on the first, 0 on the
+  // second, both going on at `join`.
+  void one_or_zero(VarId d, BlockId one, BlockId zero, BlockId join) {
+    enter(one);
+    set(d, Operand::imm(1));
+    jump(join);
+    enter(zero);
+    set(d, Operand::imm(0));
     jump(join);
     enter(join);
   }
@@ -553,14 +558,7 @@ struct Lowerer {
       BlockId neg = new_block(), join = new_block();
       BlockId pos = new_block();
       terminate(Branch{Cmp::LT, Operand::var(d), Operand::imm(0), neg, pos});
-      enter(neg);
-      set(d, Operand::imm(1));
-      jump(join);
-      enter(pos);
-      set(d, Operand::imm(0));
-      jump(join);
-      enter(join);
-      return;
+      return one_or_zero(d, neg, pos, join);
     }
     shift_right_const(d, n);
   }

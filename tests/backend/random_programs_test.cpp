@@ -183,20 +183,27 @@ std::string find_nqc() {
   return r.exit_code == 0 ? path : std::string();
 }
 
-// Final globals of the program as nqc compiles it; nullopt when nqc
-// refuses it.
-std::optional<Observed> observe_nqc(const std::string& nqc, const test::TempDir& dir, const std::string& text) {
+// The image nqc makes of `text`; nullopt when nqc refuses it, or when a
+// fragment is over 127 bytes: nqc wraps test-and-branch offsets beyond
+// that (docs/compiler.md), so only code too short for such a branch is
+// compared.
+std::optional<rcx::Image> nqc_image(const std::string& nqc, const test::TempDir& dir, const std::string& text) {
   std::string src = dir.write("random.nqc", text);
   std::string image_path = dir.path + "/random.rcx";
-  auto r = test::run_process({nqc, "-Trcx", "-O" + image_path, src});
-  if (r.exit_code != 0) return std::nullopt;
+  if (test::run_process({nqc, "-Trcx", "-O" + image_path, src}).exit_code != 0) return std::nullopt;
   auto image = rcx::read_image_file(image_path);
   if (!std::holds_alternative<rcx::Image>(image)) return std::nullopt;
-  const auto& img = std::get<rcx::Image>(image);
-  // nqc wraps test-and-branch offsets beyond 127 bytes (docs/compiler.md):
-  // only code short enough that no branch can be that long is compared.
-  for (const auto& f : img.fragments)
+  for (const auto& f : std::get<rcx::Image>(image).fragments)
     if (f.code.size() > 127) return std::nullopt;
+  return std::get<rcx::Image>(image);
+}
+
+// Final globals of the program as nqc compiles it; nullopt when nqc_image
+// has none.
+std::optional<Observed> observe_nqc(const std::string& nqc, const test::TempDir& dir, const std::string& text) {
+  auto image = nqc_image(nqc, dir, text);
+  if (!image) return std::nullopt;
+  const rcx::Image& img = *image;
   rcx::Machine m;
   if (m.load(0, img)) return std::nullopt;
   Observed seen;
@@ -243,19 +250,6 @@ std::optional<rcx::Machine> compare_run(const rcx::Image& image) {
   m.run(10'000 * rcx::kMicrosPerMs);
   return m;
 }
-
-std::optional<rcx::Image> nqc_image(const std::string& nqc, const test::TempDir& dir, const std::string& text) {
-  std::string src = dir.write("motors.nqc", text);
-  std::string image_path = dir.path + "/motors.rcx";
-  if (test::run_process({nqc, "-Trcx", "-O" + image_path, src}).exit_code != 0) return std::nullopt;
-  auto image = rcx::read_image_file(image_path);
-  if (!std::holds_alternative<rcx::Image>(image)) return std::nullopt;
-  // nqc wraps test-and-branch offsets beyond 127 bytes (docs/compiler.md).
-  for (const auto& f : std::get<rcx::Image>(image).fragments)
-    if (f.code.size() > 127) return std::nullopt;
-  return std::get<rcx::Image>(image);
-}
-
 }  // namespace
 
 TEST(RandomPrograms, MotorProgramsShowWhatNqcsCodeShows) {
