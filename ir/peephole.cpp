@@ -48,25 +48,41 @@ bool neutral(const Instr& in, const std::vector<Var>& vars) {
   }
 }
 
+// What one mergeable motor command sets: a field, its value (as the
+// command encodes it) and the outputs (bits 1, 2, 4).
+enum class Field { Power, Direction, Switch };
+struct FieldSet {
+  Field field;
+  int value;
+  int outputs;
+};
+
+FieldSet field_set(const Instr& in) {
+  int code = in.args[0].value;
+  switch (in.op) {
+    case Op::SetMotorPower: return {Field::Power, in.args[1].value, code & 7};
+    case Op::SetMotorDirection: return {Field::Direction, code & 0x80, code & 7};
+    default: return {Field::Switch, code & 0xc0, code & 7};
+  }
+}
+
 // What the commands of a window set, per output and field. Merging keeps
 // only each field's last value, so a window must never set one field of
 // one output to two values: `On(OUT_A); Off(OUT_A);` in a loop runs the
 // motor a third of the time (a slow motor, a common NQC idiom), and
 // merged it would never run.
 struct Settings {
-  std::map<std::pair<int, int>, int> value;  // (field, output bit) -> value
+  std::map<std::pair<Field, int>, int> value;  // (field, output bit) -> value
 
   // Records `in`; false (recording nothing) if it sets a field to another
   // value than an earlier command did.
   bool add(const Instr& in) {
-    int field = in.op == Op::SetMotorPower ? 0 : in.op == Op::SetMotorDirection ? 1 : 2;
-    int code = in.args[0].value;
-    int v = field == 0 ? in.args[1].value : field == 1 ? (code & 0x80) : (code & 0xc0);
+    FieldSet set = field_set(in);
     for (int bit = 1; bit <= 4; bit <<= 1)
-      if (code & bit)
-        if (auto it = value.find({field, bit}); it != value.end() && it->second != v) return false;
+      if (set.outputs & bit)
+        if (auto it = value.find({set.field, bit}); it != value.end() && it->second != set.value) return false;
     for (int bit = 1; bit <= 4; bit <<= 1)
-      if (code & bit) value[{field, bit}] = v;
+      if (set.outputs & bit) value[{set.field, bit}] = set.value;
     return true;
   }
 };
@@ -83,17 +99,15 @@ std::optional<std::vector<Instr>> net_commands(const std::vector<const Instr*>& 
   std::map<int, int> power, dir, mode;  // output bit -> value
   std::map<int, std::size_t> mode_at, first_setting, last_setting;  // output bit -> index in window
   for (std::size_t i = 0; i < window.size(); ++i) {
-    const Instr* in = window[i];
-    int code = in->args[0].value;
+    FieldSet set = field_set(*window[i]);
     for (int bit = 1; bit <= 4; bit <<= 1) {
-      if (!(code & bit)) continue;
-      if (in->op == Op::SetMotorOnOff) {
-        mode[bit] = code & 0xc0;
+      if (!(set.outputs & bit)) continue;
+      if (set.field == Field::Switch) {
+        mode[bit] = set.value;
         mode_at[bit] = i;
         continue;
       }
-      if (in->op == Op::SetMotorPower) power[bit] = in->args[1].value;
-      if (in->op == Op::SetMotorDirection) dir[bit] = code & 0x80;
+      (set.field == Field::Power ? power : dir)[bit] = set.value;
       if (!first_setting.contains(bit)) first_setting[bit] = i;
       last_setting[bit] = i;
     }
