@@ -59,9 +59,12 @@ std::string line_of(const Event& e) { return fmt::format("{}ms {}", e.t_us / kMi
 // only while it runs: changing them while it is off or floating changes
 // nothing a robot does (the next "on" shows them), so such events are left
 // out, as are events that leave what shows unchanged.
+// What output `o` shows before any event: it floats.
+std::string at_rest(std::size_t o) { return fmt::format("output {} float", "ABC"[o % kOutputs]); }
+
 std::vector<const Event*> visible_events(const Machine& m) {
   std::array<std::string, kOutputs> shown;
-  for (std::size_t o = 0; o < kOutputs; ++o) shown[o] = "output " + std::string(1, "ABC"[o]) + " float";
+  for (std::size_t o = 0; o < kOutputs; ++o) shown[o] = at_rest(o);
   std::vector<const Event*> out;
   for (const auto& e : m.state().events) {
     if (!observable(e)) continue;
@@ -108,16 +111,16 @@ int agreement(StreamWalk a, StreamWalk b, int limit);
 
 // Where two walks disagree: passes over a glitch on one side, or on both,
 // choosing whichever lets the runs agree longest after it (a state that
-// is a glitch in one run may hold longer in the other). False when no
-// glitch helps.
-bool pass_over_glitches(StreamWalk& a, StreamWalk& b, int depth = 0) {
+// is a glitch in one run may hold longer in the other; `shallow`: only
+// whether they agree right after it). False when no glitch helps.
+bool pass_over_glitches(StreamWalk& a, StreamWalk& b, bool shallow = false) {
   constexpr int kLookahead = 8;
   StreamWalk a2 = a, b2 = b;
   bool skip_a = a2.skip_glitch(), skip_b = b2.skip_glitch();
   int best = 0;
   int choice = -1;
   auto consider = [&](int option, const StreamWalk& x, const StreamWalk& y) {
-    int n = depth > 2 ? (x.done() || y.done() || what(x.here()) == what(y.here()) ? 1 : 0) : agreement(x, y, kLookahead);
+    int n = shallow ? (x.done() || y.done() || what(x.here()) == what(y.here()) ? 1 : 0) : agreement(x, y, kLookahead);
     if (n > best) {
       best = n;
       choice = option;
@@ -136,8 +139,10 @@ int agreement(StreamWalk a, StreamWalk b, int limit) {
   int n = 0;
   while (n < limit) {
     if (a.done() || b.done()) return n + 1;  // the rest is the caller's to judge
-    if (what(a.here()) != what(b.here()) && !pass_over_glitches(a, b, 3)) return n;
-    if (what(a.here()) != what(b.here())) continue;
+    if (what(a.here()) != what(b.here())) {
+      if (!pass_over_glitches(a, b, true)) return n;
+      continue;
+    }
     a.take();
     b.take();
     ++n;
@@ -194,7 +199,7 @@ RunComparison compare_runs(const RunView& a, const RunView& b, TimeTolerance tol
   auto sa = streams(*a.machine), sb = streams(*b.machine);
   for (int s = 0; s <= static_cast<int>(Stream::Datalog); ++s) {
     // Outputs start floating; other streams start with nothing shown.
-    std::string start = s <= static_cast<int>(Stream::OutputC) ? fmt::format("output {} float", "ABC"[s]) : "";
+    std::string start = s <= static_cast<int>(Stream::OutputC) ? at_rest(static_cast<std::size_t>(s)) : "";
     StreamWalk wa{&sa[static_cast<Stream>(s)], tol.glitch_us, 0, start};
     StreamWalk wb{&sb[static_cast<Stream>(s)], tol.glitch_us, 0, start};
     while (!wa.done() || !wb.done()) {
