@@ -59,8 +59,6 @@ void BlockOrder::apply(Function& fn) const {
     if (order[p] != static_cast<BlockId>(p)) return permute_blocks(fn, order);
 }
 
-int transfer_bytes(const Function& f) { return BlockOrder(f).total(); }
-
 void place_branch_targets(Function& f) {
   BlockOrder o(f);
   for (int p = 0; p + 1 < static_cast<int>(f.blocks.size()); ++p) {

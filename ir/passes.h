@@ -69,14 +69,13 @@ struct BlockOrder {
   BlockId after(int p) const;
   // Bytes of the jumps and tests block b needs when `next` follows it.
   int bytes(BlockId b, BlockId next) const;
+  // The bytes of all jumps and tests in this order.
   int total() const;
   // As std::rotate over positions: [middle, last) moves to `first`.
   void rotate(int first, int middle, int last);
   // Renumbers `fn` (the function this order was made from) to this order.
   void apply(Function& fn) const;
 };
-// The bytes of all jumps and tests of `f` in its present order.
-int transfer_bytes(const Function& f);
 
 // repeat.cpp: keeps the firmware loop counter for `repeat` loops where it
 // is safe (nesting, counted across subroutine calls, at most 4 deep; no

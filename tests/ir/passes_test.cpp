@@ -191,7 +191,7 @@ TEST(Rotate, ATestOfTwoBlocksMovesBelowTheBody) {
   b.block(f, {sound(3)}, Branch{Cmp::GE, V(x), V(y), 3, 4});  // second test
   b.block(f, {sound(1)}, Jump{1});                          // body
   b.block(f, {sound(2)});                                   // exit
-  int before = transfer_bytes(b.fn(f));
+  int before = BlockOrder(b.fn(f)).total();
   rotate_loops(b.fn(f));
   const auto& blocks = b.fn(f).blocks;
   ASSERT_EQ(blocks.size(), 5u);
@@ -200,7 +200,7 @@ TEST(Rotate, ATestOfTwoBlocksMovesBelowTheBody) {
   const auto& second = std::get<Branch>(blocks[3].term);
   EXPECT_EQ(second.then, 1);
   EXPECT_EQ(second.otherwise, 4);
-  EXPECT_EQ(transfer_bytes(b.fn(f)), before - 2);
+  EXPECT_EQ(BlockOrder(b.fn(f)).total(), before - 2);
 }
 
 TEST(Rotate, ATwoBlockTestMovesAtEqualBytes) {
