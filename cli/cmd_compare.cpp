@@ -16,9 +16,6 @@
 namespace rcxc::cli {
 namespace {
 
-// Exit code when the program cannot be compared (nqc is missing or refuses
-// the program); CTest reports such comparisons as skipped.
-constexpr int kExitNotComparable = 3;
 constexpr std::int64_t kCompareInstructionUs = 10;
 
 struct CompareOptions {

@@ -89,7 +89,7 @@ const std::vector<CommandSpec>& commands() {
        Takes::Path,
        {{"--scenario", Takes::Path}, {"--nqc-path", Takes::Path}, {"--for", Takes::Number}, {"--seed", Takes::Number},
         {"--instruction-us", Takes::Number}},
-       {0, 1, 2, 3},
+       {0, 1, 2, 5},
        200,
        true},
       // --pty is left out: with good options the brick serves until stopped
