@@ -151,7 +151,7 @@ int run(const CompareOptions& o) {
   }
   CompileResult ours = compile_file(o.file, {});
   if (!ours.output) {
-    for (const auto& d : ours.diagnostics.all()) std::cerr << render_text(d, ours.sources);
+    std::cerr << render_all(ours.diagnostics, ours.sources, {});
     std::cout << o.file << ": nqc compiles this program but rcxc does not\n";
     return kExitFailure;
   }

@@ -69,7 +69,7 @@ const std::vector<CommandSpec>& commands() {
        {{"-o", Takes::OutputPath}, {"--output", Takes::OutputPath}, {"-I", Takes::Path}, {"-D", Takes::Text},
         {"-U", Takes::Text}, {"-n", Takes::Nothing}, {"-E", Takes::Nothing}, {"-W", Takes::Text},
         {"-w", Takes::Nothing}, {"-O", Takes::Text}, {"--listing", Takes::OutputPath}, {"-v", Takes::Nothing},
-        {"--diagnostics", Takes::Text}},
+        {"--diagnostics", Takes::Text}, {"--max-errors", Takes::Number}},
        {0, 1, 2},
        300},
       {"run",
