@@ -101,38 +101,61 @@ std::optional<Run> best_run_at(const std::vector<Instr>& ins, std::size_t s) {
   return best;
 }
 
-// Splits block b around the run: b keeps what comes before and sets the
-// counter, a new loop block holds one copy of the group, and a new block
-// after it holds the rest and b's old terminator.
-void apply(Program& p, Function& f, BlockId b, const Run& r, Log& log) {
-  VarId counter = p.add_var(fmt::format("__reroll{}", p.vars.size()), VarKind::Temp);
-  Block& head = f.blocks[static_cast<std::size_t>(b)];
-  SourceSpan span = head.instrs[r.start].span;
-  std::vector<Instr> body(head.instrs.begin() + static_cast<long>(r.start),
-                          head.instrs.begin() + static_cast<long>(r.start + r.group));
-  for (auto [j, k] : r.varying) body[j].args[k] = Operand::var(counter);
-  body.push_back(Instr{rcx::Op::AddToVariable, {Operand::var(counter), Operand::imm(r.step)}, false, span});
-  std::vector<Instr> rest(head.instrs.begin() + static_cast<long>(r.start + r.group * r.count), head.instrs.end());
-  Terminator term = head.term;
-  head.instrs.resize(r.start);
-  head.instrs.push_back(Instr{rcx::Op::SetVariable, {Operand::var(counter), Operand::imm(r.first)}, false, span});
-
-  BlockId loop = add_block(f);
-  BlockId after = add_block(f);
-  int end = wrap16(static_cast<long>(r.first) + static_cast<long>(r.count) * r.step);
-  f.blocks[static_cast<std::size_t>(b)].term = Jump{loop};
-  f.blocks[static_cast<std::size_t>(loop)] = Block{std::move(body), Branch{Cmp::NE, Operand::imm(end), Operand::var(counter), loop, after}, span};
-  f.blocks[static_cast<std::size_t>(after)] = Block{std::move(rest), std::move(term), span};
-  // A repeat's setup ends with its loopset and its head is the LoopTest:
-  // both moved to the block after the run.
-  for (auto& rep : f.repeats) {
-    if (rep.setup == b) rep.setup = after;
-    if (rep.head == b) rep.head = after;
+// The runs of a block, left to right, none overlapping.
+std::vector<Run> runs_in(const std::vector<Instr>& ins, std::size_t from) {
+  std::vector<Run> runs;
+  for (std::size_t s = from; s < ins.size();) {
+    auto r = best_run_at(ins, s);
+    if (!r) {
+      ++s;
+      continue;
+    }
+    runs.push_back(*r);
+    s = r->start + r->group * r->count;
   }
-  move_block(f, loop, b + 1);
-  move_block(f, after, b + 2);
-  log.push_back(fmt::format("{}: {} copies of {} instructions rerolled into a loop (the copies took {} bytes more)", f.name, r.count,
-                            r.group, r.saving));
+  return runs;
+}
+
+// Splits block b at its runs: b keeps what comes before the first and sets
+// the counter; each run becomes a loop block holding one copy of the group
+// and the test, followed by a block with what comes next (setting the
+// counter again before the next run). The last block takes b's terminator.
+// Returns the new blocks in the order they follow b.
+std::vector<BlockId> split(Function& f, BlockId b, const std::vector<Run>& runs, VarId counter, Log& log) {
+  auto at = [&f](BlockId x) -> Block& { return f.blocks[static_cast<std::size_t>(x)]; };
+  std::vector<Instr> old = std::move(at(b).instrs);
+  Terminator term = at(b).term;
+  at(b).instrs.clear();
+  std::vector<BlockId> added;
+  BlockId cur = b;
+  std::size_t pos = 0;
+  for (const Run& r : runs) {
+    SourceSpan span = old[r.start].span;
+    for (; pos < r.start; ++pos) at(cur).instrs.push_back(std::move(old[pos]));
+    at(cur).instrs.push_back(Instr{rcx::Op::SetVariable, {Operand::var(counter), Operand::imm(r.first)}, false, span});
+    std::vector<Instr> body(old.begin() + static_cast<long>(r.start), old.begin() + static_cast<long>(r.start + r.group));
+    for (auto [j, k] : r.varying) body[j].args[k] = Operand::var(counter);
+    body.push_back(Instr{rcx::Op::AddToVariable, {Operand::var(counter), Operand::imm(r.step)}, false, span});
+    int end = wrap16(static_cast<long>(r.first) + static_cast<long>(r.count) * r.step);
+    BlockId loop = add_block(f);
+    BlockId next = add_block(f);
+    at(cur).term = Jump{loop};
+    at(loop) = Block{std::move(body), Branch{Cmp::NE, Operand::imm(end), Operand::var(counter), loop, next}, span};
+    added.insert(added.end(), {loop, next});
+    cur = next;
+    pos = r.start + r.group * r.count;
+    log.push_back(fmt::format("{}: {} copies of {} instructions rerolled into a loop (the copies took {} bytes more)",
+                              f.name, r.count, r.group, r.saving));
+  }
+  for (; pos < old.size(); ++pos) at(cur).instrs.push_back(std::move(old[pos]));
+  at(cur).term = std::move(term);
+  // A repeat's setup ends with its loopset and its head is the LoopTest:
+  // both are now in the last block.
+  for (auto& rep : f.repeats) {
+    if (rep.setup == b) rep.setup = cur;
+    if (rep.head == b) rep.head = cur;
+  }
+  return added;
 }
 
 }  // namespace
@@ -143,18 +166,26 @@ bool reroll_sequences(Program& p, Log& log) {
     // Two tasks may run one subroutine at once, and its counter would be
     // the same variable in both.
     if (f.kind == FuncKind::Sub) continue;
-    for (std::size_t b = 0; b < f.blocks.size(); ++b) {
+    // One counter serves every loop of the task: each is dead after its loop.
+    VarId counter = -1;
+    std::size_t original = f.blocks.size();
+    std::vector<std::vector<BlockId>> added(original);
+    for (std::size_t b = 0; b < original; ++b) {
       // main's startup code stays first and straight.
-      std::size_t s = b == 0 ? static_cast<std::size_t>(f.startup) : 0;
-      for (; s < f.blocks[b].instrs.size(); ++s) {
-        auto r = best_run_at(f.blocks[b].instrs, s);
-        if (!r) continue;
-        apply(p, f, static_cast<BlockId>(b), *r, log);
-        changed = true;
-        ++b;  // the loop block; the loop continues with the block after it
-        break;
-      }
+      auto runs = runs_in(f.blocks[b].instrs, b == 0 ? static_cast<std::size_t>(f.startup) : 0);
+      if (runs.empty()) continue;
+      if (counter < 0) counter = p.add_var(fmt::format("__reroll_{}", f.name), VarKind::Temp);
+      added[b] = split(f, static_cast<BlockId>(b), runs, counter, log);
+      changed = true;
     }
+    if (f.blocks.size() == original) continue;
+    std::vector<BlockId> order;
+    order.reserve(f.blocks.size());
+    for (std::size_t b = 0; b < original; ++b) {
+      order.push_back(static_cast<BlockId>(b));
+      order.insert(order.end(), added[b].begin(), added[b].end());
+    }
+    permute_blocks(f, order);
   }
   return changed;
 }

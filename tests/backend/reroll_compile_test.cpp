@@ -68,3 +68,21 @@ TEST(RerollCompile, TheLoopIsTheSmallerCode) {
   ASSERT_TRUE(straight.has_value());
   EXPECT_EQ(straight->code_bytes - c.out->code_bytes, 56 - 25);
 }
+
+// 7000 written-out additions are 35000 bytes, over the 32767 a task may
+// have: the loop makes the program fit, and the straight code's error is
+// not reported.
+TEST(RerollCompile, ALoopRescuesATaskTooLongWrittenOut) {
+  std::string text = "int x;\ntask main() {\n";
+  for (int i = 0; i < 7000; ++i) text += "  x += " + std::to_string(i) + ";\n";
+  Compiled c = compile(text + "}\n");
+  ASSERT_TRUE(c.out.has_value());
+  EXPECT_FALSE(c.errors);
+  EXPECT_TRUE(c.rerolled);
+  EXPECT_LT(c.out->code_bytes, 100);
+  SourceManager sm;
+  Diagnostics diags;
+  ir::Log log;
+  EXPECT_FALSE(backend::compile_source("long.nqc", text + "}\n", {}, ir::OptLevel::O1, sm, diags, log).has_value());
+  EXPECT_TRUE(diags.has_errors());
+}
