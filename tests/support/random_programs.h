@@ -242,8 +242,11 @@ class ExpressionGenerator {
       if (k <= 3) {
         out << "  " << var() << " = " << expr(3) << ";\n";
       } else if (k == 4) {
-        static const char* ops[] = {"+=", "-=", "*=", "/=", "%=", "&=", "|=", "^="};
-        out << "  " << var() << " " << ops[pick(0, 7)] << " " << expr(2) << ";\n";
+        static const char* ops[] = {"+=", "-=", "*=", "/=", "%=", "&=", "|=", "^=", "<<=", ">>="};
+        int o = pick(0, 9);
+        // nqc shifts only by constants 0..15.
+        std::string count = near_edges_ ? std::to_string(pick(0, 15)) : std::to_string(pick(-2, 17));
+        out << "  " << var() << " " << ops[o] << " " << (o >= 8 ? count : expr(2)) << ";\n";
       } else if (k == 5) {
         out << "  " << var() << (pick(0, 1) ? "++" : "--") << ";\n";
       } else if (k == 6 && depth > 0) {
