@@ -16,10 +16,6 @@ namespace {
 constexpr std::size_t kMaxGroup = 16;
 constexpr int kTestSize = 7;  // a near test-and-branch
 
-int instr_size(const Instr& in) {
-  return in.raw ? static_cast<int>(in.args.size()) : rcx::command_size(rcx::info(in.op)).value_or(4);
-}
-
 // What a loop adds around one copy of the group: set the counter, step it,
 // test it.
 int loop_cost() {
@@ -87,7 +83,7 @@ bool copy_matches(const std::vector<Instr>& ins, const Run& r, std::size_t i) {
 // The most profitable run starting at `s`, if any saves bytes.
 std::optional<Run> best_run_at(const std::vector<Instr>& ins, std::size_t s) {
   std::optional<Run> best;
-  for (std::size_t g = 1; g <= kMaxGroup && s + 3 * g <= ins.size(); ++g) {
+  for (std::size_t g = 1; g <= kMaxGroup && s + 2 * g <= ins.size(); ++g) {
     auto r = pattern(ins, s, g);
     if (!r) continue;
     while (r->start + (r->count + 1) * g <= ins.size() && copy_matches(ins, *r, r->count)) ++r->count;

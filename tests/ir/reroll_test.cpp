@@ -161,3 +161,20 @@ TEST(Reroll, SubroutinesAreLeftAlone) {
   EXPECT_FALSE(reroll_sequences(b.p, log));
   EXPECT_EQ(b.p.functions[1].blocks.size(), 1u);
 }
+
+// Two copies are enough when the group is longer than the loop's 17 bytes:
+// five `wait 10` then five `wait 11` are two 20-byte copies of one group
+// whose constants all step by 1, and save 3 bytes.
+TEST(Reroll, TwoLongCopiesAreEnough) {
+  Builder b;
+  FuncId t = b.function("main");
+  std::vector<Instr> ins;
+  for (int copy = 0; copy < 2; ++copy)
+    for (int j = 0; j < 5; ++j) ins.push_back(wait(I(10 + copy)));
+  b.block(t, ins);
+  Log log;
+  ASSERT_TRUE(reroll_sequences(b.p, log));
+  EXPECT_EQ(b.p.functions[0].blocks[1].instrs.size(), 6u);  // five waits and the step
+  ASSERT_EQ(log.size(), 1u);
+  EXPECT_NE(log[0].find("2 copies of 5 instructions"), std::string::npos) << log[0];
+}
