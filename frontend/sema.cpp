@@ -122,6 +122,21 @@ class Checker {
     return std::nullopt;
   }
 
+  // The callee of `name(...)`. A local or parameter of that name does not hide
+  // a sub or function: nqc resolves calls apart from variables, and programs
+  // written for it call max(...) inside a function whose parameter is max.
+  std::optional<SymbolId> lookup_callee(const std::string& name) const {
+    auto id = lookup(name);
+    if (id && is_callable(prog_.symbols[*id].kind)) return id;
+    if (auto it = globals_.find(name); it != globals_.end() && is_callable(prog_.symbols[it->second].kind))
+      return it->second;
+    return id;
+  }
+
+  static bool is_callable(SymbolKind kind) {
+    return kind == SymbolKind::Sub || kind == SymbolKind::Function || kind == SymbolKind::Task;
+  }
+
   void undefined(const std::string& name, SourceSpan span, const std::string& what) {
     // One report per name and body keeps a misspelt name from flooding.
     if (!reported_undefined_.insert(name).second) return;
@@ -595,7 +610,7 @@ class Checker {
     std::size_t errors_before = diags_.error_count();
     for (auto& a : n.args) expr(a, Use::Value);
     bool args_ok = diags_.error_count() == errors_before;
-    auto id = lookup(n.callee);
+    auto id = lookup_callee(n.callee);
     if (!id) {
       undefined(n.callee, n.callee_span, " (no sub or function of that name)");
       return;
