@@ -14,6 +14,20 @@ namespace {
 
 using namespace ast;
 
+// Names the RCX 2 firmware's API gives (events, resource control, the user
+// display, serial packets, priorities). Programs written for it fail here
+// with "not declared"; saying why saves the reader a search.
+bool is_rcx2_api_name(const std::string& name) {
+  static const std::set<std::string> names{
+      "SetEvent",       "ClearEvent",         "ClearAllEvents", "EventState",     "CalibrateEvent",
+      "SetUpperLimit",  "SetLowerLimit",      "SetHysteresis",  "SetClickTime",   "SetClickCounter",
+      "SetUserDisplay", "SetPriority",        "SetGlobalOutput", "SetGlobalDirection", "SetMaxPower",
+      "EnableOutput",   "DisableOutput",      "SendSerial",     "SetSerialComm",  "SetSerialPacket",
+      "SetSerialData",  "SerialData",         "EVENT_MASK",     "DISPLAY_USER",   "ActiveEvents",
+      "UpperLimit",     "LowerLimit",         "Hysteresis",     "ClickCounter",   "ClickTime"};
+  return names.count(name) > 0 || name.rfind("EVENT_TYPE_", 0) == 0 || name.rfind("ACQUIRE_", 0) == 0;
+}
+
 std::string kind_name(SymbolKind k) {
   switch (k) {
     case SymbolKind::Global: return "global variable";
@@ -140,7 +154,8 @@ class Checker {
   void undefined(const std::string& name, SourceSpan span, const std::string& what) {
     // One report per name and body keeps a misspelt name from flooding.
     if (!reported_undefined_.insert(name).second) return;
-    diags_.error(span, "'" + name + "' is not declared" + what);
+    std::string why = is_rcx2_api_name(name) ? " (it belongs to the RCX 2 firmware's API; this target is the RCX)" : what;
+    diags_.error(span, "'" + name + "' is not declared" + why);
   }
 
   // ------------------------------------------------------ declarations --
