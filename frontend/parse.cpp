@@ -95,7 +95,7 @@ yy::Parser::symbol_type next_token(Feed& feed) {
       case TokenKind::Number:
       case TokenKind::Char: {
         std::int64_t v = 0;
-        if (!number_value(t, v)) feed.diags.error(t.span, "invalid number '" + t.text + "'");
+        if (!number_value(t, v)) feed.diags.error(t.span, invalid_number_message(t.text));
         return P::make_NUMBER(v, t.span);
       }
       case TokenKind::String:
