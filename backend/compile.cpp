@@ -6,11 +6,44 @@
 
 namespace rcxc::backend {
 
-std::optional<Output> compile(ir::Program program, ir::OptLevel level, Diagnostics& diags, ir::Log& log) {
-  if (!ir::optimize(program, level, diags, log)) return std::nullopt;
+namespace {
+
+std::optional<Output> allocate_and_generate(const ir::Program& program, ir::OptLevel level, Diagnostics& diags,
+                                            ir::Log& log) {
   auto slots = ir::allocate_slots(program, diags);
   if (slots.empty() && !program.vars.empty()) return std::nullopt;
-  auto out = generate(program, slots, diags, GenerateOptions{level == ir::OptLevel::Os}, &log);
+  return generate(program, slots, diags, GenerateOptions{level == ir::OptLevel::Os}, &log);
+}
+
+}  // namespace
+
+// Rerolling is judged on the final code: the copies it folds into a loop
+// may have been worth more to outlining, and its temporary needs a slot.
+// It also rescues a task that is too long written out. Each alternative
+// reports into its own copy of the diagnostics so far; the chosen one's
+// diagnostics and log are kept.
+std::optional<Output> compile(ir::Program program, ir::OptLevel level, Diagnostics& diags, ir::Log& log) {
+  if (!ir::optimize(program, level, diags, log)) return std::nullopt;
+  Diagnostics chosen_diags = diags;
+  ir::Log chosen_log;
+  auto out = allocate_and_generate(program, level, chosen_diags, chosen_log);
+  if (level == ir::OptLevel::Os) {
+    ir::Program rerolled = std::move(program);
+    ir::Log steps;
+    if (ir::reroll_sequences(rerolled, steps)) {
+      Diagnostics rerolled_diags = diags;
+      auto alternative = allocate_and_generate(rerolled, level, rerolled_diags, steps);
+      bool straight_failed = !out || chosen_diags.has_errors();
+      if (alternative && !rerolled_diags.has_errors() &&
+          (straight_failed || alternative->code_bytes < out->code_bytes)) {
+        out = std::move(alternative);
+        chosen_diags = std::move(rerolled_diags);
+        chosen_log = std::move(steps);
+      }
+    }
+  }
+  diags = std::move(chosen_diags);
+  log.insert(log.end(), chosen_log.begin(), chosen_log.end());
   if (out) log.push_back(fmt::format("{} bytes of code, {} variable slots", out->code_bytes, out->slots_used));
   return out;
 }

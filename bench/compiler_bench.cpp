@@ -1,8 +1,9 @@
 // Compiler speed on generated programs: many loops and tests (the passes
 // that reorder blocks), many inline calls (each copy has its own
 // variables), many statements whose expressions branch (data-flow over
-// a long chain of joins) and one very long expression (lowering asks
-// about each subexpression at every level). Time and memory must grow linearly: items/second
+// a long chain of joins), one very long expression (lowering asks
+// about each subexpression at every level) and written-out steps, runs of
+// which become loops (rerolling splits one block many times). Time and memory must grow linearly: items/second
 // roughly the same at every size. Programs this long are too big for the
 // brick, so a run may end in the size diagnostic, after every pass.
 #include <benchmark/benchmark.h>
@@ -41,6 +42,13 @@ std::string long_expression(int n) {
   return src + ";\n}\n";
 }
 
+// `n` additions whose constants step by 3 in runs of 7: n / 7 loops.
+std::string written_out_steps(int n) {
+  std::string src = "int x;\ntask main() {\n";
+  for (int i = 0; i < n; ++i) src += "  x += " + std::to_string(i % 7 * 3 + i / 7 % 5) + ";\n";
+  return src + "}\n";
+}
+
 void compile(benchmark::State& state, const std::string& src) {
   for (auto _ : state) {
     rcxc::SourceManager sm;
@@ -67,6 +75,9 @@ BENCHMARK(BM_ManyBranchingExpressions)->Arg(250)->Arg(1000)->Arg(4000)->Unit(ben
 
 void BM_LongExpression(benchmark::State& state) { compile(state, long_expression(static_cast<int>(state.range(0)))); }
 BENCHMARK(BM_LongExpression)->Arg(1000)->Arg(5000)->Arg(20000)->Unit(benchmark::kMillisecond);
+
+void BM_WrittenOutSteps(benchmark::State& state) { compile(state, written_out_steps(static_cast<int>(state.range(0)))); }
+BENCHMARK(BM_WrittenOutSteps)->Arg(1000)->Arg(5000)->Arg(20000)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

@@ -16,9 +16,6 @@
 namespace rcxc::cli {
 namespace {
 
-// Exit code when the program cannot be compared (nqc is missing or refuses
-// the program); CTest reports such comparisons as skipped.
-constexpr int kExitNotComparable = 3;
 constexpr std::int64_t kCompareInstructionUs = 10;
 
 struct CompareOptions {
@@ -169,7 +166,7 @@ int run(const CompareOptions& o) {
   }
   CompileResult ours = compile_file(o.file, {});
   if (!ours.output) {
-    for (const auto& d : ours.diagnostics.all()) std::cerr << render_text(d, ours.sources);
+    std::cerr << render_all(ours.diagnostics, ours.sources, {});
     std::cout << o.file << ": nqc compiles this program but rcxc does not\n";
     return kExitFailure;
   }

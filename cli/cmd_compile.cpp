@@ -26,6 +26,7 @@ struct CompileArgs {
   std::vector<std::string> undefines;
   std::vector<std::string> warning_flags;  // -Werror
   std::string diagnostics = "text";
+  std::size_t max_errors = kDefaultMaxErrors;
   std::string optimize = "s";
   bool no_stdlib = false;
   bool preprocess_only = false;
@@ -49,8 +50,8 @@ frontend::Options frontend_options(const CompileArgs& a) {
   return o;
 }
 
-void print_diagnostics(const Diagnostics& diags, const SourceManager& sm, bool json) {
-  for (const auto& d : diags.all()) std::cerr << (json ? render_json(d, sm) + "\n" : render_text(d, sm));
+void print_diagnostics(const Diagnostics& diags, const SourceManager& sm, const CompileArgs& a) {
+  std::cerr << render_all(diags, sm, RenderOptions{a.diagnostics == "json", a.max_errors});
 }
 
 // FILE.nqc -> FILE.rcx unless -o says otherwise.
@@ -129,11 +130,10 @@ int run_compile(const CompileArgs& a) {
     diags.warnings_as_errors = true;
   }
   diags.suppress_warnings = a.no_warnings;
-  bool json = a.diagnostics == "json";
   frontend::Options options = frontend_options(a);
   if (a.preprocess_only) {
     auto text = frontend::preprocess_file(a.file, options, sm, diags);
-    print_diagnostics(diags, sm, json);
+    print_diagnostics(diags, sm, a);
     if (!text) return kExitFailure;
     std::cout << *text;
     return kExitOk;
@@ -141,7 +141,7 @@ int run_compile(const CompileArgs& a) {
   ir::Log log;
   auto level = a.optimize == "0" ? ir::OptLevel::O0 : a.optimize == "1" ? ir::OptLevel::O1 : ir::OptLevel::Os;
   auto out = backend::compile_file(a.file, options, level, sm, diags, log);
-  print_diagnostics(diags, sm, json);
+  print_diagnostics(diags, sm, a);
   if (a.verbose)
     for (const auto& line : log) std::cerr << "rcxc: " << line << "\n";
   if (!out) return kExitFailure;
@@ -170,6 +170,8 @@ void register_compile(CLI::App& app, int& exit_code) {
   cmd->add_flag("-v,--verbose", args->verbose, "Report what the optimiser did (inlining, loop counters, sizes)");
   cmd->add_option("--diagnostics", args->diagnostics, "Diagnostics format: text (default) or json")
       ->check(CLI::IsMember({"text", "json"}));
+  cmd->add_option("--max-errors", args->max_errors, "Stop printing after N errors (default 20, 0: print all)")
+      ->check(CLI::Range(0, 1000000).description(""));
   cmd->callback([&exit_code, args] {
     try {
       exit_code = run_compile(*args);

@@ -41,7 +41,7 @@ std::optional<rcx::Image> compile(const std::string& file, const std::vector<std
   options.include_dirs = include_dirs;
   ir::Log log;
   auto out = backend::compile_file(file, options, ir::OptLevel::Os, sm, diags, log);
-  for (const auto& d : diags.all()) std::cerr << render_text(d, sm);
+  std::cerr << render_all(diags, sm, {});
   if (!out) return std::nullopt;
   return out->image;
 }

@@ -38,7 +38,7 @@ bool ends_with(const std::string& s, std::string_view suffix) {
 std::variant<rcx::Image, std::string> load_program(const std::string& path) {
   if (ends_with(path, ".nqc")) {
     CompileResult compiled = compile_file(path, {});
-    for (const auto& d : compiled.diagnostics.all()) std::cerr << render_text(d, compiled.sources);
+    std::cerr << render_all(compiled.diagnostics, compiled.sources, {});
     if (!compiled.output) return fmt::format("{}: the program does not compile", path);
     return std::move(compiled.output->image);
   }

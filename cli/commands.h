@@ -14,6 +14,7 @@ inline constexpr int kExitFailure = 1;  // the input was bad or the run failed
 inline constexpr int kExitUsage = 2;    // the command line was bad
 inline constexpr int kExitNoPort = 3;   // IR link: the port could not be opened
 inline constexpr int kExitNoReply = 4;  // IR link: the brick did not answer / the link failed
+inline constexpr int kExitNotComparable = 5;  // compare: nqc is missing or refuses the program
 
 // The longest virtual run --for accepts (about 35 years): milliseconds times
 // 1000 must still fit the emulator's 64-bit microsecond clock.

@@ -177,4 +177,20 @@ std::string render_json(const Diagnostic& d, const SourceManager& sm) {
   return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 
+std::string render_all(const Diagnostics& diags, const SourceManager& sm, const RenderOptions& options) {
+  auto render = [&](const Diagnostic& d) { return options.json ? render_json(d, sm) + "\n" : render_text(d, sm); };
+  std::string out;
+  std::size_t errors = 0;
+  for (const auto& d : diags.all()) {
+    if (d.severity == Severity::Error && options.max_errors != 0 && errors == options.max_errors) {
+      Diagnostic rest{Severity::Note, {}, fmt::format("{} more errors not shown (--max-errors=0 shows every error)",
+                                                       diags.error_count() - errors), {}};
+      return out + render(rest);
+    }
+    if (d.severity == Severity::Error) ++errors;
+    out += render(d);
+  }
+  return out;
+}
+
 }  // namespace rcxc

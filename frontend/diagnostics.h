@@ -117,4 +117,16 @@ std::string render_text(const Diagnostic& d, const SourceManager& sm);
 // message and notes, for IDEs.
 std::string render_json(const Diagnostic& d, const SourceManager& sm);
 
+inline constexpr std::size_t kDefaultMaxErrors = 20;
+
+// How a whole compilation's diagnostics are printed.
+struct RenderOptions {
+  bool json = false;  // one JSON object per line instead of text
+  // Once this many errors are printed, the next error is replaced by a note
+  // saying how many are left out, and printing stops: a file that is not NQC
+  // at all would otherwise bury the first, useful error. 0 prints all.
+  std::size_t max_errors = kDefaultMaxErrors;
+};
+std::string render_all(const Diagnostics& diags, const SourceManager& sm, const RenderOptions& options);
+
 }  // namespace rcxc

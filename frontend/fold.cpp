@@ -18,14 +18,15 @@ std::optional<std::int16_t> fold_binary(BinaryOp op, std::int16_t a, std::int16_
       return wrap16(x % y);
     case BinaryOp::Add: return wrap16(x + y);
     case BinaryOp::Sub: return wrap16(x - y);
-    // Shifts by 16 or more leave nothing (or only the sign, for >>);
-    // negative counts shift the other way.
+    // As the code the compiler emits for a shift computes it (the RCX has
+    // no shift instruction): >> shifts zeros in, a negative count shifts
+    // nothing, a count of 16 or more shifts everything out.
     case BinaryOp::Shl:
-      if (y < 0) return fold_binary(BinaryOp::Shr, a, wrap16(-y));
+      if (y < 0) return a;
       return y >= 16 ? std::int16_t{0} : wrap16(static_cast<std::int64_t>(static_cast<std::uint16_t>(a)) << y);
     case BinaryOp::Shr:
-      if (y < 0) return fold_binary(BinaryOp::Shl, a, wrap16(-y));
-      return y >= 16 ? static_cast<std::int16_t>(a < 0 ? -1 : 0) : static_cast<std::int16_t>(x >> y);
+      if (y < 0) return a;
+      return y >= 16 ? std::int16_t{0} : wrap16(static_cast<std::uint16_t>(a) >> y);
     case BinaryOp::Lt: return static_cast<std::int16_t>(x < y);
     case BinaryOp::Le: return static_cast<std::int16_t>(x <= y);
     case BinaryOp::Gt: return static_cast<std::int16_t>(x > y);

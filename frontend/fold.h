@@ -13,7 +13,9 @@ inline std::int16_t wrap16(std::int64_t v) {
   return static_cast<std::int16_t>(static_cast<std::uint16_t>(static_cast<std::uint64_t>(v) & 0xFFFFu));
 }
 
-// nullopt only for division or modulo by zero (the caller reports it).
+// The value the brick computes, except that division or modulo by zero is
+// nullopt (in a constant expression the caller reports it; at run time the
+// firmware leaves the dividend).
 std::optional<std::int16_t> fold_binary(ast::BinaryOp op, std::int16_t a, std::int16_t b);
 // Pre/post increment and decrement are never constant: nullopt.
 std::optional<std::int16_t> fold_unary(ast::UnaryOp op, std::int16_t a);

@@ -2,28 +2,40 @@
 // produced runs on the emulator for a bounded virtual time. An accepted
 // program the emulator refuses or faults on is a compiler bug, unless the
 // source has `asm` (the one way to write arbitrary bytes): the target
-// aborts so libFuzzer keeps the input.
+// aborts so libFuzzer keeps the input. A program whose run depends on
+// nothing outside it (one task; no timer, random, sensor, clock or message
+// read) must also show the same at -O0 and -Os: outputs, sounds, display,
+// messages, datalog and final globals, as `rcxc compare` judges them.
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <optional>
+#include <set>
 #include <string>
 
 #include "backend/compile.h"
+#include "backend/disasm.h"
+#include "frontend/frontend.h"
 #include "fuzz/fuzz_run.h"
+#include "runtime/compare.h"
 
 namespace {
 
-void compile_and_run(const std::string& text, rcxc::ir::OptLevel level) {
+// Virtual time per instruction for the comparison: small against any
+// Wait, so -O0's extra instructions barely move events in time.
+constexpr rcx::Micros kCompareInstructionUs = 10;
+
+std::optional<rcx::Image> compile_and_run(const std::string& text, rcxc::ir::OptLevel level) {
   rcxc::SourceManager sm;
   rcxc::Diagnostics diags;
   rcxc::ir::Log log;
   rcxc::frontend::Options options;
   auto out = rcxc::backend::compile_source("fuzz.nqc", text, options, level, sm, diags, log);
   for (const auto& d : diags.all()) (void)rcxc::render_text(d, sm);
-  if (!out) return;
+  if (!out) return std::nullopt;
   auto outcome = rcxc::fuzz::run_bounded(out->image);
-  if (text.find("asm") != std::string::npos) return;
+  if (text.find("asm") != std::string::npos) return std::nullopt;
   if (outcome.refused) {
     std::fprintf(stderr, "fuzz_compile: the emulator refuses the image: %s\n", outcome.refused->c_str());
     std::abort();
@@ -32,13 +44,71 @@ void compile_and_run(const std::string& text, rcxc::ir::OptLevel level) {
     std::fprintf(stderr, "fuzz_compile: the compiled program faults: %s\n", outcome.stop.fault->message.c_str());
     std::abort();
   }
+  return out->image;
+}
+
+// Whether the run can depend only on the program: judged on the -O0 code,
+// where nothing the source reads has been optimised away.
+bool self_contained(const rcx::Image& image) {
+  std::string code = rcxc::backend::disassemble(image);
+  for (const char* outside : {"timer[", "random(", "sensor[", "sensraw[", "sensbool[", "clock", "message", "start ",
+                              "stop "})
+    if (code.find(outside) != std::string::npos) return false;
+  return true;
+}
+
+rcx::Machine run_for_comparison(const rcx::Image& image) {
+  rcx::Config config;
+  config.instruction_cost_us = kCompareInstructionUs;
+  rcx::Machine machine(config);
+  machine.load(0, image);  // both images already ran: the loader takes them
+  machine.start_program();
+  machine.run(rcxc::fuzz::kRunLimitUs);
+  return machine;
+}
+
+// The image with only the program's globals named: a slot named for a
+// local may hold another variable at the other level once the local is
+// dead, and what a dead local last held is no behaviour.
+rcx::Image globals_named(rcx::Image image, const std::set<std::string>& globals) {
+  std::erase_if(image.symbols, [&](const rcx::Symbol& s) {
+    return s.type == rcx::SymbolType::Variable && globals.count(s.name) == 0;
+  });
+  return image;
+}
+
+std::set<std::string> global_names(const std::string& text) {
+  rcxc::SourceManager sm;
+  rcxc::Diagnostics diags;
+  std::set<std::string> names;
+  if (auto program = rcxc::frontend::parse_source("fuzz.nqc", text, {}, sm, diags))
+    for (const auto& g : program->globals) names.insert(g.name);
+  return names;
+}
+
+void compare_levels(const std::string& text, const rcx::Image& unoptimised_image, const rcx::Image& optimised_image) {
+  if (!self_contained(unoptimised_image)) return;
+  auto globals = global_names(text);
+  rcx::Image unoptimised = globals_named(unoptimised_image, globals);
+  rcx::Image optimised = globals_named(optimised_image, globals);
+  rcx::Machine a = run_for_comparison(unoptimised);
+  rcx::Machine b = run_for_comparison(optimised);
+  // A run cut off by the time limit stops at a different point at each level.
+  if (a.stop().kind != rcx::StopKind::Ended || b.stop().kind != rcx::StopKind::Ended) return;
+  rcx::TimeTolerance tolerance{kCompareInstructionUs * 500, 0.005, kCompareInstructionUs * 5};
+  auto c = rcx::compare_runs({&a, &unoptimised, "-O0"}, {&b, &optimised, "-Os"}, tolerance);
+  if (c.same) return;
+  std::fprintf(stderr, "fuzz_compile: -O0 and -Os differ: %s\n%s\n", c.differences.front().c_str(),
+               c.side_by_side.c_str());
+  std::abort();
 }
 
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);
-  compile_and_run(text, rcxc::ir::OptLevel::O0);
-  compile_and_run(text, rcxc::ir::OptLevel::Os);
+  auto unoptimised = compile_and_run(text, rcxc::ir::OptLevel::O0);
+  auto optimised = compile_and_run(text, rcxc::ir::OptLevel::Os);
+  if (unoptimised && optimised) compare_levels(text, *unoptimised, *optimised);
   return 0;
 }

@@ -145,7 +145,7 @@ bool run_by_several_tasks(const Program& p, FuncId f) {
 int estimate_size(const Function& f) {
   int size = 0;
   for (const auto& b : f.blocks) {
-    for (const auto& in : b.instrs) size += in.raw ? static_cast<int>(in.args.size()) : rcx::command_size(rcx::info(in.op)).value_or(4);
+    for (const auto& in : b.instrs) size += instr_size(in);
     if (std::holds_alternative<Branch>(b.term)) size += 7;
     if (std::holds_alternative<Jump>(b.term) || std::holds_alternative<LoopTest>(b.term)) size += 2;
   }

@@ -245,6 +245,10 @@ bool accepts(rcx::Op op, std::size_t slot, const Operand& o) {
   }
 }
 
+int instr_size(const Instr& in) {
+  return in.raw ? static_cast<int>(in.args.size()) : rcx::command_size(rcx::info(in.op)).value_or(4);
+}
+
 VarUse uses_of(const Instr& in) {
   VarUse u;
   if (in.raw) {

@@ -176,6 +176,9 @@ void move_block(Function& f, BlockId from, BlockId to);
 // a kept block) and renumbers the rest in order.
 void remove_blocks(Function& f, const std::vector<bool>& keep);
 
+// Bytes an instruction takes in the image (raw asm: its byte count).
+int instr_size(const Instr& in);
+
 // Variables an instruction reads and writes (Var operands only).
 struct VarUse {
   std::vector<VarId> reads;

@@ -6,6 +6,8 @@
 
 #include <fmt/format.h>
 
+#include "frontend/fold.h"
+
 namespace rcxc::ir {
 namespace {
 
@@ -190,34 +192,12 @@ struct Lowerer {
     return std::nullopt;
   }
 
-  // 16-bit semantics of every binary operator, the same as the code the
-  // lowering emits for it (division by zero leaves the dividend, as the
-  // firmware does; >> shifts in zeros, as nqc's code does).
+  // What the brick computes: the frontend's folding, and division by zero
+  // leaves the dividend, as the firmware does.
   static std::optional<int> binary_constant(ast::BinaryOp op, int l, int r) {
-    long a = static_cast<std::int16_t>(l), b = static_cast<std::int16_t>(r);
-    switch (op) {
-      case ast::BinaryOp::Mul: return wrap16(a * b);
-      case ast::BinaryOp::Div: return b == 0 ? wrap16(a) : wrap16(a / b);
-      case ast::BinaryOp::Mod: return b == 0 ? wrap16(a) : wrap16(a - wrap16(a / b) * b);
-      case ast::BinaryOp::Add: return wrap16(a + b);
-      case ast::BinaryOp::Sub: return wrap16(a - b);
-      // Shift counts: negative shifts nothing, 16 or more shifts all out.
-      case ast::BinaryOp::Shl: return b < 0 ? wrap16(a) : b > 15 ? 0 : wrap16(a << b);
-      case ast::BinaryOp::Shr:
-        return b < 0 ? wrap16(a) : b > 15 ? 0 : wrap16(static_cast<long>(static_cast<std::uint16_t>(a) >> b));
-      case ast::BinaryOp::Lt: return a < b;
-      case ast::BinaryOp::Le: return a <= b;
-      case ast::BinaryOp::Gt: return a > b;
-      case ast::BinaryOp::Ge: return a >= b;
-      case ast::BinaryOp::Eq: return a == b;
-      case ast::BinaryOp::Ne: return a != b;
-      case ast::BinaryOp::BitAnd: return wrap16(a & b);
-      case ast::BinaryOp::BitXor: return wrap16(a ^ b);
-      case ast::BinaryOp::BitOr: return wrap16(a | b);
-      case ast::BinaryOp::LogAnd: return (a != 0 && b != 0) ? 1 : 0;
-      case ast::BinaryOp::LogOr: return (a != 0 || b != 0) ? 1 : 0;
-    }
-    return std::nullopt;
+    auto a = static_cast<std::int16_t>(l), b = static_cast<std::int16_t>(r);
+    if ((op == ast::BinaryOp::Div || op == ast::BinaryOp::Mod) && b == 0) return a;
+    return frontend::fold_binary(op, a, b);
   }
 
   // ---------------------------------------------------------- predicates --

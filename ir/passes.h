@@ -85,6 +85,16 @@ void assign_loop_counters(Program& p, Log& log);
 // Rewrites one counter loop to a variable counter.
 void demote_repeat(Program& p, Function& f, std::size_t repeat_index);
 
+// reroll.cpp: a task block that repeats one group of instructions, alike but
+// for constants stepping by the same amount each copy (SetPower(OUT_A, 1);
+// Wait(50); SetPower(OUT_A, 2); Wait(50); ...), becomes a loop over a new
+// temporary when that is smaller: (copies - 1) x group bytes against the
+// 17 bytes of setting, stepping and testing the temporary. Each copy then
+// takes two more instructions' time. Returns whether anything changed; the
+// caller keeps the result only if the final code is smaller (the copies
+// may have been worth more to outlining) and a slot is free.
+bool reroll_sequences(Program& p, Log& log);
+
 // calls.cpp: makes subroutine calls fit the firmware: rejects recursion
 // (naming the cycle), inlines subroutines called from subroutines (one
 // return address per task), drops subroutines nobody calls, inlines

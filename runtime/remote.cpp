@@ -4,6 +4,7 @@
 
 #include <charconv>
 #include <ctime>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -120,6 +121,9 @@ Outcome clear(Link& link) {
 }
 
 Outcome firmware(Link& link, const std::string& path, const RemoteOptions& options) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    return RemoteError{RemoteFailure::Input, fmt::format("{}: is a directory, not a firmware file", path)};
   std::ifstream in(path);
   if (!in) return RemoteError{RemoteFailure::Input, fmt::format("cannot read {}", path)};
   std::stringstream text;

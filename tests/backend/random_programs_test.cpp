@@ -330,6 +330,8 @@ inline I16& operator%=(I16& a, I16 b) { return a = a % b; }
 inline I16& operator&=(I16& a, I16 b) { return a = a & b; }
 inline I16& operator|=(I16& a, I16 b) { return a = a | b; }
 inline I16& operator^=(I16& a, I16 b) { return a = a ^ b; }
+inline I16& operator<<=(I16& a, I16 b) { return a = a << b; }
+inline I16& operator>>=(I16& a, I16 b) { return a = a >> b; }
 inline I16& operator++(I16& a, int) { return a = a + 1; }
 inline I16& operator--(I16& a, int) { return a = a - 1; }
 #define repeat(n) for (long rep_ = (n); rep_ > 0; --rep_)

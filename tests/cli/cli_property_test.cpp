@@ -69,7 +69,7 @@ const std::vector<CommandSpec>& commands() {
        {{"-o", Takes::OutputPath}, {"--output", Takes::OutputPath}, {"-I", Takes::Path}, {"-D", Takes::Text},
         {"-U", Takes::Text}, {"-n", Takes::Nothing}, {"-E", Takes::Nothing}, {"-W", Takes::Text},
         {"-w", Takes::Nothing}, {"-O", Takes::Text}, {"--listing", Takes::OutputPath}, {"-v", Takes::Nothing},
-        {"--diagnostics", Takes::Text}},
+        {"--diagnostics", Takes::Text}, {"--max-errors", Takes::Number}},
        {0, 1, 2},
        300},
       {"run",
@@ -89,7 +89,7 @@ const std::vector<CommandSpec>& commands() {
        Takes::Path,
        {{"--scenario", Takes::Path}, {"--nqc-path", Takes::Path}, {"--for", Takes::Number}, {"--seed", Takes::Number},
         {"--instruction-us", Takes::Number}},
-       {0, 1, 2, 3},
+       {0, 1, 2, 5},
        200,
        true},
       // --pty is left out: with good options the brick serves until stopped

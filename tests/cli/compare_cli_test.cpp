@@ -70,7 +70,7 @@ TEST(CompareCli, ADifferentSoundIsADifferenceNoInputShiftCanHide) {
 TEST(CompareCli, MissingNqcIsNotComparable) {
   TempDir d;
   auto r = run_rcxc({"compare", d.write("p.nqc", kSource), "--nqc-path", "/no/such/nqc"});
-  EXPECT_EQ(r.exit_code, 3) << r.out << r.err;
+  EXPECT_EQ(r.exit_code, 5) << r.out << r.err;
 }
 
 TEST(CompareCli, ProgramRcxcRejectsButNqcAcceptsFails) {

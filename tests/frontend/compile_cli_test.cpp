@@ -142,3 +142,27 @@ TEST_F(CompileCli, BinaryInputIsRejectedWithoutACrash) {
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("error:"), std::string::npos);
 }
+
+// 30 undeclared names: 20 errors are printed by default, then one note for
+// the other 10; --max-errors changes the count and 0 prints all 30.
+TEST_F(CompileCli, ErrorsStopAtTheLimit) {
+  std::string text = "task main() {\n";
+  for (int i = 1; i <= 30; ++i) text += "  x" + std::to_string(i) + " = 1;\n";
+  auto file = write("many.nqc", text + "}\n");
+  auto count = [](const std::string& err) {
+    std::size_t n = 0;
+    for (const auto& l : lines(err)) n += l.find(": error: ") != std::string::npos;
+    return n;
+  };
+  auto r = run_rcxc({"compile", file});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(count(r.err), 20u) << r.err;
+  EXPECT_NE(r.err.find("'x20' is not declared"), std::string::npos);
+  EXPECT_EQ(r.err.find("'x21' is not declared"), std::string::npos);
+  EXPECT_NE(r.err.find("rcxc: note: 10 more errors not shown"), std::string::npos) << r.err;
+  EXPECT_EQ(count(run_rcxc({"compile", file, "--max-errors", "3"}).err), 3u);
+  auto all = run_rcxc({"compile", file, "--max-errors", "0"});
+  EXPECT_EQ(count(all.err), 30u);
+  EXPECT_EQ(all.err.find("not shown"), std::string::npos);
+  EXPECT_EQ(run_rcxc({"compile", file, "--max-errors", "-1"}).exit_code, 2);
+}

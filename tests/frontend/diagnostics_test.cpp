@@ -70,3 +70,42 @@ TEST(Diagnostics, JsonSurvivesBytesThatAreNotUtf8) {
   auto j = nlohmann::json::parse(render_json(diags.all()[0], sm));
   EXPECT_EQ(j["message"], "bad \xef\xbf\xbd byte");  // U+FFFD
 }
+
+// Three errors with a warning between the second and third: a limit of 2
+// prints the warning (it comes before the third error) and then one note
+// standing for the third error.
+TEST(Diagnostics, ErrorLimitStopsAtTheErrorPastTheLimit) {
+  SourceManager sm;
+  auto f = sm.add("a.nqc", "a\nb\nc\nd\n");
+  Diagnostics diags;
+  diags.error({{f, 1, 1}, {f, 1, 2}}, "first");
+  diags.error({{f, 2, 1}, {f, 2, 2}}, "second");
+  diags.warning({{f, 3, 1}, {f, 3, 2}}, "a warning");
+  diags.error({{f, 4, 1}, {f, 4, 2}}, "third");
+  std::string limited = render_all(diags, sm, RenderOptions{false, 2});
+  EXPECT_NE(limited.find("second"), std::string::npos);
+  EXPECT_NE(limited.find("a warning"), std::string::npos);
+  EXPECT_EQ(limited.find("third"), std::string::npos);
+  EXPECT_NE(limited.find("rcxc: note: 1 more errors not shown"), std::string::npos) << limited;
+
+  std::string all = render_all(diags, sm, RenderOptions{false, 0});
+  EXPECT_NE(all.find("third"), std::string::npos);
+  EXPECT_EQ(all.find("not shown"), std::string::npos);
+  EXPECT_EQ(render_all(diags, sm, RenderOptions{false, 3}), all);
+}
+
+TEST(Diagnostics, ErrorLimitNoteIsJsonToo) {
+  SourceManager sm;
+  auto f = sm.add("a.nqc", "a\n");
+  Diagnostics diags;
+  for (int i = 0; i < 5; ++i) diags.error({{f, 1, 1}, {f, 1, 2}}, "bad");
+  std::string out = render_all(diags, sm, RenderOptions{true, 1});
+  std::vector<nlohmann::json> lines;
+  std::size_t start = 0;
+  for (std::size_t nl; (nl = out.find('\n', start)) != std::string::npos; start = nl + 1)
+    lines.push_back(nlohmann::json::parse(out.substr(start, nl - start)));
+  ASSERT_EQ(lines.size(), 2u) << out;
+  EXPECT_EQ(lines[0]["severity"], "error");
+  EXPECT_EQ(lines[1]["severity"], "note");
+  EXPECT_EQ(lines[1]["message"], "4 more errors not shown (--max-errors=0 shows every error)");
+}

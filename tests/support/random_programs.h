@@ -238,12 +238,15 @@ class ExpressionGenerator {
   void block(std::ostringstream& out, int depth) {
     int n = pick(1, 5);
     for (int i = 0; i < n; ++i) {
-      int k = pick(0, 12);
+      int k = pick(0, 13);
       if (k <= 3) {
         out << "  " << var() << " = " << expr(3) << ";\n";
       } else if (k == 4) {
-        static const char* ops[] = {"+=", "-=", "*=", "/=", "%=", "&=", "|=", "^="};
-        out << "  " << var() << " " << ops[pick(0, 7)] << " " << expr(2) << ";\n";
+        static const char* ops[] = {"+=", "-=", "*=", "/=", "%=", "&=", "|=", "^=", "<<=", ">>="};
+        int o = pick(0, 9);
+        // nqc shifts only by constants 0..15.
+        std::string count = near_edges_ ? std::to_string(pick(0, 15)) : std::to_string(pick(-2, 17));
+        out << "  " << var() << " " << ops[o] << " " << (o >= 8 ? count : expr(2)) << ";\n";
       } else if (k == 5) {
         out << "  " << var() << (pick(0, 1) ? "++" : "--") << ";\n";
       } else if (k == 6 && depth > 0) {
@@ -278,12 +281,22 @@ class ExpressionGenerator {
         out << "  f0(" << expr(2) << ", " << var() << ");\n";
       } else if (k == 11) {
         out << "  f1(" << pick(-5, 5) << ", (" << var() << " " << binary_op() << " " << expr(1) << "));\n";
+      } else if (k == 13) {
+        steps(out);
       } else if (k == 12 && in_loop_ > 0) {
         out << "  if (" << expr(2) << ") " << (pick(0, 1) ? "break" : "continue") << ";\n";
       } else {
         out << "  " << var() << " = " << expr(2) << ";\n";
       }
     }
+  }
+
+  // Steps written out one by one (a += 40; a += 37; a += 34; ...): long
+  // enough runs become loops (ir/reroll.cpp).
+  void steps(std::ostringstream& out) {
+    std::string v = var();
+    int first = pick(-300, 300), step = pick(-40, 40), n = pick(3, 9);
+    for (int i = 0; i < n; ++i) out << "  " << v << " += " << first + i * step << ";\n";
   }
 
   std::string binary_op() {
