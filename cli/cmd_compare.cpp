@@ -85,7 +85,8 @@ rcx::Machine run_image(const rcx::Image& image, const Scenario& s, const Compare
 // difference is where the input fell among instructions. When runs differ,
 // each group of simultaneous inputs of nqc's run is, in time order, moved by
 // up to kMaxShiftInstructions instruction times (either way) until the two
-// runs agree up to the next input. If every group can be placed so and the
+// runs agree up to the group after the next one, or failing that up to the
+// next input. If every group can be placed so and the
 // whole runs then agree, the difference was instruction timing, which the
 // comparison allows; a real difference in behaviour survives any such shift.
 // Returns how many input groups had to move, or nullopt.
@@ -103,22 +104,36 @@ std::optional<int> align_inputs(const rcx::Image& ours, const rcx::Image& theirs
     rcx::Machine b = run_image(theirs, shifted, o, until);
     return rcx::compare_runs({&a, &ours, "rcxc"}, {&b, &theirs, "nqc"}, tolerance).same;
   };
+  // Moves inputs [first, last) by 0, then 1, -1, 2, -2, ... instruction
+  // times until the runs agree up to `until`; false (inputs left moved by the
+  // last try) when no such shift exists.
+  auto place_group = [&](std::size_t first, std::size_t last, rcx::Micros until) {
+    for (int k = 0; k <= kMaxShiftInstructions; ++k)
+      for (int sign : {1, -1}) {
+        if (k == 0 && sign < 0) continue;
+        rcx::Micros shift = sign * k * o.instruction_us;
+        for (std::size_t n = first; n < last; ++n)
+          shifted.inputs[n].at_us = std::max<rcx::Micros>(0, original.inputs[n].at_us + shift);
+        if (agree_until(until)) return true;
+      }
+    return false;
+  };
   int moved = 0;
   // Without inputs there is nothing to move, so nothing to explain.
   if (original.inputs.empty()) return std::nullopt;
   for (std::size_t i = 0; i < original.inputs.size();) {
     std::size_t j = i;  // [i, j): inputs at the same time move together
     while (j < original.inputs.size() && original.inputs[j].at_us == original.inputs[i].at_us) ++j;
+    std::size_t after_next = j;  // end of the next group
+    while (after_next < original.inputs.size() && original.inputs[after_next].at_us == original.inputs[j].at_us)
+      ++after_next;
     rcx::Micros horizon = j < original.inputs.size() ? original.inputs[j].at_us : end;
-    bool placed = agree_until(horizon);
-    for (int k = 1; !placed && k <= kMaxShiftInstructions; ++k) {
-      for (int sign : {1, -1}) {
-        rcx::Micros shift = sign * k * o.instruction_us;
-        for (std::size_t n = i; n < j; ++n)
-          shifted.inputs[n].at_us = std::max<rcx::Micros>(0, original.inputs[n].at_us + shift);
-        if ((placed = agree_until(horizon))) break;
-      }
-    }
+    rcx::Micros wide_horizon = after_next < original.inputs.size() ? original.inputs[after_next].at_us : end;
+    // A reaction can outlast the next input (a half-second pulse begun just
+    // before a sensor that program never reads changes), and a placement
+    // that agrees only up to that input can leave the runs apart for good.
+    // So a placement that agrees past the next group too is preferred.
+    bool placed = place_group(i, j, wide_horizon) || place_group(i, j, horizon);
     if (!placed) return std::nullopt;
     moved += shifted.inputs[i].at_us != original.inputs[i].at_us;
     i = j;

@@ -94,7 +94,9 @@ std::vector<Token> lex(std::string_view text, std::uint32_t file, Diagnostics& d
       re2c:yyfill:enable = 0;
 
       ident = [A-Za-z_][A-Za-z0-9_]*;
-      dec = [0-9][0-9A-Za-z_]*;
+      // A fraction is lexed with its number so that 7.7 is reported as one
+      // floating-point number, not as "expected ')' before '.'".
+      dec = [0-9][0-9A-Za-z_]* ("." [0-9A-Za-z_]*)?;
       hex = "0" [xX] [0-9A-Za-z_]*;
 
       "\x00" {
@@ -141,6 +143,12 @@ std::vector<Token> lex(std::string_view text, std::uint32_t file, Diagnostics& d
       }
     */
   }
+}
+
+std::string invalid_number_message(const std::string& text) {
+  if (text.find('.') != std::string::npos)
+    return "'" + text + "' is a floating-point number; the RCX computes with 16-bit integers only";
+  return "invalid number '" + text + "'";
 }
 
 bool number_value(const Token& t, std::int64_t& value) {

@@ -71,6 +71,52 @@ void track_asm(Feed& feed, const Token& t) {
   if (t.is(";") && feed.asm_depth == 1) feed.asm_item_start = true;
 }
 
+// Index just past the ')' that closes the '(' at `open`, or `open` when the
+// parentheses are not closed.
+std::size_t past_parentheses(const std::vector<Token>& tokens, std::size_t open) {
+  int depth = 0;
+  for (std::size_t i = open; i < tokens.size() && tokens[i].kind != TokenKind::End; ++i) {
+    if (tokens[i].is("(")) ++depth;
+    if (tokens[i].is(")") && --depth == 0) return i + 1;
+  }
+  return open;
+}
+
+// The RCX 2 firmware's `monitor (events) { } catch { }` and
+// `acquire (resources) { }` statements. Programs written for it would
+// otherwise get "expected ';' before '{'". Each is reported once as what it
+// is, and its head (and a `catch` or `catch (events)`) is dropped so that the
+// blocks parse as plain blocks and the rest of the program is still checked.
+std::vector<Token> without_rcx2_statements(const std::vector<Token>& tokens, Diagnostics& diags) {
+  std::vector<Token> out;
+  out.reserve(tokens.size());
+  for (std::size_t i = 0; i < tokens.size(); ++i) {
+    const Token& t = tokens[i];
+    bool defined_here = !out.empty() && (out.back().is_identifier("void") || out.back().is_identifier("sub") ||
+                                         out.back().is_identifier("task") || out.back().is_identifier("inline"));
+    bool head = (t.is_identifier("monitor") || t.is_identifier("acquire")) && !defined_here;
+    if (head && i + 1 < tokens.size() && tokens[i + 1].is("(")) {
+      std::size_t after = past_parentheses(tokens, i + 1);
+      if (after > i + 1 && after < tokens.size() && tokens[after].is("{")) {
+        diags.error(t.span, t.is_identifier("monitor")
+                                ? "'monitor' is an RCX 2 statement (event monitoring); the RCX firmware has no events"
+                                : "'acquire' is an RCX 2 statement (resource access); the RCX firmware has none");
+        i = after - 1;
+        continue;
+      }
+    }
+    if (t.is_identifier("catch") && !out.empty() && out.back().is("}") && i + 1 < tokens.size()) {
+      std::size_t after = tokens[i + 1].is("(") ? past_parentheses(tokens, i + 1) : i + 1;
+      if (after < tokens.size() && tokens[after].is("{")) {
+        i = after - 1;
+        continue;
+      }
+    }
+    out.push_back(t);
+  }
+  return out;
+}
+
 }  // namespace
 
 yy::Parser::symbol_type next_token(Feed& feed) {
@@ -95,7 +141,7 @@ yy::Parser::symbol_type next_token(Feed& feed) {
       case TokenKind::Number:
       case TokenKind::Char: {
         std::int64_t v = 0;
-        if (!number_value(t, v)) feed.diags.error(t.span, "invalid number '" + t.text + "'");
+        if (!number_value(t, v)) feed.diags.error(t.span, invalid_number_message(t.text));
         return P::make_NUMBER(v, t.span);
       }
       case TokenKind::String:
@@ -114,7 +160,8 @@ yy::Parser::symbol_type next_token(Feed& feed) {
   }
 }
 
-ast::Program parse_tokens(const std::vector<Token>& tokens, Diagnostics& diags) {
+ast::Program parse_tokens(const std::vector<Token>& all_tokens, Diagnostics& diags) {
+  std::vector<Token> tokens = without_rcx2_statements(all_tokens, diags);
   Feed feed{tokens, diags, {}, 0, {}, {}, 0, false, 0};
   P parser(feed);
   parser.parse();

@@ -176,6 +176,12 @@ declarator
         feed.diags.error(@$, "the RCX has no arrays: '" + $1 + "' must be a plain int");
         $$ = VarDecl{$1, @1, std::nullopt, kNoSymbol};
       }
+  | '*' declarator
+      {
+        // The RCX firmware reads variables by fixed slot numbers only.
+        feed.diags.error(@$, "the RCX has no pointers: '" + $2.name + "' must be a plain int");
+        $$ = std::move($2);
+      }
   ;
 
 params_opt
@@ -194,6 +200,11 @@ param
   | CONST INT IDENT        { $$ = Param{ParamKind::Const, $3, @3, kNoSymbol}; }
   | INT '&' IDENT          { $$ = Param{ParamKind::Reference, $3, @3, kNoSymbol}; }
   | CONST INT '&' IDENT    { $$ = Param{ParamKind::ConstReference, $4, @4, kNoSymbol}; }
+  | INT '*' IDENT
+      {
+        feed.diags.error(@$, "the RCX has no pointers: write 'int &" + $3 + "' to pass a variable by reference");
+        $$ = Param{ParamKind::Reference, $3, @3, kNoSymbol};
+      }
   ;
 
 block
@@ -311,6 +322,16 @@ expr
       {
         feed.diags.error(@$, "the RCX has no arrays, so nothing can be indexed");
         $$ = std::move($1);
+      }
+  | '*' expr %prec UNARY
+      {
+        feed.diags.error(@$, "the RCX has no pointers, so nothing can be dereferenced");
+        $$ = std::move($2);
+      }
+  | '&' expr %prec UNARY
+      {
+        feed.diags.error(@$, "the RCX has no pointers, so no address can be taken");
+        $$ = std::move($2);
       }
   | '-' expr %prec UNARY    { $$ = un(UnaryOp::Negate, std::move($2), @$); }
   | '+' expr %prec UNARY    { $$ = un(UnaryOp::Plus, std::move($2), @$); }

@@ -921,7 +921,7 @@ class Preprocessor {
       ++pos;
       if (t.kind == TokenKind::Number || t.kind == TokenKind::Char) {
         std::int64_t v = 0;
-        if (!number_value(t, v)) fail(t, "invalid number '" + t.text + "'");
+        if (!number_value(t, v)) fail(t, invalid_number_message(t.text));
         return v;
       }
       if (t.kind == TokenKind::Identifier) return t.text == "true" ? 1 : 0;  // C: unknown names are 0

@@ -14,6 +14,20 @@ namespace {
 
 using namespace ast;
 
+// Names the RCX 2 firmware's API gives (events, resource control, the user
+// display, serial packets, priorities). Programs written for it fail here
+// with "not declared"; saying why saves the reader a search.
+bool is_rcx2_api_name(const std::string& name) {
+  static const std::set<std::string> names{
+      "SetEvent",       "ClearEvent",         "ClearAllEvents", "EventState",     "CalibrateEvent",
+      "SetUpperLimit",  "SetLowerLimit",      "SetHysteresis",  "SetClickTime",   "SetClickCounter",
+      "SetUserDisplay", "SetPriority",        "SetGlobalOutput", "SetGlobalDirection", "SetMaxPower",
+      "EnableOutput",   "DisableOutput",      "SendSerial",     "SetSerialComm",  "SetSerialPacket",
+      "SetSerialData",  "SerialData",         "EVENT_MASK",     "DISPLAY_USER",   "ActiveEvents",
+      "UpperLimit",     "LowerLimit",         "Hysteresis",     "ClickCounter",   "ClickTime"};
+  return names.count(name) > 0 || name.rfind("EVENT_TYPE_", 0) == 0 || name.rfind("ACQUIRE_", 0) == 0;
+}
+
 std::string kind_name(SymbolKind k) {
   switch (k) {
     case SymbolKind::Global: return "global variable";
@@ -122,10 +136,26 @@ class Checker {
     return std::nullopt;
   }
 
+  // The callee of `name(...)`. A local or parameter of that name does not hide
+  // a sub or function: nqc resolves calls apart from variables, and programs
+  // written for it call max(...) inside a function whose parameter is max.
+  std::optional<SymbolId> lookup_callee(const std::string& name) const {
+    auto id = lookup(name);
+    if (id && is_callable(prog_.symbols[*id].kind)) return id;
+    if (auto it = globals_.find(name); it != globals_.end() && is_callable(prog_.symbols[it->second].kind))
+      return it->second;
+    return id;
+  }
+
+  static bool is_callable(SymbolKind kind) {
+    return kind == SymbolKind::Sub || kind == SymbolKind::Function || kind == SymbolKind::Task;
+  }
+
   void undefined(const std::string& name, SourceSpan span, const std::string& what) {
     // One report per name and body keeps a misspelt name from flooding.
     if (!reported_undefined_.insert(name).second) return;
-    diags_.error(span, "'" + name + "' is not declared" + what);
+    std::string why = is_rcx2_api_name(name) ? " (it belongs to the RCX 2 firmware's API; this target is the RCX)" : what;
+    diags_.error(span, "'" + name + "' is not declared" + why);
   }
 
   // ------------------------------------------------------ declarations --
@@ -595,7 +625,7 @@ class Checker {
     std::size_t errors_before = diags_.error_count();
     for (auto& a : n.args) expr(a, Use::Value);
     bool args_ok = diags_.error_count() == errors_before;
-    auto id = lookup(n.callee);
+    auto id = lookup_callee(n.callee);
     if (!id) {
       undefined(n.callee, n.callee_span, " (no sub or function of that name)");
       return;

@@ -43,5 +43,8 @@ std::vector<Token> lex(std::string_view text, std::uint32_t file, Diagnostics& d
 
 // The value of a Number or Char token, or nullopt-like false when malformed.
 bool number_value(const Token& t, std::int64_t& value);
+// The error for a Number token number_value() cannot read: 7.7 is named as a
+// floating-point number (the RCX computes with 16-bit integers only).
+std::string invalid_number_message(const std::string& text);
 
 }  // namespace rcxc::frontend

@@ -36,6 +36,18 @@ std::string image_playing(const TempDir& d, int sound) {
 constexpr const char* kSource =
     "task main() { SetSensor(SENSOR_1, SENSOR_TOUCH); until (SENSOR_1 == 1); PlaySound(SOUND_UP); }\n";
 
+// A stand-in for nqc that compiles with rcxc -O0: compare then judges -O0
+// code against -Os code, whose instruction counts differ.
+std::string rcxc_o0_as_nqc(const TempDir& d) {
+  std::string script = d.write("o0-nqc",
+                               "#!/bin/sh\n"
+                               "for a in \"$@\"; do case \"$a\" in -Trcx) ;; -I*) i=\"${a#-I}\";; -O*) o=\"${a#-O}\";; "
+                               "*) f=\"$a\";; esac; done\n"
+                               "exec '" RCXC_BINARY "' compile -O0 -I \"$i\" -o \"$o\" \"$f\"\n");
+  chmod(script.c_str(), 0755);
+  return script;
+}
+
 }  // namespace
 
 TEST(CompareCli, SameBehaviourIsSame) {
@@ -77,4 +89,35 @@ TEST(CompareCli, ForBeyondTheClockIsAUsageError) {
   auto r = run_rcxc({"compare", d.write("p.nqc", kSource), "--for", "9223372036854775807"});
   EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
   EXPECT_NE(r.err.find("--for"), std::string::npos) << r.err;
+}
+
+// A task polls one light sensor four times per round and answers each
+// reading with a half-second pulse (a robot sniffing for light, as a 2011
+// blog program did). In the built-in light scenario a reading starts a pulse
+// that is still running when the next inputs (rotation sensors the program
+// never reads) arrive. Placing each input only up to the next one let the
+// first check that happened to agree stand, and the runs then parted at the
+// second pulse: compare said DIFFERENT for two correct builds.
+TEST(CompareCli, AReactionOutlastingTheNextInputIsStillInstructionTiming) {
+  TempDir d;
+  const std::string program =
+      "sub go() { OnRev(OUT_C); OnFwd(OUT_A); }\n"
+      "sub halt() { Off(OUT_A + OUT_C); }\n"
+      "task sniff() {\n"
+      "  while (true) {\n"
+      "    if (SENSOR_2 < 700) { go(); Wait(25); halt(); Wait(25); }\n"
+      "    if (SENSOR_2 < 700) { OnFwd(OUT_A); Wait(25); halt(); Wait(25); }\n"
+      "    if (SENSOR_2 < 700) { go(); Wait(25); halt(); Wait(25); }\n"
+      "    if (SENSOR_2 < 700) { OnRev(OUT_C); Wait(25); halt(); Wait(25); }\n"
+      "  }\n"
+      "}\n"
+      "task main() {\n"
+      "  SetSensorType(SENSOR_2, SENSOR_TYPE_LIGHT);\n"
+      "  SetSensorMode(SENSOR_2, SENSOR_MODE_RAW);\n"
+      "  start sniff;\n"
+      "}\n";
+  auto r = run_rcxc({"compare", d.write("sniff.nqc", program), "--nqc-path", rcxc_o0_as_nqc(d)});
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_EQ(r.out.find("DIFFERENT"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("[light levels and rotation] once"), std::string::npos) << r.out;
 }

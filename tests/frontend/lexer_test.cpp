@@ -93,6 +93,20 @@ TEST(Lexer, MalformedNumbersAreRejected) {
   EXPECT_FALSE(number_value(toks[1], v));
 }
 
+TEST(Lexer, AFractionStaysWithItsNumberAndIsNamedFloatingPoint) {
+  // Programs written for other compilers say SetPower(OUT_A, 7.7): one token,
+  // reported as what it is rather than as a stray '.'.
+  Diagnostics d;
+  auto toks = lex("7.7 x 3.", 0, d);
+  EXPECT_EQ(texts(toks), (std::vector<std::string>{"7.7", "x", "3."}));
+  std::int64_t v = 0;
+  EXPECT_FALSE(number_value(toks[0], v));
+  EXPECT_EQ(invalid_number_message(toks[0].text),
+            "'7.7' is a floating-point number; the RCX computes with 16-bit integers only");
+  EXPECT_EQ(invalid_number_message("12ab"), "invalid number '12ab'");
+  EXPECT_TRUE(d.all().empty());
+}
+
 TEST(Lexer, UnterminatedCommentIsAnErrorAtItsStart) {
   Diagnostics d;
   auto toks = lex("a\n  /* never closed\n", 0, d);
