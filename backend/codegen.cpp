@@ -162,17 +162,25 @@ struct Selector {
     auto jump_unless_next = [&](ir::BlockId t) {
       if (t != next) out.push_back(jump(to(t), span));
     };
+    auto ret = [&] {
+      MInstr m;
+      m.op = rcx::Op::ReturnFromSubroutine;
+      m.bytes = {rcx::info(rcx::Op::ReturnFromSubroutine).code};
+      m.span = span;
+      out.push_back(std::move(m));
+    };
     if (const auto* j = std::get_if<ir::Jump>(&block.term)) {
-      jump_unless_next(j->target);
+      // In a subroutine, a jump to a block that only returns is a return:
+      // one byte instead of two.
+      const ir::Block& target = f.blocks[static_cast<std::size_t>(j->target)];
+      if (f.kind == ir::FuncKind::Sub && j->target != next && target.instrs.empty() &&
+          std::holds_alternative<ir::Exit>(target.term))
+        ret();
+      else
+        jump_unless_next(j->target);
     } else if (std::holds_alternative<ir::Exit>(block.term)) {
       if (f.kind == ir::FuncKind::Sub) {
-        if (!last) {
-          MInstr m;
-          m.op = rcx::Op::ReturnFromSubroutine;
-          m.bytes = {rcx::info(rcx::Op::ReturnFromSubroutine).code};
-          m.span = span;
-          out.push_back(std::move(m));
-        }
+        if (!last) ret();
       } else if (!last) {
         out.push_back(jump(Target{kEndOfCode, -1}, span));  // a task ends where its code ends
       }

@@ -196,6 +196,36 @@ TEST(Codegen, EarlyExits) {
   EXPECT_EQ(out->fragments[1].code.size(), 10u);
 }
 
+// if (x == 0) sound 1; else sound 2; in a subroutine laid out with the
+// `then` side last: its jump past the other side to the empty exit block
+// is a 1-byte return (f6), not a 2-byte jump. In a task it stays a jump.
+TEST(Codegen, JumpToTheEndOfASubroutineIsAReturn) {
+  Builder b;
+  VarId x = b.global("x");
+  FuncId t = b.function("main");
+  FuncId s = b.function("helper", FuncKind::Sub);
+  b.block(t, {call(s)}, Jump{1});
+  b.block(t, {}, Branch{Cmp::EQ, V(x), I(0), 3, 2});
+  b.block(t, {sound(2)}, Jump{4});
+  b.block(t, {sound(1)}, Jump{4});
+  b.block(t, {});
+  b.block(s, {}, Branch{Cmp::EQ, V(x), I(0), 2, 1});
+  b.block(s, {sound(2)}, Jump{3});
+  b.block(s, {sound(1)}, Jump{3});
+  b.block(s, {});
+  Diagnostics d;
+  auto out = backend::generate(b.p, {0}, d);
+  ASSERT_TRUE(out);
+  // Sub: chk 0 == x (0xc2) -> 10, the sound 1 side (offset byte at 6: 4);
+  // sound 2; ret; sound 1, then the firmware's own return.
+  EXPECT_EQ(out->fragments[1].code,
+            (Bytes{0x85, 0xc2, 0x00, 0x00, 0x00, 0x00, 0x04, 0x51, 0x02, 0xf6, 0x51, 0x01}));
+  // Task: call; the same test (to 13: offset byte at 8, 5); sound 2; a jump
+  // to the end, 15 (offset byte at 12: 3); sound 1.
+  EXPECT_EQ(out->fragments[0].code, (Bytes{0x17, 0x00, 0x85, 0xc2, 0x00, 0x00, 0x00, 0x00, 0x05, 0x51, 0x02, 0x27,
+                                           0x03, 0x51, 0x01}));
+}
+
 TEST(Codegen, ImageHasFragmentsAndSymbols) {
   Builder b;
   VarId x = b.global("count");
