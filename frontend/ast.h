@@ -146,6 +146,9 @@ struct Assign {
   AssignOp op = AssignOp::Assign;
   ExprBox target;
   ExprBox value;
+  // The operator: where a problem is shown when the target begins inside a
+  // macro (SENSOR_1 = 1).
+  SourceSpan op_span{};
 };
 
 // cond ? then_value : else_value

@@ -69,7 +69,9 @@ using namespace rcxc::ast;
 Expr mk(ExprNode n, const SourceSpan& s) { return Expr{std::move(n), s, std::nullopt}; }
 Stmt mks(StmtNode n, const SourceSpan& s) { return Stmt{std::move(n), s}; }
 Expr bin(BinaryOp op, Expr a, Expr b, const SourceSpan& s) { return mk(Binary{op, std::move(a), std::move(b)}, s); }
-Expr asg(AssignOp op, Expr a, Expr b, const SourceSpan& s) { return mk(Assign{op, std::move(a), std::move(b)}, s); }
+Expr asg(AssignOp op, Expr a, Expr b, const SourceSpan& s, const SourceSpan& op_span) {
+  return mk(Assign{op, std::move(a), std::move(b), op_span}, s);
+}
 Expr un(UnaryOp op, Expr a, const SourceSpan& s) { return mk(Unary{op, std::move(a)}, s); }
 void note_order(Program& p, SymbolKind kind, std::size_t index) {
   p.order.push_back(TopLevelRef{kind, static_cast<std::uint32_t>(index)});
@@ -360,19 +362,19 @@ expr
   | expr ANDAND expr        { $$ = bin(BinaryOp::LogAnd, std::move($1), std::move($3), @$); }
   | expr OROR expr          { $$ = bin(BinaryOp::LogOr, std::move($1), std::move($3), @$); }
   | expr '?' expr ':' expr  { $$ = mk(Conditional{std::move($1), std::move($3), std::move($5)}, @$); }
-  | expr '=' expr           { $$ = asg(AssignOp::Assign, std::move($1), std::move($3), @$); }
-  | expr ADD_ASSIGN expr    { $$ = asg(AssignOp::Add, std::move($1), std::move($3), @$); }
-  | expr SUB_ASSIGN expr    { $$ = asg(AssignOp::Sub, std::move($1), std::move($3), @$); }
-  | expr MUL_ASSIGN expr    { $$ = asg(AssignOp::Mul, std::move($1), std::move($3), @$); }
-  | expr DIV_ASSIGN expr    { $$ = asg(AssignOp::Div, std::move($1), std::move($3), @$); }
-  | expr MOD_ASSIGN expr    { $$ = asg(AssignOp::Mod, std::move($1), std::move($3), @$); }
-  | expr AND_ASSIGN expr    { $$ = asg(AssignOp::BitAnd, std::move($1), std::move($3), @$); }
-  | expr OR_ASSIGN expr     { $$ = asg(AssignOp::BitOr, std::move($1), std::move($3), @$); }
-  | expr XOR_ASSIGN expr    { $$ = asg(AssignOp::BitXor, std::move($1), std::move($3), @$); }
-  | expr SHL_ASSIGN expr    { $$ = asg(AssignOp::Shl, std::move($1), std::move($3), @$); }
-  | expr SHR_ASSIGN expr    { $$ = asg(AssignOp::Shr, std::move($1), std::move($3), @$); }
-  | expr ABS_ASSIGN expr    { $$ = asg(AssignOp::Abs, std::move($1), std::move($3), @$); }
-  | expr SIGN_ASSIGN expr   { $$ = asg(AssignOp::Sign, std::move($1), std::move($3), @$); }
+  | expr '=' expr           { $$ = asg(AssignOp::Assign, std::move($1), std::move($3), @$, @2); }
+  | expr ADD_ASSIGN expr    { $$ = asg(AssignOp::Add, std::move($1), std::move($3), @$, @2); }
+  | expr SUB_ASSIGN expr    { $$ = asg(AssignOp::Sub, std::move($1), std::move($3), @$, @2); }
+  | expr MUL_ASSIGN expr    { $$ = asg(AssignOp::Mul, std::move($1), std::move($3), @$, @2); }
+  | expr DIV_ASSIGN expr    { $$ = asg(AssignOp::Div, std::move($1), std::move($3), @$, @2); }
+  | expr MOD_ASSIGN expr    { $$ = asg(AssignOp::Mod, std::move($1), std::move($3), @$, @2); }
+  | expr AND_ASSIGN expr    { $$ = asg(AssignOp::BitAnd, std::move($1), std::move($3), @$, @2); }
+  | expr OR_ASSIGN expr     { $$ = asg(AssignOp::BitOr, std::move($1), std::move($3), @$, @2); }
+  | expr XOR_ASSIGN expr    { $$ = asg(AssignOp::BitXor, std::move($1), std::move($3), @$, @2); }
+  | expr SHL_ASSIGN expr    { $$ = asg(AssignOp::Shl, std::move($1), std::move($3), @$, @2); }
+  | expr SHR_ASSIGN expr    { $$ = asg(AssignOp::Shr, std::move($1), std::move($3), @$, @2); }
+  | expr ABS_ASSIGN expr    { $$ = asg(AssignOp::Abs, std::move($1), std::move($3), @$, @2); }
+  | expr SIGN_ASSIGN expr   { $$ = asg(AssignOp::Sign, std::move($1), std::move($3), @$, @2); }
   ;
 
 args_opt

@@ -272,7 +272,7 @@ class Checker {
   void condition(Expr& e) {
     expr(e, Use::Condition);
     if (const auto* a = as<Assign>(e); a && a->op == AssignOp::Assign)
-      diags_.warning(e.span, "assignment used as a condition; did you mean '=='?");
+      diags_.warning(at_operator(*a, e.span), "assignment used as a condition; did you mean '=='?");
   }
 
   void loop_body(Stmt& body) {
@@ -569,7 +569,8 @@ class Checker {
     expr(*n.operand, Use::Value);
     if (n.op == UnaryOp::PreInc || n.op == UnaryOp::PreDec || n.op == UnaryOp::PostInc ||
         n.op == UnaryOp::PostDec) {
-      require_writable(*n.operand, n.op == UnaryOp::PreInc || n.op == UnaryOp::PostInc ? "increment" : "decrement");
+      require_writable(*n.operand, n.op == UnaryOp::PreInc || n.op == UnaryOp::PostInc ? "increment" : "decrement",
+                       n.operand->span);
       return;
     }
     if (n.operand->constant) e.constant = fold_unary(n.op, *n.operand->constant);
@@ -595,15 +596,24 @@ class Checker {
   void visit_expr(Assign& n, Expr&, Use) {
     expr(*n.value, Use::Value);
     expr(*n.target, Use::Value);
-    require_writable(*n.target, "assign to");
+    require_writable(*n.target, "assign to", at_operator(n, n.target->span));
     if ((n.op == AssignOp::Div || n.op == AssignOp::Mod) && n.value->constant && *n.value->constant == 0)
       diags_.warning(n.value->span, "division by zero (at run time the firmware leaves the value unchanged)");
   }
 
-  void require_writable(const Expr& target, const std::string& verb) {
+  // `preferred` unless it begins inside a macro's body (SENSOR_1 = 1: the
+  // user's text would only be a note), then the operator, when that is
+  // the user's own text.
+  static SourceSpan at_operator(const Assign& a, const SourceSpan& preferred) {
+    bool in_macro = preferred.begin.expansion != 0;
+    return in_macro && a.op_span.begin.valid() && a.op_span.begin.expansion == 0 ? a.op_span : preferred;
+  }
+
+  // `where`: where to show that the target is no variable.
+  void require_writable(const Expr& target, const std::string& verb, const SourceSpan& where) {
     const auto* n = as<Name>(target);
     if (!n) {
-      diags_.error(target.span, "cannot " + verb + " this expression: it is not a variable");
+      diags_.error(where, "cannot " + verb + " this expression: it is not a variable");
       return;
     }
     if (n->symbol == kNoSymbol) return;  // already reported
