@@ -26,12 +26,12 @@ struct Compiled {
   bool rerolled = false;
 };
 
-Compiled compile(const std::string& text) {
+Compiled compile(const std::string& text, ir::OptLevel level = ir::OptLevel::Os) {
   SourceManager sm;
   Diagnostics diags;
   ir::Log log;
   Compiled c;
-  c.out = backend::compile_source("ramp.nqc", text, {}, ir::OptLevel::Os, sm, diags, log);
+  c.out = backend::compile_source("ramp.nqc", text, {}, level, sm, diags, log);
   c.errors = diags.has_errors();
   c.rerolled = std::any_of(log.begin(), log.end(), [](const std::string& l) { return l.find("rerolled") != l.npos; });
   return c;
@@ -39,34 +39,26 @@ Compiled compile(const std::string& text) {
 
 }  // namespace
 
-TEST(RerollCompile, AFreeSlotTakesTheLoop) {
-  Compiled c = compile(ramp_after_globals(31));
-  ASSERT_TRUE(c.out.has_value());
-  EXPECT_FALSE(c.errors);
-  EXPECT_TRUE(c.rerolled);
-  EXPECT_EQ(c.out->slots_used, 32);
-}
-
-TEST(RerollCompile, NoFreeSlotKeepsTheStraightCode) {
-  Compiled c = compile(ramp_after_globals(32));
-  ASSERT_TRUE(c.out.has_value());
-  EXPECT_FALSE(c.errors);
-  EXPECT_FALSE(c.rerolled);
-  EXPECT_EQ(c.out->slots_used, 32);
+// 31 globals leave one slot for the counter; 32 leave none, and the
+// straight code compiles as before.
+TEST(RerollCompile, TheLoopOnlyWhereASlotIsFree) {
+  for (int globals : {31, 32}) {
+    Compiled c = compile(ramp_after_globals(globals));
+    ASSERT_TRUE(c.out.has_value()) << globals;
+    EXPECT_FALSE(c.errors) << globals;
+    EXPECT_EQ(c.rerolled, globals == 31);
+    EXPECT_EQ(c.out->slots_used, 32);
+  }
 }
 
 // Seven copies of {SetPower(OUT_A, n); Wait(10)} are 56 bytes; the loop is
 // 17 + 8. The rest of main (pwr, dir, on) is the same in both.
 TEST(RerollCompile, TheLoopIsTheSmallerCode) {
   Compiled c = compile(ramp_after_globals(0));
-  ASSERT_TRUE(c.out.has_value());
+  Compiled straight = compile(ramp_after_globals(0), ir::OptLevel::O1);
+  ASSERT_TRUE(c.out.has_value() && straight.out.has_value());
   EXPECT_TRUE(c.rerolled);
-  SourceManager sm;
-  Diagnostics diags;
-  ir::Log log;
-  auto straight = backend::compile_source("ramp.nqc", ramp_after_globals(0), {}, ir::OptLevel::O1, sm, diags, log);
-  ASSERT_TRUE(straight.has_value());
-  EXPECT_EQ(straight->code_bytes - c.out->code_bytes, 56 - 25);
+  EXPECT_EQ(straight.out->code_bytes - c.out->code_bytes, 56 - 25);
 }
 
 // 7000 written-out additions are 35000 bytes, over the 32767 a task may
@@ -80,9 +72,7 @@ TEST(RerollCompile, ALoopRescuesATaskTooLongWrittenOut) {
   EXPECT_FALSE(c.errors);
   EXPECT_TRUE(c.rerolled);
   EXPECT_LT(c.out->code_bytes, 100);
-  SourceManager sm;
-  Diagnostics diags;
-  ir::Log log;
-  EXPECT_FALSE(backend::compile_source("long.nqc", text + "}\n", {}, ir::OptLevel::O1, sm, diags, log).has_value());
-  EXPECT_TRUE(diags.has_errors());
+  Compiled straight = compile(text + "}\n", ir::OptLevel::O1);
+  EXPECT_FALSE(straight.out.has_value());
+  EXPECT_TRUE(straight.errors);
 }
