@@ -88,6 +88,10 @@ struct Diagnostic {
   SourceSpan span;
   std::string message;
   std::vector<Note> notes;
+  // An error the parser read past as if the text were right (an RCX 2
+  // statement, a malformed number): the code around it is whole and can
+  // still be checked.
+  bool parsed_past = false;
 };
 
 // Collects diagnostics of one compilation. Warnings can be silenced (-w) or

@@ -43,7 +43,8 @@ bool contains(const SourceSpan& outer, const SourceLoc& at) {
 }
 
 // After syntax errors, the task, sub and function bodies they are in are
-// set aside (emptied) and the rest of the program is still checked, so one
+// set aside (emptied; not for errors the parser read past) and the rest of
+// the program is still checked, so one
 // run reports the semantic errors too. An error outside every body (a
 // broken declaration) could make all that follows look wrong: then the
 // checks are skipped, as a half-parsed declaration would only repeat it.
@@ -54,7 +55,7 @@ void check_around_syntax_errors(ast::Program& program, Diagnostics& diags) {
   for (auto& f : program.functions) bodies.push_back(&f.body);
   std::vector<bool> broken(bodies.size(), false);
   for (const auto& d : diags.all()) {
-    if (d.severity != Severity::Error) continue;
+    if (d.severity != Severity::Error || d.parsed_past) continue;
     bool placed = false;
     for (std::size_t b = 0; b < bodies.size() && !placed; ++b)
       if (contains(bodies[b]->span, d.span.begin)) placed = broken[b] = true;

@@ -98,9 +98,11 @@ std::vector<Token> without_rcx2_statements(const std::vector<Token>& tokens, Dia
     if (head && i + 1 < tokens.size() && tokens[i + 1].is("(")) {
       std::size_t after = past_parentheses(tokens, i + 1);
       if (after > i + 1 && after < tokens.size() && tokens[after].is("{")) {
-        diags.error(t.span, t.is_identifier("monitor")
-                                ? "'monitor' is an RCX 2 statement (event monitoring); the RCX firmware has no events"
-                                : "'acquire' is an RCX 2 statement (resource access); the RCX firmware has none");
+        diags
+            .error(t.span, t.is_identifier("monitor")
+                               ? "'monitor' is an RCX 2 statement (event monitoring); the RCX firmware has no events"
+                               : "'acquire' is an RCX 2 statement (resource access); the RCX firmware has none")
+            .parsed_past = true;
         i = after - 1;
         continue;
       }
@@ -141,7 +143,7 @@ yy::Parser::symbol_type next_token(Feed& feed) {
       case TokenKind::Number:
       case TokenKind::Char: {
         std::int64_t v = 0;
-        if (!number_value(t, v)) feed.diags.error(t.span, invalid_number_message(t.text));
+        if (!number_value(t, v)) feed.diags.error(t.span, invalid_number_message(t.text)).parsed_past = true;
         return P::make_NUMBER(v, t.span);
       }
       case TokenKind::String:

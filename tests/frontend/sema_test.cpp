@@ -138,6 +138,14 @@ const BadProgram kCases[] = {
      "int x;\ntask main()\n{\n  monitor (1) {\n    x = 1;\n  } catch (2) {\n    x = 2;\n  }\n  acquire (4) { x = 3; }\n}\n",
      {"4:3: error: 'monitor' is an RCX 2 statement (event monitoring); the RCX firmware has no events",
       "9:3: error: 'acquire' is an RCX 2 statement (resource access); the RCX firmware has none"}},
+    // The parser reads past these errors, so the rest of the body is still
+    // checked: one run names every problem.
+    {"BodyIsCheckedPastRcx2StatementsAndBadNumbers",
+     "task main()\n{\n  monitor (1) { }\n  SetEvent(0, 1, 2);\n  y = 7.5;\n}\n",
+     {"3:3: error: 'monitor' is an RCX 2 statement (event monitoring); the RCX firmware has no events",
+      "5:7: error: '7.5' is a floating-point number; the RCX computes with 16-bit integers only",
+      "4:3: error: 'SetEvent' is not declared (it belongs to the RCX 2 firmware's API; this target is the RCX)",
+      "5:3: error: 'y' is not declared"}},
     {"SubsNamedLikeRcx2StatementsAreFine", "int x;\nsub monitor() { x = 1; }\ntask main()\n{\n  monitor();\n}\n", {}},
     {"PointersAreNamedAsWhatTheRcxLacks",
      "void f(int *x) { }\nint p, *r;\ntask main()\n{\n  f(&p);\n  *p = 1;\n}\n",
