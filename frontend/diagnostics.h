@@ -89,8 +89,8 @@ struct Diagnostic {
   std::string message;
   std::vector<Note> notes;
   // An error the parser read past as if the text were right (an RCX 2
-  // statement, a malformed number): the code around it is whole and can
-  // still be checked.
+  // statement, a malformed number, a pointer): the code around it is whole
+  // and can still be checked.
   bool parsed_past = false;
 };
 

@@ -181,7 +181,7 @@ declarator
   | '*' declarator
       {
         // The RCX firmware reads variables by fixed slot numbers only.
-        feed.diags.error(@$, "the RCX has no pointers: '" + $2.name + "' must be a plain int");
+        feed.diags.error(@$, "the RCX has no pointers: '" + $2.name + "' must be a plain int").parsed_past = true;
         $$ = std::move($2);
       }
   ;
@@ -204,7 +204,7 @@ param
   | CONST INT '&' IDENT    { $$ = Param{ParamKind::ConstReference, $4, @4, kNoSymbol}; }
   | INT '*' IDENT
       {
-        feed.diags.error(@$, "the RCX has no pointers: write 'int &" + $3 + "' to pass a variable by reference");
+        feed.diags.error(@$, "the RCX has no pointers: write 'int &" + $3 + "' to pass a variable by reference").parsed_past = true;
         $$ = Param{ParamKind::Reference, $3, @3, kNoSymbol};
       }
   ;
@@ -327,12 +327,12 @@ expr
       }
   | '*' expr %prec UNARY
       {
-        feed.diags.error(@$, "the RCX has no pointers, so nothing can be dereferenced");
+        feed.diags.error(@$, "the RCX has no pointers, so nothing can be dereferenced").parsed_past = true;
         $$ = std::move($2);
       }
   | '&' expr %prec UNARY
       {
-        feed.diags.error(@$, "the RCX has no pointers, so no address can be taken");
+        feed.diags.error(@$, "the RCX has no pointers, so no address can be taken").parsed_past = true;
         $$ = std::move($2);
       }
   | '-' expr %prec UNARY    { $$ = un(UnaryOp::Negate, std::move($2), @$); }

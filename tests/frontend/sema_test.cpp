@@ -141,11 +141,12 @@ const BadProgram kCases[] = {
     // The parser reads past these errors, so the rest of the body is still
     // checked: one run names every problem.
     {"BodyIsCheckedPastRcx2StatementsAndBadNumbers",
-     "task main()\n{\n  monitor (1) { }\n  SetEvent(0, 1, 2);\n  y = 7.5;\n}\n",
+     "task main()\n{\n  monitor (1) { }\n  SetEvent(0, 1, 2);\n  y = 7.5;\n  int *p;\n  p = z;\n}\n",
      {"3:3: error: 'monitor' is an RCX 2 statement (event monitoring); the RCX firmware has no events",
       "5:7: error: '7.5' is a floating-point number; the RCX computes with 16-bit integers only",
+      "6:7: error: the RCX has no pointers: 'p' must be a plain int",
       "4:3: error: 'SetEvent' is not declared (it belongs to the RCX 2 firmware's API; this target is the RCX)",
-      "5:3: error: 'y' is not declared"}},
+      "5:3: error: 'y' is not declared", "7:7: error: 'z' is not declared"}},
     {"SubsNamedLikeRcx2StatementsAreFine", "int x;\nsub monitor() { x = 1; }\ntask main()\n{\n  monitor();\n}\n", {}},
     {"PointersAreNamedAsWhatTheRcxLacks",
      "void f(int *x) { }\nint p, *r;\ntask main()\n{\n  f(&p);\n  *p = 1;\n}\n",
