@@ -56,8 +56,9 @@ class Generator {
   void block(std::ostringstream& out, int depth, int callable) {
     int n = pick(1, 6);
     for (int i = 0; i < n; ++i) {
-      int k = pick(0, 11);
+      int k = pick(0, 12);
       if (k <= 4) motor(out);
+      else if (k == 12) ramp(out);
       else if (k == 5) marker(out);
       else if (k == 6) out << "  x += " << pick(-3, 5) << ";\n";
       else if (k == 7) out << "  y = x * " << pick(1, 3) << ";\n";
@@ -77,6 +78,14 @@ class Generator {
         motor(out);
       }
     }
+  }
+
+  // A power ramp written out step by step (rerolled into a loop when
+  // long enough, ir/reroll.cpp).
+  void ramp(std::ostringstream& out) {
+    std::string m = mask();
+    int first = pick(0, 3), n = pick(3, 5), wait = pick(1, 3);
+    for (int p = first; p < first + n; ++p) out << "  SetPower(" << m << ", " << p << "); Wait(" << wait << ");\n";
   }
 
   std::mt19937 rng_;
