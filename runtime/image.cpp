@@ -1,10 +1,8 @@
 #include "runtime/image.h"
 
 #include <fmt/format.h>
-#include <filesystem>
 
-#include <fstream>
-#include <iterator>
+#include "runtime/file_read.h"
 
 namespace rcx {
 
@@ -148,13 +146,16 @@ std::vector<std::uint8_t> write_image(const Image& image) {
 }
 
 std::variant<Image, ImageError> read_image_file(const std::string& path) {
-  // Reading a directory through a filebuf throws (EISDIR) instead of failing.
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) return ImageError{fmt::format("{}: is a directory, not an .rcx image", path)};
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return ImageError{fmt::format("{}: cannot open file", path)};
-  std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) return ImageError{fmt::format("{}: read error", path)};
+  auto file = read_file(path);
+  if (const auto* problem = std::get_if<FileProblem>(&file)) {
+    switch (*problem) {
+      case FileProblem::Directory: return ImageError{fmt::format("{}: is a directory, not an .rcx image", path)};
+      case FileProblem::CannotOpen: return ImageError{fmt::format("{}: cannot open file", path)};
+      case FileProblem::ReadError: return ImageError{fmt::format("{}: read error", path)};
+    }
+  }
+  const std::string& text = std::get<std::string>(file);
+  std::vector<std::uint8_t> bytes(text.begin(), text.end());
   auto result = read_image(bytes);
   if (auto* e = std::get_if<ImageError>(&result)) e->message = fmt::format("{}: {}", path, e->message);
   return result;

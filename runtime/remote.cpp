@@ -4,11 +4,10 @@
 
 #include <charconv>
 #include <ctime>
-#include <filesystem>
-#include <fstream>
 #include <map>
 #include <sstream>
 
+#include "runtime/file_read.h"
 #include "runtime/opcodes.h"
 
 namespace rcx {
@@ -121,14 +120,12 @@ Outcome clear(Link& link) {
 }
 
 Outcome firmware(Link& link, const std::string& path, const RemoteOptions& options) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec))
-    return RemoteError{RemoteFailure::Input, fmt::format("{}: is a directory, not a firmware file", path)};
-  std::ifstream in(path);
-  if (!in) return RemoteError{RemoteFailure::Input, fmt::format("cannot read {}", path)};
-  std::stringstream text;
-  text << in.rdbuf();
-  auto parsed = parse_srec(text.str());
+  auto file = read_file(path);
+  if (const auto* problem = std::get_if<FileProblem>(&file))
+    return RemoteError{RemoteFailure::Input, *problem == FileProblem::Directory
+                                                 ? fmt::format("{}: is a directory, not a firmware file", path)
+                                                 : fmt::format("cannot read {}", path)};
+  auto parsed = parse_srec(std::get<std::string>(file));
   if (auto* e = std::get_if<std::string>(&parsed)) return RemoteError{RemoteFailure::Input, path + ": " + *e};
   const Firmware& fw = std::get<Firmware>(parsed);
   unsigned sum = 0;

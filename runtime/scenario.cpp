@@ -3,11 +3,10 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <filesystem>
-#include <fstream>
 #include <optional>
-#include <sstream>
 #include <toml++/toml.h>
+
+#include "runtime/file_read.h"
 
 namespace rcx {
 namespace {
@@ -89,14 +88,15 @@ std::variant<std::vector<TimedInput>, ScenarioError> parse_scenario(std::string_
 }
 
 std::variant<std::vector<TimedInput>, ScenarioError> read_scenario_file(const std::string& path) {
-  // A directory opens as a stream that reads as empty: an empty scenario.
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) return ScenarioError{fmt::format("{}: is a directory, not a scenario file", path)};
-  std::ifstream in(path);
-  if (!in) return ScenarioError{fmt::format("{}: cannot open scenario file", path)};
-  std::stringstream text;
-  text << in.rdbuf();
-  return parse_scenario(text.str(), path);
+  auto file = read_file(path);
+  if (const auto* problem = std::get_if<FileProblem>(&file)) {
+    switch (*problem) {
+      case FileProblem::Directory: return ScenarioError{fmt::format("{}: is a directory, not a scenario file", path)};
+      case FileProblem::CannotOpen: return ScenarioError{fmt::format("{}: cannot open scenario file", path)};
+      case FileProblem::ReadError: return ScenarioError{fmt::format("{}: read error", path)};
+    }
+  }
+  return parse_scenario(std::get<std::string>(file), path);
 }
 
 }  // namespace rcx

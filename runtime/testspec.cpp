@@ -3,14 +3,13 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include "runtime/file_read.h"
 #include "runtime/scenario.h"
 
 #include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 
 namespace rcx::semtest {
 namespace {
@@ -537,11 +536,9 @@ std::variant<Spec, std::vector<SpecError>> parse_spec(std::string_view source) {
 }
 
 std::variant<Spec, std::vector<SpecError>> parse_spec_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream text;
-  text << in.rdbuf();
-  if (!in) return std::vector<SpecError>{{0, "cannot read " + path}};
-  return parse_spec(text.str());
+  auto file = read_file(path);
+  if (std::holds_alternative<FileProblem>(file)) return std::vector<SpecError>{{0, "cannot read " + path}};
+  return parse_spec(std::get<std::string>(file));
 }
 
 std::vector<Failure> check_diagnostics(const Spec& spec, const std::vector<CompilerMessage>& messages) {
