@@ -77,6 +77,13 @@ struct BlockOrder {
   void apply(Function& fn) const;
 };
 
+// nested_repeat.cpp: `repeat (a) repeat (b) S`, with constant counts and
+// nothing else in the outer body, becomes one counter loop of a*b (when the
+// product fits the loopset's argument): one loopset, one loop test and one
+// jump less per nesting. `continue` in S means the same in both forms; a
+// loop left early (break, return, goto) is not merged.
+void merge_nested_repeats(Function& f, Log& log);
+
 // repeat.cpp: keeps the firmware loop counter for `repeat` loops where it
 // is safe (nesting, counted across subroutine calls, at most 4 deep; no
 // exit other than the loop's end) and rewrites the others to count in a

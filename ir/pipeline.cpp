@@ -11,6 +11,7 @@ bool optimize(Program& p, OptLevel level, Diagnostics& diags, Log& log) {
       remove_dead_stores(p);
       for (auto& f : p.functions) simplify_cfg(f);
     }
+    for (auto& f : p.functions) merge_nested_repeats(f, log);
     if (level == OptLevel::Os) {
       for (auto& f : p.functions) {
         merge_motor_commands(f, p.vars);

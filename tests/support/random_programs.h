@@ -69,7 +69,10 @@ class Generator {
         block(out, depth - 1, callable);
         out << "  }\n";
       } else if (k == 9 && depth > 0) {
-        out << "  repeat (" << pick(1, 3) << ") {\n";
+        // Sometimes directly nested (merged into one loop, ir/nested_repeat.cpp).
+        out << "  repeat (" << pick(1, 3) << ") ";
+        if (pick(0, 2) == 0) out << "repeat (" << pick(1, 3) << ") ";
+        out << "{\n";
         block(out, depth - 1, callable);
         out << "  }\n";
       } else if (k >= 10 && callable > 0) {
