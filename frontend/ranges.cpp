@@ -14,6 +14,8 @@ struct Range {
   std::string_view mnemonic;
   std::string_view operand;
   int lo, hi;
+  std::string_view meaning = {};
+  std::string_view effect = {};
 };
 
 // From the seed's operand descriptions.
@@ -21,7 +23,8 @@ constexpr Range kRanges[] = {
     {"sound", "sound", 0, 5},        {"timerclr", "timer", 0, 3},      {"sensclr", "sensor", 0, 2},
     {"senstype", "sensor", 0, 2},    {"senstype", "type", 0, 4},       {"sensmode", "sensor", 0, 2},
     {"settime", "hours", 0, 23},     {"settime", "minutes", 0, 59},    {"txrange", "range", 0, 1},
-    {"sleepdelay", "minutes", 0, 99}, {"program", "program", 0, 4},    {"pwr", "source", 0, 7},
+    {"sleepdelay", "minutes", 0, 99}, {"program", "program", 0, 4},
+    {"pwr", "source", 0, 7, "the power level", "the RCX ignores the command"},
     {"call", "subroutine", 0, 7},    {"start", "task", 0, 9},          {"stop", "task", 0, 9},
 };
 
@@ -104,10 +107,9 @@ class RangeCheck {
       auto range = operand_range(in.mnemonic, o.name);
       if (!range || e.constant) continue;  // constant operands were checked where they are written
       auto v = fold_with(e, b);
-      if (!v || (*v >= range->first && *v <= range->second)) continue;
-      auto& d = diags_.warning(call_, "'" + name + "' passes " + std::to_string(*v) + " as operand '" +
-                                          std::string(o.name) + "' of '" + in.mnemonic + "', outside the RCX's range " +
-                                          std::to_string(range->first) + ".." + std::to_string(range->second));
+      if (!v || (*v >= range->lo && *v <= range->hi)) continue;
+      auto& d = diags_.warning(call_, "'" + name + "' passes " + std::to_string(*v) + " as " +
+                                          describe_operand(in.mnemonic, o.name, *range) + outside_range(*range));
       d.notes.push_back({e.span, "the operand is here"});
     }
   }
@@ -115,10 +117,22 @@ class RangeCheck {
 
 }  // namespace
 
-std::optional<std::pair<int, int>> operand_range(std::string_view mnemonic, std::string_view operand) {
+std::optional<OperandRange> operand_range(std::string_view mnemonic, std::string_view operand) {
   for (const auto& r : kRanges)
-    if (r.mnemonic == mnemonic && r.operand == operand) return std::make_pair(r.lo, r.hi);
+    if (r.mnemonic == mnemonic && r.operand == operand) return OperandRange{r.lo, r.hi, r.meaning, r.effect};
   return std::nullopt;
+}
+
+std::string describe_operand(std::string_view mnemonic, std::string_view operand, const OperandRange& range) {
+  std::string text = "operand '" + std::string(operand) + "'";
+  if (!range.meaning.empty()) text += " (" + std::string(range.meaning) + ")";
+  return text + " of '" + std::string(mnemonic) + "'";
+}
+
+std::string outside_range(const OperandRange& range) {
+  std::string text = ", outside the RCX's range " + std::to_string(range.lo) + ".." + std::to_string(range.hi);
+  if (!range.effect.empty()) text += "; " + std::string(range.effect);
+  return text;
 }
 
 void check_call_ranges(const Program& program, const Function& f, const std::vector<Expr>& args, SourceSpan call,

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <optional>
+#include <string>
 #include <string_view>
 #include <utility>
 #include <vector>
@@ -14,8 +15,19 @@
 namespace rcxc::frontend {
 
 // The range the seed gives for operand `operand` of the instruction
-// `mnemonic` (for a source operand: its value when it is a constant).
-std::optional<std::pair<int, int>> operand_range(std::string_view mnemonic, std::string_view operand);
+// `mnemonic` (for a source operand: its value when it is a constant), and
+// what the value means where the operand's name does not say (`pwr`'s
+// "source" is the power level).
+struct OperandRange {
+  int lo = 0, hi = 0;
+  std::string_view meaning;
+  std::string_view effect;  // what the brick does with a value outside, when the seed says
+};
+std::optional<OperandRange> operand_range(std::string_view mnemonic, std::string_view operand);
+// "operand 'source' (the power level) of 'pwr'", for messages.
+std::string describe_operand(std::string_view mnemonic, std::string_view operand, const OperandRange& range);
+// ", outside the RCX's range 0..7; the RCX ignores the command", for messages.
+std::string outside_range(const OperandRange& range);
 
 // Warns at `call` when a constant argument of the call of `f` (after sema
 // resolved `program`) ends up as an instruction operand outside its range,

@@ -531,10 +531,9 @@ class Checker {
     auto range = operand_range(in.mnemonic, o.name);
     if (!range || !e.constant) return;
     int v = *e.constant;
-    if (v < range->first || v > range->second)
-      diags_.warning(e.span, "operand '" + std::string(o.name) + "' of '" + in.mnemonic + "' is " + std::to_string(v) +
-                                 ", outside the RCX's range " + std::to_string(range->first) + ".." +
-                                 std::to_string(range->second));
+    if (v < range->lo || v > range->hi)
+      diags_.warning(e.span,
+                     describe_operand(in.mnemonic, o.name, *range) + " is " + std::to_string(v) + outside_range(*range));
   }
 
   // -------------------------------------------------------- expressions --

@@ -134,6 +134,13 @@ const BadProgram kCases[] = {
      {"5:3: warning: 'Twice' passes 6 as operand 'sound' of 'sound', outside the RCX's range 0..5"}, true},
     {"AsmOperandOutsideTheFirmwareRange", "task main()\n{\n  asm { timerclr 4; }\n}\n",
      {"3:18: warning: operand 'timer' of 'timerclr' is 4, outside the RCX's range 0..3"}},
+    // The power operand is named for what it means and the seed's consequence.
+    {"PowerOutsideTheFirmwareRangeIsIgnoredByTheBrick", "task main()\n{\n  SetPower(OUT_A, 9);\n  asm { pwr 1, 8; }\n}\n",
+     {"3:3: warning: 'SetPower' passes 9 as operand 'source' (the power level) of 'pwr', outside the RCX's range 0..7; "
+      "the RCX ignores the command",
+      "4:16: warning: operand 'source' (the power level) of 'pwr' is 8, outside the RCX's range 0..7; the RCX ignores "
+      "the command"},
+     true},
     {"Rcx2StatementsAreNamedOnce",
      "int x;\ntask main()\n{\n  monitor (1) {\n    x = 1;\n  } catch (2) {\n    x = 2;\n  }\n  acquire (4) { x = 3; }\n}\n",
      {"4:3: error: 'monitor' is an RCX 2 statement (event monitoring); the RCX firmware has no events",
