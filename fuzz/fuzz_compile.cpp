@@ -1,4 +1,4 @@
-// Bytes as NQC source: the whole compiler at -O0 and -Os, then the image it
+// Bytes as NQC source: the whole compiler at -O0, -O1 and -Os, then each image it
 // produced runs on the emulator for a bounded virtual time. An accepted
 // program the emulator refuses or faults on is a compiler bug, unless the
 // source has `asm` (the one way to write arbitrary bytes): the target
@@ -86,8 +86,8 @@ std::set<std::string> global_names(const std::string& text) {
   return names;
 }
 
-void compare_levels(const std::string& text, const rcx::Image& unoptimised_image, const rcx::Image& optimised_image) {
-  if (!self_contained(unoptimised_image)) return;
+void compare_levels(const std::string& text, const rcx::Image& unoptimised_image, const rcx::Image& optimised_image,
+                    const char* level) {
   auto globals = global_names(text);
   rcx::Image unoptimised = globals_named(unoptimised_image, globals);
   rcx::Image optimised = globals_named(optimised_image, globals);
@@ -96,9 +96,9 @@ void compare_levels(const std::string& text, const rcx::Image& unoptimised_image
   // A run cut off by the time limit stops at a different point at each level.
   if (a.stop().kind != rcx::StopKind::Ended || b.stop().kind != rcx::StopKind::Ended) return;
   rcx::TimeTolerance tolerance{kCompareInstructionUs * 500, 0.005, kCompareInstructionUs * 5};
-  auto c = rcx::compare_runs({&a, &unoptimised, "-O0"}, {&b, &optimised, "-Os"}, tolerance);
+  auto c = rcx::compare_runs({&a, &unoptimised, "-O0"}, {&b, &optimised, level}, tolerance);
   if (c.same) return;
-  std::fprintf(stderr, "fuzz_compile: -O0 and -Os differ: %s\n%s\n", c.differences.front().c_str(),
+  std::fprintf(stderr, "fuzz_compile: -O0 and %s differ: %s\n%s\n", level, c.differences.front().c_str(),
                c.side_by_side.c_str());
   std::abort();
 }
@@ -108,7 +108,10 @@ void compare_levels(const std::string& text, const rcx::Image& unoptimised_image
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);
   auto unoptimised = compile_and_run(text, rcxc::ir::OptLevel::O0);
-  auto optimised = compile_and_run(text, rcxc::ir::OptLevel::Os);
-  if (unoptimised && optimised) compare_levels(text, *unoptimised, *optimised);
+  auto o1 = compile_and_run(text, rcxc::ir::OptLevel::O1);
+  auto os = compile_and_run(text, rcxc::ir::OptLevel::Os);
+  if (!unoptimised || !self_contained(*unoptimised)) return 0;
+  if (o1) compare_levels(text, *unoptimised, *o1, "-O1");
+  if (os) compare_levels(text, *unoptimised, *os, "-Os");
   return 0;
 }
