@@ -97,14 +97,18 @@ struct Settings {
 // that came last.
 std::optional<std::vector<Instr>> net_commands(const std::vector<const Instr*>& window) {
   std::map<int, int> power, dir, mode;  // output bit -> value
-  std::map<int, std::size_t> mode_at, first_setting, last_setting;  // output bit -> index in window
+  std::map<int, std::size_t> mode_at, first_setting, last_setting;  // output bit -> first/last index in window
   for (std::size_t i = 0; i < window.size(); ++i) {
     FieldSet set = field_set(*window[i]);
     for (int bit = 1; bit <= 4; bit <<= 1) {
       if (!(set.outputs & bit)) continue;
       if (set.field == Field::Switch) {
+        // A window switches one output to one value only (Settings), so
+        // its first switch says whether the output has that value while
+        // its settings change: `Off(B); SetPower(B, 1); Off(B);` keeps B
+        // stopped throughout.
         mode[bit] = set.value;
-        mode_at[bit] = i;
+        if (!mode_at.contains(bit)) mode_at[bit] = i;
         continue;
       }
       (set.field == Field::Power ? power : dir)[bit] = set.value;

@@ -644,6 +644,27 @@ TEST(Motors, OutputsThatStopDoSoBeforeTheirDirectionChanges) {
   EXPECT_EQ(instrs[2].args[0], I(0x81));  // A on
 }
 
+TEST(Motors, AnOutputStoppedBeforeAPowerChangeStaysStopped) {
+  // Off(B); SetPower(A+B+C, 1); Off(A+B+C); with B running: B stops before
+  // the power changes, so the merged commands must stop it first too, or
+  // it would run at power 1 for an instruction (random motor program 10890
+  // against nqc's code).
+  Builder b;
+  FuncId f = b.function("main");
+  auto out = [](int code) { return op(rcx::Op::SetMotorOnOff, {I(code)}); };
+  auto pwr = [](int outputs, int power) { return op(rcx::Op::SetMotorPower, {I(outputs), I(power)}); };
+  b.block(f, {out(0x42), pwr(7, 1), out(0x47)});
+  merge_motor_commands(b.fn(f), b.p.vars);
+  const auto& instrs = b.at(f, 0).instrs;
+  // Merged, B would have to stop early and A and C late: no fewer commands,
+  // so they stay as written (before, B's stop moved after the power change).
+  ASSERT_EQ(instrs.size(), 3u);
+  EXPECT_EQ(instrs[0].op, rcx::Op::SetMotorOnOff);
+  EXPECT_EQ(instrs[0].args[0], I(0x42));  // B off first
+  EXPECT_EQ(instrs[1].op, rcx::Op::SetMotorPower);
+  EXPECT_EQ(instrs[2].op, rcx::Op::SetMotorOnOff);
+}
+
 TEST(Motors, APulseIsNeverMergedAway) {
   // On(A); Off(A); and Fwd(A); Rev(A): each sets one field of A to two
   // values; merged, the on-time (or the forward run) would vanish.

@@ -233,7 +233,10 @@ class ExpressionGenerator {
     }
     if (k == 16 || k == 17) {
       std::string l = operand(c1);
-      if (vary_constant_pairs_ && c1) l = var(), c1 = false;
+      // For nqc, a variable: nqc folds a constant `>>` arithmetically but
+      // shifts logically at run time (rcxc folds as it runs), and a left
+      // side can fold without being all constants (`1 ? ~0 : b`).
+      if (vary_constant_pairs_) l = var(), c1 = false;
       constant_only = c1;
       return "(" + l + (k == 16 ? " << " : " >> ") + std::to_string(pick(0, 15)) + ")";
     }
