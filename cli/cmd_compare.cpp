@@ -206,7 +206,7 @@ void register_compare(CLI::App& app, int& exit_code) {
   auto* cmd = app.add_subcommand("compare", "Run a program as rcxc and as nqc compile it; report behaviour differences");
   auto o = std::make_shared<CompareOptions>();
   cmd->add_option("FILE", o->file, "NQC source file")->required();
-  cmd->add_option("--scenario", o->scenarios, "Scenario TOML file (repeatable); default: built-in scenarios");
+  add_repeatable(cmd, "--scenario", o->scenarios, "Scenario TOML file (repeatable); default: built-in scenarios");
   cmd->add_option("--nqc-path", o->nqc, "The nqc to compare with (path or name; default: nqc on PATH)");
   cmd->add_option("--for", o->for_ms, "Virtual milliseconds per run (default 20000)")
       ->check(CLI::Range(std::int64_t{1}, kMaxRunMs));

@@ -38,13 +38,7 @@ struct CompileArgs {
 frontend::Options frontend_options(const CompileArgs& a) {
   frontend::Options o;
   o.include_dirs = a.include_dirs;
-  for (const auto& d : a.defines) {
-    auto eq = d.find('=');
-    if (eq == std::string::npos)
-      o.defines.emplace_back(d, "1");
-    else
-      o.defines.emplace_back(d.substr(0, eq), d.substr(eq + 1));
-  }
+  for (const auto& d : a.defines) o.define(d);
   o.undefines = a.undefines;
   o.no_stdlib = a.no_stdlib;
   return o;
@@ -155,12 +149,12 @@ void register_compile(CLI::App& app, int& exit_code) {
   auto args = std::make_shared<CompileArgs>();
   cmd->add_option("FILE", args->file, "NQC source file")->required();
   cmd->add_option("-o,--output", args->output, "Output .rcx image");
-  cmd->add_option("-I", args->include_dirs, "Add a folder to the #include search path");
-  cmd->add_option("-D", args->defines, "Define a macro: -DNAME or -DNAME=VALUE");
-  cmd->add_option("-U", args->undefines, "Undefine a macro");
+  add_repeatable(cmd, "-I", args->include_dirs, "Add a folder to the #include search path");
+  add_repeatable(cmd, "-D", args->defines, "Define a macro: -DNAME or -DNAME=VALUE");
+  add_repeatable(cmd, "-U", args->undefines, "Undefine a macro");
   cmd->add_flag("-n", args->no_stdlib, "Do not read the standard library rcx.nqh");
   cmd->add_flag("-E", args->preprocess_only, "Print the preprocessed source and stop");
-  cmd->add_option("-W", args->warning_flags, "-Werror: treat warnings as errors");
+  add_repeatable(cmd, "-W", args->warning_flags, "-Werror: treat warnings as errors");
   cmd->add_flag("-w", args->no_warnings, "Do not report warnings");
   cmd->add_option("-O", args->optimize, "Optimisation: -O0, -O1 or -Os (default)")
       ->check(CLI::IsMember({"0", "1", "s"}));

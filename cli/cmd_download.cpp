@@ -124,7 +124,7 @@ void register_download(CLI::App& app, int& exit_code) {
   auto* cmd = app.add_subcommand("download", "Compile if needed and download a program into the RCX over the IR tower");
   auto a = std::make_shared<DownloadArgs>();
   cmd->add_option("FILE", a->file, ".nqc source (compiled first) or .rcx image")->required();
-  cmd->add_option("-I", a->include_dirs, "Include directory for .nqc source");
+  add_repeatable(cmd, "-I", a->include_dirs, "Include directory for .nqc source");
   cmd->add_option("--port", a->port, "Tower device: usb, serial, a path (default: RCX_PORT, else usb)");
   cmd->add_option("--program", a->program, "Program slot 1..5")->check(CLI::Range(1, 5));
   cmd->add_flag("--run", a->run, "Start the program after downloading");

@@ -5,6 +5,8 @@
 #include <CLI/CLI.hpp>
 
 #include <cstdint>
+#include <string>
+#include <vector>
 
 namespace rcxc::cli {
 
@@ -19,6 +21,15 @@ inline constexpr int kExitNotComparable = 5;  // compare: nqc is missing or refu
 // The longest virtual run --for accepts (about 35 years): milliseconds times
 // 1000 must still fit the emulator's 64-bit microsecond clock.
 inline constexpr std::int64_t kMaxRunMs = std::int64_t{1} << 40;
+
+// An option that may be given many times, one value each time (-I, -D,
+// --scenario). CLI11's default lets one occurrence swallow the words after
+// it, so `rcxc compile -DFOO prog.nqc` would take prog.nqc as a second
+// define and then miss its FILE.
+inline CLI::Option* add_repeatable(CLI::App* cmd, const std::string& name, std::vector<std::string>& values,
+                                   const std::string& help) {
+  return cmd->add_option(name, values, help)->allow_extra_args(false);
+}
 
 void register_compile(CLI::App& app, int& exit_code);
 void register_run(CLI::App& app, int& exit_code);

@@ -90,6 +90,14 @@ std::optional<ast::Program> parse_program(const std::string& path, const Options
   return run(*file, folder_of(path), options, sm, diags);
 }
 
+void Options::define(const std::string& option) {
+  auto eq = option.find('=');
+  if (eq == std::string::npos)
+    defines.emplace_back(option, "1");
+  else
+    defines.emplace_back(option.substr(0, eq), option.substr(eq + 1));
+}
+
 std::optional<ast::Program> parse_source(const std::string& name, std::string text, const Options& options,
                                          SourceManager& sm, Diagnostics& diags) {
   std::uint32_t file = sm.add(name, std::move(text));

@@ -17,6 +17,9 @@ struct Options {
   std::vector<std::pair<std::string, std::string>> defines;  // -D NAME[=VALUE] ("1" if no value)
   std::vector<std::string> undefines;                       // -U NAME
   bool no_stdlib = false;                                   // -n: do not include rcx.nqh
+
+  // Adds `-D`'s argument: NAME or NAME=VALUE.
+  void define(const std::string& option);
 };
 
 // Preprocesses, parses and checks the file at `path`. Returns the annotated

@@ -6,12 +6,15 @@
 // nothing outside it (one task; no timer, random, sensor, clock or message
 // read) must also show the same at -O0 and -Os: outputs, sounds, display,
 // messages, datalog and final globals, as `rcxc compare` judges them.
+// A first line `//! -n -DNAME=VALUE -UNAME` sets the front end's options
+// (the rest of the line is ignored), so the fuzzer reaches -n, -D and -U.
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <optional>
 #include <set>
+#include <sstream>
 #include <string>
 
 #include "backend/compile.h"
@@ -26,11 +29,24 @@ namespace {
 // Wait, so -O0's extra instructions barely move events in time.
 constexpr rcx::Micros kCompareInstructionUs = 10;
 
+// The options of a leading `//!` line (-I is left out: it reads folders).
+rcxc::frontend::Options options_of(const std::string& text) {
+  rcxc::frontend::Options options;
+  if (text.rfind("//!", 0) != 0) return options;
+  std::istringstream line(text.substr(3, text.find('\n') - 3));
+  for (std::string word; line >> word;) {
+    if (word == "-n") options.no_stdlib = true;
+    if (word.size() > 2 && word.rfind("-U", 0) == 0) options.undefines.push_back(word.substr(2));
+    if (word.size() > 2 && word.rfind("-D", 0) == 0) options.define(word.substr(2));
+  }
+  return options;
+}
+
 std::optional<rcx::Image> compile_and_run(const std::string& text, rcxc::ir::OptLevel level) {
   rcxc::SourceManager sm;
   rcxc::Diagnostics diags;
   rcxc::ir::Log log;
-  rcxc::frontend::Options options;
+  rcxc::frontend::Options options = options_of(text);
   auto out = rcxc::backend::compile_source("fuzz.nqc", text, options, level, sm, diags, log);
   for (const auto& d : diags.all()) (void)rcxc::render_text(d, sm);
   if (!out) return std::nullopt;
@@ -81,7 +97,7 @@ std::set<std::string> global_names(const std::string& text) {
   rcxc::SourceManager sm;
   rcxc::Diagnostics diags;
   std::set<std::string> names;
-  if (auto program = rcxc::frontend::parse_source("fuzz.nqc", text, {}, sm, diags))
+  if (auto program = rcxc::frontend::parse_source("fuzz.nqc", text, options_of(text), sm, diags))
     for (const auto& g : program->globals) names.insert(g.name);
   return names;
 }

@@ -22,5 +22,6 @@ for f in $sources; do
 done
 for f in "$root"/fuzz/seeds/scenario/*; do { printf '\001'; cat "$f"; } > "$out/scenario/$(basename "$f")"; done
 cp "$root"/fuzz/seeds/packet/* "$out/packet/"
+cp "$root"/fuzz/seeds/compile/* "$out/compile/"
 echo "corpus in $out: $(ls "$out/compile" | wc -l) sources, $(ls "$out/image" | wc -l) images," \
   "$(ls "$out/packet" | wc -l) packet seeds, $(ls "$out/scenario" | wc -l) text seeds"

@@ -184,3 +184,19 @@ TEST(CompileCli, BadMacroNamesAndAnEmptyOutputAreUsageErrors) {
   EXPECT_FALSE(std::filesystem::exists(d.path + "/p.rcx"));
   EXPECT_EQ(run_rcxc({"compile", src, "-DGOOD_NAME=2", "-UOTHER"}).exit_code, 0);
 }
+
+// Options before the file, as nqc and IDEs write them: each -I/-D/-U/-W
+// takes one value, so the file is not swallowed as a second define.
+TEST(CompileCli, RepeatableOptionsBeforeTheFile) {
+  TempDir d;
+  std::filesystem::create_directories(d.path + "/inc");
+  d.write("inc/count.nqh", "#define COUNT_TO TIMES\n");
+  std::string src = d.write("p.nqc", "#include \"count.nqh\"\nint count;\ntask main() { repeat (COUNT_TO) count++; }\n");
+  auto r = run_rcxc({"compile", "-I", d.path + "/inc", "-DTIMES=4", "-D", "UNUSED", "-UOTHER", "-Werror", src, "-o",
+                     d.path + "/p.rcx"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto image = rcx::read_image(d.read("p.rcx"));
+  ASSERT_TRUE(std::holds_alternative<rcx::Image>(image));
+  // Without the define the program does not compile: the option reached it.
+  EXPECT_EQ(run_rcxc({"compile", "-I", d.path + "/inc", src, "-o", d.path + "/q.rcx"}).exit_code, 1);
+}

@@ -121,3 +121,14 @@ TEST(CompareCli, AReactionOutlastingTheNextInputIsStillInstructionTiming) {
   EXPECT_EQ(r.out.find("DIFFERENT"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("[light levels and rotation] once"), std::string::npos) << r.out;
 }
+
+// --scenario before the file takes one value: the file is not read as a
+// second scenario. The press at 200 ms lets both programs play.
+TEST(CompareCli, ScenarioBeforeTheFile) {
+  TempDir d;
+  std::string scenario = d.write("press.toml", "[[input]]\nat_ms = 200\nsensor = 1\nraw = 100\n");
+  auto r = run_rcxc({"compare", "--nqc-path", fake_nqc(d, image_playing(d, 3)), "--scenario", scenario,
+                     d.write("p.nqc", kSource), "--for", "5000"});
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("press.toml"), std::string::npos) << r.out;
+}
