@@ -1,6 +1,7 @@
 #include "ir/lower.h"
 
 #include <algorithm>
+#include <deque>
 #include <map>
 #include <unordered_map>
 
@@ -139,6 +140,9 @@ struct Lowerer {
   // expression, which would otherwise walk its subtree each time. What a
   // node folds to depends only on the bindings, so `bind` forgets it all.
   std::unordered_map<const ast::Expr*, std::optional<int>> constants;
+  // Expressions lowering builds itself (`x %= e` as `x % e`), alive as long
+  // as the memos that name them.
+  std::deque<ast::Expr> synthesized;
 
   std::optional<int> constant(const ast::Expr& e) {
     if (e.constant) return *e.constant;
@@ -602,7 +606,10 @@ struct Lowerer {
         if (auto op = direct_op(*binary_op)) {
           arith(*op, *v, arith_value(*a.value));
         } else {
-          ast::Expr whole{ast::Binary{*binary_op, *a.target, *a.value}, at, std::nullopt};
+          // Kept for the whole lowering: the memos are keyed by node
+          // address, and a freed node's address comes back for the next.
+          const ast::Expr& whole =
+              synthesized.emplace_back(ast::Binary{*binary_op, *a.target, *a.value}, at, std::nullopt);
           into(*v, whole);
         }
     }
