@@ -13,12 +13,14 @@ constexpr std::size_t kMaxSequence = 24;  // instructions per outlined sequence
 constexpr int kCallBytes = 2;
 constexpr int kReturnBytes = 1;  // appended by the firmware to every subroutine
 
+// A loop counter may move into a subroutine: the counters are the task's,
+// and a subroutine runs on its caller's, at the depth the call is made, so
+// an outlined loop nests exactly as deep as it did in place.
 bool outlinable_fixed(const MInstr& m) {
   if (m.raw) return false;
   switch (m.op) {
     case rcx::Op::CallSubroutine:
-    case rcx::Op::ReturnFromSubroutine:
-    case rcx::Op::SetLoopCounter: return false;
+    case rcx::Op::ReturnFromSubroutine: return false;
     default: return true;
   }
 }
@@ -81,8 +83,8 @@ Candidate best_candidate(const std::vector<Selected>& fragments) {
     Flow flow = flow_of(frag);
     for (std::size_t i = 0; i < frag.code.size(); ++i) {
       // A sequence [i, end) can be outlined when its branches stay inside
-      // it (they are copied with it and keyed by distance, so equal keys
-      // behave the same wherever they are) and no branch from outside
+      // it or go just past it (they are copied with it and keyed by
+      // distance, so equal keys behave the same wherever they are) and no branch from outside
       // enters it after its first instruction (one entering the first
       // reaches the call instead). `need_end` is how far the sequence must
       // reach for both to hold.
@@ -98,7 +100,10 @@ Candidate best_candidate(const std::vector<Selected>& fragments) {
         } else {
           int t = flow.target[k];
           if (t < static_cast<int>(i)) break;
-          need_end = std::max(need_end, static_cast<std::size_t>(t) + 1);
+          // A branch just past the sequence (a loop's exit when the loop
+          // ends it) becomes a branch to the subroutine's end: its return
+          // goes on after the call, where the branch went.
+          need_end = std::max(need_end, static_cast<std::size_t>(t));
           key += fmt::format("<{} {} {}>", static_cast<int>(m.kind), fmt::join(m.values, ","), t - static_cast<int>(i));
         }
         key.push_back('\x7f');  // instruction boundary

@@ -25,10 +25,10 @@ struct Selected {
 // Outlines into new subroutines while it saves bytes and subroutine
 // indices are free (at most `kMaxSubroutines` in all). Only task code is
 // outlined (a subroutine cannot call another); sequences never contain
-// calls, loop counters or raw asm, contain branches only to their own
-// instructions (`until (sem == 0); sem = 1;` moves whole), and only their
-// first instruction may be entered from outside. Each decision is appended
-// to `log`.
+// calls or raw asm, contain branches only to their own instructions
+// (`until (sem == 0); sem = 1;` moves whole) or just past their end (a
+// whole repeat loop, counter included), and only their first instruction
+// may be entered from outside. Each decision is appended to `log`.
 void outline(std::vector<Selected>& fragments, std::vector<std::string>& log);
 
 }  // namespace rcxc::backend

@@ -138,3 +138,30 @@ TEST(Outline, ALoopTestBranchingBeforeTheSequenceStaysInTheTask) {
   EXPECT_EQ(run_for_global(c.out->image, "x", 1000), 18);
   EXPECT_EQ(run_for_global(c.out->image, "y", 1000), 9);
 }
+
+TEST(Outline, AWholeRepeatLoopMovesWithItsCounter) {
+  // The same counted loop in two tasks and twice in main, once nested in
+  // another repeat: each copy (loopset, loopdec, body, jump back: 18 bytes)
+  // becomes a call. The loop's exit goes just past the copy, which in the
+  // subroutine is its end: the return. The counters are the calling task's,
+  // at the depth of the call, as they were in place.
+  const char* src = R"(
+    int n, m;
+    task other() { repeat (3) { PlaySound(1); n++; Wait(10); } }
+    task main() {
+      start other;
+      repeat (3) { PlaySound(1); n++; Wait(10); }
+      repeat (2) { m++; repeat (3) { PlaySound(1); n++; Wait(10); } }
+      Wait(50);
+    })";
+  auto c = compile(src);
+  ASSERT_TRUE(c.out);
+  ASSERT_EQ(subroutines(*c.out), 1u);
+  const auto* sub = c.out->image.find(rcx::FragmentType::Subroutine, 0);
+  ASSERT_NE(sub, nullptr);
+  EXPECT_EQ(sub->code.front(), rcx::info(rcx::Op::SetLoopCounter).code);
+  EXPECT_EQ(sub->code.size(), 18u);
+  EXPECT_EQ(count_byte(c.out->image.find(rcx::FragmentType::Task, 1)->code, 0x17), 1u);
+  EXPECT_EQ(run_for_global(c.out->image, "n", 2000), 12);
+  EXPECT_EQ(run_for_global(c.out->image, "m", 2000), 2);
+}
