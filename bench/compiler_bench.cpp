@@ -49,6 +49,14 @@ std::string written_out_steps(int n) {
   return src + "}\n";
 }
 
+// Loops three deep that merge into one counter loop each
+// (ir/nested_repeat.cpp): the pass must not search every pair per merge.
+std::string nested_repeats(int n) {
+  std::string src = "int x;\ntask main() {\n";
+  for (int i = 0; i < n; ++i) src += "  repeat (2) repeat (3) repeat (2) x++;\n";
+  return src + "}\n";
+}
+
 void compile(benchmark::State& state, const std::string& src) {
   for (auto _ : state) {
     rcxc::SourceManager sm;
@@ -78,6 +86,9 @@ BENCHMARK(BM_LongExpression)->Arg(1000)->Arg(5000)->Arg(20000)->Unit(benchmark::
 
 void BM_WrittenOutSteps(benchmark::State& state) { compile(state, written_out_steps(static_cast<int>(state.range(0)))); }
 BENCHMARK(BM_WrittenOutSteps)->Arg(1000)->Arg(5000)->Arg(20000)->Unit(benchmark::kMillisecond);
+
+void BM_NestedRepeats(benchmark::State& state) { compile(state, nested_repeats(static_cast<int>(state.range(0)))); }
+BENCHMARK(BM_NestedRepeats)->Arg(500)->Arg(3000)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 
