@@ -84,9 +84,9 @@ Candidate best_candidate(const std::vector<Selected>& fragments) {
     for (std::size_t i = 0; i < frag.code.size(); ++i) {
       // A sequence [i, end) can be outlined when its branches stay inside
       // it or go just past it (they are copied with it and keyed by
-      // distance, so equal keys behave the same wherever they are) and no branch from outside
-      // enters it after its first instruction (one entering the first
-      // reaches the call instead). `need_end` is how far the sequence must
+      // distance, so equal keys behave the same wherever they are) and no
+      // branch from outside enters it after its first instruction (one
+      // entering the first reaches the call instead). `need_end` is how far the sequence must
       // reach for both to hold.
       std::string key;
       int bytes = 0;

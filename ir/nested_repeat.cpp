@@ -88,12 +88,13 @@ bool merge_into_outer(Function& f, std::size_t i, const Shape& shape, Log& log) 
   if (outer_test == nullptr || !outer_count || to_outer == nullptr) return false;
   if (through_empty(f, shape.loop_block, outer_test->body, body_chain) != inner.setup) return false;
   if (through_empty(f, shape.loop_block, to_outer->target, setup_chain) != outer.head) return false;
-  // Nothing else may enter the outer test or the inner setup: only the two
-  // loops' own edges (no goto into the middle).
+  // Nothing else may enter the outer test, the inner setup or the way
+  // between the loops: only the two loops' own edges (no goto into the
+  // middle).
   body_chain.push_back(inner.setup);
-  if (!single_entry(shape.preds, body_chain) || !single_entry(shape.preds, exit_chain) ||
-      !single_entry(shape.preds, setup_chain) || shape.preds[static_cast<std::size_t>(outer.head)] != 2)
-    return false;
+  for (const auto* blocks : {&chain, &exit_chain, &body_chain, &setup_chain})
+    if (!single_entry(shape.preds, *blocks)) return false;
+  if (shape.preds[static_cast<std::size_t>(outer.head)] != 2) return false;
   int product = *outer_count * *inner_count;
   if (*outer_count < 1 || *inner_count < 1 || !accepts(rcx::Op::SetLoopCounter, 0, Operand::imm(product)))
     return false;
