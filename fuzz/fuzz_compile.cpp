@@ -1,11 +1,12 @@
-// Bytes as NQC source: the whole compiler at -O0, -O1 and -Os, then each image it
-// produced runs on the emulator for a bounded virtual time. An accepted
-// program the emulator refuses or faults on is a compiler bug, unless the
-// source has `asm` (the one way to write arbitrary bytes): the target
-// aborts so libFuzzer keeps the input. A program whose run depends on
-// nothing outside it (one task; no timer, random, sensor, clock or message
-// read) must also show the same at -O0 and -Os: outputs, sounds, display,
-// messages, datalog and final globals, as `rcxc compare` judges them.
+// Bytes as NQC source: the whole compiler at -O0, -O1 and -Os, then each
+// image it produced runs on the emulator for a bounded virtual time. An
+// accepted program the emulator refuses or faults on is a compiler bug,
+// unless the source has `asm` (the one way to write arbitrary bytes): the
+// target aborts so libFuzzer keeps the input. A program whose run depends
+// on nothing outside it (one task; no timer, random, sensor, clock or
+// message read) must also show at -O1 and -Os what it shows at -O0:
+// outputs, sounds, display, messages, datalog and final globals, as
+// `rcxc compare` judges them.
 // A first line `//! -n -DNAME=VALUE -UNAME` sets the front end's options
 // (the rest of the line is ignored), so the fuzzer reaches -n, -D and -U.
 #include <cstddef>
@@ -102,9 +103,8 @@ std::set<std::string> global_names(const std::string& text) {
   return names;
 }
 
-void compare_levels(const std::string& text, const rcx::Image& unoptimised_image, const rcx::Image& optimised_image,
-                    const char* level) {
-  auto globals = global_names(text);
+void compare_levels(const std::set<std::string>& globals, const rcx::Image& unoptimised_image,
+                    const rcx::Image& optimised_image, const char* level) {
   rcx::Image unoptimised = globals_named(unoptimised_image, globals);
   rcx::Image optimised = globals_named(optimised_image, globals);
   rcx::Machine a = run_for_comparison(unoptimised);
@@ -127,7 +127,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   auto o1 = compile_and_run(text, rcxc::ir::OptLevel::O1);
   auto os = compile_and_run(text, rcxc::ir::OptLevel::Os);
   if (!unoptimised || !self_contained(*unoptimised)) return 0;
-  if (o1) compare_levels(text, *unoptimised, *o1, "-O1");
-  if (os) compare_levels(text, *unoptimised, *os, "-Os");
+  auto globals = global_names(text);
+  if (o1) compare_levels(globals, *unoptimised, *o1, "-O1");
+  if (os) compare_levels(globals, *unoptimised, *os, "-Os");
   return 0;
 }

@@ -609,7 +609,7 @@ struct Lowerer {
           // Kept for the whole lowering: the memos are keyed by node
           // address, and a freed node's address comes back for the next.
           const ast::Expr& whole =
-              synthesized.emplace_back(ast::Binary{*binary_op, *a.target, *a.value}, at, std::nullopt);
+              synthesized.emplace_back(ast::Expr{ast::Binary{*binary_op, *a.target, *a.value}, at, std::nullopt});
           into(*v, whole);
         }
     }
