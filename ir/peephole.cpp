@@ -93,11 +93,12 @@ struct Settings {
 // while it runs, so each output's switch (on, off, float) must stay on the
 // same side of its new settings as in the window: `Rev(OUT_C); Off(OUT_C);`
 // runs C backwards before stopping it, `Float(OUT_C); Rev(OUT_C);` never
-// does. The order is: switches that came first, power, direction, switches
-// that came last.
+// does. The order is: switches that came first, power and direction (in
+// the order a running output saw them), switches that came last.
 std::optional<std::vector<Instr>> net_commands(const std::vector<const Instr*>& window) {
   std::map<int, int> power, dir, mode;  // output bit -> value
   std::map<int, std::size_t> mode_at, first_setting, last_setting;  // output bit -> first/last index in window
+  std::map<int, std::size_t> power_at, dir_at;                      // output bit -> index of that setting
   for (std::size_t i = 0; i < window.size(); ++i) {
     FieldSet set = field_set(*window[i]);
     for (int bit = 1; bit <= 4; bit <<= 1) {
@@ -112,6 +113,7 @@ std::optional<std::vector<Instr>> net_commands(const std::vector<const Instr*>& 
         continue;
       }
       (set.field == Field::Power ? power : dir)[bit] = set.value;
+      (set.field == Field::Power ? power_at : dir_at).try_emplace(bit, i);
       if (!first_setting.contains(bit)) first_setting[bit] = i;
       last_setting[bit] = i;
     }
@@ -126,6 +128,19 @@ std::optional<std::vector<Instr>> net_commands(const std::vector<const Instr*>& 
     }
     (first ? early : late)[bit] = v;
   }
+  // An output that may run while its power and direction both change shows
+  // them in the order they came (`Rev(C); SetPower(C, 3)` runs C backwards
+  // at full power, then at 3, never forwards at 3): the merged commands
+  // keep that order, which all such outputs must share.
+  bool direction_first = false, power_first = false;
+  for (auto [bit, at] : power_at) {
+    auto d = dir_at.find(bit);
+    auto e = early.find(bit);
+    bool stopped = e != early.end() && e->second != 0x80;  // off or floating while its settings change
+    if (d == dir_at.end() || stopped) continue;
+    (d->second < at ? direction_first : power_first) = true;
+  }
+  if (direction_first && power_first) return std::nullopt;
   auto group = [](const std::map<int, int>& m) {
     std::map<int, int> by_value;  // value -> output mask
     for (auto [bit, v] : m) by_value[v] |= bit;
@@ -136,9 +151,21 @@ std::optional<std::vector<Instr>> net_commands(const std::vector<const Instr*>& 
   auto switches = [&](const std::map<int, int>& m) {
     for (auto [v, mask] : group(m)) out.push_back(Instr{Op::SetMotorOnOff, {Operand::imm(mask | v)}, false, span});
   };
+  auto powers = [&] {
+    for (auto [v, mask] : group(power))
+      out.push_back(Instr{Op::SetMotorPower, {Operand::imm(mask), Operand::imm(v)}, false, span});
+  };
+  auto directions = [&] {
+    for (auto [v, mask] : group(dir)) out.push_back(Instr{Op::SetMotorDirection, {Operand::imm(mask | v)}, false, span});
+  };
   switches(early);
-  for (auto [v, mask] : group(power)) out.push_back(Instr{Op::SetMotorPower, {Operand::imm(mask), Operand::imm(v)}, false, span});
-  for (auto [v, mask] : group(dir)) out.push_back(Instr{Op::SetMotorDirection, {Operand::imm(mask | v)}, false, span});
+  if (direction_first) {
+    directions();
+    powers();
+  } else {
+    powers();
+    directions();
+  }
   switches(late);
   return out;
 }

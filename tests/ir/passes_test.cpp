@@ -665,6 +665,37 @@ TEST(Motors, AnOutputStoppedBeforeAPowerChangeStaysStopped) {
   EXPECT_EQ(instrs[2].op, rcx::Op::SetMotorOnOff);
 }
 
+TEST(Motors, ARunningOutputSeesDirectionAndPowerInTheirOrder) {
+  // On(A+B+C); OnRev(C); OnRev(B+C); SetPower(A+B+C, 3): B and C run
+  // backwards at full power, then at 3. Merged, the direction must still
+  // come before the power, or they would run forwards at 3 for an
+  // instruction (random motor program 63429 against nqc's code).
+  Builder b;
+  FuncId f = b.function("main");
+  auto dir = [](int code) { return op(rcx::Op::SetMotorDirection, {I(code)}); };
+  auto out = [](int code) { return op(rcx::Op::SetMotorOnOff, {I(code)}); };
+  auto pwr = [](int outputs, int power) { return op(rcx::Op::SetMotorPower, {I(outputs), I(power)}); };
+  b.block(f, {out(0x87), dir(0x04), dir(0x06), pwr(7, 3)});
+  merge_motor_commands(b.fn(f), b.p.vars);
+  const auto& instrs = b.at(f, 0).instrs;
+  ASSERT_EQ(instrs.size(), 3u);
+  EXPECT_EQ(instrs[0].args[0], I(0x87));
+  EXPECT_EQ(instrs[1].op, rcx::Op::SetMotorDirection);
+  EXPECT_EQ(instrs[2].op, rcx::Op::SetMotorPower);
+}
+
+TEST(Motors, OutputsThatSawSettingsInOppositeOrdersAreNotMerged) {
+  // A (maybe running) is reversed then slowed; B is slowed then reversed:
+  // no one order of the merged commands shows both as they were.
+  Builder b;
+  FuncId f = b.function("main");
+  auto dir = [](int code) { return op(rcx::Op::SetMotorDirection, {I(code)}); };
+  auto pwr = [](int outputs, int power) { return op(rcx::Op::SetMotorPower, {I(outputs), I(power)}); };
+  b.block(f, {dir(0x01), pwr(1, 3), pwr(2, 3), dir(0x02), dir(0x04)});
+  merge_motor_commands(b.fn(f), b.p.vars);
+  EXPECT_EQ(b.at(f, 0).instrs.size(), 5u);
+}
+
 TEST(Motors, APulseIsNeverMergedAway) {
   // On(A); Off(A); and Fwd(A); Rev(A): each sets one field of A to two
   // values; merged, the on-time (or the forward run) would vanish.
