@@ -22,6 +22,11 @@ inline Instr sound(int n) { return op(rcx::Op::PlaySound, {I(n)}); }
 // One byte of filler (Clear message).
 inline Instr filler() { return op(rcx::Op::ClearMessage, {}); }
 inline Instr loopset(Operand n) { return op(rcx::Op::SetLoopCounter, {n}); }
+// Motor commands by their encoded byte: direction (0x80 forward | outputs),
+// on/off/float (0x80 on, 0x40 off, 0 float | outputs), and power.
+inline Instr dir(int code) { return op(rcx::Op::SetMotorDirection, {I(code)}); }
+inline Instr out(int code) { return op(rcx::Op::SetMotorOnOff, {I(code)}); }
+inline Instr pwr(int outputs, int power) { return op(rcx::Op::SetMotorPower, {I(outputs), I(power)}); }
 
 struct Builder {
   Program p;

@@ -481,8 +481,6 @@ TEST(Slots, ExhaustionNamesTheHolders) {
 TEST(Motors, RepeatedCommandsOfTheOnlyCommandingTaskGo) {
   Builder b;
   FuncId f = b.function("main");
-  auto dir = [](int code) { return op(rcx::Op::SetMotorDirection, {I(code)}); };
-  auto out = [](int code) { return op(rcx::Op::SetMotorOnOff, {I(code)}); };
   b.block(f, {dir(0x81), out(0x81), wait(I(10)), dir(0x81), out(0x81), wait(I(10)), dir(0x01)});
   remove_redundant_motor_commands(b.p);
   EXPECT_EQ(b.at(f, 0).instrs.size(), 5u);  // the second forward/on pair is gone
@@ -491,7 +489,6 @@ TEST(Motors, RepeatedCommandsOfTheOnlyCommandingTaskGo) {
 TEST(Motors, OutputsOfTwoTasksAreLeftAlone) {
   Builder b;
   FuncId f = b.function("main"), g = b.function("other");
-  auto out = [](int code) { return op(rcx::Op::SetMotorOnOff, {I(code)}); };
   b.block(f, {start(g), out(0x81), wait(I(10)), out(0x81)});
   b.block(g, {out(0x41)});
   remove_redundant_motor_commands(b.p);
@@ -504,8 +501,6 @@ TEST(Motors, WhatEveryOtherTaskAlsoSetsIsStillKnown) {
   // direction may change under main, so its second `fwd C` stays.
   Builder b;
   FuncId f = b.function("main"), g = b.function("other");
-  auto dir = [](int code) { return op(rcx::Op::SetMotorDirection, {I(code)}); };
-  auto out = [](int code) { return op(rcx::Op::SetMotorOnOff, {I(code)}); };
   b.block(f, {start(g), out(0x85), dir(0x84), wait(I(10)), out(0x81), dir(0x84)});
   b.block(g, {out(0x85), dir(0x04)});
   remove_redundant_motor_commands(b.p);
@@ -517,7 +512,6 @@ TEST(Motors, MainIsAloneUntilItStartsATask) {
   // Another task commands A too, but only once main has started it.
   Builder b;
   FuncId f = b.function("main"), g = b.function("other");
-  auto out = [](int code) { return op(rcx::Op::SetMotorOnOff, {I(code)}); };
   b.block(f, {out(0x81), wait(I(10)), out(0x81), start(g), out(0x81), wait(I(10)), out(0x81)});
   b.block(g, {out(0x41)});
   remove_redundant_motor_commands(b.p);
@@ -529,7 +523,6 @@ TEST(Motors, MainIsAloneUntilItStartsATask) {
 TEST(Motors, RestartedMainIsNeverAlone) {
   Builder b;
   FuncId f = b.function("main"), g = b.function("other");
-  auto out = [](int code) { return op(rcx::Op::SetMotorOnOff, {I(code)}); };
   b.block(f, {out(0x81), wait(I(10)), out(0x81), start(g)});
   b.block(g, {out(0x41), start(f)});
   remove_redundant_motor_commands(b.p);
@@ -541,8 +534,6 @@ TEST(Motors, AStartedTaskBeginsWithWhatItsStarterKnew) {
   // nobody else commands B, so the direction is already set.
   Builder b;
   FuncId f = b.function("main"), g = b.function("other");
-  auto dir = [](int code) { return op(rcx::Op::SetMotorDirection, {I(code)}); };
-  auto out = [](int code) { return op(rcx::Op::SetMotorOnOff, {I(code)}); };
   b.block(f, {dir(0x82), start(g), wait(I(10))});
   b.block(g, {dir(0x82), out(0x82)});
   remove_redundant_motor_commands(b.p);
@@ -553,7 +544,6 @@ TEST(Motors, AStartedTaskBeginsWithWhatItsStarterKnew) {
 TEST(Motors, WhatTheStarterChangesLaterIsNotKnownToTheStartedTask) {
   Builder b;
   FuncId f = b.function("main"), g = b.function("other");
-  auto dir = [](int code) { return op(rcx::Op::SetMotorDirection, {I(code)}); };
   b.block(f, {dir(0x82), start(g), dir(0x02)});
   b.block(g, {wait(I(10)), dir(0x82)});
   remove_redundant_motor_commands(b.p);
@@ -565,7 +555,6 @@ TEST(Motors, ATaskStartedFromTwoPlacesKnowsWhatBothAgreeOn) {
   // reversed and A still forward.
   Builder b;
   FuncId f = b.function("main"), g = b.function("other");
-  auto dir = [](int code) { return op(rcx::Op::SetMotorDirection, {I(code)}); };
   b.block(f, {dir(0x83), start(g)});
   b.block(g, {dir(0x81), dir(0x82), wait(I(10)), dir(0x02), start(g)});
   remove_redundant_motor_commands(b.p);
@@ -577,7 +566,6 @@ TEST(Motors, ATaskStartedFromTwoPlacesKnowsWhatBothAgreeOn) {
 TEST(Motors, ATaskNobodyStartsIsLeftAlone) {
   Builder b;
   FuncId f = b.function("main"), g = b.function("other");
-  auto dir = [](int code) { return op(rcx::Op::SetMotorDirection, {I(code)}); };
   b.block(f, {dir(0x82), wait(I(10))});
   b.block(g, {dir(0x82), wait(I(10)), dir(0x82)});
   remove_redundant_motor_commands(b.p);
@@ -590,8 +578,6 @@ TEST(Motors, ASubStartsFromWhatItsCallsHave) {
   Builder b;
   FuncId f = b.function("main");
   FuncId s = b.function("turn", FuncKind::Sub);
-  auto dir = [](int code) { return op(rcx::Op::SetMotorDirection, {I(code)}); };
-  auto out = [](int code) { return op(rcx::Op::SetMotorOnOff, {I(code)}); };
   b.block(f, {dir(0x81), out(0x81), call(s), wait(I(10)), call(s), out(0x41)});
   b.block(s, {dir(0x01), out(0x81), wait(I(5)), dir(0x81), out(0x81)});
   remove_redundant_motor_commands(b.p);
@@ -604,7 +590,6 @@ TEST(Motors, ASubCalledWithDifferentStatesKeepsItsCommands) {
   Builder b;
   FuncId f = b.function("main");
   FuncId s = b.function("go", FuncKind::Sub);
-  auto out = [](int code) { return op(rcx::Op::SetMotorOnOff, {I(code)}); };
   b.block(f, {out(0x81), call(s), out(0x41), call(s)});
   b.block(s, {out(0x81), wait(I(5))});
   remove_redundant_motor_commands(b.p);
@@ -615,8 +600,6 @@ TEST(Motors, ASubCalledWithDifferentStatesKeepsItsCommands) {
 TEST(Motors, RunsOfCommandsMerge) {
   Builder b;
   FuncId f = b.function("main");
-  auto dir = [](int code) { return op(rcx::Op::SetMotorDirection, {I(code)}); };
-  auto out = [](int code) { return op(rcx::Op::SetMotorOnOff, {I(code)}); };
   // OnRev(A); OnFwd(C): two directions, one on.
   b.block(f, {dir(0x01), out(0x81), dir(0x84), out(0x84), wait(I(5))});
   merge_motor_commands(b.fn(f), b.p.vars);
@@ -633,8 +616,6 @@ TEST(Motors, OutputsThatStopDoSoBeforeTheirDirectionChanges) {
   // instruction (a glitch the program never had).
   Builder b;
   FuncId f = b.function("main");
-  auto dir = [](int code) { return op(rcx::Op::SetMotorDirection, {I(code)}); };
-  auto out = [](int code) { return op(rcx::Op::SetMotorOnOff, {I(code)}); };
   b.block(f, {out(0x06), dir(0x01), out(0x81), dir(0x04)});
   merge_motor_commands(b.fn(f), b.p.vars);
   const auto& instrs = b.at(f, 0).instrs;
@@ -651,8 +632,6 @@ TEST(Motors, AnOutputStoppedBeforeAPowerChangeStaysStopped) {
   // against nqc's code).
   Builder b;
   FuncId f = b.function("main");
-  auto out = [](int code) { return op(rcx::Op::SetMotorOnOff, {I(code)}); };
-  auto pwr = [](int outputs, int power) { return op(rcx::Op::SetMotorPower, {I(outputs), I(power)}); };
   b.block(f, {out(0x42), pwr(7, 1), out(0x47)});
   merge_motor_commands(b.fn(f), b.p.vars);
   const auto& instrs = b.at(f, 0).instrs;
@@ -672,9 +651,6 @@ TEST(Motors, ARunningOutputSeesDirectionAndPowerInTheirOrder) {
   // instruction (random motor program 63429 against nqc's code).
   Builder b;
   FuncId f = b.function("main");
-  auto dir = [](int code) { return op(rcx::Op::SetMotorDirection, {I(code)}); };
-  auto out = [](int code) { return op(rcx::Op::SetMotorOnOff, {I(code)}); };
-  auto pwr = [](int outputs, int power) { return op(rcx::Op::SetMotorPower, {I(outputs), I(power)}); };
   b.block(f, {out(0x87), dir(0x04), dir(0x06), pwr(7, 3)});
   merge_motor_commands(b.fn(f), b.p.vars);
   const auto& instrs = b.at(f, 0).instrs;
@@ -689,8 +665,6 @@ TEST(Motors, OutputsThatSawSettingsInOppositeOrdersAreNotMerged) {
   // no one order of the merged commands shows both as they were.
   Builder b;
   FuncId f = b.function("main");
-  auto dir = [](int code) { return op(rcx::Op::SetMotorDirection, {I(code)}); };
-  auto pwr = [](int outputs, int power) { return op(rcx::Op::SetMotorPower, {I(outputs), I(power)}); };
   b.block(f, {dir(0x01), pwr(1, 3), pwr(2, 3), dir(0x02), dir(0x04)});
   merge_motor_commands(b.fn(f), b.p.vars);
   EXPECT_EQ(b.at(f, 0).instrs.size(), 5u);
@@ -701,8 +675,6 @@ TEST(Motors, APulseIsNeverMergedAway) {
   // values; merged, the on-time (or the forward run) would vanish.
   Builder b;
   FuncId f = b.function("main");
-  auto dir = [](int code) { return op(rcx::Op::SetMotorDirection, {I(code)}); };
-  auto out = [](int code) { return op(rcx::Op::SetMotorOnOff, {I(code)}); };
   b.block(f, {out(0x81), out(0x41), dir(0x81), dir(0x01)});
   merge_motor_commands(b.fn(f), b.p.vars);
   EXPECT_EQ(b.at(f, 0).instrs.size(), 4u);
@@ -713,8 +685,6 @@ TEST(Motors, AWindowEndsWhereAFieldWouldChangeAgain) {
   // that undoes A's on stays after them.
   Builder b;
   FuncId f = b.function("main");
-  auto dir = [](int code) { return op(rcx::Op::SetMotorDirection, {I(code)}); };
-  auto out = [](int code) { return op(rcx::Op::SetMotorOnOff, {I(code)}); };
   b.block(f, {dir(0x01), out(0x81), dir(0x84), out(0x84), out(0x41)});
   merge_motor_commands(b.fn(f), b.p.vars);
   const auto& instrs = b.at(f, 0).instrs;
