@@ -31,6 +31,14 @@ Compiled compile(const std::string& body, ir::OptLevel level = ir::OptLevel::Os)
   return c;
 }
 
+// Compiles (the case is not refused) without merging.
+::testing::AssertionResult kept_apart(const std::string& body) {
+  Compiled c = compile(body);
+  if (c.bytes <= 0) return ::testing::AssertionFailure() << "does not compile";
+  if (c.merges != 0) return ::testing::AssertionFailure() << c.merges << " merges";
+  return ::testing::AssertionSuccess();
+}
+
 }  // namespace
 
 // One loopset (3 bytes), loop test (2) and back jump (2) less.
@@ -55,16 +63,6 @@ TEST(NestedRepeat, ThreeDeepBecomeOne) {
 TEST(NestedRepeat, ContinueStillMerges) {
   EXPECT_EQ(compile("repeat (3) repeat (4) { n++; if (n == 2) continue; m++; }").merges, 1);
 }
-
-namespace {
-// Compiles (the case is not refused) without merging.
-::testing::AssertionResult kept_apart(const std::string& body) {
-  Compiled c = compile(body);
-  if (c.bytes <= 0) return ::testing::AssertionFailure() << "does not compile";
-  if (c.merges != 0) return ::testing::AssertionFailure() << c.merges << " merges";
-  return ::testing::AssertionSuccess();
-}
-}  // namespace
 
 TEST(NestedRepeat, LoopsThatDoMoreOrOtherwiseAreKept) {
   // break leaves only the inner loop.
