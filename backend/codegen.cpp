@@ -4,6 +4,7 @@
 
 #include "backend/branch.h"
 #include "backend/encode.h"
+#include "backend/absorb.h"
 #include "backend/outline.h"
 
 namespace rcxc::backend {
@@ -281,7 +282,13 @@ std::optional<Output> generate(const ir::Program& p, const std::vector<int>& slo
       selected.push_back(std::move(s));
     }
   std::vector<std::string> discarded;
-  if (options.outline) outline(selected, log ? *log : discarded);
+  if (options.outline) {
+    // The user's subroutines take what their calls share first (outlining
+    // it instead would save less), then new subroutines do.
+    absorb_call_neighbours(selected, log ? *log : discarded);
+    outline(selected, log ? *log : discarded);
+    absorb_call_neighbours(selected, log ? *log : discarded);
+  }
   Output out;
   int memory = 0;
   for (auto& s : selected) {

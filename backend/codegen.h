@@ -53,7 +53,9 @@ struct Output {
 };
 
 struct GenerateOptions {
-  bool outline = false;  // move repeated task code into new subroutines (-Os)
+  // -Os: move repeated task code into new subroutines, and code every call
+  // of a subroutine has beside it into the subroutine.
+  bool outline = false;
 };
 
 // `slots` gives the slot of every VarId (-1 if unused), from allocate_slots.

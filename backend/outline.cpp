@@ -7,48 +7,18 @@
 #include <fmt/ranges.h>
 
 namespace rcxc::backend {
-namespace {
-
-constexpr std::size_t kMaxSequence = 24;  // instructions per outlined sequence
-constexpr int kCallBytes = 2;
-constexpr int kReturnBytes = 1;  // appended by the firmware to every subroutine
 
 // A loop counter may move into a subroutine: the counters are the task's,
 // and a subroutine runs on its caller's, at the depth the call is made, so
 // an outlined loop nests exactly as deep as it did in place.
-bool outlinable_fixed(const MInstr& m) {
-  if (m.raw) return false;
+bool movable_into_subroutine(const MInstr& m) {
+  if (m.raw || is_branch(m)) return false;
   switch (m.op) {
     case rcx::Op::CallSubroutine:
     case rcx::Op::ReturnFromSubroutine: return false;
     default: return true;
   }
 }
-
-bool is_branch(const MInstr& m) { return m.kind != MInstr::Kind::Fixed; }
-
-struct Occurrence {
-  std::size_t fragment;
-  std::size_t start;
-};
-
-struct Candidate {
-  std::vector<Occurrence> places;  // non-overlapping
-  std::size_t length = 0;          // instructions
-  int bytes = 0;
-  int saving() const {
-    auto n = static_cast<int>(places.size());
-    return n * bytes - (kCallBytes * n + bytes + kReturnBytes);
-  }
-};
-
-// Where each branch of a fragment goes, as an instruction index
-// (code.size() for the end of the code), and which branches enter each
-// instruction.
-struct Flow {
-  std::vector<int> target;              // per instruction; -1 when not a branch
-  std::vector<std::vector<int>> entered;  // per instruction: indices branching there
-};
 
 int target_index(const Selected& f, const Target& t) {
   if (t.block == kEndOfCode) return static_cast<int>(f.code.size());
@@ -68,6 +38,27 @@ Flow flow_of(const Selected& f) {
   }
   return flow;
 }
+
+namespace {
+
+constexpr std::size_t kMaxSequence = 24;  // instructions per outlined sequence
+constexpr int kCallBytes = 2;
+constexpr int kReturnBytes = 1;  // appended by the firmware to every subroutine
+
+struct Occurrence {
+  std::size_t fragment;
+  std::size_t start;
+};
+
+struct Candidate {
+  std::vector<Occurrence> places;  // non-overlapping
+  std::size_t length = 0;          // instructions
+  int bytes = 0;
+  int saving() const {
+    auto n = static_cast<int>(places.size());
+    return n * bytes - (kCallBytes * n + bytes + kReturnBytes);
+  }
+};
 
 int size_estimate(const MInstr& m) {
   if (!is_branch(m)) return static_cast<int>(m.bytes.size());
@@ -95,7 +86,7 @@ Candidate best_candidate(const std::vector<Selected>& fragments) {
         std::size_t k = i + len - 1;
         const MInstr& m = frag.code[k];
         if (!is_branch(m)) {
-          if (!outlinable_fixed(m)) break;
+          if (!movable_into_subroutine(m)) break;
           key.append(m.bytes.begin(), m.bytes.end());
         } else {
           int t = flow.target[k];

@@ -22,6 +22,22 @@ struct Selected {
   std::vector<int> block_start;
 };
 
+inline bool is_branch(const MInstr& m) { return m.kind != MInstr::Kind::Fixed; }
+
+// Whether an instruction may run in a subroutine instead of in the task
+// that had it: not a branch, call, return or raw asm.
+bool movable_into_subroutine(const MInstr& m);
+
+// Where each branch of a fragment goes, as an instruction index
+// (code.size() for the end of the code), and which branches enter each
+// instruction.
+struct Flow {
+  std::vector<int> target;                // per instruction; -1 when not a branch
+  std::vector<std::vector<int>> entered;  // per instruction: indices branching there
+};
+int target_index(const Selected& f, const Target& t);
+Flow flow_of(const Selected& f);
+
 // Outlines into new subroutines while it saves bytes and subroutine
 // indices are free (at most `kMaxSubroutines` in all). Only task code is
 // outlined (a subroutine cannot call another); sequences never contain

@@ -5,26 +5,14 @@
 
 #include <algorithm>
 
-#include "backend/compile.h"
-#include "runtime/vm.h"
+#include "tests/support/compiled.h"
 
 using namespace rcxc;
 
 namespace {
 
-struct Compiled {
-  std::optional<backend::Output> out;
-  ir::Log log;
-};
-
-Compiled compile(const std::string& text, ir::OptLevel level = ir::OptLevel::Os) {
-  Compiled c;
-  SourceManager sm;
-  Diagnostics diags;
-  frontend::Options options;
-  c.out = backend::compile_source("test.nqc", text, options, level, sm, diags, c.log);
-  EXPECT_FALSE(diags.has_errors());
-  return c;
+test::Compiled compile(const std::string& text, ir::OptLevel level = ir::OptLevel::Os) {
+  return test::compile_program(text, level);
 }
 
 std::size_t subroutines(const backend::Output& out) {
@@ -38,14 +26,7 @@ std::size_t count_byte(const std::vector<std::uint8_t>& code, std::uint8_t b) {
 }
 
 int run_for_global(const rcx::Image& image, const std::string& name, std::int64_t ms) {
-  rcx::Machine m;
-  EXPECT_FALSE(m.load(0, image).has_value());
-  m.start_program();
-  m.run(ms * rcx::kMicrosPerMs);
-  for (const auto& s : image.symbols)
-    if (s.type == rcx::SymbolType::Variable && s.name == name) return m.state().vars[s.index];
-  ADD_FAILURE() << "no variable " << name;
-  return 0;
+  return test::global_value(test::run_image(image, ms), image, name);
 }
 
 }  // namespace

@@ -76,6 +76,9 @@ class Generator {
         block(out, depth - 1, callable);
         out << "  }\n";
       } else if (k >= 10 && callable > 0) {
+        // Sometimes after a short wait: what every call of a subroutine has
+        // beside it moves into it (backend/absorb.h).
+        if (pick(0, 1) == 1) out << "  Wait(" << pick(1, 2) * 2 << ");\n";
         out << "  s" << pick(0, callable - 1) << "();\n";
       } else {
         motor(out);
