@@ -48,13 +48,15 @@ void set_wait(MInstr& m, int ticks) {
 std::optional<std::vector<std::size_t>> neighbours(const std::vector<Selected>& fragments,
                                                    const std::vector<Site>& sites, Side side) {
   std::vector<std::size_t> at;
+  std::vector<std::optional<Flow>> flows(fragments.size());  // once per fragment: a task may make many calls
   for (const Site& s : sites) {
     const Selected& frag = fragments[s.fragment];
     if (side == Side::Before && s.call == 0) return std::nullopt;
     std::size_t n = side == Side::Before ? s.call - 1 : s.call + 1;
     if (n >= frag.code.size() || !movable_into_subroutine(frag.code[n])) return std::nullopt;
-    Flow flow = flow_of(frag);
-    if (!flow.entered[side == Side::Before ? s.call : n].empty()) return std::nullopt;
+    auto& flow = flows[s.fragment];
+    if (!flow) flow = flow_of(frag);
+    if (!flow->entered[side == Side::Before ? s.call : n].empty()) return std::nullopt;
     at.push_back(n);
   }
   return at;

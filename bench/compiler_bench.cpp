@@ -3,7 +3,8 @@
 // variables), many statements whose expressions branch (data-flow over
 // a long chain of joins), one very long expression (lowering asks
 // about each subexpression at every level) and written-out steps, runs of
-// which become loops (rerolling splits one block many times). Time and memory must grow linearly: items/second
+// which become loops (rerolling splits one block many times), and many
+// calls of one subroutine (absorption looks at every call). Time and memory must grow linearly: items/second
 // roughly the same at every size. Programs this long are too big for the
 // brick, so a run may end in the size diagnostic, after every pass.
 #include <benchmark/benchmark.h>
@@ -57,6 +58,15 @@ std::string nested_repeats(int n) {
   return src + "}\n";
 }
 
+// `n` calls of one subroutine, each after a wait of 1, 2 or 3 tenths and
+// before the same addition: what the calls share moves into the
+// subroutine (backend/absorb.cpp), which looks at every call per move.
+std::string many_sub_calls(int n) {
+  std::string src = "int x;\nsub s() { PlaySound(1); Wait(2); PlaySound(2); }\ntask main() {\n";
+  for (int i = 0; i < n; ++i) src += "  Wait(" + std::to_string(i % 3 * 10 + 10) + "); s(); x += 1;\n";
+  return src + "}\n";
+}
+
 void compile(benchmark::State& state, const std::string& src) {
   for (auto _ : state) {
     rcxc::SourceManager sm;
@@ -89,6 +99,9 @@ BENCHMARK(BM_WrittenOutSteps)->Arg(1000)->Arg(5000)->Arg(20000)->Unit(benchmark:
 
 void BM_NestedRepeats(benchmark::State& state) { compile(state, nested_repeats(static_cast<int>(state.range(0)))); }
 BENCHMARK(BM_NestedRepeats)->Arg(500)->Arg(3000)->Unit(benchmark::kMillisecond);
+
+void BM_ManySubCalls(benchmark::State& state) { compile(state, many_sub_calls(static_cast<int>(state.range(0)))); }
+BENCHMARK(BM_ManySubCalls)->Arg(1000)->Arg(4000)->Arg(16000)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 
