@@ -275,6 +275,32 @@ std::optional<rcx::Machine> compare_run(const rcx::Image& image) {
 }
 }  // namespace
 
+TEST(RandomPrograms, InstructionsMovedIntoSubroutinesDoWhatTheyDidBesideTheCalls) {
+  // -Os moves what calls share into the subroutine (backend/absorb.h);
+  // -O1 moves nothing. Both must show the same, as `rcxc compare` judges
+  // it, and the generator must give the pass enough to move.
+  int moved = 0;
+  for (unsigned seed = seed_offset() + 1; seed <= seed_offset() + 300; ++seed) {
+    std::string text = test::CallNeighbourGenerator(seed).program();
+    std::optional<backend::Output> out[2];
+    ir::Log log;
+    for (int k = 0; k < 2; ++k) {
+      SourceManager sm;
+      Diagnostics diags;
+      out[k] = backend::compile_source("calls.nqc", text, {}, k == 0 ? ir::OptLevel::O1 : ir::OptLevel::Os, sm,
+                                       diags, log);
+      ASSERT_TRUE(out[k] && !diags.has_errors()) << "seed " << seed << "\n" << text;
+    }
+    moved += std::any_of(log.begin(), log.end(), [](const std::string& l) { return l.find("moved into it") != l.npos; });
+    auto a = compare_run(out[0]->image), b = compare_run(out[1]->image);
+    ASSERT_TRUE(a && b);
+    auto c = rcx::compare_runs({&*a, &out[0]->image, "-O1"}, {&*b, &out[1]->image, "-Os"}, {10 * 500, 0.005, 10 * 5});
+    ASSERT_TRUE(c.same) << "seed " << seed << ": " << (c.differences.empty() ? "" : c.differences[0]) << "\n"
+                        << c.side_by_side << text;
+  }
+  EXPECT_GE(moved, 60) << "of 300 programs";
+}
+
 TEST(RandomPrograms, MotorProgramsShowWhatNqcsCodeShows) {
   // What `rcxc compare` checks, on random motor programs nqc compiles: the
   // same outputs switched the same way with the same settings while they

@@ -160,6 +160,79 @@ class TwoTaskGenerator : public Generator {
   }
 };
 
+// Subroutines kept as subroutines (their bodies are long enough not to be
+// inlined), called from two tasks (one after the other) with few kinds of instruction around the
+// calls, so that what the calls share often moves into the subroutine
+// (backend/absorb.h): waits of a few lengths, sounds, additions, motor
+// commands, and tests that branch around an instruction or to a call.
+class CallNeighbourGenerator : public Generator {
+ public:
+  using Generator::Generator;
+
+  std::string program() {
+    std::ostringstream out;
+    out << "int x, y;\n";
+    subs_ = pick(1, 3);
+    for (int s = 0; s < subs_; ++s) {
+      out << "sub s" << s << "() {\n";
+      int n = pick(3, 5);
+      for (int i = 0; i < n; ++i) out << neighbour();
+      if (pick(0, 3) == 0) out << "  if (x > " << pick(0, 4) << ") return;\n  PlaySound(" << pick(0, 5) << ");\n";
+      if (pick(0, 3) == 0) out << "  do { y += 1; } while (y % 3 != 0);\n";
+      out << "}\n";
+    }
+    out << "task other() {\n";
+    calls(out, pick(1, 4));
+    out << "}\n";
+    out << "task main() {\n  x = 0; y = 0;\n";
+    // `other` gets the subroutines (and x and y) to itself for 3 s, longer
+    // than its calls take: no race whose outcome the timing decides.
+    if (pick(0, 1) == 1) out << "  start other; Wait(300);\n";
+    calls(out, pick(2, 6));
+    out << "  Wait(100);\n";
+    marker(out);
+    out << "}\n";
+    return out.str();
+  }
+
+ private:
+  std::string neighbour() {
+    switch (pick(0, 5)) {
+      case 0:
+      case 1: return "  Wait(" + std::to_string(pick(1, 3) * 2) + ");\n";
+      case 2: return "  PlaySound(" + std::to_string(pick(0, 1)) + ");\n";
+      case 3: return "  x += " + std::to_string(pick(1, 2)) + ";\n";
+      case 4: {
+        std::ostringstream m;
+        motor(m);
+        return m.str();
+      }
+      default: return "  if (x > " + std::to_string(pick(0, 6)) + ") PlaySound(2);\n";
+    }
+  }
+
+  // Most calls have the program's usual instruction before and after them
+  // (a wait sometimes longer than usual), the others something else or
+  // nothing.
+  std::string beside(const std::string& usual) {
+    int r = pick(0, 9);
+    if (r < 6) return usual;
+    if (r < 7 && usual.starts_with("  Wait(")) return "  Wait(" + std::to_string(pick(4, 8)) + ");\n";
+    if (r < 9) return neighbour();
+    return "";
+  }
+
+  void calls(std::ostringstream& out, int n) {
+    for (int i = 0; i < n; ++i) {
+      out << beside(before_);
+      out << "  s" << pick(0, subs_ - 1) << "();\n";
+      out << beside(after_);
+    }
+  }
+
+  std::string before_ = neighbour(), after_ = neighbour();
+};
+
 // Arithmetic, comparisons and control flow over three globals, with the
 // 16-bit edge values: every level must compute the same.
 // Who else reads the program: nqc (which miscompiles some constants and
