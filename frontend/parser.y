@@ -419,6 +419,10 @@ void yy::Parser::report_syntax_error(const context& ctx) const {
     want = "'}'";
   } else if (expects(symbol_kind::S_NUMBER) && expects(symbol_kind::S_IDENT) && !expects(symbol_kind::S_TASK)) {
     want = "an expression";
+  } else if (expects(symbol_kind::S_TASK)) {
+    // Between declarations: a stray '}' or a misspelt keyword, not a
+    // missing ';' after the declaration before it.
+    want = "a declaration (task, sub, int or an inline function)";
   } else if (expects_punct("';'")) {
     want = "';'";
   } else if (expects_punct("')'")) {

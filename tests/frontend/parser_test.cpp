@@ -216,7 +216,7 @@ TEST(Parser, AWrongFirstLineIsReportedInTheProgramNotTheLibrary) {
   // belongs to line 1 of the program.
   auto r = run_frontend("foo bar\ntask main() {}\n");
   ASSERT_FALSE(r.diags.all().empty());
-  EXPECT_EQ(r.brief().front(), "1:1: error: expected ';' before 'foo'");
+  EXPECT_EQ(r.brief().front(), "1:1: error: expected a declaration (task, sub, int or an inline function) before 'foo'");
   EXPECT_EQ(r.sm.path(r.diags.all().front().span.begin.file), "test.nqc");
 }
 
@@ -227,6 +227,14 @@ TEST(Parser, SemanticErrorsElsewhereAreReportedWithSyntaxErrors) {
   EXPECT_FALSE(r.program);
   EXPECT_EQ(r.brief(), (std::vector<std::string>{"7:12: error: expected an expression before ';'",
                                                  "3:3: error: 'y' is not declared"}));
+}
+
+TEST(Parser, AStrayBraceBetweenDeclarationsIsReportedWhereItIs) {
+  // Not "expected ';'" after main's own closing brace: nothing is missing
+  // there.
+  auto r = run_frontend("task main() {\n  while (true) {\n    Wait(1);\n  }\n}\n}\n");
+  EXPECT_EQ(r.brief(), (std::vector<std::string>{
+                           "6:1: error: expected a declaration (task, sub, int or an inline function) before '}'"}));
 }
 
 TEST(Parser, ABrokenDeclarationStopsTheChecks) {
