@@ -45,7 +45,7 @@ struct Checked {
 // Compiles at -Os, expects an instruction moved or not, and expects the
 // run to show what -O1's code shows (as `rcxc compare` judges it).
 Checked check(const std::string& src, bool moves) {
-  Checked c{compile_program(src), {}};
+  Checked c{compile_program(src), rcx::Machine{}};
   auto o1 = compile_program(src, ir::OptLevel::O1);
   EXPECT_TRUE(c.os.out && o1.out);
   if (!c.os.out || !o1.out) return c;
