@@ -176,9 +176,53 @@ struct Lowerer {
     // x || 5 is 1 and x && 0 is 0 whatever x is, when x changes nothing.
     if (b.op == ast::BinaryOp::LogOr && r && *r != 0 && !has_effects(*b.lhs)) return 1;
     if (b.op == ast::BinaryOp::LogAnd && r && *r == 0 && !has_effects(*b.lhs)) return 0;
+    if (auto z = absorbed(b, l, r)) return z;
     if (!l || !r) return std::nullopt;
     return binary_constant(b.op, *l, *r);
   }
+  // 0 * x, x * 0, 0 & x, x & 0, -1 | x, x | -1, and 0 / x, 0 % x, 0 << x,
+  // 0 >> x (whatever x is, 0 by the firmware's rules included: division by
+  // zero leaves the dividend) are constant when x only reads: `(2/60) * d`
+  // is 0. Reading the random source moves it on, so that is not just a read.
+  std::optional<int> absorbed(const ast::Binary& b, std::optional<int> l, std::optional<int> r) {
+    using Op = ast::BinaryOp;
+    auto is = [](std::optional<int> v, int k) { return v && *v == k; };
+    switch (b.op) {
+      case Op::Mul:
+      case Op::BitAnd:
+        if (is(l, 0) && only_reads(*b.rhs)) return 0;
+        if (is(r, 0) && only_reads(*b.lhs)) return 0;
+        return std::nullopt;
+      case Op::BitOr:
+        if (is(l, -1) && only_reads(*b.rhs)) return -1;
+        if (is(r, -1) && only_reads(*b.lhs)) return -1;
+        return std::nullopt;
+      case Op::Div:
+      case Op::Mod:
+      case Op::Shl:
+      case Op::Shr:
+        if (is(l, 0) && only_reads(*b.rhs)) return 0;
+        return std::nullopt;
+      default: return std::nullopt;
+    }
+  }
+  bool only_reads(const ast::Expr& e) {
+    if (has_effects(e)) return false;
+    if (const auto* s = ast::as<ast::Source>(e)) {
+      auto type = constant(*s->type);
+      return type && *type != static_cast<int>(rcx::Source::Random) && only_reads(*s->arg);
+    }
+    if (const auto* n = ast::as<ast::Name>(e)) {
+      auto b = binding(*n);
+      return !b || !b->expr || only_reads(*b->expr);
+    }
+    if (const auto* u = ast::as<ast::Unary>(e)) return only_reads(*u->operand);
+    if (const auto* b = ast::as<ast::Binary>(e)) return only_reads(*b->lhs) && only_reads(*b->rhs);
+    if (const auto* c = ast::as<ast::Conditional>(e))
+      return only_reads(*c->cond) && only_reads(*c->then_value) && only_reads(*c->else_value);
+    return ast::as<ast::IntLit>(e) != nullptr;
+  }
+
   std::optional<int> constant_of(const ast::Conditional& c) {
     auto k = constant(*c.cond);
     if (!k) return std::nullopt;

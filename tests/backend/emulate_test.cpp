@@ -217,6 +217,40 @@ TEST(Emulate, UnaryOperatorsAndConditional) {
   }
 }
 
+TEST(Emulate, AnAbsorbingOperandMakesTheOperationConstantWhenTheOtherOnlyReads) {
+  // Folded: each result is one `set` of a constant, at every level.
+  // Not folded: an assignment or increment inside must still happen, and
+  // the random source must still be drawn (each read moves it on), so `y`
+  // gets the second number the brick draws, as without the `0 *`.
+  const char* src = R"(
+    int d, s, x, y, n, a, b, c, e, f;
+    task main() {
+      d = -32768; s = 3; n = 0;
+      a = (2/60) * (d - 30) + 6; b = 0 << s; c = 0 >> (s + d); e = 0 % d;
+      f = 0 * (n++);
+      x = 0 * Random(1000); y = Random(1000);
+    })";
+  const char* drawn = "int x, y;\ntask main() { x = Random(1000); y = Random(1000); }\n";
+  for (auto level : {ir::OptLevel::O0, ir::OptLevel::Os}) {
+    auto c = compile(src, level, true);
+    auto plain = compile(drawn, level, true);
+    ASSERT_TRUE(c.out && plain.out) << c.messages;
+    auto m = run(c.out->image), p = run(plain.out->image);
+    EXPECT_EQ(global(m, c.out->image, "a"), 6);
+    EXPECT_EQ(global(m, c.out->image, "b"), 0);
+    EXPECT_EQ(global(m, c.out->image, "c"), 0);
+    EXPECT_EQ(global(m, c.out->image, "e"), 0);
+    EXPECT_EQ(global(m, c.out->image, "f"), 0);
+    EXPECT_EQ(global(m, c.out->image, "n"), 1);
+    EXPECT_EQ(global(m, c.out->image, "x"), 0);
+    EXPECT_EQ(global(m, c.out->image, "y"), global(p, plain.out->image, "y"));
+    const auto& code = c.out->image.find(rcx::FragmentType::Task, 0)->code;
+    // No multiplication, division or subtraction was left to compute a..e.
+    EXPECT_EQ(std::count(code.begin(), code.end(), rcx::info(rcx::Op::DivideVariable).code), 0);
+    EXPECT_EQ(std::count(code.begin(), code.end(), rcx::info(rcx::Op::SubtractFromVariable).code), 0);
+  }
+}
+
 TEST(Emulate, CompoundAssignmentsAndIncrements) {
   auto c = compile(R"(
 int x, y, z, p, q;
