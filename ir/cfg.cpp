@@ -22,19 +22,38 @@ BlockId final_target(const Function& f, BlockId b) {
   return b;
 }
 
+// Reading the random source moves it on: such a test stays, so the
+// numbers drawn after it are the ones drawn without optimisation.
+bool draws_random(const Branch& br) {
+  auto random = [](const Operand& o) {
+    return o.kind == Operand::Kind::Src && o.source == static_cast<int>(rcx::Source::Random);
+  };
+  return random(br.a) || random(br.b);
+}
+
+// A branch whose two sides end up at the same place becomes a jump, which
+// can make the block before it branch to one place too: an if/else-if
+// chain whose bodies all went (their stores were dead) folds from its end.
+// Blocks are visited last first, so a chain laid out in order folds in one
+// sweep; sweeps repeat while something changes.
 void thread_jumps(Function& f) {
-  for (std::size_t b = 0; b < f.blocks.size(); ++b) {
-    Block& block = f.blocks[b];
-    const auto* loop = std::get_if<LoopTest>(&block.term);
-    for (BlockId s : successors(block.term)) {
-      BlockId to = final_target(f, s);
-      // The loop counter only branches forward: an exit threaded back past
-      // the test would cost two jumps where the empty block costs one.
-      if (loop && s == loop->exit && to <= static_cast<BlockId>(b)) continue;
-      retarget(block.term, s, to);
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (std::size_t b = f.blocks.size(); b-- > 0;) {
+      Block& block = f.blocks[b];
+      const auto* loop = std::get_if<LoopTest>(&block.term);
+      for (BlockId s : successors(block.term)) {
+        BlockId to = final_target(f, s);
+        // The loop counter only branches forward: an exit threaded back past
+        // the test would cost two jumps where the empty block costs one.
+        if (loop && s == loop->exit && to <= static_cast<BlockId>(b)) continue;
+        retarget(block.term, s, to);
+      }
+      if (auto* br = std::get_if<Branch>(&block.term); br && br->then == br->otherwise && !draws_random(*br)) {
+        block.term = Jump{br->then};
+        changed = true;
+      }
     }
-    if (auto* br = std::get_if<Branch>(&block.term); br && br->then == br->otherwise)
-      block.term = Jump{br->then};
   }
 }
 
