@@ -135,6 +135,38 @@ TEST(Cfg, JumpsThreadThroughEmptyBlocks) {
   EXPECT_EQ(blocks[static_cast<std::size_t>(br.otherwise)].instrs.at(0).args[0], I(2));
 }
 
+TEST(Cfg, AChainOfTestsWhoseSidesAllMeetFoldsAway) {
+  // if (x <= 30) {} else if (x <= 60) {} else if (x <= 90) {}; sound(1):
+  // the bodies went (their stores were dead), so every side reaches the
+  // sound. The last test folds first, then the one before it, and so on.
+  Builder b;
+  VarId x = b.global("x");
+  FuncId f = b.function("main");
+  b.block(f, {}, Branch{Cmp::LE, V(x), I(30), 1, 2});
+  b.block(f, {}, Jump{6});
+  b.block(f, {}, Branch{Cmp::LE, V(x), I(60), 3, 4});
+  b.block(f, {}, Jump{6});
+  b.block(f, {}, Branch{Cmp::LE, V(x), I(90), 5, 6});
+  b.block(f, {}, Jump{6});
+  b.block(f, {sound(1)});
+  simplify_cfg(b.fn(f));
+  const auto& blocks = b.fn(f).blocks;
+  ASSERT_EQ(blocks.size(), 1u);
+  EXPECT_EQ(blocks[0].instrs.at(0).args[0], I(1));
+}
+
+TEST(Cfg, ATestOfTheRandomSourceStaysWhenItsSidesMeet) {
+  // Each read of the random source draws a number: without the test, the
+  // numbers drawn after it would differ from the unoptimised program's.
+  Builder b;
+  FuncId f = b.function("main");
+  b.block(f, {}, Branch{Cmp::LE, Operand::src(static_cast<int>(rcx::Source::Random), 9), I(4), 1, 2});
+  b.block(f, {}, Jump{2});
+  b.block(f, {sound(1)});
+  simplify_cfg(b.fn(f));
+  EXPECT_TRUE(std::holds_alternative<Branch>(b.fn(f).blocks.at(0).term));
+}
+
 TEST(Cfg, LoopCounterExitIsNotThreadedBackward) {
   // while (true) { repeat (4) sound(1); }: the repeat's exit is an empty
   // block jumping back to the while. Threading it would make the exit a
