@@ -37,6 +37,17 @@ int sounds(const rcx::Machine& m, int sound) {
   }));
 }
 
+// main for a subroutine `s` and a global `x`: x = 0, then s(); PlaySound(4);
+// three times.
+constexpr const char* kThreeCallsEachBeforeSound4 = R"(
+    task main() {
+      x = 0;
+      s(); PlaySound(4);
+      s(); PlaySound(4);
+      s(); PlaySound(4);
+      Wait(50);
+    })";
+
 struct Checked {
   test::Compiled os;
   rcx::Machine run;
@@ -106,16 +117,8 @@ TEST(Absorb, AnInstructionAfterEveryCallMovesIn) {
 TEST(Absorb, TheEndOfTheSubroutineStillRunsTheMovedInstruction) {
   // `if (x > 0) ...` at the end of the subroutine branches to its end when
   // x is 0: that branch must now reach the moved `PlaySound(4)`.
-  auto c = check(R"(
-    int x;
-    sub s() { PlaySound(1); Wait(10); if (x > 0) { PlaySound(2); Wait(10); } }
-    task main() {
-      x = 0;
-      s(); PlaySound(4);
-      s(); PlaySound(4);
-      s(); PlaySound(4);
-      Wait(50);
-    })",
+  auto c = check(std::string("int x;\nsub s() { PlaySound(1); Wait(10); if (x > 0) { PlaySound(2); Wait(10); } }\n") +
+                     kThreeCallsEachBeforeSound4,
                  true);
   EXPECT_EQ(sounds(c.run, 4), 3);
   EXPECT_EQ(sounds(c.run, 2), 0);
@@ -141,16 +144,8 @@ TEST(Absorb, ALoopBackToTheSubroutinesStartSkipsTheMovedInstruction) {
 }
 
 TEST(Absorb, NothingMovesAfterCallsOfASubroutineThatReturnsEarly) {
-  auto c = check(R"(
-    int x;
-    sub s() { PlaySound(1); Wait(10); if (x == 0) return; PlaySound(2); Wait(10); }
-    task main() {
-      x = 0;
-      s(); PlaySound(4);
-      s(); PlaySound(4);
-      s(); PlaySound(4);
-      Wait(50);
-    })",
+  auto c = check(std::string("int x;\nsub s() { PlaySound(1); Wait(10); if (x == 0) return; PlaySound(2); Wait(10); }\n") +
+                     kThreeCallsEachBeforeSound4,
                  false);
   EXPECT_EQ(sounds(c.run, 4), 3);
 }
