@@ -39,6 +39,12 @@ void remove_redundant_motor_commands(Program& p);
 void merge_motor_commands(Function& f, const std::vector<Var>& vars);
 void drop_redundant_sensor_modes(Function& f);
 
+// speculate.cpp: `if (c) t = X; else t = Y;` on a local or temporary t
+// (X, Y constants or other variables) becomes `t = Y; if (c) t = X;`: the
+// else side's block and the jump over it go (2 bytes; one more instruction
+// runs when c holds). Globals are left alone: another task could see Y.
+void speculate_assignments(Function& f, const std::vector<Var>& vars);
+
 // cfg.cpp: threads jumps through empty blocks, turns branches whose both
 // targets agree into jumps, and deletes blocks no path reaches (dead code
 // after unconditional jumps).

@@ -16,6 +16,7 @@ bool optimize(Program& p, OptLevel level, Diagnostics& diags, Log& log) {
       for (auto& f : p.functions) {
         merge_motor_commands(f, p.vars);
         drop_redundant_sensor_modes(f);
+        speculate_assignments(f, p.vars);
       }
       remove_redundant_motor_commands(p);
     }
