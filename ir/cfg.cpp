@@ -1,4 +1,6 @@
 // Control-flow clean-up (see passes.h).
+#include <algorithm>
+
 #include "ir/passes.h"
 
 namespace rcxc::ir {
@@ -144,6 +146,72 @@ void merge_tails(Function& f) {
   }
 }
 
+// Cross-jumping among some of a block's predecessors (merge_tails needs all
+// of them): blocks that jump to the same block and end with the same
+// instructions keep one copy of those, in a new block that jumps on (three
+// `case`s ending `PlaySound(1); Wait(1); break;` share one copy). The new
+// block goes right after the last of them, which falls into it, and then
+// jumps where that one jumped (or falls there): no jump more. Done when the
+// copies saved are worth more than the others' jumps growing long.
+void share_tails(Function& f) {
+  std::vector<std::vector<BlockId>> jumpers(f.blocks.size());
+  for (std::size_t b = 1; b < f.blocks.size(); ++b)
+    if (const auto* j = std::get_if<Jump>(&f.blocks[b].term);
+        j && j->target != static_cast<BlockId>(b) && !f.blocks[b].instrs.empty() &&
+        !is_repeat_block(f, static_cast<BlockId>(b)))
+      jumpers[static_cast<std::size_t>(j->target)].push_back(static_cast<BlockId>(b));
+  std::vector<BlockId> after(f.blocks.size(), -1);  // a shared tail to lay out after the block
+  auto last = [&](BlockId b, std::size_t back) -> const Instr& {
+    const auto& instrs = f.blocks[static_cast<std::size_t>(b)].instrs;
+    return instrs[instrs.size() - 1 - back];
+  };
+  for (std::size_t j = 0; j < jumpers.size(); ++j) {
+    const auto& from = jumpers[j];
+    if (from.size() < 2 || is_repeat_block(f, static_cast<BlockId>(j))) continue;
+    std::vector<bool> taken(from.size(), false);
+    for (std::size_t a = 0; a < from.size(); ++a) {
+      // Raw asm may branch by offset: it stays where it was written.
+      if (taken[a] || last(from[a], 0).raw) continue;
+      std::vector<BlockId> group{from[a]};
+      for (std::size_t c = a + 1; c < from.size(); ++c)
+        if (!taken[c] && same_instr(last(from[c], 0), last(from[a], 0))) {
+          group.push_back(from[c]);
+          taken[c] = true;
+        }
+      if (group.size() < 2) continue;
+      std::size_t length = 1;
+      for (bool longer = true; longer; ) {
+        for (BlockId m : group) longer &= f.blocks[static_cast<std::size_t>(m)].instrs.size() > length;
+        for (BlockId m : group)
+          longer = longer && !last(m, length).raw && same_instr(last(m, length), last(group[0], length));
+        if (longer) ++length;
+      }
+      int bytes = 0;
+      for (std::size_t k = 0; k < length; ++k) bytes += instr_size(last(group[0], k));
+      auto n = static_cast<int>(group.size());
+      if ((n - 1) * bytes <= 2 + n) continue;
+      BlockId shared = add_block(f);
+      auto& first = f.blocks[static_cast<std::size_t>(group[0])].instrs;
+      Block& tail = f.blocks[static_cast<std::size_t>(shared)];
+      tail.instrs.assign(first.end() - static_cast<long>(length), first.end());
+      tail.term = Jump{static_cast<BlockId>(j)};
+      tail.span = f.blocks[static_cast<std::size_t>(group[0])].span;
+      for (BlockId m : group) {
+        Block& mb = f.blocks[static_cast<std::size_t>(m)];
+        mb.instrs.resize(mb.instrs.size() - length);
+        mb.term = Jump{shared};
+      }
+      after[static_cast<std::size_t>(*std::max_element(group.begin(), group.end()))] = shared;
+    }
+  }
+  std::vector<BlockId> order;
+  for (std::size_t b = 0; b < after.size(); ++b) {
+    order.push_back(static_cast<BlockId>(b));
+    if (after[b] >= 0) order.push_back(after[b]);
+  }
+  if (order.size() != after.size()) permute_blocks(f, order);
+}
+
 }  // namespace
 
 void simplify_cfg(Function& f) {
@@ -151,6 +219,7 @@ void simplify_cfg(Function& f) {
   thread_jumps(f);
   remove_unreachable(f);
   merge_tails(f);
+  share_tails(f);
   merge_straight_lines(f);
 }
 

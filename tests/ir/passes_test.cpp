@@ -167,6 +167,67 @@ TEST(Cfg, ATestOfTheRandomSourceStaysWhenItsSidesMeet) {
   EXPECT_TRUE(std::holds_alternative<Branch>(b.fn(f).blocks.at(0).term));
 }
 
+namespace {
+
+// switch (x) { case 0: r += 1; T; break; case 1: r += 2; T; break;
+// case 2: r += 3; T; break; default: r += 10; } sound(9), with the tail T
+// given: blocks 1..3 are the cases, 4 the default, 5 the join.
+Builder cases_ending_with(const std::vector<Instr>& tail) {
+  Builder b;
+  VarId x = b.global("x"), r = b.global("r");
+  FuncId f = b.function("main");
+  b.block(f, {}, Branch{Cmp::EQ, V(x), I(0), 1, 6});
+  for (int k = 1; k <= 3; ++k) {
+    std::vector<Instr> body{add(r, I(k))};
+    body.insert(body.end(), tail.begin(), tail.end());
+    b.block(f, body, Jump{5});
+  }
+  b.block(f, {add(r, I(10))}, Jump{5});
+  b.block(f, {sound(9)});
+  b.block(f, {}, Branch{Cmp::EQ, V(x), I(1), 2, 7});
+  b.block(f, {}, Branch{Cmp::EQ, V(x), I(2), 3, 4});
+  return b;
+}
+
+int count_op(const Function& f, rcx::Op op) {
+  int n = 0;
+  for (const auto& blk : f.blocks)
+    for (const auto& in : blk.instrs) n += in.op == op ? 1 : 0;
+  return n;
+}
+
+}  // namespace
+
+TEST(Cfg, CasesEndingAlikeShareOneCopyOfTheirEnd) {
+  Builder b = cases_ending_with({sound(1), wait(I(1))});
+  simplify_cfg(b.fn(0));
+  const Function& f = b.fn(0);
+  EXPECT_EQ(count_op(f, rcx::Op::PlaySound), 2);  // the shared sound(1) and the join's sound(9)
+  EXPECT_EQ(count_op(f, rcx::Op::Wait), 1);
+  // The shared copy follows the last case, which falls into it.
+  for (std::size_t k = 0; k + 1 < f.blocks.size(); ++k)
+    if (!f.blocks[k + 1].instrs.empty() && f.blocks[k + 1].instrs[0].op == rcx::Op::PlaySound &&
+        f.blocks[k + 1].instrs[0].args[0] == I(1))
+      EXPECT_EQ(std::get<Jump>(f.blocks[k].term).target, static_cast<BlockId>(k + 1));
+}
+
+TEST(Cfg, AShortCommonEndIsNotWorthSharing) {
+  // Three copies of a 2-byte sound: 4 bytes saved against up to 5 for
+  // jumps that may grow long.
+  Builder b = cases_ending_with({sound(1)});
+  simplify_cfg(b.fn(0));
+  EXPECT_EQ(count_op(b.fn(0), rcx::Op::PlaySound), 4);
+}
+
+TEST(Cfg, RawAsmAtTheEndOfBranchesStaysWhereItWasWritten) {
+  // asm bytes may hold an offset branch, which would miss after a move.
+  Instr raw = op(rcx::Op::SetVariable, {I(0x27), I(0x02)});
+  raw.raw = true;
+  Builder b = cases_ending_with({sound(1), wait(I(1)), raw});
+  simplify_cfg(b.fn(0));
+  EXPECT_EQ(count_op(b.fn(0), rcx::Op::Wait), 3);
+}
+
 TEST(Cfg, LoopCounterExitIsNotThreadedBackward) {
   // while (true) { repeat (4) sound(1); }: the repeat's exit is an empty
   // block jumping back to the while. Threading it would make the exit a
