@@ -205,10 +205,12 @@ TEST(Cfg, CasesEndingAlikeShareOneCopyOfTheirEnd) {
   EXPECT_EQ(count_op(f, rcx::Op::PlaySound), 2);  // the shared sound(1) and the join's sound(9)
   EXPECT_EQ(count_op(f, rcx::Op::Wait), 1);
   // The shared copy follows the last case, which falls into it.
-  for (std::size_t k = 0; k + 1 < f.blocks.size(); ++k)
-    if (!f.blocks[k + 1].instrs.empty() && f.blocks[k + 1].instrs[0].op == rcx::Op::PlaySound &&
-        f.blocks[k + 1].instrs[0].args[0] == I(1))
+  for (std::size_t k = 0; k + 1 < f.blocks.size(); ++k) {
+    const auto& next = f.blocks[k + 1].instrs;
+    if (!next.empty() && next[0].op == rcx::Op::PlaySound && next[0].args[0] == I(1)) {
       EXPECT_EQ(std::get<Jump>(f.blocks[k].term).target, static_cast<BlockId>(k + 1));
+    }
+  }
 }
 
 TEST(Cfg, AShortCommonEndIsNotWorthSharing) {
