@@ -6,12 +6,6 @@
 namespace rcxc::ir {
 namespace {
 
-bool is_repeat_block(const Function& f, BlockId b) {
-  for (const auto& r : f.repeats)
-    if (r.head == b || r.setup == b) return true;
-  return false;
-}
-
 // Where control really goes when it enters `b`: past empty blocks that
 // only jump on (bounded, so a cycle of empty jumps ends).
 BlockId final_target(const Function& f, BlockId b) {

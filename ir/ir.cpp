@@ -162,6 +162,12 @@ void renumber(Function& f, const std::vector<BlockId>& map) {
 }
 }  // namespace
 
+bool is_repeat_block(const Function& f, BlockId b) {
+  for (const auto& r : f.repeats)
+    if (r.head == b || r.setup == b) return true;
+  return false;
+}
+
 void permute_blocks(Function& f, const std::vector<BlockId>& order) {
   std::vector<BlockId> map(order.size());
   std::vector<Block> blocks(order.size());

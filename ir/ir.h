@@ -166,6 +166,10 @@ constexpr int wrap16(long v) { return static_cast<std::int16_t>(static_cast<std:
 // std::nullopt for opcodes that are not variable arithmetic.
 std::optional<int> arithmetic(rcx::Op op, int dest, int src);
 
+// Whether block b is the setup or the head of one of f's counter loops,
+// which passes must not merge, thread through or move code across.
+bool is_repeat_block(const Function& f, BlockId b);
+
 // Reorders the blocks: `order` lists every old BlockId once, in the new
 // layout order (order[0] must be the entry, 0).
 void permute_blocks(Function& f, const std::vector<BlockId>& order);

@@ -4,12 +4,6 @@
 namespace rcxc::ir {
 namespace {
 
-bool is_repeat_block(const Function& f, BlockId b) {
-  for (const auto& r : f.repeats)
-    if (r.head == b || r.setup == b) return true;
-  return false;
-}
-
 // `set v, X` on a local or temporary v, with X a constant or another
 // variable: setting it early changes nothing another task or the random
 // source could tell.
