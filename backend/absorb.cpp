@@ -90,10 +90,7 @@ void erase(Selected& frag, const std::vector<std::size_t>& drop) {
     code.push_back(std::move(frag.code[i]));
   }
   map[frag.code.size()] = static_cast<int>(code.size());
-  for (int& b : frag.block_start) b = map[static_cast<std::size_t>(b)];
-  for (auto& m : code)
-    if (m.target.block < 0 && m.target.instr >= 0) m.target.instr = map[static_cast<std::size_t>(m.target.instr)];
-  frag.code = std::move(code);
+  install_code(frag, std::move(code), map);
 }
 
 // Puts `m` first in the subroutine; its own branches keep their targets.
@@ -110,9 +107,8 @@ void prepend(Selected& sub, MInstr m) {
 void append(Selected& sub, MInstr m) { sub.code.push_back(std::move(m)); }
 
 bool has_early_return(const Selected& sub) {
-  return std::any_of(sub.code.begin(), sub.code.end(), [](const MInstr& m) {
-    return m.raw || m.op == rcx::Op::ReturnFromSubroutine;
-  });
+  return std::any_of(sub.code.begin(), sub.code.end(),
+                     [](const MInstr& m) { return m.op == rcx::Op::ReturnFromSubroutine; });
 }
 
 // Moves one instruction into `sub` from beside its calls; false when that

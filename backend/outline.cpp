@@ -26,6 +26,13 @@ int target_index(const Selected& f, const Target& t) {
   return t.instr;
 }
 
+void install_code(Selected& frag, std::vector<MInstr> code, const std::vector<int>& map) {
+  for (int& b : frag.block_start) b = map[static_cast<std::size_t>(b)];
+  for (auto& m : code)
+    if (m.target.block < 0 && m.target.instr >= 0) m.target.instr = map[static_cast<std::size_t>(m.target.instr)];
+  frag.code = std::move(code);
+}
+
 Flow flow_of(const Selected& f) {
   Flow flow;
   flow.target.assign(f.code.size(), -1);
@@ -145,10 +152,7 @@ void replace(Selected& frag, const std::vector<std::size_t>& starts, std::size_t
     }
   }
   map[frag.code.size()] = static_cast<int>(code.size());
-  for (int& b : frag.block_start) b = map[static_cast<std::size_t>(b)];
-  for (auto& m : code)
-    if (m.target.block < 0 && m.target.instr >= 0) m.target.instr = map[static_cast<std::size_t>(m.target.instr)];
-  frag.code = std::move(code);
+  install_code(frag, std::move(code), map);
 }
 
 }  // namespace

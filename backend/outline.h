@@ -36,6 +36,10 @@ struct Flow {
   std::vector<std::vector<int>> entered;  // per instruction: indices branching there
 };
 int target_index(const Selected& f, const Target& t);
+// Makes `code` the fragment's code, where map[i] is the new index of old
+// instruction i (map[old size]: the new end): block starts and branches
+// to instruction indices follow.
+void install_code(Selected& frag, std::vector<MInstr> code, const std::vector<int>& map);
 Flow flow_of(const Selected& f);
 
 // Outlines into new subroutines while it saves bytes and subroutine
