@@ -14,6 +14,7 @@
 
 #include "backend/compile.h"
 #include "runtime/vm.h"
+#include "tests/support/compiled.h"
 
 using namespace rcxc;
 
@@ -47,10 +48,7 @@ rcx::Machine run(const rcx::Image& image, std::int64_t limit_ms = 60'000) {
 }
 
 int global(const rcx::Machine& m, const rcx::Image& image, const std::string& name) {
-  for (const auto& s : image.symbols)
-    if (s.type == rcx::SymbolType::Variable && s.name == name) return m.state().vars[s.index];
-  ADD_FAILURE() << "no variable " << name;
-  return 0;
+  return test::global_value(m, image, name);
 }
 
 std::int16_t w(long v) { return static_cast<std::int16_t>(static_cast<std::uint16_t>(v & 0xffff)); }
