@@ -203,7 +203,28 @@ struct Selector {
       }
     } else if (const auto* br = std::get_if<ir::Branch>(&block.term)) {
       select_branch(*br, next, span, out);
+    } else if (const auto* c = std::get_if<ir::CoinToss>(&block.term)) {
+      select_coin_toss(*c, b, span, out);
     }
+  }
+
+  // loopset random(1); the first loop test pops a 0 and goes to `zero`,
+  // the second pops what a 1 has become (-1) and goes to `one`. A side
+  // behind them (the counter branches forward only) gets a jump after.
+  void select_coin_toss(const ir::CoinToss& c, ir::BlockId b, SourceSpan span, std::vector<MInstr>& out) const {
+    select(ir::Instr{rcx::Op::SetLoopCounter, {ir::Operand::src(static_cast<int>(rcx::Source::Random), 1)}, false, span},
+           out);
+    std::size_t first = out.size();
+    int behind = 0;
+    for (ir::BlockId side : {c.zero, c.one}) {
+      MInstr m;
+      m.kind = MInstr::Kind::Loop;
+      m.span = span;
+      m.target = side > b ? Target{side, -1} : Target{-1, static_cast<int>(first) + 2 + behind++};
+      out.push_back(m);
+    }
+    for (ir::BlockId side : {c.zero, c.one})
+      if (side <= b) out.push_back(jump(Target{side, -1}, span));
   }
 
   void select_branch(const ir::Branch& br, ir::BlockId next, SourceSpan span, std::vector<MInstr>& out) const {

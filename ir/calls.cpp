@@ -148,6 +148,7 @@ int estimate_size(const Function& f) {
     for (const auto& in : b.instrs) size += instr_size(in);
     if (std::holds_alternative<Branch>(b.term)) size += 7;
     if (std::holds_alternative<Jump>(b.term) || std::holds_alternative<LoopTest>(b.term)) size += 2;
+    if (std::holds_alternative<CoinToss>(b.term)) size += 7;
   }
   return size;
 }

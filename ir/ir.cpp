@@ -79,6 +79,7 @@ std::vector<BlockId> successors(const Terminator& t) {
   if (const auto* j = std::get_if<Jump>(&t)) return {j->target};
   if (const auto* b = std::get_if<Branch>(&t)) return {b->then, b->otherwise};
   if (const auto* l = std::get_if<LoopTest>(&t)) return {l->body, l->exit};
+  if (const auto* c = std::get_if<CoinToss>(&t)) return {c->zero, c->one};
   return {};
 }
 
@@ -110,22 +111,10 @@ std::vector<int> reverse_postorder_index(const Function& f) {
   return index;
 }
 
-void offset_targets(Terminator& t, BlockId delta) {
-  if (auto* j = std::get_if<Jump>(&t)) j->target += delta;
-  if (auto* b = std::get_if<Branch>(&t)) {
-    b->then += delta;
-    b->otherwise += delta;
-  }
-  if (auto* l = std::get_if<LoopTest>(&t)) {
-    l->body += delta;
-    l->exit += delta;
-  }
-}
-
-void retarget(Terminator& t, BlockId from, BlockId to) {
-  auto fix = [&](BlockId& b) {
-    if (b == from) b = to;
-  };
+namespace {
+// Calls fix(b) on every block reference of a terminator.
+template <class Fix>
+void each_target(Terminator& t, Fix&& fix) {
   if (auto* j = std::get_if<Jump>(&t)) fix(j->target);
   if (auto* b = std::get_if<Branch>(&t)) {
     fix(b->then);
@@ -135,23 +124,28 @@ void retarget(Terminator& t, BlockId from, BlockId to) {
     fix(l->body);
     fix(l->exit);
   }
+  if (auto* c = std::get_if<CoinToss>(&t)) {
+    fix(c->zero);
+    fix(c->one);
+  }
+}
+}  // namespace
+
+void offset_targets(Terminator& t, BlockId delta) {
+  each_target(t, [&](BlockId& b) { b += delta; });
+}
+
+void retarget(Terminator& t, BlockId from, BlockId to) {
+  each_target(t, [&](BlockId& b) {
+    if (b == from) b = to;
+  });
 }
 
 namespace {
 // Applies `map` (old id -> new id, -1 = gone) to every block reference.
 void renumber(Function& f, const std::vector<BlockId>& map) {
   auto fix = [&](BlockId& b) { b = map[static_cast<std::size_t>(b)]; };
-  for (auto& b : f.blocks) {
-    if (auto* j = std::get_if<Jump>(&b.term)) fix(j->target);
-    if (auto* br = std::get_if<Branch>(&b.term)) {
-      fix(br->then);
-      fix(br->otherwise);
-    }
-    if (auto* l = std::get_if<LoopTest>(&b.term)) {
-      fix(l->body);
-      fix(l->exit);
-    }
-  }
+  for (auto& b : f.blocks) each_target(b.term, fix);
   std::vector<Repeat> kept;
   for (auto r : f.repeats) {
     fix(r.setup);
@@ -318,6 +312,7 @@ std::string term_text(const Program& p, const Terminator& t) {
     return fmt::format("if {} {} {} then b{} else b{}", operand_text(p, b->a), kCmpText[static_cast<int>(b->cmp)],
                        operand_text(p, b->b), b->then, b->otherwise);
   if (const auto* l = std::get_if<LoopTest>(&t)) return fmt::format("loop{} b{} exit b{}", l->loop, l->body, l->exit);
+  if (const auto* c = std::get_if<CoinToss>(&t)) return fmt::format("coin 0: b{} 1: b{}", c->zero, c->one);
   return "exit";
 }
 

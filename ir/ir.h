@@ -82,9 +82,15 @@ struct LoopTest {
   int loop = 0;
   BlockId body = 0, exit = 0;
 };
+// Draws Random(1) and goes to `zero` or `one`. The backend tosses it on
+// the loop counter (loopset random(1), then two loop tests), which only
+// branches forward, so both sides must lie after the block.
+struct CoinToss {
+  BlockId zero = 0, one = 0;
+};
 // Leaves the function: end of a task, return from a subroutine.
 struct Exit {};
-using Terminator = std::variant<Jump, Branch, LoopTest, Exit>;
+using Terminator = std::variant<Jump, Branch, LoopTest, CoinToss, Exit>;
 
 struct Block {
   std::vector<Instr> instrs;

@@ -38,6 +38,11 @@ int BlockOrder::bytes(BlockId b, BlockId next) const {
     bool behind = position(l->exit) <= position(b);
     return kJump + (l->body != next ? kJump : 0) + (behind ? 2 * kJump : 0);
   }
+  if (const auto* c = std::get_if<CoinToss>(&t)) {
+    // loopset and two loop tests; a side behind them needs a jump.
+    int behind = (position(c->zero) <= position(b)) + (position(c->one) <= position(b));
+    return 3 + 2 * kJump + behind * kJump;
+  }
   // An exit anywhere but last returns (1 byte) or jumps to the end.
   if (next == static_cast<BlockId>(order.size())) return 0;
   return f.kind == FuncKind::Sub ? 1 : kJump;

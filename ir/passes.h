@@ -2,6 +2,7 @@
 #pragma once
 
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "frontend/diagnostics.h"
@@ -90,6 +91,22 @@ struct BlockOrder {
 // loop left early (break, return, goto) is not merged.
 void merge_nested_repeats(Function& f, Log& log);
 
+// The firmware's loop counter stack: four counters per task (seed); a fifth
+// loopset overwrites the top one.
+inline constexpr int kLoopCounters = 4;
+
+// repeat.cpp: the loop counter stack depth at the start of every block
+// (-1: not reached), found by walking the code from the entry at depth 0;
+// `consistent` is false when some block is reached at two depths (a jump
+// out of a counter loop). Raw asm is not counted.
+struct CounterDepths {
+  std::vector<int> at_block;
+  bool consistent = true;
+  int max = 0;
+  std::vector<std::pair<int, FuncId>> calls;  // depth at each call, callee
+};
+CounterDepths counter_depths(const Function& f);
+
 // repeat.cpp: keeps the firmware loop counter for `repeat` loops where it
 // is safe (nesting, counted across subroutine calls, at most 4 deep; no
 // exit other than the loop's end) and rewrites the others to count in a
@@ -107,6 +124,16 @@ void demote_repeat(Program& p, Function& f, std::size_t repeat_index);
 // caller keeps the result only if the final code is smaller (the copies
 // may have been worth more to outlining) and a slot is free.
 bool reroll_sequences(Program& p, Log& log);
+
+// coin.cpp: `if (Random(1) == 0)` (a temporary or local set to Random(1),
+// dead after the test) becomes a coin toss on the loop counter:
+// `loopset random(1)` pushes 0 or 1, a first loop test pops a 0 and
+// branches, a second pops what is then -1 and branches to the other side.
+// 7 bytes instead of 12 (a set and a test), and no variable. Only where
+// both sides lie after the test (the counter branches forward only) and
+// the counter stack has room, counting the deepest call of a subroutine;
+// never in a function with raw asm. Run last, once the layout is final.
+void toss_coins_on_loop_counter(Program& p);
 
 // calls.cpp: makes subroutine calls fit the firmware: rejects recursion
 // (naming the cycle), inlines subroutines called from subroutines (one

@@ -8,23 +8,34 @@
 namespace rcxc::ir {
 namespace {
 
-constexpr int kCounterStack = 4;  // nested loop counters per task (seed)
-
 bool is_loopset(const Instr& in) { return !in.raw && in.op == rcx::Op::SetLoopCounter; }
 
-// Loop counter stack depth at the start of every block (-1: not reached),
-// found by walking the code; `consistent` is false when some block is
-// reached at two depths (a jump out of a counter loop).
-struct Depths {
-  std::vector<int> at_block;
-  bool consistent = true;
-  int max = 0;
-  std::vector<std::pair<int, FuncId>> calls;  // depth at each call, callee
-};
+void demote_all(Program& p, Function& f) {
+  for (std::size_t r = 0; r < f.repeats.size(); ++r)
+    if (f.repeats[r].counter) demote_repeat(p, f, r);
+}
 
-Depths walk_depths(const Function& f) {
-  Depths d;
+// Demotes the loops that push past the counter stack (depth > limit).
+bool demote_deep(Program& p, Function& f, int limit) {
+  CounterDepths d = counter_depths(f);
+  for (std::size_t r = 0; r < f.repeats.size(); ++r) {
+    const Repeat& rep = f.repeats[r];
+    if (!rep.counter) continue;
+    int depth = d.at_block[static_cast<std::size_t>(rep.setup)];
+    if (depth >= 0 && depth + 1 > limit) {
+      demote_repeat(p, f, r);
+      return true;
+    }
+  }
+  return false;
+}
+
+}  // namespace
+
+CounterDepths counter_depths(const Function& f) {
+  CounterDepths d;
   d.at_block.assign(f.blocks.size(), -1);
+  if (f.blocks.empty()) return d;
   d.at_block[0] = 0;
   std::vector<BlockId> work{0};
   auto reach = [&](BlockId b, int depth) {
@@ -55,28 +66,6 @@ Depths walk_depths(const Function& f) {
   return d;
 }
 
-void demote_all(Program& p, Function& f) {
-  for (std::size_t r = 0; r < f.repeats.size(); ++r)
-    if (f.repeats[r].counter) demote_repeat(p, f, r);
-}
-
-// Demotes the loops that push past the counter stack (depth > limit).
-bool demote_deep(Program& p, Function& f, int limit) {
-  Depths d = walk_depths(f);
-  for (std::size_t r = 0; r < f.repeats.size(); ++r) {
-    const Repeat& rep = f.repeats[r];
-    if (!rep.counter) continue;
-    int depth = d.at_block[static_cast<std::size_t>(rep.setup)];
-    if (depth >= 0 && depth + 1 > limit) {
-      demote_repeat(p, f, r);
-      return true;
-    }
-  }
-  return false;
-}
-
-}  // namespace
-
 void demote_repeat(Program& p, Function& f, std::size_t repeat_index) {
   Repeat& rep = f.repeats[repeat_index];
   rep.counter = false;
@@ -102,20 +91,20 @@ void assign_loop_counters(Program& p, Log& log) {
     if (f.blocks.empty()) continue;
     for (std::size_t r = 0; r < f.repeats.size(); ++r)
       if (f.repeats[r].counter && f.repeats[r].escapes) demote_repeat(p, f, r);
-    if (!walk_depths(f).consistent) demote_all(p, f);
-    while (demote_deep(p, f, kCounterStack)) {
+    if (!counter_depths(f).consistent) demote_all(p, f);
+    while (demote_deep(p, f, kLoopCounters)) {
     }
   }
   // A subroutine runs on its caller's counter stack: its own depth plus the
   // depth at any call must fit, else the subroutine counts in variables.
   std::vector<int> max_depth(p.functions.size(), 0);
   for (std::size_t i = 0; i < p.functions.size(); ++i)
-    if (!p.functions[i].blocks.empty()) max_depth[i] = walk_depths(p.functions[i]).max;
+    if (!p.functions[i].blocks.empty()) max_depth[i] = counter_depths(p.functions[i]).max;
   for (std::size_t i = 0; i < p.functions.size(); ++i) {
     if (p.functions[i].blocks.empty()) continue;
-    for (auto [depth, callee] : walk_depths(p.functions[i]).calls) {
+    for (auto [depth, callee] : counter_depths(p.functions[i]).calls) {
       auto c = static_cast<std::size_t>(callee);
-      if (depth + max_depth[c] > kCounterStack) {
+      if (depth + max_depth[c] > kLoopCounters) {
         log.push_back(fmt::format("repeat loops of sub {} count in variables (called {} loops deep from {})",
                                   p.functions[c].name, depth, p.functions[i].name));
         demote_all(p, p.functions[c]);

@@ -1,0 +1,82 @@
+// Coin tosses on the loop counter (see passes.h).
+#include <algorithm>
+
+#include "ir/liveness.h"
+#include "ir/passes.h"
+
+namespace rcxc::ir {
+namespace {
+
+bool has_raw(const Function& f) {
+  for (const auto& b : f.blocks)
+    for (const auto& in : b.instrs)
+      if (in.raw) return true;
+  return false;
+}
+
+bool is_random_one(const Operand& o) {
+  return o.kind == Operand::Kind::Src && o.source == static_cast<int>(rcx::Source::Random) && o.value == 1;
+}
+
+// The deepest counter stack each function can start at: 0 for a task, the
+// deepest call for a subroutine (only tasks call subroutines by now). -1:
+// unknown (a caller jumps out of a counter loop or has raw asm).
+std::vector<int> entry_depths(const Program& p) {
+  std::vector<int> entry(p.functions.size(), 0);
+  for (const auto& f : p.functions) {
+    if (f.blocks.empty()) continue;
+    CounterDepths d = counter_depths(f);
+    bool known = d.consistent && !has_raw(f);
+    for (auto [depth, callee] : d.calls) {
+      int& e = entry[static_cast<std::size_t>(callee)];
+      if (e >= 0) e = known ? std::max(e, depth) : -1;
+    }
+  }
+  return entry;
+}
+
+// The side a coin showing `face` takes in `br`, whose operand `coin` is
+// the variable holding the toss and the other an immediate.
+BlockId side(const Branch& br, VarId coin, int face) {
+  int a = br.a.is_var(coin) ? face : br.a.value;
+  int b = br.b.is_var(coin) ? face : br.b.value;
+  return evaluate(br.cmp, a, b) ? br.then : br.otherwise;
+}
+
+void toss_in(const Program& p, Function& f, int entry, const CallEffects& calls) {
+  CounterDepths d = counter_depths(f);
+  if (!d.consistent || has_raw(f)) return;
+  Liveness live = compute_liveness(p, f, calls);
+  for (std::size_t b = 0; b < f.blocks.size(); ++b) {
+    Block& block = f.blocks[b];
+    const auto* br = std::get_if<Branch>(&block.term);
+    if (br == nullptr || block.instrs.empty() || d.at_block[b] < 0) continue;
+    const Instr& last = block.instrs.back();
+    if (last.op != rcx::Op::SetVariable || !last.args[0].is_var() || !is_random_one(last.args[1])) continue;
+    VarId coin = last.args[0].value;
+    if (p.vars[static_cast<std::size_t>(coin)].kind == VarKind::Global || live.live_out[b].has(coin)) continue;
+    bool a_coin = br->a.is_var(coin), b_coin = br->b.is_var(coin);
+    if (!((a_coin && br->b.is_imm()) || (b_coin && br->a.is_imm()))) continue;
+    int depth = entry + d.at_block[b];
+    for (const auto& in : block.instrs)
+      if (in.op == rcx::Op::SetLoopCounter) ++depth;
+    BlockId zero = side(*br, coin, 0), one = side(*br, coin, 1);
+    auto here = static_cast<BlockId>(b);
+    if (depth + 1 > kLoopCounters || zero == one || zero <= here || one <= here) continue;
+    block.instrs.pop_back();
+    block.term = CoinToss{zero, one};
+  }
+}
+
+}  // namespace
+
+void toss_coins_on_loop_counter(Program& p) {
+  std::vector<int> entry = entry_depths(p);
+  CallEffects calls = call_effects(p);
+  for (std::size_t i = 0; i < p.functions.size(); ++i) {
+    Function& f = p.functions[i];
+    if (!f.blocks.empty() && entry[i] >= 0) toss_in(p, f, entry[i], calls);
+  }
+}
+
+}  // namespace rcxc::ir
