@@ -156,6 +156,15 @@ void renumber(Function& f, const std::vector<BlockId>& map) {
 }
 }  // namespace
 
+bool started_anywhere(const Program& p, FuncId f) {
+  for (const auto& fn : p.functions)
+    for (const auto& b : fn.blocks)
+      for (const auto& in : b.instrs)
+        if (!in.raw && in.op == rcx::Op::StartTask && in.args[0].kind == Operand::Kind::Func && in.args[0].value == f)
+          return true;
+  return false;
+}
+
 bool is_repeat_block(const Function& f, BlockId b) {
   for (const auto& r : f.repeats)
     if (r.head == b || r.setup == b) return true;

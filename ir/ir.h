@@ -172,6 +172,10 @@ constexpr int wrap16(long v) { return static_cast<std::int16_t>(static_cast<std:
 // std::nullopt for opcodes that are not variable arithmetic.
 std::optional<int> arithmetic(rcx::Op op, int dest, int src);
 
+// Whether some instruction starts task `f` (for main: restarts it, so its
+// startup code can run while other tasks run).
+bool started_anywhere(const Program& p, FuncId f);
+
 // Whether block b is the setup or the head of one of f's counter loops,
 // which passes must not merge, thread through or move code across.
 bool is_repeat_block(const Function& f, BlockId b);

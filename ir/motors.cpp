@@ -279,17 +279,6 @@ struct MotorPass {
   }
 };
 
-// Whether some instruction starts task `f` (for main: restarts it, so its
-// startup code can run while other tasks run).
-bool started_anywhere(const Program& p, FuncId f) {
-  for (const auto& fn : p.functions)
-    for (const auto& b : fn.blocks)
-      for (const auto& in : b.instrs)
-        if (!in.raw && in.op == rcx::Op::StartTask && in.args[0].kind == Operand::Kind::Func && in.args[0].value == f)
-          return true;
-  return false;
-}
-
 // Visits the instructions of function `f` that can act while other tasks
 // run: all but main's startup code, unless something restarts main.
 template <class Visit>

@@ -40,6 +40,15 @@ void remove_redundant_motor_commands(Program& p);
 void merge_motor_commands(Function& f, const std::vector<Var>& vars);
 void drop_redundant_sensor_modes(Function& f);
 
+// flip.cpp: a task's endless loop whose body goes one way and then back,
+// two halves alike but for one direction command (OnFwd(OUT_A); Wait(t);
+// OnRev(OUT_A); Wait(t);), becomes a loop over one half whose direction
+// command flips the outputs. The first pass sets the direction as written.
+// Only when nothing else in the loop, no subroutine and no other task
+// (main's startup code aside) may turn those outputs: the flip counts on
+// the direction the last pass left.
+void halve_back_and_forth_loops(Program& p, Log& log);
+
 // speculate.cpp: `if (c) t = X; else t = Y;` on a local or temporary t
 // (X, Y constants or other variables) becomes `t = Y; if (c) t = X;`: the
 // else side's block and the jump over it go (2 bytes; one more instruction

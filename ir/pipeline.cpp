@@ -13,6 +13,7 @@ bool optimize(Program& p, OptLevel level, Diagnostics& diags, Log& log) {
     }
     for (auto& f : p.functions) merge_nested_repeats(f, log);
     if (level == OptLevel::Os) {
+      halve_back_and_forth_loops(p, log);
       for (auto& f : p.functions) {
         merge_motor_commands(f, p.vars);
         drop_redundant_sensor_modes(f);
