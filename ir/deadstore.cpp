@@ -5,9 +5,18 @@
 namespace rcxc::ir {
 namespace {
 
-// Instructions whose only effect is the value they leave in a variable.
+bool draws_random(const Instr& in) {
+  for (const auto& a : in.args)
+    if (a.kind == Operand::Kind::Src && a.source == static_cast<int>(rcx::Source::Random)) return true;
+  return false;
+}
+
+// Instructions whose only effect is the value they leave in a variable. A
+// read of the random source also moves it on: dropping an unused
+// `t = Random(10)` would change every later draw, and with it what a run
+// with a given seed does (against -O0, or nqc's code in `rcxc compare`).
 bool pure_variable_write(const Instr& in) {
-  if (in.raw) return false;
+  if (in.raw || draws_random(in)) return false;
   switch (in.op) {
     case rcx::Op::SetVariable:
     case rcx::Op::AddToVariable:

@@ -249,6 +249,20 @@ TEST(Emulate, AnAbsorbingOperandMakesTheOperationConstantWhenTheOtherOnlyReads) 
   }
 }
 
+TEST(Emulate, AnUnusedRandomDrawStillMovesTheSourceOn) {
+  // `t` is never read, but its draw decides which number `y` gets: the
+  // second the brick draws, at every level, as with `x` kept.
+  const char* src = "int y;\ntask main() { int t; t = Random(1000) + 1; y = Random(1000); }\n";
+  const char* drawn = "int x, y;\ntask main() { x = Random(1000); y = Random(1000); }\n";
+  for (auto level : {ir::OptLevel::O0, ir::OptLevel::O1, ir::OptLevel::Os}) {
+    auto c = compile(src, level, true);
+    auto plain = compile(drawn, level, true);
+    ASSERT_TRUE(c.out && plain.out) << c.messages;
+    auto m = run(c.out->image), p = run(plain.out->image);
+    EXPECT_EQ(global(m, c.out->image, "y"), global(p, plain.out->image, "y"));
+  }
+}
+
 TEST(Emulate, CompoundAssignmentsAndIncrements) {
   auto c = compile(R"(
 int x, y, z, p, q;
