@@ -8,11 +8,12 @@ namespace {
 
 // Where control really goes when it enters `b`: past empty blocks that
 // only jump on (bounded, so a cycle of empty jumps ends).
-BlockId final_target(const Function& f, BlockId b) {
+// `loop_blocks` is repeat_blocks(f).
+BlockId final_target(const Function& f, const std::vector<bool>& loop_blocks, BlockId b) {
   for (std::size_t hops = 0; hops < f.blocks.size(); ++hops) {
     const Block& block = f.blocks[static_cast<std::size_t>(b)];
     const auto* j = std::get_if<Jump>(&block.term);
-    if (!block.instrs.empty() || j == nullptr || j->target == b || is_repeat_block(f, b)) return b;
+    if (!block.instrs.empty() || j == nullptr || j->target == b || loop_blocks[static_cast<std::size_t>(b)]) return b;
     b = j->target;
   }
   return b;
@@ -33,13 +34,14 @@ bool draws_random(const Branch& br) {
 // Blocks are visited last first, so a chain laid out in order folds in one
 // sweep; sweeps repeat while something changes.
 void thread_jumps(Function& f) {
+  const std::vector<bool> loop_blocks = repeat_blocks(f);
   for (bool changed = true; changed;) {
     changed = false;
     for (std::size_t b = f.blocks.size(); b-- > 0;) {
       Block& block = f.blocks[b];
       const auto* loop = std::get_if<LoopTest>(&block.term);
       for (BlockId s : successors(block.term)) {
-        BlockId to = final_target(f, s);
+        BlockId to = final_target(f, loop_blocks, s);
         // The loop counter only branches forward: an exit threaded back past
         // the test would cost two jumps where the empty block costs one.
         if (loop && s == loop->exit && to <= static_cast<BlockId>(b)) continue;
@@ -76,7 +78,12 @@ void merge_straight_lines(Function& f) {
   std::vector<int> preds(f.blocks.size(), 0);
   for (const auto& b : f.blocks)
     for (BlockId s : successors(b.term)) ++preds[static_cast<std::size_t>(s)];
-  std::vector<bool> keep(f.blocks.size(), true);
+  std::vector<bool> keep(f.blocks.size(), true), head(f.blocks.size(), false);
+  std::vector<std::vector<std::size_t>> setup_of(f.blocks.size());  // repeats whose setup each block is
+  for (std::size_t r = 0; r < f.repeats.size(); ++r) {
+    head[static_cast<std::size_t>(f.repeats[r].head)] = true;
+    setup_of[static_cast<std::size_t>(f.repeats[r].setup)].push_back(r);
+  }
   for (std::size_t a = 0; a < f.blocks.size(); ++a) {
     if (!keep[a]) continue;
     for (;;) {
@@ -84,9 +91,7 @@ void merge_straight_lines(Function& f) {
       if (j == nullptr) break;
       BlockId b = j->target;
       auto bi = static_cast<std::size_t>(b);
-      bool head = false;
-      for (const auto& r : f.repeats) head |= r.head == b;
-      if (b == 0 || bi == a || preds[bi] != 1 || head || !keep[bi]) break;
+      if (b == 0 || bi == a || preds[bi] != 1 || head[bi] || !keep[bi]) break;
       Block& from = f.blocks[bi];
       Block& to = f.blocks[a];
       for (auto& in : from.instrs) to.instrs.push_back(std::move(in));
@@ -94,8 +99,9 @@ void merge_straight_lines(Function& f) {
       from.instrs.clear();
       from.term = Exit{};
       keep[bi] = false;
-      for (auto& r : f.repeats)
-        if (r.setup == b) r.setup = static_cast<BlockId>(a);
+      for (std::size_t r : setup_of[bi]) f.repeats[r].setup = static_cast<BlockId>(a);
+      setup_of[a].insert(setup_of[a].end(), setup_of[bi].begin(), setup_of[bi].end());
+      setup_of[bi].clear();
     }
   }
   remove_blocks(f, keep);
@@ -107,19 +113,20 @@ bool same_instr(const Instr& a, const Instr& b) { return a.op == b.op && a.raw =
 // with the same instruction, that instruction moves into the join (an
 // if/else whose branches both end with Wait(t) keeps one Wait).
 void merge_tails(Function& f) {
+  const std::vector<bool> loop_blocks = repeat_blocks(f);
   std::vector<std::vector<BlockId>> preds(f.blocks.size());
   for (std::size_t b = 0; b < f.blocks.size(); ++b)
     for (BlockId s : successors(f.blocks[b].term)) preds[static_cast<std::size_t>(s)].push_back(static_cast<BlockId>(b));
   for (std::size_t j = 1; j < f.blocks.size(); ++j) {
     auto& from = preds[j];
-    if (from.size() < 2 || is_repeat_block(f, static_cast<BlockId>(j))) continue;
+    if (from.size() < 2 || loop_blocks[j]) continue;
     bool all_jumps = true;
     for (BlockId p : from) {
       const Block& pb = f.blocks[static_cast<std::size_t>(p)];
       // Main's startup code stays first in the entry block.
       bool startup_only = p == 0 && static_cast<int>(pb.instrs.size()) <= f.startup;
       all_jumps &= std::holds_alternative<Jump>(pb.term) && p != static_cast<BlockId>(j) &&
-                   !is_repeat_block(f, p) && !startup_only;
+                   !loop_blocks[static_cast<std::size_t>(p)] && !startup_only;
     }
     if (!all_jumps) continue;
     for (;;) {
@@ -148,11 +155,12 @@ void merge_tails(Function& f) {
 // jumps where that one jumped (or falls there): no jump more. Done when the
 // copies saved are worth more than the others' jumps growing long.
 void share_tails(Function& f) {
+  const std::vector<bool> loop_blocks = repeat_blocks(f);  // of the blocks before any shared tail
   std::vector<std::vector<BlockId>> jumpers(f.blocks.size());
   for (std::size_t b = 1; b < f.blocks.size(); ++b)
     if (const auto* j = std::get_if<Jump>(&f.blocks[b].term);
         j && j->target != static_cast<BlockId>(b) && !f.blocks[b].instrs.empty() &&
-        !is_repeat_block(f, static_cast<BlockId>(b)))
+        !loop_blocks[b])
       jumpers[static_cast<std::size_t>(j->target)].push_back(static_cast<BlockId>(b));
   std::vector<BlockId> after(f.blocks.size(), -1);  // a shared tail to lay out after the block
   auto last = [&](BlockId b, std::size_t back) -> const Instr& {
@@ -161,7 +169,7 @@ void share_tails(Function& f) {
   };
   for (std::size_t j = 0; j < jumpers.size(); ++j) {
     const auto& from = jumpers[j];
-    if (from.size() < 2 || is_repeat_block(f, static_cast<BlockId>(j))) continue;
+    if (from.size() < 2 || loop_blocks[j]) continue;
     std::vector<bool> taken(from.size(), false);
     for (std::size_t a = 0; a < from.size(); ++a) {
       // Raw asm may branch by offset: it stays where it was written.

@@ -171,6 +171,14 @@ bool is_repeat_block(const Function& f, BlockId b) {
   return false;
 }
 
+std::vector<bool> repeat_blocks(const Function& f) {
+  std::vector<bool> in(f.blocks.size(), false);
+  for (const auto& r : f.repeats)
+    for (BlockId b : {r.head, r.setup})
+      if (b >= 0 && static_cast<std::size_t>(b) < in.size()) in[static_cast<std::size_t>(b)] = true;
+  return in;
+}
+
 void permute_blocks(Function& f, const std::vector<BlockId>& order) {
   std::vector<BlockId> map(order.size());
   std::vector<Block> blocks(order.size());

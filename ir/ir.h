@@ -179,6 +179,9 @@ bool started_anywhere(const Program& p, FuncId f);
 // Whether block b is the setup or the head of one of f's counter loops,
 // which passes must not merge, thread through or move code across.
 bool is_repeat_block(const Function& f, BlockId b);
+// The same for every block at once (a pass asking per block would take
+// blocks x loops).
+std::vector<bool> repeat_blocks(const Function& f);
 
 // Reorders the blocks: `order` lists every old BlockId once, in the new
 // layout order (order[0] must be the entry, 0).

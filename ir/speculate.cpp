@@ -29,9 +29,10 @@ void speculate_assignments(Function& f, const std::vector<Var>& vars) {
   std::vector<int> preds(f.blocks.size(), 0);
   for (const auto& b : f.blocks)
     for (BlockId s : successors(b.term)) ++preds[static_cast<std::size_t>(s)];
+  const std::vector<bool> loop_blocks = repeat_blocks(f);
   for (std::size_t b = 0; b < f.blocks.size(); ++b) {
     auto* br = std::get_if<Branch>(&f.blocks[b].term);
-    if (br == nullptr || br->then == br->otherwise || is_repeat_block(f, static_cast<BlockId>(b))) continue;
+    if (br == nullptr || br->then == br->otherwise || loop_blocks[b]) continue;
     for (bool hoist_else : {true, false}) {
       BlockId early = hoist_else ? br->otherwise : br->then;
       BlockId kept = hoist_else ? br->then : br->otherwise;
@@ -41,7 +42,7 @@ void speculate_assignments(Function& f, const std::vector<Var>& vars) {
       auto join = jump_target(e);
       if (!v || v != w || !join || join != jump_target(k) || *join == early || *join == kept ||
           *join == static_cast<BlockId>(b) || early == static_cast<BlockId>(b) || kept == static_cast<BlockId>(b) ||
-          preds[static_cast<std::size_t>(early)] != 1 || is_repeat_block(f, early) || br->a.is_var(*v) ||
+          preds[static_cast<std::size_t>(early)] != 1 || loop_blocks[static_cast<std::size_t>(early)] || br->a.is_var(*v) ||
           br->b.is_var(*v))
         continue;
       f.blocks[b].instrs.push_back(e.instrs[0]);
