@@ -301,6 +301,70 @@ TEST(RandomPrograms, InstructionsMovedIntoSubroutinesDoWhatTheyDidBesideTheCalls
   EXPECT_GE(moved, 60) << "of 300 programs";
 }
 
+namespace {
+
+// Compiles `text` at -O1 and -Os and expects the runs (machine seed
+// `seed`) to show the same, as `rcxc compare` judges it; returns whether
+// the -Os log has `logged`.
+bool os_agrees_with_o1(const std::string& text, unsigned seed, const char* logged,
+                       rcx::TimeTolerance tolerance = {10 * 500, 0.005, 10 * 5}) {
+  std::optional<backend::Output> out[2];
+  ir::Log log;
+  for (int k = 0; k < 2; ++k) {
+    SourceManager sm;
+    Diagnostics diags;
+    ir::Log& into = log;
+    out[k] = backend::compile_source("p.nqc", text, {}, k == 0 ? ir::OptLevel::O1 : ir::OptLevel::Os, sm, diags, into);
+    EXPECT_TRUE(out[k] && !diags.has_errors()) << "seed " << seed << "\n" << text;
+    if (!out[k] || diags.has_errors()) return false;
+    if (k == 0) log.clear();
+  }
+  rcx::Machine m[2] = {rcx::Machine(rcx::Config{.seed = seed, .instruction_cost_us = 10}),
+                       rcx::Machine(rcx::Config{.seed = seed, .instruction_cost_us = 10})};
+  for (int k = 0; k < 2; ++k) {
+    EXPECT_FALSE(m[k].load(0, out[k]->image).has_value());
+    m[k].start_program();
+    m[k].run(60'000 * rcx::kMicrosPerMs);
+    EXPECT_EQ(m[k].stop().kind, rcx::StopKind::Ended) << "seed " << seed << "\n" << text;
+  }
+  auto c = rcx::compare_runs({&m[0], &out[0]->image, "-O1"}, {&m[1], &out[1]->image, "-Os"}, tolerance);
+  EXPECT_TRUE(c.same) << "seed " << seed << ": " << (c.differences.empty() ? "" : c.differences[0]) << "\n"
+                      << c.side_by_side << text;
+  return std::any_of(log.begin(), log.end(), [&](const std::string& l) { return l.find(logged) != l.npos; });
+}
+
+}  // namespace
+
+TEST(RandomPrograms, BackAndForthLoopsFlipAsTheyWentWrittenOut) {
+  // -Os keeps one half of a back-and-forth loop and flips the direction
+  // (ir/flip.cpp); -O1 runs the loop as written.
+  int flipped = 0;
+  for (unsigned seed = seed_offset() + 1; seed <= seed_offset() + 300; ++seed)
+    flipped += os_agrees_with_o1(test::BackAndForthGenerator(seed).program(), seed, "direction flip");
+  EXPECT_GE(flipped, 60) << "of 300 programs";
+}
+
+TEST(RandomPrograms, CoinTossesDecideAsTheDrawnVariableDoes) {
+  // -Os tosses Random(1) on the loop counter where it can (ir/coin.cpp);
+  // -O1 sets a variable and tests it. The same draws must decide the same.
+  int tossed = 0;
+  for (unsigned seed = seed_offset() + 1; seed <= seed_offset() + 300; ++seed) {
+    std::string text = test::CoinGenerator(seed).program();
+    // Outlining's calls and returns run a few hundred instructions more
+    // (a few ms at 10 us each): what matters is which side each toss took.
+    os_agrees_with_o1(text, seed, "", {100'000, 0.01, 0});
+    SourceManager sm;
+    Diagnostics diags;
+    ir::Log log;
+    auto os = backend::compile_source("p.nqc", text, {}, ir::OptLevel::Os, sm, diags, log);
+    ASSERT_TRUE(os);
+    const auto& code = os->image.find(rcx::FragmentType::Task, 0)->code;
+    const std::vector<std::uint8_t> toss = {0x82, 0x04, 0x01};
+    tossed += std::search(code.begin(), code.end(), toss.begin(), toss.end()) != code.end();
+  }
+  EXPECT_GE(tossed, 100) << "of 300 programs";
+}
+
 TEST(RandomPrograms, MotorProgramsShowWhatNqcsCodeShows) {
   // What `rcxc compare` checks, on random motor programs nqc compiles: the
   // same outputs switched the same way with the same settings while they

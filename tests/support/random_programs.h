@@ -7,6 +7,7 @@
 #include <random>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace rcxc::test {
 
@@ -231,6 +232,129 @@ class CallNeighbourGenerator : public Generator {
   }
 
   std::string before_ = neighbour(), after_ = neighbour();
+};
+
+// A task `walk` going one way and back in an endless loop: two halves
+// alike but for one direction command on outputs S (ir/flip.cpp keeps one
+// half and flips S), with other steps around it, sometimes ones that turn
+// S too (then nothing may flip). main stops `walk` in the middle of the
+// long wait that ends every half, and another task sometimes toggles
+// outputs in the middle of such a wait, so no level's few instructions
+// more or less can change the order of what happens.
+class BackAndForthGenerator : public Generator {
+ public:
+  using Generator::Generator;
+
+  std::string program() {
+    std::ostringstream out;
+    std::string s = mask();
+    int dir = pick(0, 1);  // OnFwd/OnRev or Fwd/Rev
+    int first = pick(0, 1);
+    std::vector<std::string> before = steps(pick(0, 2)), after = steps(pick(0, 2));
+    int long_wait = pick(10, 20) * 2;
+    int ticks = long_wait + waited_;
+    auto half = [&](bool forward) {
+      std::ostringstream h;
+      for (const auto& step : before) h << step;
+      h << "    " << (dir == 0 ? (forward ? "OnFwd" : "OnRev") : (forward ? "Fwd" : "Rev")) << "(" << s << ");\n";
+      for (const auto& step : after) h << step;
+      h << "    Wait(" << long_wait << ");\n";
+      return h.str();
+    };
+    out << "int x;\n";
+    out << "task walk() {\n  while (true) {\n" << half(first == 1) << half(first == 0) << "  }\n}\n";
+    bool other = pick(0, 2) == 0;
+    // In the middle of a long wait: k whole periods less half the wait.
+    auto mid_wait = [&](int periods) { return 2 * ticks * periods - long_wait / 2; };
+    if (other) out << "task other() {\n  Wait(" << mid_wait(1) << ");\n  Toggle(" << mask() << ");\n}\n";
+    out << "task main() {\n  x = 0;\n";
+    for (int i = pick(0, 2); i > 0; --i) motor(out);
+    out << "  start walk;\n";
+    if (other) out << "  start other;\n";
+    out << "  Wait(" << mid_wait(pick(2, 3)) << ");\n  stop walk;\n";
+    marker(out);
+    out << "}\n";
+    return out.str();
+  }
+
+ private:
+  // Steps between the turns: waits, sounds, additions, and motor commands,
+  // half of them only switching outputs or setting their power.
+  std::vector<std::string> steps(int n) {
+    std::vector<std::string> v;
+    for (int i = 0; i < n; ++i) {
+      std::ostringstream m;
+      switch (pick(0, 5)) {
+        case 0: {
+          int w = pick(1, 3);
+          waited_ += w;
+          m << "    Wait(" << w << ");\n";
+          break;
+        }
+        case 1: m << "    PlaySound(" << pick(0, 5) << ");\n"; break;
+        case 2: m << "    x += " << pick(1, 3) << ";\n"; break;
+        case 3: {
+          static const char* calls[] = {"On", "Off", "Float"};
+          m << "    " << calls[pick(0, 2)] << "(" << mask() << ");\n";
+          break;
+        }
+        case 4: m << "    SetPower(" << mask() << ", " << pick(1, 7) << ");\n"; break;
+        default: motor(m); m.str("  " + m.str());
+      }
+      v.push_back(m.str());
+    }
+    return v;
+  }
+
+  int waited_ = 0;  // ticks of the steps' waits in one half (before and after)
+};
+
+// Coin tosses (`if (Random(1) == 0)` and its other spellings) in nested
+// repeat loops up to five deep, whose sides record what they saw; sometimes
+// the drawn value goes to a global and is read again (no toss may replace
+// it then).
+class CoinGenerator : public Generator {
+ public:
+  using Generator::Generator;
+
+  std::string program() {
+    std::ostringstream out;
+    out << "int x, y, n, t;\ntask main() {\n  x = 0; y = 0; n = 0;\n";
+    block(out, 5);
+    marker(out);
+    out << "}\n";
+    return out.str();
+  }
+
+ private:
+  void block(std::ostringstream& out, int depth) {
+    int k = pick(1, 3);
+    for (int i = 0; i < k; ++i) {
+      int r = pick(0, 6);
+      if (r <= 1 && depth > 0) {
+        out << "  repeat (" << pick(1, 3) << ") {\n  n += 1;\n";
+        block(out, depth - 1);
+        out << "  }\n";
+      } else if (r <= 4) {
+        static const char* tests[] = {"Random(1) == 0", "Random(1) != 0", "Random(1) > 0", "Random(1) < 1",
+                                      "1 == Random(1)", "Random(1) >= 1", "Random(1) <= 0", "0 < Random(1)"};
+        out << "  if (" << tests[pick(0, 7)] << ") { x = x * 2 + 1; ";
+        side(out);
+        out << "} else { x = x * 2; ";
+        side(out);
+        out << "}\n";
+      } else if (r == 5) {
+        out << "  t = Random(1); if (t == 0) y += 5; y += t;\n";
+      } else {
+        out << "  y += " << pick(1, 4) << ";\n";
+      }
+    }
+  }
+
+  void side(std::ostringstream& out) {
+    if (pick(0, 2) == 0) out << "PlaySound(" << pick(0, 5) << "); ";
+    if (pick(0, 2) == 0) out << "y += " << pick(1, 9) << "; ";
+  }
 };
 
 // Arithmetic, comparisons and control flow over three globals, with the
