@@ -1,6 +1,8 @@
 // Coin tosses on the loop counter (see passes.h).
 #include <algorithm>
 
+#include <fmt/format.h>
+
 #include "ir/liveness.h"
 #include "ir/passes.h"
 
@@ -43,7 +45,7 @@ BlockId side(const Branch& br, VarId coin, int face) {
   return evaluate(br.cmp, a, b) ? br.then : br.otherwise;
 }
 
-void toss_in(const Program& p, Function& f, int entry, const CallEffects& calls) {
+void toss_in(const Program& p, Function& f, int entry, const CallEffects& calls, Log& log) {
   CounterDepths d = counter_depths(f);
   if (!d.consistent || has_raw(f)) return;
   Liveness live = compute_liveness(p, f, calls);
@@ -65,17 +67,18 @@ void toss_in(const Program& p, Function& f, int entry, const CallEffects& calls)
     if (depth + 1 > kLoopCounters || zero == one || zero <= here || one <= here) continue;
     block.instrs.pop_back();
     block.term = CoinToss{zero, one};
+    log.push_back(fmt::format("{}: a test of Random(1) is a coin toss on the loop counter", f.name));
   }
 }
 
 }  // namespace
 
-void toss_coins_on_loop_counter(Program& p) {
+void toss_coins_on_loop_counter(Program& p, Log& log) {
   std::vector<int> entry = entry_depths(p);
   CallEffects calls = call_effects(p);
   for (std::size_t i = 0; i < p.functions.size(); ++i) {
     Function& f = p.functions[i];
-    if (!f.blocks.empty() && entry[i] >= 0) toss_in(p, f, entry[i], calls);
+    if (!f.blocks.empty() && entry[i] >= 0) toss_in(p, f, entry[i], calls, log);
   }
 }
 

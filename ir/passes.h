@@ -142,7 +142,8 @@ bool reroll_sequences(Program& p, Log& log);
 // both sides lie after the test (the counter branches forward only) and
 // the counter stack has room, counting the deepest call of a subroutine;
 // never in a function with raw asm. Run last, once the layout is final.
-void toss_coins_on_loop_counter(Program& p);
+// Each toss is reported in `log`.
+void toss_coins_on_loop_counter(Program& p, Log& log);
 
 // calls.cpp: makes subroutine calls fit the firmware: rejects recursion
 // (naming the cycle), inlines subroutines called from subroutines (one

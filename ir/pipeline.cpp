@@ -31,7 +31,7 @@ bool optimize(Program& p, OptLevel level, Diagnostics& diags, Log& log) {
       rotate_loops(f);
       place_branch_targets(f);
     }
-  if (level == OptLevel::Os) toss_coins_on_loop_counter(p);
+  if (level == OptLevel::Os) toss_coins_on_loop_counter(p, log);
   return true;
 }
 

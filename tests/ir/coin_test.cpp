@@ -46,7 +46,9 @@ VarId a_local(Builder& b) { return b.local("c"); }
 VarId a_global(Builder& b) { return b.global("c"); }
 
 const CoinToss* tossed(Toss& t) {
-  toss_coins_on_loop_counter(t.b.p);
+  Log log;
+  toss_coins_on_loop_counter(t.b.p, log);
+  EXPECT_EQ(log.size(), std::get_if<CoinToss>(&t.b.at(t.f, 0).term) ? 1u : 0u);
   return std::get_if<CoinToss>(&t.b.at(t.f, 0).term);
 }
 
@@ -121,13 +123,14 @@ TEST(Coin, ASubroutineCountsItsDeepestCall) {
   FuncId s = b.function("s", FuncKind::Sub);
   toss_in_sub(b, s, c);
   b.block(main, {loopset(I(2)), loopset(I(2)), call(s)});
-  toss_coins_on_loop_counter(b.p);
+  Log log;
+  toss_coins_on_loop_counter(b.p, log);
   EXPECT_TRUE(std::holds_alternative<CoinToss>(b.at(s, 0).term));
 
   b.at(s, 0).term = Branch{Cmp::EQ, V(c), I(0), 1, 2};
   b.at(s, 0).instrs = {set(c, kRandom1)};
   b.at(main, 0).instrs = {loopset(I(2)), call(s), loopset(I(2)), loopset(I(2)), loopset(I(2)), call(s)};
-  toss_coins_on_loop_counter(b.p);
+  toss_coins_on_loop_counter(b.p, log);
   EXPECT_TRUE(std::holds_alternative<Branch>(b.at(s, 0).term));
 }
 
@@ -153,6 +156,7 @@ TEST(Coin, NotInAFunctionWithRawAsm) {
   FuncId s = b.function("s", FuncKind::Sub);
   toss_in_sub(b, s, c);
   b.block(main, {raw, call(s)});
-  toss_coins_on_loop_counter(b.p);
+  Log log;
+  toss_coins_on_loop_counter(b.p, log);
   EXPECT_TRUE(std::holds_alternative<Branch>(b.at(s, 0).term));
 }
