@@ -21,12 +21,7 @@ BlockId final_target(const Function& f, const std::vector<bool>& loop_blocks, Bl
 
 // Reading the random source moves it on: such a test stays, so the
 // numbers drawn after it are the ones drawn without optimisation.
-bool draws_random(const Branch& br) {
-  auto random = [](const Operand& o) {
-    return o.kind == Operand::Kind::Src && o.source == static_cast<int>(rcx::Source::Random);
-  };
-  return random(br.a) || random(br.b);
-}
+bool draws_random(const Branch& br) { return reads_random(br.a) || reads_random(br.b); }
 
 // A branch whose two sides end up at the same place becomes a jump, which
 // can make the block before it branch to one place too: an if/else-if
@@ -106,8 +101,6 @@ void merge_straight_lines(Function& f) {
   }
   remove_blocks(f, keep);
 }
-
-bool same_instr(const Instr& a, const Instr& b) { return a.op == b.op && a.raw == b.raw && a.args == b.args; }
 
 // Cross-jumping: when every way into a block is a jump from a block ending
 // with the same instruction, that instruction moves into the join (an

@@ -16,9 +16,7 @@ bool has_raw(const Function& f) {
   return false;
 }
 
-bool is_random_one(const Operand& o) {
-  return o.kind == Operand::Kind::Src && o.source == static_cast<int>(rcx::Source::Random) && o.value == 1;
-}
+bool is_random_one(const Operand& o) { return reads_random(o) && o.value == 1; }
 
 // The deepest counter stack each function can start at: 0 for a task, the
 // deepest call for a subroutine (only tasks call subroutines by now). -1:

@@ -1,15 +1,13 @@
 // Dead store removal (see passes.h).
+#include <algorithm>
+
 #include "ir/liveness.h"
 #include "ir/passes.h"
 
 namespace rcxc::ir {
 namespace {
 
-bool draws_random(const Instr& in) {
-  for (const auto& a : in.args)
-    if (a.kind == Operand::Kind::Src && a.source == static_cast<int>(rcx::Source::Random)) return true;
-  return false;
-}
+bool draws_random(const Instr& in) { return std::any_of(in.args.begin(), in.args.end(), reads_random); }
 
 // Instructions whose only effect is the value they leave in a variable. A
 // read of the random source also moves it on: dropping an unused

@@ -18,8 +18,6 @@ bool turns(const Instr& in, int outputs) {
   return !in.args.at(0).is_imm() || (in.args[0].value & outputs) != 0;
 }
 
-bool same(const Instr& a, const Instr& b) { return a.op == b.op && a.raw == b.raw && a.args == b.args; }
-
 // The outputs whose direction the two instructions set one way and the other
 // (dir S, fwd against dir S, rev), or 0.
 int opposite_directions(const Instr& a, const Instr& b) {
@@ -55,7 +53,7 @@ int halves_differing_in_direction(const Block& block, int& outputs) {
   for (std::size_t i = 0; i < half; ++i) {
     const Instr& a = block.instrs[i];
     const Instr& b = block.instrs[half + i];
-    if (same(a, b)) continue;
+    if (same_instr(a, b)) continue;
     if (at >= 0) return -1;
     outputs = opposite_directions(a, b);
     if (outputs == 0) return -1;

@@ -165,6 +165,12 @@ bool started_anywhere(const Program& p, FuncId f) {
   return false;
 }
 
+bool same_instr(const Instr& a, const Instr& b) { return a.op == b.op && a.raw == b.raw && a.args == b.args; }
+
+bool reads_random(const Operand& o) {
+  return o.kind == Operand::Kind::Src && o.source == static_cast<int>(rcx::Source::Random);
+}
+
 bool is_repeat_block(const Function& f, BlockId b) {
   for (const auto& r : f.repeats)
     if (r.head == b || r.setup == b) return true;

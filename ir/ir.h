@@ -196,6 +196,12 @@ void remove_blocks(Function& f, const std::vector<bool>& keep);
 // Bytes an instruction takes in the image (raw asm: its byte count).
 int instr_size(const Instr& in);
 
+// Whether two instructions are the same: opcode, operands and rawness
+// (source spans aside).
+bool same_instr(const Instr& a, const Instr& b);
+// Whether the operand reads the random source (each read draws a number).
+bool reads_random(const Operand& o);
+
 // Variables an instruction reads and writes (Var operands only).
 struct VarUse {
   std::vector<VarId> reads;
