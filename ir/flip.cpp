@@ -31,15 +31,11 @@ int opposite_directions(const Instr& a, const Instr& b) {
 // task or a subroutine (main's startup code aside, which runs before any
 // other task unless something restarts main).
 bool turned_elsewhere(const Program& p, FuncId f, int outputs) {
-  for (std::size_t g = 0; g < p.functions.size(); ++g) {
-    if (static_cast<FuncId>(g) == f) continue;
-    const Function& fn = p.functions[g];
-    int skip = started_anywhere(p, static_cast<FuncId>(g)) ? 0 : fn.startup;
-    for (std::size_t b = 0; b < fn.blocks.size(); ++b)
-      for (std::size_t i = 0; i < fn.blocks[b].instrs.size(); ++i)
-        if (!(b == 0 && static_cast<int>(i) < skip) && turns(fn.blocks[b].instrs[i], outputs)) return true;
-  }
-  return false;
+  bool turned = false;
+  for (std::size_t g = 0; g < p.functions.size(); ++g)
+    if (static_cast<FuncId>(g) != f)
+      each_instr_beside_other_tasks(p, g, [&](const Instr& in) { turned = turned || turns(in, outputs); });
+  return turned;
 }
 
 // Block b loops on itself through H1 H2, two halves alike but for one

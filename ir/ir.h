@@ -176,6 +176,17 @@ std::optional<int> arithmetic(rcx::Op op, int dest, int src);
 // startup code can run while other tasks run).
 bool started_anywhere(const Program& p, FuncId f);
 
+// Visits the instructions of function `f` that can act while other tasks
+// run: all but main's startup code, unless something restarts main.
+template <class Visit>
+void each_instr_beside_other_tasks(const Program& p, std::size_t f, Visit&& visit) {
+  const Function& fn = p.functions[f];
+  int skip = started_anywhere(p, static_cast<FuncId>(f)) ? 0 : fn.startup;
+  for (std::size_t b = 0; b < fn.blocks.size(); ++b)
+    for (std::size_t i = 0; i < fn.blocks[b].instrs.size(); ++i)
+      if (!(b == 0 && static_cast<int>(i) < skip)) visit(fn.blocks[b].instrs[i]);
+}
+
 // Whether block b is the setup or the head of one of f's counter loops,
 // which passes must not merge, thread through or move code across.
 bool is_repeat_block(const Function& f, BlockId b);

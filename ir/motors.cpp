@@ -279,17 +279,6 @@ struct MotorPass {
   }
 };
 
-// Visits the instructions of function `f` that can act while other tasks
-// run: all but main's startup code, unless something restarts main.
-template <class Visit>
-void each_instr_beside_other_tasks(const Program& p, std::size_t f, Visit&& visit) {
-  const Function& fn = p.functions[f];
-  int skip = started_anywhere(p, static_cast<FuncId>(f)) ? 0 : fn.startup;
-  for (std::size_t b = 0; b < fn.blocks.size(); ++b)
-    for (std::size_t i = 0; i < fn.blocks[b].instrs.size(); ++i)
-      if (!(b == 0 && static_cast<int>(i) < skip)) visit(fn.blocks[b].instrs[i]);
-}
-
 // What each function's own instructions may set (not its callees').
 std::vector<Writes> own_writes(const Program& p) {
   std::vector<Writes> w(p.functions.size(), nothing_written());
