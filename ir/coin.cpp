@@ -18,20 +18,23 @@ bool has_raw(const Function& f) {
 
 bool is_random_one(const Operand& o) { return reads_random(o) && o.value == 1; }
 
+// What the toss needs of one function: its counter depths, and whether
+// they are known (no jump out of a counter loop, no raw asm).
+struct Walked {
+  CounterDepths depths;
+  bool known = false;
+};
+
 // The deepest counter stack each function can start at: 0 for a task, the
 // deepest call for a subroutine (only tasks call subroutines by now). -1:
-// unknown (a caller jumps out of a counter loop or has raw asm).
-std::vector<int> entry_depths(const Program& p) {
-  std::vector<int> entry(p.functions.size(), 0);
-  for (const auto& f : p.functions) {
-    if (f.blocks.empty()) continue;
-    CounterDepths d = counter_depths(f);
-    bool known = d.consistent && !has_raw(f);
-    for (auto [depth, callee] : d.calls) {
+// unknown (a caller's depths are not known).
+std::vector<int> entry_depths(const std::vector<Walked>& walked) {
+  std::vector<int> entry(walked.size(), 0);
+  for (const auto& w : walked)
+    for (auto [depth, callee] : w.depths.calls) {
       int& e = entry[static_cast<std::size_t>(callee)];
-      if (e >= 0) e = known ? std::max(e, depth) : -1;
+      if (e >= 0) e = w.known ? std::max(e, depth) : -1;
     }
-  }
   return entry;
 }
 
@@ -43,9 +46,7 @@ BlockId side(const Branch& br, VarId coin, int face) {
   return evaluate(br.cmp, a, b) ? br.then : br.otherwise;
 }
 
-void toss_in(const Program& p, Function& f, int entry, const CallEffects& calls, Log& log) {
-  CounterDepths d = counter_depths(f);
-  if (!d.consistent || has_raw(f)) return;
+void toss_in(const Program& p, Function& f, const CounterDepths& d, int entry, const CallEffects& calls, Log& log) {
   Liveness live = compute_liveness(p, f, calls);
   for (std::size_t b = 0; b < f.blocks.size(); ++b) {
     Block& block = f.blocks[b];
@@ -72,12 +73,17 @@ void toss_in(const Program& p, Function& f, int entry, const CallEffects& calls,
 }  // namespace
 
 void toss_coins_on_loop_counter(Program& p, Log& log) {
-  std::vector<int> entry = entry_depths(p);
-  CallEffects calls = call_effects(p);
+  std::vector<Walked> walked(p.functions.size());
   for (std::size_t i = 0; i < p.functions.size(); ++i) {
-    Function& f = p.functions[i];
-    if (!f.blocks.empty() && entry[i] >= 0) toss_in(p, f, entry[i], calls, log);
+    const Function& f = p.functions[i];
+    if (f.blocks.empty()) continue;
+    walked[i].depths = counter_depths(f);
+    walked[i].known = walked[i].depths.consistent && !has_raw(f);
   }
+  std::vector<int> entry = entry_depths(walked);
+  CallEffects calls = call_effects(p);
+  for (std::size_t i = 0; i < p.functions.size(); ++i)
+    if (walked[i].known && entry[i] >= 0) toss_in(p, p.functions[i], walked[i].depths, entry[i], calls, log);
 }
 
 }  // namespace rcxc::ir
