@@ -153,6 +153,13 @@ struct Selector {
     return m;
   }
 
+  // Decrement the loop counter; below zero: pop it and branch to `target`.
+  static MInstr loop_test(Target target, SourceSpan span) {
+    MInstr m = jump(target, span);
+    m.kind = MInstr::Kind::Loop;
+    return m;
+  }
+
   // Control transfer at the end of block `b` given the layout.
   void select_terminator(const ir::Function& f, ir::BlockId b, std::vector<MInstr>& out) const {
     const ir::Block& block = f.blocks[static_cast<std::size_t>(b)];
@@ -186,18 +193,13 @@ struct Selector {
         out.push_back(jump(Target{kEndOfCode, -1}, span));  // a task ends where its code ends
       }
     } else if (const auto* l = std::get_if<ir::LoopTest>(&block.term)) {
-      MInstr m;
-      m.kind = MInstr::Kind::Loop;
-      m.span = span;
       if (l->exit > b) {
-        m.target = to(l->exit);
-        out.push_back(m);
+        out.push_back(loop_test(to(l->exit), span));
         jump_unless_next(l->body);
       } else {
         // The counter only branches forward: step over a jump to the body
         // onto a jump back to the exit.
-        m.target = Target{-1, static_cast<int>(out.size()) + 2};
-        out.push_back(m);
+        out.push_back(loop_test(Target{-1, static_cast<int>(out.size()) + 2}, span));
         out.push_back(jump(to(l->body), span));
         out.push_back(jump(to(l->exit), span));
       }
@@ -216,13 +218,8 @@ struct Selector {
            out);
     std::size_t first = out.size();
     int behind = 0;
-    for (ir::BlockId side : {c.zero, c.one}) {
-      MInstr m;
-      m.kind = MInstr::Kind::Loop;
-      m.span = span;
-      m.target = side > b ? Target{side, -1} : Target{-1, static_cast<int>(first) + 2 + behind++};
-      out.push_back(m);
-    }
+    for (ir::BlockId side : {c.zero, c.one})
+      out.push_back(loop_test(side > b ? Target{side, -1} : Target{-1, static_cast<int>(first) + 2 + behind++}, span));
     for (ir::BlockId side : {c.zero, c.one})
       if (side <= b) out.push_back(jump(Target{side, -1}, span));
   }
