@@ -19,6 +19,7 @@
 #include "runtime/compare.h"
 #include "runtime/image.h"
 #include "runtime/vm.h"
+#include "tests/support/compiled.h"
 #include "tests/support/process.h"
 #include "tests/support/random_programs.h"
 
@@ -309,15 +310,14 @@ namespace {
 bool os_agrees_with_o1(const std::string& text, unsigned seed, const char* logged,
                        rcx::TimeTolerance tolerance = {10 * 500, 0.005, 10 * 5}) {
   std::optional<backend::Output> out[2];
-  ir::Log log;
+  ir::Log logs[2];
   for (int k = 0; k < 2; ++k) {
     SourceManager sm;
     Diagnostics diags;
-    ir::Log& into = log;
-    out[k] = backend::compile_source("p.nqc", text, {}, k == 0 ? ir::OptLevel::O1 : ir::OptLevel::Os, sm, diags, into);
+    out[k] = backend::compile_source("p.nqc", text, {}, k == 0 ? ir::OptLevel::O1 : ir::OptLevel::Os, sm, diags,
+                                     logs[k]);
     EXPECT_TRUE(out[k] && !diags.has_errors()) << "seed " << seed << "\n" << text;
     if (!out[k] || diags.has_errors()) return false;
-    if (k == 0) log.clear();
   }
   rcx::Machine m[2] = {rcx::Machine(rcx::Config{.seed = seed, .instruction_cost_us = 10}),
                        rcx::Machine(rcx::Config{.seed = seed, .instruction_cost_us = 10})};
@@ -330,7 +330,7 @@ bool os_agrees_with_o1(const std::string& text, unsigned seed, const char* logge
   auto c = rcx::compare_runs({&m[0], &out[0]->image, "-O1"}, {&m[1], &out[1]->image, "-Os"}, tolerance);
   EXPECT_TRUE(c.same) << "seed " << seed << ": " << (c.differences.empty() ? "" : c.differences[0]) << "\n"
                       << c.side_by_side << text;
-  return std::any_of(log.begin(), log.end(), [&](const std::string& l) { return l.find(logged) != l.npos; });
+  return test::logged(logs[1], logged);
 }
 
 }  // namespace
@@ -352,15 +352,7 @@ TEST(RandomPrograms, CoinTossesDecideAsTheDrawnVariableDoes) {
     std::string text = test::CoinGenerator(seed).program();
     // Outlining's calls and returns run a few hundred instructions more
     // (a few ms at 10 us each): what matters is which side each toss took.
-    os_agrees_with_o1(text, seed, "", {100'000, 0.01, 0});
-    SourceManager sm;
-    Diagnostics diags;
-    ir::Log log;
-    auto os = backend::compile_source("p.nqc", text, {}, ir::OptLevel::Os, sm, diags, log);
-    ASSERT_TRUE(os);
-    const auto& code = os->image.find(rcx::FragmentType::Task, 0)->code;
-    const std::vector<std::uint8_t> toss = {0x82, 0x04, 0x01};
-    tossed += std::search(code.begin(), code.end(), toss.begin(), toss.end()) != code.end();
+    tossed += os_agrees_with_o1(text, seed, "coin toss on the loop counter", {100'000, 0.01, 0});
   }
   EXPECT_GE(tossed, 100) << "of 300 programs";
 }
