@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <limits>
 #include <map>
 
 namespace rcx {
@@ -195,7 +196,12 @@ std::vector<std::string> observable_lines(const Machine& machine) {
 
 RunComparison compare_runs(const RunView& a, const RunView& b, TimeTolerance tol) {
   RunComparison r;
-  const Micros end_us = std::min(a.machine->now_us(), b.machine->now_us());
+  // Events are compared up to where a run was cut off by the time limit;
+  // a run that ended has shown everything it would, so what the other shows
+  // after that end is a difference.
+  Micros end_us = std::numeric_limits<Micros>::max();
+  for (const Machine* m : {a.machine, b.machine})
+    if (m->stop().kind == StopKind::TimeLimit) end_us = std::min(end_us, m->now_us());
   auto sa = streams(*a.machine), sb = streams(*b.machine);
   for (int s = 0; s <= static_cast<int>(Stream::Datalog); ++s) {
     // Outputs start floating; other streams start with nothing shown.
@@ -207,7 +213,7 @@ RunComparison compare_runs(const RunView& a, const RunView& b, TimeTolerance tol
         if (wa.done() ? wb.skip_glitch() : wa.skip_glitch()) continue;
         const Event& extra = wa.done() ? wb.here() : wa.here();
         // The other run may simply have been cut off just before it.
-        if (extra.t_us >= end_us - allowance(tol, end_us)) break;
+        if (end_us != std::numeric_limits<Micros>::max() && extra.t_us >= end_us - allowance(tol, end_us)) break;
         r.differences.push_back(fmt::format("only {} has: {}", wa.done() ? b.label : a.label, line_of(extra)));
         break;
       }

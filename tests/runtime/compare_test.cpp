@@ -104,6 +104,19 @@ TEST(Compare, EventJustBeforeTheCutOffIsNotADifference) {
   EXPECT_TRUE(compare(a, b).same);
 }
 
+TEST(Compare, WhatARunShowsAfterTheOtherEndedIsADifference) {
+  // One run switches A on and stops everything; the other goes on to its
+  // sound at ~1 s. Only a run cut by the time limit may lack later events.
+  RunResult a = run_program({0x21, 0x81, 0x50}, 100), b = run_program({}, 100);
+  ASSERT_EQ(a.machine.stop().kind, StopKind::Ended);
+  ASSERT_EQ(b.machine.stop().kind, StopKind::Ended);
+  auto r = compare(a, b);
+  EXPECT_FALSE(r.same);
+  ASSERT_FALSE(r.differences.empty());
+  EXPECT_NE(r.differences[0].find("only two has"), std::string::npos) << r.differences[0];
+  EXPECT_NE(r.differences[0].find("sound 2"), std::string::npos) << r.differences[0];
+}
+
 TEST(Compare, DirectionChangesWhileAnOutputIsOffAreNotADifference) {
   // One run reverses A and sets it forward again while A floats; a robot
   // shows nothing of that, and A then runs forward in both.
