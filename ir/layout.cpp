@@ -89,4 +89,35 @@ void place_branch_targets(Function& f) {
   o.apply(f);
 }
 
+namespace {
+
+// Whether block b only jumps to `next`: it must stay right before it.
+bool jumps_to(const Function& f, BlockId b, BlockId next) {
+  const auto* j = std::get_if<Jump>(&f.blocks[static_cast<std::size_t>(b)].term);
+  return j && j->target == next;
+}
+
+// Exits tried per function: each try costs a pass over the blocks.
+constexpr int kExitTries = 64;
+
+}  // namespace
+
+void place_exit_last(Function& f) {
+  BlockOrder o(f);
+  auto n = static_cast<int>(f.blocks.size());
+  int tries = 0;
+  for (int p = 1; p + 1 < n && tries < kExitTries; ++p) {
+    if (!std::holds_alternative<Exit>(f.blocks[static_cast<std::size_t>(o.order[static_cast<std::size_t>(p)])].term)) continue;
+    // The exit moves with the blocks that only jump into it.
+    int s = p;
+    while (s > 0 && jumps_to(f, o.order[static_cast<std::size_t>(s - 1)], o.order[static_cast<std::size_t>(s)])) --s;
+    if (s == 0) continue;
+    ++tries;
+    int before = o.total();
+    o.rotate(s, p + 1, n);
+    if (o.total() < before) return o.apply(f);
+    o.rotate(s, n - (p + 1 - s), n);
+  }
+}
+
 }  // namespace rcxc::ir

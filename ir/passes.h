@@ -72,6 +72,13 @@ void rotate_loops(Function& f);
 // needs fewer jumps in all.
 void place_branch_targets(Function& f);
 
+// layout.cpp: an exit in the middle of a function costs a jump to the end
+// (in a subroutine, a return). The exit block, with the blocks that only
+// jump into it, moves to the end when all jumps and tests then take fewer
+// bytes: `if (c) { loop forever } else { ...; }` at a task's end then
+// needs no jump over the loop.
+void place_exit_last(Function& f);
+
 // A block order being decided for `f`, kept as positions so that moving
 // a run of blocks costs its length, not a renumbering of the function.
 struct BlockOrder {

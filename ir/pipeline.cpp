@@ -30,6 +30,7 @@ bool optimize(Program& p, OptLevel level, Diagnostics& diags, Log& log) {
       simplify_cfg(f);
       rotate_loops(f);
       place_branch_targets(f);
+      place_exit_last(f);
     }
   if (level == OptLevel::Os) toss_coins_on_loop_counter(p, log);
   return true;

@@ -361,6 +361,51 @@ TEST(Layout, ATestWithANegationStaysAsItIs) {
   EXPECT_EQ(std::get<Branch>(b.at(f, 0).term).then, 1);
 }
 
+TEST(Layout, AnExitInTheMiddleMovesBehindAnEndlessLoop) {
+  // if (message == 1) { while (true) sound 2; } else { sound 1; }  laid out
+  // else first: its exit jumps over the loop to the task's end. Moved last,
+  // it needs no jump, and the test falls into the loop instead.
+  Builder b;
+  FuncId f = b.function("main");
+  b.block(f, {}, Branch{Cmp::EQ, Operand::src(15, 0), I(1), 2, 1});
+  b.block(f, {sound(1)});             // else, exits
+  b.block(f, {sound(2)}, Jump{2});    // then, loops forever
+  int before = BlockOrder(b.fn(f)).total();
+  place_exit_last(b.fn(f));
+  EXPECT_EQ(BlockOrder(b.fn(f)).total(), before - 2);
+  EXPECT_TRUE(std::holds_alternative<Exit>(b.at(f, 2).term));
+  EXPECT_EQ(b.at(f, 2).instrs.at(0).args[0], I(1));
+  EXPECT_EQ(std::get<Jump>(b.at(f, 1).term).target, 1);
+}
+
+TEST(Layout, AnExitMovesWithTheBlocksThatOnlyJumpIntoIt) {
+  Builder b;
+  FuncId f = b.function("main");
+  b.block(f, {}, Branch{Cmp::EQ, Operand::src(15, 0), I(1), 3, 1});
+  b.block(f, {sound(1)}, Jump{2});
+  b.block(f, {sound(3)});
+  b.block(f, {sound(2)}, Jump{3});
+  place_exit_last(b.fn(f));
+  const Function& fn = b.fn(f);
+  ASSERT_EQ(fn.blocks.size(), 4u);
+  EXPECT_EQ(fn.blocks[1].instrs.at(0).args[0], I(2));
+  EXPECT_EQ(fn.blocks[2].instrs.at(0).args[0], I(1));
+  EXPECT_EQ(fn.blocks[3].instrs.at(0).args[0], I(3));
+  EXPECT_EQ(std::get<Jump>(fn.blocks[2].term).target, 3);
+}
+
+TEST(Layout, AnExitStaysWhereMovingItSavesNothing) {
+  // if (..) sound 1; (exit) else sound 2; (exit): one of them jumps either way.
+  Builder b;
+  FuncId f = b.function("main");
+  b.block(f, {}, Branch{Cmp::EQ, Operand::src(15, 0), I(1), 2, 1});
+  b.block(f, {sound(1)});
+  b.block(f, {sound(2)});
+  place_exit_last(b.fn(f));
+  EXPECT_EQ(b.at(f, 1).instrs.at(0).args[0], I(1));
+  EXPECT_EQ(b.at(f, 2).instrs.at(0).args[0], I(2));
+}
+
 TEST(Repeat, EscapingLoopCountsInAVariable) {
   Builder b;
   FuncId f = b.function("main");
