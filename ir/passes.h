@@ -40,6 +40,15 @@ void remove_redundant_motor_commands(Program& p);
 void merge_motor_commands(Function& f, const std::vector<Var>& vars);
 void drop_redundant_sensor_modes(Function& f);
 
+// tailstart.cpp: a task that main starts as the last thing it does before
+// ending (`start a; start b;` at main's end: either), that nothing else
+// starts and nothing stops, runs in main instead: main jumps into its code,
+// saving the start and the task. Never when main is started or stopped
+// anywhere, inside one of main's counter loops, or with raw asm or task
+// numbers in asm (they may name tasks the IR cannot see). Each move is
+// reported in `log`.
+void run_tail_started_tasks_in_main(Program& p, Log& log);
+
 // flip.cpp: a task's endless loop whose body goes one way and then back,
 // two halves alike but for one direction command (OnFwd(OUT_A); Wait(t);
 // OnRev(OUT_A); Wait(t);), becomes a loop over one half whose direction

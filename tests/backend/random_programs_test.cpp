@@ -357,6 +357,15 @@ TEST(RandomPrograms, CoinTossesDecideAsTheDrawnVariableDoes) {
   EXPECT_GE(tossed, 100) << "of 300 programs";
 }
 
+TEST(RandomPrograms, TasksMainEndsByStartingRunAsTheyDidAsTasks) {
+  // -Os runs a task main ends by starting in main (ir/tailstart.cpp); -O1
+  // starts it as written.
+  int moved = 0;
+  for (unsigned seed = seed_offset() + 1; seed <= seed_offset() + 300; ++seed)
+    moved += os_agrees_with_o1(test::TailStartGenerator(seed).program(), seed, "runs in main");
+  EXPECT_GE(moved, 250) << "of 300 programs";
+}
+
 TEST(RandomPrograms, MotorProgramsShowWhatNqcsCodeShows) {
   // What `rcxc compare` checks, on random motor programs nqc compiles: the
   // same outputs switched the same way with the same settings while they

@@ -309,6 +309,50 @@ class BackAndForthGenerator : public Generator {
   int waited_ = 0;  // ticks of the steps' waits in one half (before and after)
 };
 
+// Tasks main ends by starting (ir/tailstart.cpp runs them in main): main
+// does some steps and ends, on each side of an if, by starting a task;
+// task a may end by starting c. Sometimes a task `keeper` starts beside
+// one of them (before or after it, in the same run of starts), which c or
+// b may stop; it only plays a sound and waits, so whichever runs first,
+// the order of what happens is fixed.
+class TailStartGenerator : public Generator {
+ public:
+  using Generator::Generator;
+
+  std::string program() {
+    std::ostringstream out;
+    bool keeper = pick(0, 1) == 1;
+    out << "int x, y;\n";
+    if (keeper) out << "task keeper() {\n  PlaySound(" << pick(0, 5) << ");\n  Wait(" << pick(5, 40) * 10 << ");\n}\n";
+    task(out, "c", keeper ? "  stop keeper;\n" : "");
+    task(out, "a", pick(0, 1) == 1 ? "  start c;\n" : "");
+    task(out, "b", keeper && pick(0, 1) == 1 ? "  stop keeper;\n" : "");
+    out << "task main() {\n  x = 0; y = 0;\n";
+    block(out, 2, 0);
+    out << "  if (x > " << pick(-2, 4) << ") {\n";
+    block(out, 1, 0);
+    out << ends_with("a", keeper) << "  } else {\n";
+    if (pick(0, 1) == 1) block(out, 1, 0);
+    out << ends_with("b", keeper) << "  }\n}\n";
+    return out.str();
+  }
+
+ private:
+  void task(std::ostringstream& out, const char* name, const std::string& end) {
+    out << "task " << name << "() {\n";
+    block(out, 2, 0);
+    marker(out);
+    out << end << "}\n";
+  }
+
+  // `start task;`, and sometimes keeper's start before or after it.
+  std::string ends_with(const std::string& task, bool keeper) {
+    std::string start = "  start " + task + ";\n";
+    if (!keeper || pick(0, 2) == 0) return start;
+    return pick(0, 1) == 1 ? "  start keeper;\n" + start : start + "  start keeper;\n";
+  }
+};
+
 // Coin tosses (`if (Random(1) == 0)` and its other spellings) in nested
 // repeat loops up to five deep, whose sides record what they saw; sometimes
 // the drawn value goes to a global and is read again (no toss may replace

@@ -1,0 +1,134 @@
+// Tasks that main ends by starting run in main's place (see passes.h).
+#include <algorithm>
+#include <optional>
+#include <fmt/format.h>
+
+#include "ir/passes.h"
+
+namespace rcxc::ir {
+namespace {
+
+// How many start and stop instructions name each task. `by_number` is set
+// when some instruction could start or stop a task the IR does not name
+// (raw asm bytes, an asm `start` with a task number).
+struct TaskRefs {
+  std::vector<int> starts, stops;
+  bool by_number = false;
+};
+
+TaskRefs task_refs(const Program& p) {
+  TaskRefs r{std::vector<int>(p.functions.size(), 0), std::vector<int>(p.functions.size(), 0)};
+  for (const auto& fn : p.functions)
+    for (const auto& b : fn.blocks)
+      for (const auto& in : b.instrs) {
+        if (in.raw) {
+          r.by_number = true;
+          continue;
+        }
+        if (in.op != rcx::Op::StartTask && in.op != rcx::Op::StopTask) continue;
+        if (in.args.at(0).kind != Operand::Kind::Func) {
+          r.by_number = true;
+          continue;
+        }
+        auto& count = in.op == rcx::Op::StartTask ? r.starts : r.stops;
+        ++count[static_cast<std::size_t>(in.args[0].value)];
+      }
+  return r;
+}
+
+bool starts_named_task(const Instr& in) {
+  return !in.raw && in.op == rcx::Op::StartTask && in.args.at(0).kind == Operand::Kind::Func;
+}
+
+// A task main may become: started by this one instruction only, never
+// stopped (a stop would now stop main's code, and a second start would
+// restart it beside main).
+bool can_take_over(const Program& p, const TaskRefs& refs, FuncId main, const Instr& start) {
+  auto t = static_cast<std::size_t>(start.args[0].value);
+  const Function& task = p.functions[t];
+  return static_cast<FuncId>(t) != main && task.kind == FuncKind::Task && !task.blocks.empty() &&
+         refs.starts[t] == 1 && refs.stops[t] == 0;
+}
+
+// Block `from` of main ends the task with a run of starts; if one of them
+// names a task main can become, that start moves to the end of the run
+// (tasks started together have no order among them) and is returned.
+std::optional<FuncId> tail_started_task(const Program& p, const TaskRefs& refs, FuncId main, Block& from) {
+  auto& instrs = from.instrs;
+  std::size_t first = instrs.size();
+  while (first > 0 && starts_named_task(instrs[first - 1])) --first;
+  for (std::size_t i = instrs.size(); i-- > first;) {
+    if (!can_take_over(p, refs, main, instrs[i])) continue;
+    std::rotate(instrs.begin() + static_cast<long>(i), instrs.begin() + static_cast<long>(i) + 1, instrs.end());
+    return instrs.back().args[0].value;
+  }
+  return std::nullopt;
+}
+
+// Whether leaving block b ends the task: it exits, or jumps through empty
+// blocks to an exit.
+bool ends_task(const Function& f, BlockId b) {
+  for (std::size_t steps = 0; steps <= f.blocks.size(); ++steps) {
+    const Terminator& t = f.blocks[static_cast<std::size_t>(b)].term;
+    if (std::holds_alternative<Exit>(t)) return true;
+    const auto* j = std::get_if<Jump>(&t);
+    if (!j || !f.blocks[static_cast<std::size_t>(j->target)].instrs.empty()) return false;
+    b = j->target;
+  }
+  return false;  // a loop of empty blocks never ends
+}
+
+// Moves task `t`'s blocks into main, entered from block `from` in place of
+// its last instruction (the start of `t`).
+void take_over(Function& main, Function& task, BlockId from) {
+  auto base = static_cast<BlockId>(main.blocks.size());
+  for (auto& b : task.blocks) {
+    offset_targets(b.term, base);
+    main.blocks.push_back(std::move(b));
+  }
+  for (auto r : task.repeats) {
+    r.setup += base;
+    r.head += base;
+    main.repeats.push_back(r);
+  }
+  Block& b = main.blocks[static_cast<std::size_t>(from)];
+  b.instrs.pop_back();
+  b.term = Jump{base};
+  task.blocks.clear();
+  task.repeats.clear();
+}
+
+// One task main ends by starting, moved into main; false when none is left.
+bool take_over_one(Program& p, FuncId main, Log& log) {
+  TaskRefs refs = task_refs(p);
+  auto m = static_cast<std::size_t>(main);
+  if (refs.by_number || refs.starts[m] != 0 || refs.stops[m] != 0) return false;
+  Function& fn = p.functions[m];
+  CounterDepths depths = counter_depths(fn);
+  if (!depths.consistent) return false;
+  for (std::size_t b = 0; b < fn.blocks.size(); ++b) {
+    Block& block = fn.blocks[b];
+    // Inside a counter loop main's counters would still be pushed under
+    // the task's own.
+    if (!ends_task(fn, static_cast<BlockId>(b)) || depths.at_block[b] != 0) continue;
+    auto t = tail_started_task(p, refs, main, block);
+    if (!t) continue;
+    Function& task = p.functions[static_cast<std::size_t>(*t)];
+    log.push_back(fmt::format("task {} runs in main, which ends by starting it (nothing else starts or stops it)",
+                              task.name));
+    take_over(fn, task, static_cast<BlockId>(b));
+    return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+void run_tail_started_tasks_in_main(Program& p, Log& log) {
+  FuncId main = p.find_function("main");
+  if (main < 0 || p.functions[static_cast<std::size_t>(main)].kind != FuncKind::Task) return;
+  while (take_over_one(p, main, log)) {
+  }
+}
+
+}  // namespace rcxc::ir

@@ -1,0 +1,160 @@
+// Tail starts (ir/tailstart.cpp): which tasks main ends by starting run in
+// main's place, and which must stay tasks of their own.
+#include <gtest/gtest.h>
+
+#include "ir/passes.h"
+#include "tests/ir/ir_builder.h"
+
+using namespace rcxc;
+using namespace rcxc::ir;
+using namespace rcxc::ir::test;
+
+namespace {
+
+Instr stop(FuncId f) { return op(rcx::Op::StopTask, {Operand::func(f)}); }
+
+// main: sound 1, then `tail` and the end; worker: an endless loop of sound 2.
+struct Tasks {
+  Builder b;
+  FuncId main = 0, worker = 0;
+};
+
+Tasks tasks_ending_with(std::vector<Instr> (*tail)(FuncId worker)) {
+  Tasks t;
+  t.main = t.b.function("main");
+  t.worker = t.b.function("worker");
+  std::vector<Instr> body{sound(1)};
+  for (auto& in : tail(t.worker)) body.push_back(in);
+  t.b.block(t.main, body);
+  t.b.block(t.worker, {sound(2)}, Jump{0});
+  return t;
+}
+
+std::vector<Instr> just_start(FuncId w) { return {start(w)}; }
+
+Log run(Tasks& t) {
+  Log log;
+  run_tail_started_tasks_in_main(t.b.p, log);
+  return log;
+}
+
+}  // namespace
+
+TEST(TailStart, MainRunsTheTaskItEndsByStarting) {
+  Tasks t = tasks_ending_with(just_start);
+  Log log = run(t);
+  ASSERT_EQ(log.size(), 1u);
+  EXPECT_NE(log[0].find("task worker runs in main"), std::string::npos);
+  EXPECT_TRUE(t.b.fn(t.worker).blocks.empty());
+  const Function& m = t.b.fn(t.main);
+  ASSERT_EQ(m.blocks.size(), 2u);
+  // The start is gone; main goes on into the worker's loop.
+  ASSERT_EQ(m.blocks[0].instrs.size(), 1u);
+  EXPECT_EQ(m.blocks[0].instrs[0].op, rcx::Op::PlaySound);
+  EXPECT_EQ(std::get<Jump>(m.blocks[0].term).target, 1);
+  EXPECT_EQ(m.blocks[1].instrs[0].args[0], I(2));
+  EXPECT_EQ(std::get<Jump>(m.blocks[1].term).target, 1);  // its loop, moved along
+}
+
+TEST(TailStart, AStartBeforeOtherWorkStays) {
+  Tasks t = tasks_ending_with([](FuncId w) { return std::vector<Instr>{start(w), sound(3)}; });
+  EXPECT_TRUE(run(t).empty());
+  EXPECT_FALSE(t.b.fn(t.worker).blocks.empty());
+}
+
+TEST(TailStart, ATaskStoppedAnywhereStays) {
+  // `stop worker` must stop the worker's code, not main.
+  Tasks t = tasks_ending_with(just_start);
+  FuncId other = t.b.function("other");
+  t.b.block(other, {stop(t.worker)});
+  EXPECT_TRUE(run(t).empty());
+}
+
+TEST(TailStart, ATaskStartedTwiceStays) {
+  // A second start would restart the worker beside main.
+  Tasks t = tasks_ending_with(just_start);
+  FuncId other = t.b.function("other");
+  t.b.block(other, {start(t.worker)});
+  EXPECT_TRUE(run(t).empty());
+}
+
+TEST(TailStart, NothingMovesWhenMainIsStartedOrStopped) {
+  for (auto op_on_main : {rcx::Op::StartTask, rcx::Op::StopTask}) {
+    Tasks t = tasks_ending_with(just_start);
+    FuncId other = t.b.function("other");
+    t.b.block(other, {op(op_on_main, {Operand::func(t.main)})});
+    EXPECT_TRUE(run(t).empty());
+  }
+}
+
+TEST(TailStart, NothingMovesBesideRawAsmOrATaskNumber) {
+  // Either could start or stop the worker by its number.
+  Tasks raw = tasks_ending_with(just_start);
+  FuncId other = raw.b.function("other");
+  raw.b.block(other, {Instr{rcx::Op::SetVariable, {I(0x81), I(1)}, true, {}}});
+  EXPECT_TRUE(run(raw).empty());
+
+  Tasks numbered = tasks_ending_with(just_start);
+  other = numbered.b.function("other");
+  numbered.b.block(other, {op(rcx::Op::StopTask, {I(1)})});
+  EXPECT_TRUE(run(numbered).empty());
+}
+
+TEST(TailStart, StartsTogetherAtTheEndMayBeReordered) {
+  // main ends `start worker; start keeper;` and keeper is stopped elsewhere:
+  // keeper's start goes first, main becomes the worker.
+  Tasks t = tasks_ending_with(just_start);
+  FuncId keeper = t.b.function("keeper");
+  t.b.block(keeper, {sound(4)});
+  FuncId other = t.b.function("other");
+  t.b.block(other, {stop(keeper)});
+  t.b.at(t.main, 0).instrs.push_back(start(keeper));
+  Log log = run(t);
+  ASSERT_EQ(log.size(), 1u);
+  EXPECT_NE(log[0].find("worker"), std::string::npos);
+  const auto& instrs = t.b.fn(t.main).blocks[0].instrs;
+  ASSERT_EQ(instrs.size(), 2u);
+  EXPECT_EQ(instrs[1].op, rcx::Op::StartTask);
+  EXPECT_EQ(instrs[1].args[0], Operand::func(keeper));
+}
+
+TEST(TailStart, BothEndsOfAnIfAndAChain) {
+  // if (..) start a; else start b;  with a ending `start c`: main runs all three.
+  Builder b;
+  FuncId m = b.function("main");
+  FuncId a = b.function("a"), bb = b.function("b"), c = b.function("c");
+  b.block(m, {}, Branch{Cmp::EQ, Operand::src(15, 0), I(1), 1, 2});
+  b.block(m, {start(a)}, Jump{3});
+  b.block(m, {start(bb)}, Jump{3});
+  b.block(m, {});  // the join: empty, ends main
+  b.block(a, {sound(1), start(c)});
+  b.block(bb, {sound(2)});
+  b.block(c, {sound(3)});
+  Log log;
+  run_tail_started_tasks_in_main(b.p, log);
+  EXPECT_EQ(log.size(), 3u);
+  for (FuncId f : {a, bb, c}) EXPECT_TRUE(b.fn(f).blocks.empty()) << b.fn(f).name;
+  int sounds = 0;
+  for (const auto& block : b.fn(m).blocks)
+    for (const auto& in : block.instrs) {
+      EXPECT_NE(in.op, rcx::Op::StartTask);
+      sounds += in.op == rcx::Op::PlaySound;
+    }
+  EXPECT_EQ(sounds, 3);
+}
+
+TEST(TailStart, NotInsideACounterLoop) {
+  // repeat (3) { if (..) { start worker; return; } }: main's counter would
+  // still be pushed under the worker's own loops.
+  Tasks t;
+  t.main = t.b.function("main");
+  t.worker = t.b.function("worker");
+  t.b.block(t.main, {loopset(I(3))}, Jump{1});
+  t.b.block(t.main, {}, LoopTest{0, 2, 4});
+  t.b.block(t.main, {}, Branch{Cmp::EQ, Operand::src(15, 0), I(1), 3, 1});
+  t.b.block(t.main, {start(t.worker)});
+  t.b.block(t.main, {sound(1)});
+  t.b.fn(t.main).repeats.push_back(Repeat{0, 1, true, true});
+  t.b.block(t.worker, {sound(2)}, Jump{0});
+  EXPECT_TRUE(run(t).empty());
+}
