@@ -198,11 +198,7 @@ void inline_call(Program& p, FuncId caller, BlockId block, std::size_t index) {
     }
     f.blocks.push_back(std::move(copy));
   }
-  for (auto r : callee.repeats) {
-    r.setup += base;
-    r.head += base;
-    f.repeats.push_back(r);
-  }
+  append_repeats(f, callee.repeats, base);
   f.blocks[static_cast<std::size_t>(block)].term = Jump{base};
   // Lay the copy out right after the call site, then the continuation.
   auto count = static_cast<BlockId>(callee.blocks.size());

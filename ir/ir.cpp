@@ -135,6 +135,14 @@ void offset_targets(Terminator& t, BlockId delta) {
   each_target(t, [&](BlockId& b) { b += delta; });
 }
 
+void append_repeats(Function& to, const std::vector<Repeat>& from, BlockId base) {
+  for (auto r : from) {
+    r.setup += base;
+    r.head += base;
+    to.repeats.push_back(r);
+  }
+}
+
 void retarget(Terminator& t, BlockId from, BlockId to) {
   each_target(t, [&](BlockId& b) {
     if (b == from) b = to;

@@ -151,6 +151,9 @@ std::vector<BlockId> successors(const Terminator& t);
 std::vector<int> reverse_postorder_index(const Function& f);
 // Adds `delta` to every block `t` refers to.
 void offset_targets(Terminator& t, BlockId delta);
+// Appends `from`'s repeat loops to `to`, whose copies of their blocks
+// start at block `base`.
+void append_repeats(Function& to, const std::vector<Repeat>& from, BlockId base);
 // Rewrites every reference to block `from` in `t` to `to`.
 void retarget(Terminator& t, BlockId from, BlockId to);
 

@@ -86,11 +86,7 @@ void take_over(Function& main, Function& task, BlockId from) {
     offset_targets(b.term, base);
     main.blocks.push_back(std::move(b));
   }
-  for (auto r : task.repeats) {
-    r.setup += base;
-    r.head += base;
-    main.repeats.push_back(r);
-  }
+  append_repeats(main, task.repeats, base);
   Block& b = main.blocks[static_cast<std::size_t>(from)];
   b.instrs.pop_back();
   b.term = Jump{base};
