@@ -78,8 +78,8 @@ bool ends_task(const Function& f, BlockId b) {
   return false;  // a loop of empty blocks never ends
 }
 
-// Moves task `t`'s blocks into main, entered from block `from` in place of
-// its last instruction (the start of `t`).
+// Moves `task`'s blocks into main, entered from block `from` in place of
+// that block's last instruction (the start of `task`).
 void take_over(Function& main, Function& task, BlockId from) {
   auto base = static_cast<BlockId>(main.blocks.size());
   for (auto& b : task.blocks) {
