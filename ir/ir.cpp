@@ -164,12 +164,23 @@ void renumber(Function& f, const std::vector<BlockId>& map) {
 }
 }  // namespace
 
+namespace {
+bool is_task_op(const Instr& in) {
+  return !in.raw && (in.op == rcx::Op::StartTask || in.op == rcx::Op::StopTask) && !in.args.empty();
+}
+}  // namespace
+
+FuncId task_named(const Instr& in) {
+  return is_task_op(in) && in.args[0].kind == Operand::Kind::Func ? in.args[0].value : -1;
+}
+
+bool starts_or_stops_unnamed_task(const Instr& in) { return in.raw || (is_task_op(in) && task_named(in) < 0); }
+
 bool started_anywhere(const Program& p, FuncId f) {
   for (const auto& fn : p.functions)
     for (const auto& b : fn.blocks)
       for (const auto& in : b.instrs)
-        if (!in.raw && in.op == rcx::Op::StartTask && in.args[0].kind == Operand::Kind::Func && in.args[0].value == f)
-          return true;
+        if (in.op == rcx::Op::StartTask && task_named(in) == f) return true;
   return false;
 }
 

@@ -175,6 +175,13 @@ constexpr int wrap16(long v) { return static_cast<std::int16_t>(static_cast<std:
 // std::nullopt for opcodes that are not variable arithmetic.
 std::optional<int> arithmetic(rcx::Op op, int dest, int src);
 
+// The task a start or stop instruction names, or -1: another instruction,
+// raw asm, or a task given by its number in asm (`asm { start 2; }`), which
+// the compiler cannot follow (task numbers are chosen by the backend).
+FuncId task_named(const Instr& in);
+// Whether `in` may start or stop a task without naming it: raw asm bytes,
+// or a start or stop by number.
+bool starts_or_stops_unnamed_task(const Instr& in);
 // Whether some instruction starts task `f` (for main: restarts it, so its
 // startup code can run while other tasks run).
 bool started_anywhere(const Program& p, FuncId f);

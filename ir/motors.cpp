@@ -194,10 +194,10 @@ struct MotorPass {
       return false;
     }
     if (starts_a_task(in)) {
-      if (recording && !in.raw && in.args[0].kind == Operand::Kind::Func) {
+      if (FuncId t = task_named(in); recording && t >= 0) {
         State at = s;
         at.alone = false;
-        merge_into(started[static_cast<std::size_t>(in.args[0].value)], at);
+        merge_into(started[static_cast<std::size_t>(t)], at);
       }
       if (s.alone) {
         s.alone = false;
@@ -369,9 +369,10 @@ void remove_redundant_motor_commands(Program& p) {
   for (std::size_t f = 0; f < n; ++f)
     for (const auto& b : p.functions[f].blocks)
       for (const auto& in : b.instrs) {
-        if (in.raw) std::fill(pass.started.begin(), pass.started.end(), unknown);
-        if (in.raw || in.op != rcx::Op::StartTask || runners[f].empty()) continue;
-        auto target = static_cast<std::size_t>(in.args[0].value);
+        if (starts_or_stops_unnamed_task(in)) std::fill(pass.started.begin(), pass.started.end(), unknown);
+        FuncId named = task_named(in);
+        if (in.op != rcx::Op::StartTask || named < 0 || runners[f].empty()) continue;
+        auto target = static_cast<std::size_t>(named);
         start_seen[target] = true;
         if (!pass.analysed[f]) pass.started[target] = unknown;
       }

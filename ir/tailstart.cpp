@@ -9,8 +9,7 @@ namespace rcxc::ir {
 namespace {
 
 // How many start and stop instructions name each task. `by_number` is set
-// when some instruction could start or stop a task the IR does not name
-// (raw asm bytes, an asm `start` with a task number).
+// when some instruction could start or stop a task without naming it.
 struct TaskRefs {
   std::vector<int> starts, stops;
   bool by_number = false;
@@ -21,24 +20,14 @@ TaskRefs task_refs(const Program& p) {
   for (const auto& fn : p.functions)
     for (const auto& b : fn.blocks)
       for (const auto& in : b.instrs) {
-        if (in.raw) {
-          r.by_number = true;
-          continue;
-        }
-        if (in.op != rcx::Op::StartTask && in.op != rcx::Op::StopTask) continue;
-        if (in.args.at(0).kind != Operand::Kind::Func) {
-          r.by_number = true;
-          continue;
-        }
-        auto& count = in.op == rcx::Op::StartTask ? r.starts : r.stops;
-        ++count[static_cast<std::size_t>(in.args[0].value)];
+        r.by_number |= starts_or_stops_unnamed_task(in);
+        FuncId t = task_named(in);
+        if (t >= 0) ++(in.op == rcx::Op::StartTask ? r.starts : r.stops)[static_cast<std::size_t>(t)];
       }
   return r;
 }
 
-bool starts_named_task(const Instr& in) {
-  return !in.raw && in.op == rcx::Op::StartTask && in.args.at(0).kind == Operand::Kind::Func;
-}
+bool starts_named_task(const Instr& in) { return in.op == rcx::Op::StartTask && task_named(in) >= 0; }
 
 // A task main may become: started by this one instruction only, never
 // stopped (a stop would now stop main's code, and a second start would

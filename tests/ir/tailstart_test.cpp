@@ -40,6 +40,20 @@ Log run(Tasks& t) {
 
 }  // namespace
 
+TEST(TaskNamed, StartsAndStopsByNameOnly) {
+  // Task numbers are chosen by the backend: a start by number (asm) names
+  // no function, and neither does raw asm.
+  EXPECT_EQ(task_named(start(3)), 3);
+  EXPECT_EQ(task_named(stop(2)), 2);
+  EXPECT_EQ(task_named(op(rcx::Op::StartTask, {I(3)})), -1);
+  EXPECT_EQ(task_named(call(3)), -1);
+  EXPECT_FALSE(starts_or_stops_unnamed_task(start(3)));
+  EXPECT_FALSE(starts_or_stops_unnamed_task(call(3)));
+  EXPECT_TRUE(starts_or_stops_unnamed_task(op(rcx::Op::StartTask, {I(3)})));
+  EXPECT_TRUE(starts_or_stops_unnamed_task(op(rcx::Op::StopTask, {I(0)})));
+  EXPECT_TRUE(starts_or_stops_unnamed_task(Instr{rcx::Op::SetVariable, {I(0x71), I(1)}, true, {}}));
+}
+
 TEST(TailStart, MainRunsTheTaskItEndsByStarting) {
   Tasks t = tasks_ending_with(just_start);
   Log log = run(t);
