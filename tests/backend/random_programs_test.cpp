@@ -307,8 +307,10 @@ namespace {
 // Compiles `text` at -O1 and -Os and expects the runs (machine seed
 // `seed`) to show the same, as `rcxc compare` judges it; returns whether
 // the -Os log has `logged`.
+constexpr rcx::TimeTolerance kOsAgainstO1{10 * 500, 0.005, 10 * 5};
+
 bool os_agrees_with_o1(const std::string& text, unsigned seed, const char* logged,
-                       rcx::TimeTolerance tolerance = {10 * 500, 0.005, 10 * 5}) {
+                       rcx::TimeTolerance tolerance = kOsAgainstO1) {
   std::optional<backend::Output> out[2];
   ir::Log logs[2];
   for (int k = 0; k < 2; ++k) {
@@ -333,37 +335,37 @@ bool os_agrees_with_o1(const std::string& text, unsigned seed, const char* logge
   return test::logged(logs[1], logged);
 }
 
+// os_agrees_with_o1 over 300 programs of `Generator` (seeds after the
+// offset); returns how many of them logged `logged`.
+template <class Generator>
+int agreeing_programs_logging(const char* logged, rcx::TimeTolerance tolerance = kOsAgainstO1) {
+  int n = 0;
+  for (unsigned seed = seed_offset() + 1; seed <= seed_offset() + 300; ++seed)
+    n += os_agrees_with_o1(Generator(seed).program(), seed, logged, tolerance);
+  return n;
+}
+
 }  // namespace
 
 TEST(RandomPrograms, BackAndForthLoopsFlipAsTheyWentWrittenOut) {
   // -Os keeps one half of a back-and-forth loop and flips the direction
   // (ir/flip.cpp); -O1 runs the loop as written.
-  int flipped = 0;
-  for (unsigned seed = seed_offset() + 1; seed <= seed_offset() + 300; ++seed)
-    flipped += os_agrees_with_o1(test::BackAndForthGenerator(seed).program(), seed, "direction flip");
-  EXPECT_GE(flipped, 60) << "of 300 programs";
+  EXPECT_GE(agreeing_programs_logging<test::BackAndForthGenerator>("direction flip"), 60) << "of 300 programs";
 }
 
 TEST(RandomPrograms, CoinTossesDecideAsTheDrawnVariableDoes) {
   // -Os tosses Random(1) on the loop counter where it can (ir/coin.cpp);
   // -O1 sets a variable and tests it. The same draws must decide the same.
-  int tossed = 0;
-  for (unsigned seed = seed_offset() + 1; seed <= seed_offset() + 300; ++seed) {
-    std::string text = test::CoinGenerator(seed).program();
-    // Outlining's calls and returns run a few hundred instructions more
-    // (a few ms at 10 us each): what matters is which side each toss took.
-    tossed += os_agrees_with_o1(text, seed, "coin toss on the loop counter", {100'000, 0.01, 0});
-  }
-  EXPECT_GE(tossed, 100) << "of 300 programs";
+  // Outlining's calls and returns run a few hundred instructions more
+  // (a few ms at 10 us each): what matters is which side each toss took.
+  EXPECT_GE(agreeing_programs_logging<test::CoinGenerator>("coin toss on the loop counter", {100'000, 0.01, 0}), 100)
+      << "of 300 programs";
 }
 
 TEST(RandomPrograms, TasksMainEndsByStartingRunAsTheyDidAsTasks) {
   // -Os runs a task main ends by starting in main (ir/tailstart.cpp); -O1
   // starts it as written.
-  int moved = 0;
-  for (unsigned seed = seed_offset() + 1; seed <= seed_offset() + 300; ++seed)
-    moved += os_agrees_with_o1(test::TailStartGenerator(seed).program(), seed, "runs in main");
-  EXPECT_GE(moved, 250) << "of 300 programs";
+  EXPECT_GE(agreeing_programs_logging<test::TailStartGenerator>("runs in main"), 250) << "of 300 programs";
 }
 
 TEST(RandomPrograms, MotorProgramsShowWhatNqcsCodeShows) {
