@@ -14,8 +14,8 @@
 
 #include "frontend/diagnostics.h"
 #include "ir/ir.h"
-#include "runtime/image.h"
-#include "runtime/vm.h"
+#include "rcx/image.h"
+#include "rcx/machine.h"
 
 namespace rcxc::backend {
 
@@ -24,7 +24,7 @@ inline constexpr int kMaxTasks = rcx::kMaxTasks;
 inline constexpr int kMaxSubroutines = rcx::kMaxSubroutines;
 // Largest fragment a download can announce (the length is a 16-bit short).
 inline constexpr int kMaxFragmentBytes = 32767;
-// User program memory of the brick (the emulator's figure, runtime/vm.h);
+// User program memory of the brick (rcx/machine.h);
 // one program may use all of it. Subroutines take one more byte each for
 // the return the firmware appends.
 inline constexpr int kProgramMemoryBytes = rcx::kMemoryBytes;

@@ -2,8 +2,8 @@
 
 #include <fmt/format.h>
 
-#include "runtime/opcodes.h"
-#include "runtime/vm.h"
+#include "rcx/opcodes.h"
+#include "rcx/decode.h"
 
 namespace rcxc::backend {
 namespace {

@@ -7,7 +7,7 @@
 #include <span>
 #include <string>
 
-#include "runtime/image.h"
+#include "rcx/image.h"
 
 namespace rcxc::backend {
 

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "runtime/opcodes.h"
+#include "rcx/opcodes.h"
 
 namespace rcxc::backend {
 

@@ -17,8 +17,8 @@
 #include <fstream>
 #include <thread>
 
-#include "runtime/brick_server.h"
-#include "runtime/download.h"
+#include "link/brick_server.h"
+#include "link/download.h"
 
 namespace {
 

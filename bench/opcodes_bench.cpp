@@ -1,7 +1,7 @@
 // Decoding speed of the opcode table lookup the emulator relies on.
 #include <benchmark/benchmark.h>
 
-#include "runtime/opcodes.h"
+#include "rcx/opcodes.h"
 
 static void BM_CommandLookup(benchmark::State& state) {
   std::uint8_t code = 0;

@@ -7,7 +7,7 @@
 #include <iostream>
 
 #include "cli/commands.h"
-#include "runtime/brick_server.h"
+#include "link/brick_server.h"
 
 namespace rcxc::cli {
 namespace {

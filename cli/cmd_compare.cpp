@@ -8,9 +8,9 @@
 #include <optional>
 
 #include "cli/commands.h"
-#include "cli/external_nqc.h"
+#include "verify/external_nqc.h"
 #include "cli/program_loader.h"
-#include "runtime/compare.h"
+#include "verify/compare.h"
 #include "runtime/scenario.h"
 
 namespace rcxc::cli {
@@ -155,7 +155,7 @@ int run(const CompareOptions& o) {
   }
   if (scenarios.empty()) scenarios = builtin_scenarios();
 
-  auto theirs = compile_with_nqc(o.nqc, o.file);
+  auto theirs = rcx::semtest::compile_with_nqc(o.nqc, o.file);
   if (!theirs.failure.empty()) {
     std::cerr << "rcxc compare: " << theirs.failure << "\n";
     return kExitNotComparable;

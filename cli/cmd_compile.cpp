@@ -9,7 +9,7 @@
 #include "backend/compile.h"
 #include "backend/listing.h"
 #include "frontend/frontend.h"
-#include "runtime/image.h"
+#include "rcx/image.h"
 
 #include <algorithm>
 #include <cctype>

@@ -4,7 +4,7 @@
 
 #include "backend/disasm.h"
 #include "cli/commands.h"
-#include "runtime/image.h"
+#include "rcx/image.h"
 
 namespace rcxc::cli {
 

@@ -10,9 +10,9 @@
 #include "backend/compile.h"
 #include "cli/commands.h"
 #include "cli/tower.h"
-#include "runtime/download.h"
-#include "runtime/image.h"
-#include "runtime/transport.h"
+#include "link/download.h"
+#include "rcx/image.h"
+#include "link/transport.h"
 
 namespace rcxc::cli {
 namespace {

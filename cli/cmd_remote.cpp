@@ -7,8 +7,8 @@
 
 #include "cli/commands.h"
 #include "cli/tower.h"
-#include "runtime/remote.h"
-#include "runtime/transport.h"
+#include "link/remote.h"
+#include "link/transport.h"
 
 namespace rcxc::cli {
 namespace {

@@ -8,10 +8,10 @@
 #include "cli/commands.h"
 #include "cli/output_file.h"
 #include "cli/program_loader.h"
-#include "runtime/image.h"
+#include "rcx/image.h"
 #include "runtime/report.h"
 #include "runtime/scenario.h"
-#include "runtime/testspec.h"
+#include "verify/testspec.h"
 #include "runtime/vm.h"
 
 namespace rcxc::cli {

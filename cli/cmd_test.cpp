@@ -8,9 +8,9 @@
 #include <iostream>
 
 #include "cli/commands.h"
-#include "cli/external_nqc.h"
+#include "verify/external_nqc.h"
 #include "cli/program_loader.h"
-#include "runtime/testspec.h"
+#include "verify/testspec.h"
 #include "runtime/vm.h"
 
 namespace rcxc::cli {
@@ -55,7 +55,7 @@ struct Compiled {
 
 Compiled compile(const TestOptions& o, const std::string& file) {
   if (!o.nqc.empty()) {
-    auto r = compile_with_nqc(o.nqc, file);
+    auto r = rcx::semtest::compile_with_nqc(o.nqc, file);
     return {std::move(r.image), std::move(r.messages), std::move(r.failure)};
   }
   auto r = compile_nqc_file(file);

@@ -11,8 +11,8 @@
 #include "frontend/diagnostics.h"
 #include "frontend/frontend.h"
 #include "ir/passes.h"
-#include "runtime/image.h"
-#include "runtime/testspec.h"
+#include "rcx/image.h"
+#include "verify/testspec.h"
 
 namespace rcxc::cli {
 

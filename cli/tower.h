@@ -5,7 +5,7 @@
 #include <optional>
 #include <string>
 
-#include "runtime/transport.h"
+#include "link/transport.h"
 
 namespace rcxc::cli {
 

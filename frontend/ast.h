@@ -24,7 +24,7 @@
 #include <vector>
 
 #include "frontend/diagnostics.h"
-#include "runtime/opcodes.h"
+#include "rcx/opcodes.h"
 
 namespace rcxc::ast {
 

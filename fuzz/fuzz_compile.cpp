@@ -22,7 +22,7 @@
 #include "backend/disasm.h"
 #include "frontend/frontend.h"
 #include "fuzz/fuzz_run.h"
-#include "runtime/compare.h"
+#include "verify/compare.h"
 
 namespace {
 

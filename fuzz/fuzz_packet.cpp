@@ -9,8 +9,8 @@
 #include <cstdint>
 #include <span>
 
-#include "runtime/brick.h"
-#include "runtime/link_packet.h"
+#include "link/brick.h"
+#include "link/packet.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size == 0) return 0;

@@ -6,7 +6,7 @@
 #include <optional>
 #include <string>
 
-#include "runtime/image.h"
+#include "rcx/image.h"
 #include "runtime/vm.h"
 
 namespace rcxc::fuzz {

@@ -6,7 +6,7 @@
 #include <string_view>
 
 #include "runtime/scenario.h"
-#include "runtime/testspec.h"
+#include "verify/testspec.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size == 0) return 0;

@@ -17,7 +17,7 @@
 #include <vector>
 
 #include "frontend/diagnostics.h"
-#include "runtime/opcodes.h"
+#include "rcx/opcodes.h"
 
 namespace rcxc::ir {
 

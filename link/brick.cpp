@@ -1,12 +1,12 @@
-#include "runtime/brick.h"
+#include "link/brick.h"
 
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <array>
 
-#include "runtime/link_session.h"
-#include "runtime/opcodes.h"
+#include "link/session.h"
+#include "rcx/opcodes.h"
 
 namespace rcx {
 namespace {

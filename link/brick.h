@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-#include "runtime/link_packet.h"
+#include "link/packet.h"
 #include "runtime/vm.h"
 
 namespace rcx {

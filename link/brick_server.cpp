@@ -1,4 +1,4 @@
-#include "runtime/brick_server.h"
+#include "link/brick_server.h"
 
 #include <poll.h>
 #include <unistd.h>

@@ -12,8 +12,8 @@
 #include <optional>
 #include <string>
 
-#include "runtime/brick.h"
-#include "runtime/transport.h"
+#include "link/brick.h"
+#include "link/transport.h"
 
 namespace rcx {
 

@@ -1,11 +1,11 @@
-#include "runtime/download.h"
+#include "link/download.h"
 
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <array>
 
-#include "runtime/opcodes.h"
+#include "rcx/opcodes.h"
 
 namespace rcx {
 namespace {

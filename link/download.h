@@ -14,8 +14,8 @@
 #include <string>
 #include <variant>
 
-#include "runtime/image.h"
-#include "runtime/link_session.h"
+#include "rcx/image.h"
+#include "link/session.h"
 
 namespace rcx {
 

@@ -1,11 +1,11 @@
-#include "runtime/link_packet.h"
+#include "link/packet.h"
 
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <cctype>
 
-#include "runtime/opcodes.h"
+#include "rcx/opcodes.h"
 
 namespace rcx {
 namespace {

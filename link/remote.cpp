@@ -1,4 +1,4 @@
-#include "runtime/remote.h"
+#include "link/remote.h"
 
 #include <fmt/format.h>
 
@@ -7,8 +7,8 @@
 #include <map>
 #include <sstream>
 
-#include "runtime/file_read.h"
-#include "runtime/opcodes.h"
+#include "rcx/file_read.h"
+#include "rcx/opcodes.h"
 
 namespace rcx {
 namespace {

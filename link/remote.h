@@ -7,7 +7,7 @@
 #include <variant>
 #include <vector>
 
-#include "runtime/link_session.h"
+#include "link/session.h"
 
 namespace rcx {
 

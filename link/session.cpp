@@ -1,4 +1,4 @@
-#include "runtime/link_session.h"
+#include "link/session.h"
 
 #include <fmt/format.h>
 
@@ -6,7 +6,7 @@
 #include <chrono>
 #include <cmath>
 
-#include "runtime/opcodes.h"
+#include "rcx/opcodes.h"
 
 namespace rcx {
 namespace {

@@ -8,8 +8,8 @@
 #include <string>
 #include <variant>
 
-#include "runtime/link_packet.h"
-#include "runtime/transport.h"
+#include "link/packet.h"
+#include "link/transport.h"
 
 namespace rcx {
 

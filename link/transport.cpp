@@ -1,4 +1,4 @@
-#include "runtime/transport.h"
+#include "link/transport.h"
 
 #include <fcntl.h>
 #include <poll.h>

@@ -1,4 +1,4 @@
-#include "runtime/file_read.h"
+#include "rcx/file_read.h"
 
 #include <filesystem>
 #include <fstream>

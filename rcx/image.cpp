@@ -1,8 +1,8 @@
-#include "runtime/image.h"
+#include "rcx/image.h"
 
 #include <fmt/format.h>
 
-#include "runtime/file_read.h"
+#include "rcx/file_read.h"
 
 namespace rcx {
 

@@ -1,4 +1,4 @@
-#include "runtime/opcodes.h"
+#include "rcx/opcodes.h"
 
 #include <algorithm>
 

@@ -6,7 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "runtime/image.h"
+#include "rcx/image.h"
 #include "runtime/vm.h"
 
 namespace rcx {

@@ -6,7 +6,7 @@
 #include <optional>
 #include <toml++/toml.h>
 
-#include "runtime/file_read.h"
+#include "rcx/file_read.h"
 
 namespace rcx {
 namespace {

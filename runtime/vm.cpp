@@ -27,31 +27,6 @@ std::uint64_t splitmix(std::uint64_t& state) {
   return z ^ (z >> 31);
 }
 
-bool is_branch(Op op) {
-  switch (op) {
-    case Op::BranchAlwaysNear: case Op::BranchAlwaysFar: case Op::TestAndBranchNear:
-    case Op::TestAndBranchFar: case Op::DecrementLoopCounterNear: case Op::DecrementLoopCounterFar:
-      return true;
-    default:
-      return false;
-  }
-}
-
-// The seed's target formulas. `at` is the address of the offset field.
-int branch_target(Op op, int at, const std::array<int, 5>& v, int offset_index) {
-  int off = v[static_cast<std::size_t>(offset_index)];
-  switch (op) {
-    case Op::BranchAlwaysNear:
-      return (off & 0x80) ? at - off + 128 : at + off;
-    case Op::BranchAlwaysFar: {
-      int ext = v[static_cast<std::size_t>(offset_index) + 1];
-      return (off & 0x80) ? at - off - 128 * ext + 128 : at + off + 128 * ext;
-    }
-    default:  // test-and-branch (signed) and loop decrement (unsigned): field value as read
-      return at + off;
-  }
-}
-
 bool compare(int op, int a, int b) {
   switch (op & 3) {
     case 0: return a <= b;
@@ -76,62 +51,8 @@ std::vector<std::uint8_t> encode_reply(std::span<const Operand> layout, std::spa
   return out;
 }
 
-// The first source operand outside its allowed set, or -1. Operand values
-// are in table order (fixed-size opcodes with sources have count-1 fields).
-int disallowed_source(const OpcodeInfo& info, const std::array<int, 5>& v) {
-  for (std::size_t i = 0; i < info.operands.size() && i < v.size(); ++i) {
-    const Operand& o = info.operands[i];
-    int source = o.role == Role::OpSource ? (v[i] & 0x0f) : v[i];
-    if ((o.role == Role::Source || o.role == Role::OpSource) && !allows(o.allowed, source)) return source;
-  }
-  return -1;
-}
-
 }  // namespace
 
-Decoded decode_command(std::span<const std::uint8_t> code, int address) {
-  Decoded d;
-  d.size = 1;
-  if (address < 0 || address >= static_cast<int>(code.size())) {
-    d.error = static_cast<std::uint8_t>(DecodeError::Truncated);
-    return d;
-  }
-  const OpcodeInfo* info = command_at(code[static_cast<std::size_t>(address)]);
-  if (info == nullptr) {
-    d.error = static_cast<std::uint8_t>(DecodeError::NotACommand);
-    return d;
-  }
-  d.op = info->op;
-  int size = command_size(*info).value_or(1);
-  if (address + size > static_cast<int>(code.size())) {
-    d.error = static_cast<std::uint8_t>(DecodeError::Truncated);
-    return d;
-  }
-  d.size = static_cast<std::uint8_t>(size);
-  int at = address + 1;
-  std::size_t n = 0;
-  int offset_index = -1, offset_at = 0;
-  for (const auto& operand : info->operands) {
-    for (int i = 0; i < operand.count && n < d.v.size(); ++i) {
-      if (operand.role == Role::Offset) offset_index = static_cast<int>(n), offset_at = at;
-      d.v[n++] = read_field(operand.type, code.data() + at);
-      at += field_size(operand.type);
-    }
-  }
-  if (disallowed_source(*info, d.v) >= 0) d.error = static_cast<std::uint8_t>(DecodeError::BadSource);
-  if (offset_index >= 0) d.target = branch_target(d.op, offset_at, d.v, offset_index);
-  return d;
-}
-
-const char* to_string(DecodeError error) {
-  switch (error) {
-    case DecodeError::None: return "ok";
-    case DecodeError::NotACommand: return "not a program opcode";
-    case DecodeError::Truncated: return "instruction runs past the end of the code";
-    case DecodeError::BadSource: return "source not allowed for this opcode";
-  }
-  return "?";
-}
 
 // ------------------------------------------------------------ construction
 

@@ -29,28 +29,15 @@
 #include <variant>
 #include <vector>
 
-#include "runtime/image.h"
-#include "runtime/opcodes.h"
+#include "rcx/image.h"
+#include "rcx/decode.h"
+#include "rcx/machine.h"
+#include "rcx/opcodes.h"
 
 namespace rcx {
 
 using Micros = std::int64_t;
 inline constexpr Micros kMicrosPerMs = 1000;
-
-inline constexpr int kPrograms = 5;
-inline constexpr int kTimers = 4;
-inline constexpr int kSensors = 3;
-inline constexpr int kOutputs = 3;
-inline constexpr int kLoopDepth = 4;
-inline constexpr int kMemoryMapEntries = 94;
-
-// User memory (programs + datalog). The RCX keeps user programs in a 6 KB
-// region (RCX Internals, Kekoa Proudfoot); addresses below are the ones the
-// memory map reports. Every downloaded subroutine takes one extra byte for
-// the return opcode the firmware appends; every datalog entry takes 3 bytes.
-inline constexpr int kMemoryBase = 0xCC00;
-inline constexpr int kMemoryBytes = 6144;
-inline constexpr int kDatalogEntryBytes = 3;
 
 // Default firmware timing: about 2 ms per instruction (measured on the
 // original firmware; see docs/emulator.md).
@@ -152,24 +139,6 @@ struct ProgramSlot {
   std::array<std::optional<std::vector<std::uint8_t>>, kMaxTasks> tasks;
   std::array<std::optional<std::vector<std::uint8_t>>, kMaxSubroutines> subs;
 };
-
-// The decoded form of one instruction, cached per byte address.
-struct Decoded {
-  Op op = Op::Alive;
-  std::uint8_t size = 0;          // 0 = not decoded yet
-  // Why the bytes there cannot run: 0 fine, else a DecodeError.
-  std::uint8_t error = 0;
-  std::array<int, 5> v{};         // operand values in table order
-  int target = 0;                 // branch target for branch opcodes
-};
-
-enum class DecodeError : std::uint8_t { None = 0, NotACommand, Truncated, BadSource };
-
-// Decodes the command at `address` of `code` by walking the opcode table;
-// branch targets are resolved with the seed's formulas (they may lie outside
-// the code: the machine faults only when such a branch is taken).
-Decoded decode_command(std::span<const std::uint8_t> code, int address);
-const char* to_string(DecodeError error);
 
 // Where a task executes: its own code or a subroutine's.
 struct TaskState {

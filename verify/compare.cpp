@@ -1,4 +1,4 @@
-#include "runtime/compare.h"
+#include "verify/compare.h"
 
 #include <fmt/format.h>
 

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "runtime/image.h"
+#include "rcx/image.h"
 #include "runtime/vm.h"
 
 namespace rcx {

@@ -1,4 +1,4 @@
-#include "cli/external_nqc.h"
+#include "verify/external_nqc.h"
 
 #include <fcntl.h>
 #include <spawn.h>
@@ -12,7 +12,7 @@
 
 extern char** environ;
 
-namespace rcxc::cli {
+namespace rcx::semtest {
 namespace {
 
 std::string slurp(const std::string& path) {
@@ -26,8 +26,8 @@ std::string slurp(const std::string& path) {
 //   # Error: <message>
 //   File "<file>" ; line <N>
 // (warnings say "# Warning:"); the pairs may come in either order.
-std::vector<rcx::semtest::CompilerMessage> parse_nqc_messages(const std::string& text) {
-  std::vector<rcx::semtest::CompilerMessage> out;
+std::vector<CompilerMessage> parse_nqc_messages(const std::string& text) {
+  std::vector<CompilerMessage> out;
   std::istringstream in(text);
   std::string line;
   int pending_line = 0;
@@ -90,4 +90,4 @@ ExternalCompile compile_with_nqc(const std::string& nqc, const std::string& file
   return result;
 }
 
-}  // namespace rcxc::cli
+}  // namespace rcx::semtest

@@ -6,18 +6,18 @@
 #include <string>
 #include <vector>
 
-#include "runtime/image.h"
-#include "runtime/testspec.h"
+#include "rcx/image.h"
+#include "verify/testspec.h"
 
-namespace rcxc::cli {
+namespace rcx::semtest {
 
 struct ExternalCompile {
   std::optional<rcx::Image> image;                    // nullopt: did not compile
-  std::vector<rcx::semtest::CompilerMessage> messages;
+  std::vector<CompilerMessage> messages;
   std::string failure;                                // nqc could not be run at all
 };
 
 // Runs `nqc -Trcx -O<tmp> FILE` (`nqc` is a path or a name found on PATH).
 ExternalCompile compile_with_nqc(const std::string& nqc, const std::string& file);
 
-}  // namespace rcxc::cli
+}  // namespace rcx::semtest

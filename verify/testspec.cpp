@@ -1,9 +1,9 @@
-#include "runtime/testspec.h"
+#include "verify/testspec.h"
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
-#include "runtime/file_read.h"
+#include "rcx/file_read.h"
 #include "runtime/scenario.h"
 
 #include <algorithm>

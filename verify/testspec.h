@@ -12,7 +12,7 @@
 #include <variant>
 #include <vector>
 
-#include "runtime/image.h"
+#include "rcx/image.h"
 #include "runtime/vm.h"
 
 namespace rcx::semtest {

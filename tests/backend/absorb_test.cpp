@@ -5,7 +5,7 @@
 
 #include <algorithm>
 
-#include "runtime/compare.h"
+#include "verify/compare.h"
 #include "tests/support/compiled.h"
 
 using namespace rcxc;

@@ -7,7 +7,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "runtime/image.h"
+#include "rcx/image.h"
 #include "tests/support/process.h"
 
 using rcxc::test::run_rcxc;

@@ -16,8 +16,8 @@
 #include <fmt/format.h>
 
 #include "backend/compile.h"
-#include "runtime/compare.h"
-#include "runtime/image.h"
+#include "verify/compare.h"
+#include "rcx/image.h"
 #include "runtime/vm.h"
 #include "tests/support/compiled.h"
 #include "tests/support/process.h"

@@ -4,7 +4,7 @@
 
 #include <sys/stat.h>
 
-#include "runtime/image.h"
+#include "rcx/image.h"
 #include "tests/support/process.h"
 
 using rcxc::test::run_rcxc;

@@ -4,7 +4,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "runtime/image.h"
+#include "rcx/image.h"
 #include "tests/support/process.h"
 
 using rcxc::test::run_rcxc;

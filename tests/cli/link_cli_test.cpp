@@ -11,8 +11,8 @@
 #include <fstream>
 #include <thread>
 
-#include "runtime/image.h"
-#include "runtime/transport.h"
+#include "rcx/image.h"
+#include "link/transport.h"
 #include "tests/support/process.h"
 
 namespace {

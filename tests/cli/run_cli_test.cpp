@@ -6,7 +6,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "runtime/image.h"
+#include "rcx/image.h"
 #include "tests/support/process.h"
 
 using rcxc::test::run_rcxc;

@@ -5,9 +5,9 @@
 #include <set>
 #include <string>
 
-#include "runtime/brick.h"
-#include "runtime/link_session.h"
-#include "runtime/opcodes.h"
+#include "link/brick.h"
+#include "link/session.h"
+#include "rcx/opcodes.h"
 
 namespace rcx {
 namespace {

@@ -5,9 +5,9 @@
 #include <fstream>
 #include <sstream>
 
-#include "runtime/brick_server.h"
-#include "runtime/download.h"
-#include "runtime/remote.h"
+#include "link/brick_server.h"
+#include "link/download.h"
+#include "link/remote.h"
 
 namespace rcx {
 namespace {

@@ -2,9 +2,9 @@
 // whole opcode table, and every way the decoder rejects bytes.
 #include <gtest/gtest.h>
 
-#include "runtime/link_packet.h"
-#include "runtime/link_session.h"
-#include "runtime/opcodes.h"
+#include "link/packet.h"
+#include "link/session.h"
+#include "rcx/opcodes.h"
 
 namespace rcx {
 namespace {

@@ -6,9 +6,9 @@
 
 #include <thread>
 
-#include "runtime/brick_server.h"
-#include "runtime/download.h"
-#include "runtime/remote.h"
+#include "link/brick_server.h"
+#include "link/download.h"
+#include "link/remote.h"
 
 namespace rcx {
 namespace {

@@ -1,4 +1,4 @@
-#include "runtime/image.h"
+#include "rcx/image.h"
 
 #include <gtest/gtest.h>
 

@@ -1,5 +1,5 @@
 // The opcode table checked against numbers taken from the firmware reference.
-#include "runtime/opcodes.h"
+#include "rcx/opcodes.h"
 
 #include <gtest/gtest.h>
 

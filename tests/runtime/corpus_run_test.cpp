@@ -6,7 +6,7 @@
 #include <filesystem>
 #include <optional>
 
-#include "runtime/image.h"
+#include "rcx/image.h"
 #include "runtime/vm.h"
 #include "tests/support/process.h"
 

@@ -5,7 +5,7 @@
 
 #include <set>
 
-#include "runtime/opcodes.h"
+#include "rcx/opcodes.h"
 #include "runtime/vm.h"
 #include "tests/runtime/vm_support.h"
 

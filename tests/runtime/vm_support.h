@@ -8,7 +8,7 @@
 #include <utility>
 #include <vector>
 
-#include "runtime/image.h"
+#include "rcx/image.h"
 #include "runtime/vm.h"
 
 namespace vmtest {

@@ -10,7 +10,7 @@
 #include <string_view>
 
 #include "backend/compile.h"
-#include "runtime/compare.h"
+#include "verify/compare.h"
 #include "runtime/vm.h"
 
 namespace rcxc::test {

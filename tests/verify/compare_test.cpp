@@ -1,6 +1,6 @@
 // Behaviour comparison of two runs (the nqc equivalence check), on
 // hand-assembled programs whose timing is known from the seed.
-#include "runtime/compare.h"
+#include "verify/compare.h"
 
 #include <gtest/gtest.h>
 

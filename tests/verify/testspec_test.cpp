@@ -1,6 +1,6 @@
 // Semantic-test directives: parsing, and checking against real emulator runs
 // of hand-assembled bytecode (bytes from the seed's layouts).
-#include "runtime/testspec.h"
+#include "verify/testspec.h"
 
 #include <gtest/gtest.h>
 

@@ -1,0 +1,37 @@
+# cmake -DROOT=<repository> -P CheckLayers.cmake
+# Fails (and names each file and line) when a product folder includes a
+# header of ours from a folder Layers.cmake does not allow it to. Headers
+# are included as "folder/file.h" from the repository root, so the folder
+# of every include of ours is its first path component.
+cmake_minimum_required(VERSION 3.25)
+include(${CMAKE_CURRENT_LIST_DIR}/Layers.cmake)
+set(folders "")
+foreach(entry IN LISTS RCXC_LAYERS)
+  string(REGEX REPLACE ":.*" "" folder "${entry}")
+  list(APPEND folders ${folder})
+endforeach()
+set(violations 0)
+foreach(entry IN LISTS RCXC_LAYERS)
+  string(REGEX REPLACE ":.*" "" folder "${entry}")
+  string(REGEX REPLACE "^[^:]*:" "" allowed "${entry}")
+  string(REPLACE "," ";" allowed "${allowed}")
+  list(APPEND allowed ${folder})
+  file(GLOB_RECURSE files ${ROOT}/${folder}/*.h ${ROOT}/${folder}/*.cpp ${ROOT}/${folder}/*.re
+       ${ROOT}/${folder}/*.y ${ROOT}/${folder}/*.in)
+  foreach(file IN LISTS files)
+    file(STRINGS ${file} lines REGEX "^[ \t]*#[ \t]*include[ \t]*\"[a-z_0-9]+/")
+    foreach(line IN LISTS lines)
+      string(REGEX MATCH "\"([a-z_0-9]+)/" _ "${line}")
+      set(target ${CMAKE_MATCH_1})
+      if(target IN_LIST folders AND NOT target IN_LIST allowed)
+        file(RELATIVE_PATH rel ${ROOT} ${file})
+        message(SEND_ERROR "${rel}: '${line}': ${folder}/ may not include ${target}/ (cmake/Layers.cmake)")
+        math(EXPR violations "${violations} + 1")
+      endif()
+    endforeach()
+  endforeach()
+endforeach()
+if(violations GREATER 0)
+  message(FATAL_ERROR "${violations} include(s) go the wrong way")
+endif()
+message(STATUS "layering: every include goes down")

@@ -1,0 +1,15 @@
+# Who may include whom: the one statement of the project's layering.
+# Each product folder lists the folders of ours its files may #include
+# (itself always). tests/, bench/ and fuzz/ sit above everything.
+# CheckLayers.cmake reads this list; the `layering` test runs it.
+set(RCXC_LAYERS
+  "rcx:"
+  "runtime:rcx"
+  "link:rcx,runtime"
+  "stdlib:"
+  "frontend:rcx,stdlib"
+  "ir:rcx,frontend"
+  "backend:rcx,frontend,ir"
+  "verify:rcx,runtime"
+  "nxt:rcx,runtime"
+  "cli:rcx,runtime,link,stdlib,frontend,ir,backend,verify,nxt,cli")
