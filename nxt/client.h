@@ -31,6 +31,7 @@ struct CallError {
 };
 
 struct Client {
+  explicit Client(Transport& link) : transport(link) {}
   Transport& transport;
   Millis timeout{1000};
   std::function<void(const std::string&)> on_log;  // decoded telegrams (-v)
