@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cmath>
 #include <chrono>
 #include <cstring>
 #include <thread>
@@ -272,7 +273,13 @@ std::string show_message(std::span<const std::uint8_t> data) {
   if (text) return std::string(data.begin(), data.begin() + static_cast<std::ptrdiff_t>(end));
   if (end == 4) {
     std::uint32_t u = data[0] | (data[1] << 8) | (data[2] << 16) | (std::uint32_t{data[3]} << 24);
-    return fmt::format("{} (int32) / {} (float32)", static_cast<std::int32_t>(u), std::bit_cast<float>(u));
+    // NXC sends int32, NXT-G float32: the bytes do not say which. Show the
+    // float reading only when it is a plausible number.
+    float f = std::bit_cast<float>(u);
+    float size = std::fabs(f);
+    if (std::isnormal(f) && size >= 1e-6f && size <= 1e9f)
+      return fmt::format("{} (int32) / {} (float32)", static_cast<std::int32_t>(u), f);
+    return fmt::format("{} (int32)", static_cast<std::int32_t>(u));
   }
   return hex(data);
 }
