@@ -11,5 +11,5 @@ set(RCXC_LAYERS
   "ir:rcx,frontend"
   "backend:rcx,frontend,ir"
   "verify:rcx,runtime"
-  "nxt:rcx,runtime"
+  "nxt:"
   "cli:rcx,runtime,link,stdlib,frontend,ir,backend,verify,nxt,cli")

@@ -1,0 +1,686 @@
+// `rcxc nxt [--port P] ACTION`: one-shot actions on a LEGO NXT over USB or
+// Bluetooth, and `rcxc nxt brick --pty`, the virtual NXT. Values are checked
+// here, before the port is opened: the brick itself does not range-check
+// PlayTone or SetOutputState, and a refused value must leave nothing half-done.
+#include <signal.h>
+#include <sys/signalfd.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "cli/commands.h"
+#include "nxt/client.h"
+#include "nxt/commands.h"
+#include "nxt/scenario.h"
+#include "nxt/telegram.h"
+#include "nxt/transport.h"
+#include "nxt/virtual_nxt.h"
+
+namespace rcxc::cli {
+namespace {
+
+using nlohmann::json;
+using nxt::CallError;
+using nxt::Client;
+using nxt::Value;
+
+constexpr int kExitInterrupted = 130;  // 128 + SIGINT, as shells report it
+
+struct NxtArgs {
+  std::optional<std::string> port;
+  bool json = false;
+  bool verbose = false;
+  int timeout_ms = 1000;
+};
+
+// What an action prints: text for people, JSON for scripts.
+struct Output {
+  std::string text;
+  json data = json::object();
+};
+
+struct Failure {
+  int exit_code;
+  std::string message;
+};
+
+using Action = std::function<std::variant<Output, Failure>(Client&)>;
+
+int exit_code_for(CallError::Kind kind) {
+  switch (kind) {
+    case CallError::Kind::Input: return kExitUsage;
+    case CallError::Kind::Refused: return kExitFailure;
+    case CallError::Kind::Interrupted: return kExitInterrupted;
+    case CallError::Kind::NoReply:
+    case CallError::Kind::BadReply:
+    case CallError::Kind::Lost: return kExitNoReply;
+  }
+  return kExitFailure;
+}
+
+Failure failure(const CallError& e) { return {exit_code_for(e.kind), e.message}; }
+
+// SIGINT/SIGTERM become a readable descriptor every wait polls: Ctrl-C ends
+// a wait within one poll slice, and no global flag is needed.
+int stop_descriptor() {
+  sigset_t set;
+  sigemptyset(&set);
+  for (int s : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&set, s);
+  if (pthread_sigmask(SIG_BLOCK, &set, nullptr) != 0) return -1;
+  return signalfd(-1, &set, SFD_CLOEXEC);
+}
+
+int report(const NxtArgs& a, const std::string& action, std::variant<Output, Failure> result) {
+  if (auto* f = std::get_if<Failure>(&result)) {
+    if (a.json) std::cout << json{{"ok", false}, {"action", action}, {"error", f->message}}.dump() << "\n";
+    std::cerr << "rcxc nxt " << action << ": " << f->message << "\n";
+    return f->exit_code;
+  }
+  auto& out = std::get<Output>(result);
+  if (a.json) {
+    out.data["ok"] = true;
+    out.data["action"] = action;
+    std::cout << out.data.dump() << "\n";
+  } else {
+    std::cout << out.text;
+  }
+  return kExitOk;
+}
+
+// Opens the port (--port, else NXT_PORT, else usb) and runs the action.
+int with_brick(const NxtArgs& a, const std::string& action, const Action& act) {
+  const char* env = std::getenv("NXT_PORT");
+  std::optional<std::string> environment;
+  if (env && *env) environment = env;
+  auto spec = nxt::parse_port(a.port, environment);
+  if (auto* e = std::get_if<nxt::LinkError>(&spec)) return report(a, action, Failure{kExitUsage, e->message});
+  int stop = stop_descriptor();
+  auto opened = nxt::open_port(std::get<nxt::PortSpec>(spec), stop);
+  if (auto* e = std::get_if<nxt::LinkError>(&opened)) {
+    if (stop >= 0) ::close(stop);
+    return report(a, action,
+                  Failure{e->kind == nxt::LinkError::Kind::Interrupted ? kExitInterrupted : kExitNoPort, e->message});
+  }
+  auto transport = std::move(std::get<std::unique_ptr<nxt::Transport>>(opened));
+  Client client{*transport};
+  client.timeout = std::chrono::milliseconds(a.timeout_ms);
+  if (a.verbose) client.on_log = [](const std::string& line) { std::cerr << "nxt: " << line << "\n"; };
+  int code = report(a, action, act(client));
+  transport.reset();
+  if (stop >= 0) ::close(stop);
+  return code;
+}
+
+// Motor ports are letters (A, B, C, or all); sensor ports numbers 1-4, as
+// printed on the brick.
+std::optional<int> output_port(const std::string& s) {
+  std::string u = s;
+  std::transform(u.begin(), u.end(), u.begin(), [](unsigned char c) { return std::toupper(c); });
+  if (u == "A" || u == "B" || u == "C") return u[0] - 'A';
+  if (u == "ALL") return 0xFF;
+  return std::nullopt;
+}
+
+std::optional<int> input_port(const std::string& s) {
+  if (s.size() == 1 && s[0] >= '1' && s[0] <= '4') return s[0] - '1';
+  return std::nullopt;
+}
+
+std::string bad_output_port(const std::string& s) {
+  return fmt::format("\"{}\" is not a motor port (A, B, C or all)", s);
+}
+std::string bad_input_port(const std::string& s) { return fmt::format("\"{}\" is not a sensor port (1-4)", s); }
+
+std::vector<Value> values(std::initializer_list<Value> v) { return v; }
+
+std::variant<Output, Failure> simple(Client& c, std::string_view command, std::vector<Value> v, std::string text) {
+  auto r = nxt::call_ok(c, command, v);
+  if (auto* e = std::get_if<CallError>(&r)) return failure(*e);
+  return Output{std::move(text), json::object()};
+}
+
+std::string names_of(std::span<const nxt::EnumName> names) {
+  std::string s;
+  for (const auto& n : names) s += (s.empty() ? "" : ", ") + std::string(n.name);
+  return s;
+}
+
+std::string bt_address(const nxt::Bytes& b) {
+  std::string s;
+  for (std::size_t i = 0; i < 6 && i < b.size(); ++i) s += fmt::format("{}{:02X}", i ? ":" : "", b[i]);
+  return s;
+}
+
+std::variant<Output, Failure> info(Client& c) {
+  auto fw = nxt::call_ok(c, "GetFirmwareVersion", {});
+  if (auto* e = std::get_if<CallError>(&fw)) return failure(*e);
+  auto dev = nxt::call_ok(c, "GetDeviceInfo", {});
+  if (auto* e = std::get_if<CallError>(&dev)) return failure(*e);
+  auto bat = nxt::call_ok(c, "GetBatteryLevel", {});
+  if (auto* e = std::get_if<CallError>(&bat)) return failure(*e);
+  const auto& f = std::get<nxt::Decoded>(fw);
+  const auto& d = std::get<nxt::Decoded>(dev);
+  Output o;
+  std::string firmware = fmt::format("{}.{:02}", *f.number("firmware_major"), *f.number("firmware_minor"));
+  std::string protocol = fmt::format("{}.{}", *f.number("protocol_major"), *f.number("protocol_minor"));
+  std::string address = bt_address(*d.bytes("bt_address"));
+  auto millivolts = *std::get<nxt::Decoded>(bat).number("millivolts");
+  o.data = {{"name", *d.text("name")},      {"bluetooth_address", address},
+            {"firmware", firmware},         {"protocol", protocol},
+            {"free_flash", *d.number("free_flash")}, {"battery_mv", millivolts}};
+  o.text = fmt::format("name       {}\nbluetooth  {}\nfirmware   {} (protocol {})\nfree flash {} bytes\nbattery    {} mV\n",
+                       *d.text("name"), address, firmware, protocol, *d.number("free_flash"), millivolts);
+  return o;
+}
+
+std::string read_file_bytes(const std::string& path, nxt::Bytes& out) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return fmt::format("cannot read {}", path);
+  out.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  if (in.bad()) return fmt::format("cannot read {}", path);
+  return {};
+}
+
+nxt::Progress progress_bar(const std::string& what) {
+  if (!::isatty(STDERR_FILENO)) return {};
+  return [what](std::size_t done, std::size_t total) {
+    int width = 30;
+    int filled = total ? static_cast<int>(done * static_cast<std::size_t>(width) / total) : width;
+    std::cerr << fmt::format("\r{} [{}{}] {}/{} bytes", what, std::string(static_cast<std::size_t>(filled), '#'),
+                             std::string(static_cast<std::size_t>(width - filled), ' '), done, total)
+              << (done == total ? "\n" : "") << std::flush;
+  };
+}
+
+std::optional<nxt::Bytes> parse_hex_words(const std::vector<std::string>& words, std::string& error) {
+  nxt::Bytes out;
+  for (const auto& w : words) {
+    std::string s = w.rfind("0x", 0) == 0 || w.rfind("0X", 0) == 0 ? w.substr(2) : w;
+    if (s.empty() || s.size() % 2 != 0 || !std::all_of(s.begin(), s.end(), [](unsigned char c) { return std::isxdigit(c); })) {
+      error = fmt::format("\"{}\" is not hex bytes (e.g. 00 0b, or 000b)", w);
+      return std::nullopt;
+    }
+    for (std::size_t i = 0; i < s.size(); i += 2)
+      out.push_back(static_cast<std::uint8_t>(std::stoi(s.substr(i, 2), nullptr, 16)));
+  }
+  if (out.empty()) error = "raw needs the telegram's bytes";
+  if (out.size() > 256) error = "a telegram this long cannot be framed for the brick";
+  return error.empty() ? std::optional(out) : std::nullopt;
+}
+
+// The table as `rcxc nxt --help` shows it.
+std::string table_help() {
+  std::string s = "NXT commands (the table behind every action; `raw` sends any of them):\n";
+  for (const auto& c : nxt::commands())
+    s += fmt::format("  {} 0x{:02X} {:<22} {}\n", c.group == nxt::Group::Direct ? "direct" : "system", c.opcode,
+                     c.name, c.summary);
+  return s;
+}
+
+int serve_brick(bool on_pty, const std::string& scenario_path, bool verbose) {
+  if (!on_pty) {
+    std::cerr << "rcxc nxt brick: only --pty is supported (the virtual NXT serves on a pseudo-terminal)\n";
+    return kExitUsage;
+  }
+  std::vector<nxt::ScenarioInput> scenario;
+  if (!scenario_path.empty()) {
+    auto parsed = nxt::read_scenario_file(scenario_path);
+    if (auto* e = std::get_if<nxt::ScenarioError>(&parsed)) {
+      std::cerr << "rcxc nxt brick: " << e->message << "\n";
+      return kExitFailure;
+    }
+    scenario = std::get<std::vector<nxt::ScenarioInput>>(parsed);
+  }
+  auto opened = nxt::open_pty_pair();
+  if (auto* e = std::get_if<nxt::LinkError>(&opened)) {
+    std::cerr << "rcxc nxt brick: " << e->message << "\n";
+    return kExitFailure;
+  }
+  auto& pty = std::get<nxt::PtyPair>(opened);
+  int stop = stop_descriptor();
+  if (stop < 0) {
+    std::cerr << "rcxc nxt brick: cannot watch for signals\n";
+    nxt::close_pty_pair(pty);
+    return kExitFailure;
+  }
+  std::cout << pty.slave_path << std::endl;
+  std::cerr << "rcxc nxt brick: a virtual NXT on " << pty.slave_path << " (Bluetooth framing); Ctrl-C stops\n";
+  nxt::VirtualNxt brick = nxt::make_virtual_nxt(std::move(scenario));
+  nxt::ServeOptions options;
+  options.stop_fd = stop;
+  if (verbose) options.on_log = [](const std::string& line) { std::cerr << "nxt: " << line << "\n"; };
+  auto err = nxt::serve(brick, pty.master_fd, options);
+  ::close(stop);
+  nxt::close_pty_pair(pty);
+  std::cerr << "rcxc nxt brick: " << brick.counters.requests << " telegrams, " << brick.counters.replies
+            << " replies\n";
+  if (err) {
+    std::cerr << "rcxc nxt brick: " << err->message << "\n";
+    return kExitFailure;
+  }
+  return kExitOk;
+}
+
+}  // namespace
+
+void register_nxt(CLI::App& app, int& exit_code) {
+  auto* nxt_cmd = app.add_subcommand("nxt", "Act on a LEGO NXT over USB or Bluetooth, or serve a virtual NXT");
+  auto a = std::make_shared<NxtArgs>();
+  nxt_cmd->add_option("--port", a->port, "usb, usb:SERIAL, bt:AA:BB:CC:DD:EE:FF or a tty path (default: NXT_PORT, else usb)");
+  nxt_cmd->add_flag("--json", a->json, "Print JSON for scripts");
+  nxt_cmd->add_flag("-v,--verbose", a->verbose, "Log every telegram decoded on stderr");
+  nxt_cmd->add_option("--timeout", a->timeout_ms, "Milliseconds to wait for a reply")->check(CLI::Range(1, 60000));
+  nxt_cmd->require_subcommand(1);
+  nxt_cmd->fallthrough();
+  nxt_cmd->footer(table_help() +
+                  "Exit codes: 0 done; 1 the brick refused or a file is bad; 2 bad command line or value;\n"
+                  "3 the port could not be opened; 4 the brick did not answer or answered nonsense; 130 Ctrl-C.");
+
+  // Registers an action whose callback checks its values, then runs `make()`
+  // (which returns the action, or a usage message) against the brick.
+  auto add = [nxt_cmd](const std::string& name, const std::string& help) {
+    return nxt_cmd->add_subcommand(name, help);
+  };
+  auto run = [&exit_code, a](CLI::App* sub, std::function<std::variant<Action, std::string>()> make) {
+    std::string name = sub->get_name();
+    if (sub->get_parent() && sub->get_parent()->get_name() != "nxt") name = sub->get_parent()->get_name() + " " + name;
+    sub->callback([&exit_code, a, make, name] {
+      auto made = make();
+      if (auto* usage = std::get_if<std::string>(&made)) {
+        exit_code = report(*a, name, Failure{kExitUsage, *usage});
+        return;
+      }
+      exit_code = with_brick(*a, name, std::get<Action>(made));
+    });
+  };
+
+  run(add("info", "Name, Bluetooth address, firmware, free flash, battery"), [] { return Action(info); });
+
+  run(add("battery", "Battery voltage"), [] {
+    return Action([](Client& c) -> std::variant<Output, Failure> {
+      auto r = nxt::call_ok(c, "GetBatteryLevel", {});
+      if (auto* e = std::get_if<CallError>(&r)) return failure(*e);
+      auto mv = *std::get<nxt::Decoded>(r).number("millivolts");
+      return Output{fmt::format("{} mV\n", mv), {{"battery_mv", mv}}};
+    });
+  });
+
+  {
+    auto* cmd = add("tone", "Play a tone: HZ (200-14000) for MS milliseconds");
+    auto hz = std::make_shared<int>(0), ms = std::make_shared<int>(0);
+    cmd->add_option("HZ", *hz, "Frequency, 200-14000 Hz")->required();
+    cmd->add_option("MS", *ms, "Duration, 1-65535 ms")->required();
+    run(cmd, [hz, ms]() -> std::variant<Action, std::string> {
+      if (*hz < 200 || *hz > 14000) return fmt::format("a tone of {} Hz is outside 200-14000 Hz", *hz);
+      if (*ms < 1 || *ms > 65535) return fmt::format("{} ms is outside 1-65535 ms", *ms);
+      return Action([h = *hz, m = *ms](Client& c) {
+        return simple(c, "PlayTone", values({std::int64_t{h}, std::int64_t{m}}), "");
+      });
+    });
+  }
+
+  {
+    auto* cmd = add("motor", "Drive a motor: PORT (A, B, C, all) at POWER (-100..100)");
+    auto port = std::make_shared<std::string>();
+    auto power = std::make_shared<int>(0);
+    auto limit = std::make_shared<long long>(0);
+    auto brake = std::make_shared<bool>(false), coast = std::make_shared<bool>(false),
+         regulated = std::make_shared<bool>(false);
+    cmd->add_option("PORT", *port, "A, B, C or all")->required();
+    cmd->add_option("POWER", *power, "-100..100 (0 stops)")->required()->allow_extra_args(false);
+    cmd->add_option("--limit", *limit, "Stop after this many degrees (0: run on)");
+    auto* b = cmd->add_flag("--brake", *brake, "Brake when stopping (hold the position)");
+    auto* f = cmd->add_flag("--coast", *coast, "Let the motor float when stopping (default)");
+    b->excludes(f);
+    cmd->add_flag("--regulated", *regulated, "Speed regulation (keeps speed under load)");
+    run(cmd, [=]() -> std::variant<Action, std::string> {
+      auto p = output_port(*port);
+      if (!p) return bad_output_port(*port);
+      if (*power < -100 || *power > 100) return fmt::format("power {} is outside -100..100", *power);
+      if (*limit < 0 || *limit > 0xFFFFFFFFLL) return fmt::format("--limit {} is outside 0..4294967295 degrees", *limit);
+      std::uint8_t mode = 0;
+      std::uint8_t run_state = nxt::kRunStateIdle;
+      // Power 0 with --brake holds the motor; without it the motor floats.
+      if (*power != 0 || *brake) {
+        mode = nxt::kMotorOn | (*brake ? nxt::kBrake : 0) | (*regulated ? nxt::kRegulated : 0);
+        run_state = nxt::kRunStateRunning;
+      }
+      std::vector<Value> v{std::int64_t{*p}, std::int64_t{*power}, std::int64_t{mode},
+                           std::int64_t{*regulated ? 1 : 0}, std::int64_t{0}, std::int64_t{run_state},
+                           static_cast<std::int64_t>(*limit)};
+      return Action([v](Client& c) { return simple(c, "SetOutputState", v, ""); });
+    });
+  }
+
+  {
+    auto* cmd = add("motor-state", "A motor's power, mode and tacho counts");
+    auto port = std::make_shared<std::string>();
+    cmd->add_option("PORT", *port, "A, B or C")->required();
+    run(cmd, [port]() -> std::variant<Action, std::string> {
+      auto p = output_port(*port);
+      if (!p || *p == 0xFF) return fmt::format("\"{}\" is not a motor port (A, B or C)", *port);
+      return Action([p = *p](Client& c) -> std::variant<Output, Failure> {
+        auto r = nxt::call_ok(c, "GetOutputState", values({std::int64_t{p}}));
+        if (auto* e = std::get_if<CallError>(&r)) return failure(*e);
+        const auto& d = std::get<nxt::Decoded>(r);
+        Output o;
+        for (const char* f : {"power", "mode", "regulation", "turn_ratio", "run_state", "tacho_limit", "tacho_count",
+                              "block_tacho_count", "rotation_count"})
+          o.data[f] = *d.number(f);
+        o.data["port"] = std::string(1, static_cast<char>('A' + p));
+        o.text = fmt::format("port {}: power {} run state {} tacho count {} (block {}, rotation {}), limit {}\n",
+                             static_cast<char>('A' + p), *d.number("power"),
+                             nxt::enum_name(nxt::run_states(), static_cast<std::uint8_t>(*d.number("run_state"))),
+                             *d.number("tacho_count"), *d.number("block_tacho_count"), *d.number("rotation_count"),
+                             *d.number("tacho_limit"));
+        return o;
+      });
+    });
+  }
+
+  {
+    auto* cmd = add("sensor", "Set a sensor port's TYPE and MODE (names from the NXT protocol)");
+    auto port = std::make_shared<std::string>(), type = std::make_shared<std::string>(),
+         mode = std::make_shared<std::string>("RAWMODE");
+    cmd->add_option("PORT", *port, "1-4")->required();
+    cmd->add_option("TYPE", *type, names_of(nxt::sensor_types()))->required();
+    cmd->add_option("MODE", *mode, names_of(nxt::sensor_modes()) + " (MODE may be left off: BOOLEAN)");
+    run(cmd, [=]() -> std::variant<Action, std::string> {
+      auto p = input_port(*port);
+      if (!p) return bad_input_port(*port);
+      auto t = nxt::sensor_type_named(*type);
+      if (!t) return fmt::format("\"{}\" is not a sensor type ({})", *type, names_of(nxt::sensor_types()));
+      auto m = nxt::sensor_mode_named(*mode);
+      if (!m) return fmt::format("\"{}\" is not a sensor mode ({})", *mode, names_of(nxt::sensor_modes()));
+      return Action([v = values({std::int64_t{*p}, std::int64_t{*t}, std::int64_t{*m}})](Client& c) {
+        return simple(c, "SetInputMode", v, "");
+      });
+    });
+  }
+
+  {
+    auto* cmd = add("read", "Read a sensor port (valid, raw, normalized, scaled)");
+    auto port = std::make_shared<std::string>();
+    cmd->add_option("PORT", *port, "1-4")->required();
+    run(cmd, [port]() -> std::variant<Action, std::string> {
+      auto p = input_port(*port);
+      if (!p) return bad_input_port(*port);
+      return Action([p = *p](Client& c) -> std::variant<Output, Failure> {
+        auto r = nxt::call_ok(c, "GetInputValues", values({std::int64_t{p}}));
+        if (auto* e = std::get_if<CallError>(&r)) return failure(*e);
+        const auto& d = std::get<nxt::Decoded>(r);
+        auto type = nxt::enum_name(nxt::sensor_types(), static_cast<std::uint8_t>(*d.number("type")));
+        auto mode = nxt::enum_name(nxt::sensor_modes(), static_cast<std::uint8_t>(*d.number("mode") & 0xE0));
+        Output o;
+        o.data = {{"port", p + 1},         {"valid", *d.number("valid") != 0}, {"type", type},
+                  {"mode", mode},          {"raw", *d.number("raw")},          {"normalized", *d.number("normalized")},
+                  {"scaled", *d.number("scaled")}};
+        o.text = fmt::format("port {}: {} {} {} raw {} normalized {} scaled {}\n", p + 1, type, mode,
+                             *d.number("valid") ? "valid" : "not valid yet", *d.number("raw"),
+                             *d.number("normalized"), *d.number("scaled"));
+        return o;
+      });
+    });
+  }
+
+  {
+    auto* cmd = add("ultrasonic", "Distance from an ultrasonic sensor (I2C), in cm");
+    auto port = std::make_shared<std::string>();
+    cmd->add_option("PORT", *port, "1-4")->required();
+    run(cmd, [port]() -> std::variant<Action, std::string> {
+      auto p = input_port(*port);
+      if (!p) return bad_input_port(*port);
+      return Action([p = *p](Client& c) -> std::variant<Output, Failure> {
+        auto r = nxt::read_ultrasonic(c, p);
+        if (auto* e = std::get_if<CallError>(&r)) return failure(*e);
+        int cm = std::get<int>(r);
+        // 255 means no echo: nothing in range.
+        return Output{cm == 255 ? "nothing in range\n" : fmt::format("{} cm\n", cm),
+                      {{"port", p + 1}, {"distance_cm", cm}}};
+      });
+    });
+  }
+
+  {
+    auto* mailbox = add("mailbox", "Write or read a mailbox (1-10) of the running program");
+    mailbox->require_subcommand(1);
+    auto box = std::make_shared<int>(0);
+    auto text = std::make_shared<std::optional<std::string>>();
+    auto as_int = std::make_shared<std::optional<long long>>();
+    auto as_float = std::make_shared<std::optional<double>>();
+    auto* w = mailbox->add_subcommand("write", "Put TEXT, --int N (NXC) or --float X (NXT-G) in mailbox BOX");
+    w->add_option("BOX", *box, "1-10")->required();
+    w->add_option("TEXT", *text, "Text, at most 58 characters");
+    w->add_option("--int", *as_int, "A 32-bit integer, as NXC sends numbers");
+    w->add_option("--float", *as_float, "A 32-bit float, as NXT-G sends numbers");
+    auto box_check = [box]() -> std::optional<std::string> {
+      if (*box < 1 || *box > 10) return fmt::format("mailbox {} is not 1-10", *box);
+      return std::nullopt;
+    };
+    run(w, [=]() -> std::variant<Action, std::string> {
+      if (auto bad = box_check()) return *bad;
+      int given = (text->has_value() ? 1 : 0) + (as_int->has_value() ? 1 : 0) + (as_float->has_value() ? 1 : 0);
+      if (given != 1) return std::string("give exactly one of TEXT, --int N, --float X");
+      nxt::Bytes message;
+      if (*text) {
+        if ((*text)->size() > nxt::kMaxMessage - 1)
+          return fmt::format("the message is {} bytes; at most {} fit (59 with the NUL)", (*text)->size(),
+                             nxt::kMaxMessage - 1);
+        if ((*text)->find('\0') != std::string::npos) return std::string("the text cannot contain a NUL");
+        message = nxt::message_text(**text);
+      } else if (*as_int) {
+        if (**as_int < INT32_MIN || **as_int > INT32_MAX) return fmt::format("{} does not fit 32 bits", **as_int);
+        message = nxt::message_int(static_cast<std::int32_t>(**as_int));
+      } else {
+        if (!std::isfinite(**as_float)) return std::string("--float needs a finite number");
+        message = nxt::message_float(static_cast<float>(**as_float));
+      }
+      std::vector<Value> v{std::int64_t{*box - 1}, std::int64_t{0}, message};
+      return Action([v](Client& c) { return simple(c, "MessageWrite", v, ""); });
+    });
+    auto rbox = std::make_shared<int>(0);
+    auto keep = std::make_shared<bool>(false);
+    auto* r = mailbox->add_subcommand("read", "Take the oldest message from mailbox BOX (1-10, or 11-20: outboxes)");
+    r->add_option("BOX", *rbox, "1-20")->required();
+    r->add_flag("--keep", *keep, "Leave the message in the mailbox");
+    run(r, [=]() -> std::variant<Action, std::string> {
+      if (*rbox < 1 || *rbox > 20) return fmt::format("mailbox {} is not 1-20", *rbox);
+      std::int64_t q = *rbox - 1;
+      return Action([q, k = *keep](Client& c) -> std::variant<Output, Failure> {
+        auto res = nxt::call(c, *nxt::find_command("MessageRead"), values({q, q % 10, std::int64_t{k ? 0 : 1}}));
+        if (auto* e = std::get_if<CallError>(&res)) return failure(*e);
+        const auto& d = std::get<nxt::Decoded>(res);
+        if (d.status == nxt::status::kQueueEmpty)
+          return Output{"(empty)\n", {{"mailbox", q + 1}, {"message", nullptr}}};
+        if (d.status != nxt::status::kOk)
+          return Failure{kExitFailure, fmt::format("MessageRead refused: 0x{:02x} {}", d.status, nxt::status_message(d.status))};
+        auto data = *d.bytes("data");
+        auto size = static_cast<std::size_t>(*d.number("size"));
+        if (size > data.size()) return Failure{kExitNoReply, fmt::format("MessageRead says {} bytes in a 59-byte field", size)};
+        data.resize(size);
+        std::string shown = nxt::show_message(data);
+        return Output{shown + "\n", {{"mailbox", q + 1}, {"message", shown}, {"bytes", nxt::hex(data)}}};
+      });
+    });
+  }
+
+  auto name_arg = [&](const std::string& sub, const std::string& help, std::string_view command,
+                      bool loop = false) {
+    auto* cmd = add(sub, help);
+    auto name = std::make_shared<std::string>();
+    cmd->add_option("NAME", *name, "A file on the brick (15.3)")->required();
+    auto looping = std::make_shared<bool>(false);
+    if (loop) cmd->add_flag("--loop", *looping, "Repeat until stopped");
+    run(cmd, [=]() -> std::variant<Action, std::string> {
+      if (auto bad = nxt::check_file_name(*name)) return *bad;
+      // PlaySoundFile has its loop flag before the name.
+      std::vector<Value> v;
+      if (loop) v.emplace_back(std::int64_t{*looping ? 1 : 0});
+      v.emplace_back(*name);
+      return Action([v, command](Client& c) { return simple(c, command, v, ""); });
+    });
+  };
+  name_arg("start", "Start the program NAME (.rxe)", "StartProgram");
+  name_arg("play", "Play the sound file NAME (.rso)", "PlaySoundFile", true);
+  name_arg("rm", "Delete the file NAME", "Delete");
+
+  run(add("stop", "Stop the running program"), [] {
+    return Action([](Client& c) { return simple(c, "StopProgram", {}, ""); });
+  });
+
+  run(add("current", "The running program's name"), [] {
+    return Action([](Client& c) -> std::variant<Output, Failure> {
+      auto r = nxt::call(c, *nxt::find_command("GetCurrentProgramName"), {});
+      if (auto* e = std::get_if<CallError>(&r)) return failure(*e);
+      const auto& d = std::get<nxt::Decoded>(r);
+      if (d.status == nxt::status::kNoProgram) return Output{"(no program running)\n", {{"program", nullptr}}};
+      if (d.status != nxt::status::kOk)
+        return Failure{kExitFailure, fmt::format("refused: 0x{:02x} {}", d.status, nxt::status_message(d.status))};
+      return Output{*d.text("name") + "\n", {{"program", *d.text("name")}}};
+    });
+  });
+
+  run(add("keepalive", "Reset the sleep timer; prints the sleep limit"), [] {
+    return Action([](Client& c) -> std::variant<Output, Failure> {
+      auto r = nxt::call_ok(c, "KeepAlive", {});
+      if (auto* e = std::get_if<CallError>(&r)) return failure(*e);
+      auto ms = *std::get<nxt::Decoded>(r).number("sleep_limit_ms");
+      return Output{ms == 0 ? "never sleeps\n" : fmt::format("sleeps after {} min\n", ms / 60000), {{"sleep_limit_ms", ms}}};
+    });
+  });
+
+  {
+    auto* cmd = add("ls", "List files (PATTERN: *.*, name.*, *.ext, name.ext)");
+    auto pattern = std::make_shared<std::string>("*.*");
+    cmd->add_option("PATTERN", *pattern, "default *.*");
+    run(cmd, [pattern]() -> std::variant<Action, std::string> {
+      std::string p = *pattern;
+      auto dot = p.rfind('.');
+      std::string stem = dot == std::string::npos ? p : p.substr(0, dot);
+      std::string ext = dot == std::string::npos ? "" : p.substr(dot + 1);
+      bool ok = dot != std::string::npos && (stem == "*" || !nxt::check_file_name(stem + ".x")) &&
+                (ext == "*" || (!ext.empty() && !nxt::check_file_name("x." + ext)));
+      if (!ok) return fmt::format("\"{}\" is not a pattern the brick takes (*.*, name.*, *.ext, name.ext)", p);
+      return Action([p](Client& c) -> std::variant<Output, Failure> {
+        auto r = nxt::list_files(c, p);
+        if (auto* e = std::get_if<CallError>(&r)) return failure(*e);
+        Output o;
+        o.data["files"] = json::array();
+        for (const auto& f : std::get<std::vector<nxt::FileEntry>>(r)) {
+          o.text += fmt::format("{:>8}  {}\n", f.size, f.name);
+          o.data["files"].push_back({{"name", f.name}, {"size", f.size}});
+        }
+        return o;
+      });
+    });
+  }
+
+  {
+    auto* cmd = add("upload", "Copy the local FILE to the brick (as NAME)");
+    auto file = std::make_shared<std::string>(), name = std::make_shared<std::string>();
+    cmd->add_option("FILE", *file, "A local file")->required();
+    cmd->add_option("NAME", *name, "Its name on the brick (default: FILE's name)");
+    run(cmd, [=]() -> std::variant<Action, std::string> {
+      std::string target = name->empty() ? std::filesystem::path(*file).filename().string() : *name;
+      if (auto bad = nxt::check_file_name(target)) return *bad;
+      auto data = std::make_shared<nxt::Bytes>();
+      std::string err = read_file_bytes(*file, *data);
+      return Action([=](Client& c) -> std::variant<Output, Failure> {
+        if (!err.empty()) return Failure{kExitFailure, err};
+        if (auto e = nxt::upload_file(c, target, *data, progress_bar("upload " + target))) return failure(*e);
+        return Output{fmt::format("{} bytes to {}\n", data->size(), target), {{"name", target}, {"size", data->size()}}};
+      });
+    });
+  }
+
+  {
+    auto* cmd = add("download", "Copy NAME from the brick to a local FILE");
+    auto name = std::make_shared<std::string>(), file = std::make_shared<std::string>();
+    cmd->add_option("NAME", *name, "A file on the brick")->required();
+    cmd->add_option("FILE", *file, "Where to write it (default: NAME)");
+    run(cmd, [=]() -> std::variant<Action, std::string> {
+      if (auto bad = nxt::check_file_name(*name)) return *bad;
+      std::string target = file->empty() ? *name : *file;
+      return Action([=](Client& c) -> std::variant<Output, Failure> {
+        auto r = nxt::download_file(c, *name, progress_bar("download " + *name));
+        if (auto* e = std::get_if<CallError>(&r)) return failure(*e);
+        const auto& data = std::get<nxt::Bytes>(r);
+        // Written only once the whole file is here: nothing half-done.
+        std::ofstream out(target, std::ios::binary);
+        out.write(reinterpret_cast<const char*>(data.data()), static_cast<std::streamsize>(data.size()));
+        if (!out.flush()) return Failure{kExitFailure, fmt::format("cannot write {}", target)};
+        return Output{fmt::format("{} bytes to {}\n", data.size(), target), {{"file", target}, {"size", data.size()}}};
+      });
+    });
+  }
+
+  {
+    auto* cmd = add("raw", "Send a telegram given as hex bytes (00 0b: GetBatteryLevel) and show the reply");
+    auto words = std::make_shared<std::vector<std::string>>();
+    cmd->add_option("HEX", *words, "The telegram without the Bluetooth length")->required();
+    run(cmd, [words]() -> std::variant<Action, std::string> {
+      std::string err;
+      auto bytes = parse_hex_words(*words, err);
+      if (!bytes) return err;
+      return Action([t = *bytes](Client& c) -> std::variant<Output, Failure> {
+        if (auto e = c.transport.send(t)) return Failure{kExitNoReply, e->message};
+        if (c.on_log) c.on_log("-> " + nxt::hex(t));
+        if (t[0] & nxt::kNoReplyBit) return Output{"(sent, no reply asked)\n", {{"sent", nxt::hex(t)}}};
+        auto got = c.transport.receive(c.timeout);
+        if (auto* e = std::get_if<nxt::LinkError>(&got))
+          return Failure{e->kind == nxt::LinkError::Kind::Interrupted ? kExitInterrupted : kExitNoReply, e->message};
+        auto& reply = std::get<std::optional<nxt::Bytes>>(got);
+        if (!reply) return Failure{kExitNoReply, fmt::format("no reply within {} ms", c.timeout.count())};
+        auto d = nxt::decode_reply(*reply);
+        std::string what = std::holds_alternative<nxt::Decoded>(d) ? nxt::describe(std::get<nxt::Decoded>(d))
+                                                                   : std::get<nxt::TelegramError>(d).message;
+        return Output{fmt::format("{}\n{}\n", nxt::hex(*reply), what),
+                      {{"sent", nxt::hex(t)}, {"reply", nxt::hex(*reply)}, {"decoded", what}}};
+      });
+    });
+  }
+
+  {
+    auto* cmd = add("bench", "Round-trip latency of GetBatteryLevel: p50, p99");
+    auto count = std::make_shared<int>(200);
+    cmd->add_option("--count", *count, "Round trips")->check(CLI::Range(1, 100000));
+    run(cmd, [count]() -> std::variant<Action, std::string> {
+      return Action([n = *count](Client& c) -> std::variant<Output, Failure> {
+        std::vector<double> us;
+        for (int i = 0; i < n; ++i) {
+          auto t0 = std::chrono::steady_clock::now();
+          auto r = nxt::call_ok(c, "GetBatteryLevel", {});
+          if (auto* e = std::get_if<CallError>(&r)) return failure(*e);
+          us.push_back(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count());
+        }
+        std::sort(us.begin(), us.end());
+        auto at = [&](double q) { return us[std::min(us.size() - 1, static_cast<std::size_t>(q * static_cast<double>(us.size())))]; };
+        Output o;
+        o.data = {{"count", n}, {"p50_us", at(0.50)}, {"p99_us", at(0.99)}, {"max_us", us.back()}};
+        o.text = fmt::format("{} round trips: p50 {:.0f} us, p99 {:.0f} us, max {:.0f} us\n", n, at(0.50), at(0.99), us.back());
+        return o;
+      });
+    });
+  }
+
+  {
+    auto* cmd = add("brick", "Serve a virtual NXT on a pseudo-terminal (its path is the first line printed)");
+    auto pty = std::make_shared<bool>(false);
+    auto scenario = std::make_shared<std::string>();
+    cmd->add_flag("--pty", *pty, "Serve on a new pseudo-terminal");
+    cmd->add_option("--scenario", *scenario, "Sensor inputs over time (TOML, docs/nxt.md)");
+    cmd->callback([&exit_code, a, pty, scenario] { exit_code = serve_brick(*pty, *scenario, a->verbose); });
+  }
+}
+
+}  // namespace rcxc::cli

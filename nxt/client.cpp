@@ -1,0 +1,287 @@
+#include "nxt/client.h"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <chrono>
+#include <cstring>
+#include <thread>
+
+#include <fmt/format.h>
+
+namespace nxt {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// File data per Write/Read telegram: a USB Read returns at most 58 data bytes
+// (spec/nxt.md), and 58 keeps every Write under the 64-byte packet.
+constexpr std::size_t kChunk = 58;
+// Sensor valid and I2C ready polls: how often and for how long.
+constexpr Millis kPollEvery{5};
+constexpr int kPollTries = 200;
+
+CallError from_link(const LinkError& e) {
+  return {e.kind == LinkError::Kind::Interrupted ? CallError::Kind::Interrupted : CallError::Kind::Lost, e.message};
+}
+
+void log(Client& c, const char* dir, std::span<const std::uint8_t> t) {
+  if (!c.on_log) return;
+  auto d = decode(t);
+  if (auto* ok = std::get_if<Decoded>(&d)) c.on_log(fmt::format("{} {}", dir, describe(*ok)));
+  else c.on_log(fmt::format("{} {} (does not parse: {})", dir, hex(t), std::get<TelegramError>(d).message));
+}
+
+void wait(Client& c, Millis m) {
+  if (c.pause) c.pause(m);
+  else std::this_thread::sleep_for(m);
+}
+
+// Anything already on the line answers an earlier request: drop it.
+std::optional<CallError> drain(Client& c) {
+  while (true) {
+    auto got = c.transport.receive(Millis(0));
+    if (auto* e = std::get_if<LinkError>(&got)) return from_link(*e);
+    auto& t = std::get<std::optional<Bytes>>(got);
+    if (!t) return std::nullopt;
+    ++c.dropped;
+    if (c.on_log) c.on_log(fmt::format("dropped a late telegram: {}", hex(*t)));
+  }
+}
+
+const Command& named(std::string_view name) {
+  // Every name used here is in the table (client_test checks each operation).
+  return *find_command(name);
+}
+
+CallError refused(const Decoded& d) {
+  return {CallError::Kind::Refused,
+          fmt::format("{} refused: 0x{:02x} {}", d.command->name, d.status, status_message(d.status)), d.status};
+}
+
+template <typename T>
+T field_or(const Decoded& d, std::string_view name, T fallback) {
+  auto v = d.number(name);
+  return v ? static_cast<T>(*v) : fallback;
+}
+
+}  // namespace
+
+std::variant<Decoded, CallError> call(Client& client, const Command& command, std::span<const Value> values) {
+  auto encoded = encode_request(command, values, true);
+  if (auto* e = std::get_if<TelegramError>(&encoded)) return CallError{CallError::Kind::Input, e->message};
+  const Bytes& request = std::get<Bytes>(encoded);
+  if (auto err = drain(client)) return *err;
+  log(client, "->", request);
+  if (auto err = client.transport.send(request)) return from_link(*err);
+  auto deadline = Clock::now() + client.timeout;
+  bool first = true;
+  // The in-process transport answers at once; a real one needs the timeout.
+  while (first || Clock::now() < deadline) {
+    first = false;
+    auto left = std::max(Millis(0), std::chrono::duration_cast<Millis>(deadline - Clock::now()));
+    auto got = client.transport.receive(left);
+    if (auto* e = std::get_if<LinkError>(&got)) return from_link(*e);
+    auto& t = std::get<std::optional<Bytes>>(got);
+    if (!t) break;
+    log(client, "<-", *t);
+    auto decoded = decode_reply(*t);
+    if (auto* e = std::get_if<TelegramError>(&decoded)) {
+      // A reply to something else that does not parse is still not ours.
+      if (t->size() >= 2 && (*t)[0] == kReply && (*t)[1] != command.opcode) {
+        ++client.dropped;
+        continue;
+      }
+      return CallError{CallError::Kind::BadReply,
+                       fmt::format("the reply to {} does not parse: {}", command.name, e->message)};
+    }
+    auto& d = std::get<Decoded>(decoded);
+    if (d.command != &command) {
+      ++client.dropped;  // a late reply to an earlier request
+      continue;
+    }
+    return d;
+  }
+  return CallError{CallError::Kind::NoReply,
+                   fmt::format("no reply to {} from {} within {} ms", command.name, client.transport.describe(),
+                               client.timeout.count())};
+}
+
+std::variant<Decoded, CallError> call_ok(Client& client, std::string_view name, std::span<const Value> values) {
+  auto r = call(client, named(name), values);
+  if (auto* d = std::get_if<Decoded>(&r); d && d->status != status::kOk) return refused(*d);
+  return r;
+}
+
+std::optional<CallError> send_only(Client& client, std::string_view name, std::span<const Value> values) {
+  auto encoded = encode_request(named(name), values, false);
+  if (auto* e = std::get_if<TelegramError>(&encoded)) return CallError{CallError::Kind::Input, e->message};
+  log(client, "->", std::get<Bytes>(encoded));
+  if (auto err = client.transport.send(std::get<Bytes>(encoded))) return from_link(*err);
+  return std::nullopt;
+}
+
+std::optional<std::string> check_file_name(const std::string& name) {
+  if (name.empty()) return "a file name cannot be empty";
+  auto dot = name.rfind('.');
+  std::string stem = dot == std::string::npos ? name : name.substr(0, dot);
+  std::string ext = dot == std::string::npos ? "" : name.substr(dot + 1);
+  if (stem.empty() || stem.size() > 15 || ext.size() > 3)
+    return fmt::format("\"{}\" is not an NXT file name: at most 15 characters, a dot and 3 (15.3)", name);
+  for (char c : name)
+    if (c <= 0x20 || c >= 0x7F || c == '/' || c == '\\' || c == '*')
+      return fmt::format("\"{}\" is not an NXT file name: printable characters only, no spaces, slashes or *", name);
+  return std::nullopt;
+}
+
+std::variant<std::vector<FileEntry>, CallError> list_files(Client& client, const std::string& pattern) {
+  std::vector<FileEntry> out;
+  std::vector<Value> first{pattern};
+  auto r = call(client, named("FindFirst"), first);
+  if (auto* e = std::get_if<CallError>(&r)) return *e;
+  auto d = std::get<Decoded>(r);
+  // No match answers 0x87 "file not found": an empty list, not an error.
+  while (d.status == status::kOk) {
+    out.push_back({d.text("name").value_or(""), field_or<std::uint32_t>(d, "size", 0)});
+    std::vector<Value> next{static_cast<std::int64_t>(field_or<int>(d, "handle", 0))};
+    auto n = call(client, named("FindNext"), next);
+    if (auto* e = std::get_if<CallError>(&n)) return *e;
+    d = std::get<Decoded>(n);
+  }
+  if (d.status != status::kFileNotFound && d.status != status::kNoMoreFiles) return refused(d);
+  return out;
+}
+
+std::optional<CallError> upload_file(Client& client, const std::string& name, std::span<const std::uint8_t> data,
+                                     const Progress& progress) {
+  if (auto bad = check_file_name(name)) return CallError{CallError::Kind::Input, *bad};
+  std::vector<Value> open{name, static_cast<std::int64_t>(data.size())};
+  auto r = call_ok(client, "OpenWrite", open);
+  if (auto* e = std::get_if<CallError>(&r)) return *e;
+  std::int64_t handle = *std::get<Decoded>(r).number("handle");
+  for (std::size_t at = 0; at < data.size();) {
+    std::size_t n = std::min(kChunk, data.size() - at);
+    std::vector<Value> write{handle, Bytes(data.begin() + static_cast<std::ptrdiff_t>(at),
+                                           data.begin() + static_cast<std::ptrdiff_t>(at + n))};
+    auto w = call_ok(client, "Write", write);
+    // After an error the firmware has closed the handle itself.
+    if (auto* e = std::get_if<CallError>(&w)) return *e;
+    auto written = std::get<Decoded>(w).number("count").value_or(0);
+    if (written != static_cast<std::int64_t>(n))
+      return CallError{CallError::Kind::BadReply, fmt::format("the brick wrote {} of {} bytes", written, n)};
+    at += n;
+    if (progress) progress(at, data.size());
+  }
+  std::vector<Value> close{handle};
+  auto c = call_ok(client, "Close", close);
+  if (auto* e = std::get_if<CallError>(&c)) return *e;
+  if (progress && data.empty()) progress(0, 0);
+  return std::nullopt;
+}
+
+std::variant<Bytes, CallError> download_file(Client& client, const std::string& name, const Progress& progress) {
+  if (auto bad = check_file_name(name)) return CallError{CallError::Kind::Input, *bad};
+  std::vector<Value> open{name};
+  auto r = call_ok(client, "OpenRead", open);
+  if (auto* e = std::get_if<CallError>(&r)) return *e;
+  const auto& d = std::get<Decoded>(r);
+  std::int64_t handle = *d.number("handle");
+  std::size_t size = static_cast<std::size_t>(*d.number("size"));
+  Bytes out;
+  while (out.size() < size) {
+    std::int64_t want = static_cast<std::int64_t>(std::min(kChunk, size - out.size()));
+    std::vector<Value> read{handle, want};
+    auto got = call_ok(client, "Read", read);
+    if (auto* e = std::get_if<CallError>(&got)) return *e;
+    // Over USB the count echoes what was asked: trust the telegram's length.
+    auto data = std::get<Decoded>(got).bytes("data").value_or(Bytes{});
+    if (data.empty() || data.size() > static_cast<std::size_t>(want))
+      return CallError{CallError::Kind::BadReply,
+                       fmt::format("Read of {} bytes brought {} bytes", want, data.size())};
+    out.insert(out.end(), data.begin(), data.end());
+    if (progress) progress(out.size(), size);
+  }
+  std::vector<Value> close{handle};
+  auto c = call_ok(client, "Close", close);
+  if (auto* e = std::get_if<CallError>(&c)) return *e;
+  return out;
+}
+
+std::variant<int, CallError> read_ultrasonic(Client& client, int port) {
+  const std::int64_t p = port;
+  std::vector<Value> get{p};
+  auto state = call_ok(client, "GetInputValues", get);
+  if (auto* e = std::get_if<CallError>(&state)) return *e;
+  if (std::get<Decoded>(state).number("type") != kLowSpeed9V) {
+    std::vector<Value> mode{p, std::int64_t{kLowSpeed9V}, std::int64_t{0}};
+    auto m = call_ok(client, "SetInputMode", mode);
+    if (auto* e = std::get_if<CallError>(&m)) return *e;
+  }
+  // I2C commands fail with 0xE0 until the port reads valid.
+  for (int i = 0;; ++i) {
+    auto v = call_ok(client, "GetInputValues", get);
+    if (auto* e = std::get_if<CallError>(&v)) return *e;
+    if (std::get<Decoded>(v).number("valid").value_or(0) != 0) break;
+    if (i == kPollTries) return CallError{CallError::Kind::NoReply, fmt::format("input port {} never became valid", port + 1)};
+    wait(client, kPollEvery);
+  }
+  // Device address 0x02, register 0x42: the first distance in cm.
+  std::vector<Value> write{p, std::int64_t{2}, std::int64_t{1}, Bytes{0x02, 0x42}};
+  auto w = call_ok(client, "LSWrite", write);
+  if (auto* e = std::get_if<CallError>(&w)) return *e;
+  for (int i = 0;; ++i) {
+    auto s = call(client, named("LSGetStatus"), get);
+    if (auto* e = std::get_if<CallError>(&s)) return *e;
+    const auto& d = std::get<Decoded>(s);
+    if (d.status == status::kOk && d.number("bytes_ready").value_or(0) >= 1) break;
+    if (d.status != status::kOk && d.status != status::kPending) return refused(d);
+    if (i == kPollTries) return CallError{CallError::Kind::NoReply, "the ultrasonic sensor never answered"};
+    wait(client, kPollEvery);
+  }
+  auto r = call_ok(client, "LSRead", get);
+  if (auto* e = std::get_if<CallError>(&r)) return *e;
+  const auto& d = std::get<Decoded>(r);
+  auto data = d.bytes("rx_data").value_or(Bytes{});
+  if (d.number("bytes_read").value_or(0) < 1 || data.empty())
+    return CallError{CallError::Kind::BadReply, "LSRead brought no byte"};
+  return static_cast<int>(data[0]);
+}
+
+Bytes message_text(const std::string& text) {
+  Bytes b(text.begin(), text.end());
+  b.push_back(0);
+  return b;
+}
+
+Bytes message_int(std::int32_t value) {
+  auto u = static_cast<std::uint32_t>(value);
+  return {static_cast<std::uint8_t>(u), static_cast<std::uint8_t>(u >> 8), static_cast<std::uint8_t>(u >> 16),
+          static_cast<std::uint8_t>(u >> 24), 0};
+}
+
+Bytes message_float(float value) {
+  auto u = std::bit_cast<std::uint32_t>(value);
+  return {static_cast<std::uint8_t>(u), static_cast<std::uint8_t>(u >> 8), static_cast<std::uint8_t>(u >> 16),
+          static_cast<std::uint8_t>(u >> 24), 0};
+}
+
+std::string show_message(std::span<const std::uint8_t> data) {
+  std::size_t end = data.size();
+  if (end > 0 && data[end - 1] == 0) --end;
+  bool text = std::all_of(data.begin(), data.begin() + static_cast<std::ptrdiff_t>(end),
+                          [](std::uint8_t b) { return b >= 0x20 && b < 0x7F; });
+  if (text) return std::string(data.begin(), data.begin() + static_cast<std::ptrdiff_t>(end));
+  if (end == 4) {
+    std::uint32_t u = data[0] | (data[1] << 8) | (data[2] << 16) | (std::uint32_t{data[3]} << 24);
+    // NXC sends int32, NXT-G float32: the bytes do not say which. Show the
+    // float reading only when it is a plausible number.
+    float f = std::bit_cast<float>(u);
+    float size = std::fabs(f);
+    if (std::isnormal(f) && size >= 1e-6f && size <= 1e9f)
+      return fmt::format("{} (int32) / {} (float32)", static_cast<std::int32_t>(u), f);
+    return fmt::format("{} (int32)", static_cast<std::int32_t>(u));
+  }
+  return hex(data);
+}
+
+}  // namespace nxt

@@ -1,0 +1,90 @@
+#include "nxt/scenario.h"
+
+#include <algorithm>
+#include <fstream>
+#include <sstream>
+
+#include <fmt/format.h>
+#include <toml++/toml.h>
+
+namespace nxt {
+namespace {
+
+struct Bad {
+  std::string message;
+};
+
+std::string at(std::string_view path, const toml::node& node) {
+  return fmt::format("{}:{}", path, node.source().begin.line);
+}
+
+std::optional<std::int64_t> number(const toml::table& t, std::string_view key, std::int64_t lo, std::int64_t hi,
+                                   std::string_view path) {
+  const toml::node* node = t.get(key);
+  if (!node) return std::nullopt;
+  auto v = node->value_exact<std::int64_t>();
+  if (!v) throw Bad{fmt::format("{}: '{}' must be an integer", at(path, *node), key)};
+  if (*v < lo || *v > hi) throw Bad{fmt::format("{}: '{}' = {} is out of range {}..{}", at(path, *node), key, *v, lo, hi)};
+  return v;
+}
+
+ScenarioInput one_input(const toml::table& t, std::string_view path) {
+  for (const auto& [key, node] : t) {
+    auto k = key.str();
+    if (k != "at_ms" && k != "sensor" && k != "raw" && k != "distance_cm" && k != "battery_mv")
+      throw Bad{fmt::format("{}: unknown key '{}' (the NXT brick reads at_ms, sensor, raw, distance_cm, battery_mv)",
+                            at(path, node), k)};
+  }
+  auto when = number(t, "at_ms", 0, INT64_MAX / 1000, path);
+  if (!when) throw Bad{fmt::format("{}: input without 'at_ms'", at(path, t))};
+  auto sensor = number(t, "sensor", 1, 4, path);
+  auto raw = number(t, "raw", 0, 1023, path);
+  auto distance = number(t, "distance_cm", 0, 255, path);
+  auto battery = number(t, "battery_mv", 0, 65535, path);
+  if ((raw ? 1 : 0) + (distance ? 1 : 0) + (battery ? 1 : 0) != 1)
+    throw Bad{fmt::format("{}: an input needs exactly one of 'raw', 'distance_cm', 'battery_mv'", at(path, t))};
+  if (sensor.has_value() == battery.has_value())
+    throw Bad{fmt::format("{}: 'sensor' (1-4) goes with 'raw' and 'distance_cm', not with 'battery_mv'", at(path, t))};
+  ScenarioInput in;
+  in.at_ms = *when;
+  if (sensor) in.port = static_cast<int>(*sensor) - 1;
+  if (raw) in.raw = static_cast<int>(*raw);
+  if (distance) in.distance_cm = static_cast<int>(*distance);
+  if (battery) in.battery_mv = static_cast<int>(*battery);
+  return in;
+}
+
+}  // namespace
+
+std::variant<std::vector<ScenarioInput>, ScenarioError> parse_scenario(std::string_view text, std::string_view path) {
+  toml::table root;
+  try {
+    root = toml::parse(text, path);
+  } catch (const toml::parse_error& e) {
+    return ScenarioError{fmt::format("{}:{}: {}", path, e.source().begin.line, e.description())};
+  }
+  std::vector<ScenarioInput> inputs;
+  try {
+    for (const auto& [key, node] : root) {
+      const toml::array* list = node.as_array();
+      if (key.str() != "input" || !list || !list->is_array_of_tables())
+        throw Bad{fmt::format("{}: a scenario is a list of [[input]] tables", at(path, node))};
+      for (const auto& item : *list) inputs.push_back(one_input(*item.as_table(), path));
+    }
+  } catch (const Bad& b) {
+    return ScenarioError{b.message};
+  }
+  std::stable_sort(inputs.begin(), inputs.end(), [](const auto& a, const auto& b) { return a.at_ms < b.at_ms; });
+  return inputs;
+}
+
+std::variant<std::vector<ScenarioInput>, ScenarioError> read_scenario_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return ScenarioError{fmt::format("{}: cannot read the scenario file", path)};
+  std::stringstream text;
+  text << in.rdbuf();
+  if (in.bad()) return ScenarioError{fmt::format("{}: cannot read the scenario file", path)};
+  return parse_scenario(text.str(), path);
+}
+
+}  // namespace nxt

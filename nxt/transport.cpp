@@ -1,0 +1,434 @@
+#include "nxt/transport.h"
+
+#include <fcntl.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <termios.h>
+#include <unistd.h>
+
+#include <libusb.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cstring>
+
+#include <fmt/format.h>
+
+#ifdef RCXC_HAVE_BLUEZ
+#include <bluetooth/bluetooth.h>
+#include <bluetooth/rfcomm.h>
+#endif
+
+namespace nxt {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// Waits are cut into slices this long so the stop descriptor is seen in time
+// even where it cannot be polled together with the port (USB).
+constexpr Millis kSlice{50};
+// No NXT telegram comes near this; a longer prefix means the stream lost its
+// framing (line noise, a host that joined mid-telegram).
+constexpr std::size_t kMaxFrame = 512;
+
+constexpr std::uint16_t kLegoVendor = 0x0694;
+constexpr std::uint16_t kNxtProduct = 0x0002;
+constexpr unsigned char kUsbOut = 0x01;
+constexpr unsigned char kUsbIn = 0x82;
+
+std::string errno_text() { return std::strerror(errno); }
+
+bool stop_requested(int stop_fd) {
+  if (stop_fd < 0) return false;
+  pollfd p{stop_fd, POLLIN, 0};
+  return ::poll(&p, 1, 0) > 0 && (p.revents & (POLLIN | POLLHUP)) != 0;
+}
+
+LinkError interrupted() { return {LinkError::Kind::Interrupted, "interrupted"}; }
+
+Millis remaining(Clock::time_point deadline) {
+  auto left = std::chrono::duration_cast<Millis>(deadline - Clock::now());
+  return std::max(Millis(0), left);
+}
+
+class FramedFdTransport final : public Transport {
+ public:
+  FramedFdTransport(int fd, std::string name, int stop_fd) : fd_(fd), stop_fd_(stop_fd), name_(std::move(name)) {}
+  ~FramedFdTransport() override { ::close(fd_); }
+  FramedFdTransport(const FramedFdTransport&) = delete;
+  FramedFdTransport& operator=(const FramedFdTransport&) = delete;
+
+  std::optional<LinkError> send(std::span<const std::uint8_t> telegram) override {
+    Bytes out = frame(telegram);
+    std::size_t done = 0;
+    auto deadline = Clock::now() + Millis(2000);
+    while (done < out.size()) {
+      ssize_t n = ::write(fd_, out.data() + done, out.size() - done);
+      if (n < 0 && (errno == EINTR || errno == EAGAIN)) {
+        if (stop_requested(stop_fd_)) return interrupted();
+        if (Clock::now() > deadline) return LinkError{LinkError::Kind::Lost, fmt::format("{} does not take data", name_)};
+        pollfd p{fd_, POLLOUT, 0};
+        ::poll(&p, 1, static_cast<int>(kSlice.count()));
+        continue;
+      }
+      if (n < 0) return LinkError{LinkError::Kind::Lost, fmt::format("cannot write to {}: {}", name_, errno_text())};
+      done += static_cast<std::size_t>(n);
+    }
+    return std::nullopt;
+  }
+
+  std::variant<std::optional<Bytes>, LinkError> receive(Millis timeout) override {
+    auto deadline = Clock::now() + timeout;
+    while (true) {
+      if (auto t = reader_.next()) return t;
+      Millis wait = remaining(deadline);
+      pollfd fds[2] = {{fd_, POLLIN, 0}, {stop_fd_, POLLIN, 0}};
+      int r = ::poll(fds, stop_fd_ >= 0 ? 2 : 1, static_cast<int>(wait.count()));
+      if (r < 0 && errno != EINTR)
+        return LinkError{LinkError::Kind::Lost, fmt::format("cannot wait for {}: {}", name_, errno_text())};
+      if (stop_fd_ >= 0 && (fds[1].revents & (POLLIN | POLLHUP))) return interrupted();
+      if (r > 0 && (fds[0].revents & (POLLIN | POLLHUP | POLLERR))) {
+        std::uint8_t buf[512];
+        ssize_t n = ::read(fd_, buf, sizeof buf);
+        if (n > 0) {
+          reader_.feed(std::span(buf, static_cast<std::size_t>(n)));
+          continue;
+        }
+        if (n == 0 || (n < 0 && errno != EAGAIN && errno != EINTR && errno != EIO))
+          return LinkError{LinkError::Kind::Lost, fmt::format("{} was closed", name_)};
+        if (n < 0 && errno == EIO) {
+          // A pty whose other side is not open reads EIO: nothing to read yet.
+          if (wait.count() == 0) return std::optional<Bytes>{};
+          ::poll(nullptr, 0, 5);
+        }
+      }
+      if (wait.count() == 0) return std::optional<Bytes>{};
+    }
+  }
+
+  std::string describe() const override { return name_; }
+
+ private:
+  int fd_;
+  int stop_fd_;
+  std::string name_;
+  FrameReader reader_;
+};
+
+class UsbTransport final : public Transport {
+ public:
+  UsbTransport(libusb_context* ctx, libusb_device_handle* handle, std::string name, int stop_fd)
+      : ctx_(ctx), handle_(handle), name_(std::move(name)), stop_fd_(stop_fd) {}
+  ~UsbTransport() override {
+    libusb_release_interface(handle_, 0);
+    libusb_close(handle_);
+    libusb_exit(ctx_);
+  }
+  UsbTransport(const UsbTransport&) = delete;
+  UsbTransport& operator=(const UsbTransport&) = delete;
+
+  std::optional<LinkError> send(std::span<const std::uint8_t> telegram) override {
+    Bytes data(telegram.begin(), telegram.end());
+    int done = 0;
+    int rc = libusb_bulk_transfer(handle_, kUsbOut, data.data(), static_cast<int>(data.size()), &done, 1000);
+    if (rc != 0 || done != static_cast<int>(data.size()))
+      return LinkError{LinkError::Kind::Lost, fmt::format("cannot write to {}: {}", name_, libusb_strerror(rc))};
+    return std::nullopt;
+  }
+
+  std::variant<std::optional<Bytes>, LinkError> receive(Millis timeout) override {
+    auto deadline = Clock::now() + timeout;
+    do {
+      if (stop_requested(stop_fd_)) return interrupted();
+      std::uint8_t buf[64];
+      int got = 0;
+      auto slice = std::clamp(remaining(deadline), Millis(1), kSlice);
+      int rc = libusb_bulk_transfer(handle_, kUsbIn, buf, sizeof buf, &got, static_cast<unsigned>(slice.count()));
+      if (got > 0) return std::optional<Bytes>(Bytes(buf, buf + got));
+      if (rc != 0 && rc != LIBUSB_ERROR_TIMEOUT)
+        return LinkError{LinkError::Kind::Lost, fmt::format("cannot read from {}: {}", name_, libusb_strerror(rc))};
+    } while (Clock::now() < deadline);
+    return std::optional<Bytes>{};
+  }
+
+  std::string describe() const override { return name_; }
+
+ private:
+  libusb_context* ctx_;
+  libusb_device_handle* handle_;
+  std::string name_;
+  int stop_fd_;
+};
+
+// Bluetooth addresses and USB serials compare without separators or case
+// (the NXT's USB serial number is its Bluetooth address without colons).
+std::string plain_address(std::string_view s) {
+  std::string out;
+  for (char c : s)
+    if (c != ':') out += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  return out;
+}
+
+constexpr const char* kUdevHint =
+    "install the udev rule from docs/nxt.md "
+    "(SUBSYSTEM==\"usb\", ATTRS{idVendor}==\"0694\", ATTRS{idProduct}==\"0002\", TAG+=\"uaccess\"), "
+    "then unplug and replug the brick";
+
+std::variant<std::unique_ptr<Transport>, LinkError> open_usb(const std::string& serial, int stop_fd) {
+  auto fail = [](std::string message) { return LinkError{LinkError::Kind::Open, std::move(message)}; };
+  libusb_context* ctx = nullptr;
+  if (int rc = libusb_init(&ctx); rc != 0) return fail(fmt::format("cannot start libusb: {}", libusb_strerror(rc)));
+  libusb_device** list = nullptr;
+  ssize_t count = libusb_get_device_list(ctx, &list);
+  std::vector<std::string> seen;
+  bool denied = false;
+  libusb_device_handle* chosen = nullptr;
+  std::string chosen_serial;
+  for (ssize_t i = 0; i < count && !chosen; ++i) {
+    libusb_device_descriptor desc{};
+    if (libusb_get_device_descriptor(list[i], &desc) != 0) continue;
+    if (desc.idVendor != kLegoVendor || desc.idProduct != kNxtProduct) continue;
+    libusb_device_handle* h = nullptr;
+    int rc = libusb_open(list[i], &h);
+    if (rc == LIBUSB_ERROR_ACCESS) {
+      denied = true;
+      continue;
+    }
+    if (rc != 0) continue;
+    unsigned char text[64] = {};
+    int n = desc.iSerialNumber ? libusb_get_string_descriptor_ascii(h, desc.iSerialNumber, text, sizeof text) : 0;
+    std::string this_serial = n > 0 ? std::string(reinterpret_cast<char*>(text), static_cast<std::size_t>(n)) : "";
+    seen.push_back(this_serial);
+    if (!serial.empty() && plain_address(this_serial) != plain_address(serial)) {
+      libusb_close(h);
+      continue;
+    }
+    libusb_set_auto_detach_kernel_driver(h, 1);
+    rc = libusb_claim_interface(h, 0);
+    if (rc != 0) {
+      libusb_close(h);
+      libusb_free_device_list(list, 1);
+      libusb_exit(ctx);
+      if (rc == LIBUSB_ERROR_BUSY) return fail("the NXT on USB is in use by another program");
+      if (rc == LIBUSB_ERROR_ACCESS) return fail(fmt::format("no permission to claim the NXT on USB: {}", kUdevHint));
+      return fail(fmt::format("cannot claim the NXT on USB: {}", libusb_strerror(rc)));
+    }
+    chosen = h;
+    chosen_serial = this_serial;
+  }
+  libusb_free_device_list(list, 1);
+  if (chosen)
+    return std::unique_ptr<Transport>(std::make_unique<UsbTransport>(
+        ctx, chosen, fmt::format("NXT on USB{}", chosen_serial.empty() ? "" : " " + chosen_serial), stop_fd));
+  libusb_exit(ctx);
+  if (denied) return fail(fmt::format("found an NXT on USB but have no permission to open it: {}", kUdevHint));
+  if (!serial.empty() && !seen.empty())
+    return fail(fmt::format("no NXT with serial {} on USB (found: {})", serial, fmt::join(seen, ", ")));
+  return fail("no NXT on USB (vendor 0694, product 0002): is it plugged in and switched on? "
+              "Or give --port bt:ADDR or a tty path");
+}
+
+bool valid_bt_address(std::string_view a) {
+  if (a.size() != 17) return false;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    if (i % 3 == 2 ? a[i] != ':' : !std::isxdigit(static_cast<unsigned char>(a[i]))) return false;
+  }
+  return true;
+}
+
+std::variant<std::unique_ptr<Transport>, LinkError> open_bluetooth(const std::string& address, int stop_fd) {
+#ifdef RCXC_HAVE_BLUEZ
+  auto fail = [&](std::string why) { return LinkError{LinkError::Kind::Open, std::move(why)}; };
+  int fd = ::socket(AF_BLUETOOTH, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, BTPROTO_RFCOMM);
+  if (fd < 0) return fail(fmt::format("cannot make a Bluetooth socket: {} (is BlueZ running?)", errno_text()));
+  sockaddr_rc addr{};
+  addr.rc_family = AF_BLUETOOTH;
+  addr.rc_channel = 1;  // the NXT's serial port profile
+  str2ba(address.c_str(), &addr.rc_bdaddr);
+  if (::connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0 && errno != EINPROGRESS) {
+    std::string why = errno_text();
+    ::close(fd);
+    return fail(fmt::format("cannot connect to {}: {}", address, why));
+  }
+  // Connecting (paging the brick) can take seconds: wait in slices for Ctrl-C.
+  auto deadline = Clock::now() + Millis(20000);
+  while (true) {
+    pollfd fds[2] = {{fd, POLLOUT, 0}, {stop_fd, POLLIN, 0}};
+    int r = ::poll(fds, stop_fd >= 0 ? 2 : 1, static_cast<int>(kSlice.count()));
+    if (stop_fd >= 0 && r > 0 && (fds[1].revents & POLLIN)) {
+      ::close(fd);
+      return interrupted();
+    }
+    if (r > 0 && fds[0].revents) break;
+    if (Clock::now() > deadline) {
+      ::close(fd);
+      return fail(fmt::format("{} does not answer (switched on, paired with PIN 1234, Bluetooth on?)", address));
+    }
+  }
+  int err = 0;
+  socklen_t len = sizeof err;
+  ::getsockopt(fd, SOL_SOCKET, SO_ERROR, &err, &len);
+  if (err != 0) {
+    ::close(fd);
+    return fail(fmt::format("cannot connect to {}: {} (paired with PIN 1234? docs/nxt.md)", address, std::strerror(err)));
+  }
+  return framed_fd_transport(fd, fmt::format("NXT on Bluetooth {}", address), stop_fd);
+#else
+  (void)stop_fd;
+  return LinkError{LinkError::Kind::Open,
+                   fmt::format("this rcxc was built without Bluetooth sockets (libbluetooth-dev); bind {} to "
+                               "/dev/rfcomm0 with `rfcomm bind` and use that path",
+                               address)};
+#endif
+}
+
+std::variant<std::unique_ptr<Transport>, LinkError> open_path(const std::string& path, int stop_fd) {
+  int fd = ::open(path.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) {
+    std::string why;
+    if (errno == ENOENT) why = fmt::format("{} does not exist (`rfcomm bind` it first? see docs/nxt.md)", path);
+    else if (errno == EACCES || errno == EPERM)
+      why = fmt::format("no permission to open {} (join the dialout group)", path);
+    else why = fmt::format("cannot open {}: {}", path, errno_text());
+    return LinkError{LinkError::Kind::Open, why};
+  }
+  termios t{};
+  if (::tcgetattr(fd, &t) == 0) {
+    // Raw bytes: the length prefix and the telegrams are binary.
+    ::cfmakeraw(&t);
+    t.c_cc[VMIN] = 0;
+    t.c_cc[VTIME] = 0;
+    ::tcsetattr(fd, TCSANOW, &t);
+    ::tcflush(fd, TCIFLUSH);
+  }
+  return framed_fd_transport(fd, fmt::format("NXT on {}", path), stop_fd);
+}
+
+}  // namespace
+
+Bytes frame(std::span<const std::uint8_t> telegram) {
+  Bytes out;
+  out.reserve(telegram.size() + 2);
+  out.push_back(static_cast<std::uint8_t>(telegram.size() & 0xFF));
+  out.push_back(static_cast<std::uint8_t>(telegram.size() >> 8));
+  out.insert(out.end(), telegram.begin(), telegram.end());
+  return out;
+}
+
+void FrameReader::feed(std::span<const std::uint8_t> bytes) { pending.insert(pending.end(), bytes.begin(), bytes.end()); }
+
+std::optional<Bytes> FrameReader::next() {
+  while (pending.size() >= 2) {
+    std::size_t length = pending[0] | (std::size_t{pending[1]} << 8);
+    if (length == 0) {
+      pending.erase(pending.begin(), pending.begin() + 2);
+      continue;
+    }
+    if (length > kMaxFrame) {
+      // Lost framing: drop what we have and wait for the next telegram.
+      pending.clear();
+      return std::nullopt;
+    }
+    if (pending.size() < 2 + length) return std::nullopt;
+    Bytes t(pending.begin() + 2, pending.begin() + 2 + static_cast<std::ptrdiff_t>(length));
+    pending.erase(pending.begin(), pending.begin() + 2 + static_cast<std::ptrdiff_t>(length));
+    return t;
+  }
+  return std::nullopt;
+}
+
+std::variant<PortSpec, LinkError> parse_port(const std::optional<std::string>& option,
+                                             const std::optional<std::string>& environment) {
+  std::string name = option ? *option : environment ? *environment : std::string("usb");
+  if (name.empty()) return LinkError{LinkError::Kind::Open, "the port is empty (usb, usb:SERIAL, bt:ADDR or a path)"};
+  if (name == "usb") return PortSpec{PortKind::Usb, ""};
+  if (name.rfind("usb:", 0) == 0) return PortSpec{PortKind::Usb, name.substr(4)};
+  if (name.rfind("bt:", 0) == 0) {
+    std::string address = name.substr(3);
+    if (!valid_bt_address(address))
+      return LinkError{LinkError::Kind::Open,
+                       fmt::format("\"{}\" is not a Bluetooth address (bt:AA:BB:CC:DD:EE:FF)", address)};
+    return PortSpec{PortKind::Bluetooth, address};
+  }
+  return PortSpec{PortKind::Path, name};
+}
+
+std::variant<std::unique_ptr<Transport>, LinkError> open_port(const PortSpec& spec, int stop_fd) {
+  switch (spec.kind) {
+    case PortKind::Usb: return open_usb(spec.address, stop_fd);
+    case PortKind::Bluetooth: return open_bluetooth(spec.address, stop_fd);
+    case PortKind::Path: return open_path(spec.address, stop_fd);
+  }
+  return LinkError{LinkError::Kind::Open, "unknown port kind"};
+}
+
+std::unique_ptr<Transport> framed_fd_transport(int fd, std::string name, int stop_fd) {
+  return std::make_unique<FramedFdTransport>(fd, std::move(name), stop_fd);
+}
+
+bool have_bluetooth_sockets() {
+#ifdef RCXC_HAVE_BLUEZ
+  return true;
+#else
+  return false;
+#endif
+}
+
+std::variant<PtyPair, LinkError> open_pty_pair() {
+  auto fail = [](std::string why) { return LinkError{LinkError::Kind::Open, std::move(why)}; };
+  int master = ::posix_openpt(O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
+  if (master < 0) return fail(fmt::format("cannot open a pseudo-terminal: {}", errno_text()));
+  char name[128];
+  if (::grantpt(master) != 0 || ::unlockpt(master) != 0 || ::ptsname_r(master, name, sizeof name) != 0) {
+    std::string why = errno_text();
+    ::close(master);
+    return fail(fmt::format("cannot set up the pseudo-terminal: {}", why));
+  }
+  int slave = ::open(name, O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
+  termios t{};
+  if (slave < 0 || ::tcgetattr(slave, &t) != 0) {
+    std::string why = errno_text();
+    if (slave >= 0) ::close(slave);
+    ::close(master);
+    return fail(fmt::format("cannot open {}: {}", name, why));
+  }
+  // Raw, so the slave's default echo and line editing do not touch telegrams.
+  ::cfmakeraw(&t);
+  ::tcsetattr(slave, TCSANOW, &t);
+  return PtyPair{master, slave, name};
+}
+
+void close_pty_pair(PtyPair& pty) {
+  for (int* fd : {&pty.master_fd, &pty.keep_slave_fd}) {
+    if (*fd >= 0) ::close(*fd);
+    *fd = -1;
+  }
+}
+
+std::optional<LinkError> InProcessTransport::send(std::span<const std::uint8_t> telegram) {
+  if (auto reply = answer_(telegram)) {
+    if (late_by > 0) delayed_.emplace_back(late_by, std::move(*reply));
+    else inbox.push_back(std::move(*reply));
+  }
+  return std::nullopt;
+}
+
+std::variant<std::optional<Bytes>, LinkError> InProcessTransport::receive(Millis timeout) {
+  if (inbox.empty()) {
+    for (auto& [calls, bytes] : delayed_) --calls;
+    while (!delayed_.empty() && delayed_.front().first <= 0) {
+      inbox.push_back(std::move(delayed_.front().second));
+      delayed_.pop_front();
+    }
+    if (inbox.empty()) {
+      waited += timeout;
+      return std::optional<Bytes>{};
+    }
+  }
+  Bytes t = std::move(inbox.front());
+  inbox.pop_front();
+  return std::optional<Bytes>(std::move(t));
+}
+
+}  // namespace nxt

@@ -1,0 +1,596 @@
+#include "nxt/virtual_nxt.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "nxt/client.h"
+
+namespace nxt {
+namespace {
+
+// Model constants (docs/nxt.md, "The virtual NXT"): an unloaded NXT motor
+// turns about 1000 degrees a second at full power.
+constexpr double kDegreesPerSecondPerPower = 10.0;
+// spec/nxt.md: after SetInputMode a port reads invalid for about 20 ms
+// (sound 300 ms, colour 400 ms).
+constexpr Micros kValidDelayUs = 20'000;
+constexpr Micros kSoundValidDelayUs = 300'000;
+constexpr Micros kColourValidDelayUs = 400'000;
+// 9600 bit/s I2C: about a millisecond a byte, plus one for the start.
+constexpr Micros kLsByteUs = 1'000;
+// The firmware's boolean thresholds: true below 45 % of full scale, false above 55 %.
+constexpr int kBooleanTrueBelow = 1023 * 45 / 100;
+constexpr int kBooleanFalseAbove = 1023 * 55 / 100;
+constexpr std::size_t kQueueDepth = 5;
+constexpr std::uint8_t kUltrasonicAddress = 0x02;
+
+struct Outcome {
+  std::uint8_t status = status::kOk;
+  std::vector<Value> values;  // empty with a non-zero status: the body is zero-filled
+};
+
+Outcome ok(std::vector<Value> values = {}) { return {status::kOk, std::move(values)}; }
+Outcome fail(std::uint8_t code) { return {code, {}}; }
+
+std::int64_t num(const Decoded& d, std::string_view f) { return d.number(f).value_or(0); }
+std::string txt(const Decoded& d, std::string_view f) { return d.text(f).value_or(""); }
+Bytes raw_bytes(const Decoded& d, std::string_view f) { return d.bytes(f).value_or(Bytes{}); }
+
+std::int64_t whole(double degrees) { return static_cast<std::int64_t>(std::trunc(degrees)); }
+
+// Starting or stopping a program resets all motors and sensors (spec/nxt.md).
+void reset_io(VirtualNxt& n) {
+  for (auto& m : n.motors) m = Motor{};
+  for (auto& s : n.sensors) {
+    Sensor fresh;
+    fresh.raw = s.raw;
+    fresh.distance_cm = s.distance_cm;
+    s = fresh;
+  }
+  for (auto& q : n.queues) q.clear();
+}
+
+bool is_executable(const std::string& name) {
+  auto dot = name.rfind('.');
+  std::string ext = dot == std::string::npos ? "" : name.substr(dot + 1);
+  return ext == "rxe" || ext == "sys" || ext == "rtm";
+}
+
+bool matches(const std::string& pattern, const std::string& name) {
+  auto split = [](const std::string& s) {
+    auto dot = s.rfind('.');
+    return dot == std::string::npos ? std::pair{s, std::string()} : std::pair{s.substr(0, dot), s.substr(dot + 1)};
+  };
+  auto [ps, pe] = split(pattern);
+  auto [ns, ne] = split(name);
+  return (ps == "*" || ps == ns) && (pe == "*" || pe == ne);
+}
+
+std::optional<std::uint8_t> free_handle(const VirtualNxt& n) {
+  for (std::size_t i = 0; i < n.handles.size(); ++i)
+    if (!n.handles[i]) return static_cast<std::uint8_t>(i);
+  return std::nullopt;
+}
+
+bool file_open(const VirtualNxt& n, const std::string& name) {
+  return std::any_of(n.handles.begin(), n.handles.end(), [&](const auto& h) {
+    return h && (h->kind == Handle::Kind::Read || h->kind == Handle::Kind::Write) && h->name == name;
+  });
+}
+
+// The handle a command names, or the status to answer.
+std::variant<Handle*, std::uint8_t> handle_of(VirtualNxt& n, std::int64_t index, Handle::Kind kind) {
+  if (index < 0 || index >= static_cast<std::int64_t>(n.handles.size())) return status::kIllegalHandle;
+  auto& h = n.handles[static_cast<std::size_t>(index)];
+  if (!h) return status::kHandleClosed;
+  if (h->kind != kind) return status::kIllegalHandle;
+  return &*h;
+}
+
+// The next match of a Find handle at or after its position.
+template <typename Range, typename NameOf>
+auto next_match(Handle& h, const Range& range, NameOf name_of) -> decltype(&*range.begin()) {
+  std::size_t i = 0;
+  for (const auto& item : range) {
+    if (i++ < h.pos) continue;
+    if (matches(h.name, name_of(item))) {
+      h.pos = i;
+      return &item;
+    }
+  }
+  return nullptr;
+}
+
+int scaled(const Sensor& s) {
+  int norm = s.raw;
+  switch (s.mode & 0xE0) {
+    case 0x20: return s.boolean ? 1 : 0;
+    case 0x40: return s.transitions;
+    case 0x60: return s.transitions / 2;
+    case 0x80: return (1023 - norm) * 100 / 1023;
+    // Temperature in tenths of a degree, with the RCX sensor's formula.
+    case 0xA0: return (785 - norm) * 10 / 8;
+    case 0xC0: return (785 - norm) * 10 / 8 * 9 / 5 + 320;
+    default: return norm;
+  }
+}
+
+void set_raw(Sensor& s, int raw) {
+  s.raw = raw;
+  bool was = s.boolean;
+  if (raw < kBooleanTrueBelow) s.boolean = true;
+  else if (raw > kBooleanFalseAbove) s.boolean = false;
+  if (was != s.boolean) ++s.transitions;
+}
+
+// The ultrasonic sensor's registers, as read over I2C.
+Bytes ultrasonic_read(const Sensor& s, std::uint8_t reg, std::size_t count) {
+  Bytes regs(0x50, 0);
+  auto put = [&](std::size_t at, std::string_view text) { std::copy(text.begin(), text.end(), regs.begin() + static_cast<std::ptrdiff_t>(at)); };
+  put(0x00, "V1.0");
+  put(0x08, "LEGO");
+  put(0x10, "Sonar");
+  regs[0x41] = s.us_command;
+  regs[0x42] = static_cast<std::uint8_t>(s.distance_cm);
+  for (int i = 0x43; i <= 0x49; ++i) regs[static_cast<std::size_t>(i)] = 0xFF;  // no further echoes
+  Bytes out;
+  for (std::size_t i = 0; i < count; ++i) out.push_back(reg + i < regs.size() ? regs[reg + i] : 0);
+  return out;
+}
+
+Outcome direct(VirtualNxt& n, const Decoded& d) {
+  const std::uint8_t op = d.command->opcode;
+  switch (op) {
+    case 0x00: {  // StartProgram: a file that does not exist answers 0xC0 (firmware, not the seed's 0xBD)
+      std::string name = txt(d, "name");
+      if (!n.files.count(name) || !is_executable(name)) return fail(status::kOutOfRange);
+      n.program = name;
+      n.awake_since_us = n.now_us;
+      reset_io(n);
+      return ok();
+    }
+    case 0x01:  // StopProgram
+      if (!n.program) return fail(status::kNoProgram);
+      n.program.reset();
+      reset_io(n);
+      return ok();
+    case 0x02: {  // PlaySoundFile
+      std::string name = txt(d, "name");
+      if (!n.files.count(name)) return fail(status::kOutOfRange);
+      n.sounds.push_back({n.now_us, SoundEvent::Kind::File, 0, 0, name, num(d, "loop") != 0});
+      return ok();
+    }
+    case 0x03:  // PlayTone: the firmware plays whatever it is given
+      n.sounds.push_back({n.now_us, SoundEvent::Kind::Tone, static_cast<int>(num(d, "frequency_hz")),
+                          static_cast<int>(num(d, "duration_ms")), "", false});
+      return ok();
+    case 0x04: {  // SetOutputState: not range-checked by the firmware
+      std::int64_t port = num(d, "port");
+      if (port > 2 && port != 0xFF) return fail(status::kOutOfRange);
+      for (std::size_t i = 0; i < n.motors.size(); ++i) {
+        if (port != 0xFF && static_cast<std::size_t>(port) != i) continue;
+        Motor& m = n.motors[i];
+        m.power = static_cast<std::int8_t>(num(d, "power"));
+        m.mode = static_cast<std::uint8_t>(num(d, "mode"));
+        m.regulation = static_cast<std::uint8_t>(num(d, "regulation"));
+        m.turn_ratio = static_cast<std::int8_t>(num(d, "turn_ratio"));
+        m.run_state = static_cast<std::uint8_t>(num(d, "run_state"));
+        m.tacho_limit = static_cast<std::uint32_t>(num(d, "tacho_limit"));
+        m.moved_this_run = 0;
+      }
+      return ok();
+    }
+    case 0x05: {  // SetInputMode
+      std::int64_t port = num(d, "port");
+      if (port > 3) return fail(status::kOutOfRange);
+      Sensor& s = n.sensors[static_cast<std::size_t>(port)];
+      s.type = static_cast<std::uint8_t>(num(d, "type"));
+      s.mode = static_cast<std::uint8_t>(num(d, "mode"));
+      Micros delay = kValidDelayUs;
+      if (s.type == kSoundDb || s.type == kSoundDba) delay = kSoundValidDelayUs;
+      if (s.type >= kFirstColourType && s.type <= kLastSensorType) delay = kColourValidDelayUs;
+      s.valid_at = n.now_us + delay;
+      s.transitions = 0;
+      s.ls_ready_at = -1;
+      s.ls_answer.clear();
+      return ok();
+    }
+    case 0x06: {  // GetOutputState
+      std::int64_t port = num(d, "port");
+      if (port > 2) return fail(status::kOutOfRange);
+      const Motor& m = n.motors[static_cast<std::size_t>(port)];
+      return ok({port, std::int64_t{m.power}, std::int64_t{m.mode}, std::int64_t{m.regulation},
+                 std::int64_t{m.turn_ratio}, std::int64_t{m.run_state}, std::int64_t{m.tacho_limit},
+                 whole(m.tacho_count), whole(m.block_count), whole(m.rotation_count)});
+    }
+    case 0x07: {  // GetInputValues: "calibrated" is the normalized value (firmware)
+      std::int64_t port = num(d, "port");
+      if (port > 3) return fail(status::kOutOfRange);
+      const Sensor& s = n.sensors[static_cast<std::size_t>(port)];
+      bool valid = n.now_us >= s.valid_at;
+      return ok({port, std::int64_t{valid}, std::int64_t{0}, std::int64_t{s.type}, std::int64_t{s.mode},
+                 std::int64_t{s.raw}, std::int64_t{s.raw}, std::int64_t{scaled(s)}, std::int64_t{s.raw}});
+    }
+    case 0x08: {  // ResetInputScaledValue
+      std::int64_t port = num(d, "port");
+      if (port > 3) return fail(status::kOutOfRange);
+      n.sensors[static_cast<std::size_t>(port)].transitions = 0;
+      return ok();
+    }
+    case 0x09: {  // MessageWrite: needs a running program
+      if (!n.program) return fail(status::kNoProgram);
+      std::int64_t box = num(d, "inbox");
+      Bytes data = raw_bytes(d, "data");
+      if (box >= static_cast<std::int64_t>(n.queues.size())) return fail(status::kIllegalQueue);
+      if (data.empty() || data.size() > kMaxMessage || data.back() != 0) return fail(status::kOutOfRange);
+      auto& q = n.queues[static_cast<std::size_t>(box)];
+      if (q.size() == kQueueDepth) q.pop_front();  // the oldest is dropped
+      q.push_back(std::move(data));
+      return ok();
+    }
+    case 0x0A: {  // ResetMotorPosition
+      std::int64_t port = num(d, "port");
+      if (port > 2) return fail(status::kOutOfRange);
+      Motor& m = n.motors[static_cast<std::size_t>(port)];
+      (num(d, "relative") ? m.block_count : m.rotation_count) = 0;
+      return ok();
+    }
+    case 0x0B: return ok({std::int64_t{n.battery_mv}});
+    case 0x0C:
+      n.sounds.push_back({n.now_us, SoundEvent::Kind::Stop, 0, 0, "", false});
+      return ok();
+    case 0x0D:  // KeepAlive
+      n.awake_since_us = n.now_us;
+      return ok({std::int64_t{n.sleep_minutes} * 60'000});
+    case 0x0E:    // LSGetStatus
+    case 0x10: {  // LSRead
+      std::int64_t port = num(d, "port");
+      if (port > 3) return fail(status::kOutOfRange);
+      Sensor& s = n.sensors[static_cast<std::size_t>(port)];
+      if (s.ls_ready_at < 0) return op == 0x0E ? ok({std::int64_t{0}}) : ok({std::int64_t{0}, Bytes{}});
+      if (n.now_us < s.ls_ready_at) return fail(status::kPending);
+      if (s.ls_failed) return fail(status::kBusError);
+      if (op == 0x0E) return ok({static_cast<std::int64_t>(s.ls_answer.size())});
+      Bytes data = std::move(s.ls_answer);
+      s.ls_answer.clear();
+      s.ls_ready_at = -1;
+      return ok({static_cast<std::int64_t>(data.size()), data});
+    }
+    case 0x0F: {  // LSWrite: the firmware takes the port from the low two bits
+      std::size_t port = static_cast<std::size_t>(num(d, "port") & 0x03);
+      Sensor& s = n.sensors[port];
+      Bytes tx = raw_bytes(d, "tx_data");
+      std::int64_t rx = num(d, "rx_length");
+      if (tx.size() > kLsMax || rx > static_cast<std::int64_t>(kLsMax)) return fail(status::kIllegalSize);
+      if ((s.type != kLowSpeed && s.type != kLowSpeed9V) || n.now_us < s.valid_at) return fail(status::kChannelBusy);
+      if (s.ls_ready_at >= 0 && n.now_us < s.ls_ready_at) return fail(status::kPending);
+      s.ls_ready_at = n.now_us + kLsByteUs * static_cast<Micros>(1 + tx.size() + static_cast<std::size_t>(rx));
+      // Only an ultrasonic sensor (it needs the 9 V supply) answers, at 0x02.
+      s.ls_failed = s.type != kLowSpeed9V || tx.empty() || tx[0] != kUltrasonicAddress;
+      s.ls_answer.clear();
+      if (!s.ls_failed && tx.size() >= 2) {
+        if (rx > 0) s.ls_answer = ultrasonic_read(s, tx[1], static_cast<std::size_t>(rx));
+        else if (tx[1] == 0x41 && tx.size() >= 3) s.us_command = tx[2];
+      }
+      return ok();
+    }
+    case 0x11:
+      if (!n.program) return fail(status::kNoProgram);
+      return ok({*n.program});
+    case 0x13: {  // MessageRead
+      if (!n.program) return fail(status::kNoProgram);
+      std::int64_t box = num(d, "remote_inbox");
+      if (box >= static_cast<std::int64_t>(n.queues.size())) return fail(status::kIllegalQueue);
+      auto& q = n.queues[static_cast<std::size_t>(box)];
+      if (q.empty()) return fail(status::kQueueEmpty);
+      Bytes data = q.front();
+      if (num(d, "remove")) q.pop_front();
+      return ok({num(d, "local_inbox"), static_cast<std::int64_t>(data.size()), data});
+    }
+    case 0x19: return ok({std::int64_t{0}, Bytes{}});  // DatalogRead: nothing logged
+    case 0x1A: return ok();                             // DatalogSetTimes
+    case 0x1B: return ok({std::int64_t{30}});           // BTGetContactCount: table size
+    case 0x1D: return ok({std::int64_t{4}});            // BTGetConnCount: table size
+    case 0x1C:
+    case 0x1E: return ok({std::int64_t{0}, std::string()});  // empty tables
+    case 0x1F: {  // SetProperty
+      Bytes v = raw_bytes(d, "value");
+      switch (num(d, "property")) {
+        case 0:
+          if (v.empty()) return fail(status::kInsanePacket);
+          n.bluetooth_on = v[0] != 0;
+          return ok();
+        case 1:
+          if (v.empty()) return fail(status::kInsanePacket);
+          n.volume = std::min<std::uint8_t>(v[0], 4);
+          return ok();
+        case 2: {
+          if (v.size() < 4) return fail(status::kInsanePacket);
+          std::uint32_t ms = v[0] | (v[1] << 8) | (v[2] << 16) | (std::uint32_t{v[3]} << 24);
+          n.sleep_minutes = ms / 60'000;  // the firmware keeps whole minutes
+          return ok();
+        }
+        default: return fail(status::kUnknownCommand);
+      }
+    }
+    case 0x20: {  // GetProperty
+      switch (num(d, "property")) {
+        case 0: return ok({Bytes{static_cast<std::uint8_t>(n.bluetooth_on)}});
+        case 1: return ok({Bytes{n.volume}});
+        case 2: {
+          std::uint32_t ms = n.sleep_minutes * 60'000;
+          return ok({Bytes{static_cast<std::uint8_t>(ms), static_cast<std::uint8_t>(ms >> 8),
+                           static_cast<std::uint8_t>(ms >> 16), static_cast<std::uint8_t>(ms >> 24)}});
+        }
+        default: return fail(status::kUnknownCommand);
+      }
+    }
+    case 0x21: {  // UpdateResetCount
+      std::int64_t port = num(d, "port");
+      if (port > 2) return fail(status::kOutOfRange);
+      n.motors[static_cast<std::size_t>(port)].tacho_count = 0;
+      return ok();
+    }
+    default: return fail(status::kUnknownCommand);  // GetButtonState has no handler
+  }
+}
+
+Outcome open_for_write(VirtualNxt& n, const Decoded& d, bool linear, bool data_file) {
+  std::string name = txt(d, "name");
+  auto size = static_cast<std::uint32_t>(num(d, "size"));
+  if (check_file_name(name)) return fail(status::kIllegalFileName);
+  if (data_file && is_executable(name)) return fail(status::kIllegalFileName);
+  if (n.files.count(name)) return fail(status::kFileExists);
+  if (size > free_flash(n)) return fail(status::kNoSpace);
+  auto h = free_handle(n);
+  if (!h) return fail(status::kNoMoreHandles);
+  n.files[name] = StoredFile{{}, size, linear || is_executable(name), data_file};
+  n.handles[*h] = Handle{Handle::Kind::Write, name, 0};
+  return ok({std::int64_t{*h}});
+}
+
+Outcome found(VirtualNxt& n, std::uint8_t index) {
+  Handle& h = *n.handles[index];
+  auto* f = next_match(h, n.files, [](const auto& kv) { return kv.first; });
+  if (!f) {
+    n.handles[index].reset();
+    return fail(status::kFileNotFound);
+  }
+  return ok({std::int64_t{index}, f->first, static_cast<std::int64_t>(f->second.data.size())});
+}
+
+Outcome found_module(VirtualNxt& n, std::uint8_t index) {
+  Handle& h = *n.handles[index];
+  auto* m = next_match(h, n.modules, [](const Module& m) { return m.name; });
+  if (!m) {
+    n.handles[index].reset();
+    return fail(status::kModuleNotFound);
+  }
+  return ok({std::int64_t{index}, m->name, std::int64_t{m->id}, std::int64_t{0},
+             static_cast<std::int64_t>(m->iomap.size())});
+}
+
+Module* module_of(VirtualNxt& n, std::int64_t id) {
+  for (auto& m : n.modules)
+    if (m.id == id) return &m;
+  return nullptr;
+}
+
+Outcome system(VirtualNxt& n, const Decoded& d) {
+  switch (d.command->opcode) {
+    case 0x80: {  // OpenRead
+      std::string name = txt(d, "name");
+      if (check_file_name(name)) return fail(status::kIllegalFileName);
+      auto f = n.files.find(name);
+      if (f == n.files.end()) return fail(status::kFileNotFound);
+      if (file_open(n, name)) return fail(status::kFileBusy);
+      auto h = free_handle(n);
+      if (!h) return fail(status::kNoMoreHandles);
+      n.handles[*h] = Handle{Handle::Kind::Read, name, 0};
+      return ok({std::int64_t{*h}, static_cast<std::int64_t>(f->second.data.size())});
+    }
+    case 0x81: return open_for_write(n, d, false, false);
+    case 0x89: return open_for_write(n, d, true, false);
+    case 0x8B: return open_for_write(n, d, false, true);
+    case 0x8C: {  // OpenAppendData
+      std::string name = txt(d, "name");
+      auto f = n.files.find(name);
+      if (f == n.files.end()) return fail(status::kFileNotFound);
+      if (!f->second.data_file) return fail(status::kAppendNotPossible);
+      if (file_open(n, name)) return fail(status::kFileBusy);
+      auto h = free_handle(n);
+      if (!h) return fail(status::kNoMoreHandles);
+      n.handles[*h] = Handle{Handle::Kind::Write, name, f->second.data.size()};
+      return ok({std::int64_t{*h}, static_cast<std::int64_t>(f->second.size - f->second.data.size())});
+    }
+    case 0x82: {  // Read
+      auto h = handle_of(n, num(d, "handle"), Handle::Kind::Read);
+      if (auto* code = std::get_if<std::uint8_t>(&h)) return fail(*code);
+      Handle& handle = *std::get<Handle*>(h);
+      const Bytes& data = n.files[handle.name].data;
+      if (handle.pos >= data.size()) {
+        n.handles[static_cast<std::size_t>(num(d, "handle"))].reset();  // closed after an error
+        return fail(status::kEndOfFile);
+      }
+      // At most 58 data bytes a telegram, as over USB.
+      std::size_t count = std::min({static_cast<std::size_t>(num(d, "count")), data.size() - handle.pos, std::size_t{58}});
+      Bytes out(data.begin() + static_cast<std::ptrdiff_t>(handle.pos),
+                data.begin() + static_cast<std::ptrdiff_t>(handle.pos + count));
+      handle.pos += count;
+      return ok({num(d, "handle"), static_cast<std::int64_t>(count), out});
+    }
+    case 0x83: {  // Write
+      auto index = num(d, "handle");
+      auto h = handle_of(n, index, Handle::Kind::Write);
+      if (auto* code = std::get_if<std::uint8_t>(&h)) return fail(*code);
+      StoredFile& f = n.files[std::get<Handle*>(h)->name];
+      Bytes data = raw_bytes(d, "data");
+      if (f.data.size() + data.size() > f.size) {
+        n.handles[static_cast<std::size_t>(index)].reset();
+        return fail(status::kFileFull);
+      }
+      f.data.insert(f.data.end(), data.begin(), data.end());
+      return ok({index, static_cast<std::int64_t>(data.size())});
+    }
+    case 0x84: {  // Close
+      auto index = num(d, "handle");
+      if (index < 0 || index >= static_cast<std::int64_t>(n.handles.size())) return fail(status::kIllegalHandle);
+      auto& h = n.handles[static_cast<std::size_t>(index)];
+      if (!h) return fail(status::kHandleClosed);
+      h.reset();
+      return ok({index});
+    }
+    case 0x85: {  // Delete
+      std::string name = txt(d, "name");
+      if (check_file_name(name)) return fail(status::kIllegalFileName);
+      if (!n.files.count(name)) return fail(status::kFileNotFound);
+      if (file_open(n, name)) return fail(status::kFileBusy);
+      n.files.erase(name);
+      return ok({name});
+    }
+    case 0x86:    // FindFirst
+    case 0x90: {  // FindFirstModule
+      auto h = free_handle(n);
+      if (!h) return fail(status::kNoMoreHandles);
+      bool files = d.command->opcode == 0x86;
+      n.handles[*h] = Handle{files ? Handle::Kind::Find : Handle::Kind::Module, txt(d, "pattern"), 0};
+      return files ? found(n, *h) : found_module(n, *h);
+    }
+    case 0x87:    // FindNext
+    case 0x91: {  // FindNextModule
+      bool files = d.command->opcode == 0x87;
+      auto h = handle_of(n, num(d, "handle"), files ? Handle::Kind::Find : Handle::Kind::Module);
+      if (auto* code = std::get_if<std::uint8_t>(&h)) return fail(*code);
+      auto index = static_cast<std::uint8_t>(num(d, "handle"));
+      return files ? found(n, index) : found_module(n, index);
+    }
+    case 0x92: {  // CloseModuleHandle
+      auto h = handle_of(n, num(d, "handle"), Handle::Kind::Module);
+      if (auto* code = std::get_if<std::uint8_t>(&h)) return fail(*code);
+      n.handles[static_cast<std::size_t>(num(d, "handle"))].reset();
+      return ok({num(d, "handle")});
+    }
+    case 0x88: return ok({std::int64_t{124}, std::int64_t{1}, std::int64_t{31}, std::int64_t{1}});
+    case 0x94:    // ReadIOMap
+    case 0x95: {  // WriteIOMap
+      Module* m = module_of(n, num(d, "module_id"));
+      if (!m) return fail(status::kModuleNotFound);
+      auto offset = static_cast<std::size_t>(num(d, "offset"));
+      auto count = static_cast<std::size_t>(num(d, "count"));
+      if (offset + count > m->iomap.size()) return fail(status::kOutOfBoundary);
+      auto at = m->iomap.begin() + static_cast<std::ptrdiff_t>(offset);
+      if (d.command->opcode == 0x94)
+        return ok({std::int64_t{m->id}, static_cast<std::int64_t>(count), Bytes(at, at + static_cast<std::ptrdiff_t>(count))});
+      Bytes data = raw_bytes(d, "data");
+      if (data.size() != count) return fail(status::kInsanePacket);
+      std::copy(data.begin(), data.end(), at);
+      return ok({std::int64_t{m->id}, static_cast<std::int64_t>(count)});
+    }
+    case 0x98:
+      n.name = txt(d, "name").substr(0, 15);
+      return ok();
+    case 0x9B:
+      return ok({n.name, Bytes(n.bt_address.begin(), n.bt_address.end()), std::int64_t{0},
+                 std::int64_t{free_flash(n)}});
+    case 0xA0:
+      n.files.clear();
+      for (auto& h : n.handles)
+        if (h && h->kind != Handle::Kind::Module) h.reset();
+      return ok();
+    case 0xA1: return ok({num(d, "buffer"), std::int64_t{0}});
+    case 0xA2: return ok({num(d, "buffer"), std::int64_t{0}, Bytes{}});
+    default: return fail(status::kUnknownCommand);  // Boot: this brick never erases itself
+  }
+}
+
+}  // namespace
+
+VirtualNxt make_virtual_nxt(std::vector<ScenarioInput> scenario) {
+  VirtualNxt n;
+  n.scenario = std::move(scenario);
+  // The firmware's module IDs; the IO maps here are small zeroed stand-ins.
+  const std::pair<const char*, std::uint32_t> modules[] = {
+      {"Command.mod", 0x00010001}, {"Output.mod", 0x00020001}, {"Input.mod", 0x00030001},
+      {"Button.mod", 0x00040001},  {"Comm.mod", 0x00050001},   {"IOCtrl.mod", 0x00060001},
+      {"Led.mod", 0x00070001},     {"Sound.mod", 0x00080001},  {"Loader.mod", 0x00090001},
+      {"Display.mod", 0x000A0001}, {"LowSpeed.mod", 0x000B0001}, {"Ui.mod", 0x000C0001}};
+  for (const auto& [name, id] : modules) n.modules.push_back({name, id, Bytes(64, 0)});
+  advance_to(n, 0);
+  return n;
+}
+
+std::uint32_t free_flash(const VirtualNxt& n) {
+  std::uint32_t used = 0;
+  for (const auto& [name, f] : n.files) used += f.size;
+  return used >= n.flash_bytes ? 0 : n.flash_bytes - used;
+}
+
+void advance_to(VirtualNxt& n, Micros now_us) {
+  while (n.next_input < n.scenario.size() && n.scenario[n.next_input].at_ms * 1000 <= now_us) {
+    const auto& in = n.scenario[n.next_input++];
+    if (in.battery_mv) n.battery_mv = *in.battery_mv;
+    if (in.port >= 0) {
+      Sensor& s = n.sensors[static_cast<std::size_t>(in.port)];
+      if (in.raw) set_raw(s, *in.raw);
+      if (in.distance_cm) s.distance_cm = *in.distance_cm;
+    }
+  }
+  if (now_us <= n.now_us) return;
+  double seconds = static_cast<double>(now_us - n.now_us) / 1e6;
+  n.now_us = now_us;
+  for (Motor& m : n.motors) {
+    if (!(m.mode & kMotorOn) || m.run_state == kRunStateIdle || m.power == 0) continue;
+    double step = m.power * kDegreesPerSecondPerPower * seconds;
+    if (m.tacho_limit != 0) {
+      double left = m.tacho_limit - std::abs(m.moved_this_run);
+      if (std::abs(step) >= left) {
+        step = step < 0 ? -left : left;
+        // The movement is done: the motor stops (brake or coast as its mode says).
+        m.run_state = kRunStateIdle;
+        m.power = 0;
+      }
+    }
+    m.moved_this_run += step;
+    m.tacho_count += step;
+    m.block_count += step;
+    m.rotation_count += step;
+  }
+  if (n.sleep_minutes != 0 && now_us - n.awake_since_us > Micros{n.sleep_minutes} * 60'000'000) n.asleep = true;
+}
+
+std::optional<Bytes> answer(VirtualNxt& n, std::span<const std::uint8_t> telegram) {
+  ++n.counters.requests;
+  if (n.asleep || telegram.empty()) {
+    ++n.counters.ignored;
+    return std::nullopt;
+  }
+  std::uint8_t type = telegram[0] & static_cast<std::uint8_t>(~kNoReplyBit);
+  // The firmware says nothing at all to a telegram type it does not know.
+  if (type != kDirectWithReply && type != kSystemWithReply) {
+    ++n.counters.ignored;
+    return std::nullopt;
+  }
+  bool reply_wanted = (telegram[0] & kNoReplyBit) == 0;
+  auto decoded = decode_request(telegram);
+  Bytes reply;
+  if (auto* d = std::get_if<Decoded>(&decoded)) {
+    Outcome o = d->command->group == Group::Direct ? direct(n, *d) : system(n, *d);
+    auto encoded = encode_reply(*d->command, o.status, o.values);
+    // A value that does not fit its field would be a bug here: answer
+    // "bad arguments" rather than a wrong telegram.
+    if (auto* r = std::get_if<Bytes>(&encoded)) reply = std::move(*r);
+    else reply = {kReply, d->command->opcode, status::kBadArguments};
+  } else if (telegram.size() < 2) {
+    reply = {kReply, 0x00, status::kInsanePacket};
+  } else {
+    Group g = type == kDirectWithReply ? Group::Direct : Group::System;
+    reply = {kReply, telegram[1], find_command(g, telegram[1]) ? status::kInsanePacket : status::kUnknownCommand};
+  }
+  if (!reply_wanted) return std::nullopt;
+  ++n.counters.replies;
+  return reply;
+}
+
+}  // namespace nxt

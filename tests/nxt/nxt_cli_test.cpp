@@ -1,0 +1,243 @@
+// `rcxc nxt` end to end: `rcxc nxt brick --pty` in the background, the
+// actions run as a user would against its pseudo-terminal.
+#include <gtest/gtest.h>
+#include <poll.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <thread>
+#include <fstream>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "nxt/commands.h"
+#include "nxt/transport.h"
+#include "tests/support/process.h"
+
+namespace {
+
+using rcxc::test::run_process;
+using rcxc::test::run_rcxc;
+using rcxc::test::TempDir;
+
+// The first stdout line of `rcxc nxt brick --pty ...` is the pty path.
+struct NxtBrickProcess {
+  pid_t pid = -1;
+  int out = -1;
+  std::string path;
+
+  explicit NxtBrickProcess(std::vector<std::string> extra = {}) {
+    int p[2];
+    if (::pipe(p) != 0) return;
+    pid = ::fork();
+    if (pid == 0) {
+      ::dup2(p[1], 1);
+      ::close(p[0]);
+      ::close(p[1]);
+      std::vector<std::string> args{RCXC_BINARY, "nxt", "brick", "--pty"};
+      args.insert(args.end(), extra.begin(), extra.end());
+      std::vector<char*> argv;
+      for (auto& a : args) argv.push_back(a.data());
+      argv.push_back(nullptr);
+      ::execv(argv[0], argv.data());
+      ::_exit(127);
+    }
+    ::close(p[1]);
+    out = p[0];
+    char c;
+    pollfd fd{out, POLLIN, 0};
+    while (::poll(&fd, 1, 10000) > 0 && ::read(out, &c, 1) == 1 && c != '\n') path += c;
+  }
+  int stop() {
+    int code = -1;
+    if (pid > 0) {
+      ::kill(pid, SIGINT);
+      int status = 0;
+      ::waitpid(pid, &status, 0);
+      code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+      pid = -1;
+    }
+    if (out >= 0) ::close(out);
+    out = -1;
+    return code;
+  }
+  ~NxtBrickProcess() { stop(); }
+};
+
+rcxc::test::ProcessResult nxt(const std::string& port, std::vector<std::string> args) {
+  args.insert(args.begin(), {"nxt", "--port", port});
+  return run_rcxc(args, "", 20'000);
+}
+
+nlohmann::json json_of(const rcxc::test::ProcessResult& r) { return nlohmann::json::parse(r.out); }
+
+TEST(NxtCli, BrickServesAndStopsOnInterrupt) {
+  NxtBrickProcess brick;
+  ASSERT_EQ(brick.path.rfind("/dev/", 0), 0u) << brick.path;
+  auto r = nxt(brick.path, {"info"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("firmware   1.31 (protocol 1.124)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("bluetooth  00:16:53:0A:0B:0C"), std::string::npos) << r.out;
+  EXPECT_EQ(brick.stop(), 0);
+}
+
+TEST(NxtCli, JsonAndThePortFromTheEnvironment) {
+  NxtBrickProcess brick;
+  auto r = run_process({"/usr/bin/env", "NXT_PORT=" + brick.path, RCXC_BINARY, "nxt", "--json", "battery"}, "", 20'000);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto j = json_of(r);
+  EXPECT_EQ(j["battery_mv"], 7800);
+  EXPECT_EQ(j["ok"], true);
+}
+
+TEST(NxtCli, MotorRunsToItsLimit) {
+  NxtBrickProcess brick;
+  ASSERT_EQ(nxt(brick.path, {"motor", "B", "100", "--limit", "90", "--brake"}).exit_code, 0);
+  // 90 degrees at full power take about 90 ms on the virtual motor.
+  nlohmann::json j;
+  for (int i = 0; i < 50; ++i) {
+    auto r = nxt(brick.path, {"--json", "motor-state", "B"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    j = json_of(r);
+    if (j["run_state"] == 0) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  EXPECT_EQ(j["tacho_count"], 90);
+  EXPECT_EQ(j["mode"], nxt::kMotorOn | nxt::kBrake);
+}
+
+TEST(NxtCli, FilesProgramsAndMailboxes) {
+  NxtBrickProcess brick;
+  TempDir dir;
+  std::string local = dir.write("hello.rxe", std::vector<std::uint8_t>(300, 0x42));
+  auto up = nxt(brick.path, {"upload", local});
+  ASSERT_EQ(up.exit_code, 0) << up.err;
+  EXPECT_EQ(up.out, "300 bytes to hello.rxe\n");
+  EXPECT_EQ(nxt(brick.path, {"ls"}).out, "     300  hello.rxe\n");
+  EXPECT_EQ(nxt(brick.path, {"ls", "*.rso"}).out, "");
+  // Messages need a running program: the brick says 0xEC.
+  auto early = nxt(brick.path, {"mailbox", "write", "1", "hi"});
+  EXPECT_EQ(early.exit_code, 1);
+  EXPECT_NE(early.err.find("0xec no active program"), std::string::npos) << early.err;
+  EXPECT_EQ(nxt(brick.path, {"start", "hello.rxe"}).exit_code, 0);
+  EXPECT_EQ(nxt(brick.path, {"current"}).out, "hello.rxe\n");
+  EXPECT_EQ(nxt(brick.path, {"mailbox", "write", "3", "hello there"}).exit_code, 0);
+  EXPECT_EQ(nxt(brick.path, {"mailbox", "write", "3", "--int", "-7"}).exit_code, 0);
+  EXPECT_EQ(nxt(brick.path, {"mailbox", "read", "3"}).out, "hello there\n");
+  EXPECT_EQ(nxt(brick.path, {"mailbox", "write", "3", "--float", "1.5"}).exit_code, 0);
+  EXPECT_EQ(nxt(brick.path, {"mailbox", "read", "3"}).out, "-7 (int32)\n");
+  EXPECT_EQ(nxt(brick.path, {"mailbox", "read", "3"}).out, "1069547520 (int32) / 1.5 (float32)\n");
+  EXPECT_EQ(nxt(brick.path, {"mailbox", "read", "3"}).out, "(empty)\n");
+  auto down = nxt(brick.path, {"download", "hello.rxe", dir.path + "/back.rxe"});
+  ASSERT_EQ(down.exit_code, 0) << down.err;
+  EXPECT_EQ(dir.read("back.rxe"), std::vector<std::uint8_t>(300, 0x42));
+  EXPECT_EQ(nxt(brick.path, {"stop"}).exit_code, 0);
+  EXPECT_EQ(nxt(brick.path, {"current"}).out, "(no program running)\n");
+  EXPECT_EQ(nxt(brick.path, {"rm", "hello.rxe"}).exit_code, 0);
+  auto gone = nxt(brick.path, {"download", "hello.rxe", dir.path + "/again.rxe"});
+  EXPECT_EQ(gone.exit_code, 1);
+  EXPECT_NE(gone.err.find("0x87 file not found"), std::string::npos) << gone.err;
+  EXPECT_FALSE(std::filesystem::exists(dir.path + "/again.rxe"));  // nothing half-done
+}
+
+TEST(NxtCli, SensorsAndTheUltrasonicFromAScenario) {
+  TempDir dir;
+  std::string scenario = dir.write("s.toml", std::string("[[input]]\nat_ms = 0\nsensor = 2\nraw = 150\n"
+                                                         "[[input]]\nat_ms = 0\nsensor = 4\ndistance_cm = 33\n"));
+  NxtBrickProcess brick({"--scenario", scenario});
+  ASSERT_EQ(nxt(brick.path, {"sensor", "2", "SWITCH", "BOOLEAN"}).exit_code, 0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(40));  // the input-valid delay
+  auto r = nxt(brick.path, {"--json", "read", "2"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto j = json_of(r);
+  EXPECT_EQ(j["valid"], true);
+  EXPECT_EQ(j["type"], "SWITCH");
+  EXPECT_EQ(j["mode"], "BOOLEANMODE");
+  EXPECT_EQ(j["raw"], 150);
+  EXPECT_EQ(j["scaled"], 1);
+  EXPECT_EQ(nxt(brick.path, {"ultrasonic", "4"}).out, "33 cm\n");
+}
+
+TEST(NxtCli, RawAndBench) {
+  NxtBrickProcess brick;
+  auto r = nxt(brick.path, {"raw", "00", "0b"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.out, "02 0b 00 78 1e\nGetBatteryLevel -> ok millivolts=7800\n");
+  // An unknown telegram type: the firmware is silent, so is the virtual NXT.
+  auto silent = nxt(brick.path, {"--timeout", "100", "raw", "050b"});
+  EXPECT_EQ(silent.exit_code, 4);
+  EXPECT_NE(silent.err.find("no reply within 100 ms"), std::string::npos);
+  auto b = nxt(brick.path, {"--json", "bench", "--count", "20"});
+  ASSERT_EQ(b.exit_code, 0) << b.err;
+  EXPECT_EQ(json_of(b)["count"], 20);
+  EXPECT_GT(json_of(b)["p99_us"].get<double>(), 0.0);
+}
+
+TEST(NxtCli, BadValuesAreRefusedBeforeAnythingIsSent) {
+  // No brick at all: each is refused on the host, before the port is opened.
+  const std::string nowhere = "/dev/no-such-nxt";
+  auto check = [&](std::vector<std::string> args, const std::string& says) {
+    auto r = nxt(nowhere, args);
+    EXPECT_EQ(r.exit_code, 2) << args[0] << ": " << r.err;
+    EXPECT_NE(r.err.find(says), std::string::npos) << r.err;
+  };
+  check({"tone", "150", "100"}, "a tone of 150 Hz is outside 200-14000 Hz");
+  check({"tone", "440", "0"}, "0 ms is outside 1-65535 ms");
+  check({"motor", "D", "50"}, "\"D\" is not a motor port (A, B, C or all)");
+  check({"motor", "A", "101"}, "power 101 is outside -100..100");
+  check({"motor", "A", "50", "--limit", "-1"}, "--limit -1 is outside");
+  check({"sensor", "5", "SWITCH"}, "\"5\" is not a sensor port (1-4)");
+  check({"sensor", "1", "TOUCH"}, "\"TOUCH\" is not a sensor type (NO_SENSOR, SWITCH,");
+  check({"sensor", "1", "SWITCH", "FAST"}, "\"FAST\" is not a sensor mode (RAWMODE, BOOLEANMODE,");
+  check({"mailbox", "write", "11", "x"}, "mailbox 11 is not 1-10");
+  check({"mailbox", "write", "1", std::string(59, 'x')}, "the message is 59 bytes; at most 58 fit");
+  check({"mailbox", "write", "1"}, "give exactly one of TEXT, --int N, --float X");
+  check({"start", "a_very_long_name.rxe"}, "is not an NXT file name: at most 15 characters");
+  check({"upload", "/etc/hostname", "name.toolong"}, "is not an NXT file name");
+  check({"ls", "a*b.*"}, "is not a pattern the brick takes");
+  check({"raw", "0g"}, "\"0g\" is not hex bytes");
+}
+
+TEST(NxtCli, PortsThatCannotBeOpenedOrDoNotAnswer) {
+  auto missing = nxt("/dev/no-such-nxt", {"battery"});
+  EXPECT_EQ(missing.exit_code, 3);
+  EXPECT_NE(missing.err.find("does not exist"), std::string::npos);
+  auto badbt = nxt("bt:12:34", {"battery"});
+  EXPECT_EQ(badbt.exit_code, 2);
+  // A pty nobody serves: the brick does not answer.
+  auto opened = nxt::open_pty_pair();
+  ASSERT_TRUE(std::holds_alternative<nxt::PtyPair>(opened));
+  auto pty = std::get<nxt::PtyPair>(opened);
+  auto silent = nxt(pty.slave_path, {"--timeout", "50", "battery"});
+  EXPECT_EQ(silent.exit_code, 4);
+  EXPECT_NE(silent.err.find("no reply to GetBatteryLevel"), std::string::npos) << silent.err;
+  nxt::close_pty_pair(pty);
+  EXPECT_EQ(run_rcxc({"nxt", "brick"}).exit_code, 2);
+  EXPECT_EQ(run_rcxc({"nxt", "frobnicate"}).exit_code, 2);
+  TempDir dir;
+  auto bad = run_rcxc({"nxt", "brick", "--pty", "--scenario", dir.write("b.toml", std::string("[[input]]\nat_ms=1\n"))},
+                      "", 10'000);
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_NE(bad.err.find("b.toml:1: an input needs exactly one of"), std::string::npos) << bad.err;
+}
+
+TEST(NxtCli, HelpListsEveryCommandOfTheTable) {
+  auto r = run_rcxc({"nxt", "--help"});
+  EXPECT_EQ(r.exit_code, 0);
+  for (const auto& c : nxt::commands()) EXPECT_NE(r.out.find(std::string(c.name)), std::string::npos) << c.name;
+}
+
+TEST(NxtDocs, TheDocsTableListsEveryCommandOfTheTable) {
+  std::ifstream in(std::string(RCXC_SOURCE_DIR) + "/docs/nxt.md");
+  ASSERT_TRUE(in) << "docs/nxt.md is missing";
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  for (const auto& c : nxt::commands()) {
+    std::string row = fmt::format("| 0x{:02X} | {} |", c.opcode, c.name);
+    EXPECT_NE(text.find(row), std::string::npos) << "docs/nxt.md lacks the row " << row;
+  }
+}
+
+}  // namespace

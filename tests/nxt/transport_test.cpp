@@ -1,0 +1,209 @@
+// Framing, ports, and the virtual NXT served on a real pseudo-terminal:
+// split and glued frames, a brick that stays silent, Ctrl-C while waiting.
+#include <gtest/gtest.h>
+#include <fcntl.h>
+#include <poll.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <thread>
+
+#include "nxt/client.h"
+#include "nxt/scenario.h"
+#include "nxt/transport.h"
+#include "nxt/virtual_nxt.h"
+
+namespace nxt {
+namespace {
+
+using namespace std::chrono_literals;
+
+TEST(NxtFraming, PrefixIsTwoBytesLittleEndianWithoutItself) {
+  EXPECT_EQ(frame(Bytes{0x00, 0x13, 0x0A, 0x00, 0x01}), (Bytes{0x05, 0x00, 0x00, 0x13, 0x0A, 0x00, 0x01}));
+  EXPECT_EQ(frame(Bytes(300, 1))[0], 0x2C);
+  EXPECT_EQ(frame(Bytes(300, 1))[1], 0x01);
+}
+
+TEST(NxtFraming, SplitAndGluedFramesAreReassembled) {
+  FrameReader r;
+  r.feed(Bytes{0x03});  // half a prefix
+  EXPECT_FALSE(r.next());
+  r.feed(Bytes{0x00, 0x02, 0x0B});
+  EXPECT_FALSE(r.next());
+  // The rest of the first and the whole second, glued.
+  r.feed(Bytes{0x00, 0x02, 0x00, 0x02, 0x0D});
+  EXPECT_EQ(r.next(), (Bytes{0x02, 0x0B, 0x00}));
+  EXPECT_EQ(r.next(), (Bytes{0x02, 0x0D}));
+  EXPECT_FALSE(r.next());
+  EXPECT_TRUE(r.pending.empty());
+}
+
+TEST(NxtFraming, AnImpossibleLengthDropsTheGarbage) {
+  FrameReader r;
+  r.feed(Bytes{0xFF, 0xFF, 1, 2, 3});
+  EXPECT_FALSE(r.next());
+  r.feed(Bytes{0x01, 0x00, 0x02});
+  EXPECT_EQ(r.next(), (Bytes{0x02}));
+}
+
+TEST(NxtPort, Syntax) {
+  auto usb = std::get<PortSpec>(parse_port(std::nullopt, std::nullopt));
+  EXPECT_EQ(usb.kind, PortKind::Usb);
+  EXPECT_EQ(usb.address, "");
+  EXPECT_EQ(std::get<PortSpec>(parse_port(std::string("usb:00165312AB34"), std::nullopt)).address, "00165312AB34");
+  auto bt = std::get<PortSpec>(parse_port(std::string("bt:00:16:53:12:AB:34"), std::nullopt));
+  EXPECT_EQ(bt.kind, PortKind::Bluetooth);
+  EXPECT_EQ(bt.address, "00:16:53:12:AB:34");
+  auto env = std::get<PortSpec>(parse_port(std::nullopt, std::string("/dev/rfcomm0")));
+  EXPECT_EQ(env.kind, PortKind::Path);
+  EXPECT_EQ(std::get<PortSpec>(parse_port(std::string("usb"), std::string("/dev/rfcomm0"))).kind, PortKind::Usb);
+  EXPECT_TRUE(std::holds_alternative<LinkError>(parse_port(std::string("bt:00:16:53"), std::nullopt)));
+  EXPECT_TRUE(std::holds_alternative<LinkError>(parse_port(std::string(""), std::nullopt)));
+}
+
+TEST(NxtPort, AMissingTtySaysWhatToCheck) {
+  auto r = open_port({PortKind::Path, "/dev/no-such-rfcomm"}, -1);
+  ASSERT_TRUE(std::holds_alternative<LinkError>(r));
+  EXPECT_EQ(std::get<LinkError>(r).kind, LinkError::Kind::Open);
+  EXPECT_NE(std::get<LinkError>(r).message.find("rfcomm bind"), std::string::npos);
+}
+
+// The virtual NXT served on a pty in a thread, the host on the slave.
+struct PtyNxt : ::testing::Test {
+  VirtualNxt brick = make_virtual_nxt();
+  PtyPair pty;
+  int stop[2] = {-1, -1};
+  std::thread server;
+  std::vector<std::string> log;
+
+  void SetUp() override {
+    auto opened = open_pty_pair();
+    ASSERT_TRUE(std::holds_alternative<PtyPair>(opened)) << std::get<LinkError>(opened).message;
+    pty = std::get<PtyPair>(opened);
+    ASSERT_EQ(::pipe(stop), 0);
+    ServeOptions options;
+    options.stop_fd = stop[0];
+    options.on_log = [this](const std::string& line) { log.push_back(line); };
+    server = std::thread([this, options] { serve(brick, pty.master_fd, options); });
+  }
+  void TearDown() override {
+    if (server.joinable()) {
+      (void)!::write(stop[1], "x", 1);
+      server.join();
+    }
+    for (int fd : stop)
+      if (fd >= 0) ::close(fd);
+    close_pty_pair(pty);
+  }
+  std::unique_ptr<Transport> host(int stop_fd = -1) {
+    auto port = open_port({PortKind::Path, pty.slave_path}, stop_fd);
+    EXPECT_TRUE(std::holds_alternative<std::unique_ptr<Transport>>(port));
+    return std::move(std::get<std::unique_ptr<Transport>>(port));
+  }
+};
+
+TEST_F(PtyNxt, RoundTripsOverThePty) {
+  auto port = host();
+  Client client(*port);
+  auto r = call_ok(client, "GetBatteryLevel", {});
+  ASSERT_TRUE(std::holds_alternative<Decoded>(r)) << std::get<CallError>(r).message;
+  EXPECT_EQ(std::get<Decoded>(r).number("millivolts"), 7800);
+  Bytes data(150, 0x5A);
+  ASSERT_FALSE(upload_file(client, "t.rxe", data));
+  EXPECT_EQ(std::get<Bytes>(download_file(client, "t.rxe")), data);
+  TearDown();
+  // -v logs decoded telegrams, not only hex.
+  EXPECT_EQ(log.at(0), "-> GetBatteryLevel");
+  EXPECT_EQ(log.at(1), "<- GetBatteryLevel -> ok millivolts=7800");
+}
+
+TEST_F(PtyNxt, FramesWrittenByteByByteAreReassembled) {
+  int fd = ::open(pty.slave_path.c_str(), O_RDWR | O_NOCTTY);
+  ASSERT_GE(fd, 0);
+  Bytes req = frame(Bytes{0x00, 0x0B});
+  for (auto b : req) {
+    ASSERT_EQ(::write(fd, &b, 1), 1);
+    std::this_thread::sleep_for(2ms);
+  }
+  auto port = framed_fd_transport(fd, "pty", -1);
+  auto got = port->receive(2000ms);
+  ASSERT_TRUE(std::holds_alternative<std::optional<Bytes>>(got));
+  auto& reply = std::get<std::optional<Bytes>>(got);
+  ASSERT_TRUE(reply);
+  EXPECT_EQ(*reply, (Bytes{0x02, 0x0B, 0x00, 0x78, 0x1E}));
+}
+
+TEST_F(PtyNxt, ASilentBrickTimesOut) {
+  auto port = host();
+  Client client(*port);
+  client.timeout = 50ms;
+  auto t0 = std::chrono::steady_clock::now();
+  // Telegram type 0x05: the firmware does not answer at all.
+  ASSERT_FALSE(port->send(Bytes{0x05, 0x0B}));
+  auto got = port->receive(50ms);
+  EXPECT_FALSE(std::get<std::optional<Bytes>>(got));
+  EXPECT_GE(std::chrono::steady_clock::now() - t0, 45ms);
+  // The line is still good afterwards.
+  EXPECT_TRUE(std::holds_alternative<Decoded>(call_ok(client, "KeepAlive", {})));
+}
+
+TEST(NxtInterrupt, AStopDescriptorEndsAWaitWithin100ms) {
+  auto opened = open_pty_pair();
+  ASSERT_TRUE(std::holds_alternative<PtyPair>(opened));
+  auto pty = std::get<PtyPair>(opened);
+  int stop[2];
+  ASSERT_EQ(::pipe(stop), 0);
+  auto port = std::get<std::unique_ptr<Transport>>(open_port({PortKind::Path, pty.slave_path}, stop[0]));
+  std::thread ctrl_c([&] {
+    std::this_thread::sleep_for(30ms);
+    (void)!::write(stop[1], "x", 1);
+  });
+  auto t0 = std::chrono::steady_clock::now();
+  auto got = port->receive(5000ms);  // nobody answers
+  auto waited = std::chrono::steady_clock::now() - t0;
+  ctrl_c.join();
+  ASSERT_TRUE(std::holds_alternative<LinkError>(got));
+  EXPECT_EQ(std::get<LinkError>(got).kind, LinkError::Kind::Interrupted);
+  EXPECT_LT(waited, 130ms);  // 30 ms until the signal, then at most 100
+  port.reset();
+  ::close(stop[0]);
+  ::close(stop[1]);
+  close_pty_pair(pty);
+}
+
+TEST(NxtScenario, ReadsNxtPortsAndRefusesWhatItCannotUse) {
+  auto ok = parse_scenario(R"([[input]]
+at_ms = 500
+sensor = 4
+raw = 300
+[[input]]
+at_ms = 100
+sensor = 1
+distance_cm = 40
+[[input]]
+at_ms = 200
+battery_mv = 7000
+)",
+                           "s.toml");
+  ASSERT_TRUE(std::holds_alternative<std::vector<ScenarioInput>>(ok)) << std::get<ScenarioError>(ok).message;
+  const auto& in = std::get<std::vector<ScenarioInput>>(ok);
+  ASSERT_EQ(in.size(), 3u);
+  EXPECT_EQ(in[0].at_ms, 100);  // sorted by time
+  EXPECT_EQ(in[0].distance_cm, 40);
+  EXPECT_EQ(in[2].port, 3);
+  EXPECT_EQ(in[2].raw, 300);
+  auto bad = [](const char* text) {
+    auto r = parse_scenario(text, "s.toml");
+    return std::holds_alternative<ScenarioError>(r) ? std::get<ScenarioError>(r).message : std::string("accepted");
+  };
+  EXPECT_NE(bad("[[input]]\nat_ms = 1\nsensor = 5\nraw = 1\n").find("s.toml:3: 'sensor' = 5 is out of range 1..4"),
+            std::string::npos);
+  EXPECT_NE(bad("[[input]]\nat_ms = 1\nsensor = 1\nrotation = 1\n").find("unknown key 'rotation'"), std::string::npos);
+  EXPECT_NE(bad("[[input]]\nat_ms = 1\nraw = 1\n").find("'sensor' (1-4) goes with"), std::string::npos);
+  EXPECT_NE(bad("[[input]]\nsensor = 1\nraw = 1\n").find("without 'at_ms'"), std::string::npos);
+  EXPECT_NE(bad("x = 1\n").find("[[input]]"), std::string::npos);
+  EXPECT_NE(bad("[[input]\n").find("s.toml:1"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace nxt

@@ -1,0 +1,403 @@
+// The host client against the virtual NXT in process, on a virtual clock:
+// a round trip for every command of the table, then the firmware behaviour
+// spec/nxt.md describes (expected values are the spec's, not the brick's).
+#include <gtest/gtest.h>
+
+#include <map>
+#include <set>
+
+#include <fmt/format.h>
+
+#include "nxt/client.h"
+#include "nxt/virtual_nxt.h"
+
+namespace nxt {
+namespace {
+
+using V = std::vector<Value>;
+
+struct Rig {
+  VirtualNxt brick;
+  InProcessTransport link;
+  Client client;
+  explicit Rig(std::vector<ScenarioInput> scenario = {})
+      : brick(make_virtual_nxt(std::move(scenario))),
+        link([this](std::span<const std::uint8_t> t) { return answer(brick, t); }),
+        client(link) {
+    client.pause = [this](Millis m) { advance_ms(static_cast<int>(m.count())); };
+  }
+  void advance_ms(std::int64_t ms) { advance_to(brick, brick.now_us + ms * 1000); }
+  // The reply (any status); fails the test if there is none.
+  Decoded reply(std::string_view name, V values = {}) {
+    auto r = call(client, *find_command(name), values);
+    if (auto* e = std::get_if<CallError>(&r)) {
+      ADD_FAILURE() << name << ": " << e->message;
+      return {};
+    }
+    return std::get<Decoded>(r);
+  }
+  std::uint8_t status_of(std::string_view name, V values = {}) { return reply(name, std::move(values)).status; }
+  void put_file(const std::string& name, const Bytes& data) {
+    ASSERT_FALSE(upload_file(client, name, data)) << name;
+  }
+  void start_program() {
+    put_file("prog.rxe", Bytes(10, 1));
+    ASSERT_EQ(status_of("StartProgram", {std::string("prog.rxe")}), 0);
+  }
+};
+
+Value n(std::int64_t v) { return v; }
+Value s(std::string v) { return v; }
+
+// One request per command, with the status a fresh brick (with a program
+// "prog.rxe" running and a file "a.txt") answers.
+struct Trip {
+  V values;
+  std::uint8_t status;
+};
+
+TEST(VirtualNxt, EveryCommandOfTheTableMakesARoundTrip) {
+  Rig rig;
+  rig.put_file("a.txt", Bytes{'a', 'b', 'c'});
+  rig.put_file("s.rso", Bytes(4, 0));
+  rig.start_program();
+  const std::map<std::string_view, Trip> trips = {
+      {"StartProgram", {{s("prog.rxe")}, 0}},
+      {"StopProgram", {{}, 0}},
+      {"PlaySoundFile", {{n(0), s("s.rso")}, 0}},
+      {"PlayTone", {{n(440), n(200)}, 0}},
+      {"SetOutputState", {{n(1), n(50), n(1), n(0), n(0), n(0x20), n(0)}, 0}},
+      {"SetInputMode", {{n(0), n(1), n(0x20)}, 0}},
+      {"GetOutputState", {{n(1)}, 0}},
+      {"GetInputValues", {{n(0)}, 0}},
+      {"ResetInputScaledValue", {{n(0)}, 0}},
+      {"MessageWrite", {{n(0), n(0), Bytes{'x', 0}}, status::kNoProgram}},  // StopProgram ran before it
+      {"ResetMotorPosition", {{n(0), n(0)}, 0}},
+      {"GetBatteryLevel", {{}, 0}},
+      {"StopSoundPlayback", {{}, 0}},
+      {"KeepAlive", {{}, 0}},
+      {"LSGetStatus", {{n(0)}, 0}},
+      {"LSWrite", {{n(0), n(2), n(1), Bytes{2, 0x42}}, status::kChannelBusy}},  // port 1 is not LOWSPEED
+      {"LSRead", {{n(0)}, 0}},
+      {"GetCurrentProgramName", {{}, status::kNoProgram}},
+      {"MessageRead", {{n(0), n(0), n(1)}, status::kNoProgram}},
+      {"GetButtonState", {{}, status::kUnknownCommand}},
+      {"DatalogRead", {{n(0)}, 0}},
+      {"DatalogSetTimes", {{n(5)}, 0}},
+      {"BTGetContactCount", {{}, 0}},
+      {"BTGetContactName", {{n(0)}, 0}},
+      {"BTGetConnCount", {{}, 0}},
+      {"BTGetConnName", {{n(0)}, 0}},
+      {"SetProperty", {{n(1), Bytes{2}}, 0}},
+      {"GetProperty", {{n(1)}, 0}},
+      {"UpdateResetCount", {{n(0)}, 0}},
+      {"OpenRead", {{s("a.txt")}, 0}},
+      {"OpenWrite", {{s("b.txt"), n(3)}, 0}},
+      {"Read", {{n(0), n(3)}, 0}},
+      {"Write", {{n(1), Bytes{1, 2, 3}}, 0}},
+      {"Close", {{n(1)}, 0}},
+      {"Delete", {{s("b.txt")}, 0}},
+      {"FindFirst", {{s("*.txt")}, 0}},
+      {"FindNext", {{n(1)}, status::kFileNotFound}},  // a.txt was the only match
+      {"GetFirmwareVersion", {{}, 0}},
+      {"OpenWriteLinear", {{s("c.rxe"), n(1)}, 0}},
+      {"OpenWriteData", {{s("d.dat"), n(8)}, 0}},
+      {"OpenAppendData", {{s("a.txt")}, status::kAppendNotPossible}},
+      {"FindFirstModule", {{s("*.mod")}, 0}},
+      {"FindNextModule", {{n(3)}, 0}},  // handles 0-2: a.txt, c.rxe, d.dat
+      {"CloseModuleHandle", {{n(3)}, 0}},
+      {"ReadIOMap", {{n(0x000C0001), n(0), n(4)}, 0}},
+      {"WriteIOMap", {{n(0x000C0001), n(0), n(2), Bytes{1, 2}}, 0}},
+      {"Boot", {{s("Let's dance: SAMBA")}, status::kUnknownCommand}},
+      {"SetBrickName", {{s("Robo")}, 0}},
+      {"GetDeviceInfo", {{}, 0}},
+      {"PollCommandLength", {{n(0)}, 0}},
+      {"PollCommand", {{n(0), n(10)}, 0}},
+      {"DeleteUserFlash", {{}, 0}},
+  };
+  // In the table's order, so handles and program state evolve as written.
+  std::set<std::string_view> done;
+  for (const auto& c : commands()) {
+    auto it = trips.find(c.name);
+    ASSERT_NE(it, trips.end()) << c.name << " has no round trip";
+    auto d = rig.reply(c.name, it->second.values);
+    EXPECT_EQ(d.command, &c) << c.name;
+    EXPECT_EQ(d.status, it->second.status) << c.name << ": " << describe(d);
+    done.insert(c.name);
+  }
+  EXPECT_EQ(done.size(), trips.size());
+  EXPECT_EQ(rig.brick.name, "Robo");
+  EXPECT_TRUE(rig.brick.files.empty());  // DeleteUserFlash
+}
+
+TEST(VirtualNxt, FilesUploadListDownloadDelete) {
+  Rig rig;
+  Bytes data(200);
+  for (std::size_t i = 0; i < data.size(); ++i) data[i] = static_cast<std::uint8_t>(i * 7);
+  std::vector<std::size_t> seen;
+  ASSERT_FALSE(upload_file(rig.client, "big.dat", data, [&](std::size_t done, std::size_t) { seen.push_back(done); }));
+  EXPECT_EQ(seen, (std::vector<std::size_t>{58, 116, 174, 200}));
+  rig.put_file("x.rxe", Bytes(3, 9));
+  auto listed = std::get<std::vector<FileEntry>>(list_files(rig.client, "*.*"));
+  ASSERT_EQ(listed.size(), 2u);
+  EXPECT_EQ(listed[0].name, "big.dat");
+  EXPECT_EQ(listed[0].size, 200u);
+  EXPECT_EQ(std::get<std::vector<FileEntry>>(list_files(rig.client, "*.rxe")).size(), 1u);
+  EXPECT_EQ(std::get<std::vector<FileEntry>>(list_files(rig.client, "big.*")).size(), 1u);
+  EXPECT_TRUE(std::get<std::vector<FileEntry>>(list_files(rig.client, "*.rso")).empty());  // 0x87, not an error
+  EXPECT_EQ(std::get<Bytes>(download_file(rig.client, "big.dat")), data);
+  EXPECT_TRUE(rig.brick.files["x.rxe"].linear);  // OpenWrite makes .rxe linear by itself
+  EXPECT_FALSE(rig.brick.files["big.dat"].linear);
+  EXPECT_EQ(rig.status_of("Delete", {s("big.dat")}), 0);
+  EXPECT_EQ(rig.status_of("Delete", {s("big.dat")}), status::kFileNotFound);
+  // Every handle is free again.
+  for (const auto& h : rig.brick.handles) EXPECT_FALSE(h.has_value());
+}
+
+TEST(VirtualNxt, FileSystemErrorCodes) {
+  Rig rig;
+  rig.put_file("a.txt", Bytes{1});
+  EXPECT_EQ(rig.status_of("OpenWrite", {s("a.txt"), n(1)}), status::kFileExists);
+  EXPECT_EQ(rig.status_of("OpenWrite", {s("sixteen_chars_xx.tx"), n(1)}), status::kIllegalFileName);  // 16.2
+  EXPECT_EQ(rig.status_of("OpenWriteData", {s("p.rxe"), n(1)}), status::kIllegalFileName);
+  EXPECT_EQ(rig.status_of("OpenWrite", {s("huge.dat"), n(10'000'000)}), status::kNoSpace);
+  EXPECT_EQ(rig.status_of("OpenRead", {s("none.txt")}), status::kFileNotFound);
+  EXPECT_EQ(rig.status_of("Close", {n(3)}), status::kHandleClosed);
+  EXPECT_EQ(rig.status_of("Close", {n(200)}), status::kIllegalHandle);
+  // Reading past the end: 0x85, and the firmware has closed the handle.
+  auto open = rig.reply("OpenRead", {s("a.txt")});
+  auto h = *open.number("handle");
+  EXPECT_EQ(rig.status_of("OpenRead", {s("a.txt")}), status::kFileBusy);
+  EXPECT_EQ(rig.status_of("Read", {n(h), n(10)}), 0);
+  EXPECT_EQ(rig.status_of("Read", {n(h), n(10)}), status::kEndOfFile);
+  EXPECT_EQ(rig.status_of("Close", {n(h)}), status::kHandleClosed);
+  // Writing more than declared: file full, handle closed.
+  auto w = *rig.reply("OpenWrite", {s("b.txt"), n(2)}).number("handle");
+  EXPECT_EQ(rig.status_of("Write", {n(w), Bytes{1, 2, 3}}), status::kFileFull);
+  EXPECT_EQ(rig.status_of("Write", {n(w), Bytes{1}}), status::kHandleClosed);
+  // Sixteen handles, then no more.
+  for (int i = 0; i < 16; ++i) EXPECT_EQ(rig.status_of("OpenWrite", {s(fmt::format("f{}.txt", i)), n(1)}), 0);
+  EXPECT_EQ(rig.status_of("OpenWrite", {s("g.txt"), n(1)}), status::kNoMoreHandles);
+}
+
+TEST(VirtualNxt, DataFilesAppend) {
+  Rig rig;
+  auto h = *rig.reply("OpenWriteData", {s("log.dat"), n(10)}).number("handle");
+  EXPECT_EQ(rig.status_of("Write", {n(h), Bytes{1, 2}}), 0);
+  EXPECT_EQ(rig.status_of("Close", {n(h)}), 0);
+  auto a = rig.reply("OpenAppendData", {s("log.dat")});
+  EXPECT_EQ(a.status, 0);
+  EXPECT_EQ(a.number("available"), 8);
+  EXPECT_EQ(rig.status_of("Write", {n(*a.number("handle")), Bytes{3}}), 0);
+  EXPECT_EQ(rig.brick.files["log.dat"].data, (Bytes{1, 2, 3}));
+}
+
+TEST(VirtualNxt, ProgramsStartOnlyFromExistingFilesAndResetTheMotors) {
+  Rig rig;
+  // The firmware answers 0xC0 for a missing file (the seed says 0xBD).
+  EXPECT_EQ(rig.status_of("StartProgram", {s("none.rxe")}), status::kOutOfRange);
+  EXPECT_EQ(rig.status_of("StopProgram"), status::kNoProgram);
+  auto none = rig.reply("GetCurrentProgramName");
+  EXPECT_EQ(none.status, status::kNoProgram);
+  EXPECT_EQ(none.text("name"), "");  // zero-filled
+  rig.status_of("SetOutputState", {n(0), n(50), n(1), n(0), n(0), n(0x20), n(0)});
+  rig.advance_ms(100);
+  rig.start_program();
+  EXPECT_EQ(rig.reply("GetCurrentProgramName").text("name"), "prog.rxe");
+  auto m = rig.reply("GetOutputState", {n(0)});
+  EXPECT_EQ(m.number("power"), 0);
+  EXPECT_EQ(m.number("tacho_count"), 0);
+}
+
+TEST(VirtualNxt, MailboxesNeedAProgramAndHoldFiveMessages) {
+  Rig rig;
+  EXPECT_EQ(rig.status_of("MessageWrite", {n(0), n(0), message_text("a")}), status::kNoProgram);
+  rig.start_program();
+  EXPECT_EQ(rig.status_of("MessageRead", {n(0), n(0), n(1)}), status::kQueueEmpty);
+  for (int i = 0; i < 6; ++i) EXPECT_EQ(rig.status_of("MessageWrite", {n(2), n(0), message_text(std::to_string(i))}), 0);
+  // Six written into a queue of five: the oldest ("0") was dropped.
+  auto first = rig.reply("MessageRead", {n(2), n(7), n(1)});
+  EXPECT_EQ(first.number("local_inbox"), 7);
+  EXPECT_EQ(first.number("size"), 2);
+  EXPECT_EQ(first.bytes("data")->at(0), '1');
+  // remove = false leaves it there.
+  EXPECT_EQ(rig.reply("MessageRead", {n(2), n(2), n(0)}).bytes("data")->at(0), '2');
+  EXPECT_EQ(rig.reply("MessageRead", {n(2), n(2), n(1)}).bytes("data")->at(0), '2');
+  EXPECT_EQ(rig.status_of("MessageWrite", {n(20), n(0), message_text("a")}), status::kIllegalQueue);
+  EXPECT_EQ(rig.status_of("MessageRead", {n(20), n(0), n(1)}), status::kIllegalQueue);
+  EXPECT_EQ(rig.status_of("MessageWrite", {n(0), n(0), Bytes{'n', 'o'}}), status::kOutOfRange);  // no NUL
+  EXPECT_EQ(rig.status_of("MessageWrite", {n(0), n(0), Bytes{}}), status::kOutOfRange);          // size 0
+  EXPECT_EQ(rig.status_of("MessageWrite", {n(0), n(0), Bytes(60, 0)}), status::kOutOfRange);     // over 59
+  // Numbers as NXC (int32 LE + NUL) and NXT-G (float32 LE + NUL) send them.
+  EXPECT_EQ(message_int(-2), (Bytes{0xFE, 0xFF, 0xFF, 0xFF, 0}));
+  EXPECT_EQ(message_float(1.0f), (Bytes{0x00, 0x00, 0x80, 0x3F, 0}));
+  EXPECT_EQ(show_message(message_text("hi")), "hi");
+}
+
+TEST(VirtualNxt, MotorsTurnWithPowerAndTimeAndStopAtTheLimit) {
+  Rig rig;
+  // Power 50: 500 degrees a second in this model.
+  rig.status_of("SetOutputState", {n(0), n(50), n(kMotorOn), n(0), n(0), n(0x20), n(0)});
+  rig.advance_ms(1000);
+  EXPECT_EQ(rig.reply("GetOutputState", {n(0)}).number("tacho_count"), 500);
+  rig.status_of("SetOutputState", {n(0), n(-100), n(kMotorOn | kBrake), n(0), n(0), n(0x20), n(360)});
+  rig.advance_ms(200);
+  auto mid = rig.reply("GetOutputState", {n(0)});
+  EXPECT_EQ(mid.number("tacho_count"), 300);
+  EXPECT_EQ(mid.number("run_state"), 0x20);
+  rig.advance_ms(1000);
+  auto done = rig.reply("GetOutputState", {n(0)});
+  EXPECT_EQ(done.number("tacho_count"), 140);  // 500 - 360
+  EXPECT_EQ(done.number("run_state"), kRunStateIdle);
+  EXPECT_EQ(done.number("mode"), kMotorOn | kBrake);
+  EXPECT_EQ(done.number("tacho_limit"), 360);
+  rig.status_of("ResetMotorPosition", {n(0), n(1)});
+  auto reset = rig.reply("GetOutputState", {n(0)});
+  EXPECT_EQ(reset.number("block_tacho_count"), 0);
+  EXPECT_EQ(reset.number("rotation_count"), 140);
+  rig.status_of("UpdateResetCount", {n(0)});
+  EXPECT_EQ(rig.reply("GetOutputState", {n(0)}).number("tacho_count"), 0);
+  // Port 0xFF drives all three.
+  rig.status_of("SetOutputState", {n(0xFF), n(10), n(kMotorOn), n(0), n(0), n(0x20), n(0)});
+  rig.advance_ms(1000);
+  EXPECT_EQ(rig.reply("GetOutputState", {n(2)}).number("tacho_count"), 100);
+}
+
+TEST(VirtualNxt, AnIllegalPortAnswersC0WithAFullZeroBody) {
+  Rig rig;
+  auto r = *answer(rig.brick, Bytes{0x00, 0x06, 0x03});
+  EXPECT_EQ(r.size(), 25u);
+  EXPECT_EQ(r[2], status::kOutOfRange);
+  EXPECT_TRUE(std::all_of(r.begin() + 3, r.end(), [](auto b) { return b == 0; }));
+  EXPECT_EQ(rig.status_of("GetInputValues", {n(4)}), status::kOutOfRange);
+  EXPECT_EQ(rig.status_of("SetOutputState", {n(3), n(0), n(0), n(0), n(0), n(0), n(0)}), status::kOutOfRange);
+}
+
+TEST(VirtualNxt, SensorsFollowTheScenarioAfterTheValidDelay) {
+  std::vector<ScenarioInput> scenario{{100, 0, 200, {}, {}}, {300, 0, 800, {}, {}}, {400, -1, {}, {}, 7100}};
+  Rig rig(scenario);
+  rig.status_of("SetInputMode", {n(0), n(0x01), n(0x20)});
+  EXPECT_EQ(rig.reply("GetInputValues", {n(0)}).number("valid"), 0);
+  rig.advance_ms(19);
+  EXPECT_EQ(rig.reply("GetInputValues", {n(0)}).number("valid"), 0);
+  rig.advance_ms(1);
+  auto v = rig.reply("GetInputValues", {n(0)});
+  EXPECT_EQ(v.number("valid"), 1);
+  EXPECT_EQ(v.number("raw"), 1023);
+  EXPECT_EQ(v.number("scaled"), 0);
+  rig.advance_ms(100);  // 120 ms: raw 200, pressed
+  v = rig.reply("GetInputValues", {n(0)});
+  EXPECT_EQ(v.number("raw"), 200);
+  EXPECT_EQ(v.number("scaled"), 1);
+  EXPECT_EQ(v.number("calibrated_value"), 200);  // the firmware returns the normalized value here
+  rig.advance_ms(300);
+  EXPECT_EQ(rig.reply("GetInputValues", {n(0)}).number("scaled"), 0);
+  EXPECT_EQ(rig.reply("GetBatteryLevel").number("millivolts"), 7100);
+  // Transition count mode counts the edges since the mode was set.
+  rig.status_of("SetInputMode", {n(1), n(0x01), n(0x40)});
+  EXPECT_EQ(rig.reply("GetInputValues", {n(1)}).number("scaled"), 0);
+  // Sound sensors take 300 ms to become valid.
+  rig.status_of("SetInputMode", {n(2), n(kSoundDb), n(0x80)});
+  rig.advance_ms(299);
+  EXPECT_EQ(rig.reply("GetInputValues", {n(2)}).number("valid"), 0);
+  rig.advance_ms(1);
+  EXPECT_EQ(rig.reply("GetInputValues", {n(2)}).number("valid"), 1);
+}
+
+TEST(VirtualNxt, UltrasonicOverI2C) {
+  std::vector<ScenarioInput> scenario{{0, 3, {}, 42, {}}};
+  Rig rig(scenario);
+  // Before the port is LOWSPEED and valid, LS commands fail with 0xE0.
+  EXPECT_EQ(rig.status_of("LSWrite", {n(3), n(2), n(1), Bytes{2, 0x42}}), status::kChannelBusy);
+  auto cm = read_ultrasonic(rig.client, 3);
+  ASSERT_TRUE(std::holds_alternative<int>(cm)) << std::get<CallError>(cm).message;
+  EXPECT_EQ(std::get<int>(cm), 42);
+  // The product id register reads "LEGO"; a transaction is pending for a few ms.
+  EXPECT_EQ(rig.status_of("LSWrite", {n(3), n(2), n(8), Bytes{2, 0x08}}), 0);
+  EXPECT_EQ(rig.status_of("LSGetStatus", {n(3)}), status::kPending);
+  rig.advance_ms(20);
+  EXPECT_EQ(rig.reply("LSGetStatus", {n(3)}).number("bytes_ready"), 8);
+  auto read = rig.reply("LSRead", {n(3)});
+  EXPECT_EQ(read.number("bytes_read"), 8);
+  EXPECT_EQ(text_of(*read.bytes("rx_data")), "LEGO");
+  EXPECT_EQ(rig.status_of("LSWrite", {n(3), n(17), n(1), Bytes(17, 2)}), status::kIllegalSize);
+  EXPECT_EQ(rig.status_of("LSWrite", {n(3), n(2), n(17), Bytes{2, 0x42}}), status::kIllegalSize);
+  // A device at another address does not answer: bus error.
+  rig.status_of("LSWrite", {n(3), n(2), n(1), Bytes{4, 0x42}});
+  rig.advance_ms(20);
+  EXPECT_EQ(rig.status_of("LSGetStatus", {n(3)}), status::kBusError);
+}
+
+TEST(VirtualNxt, KeepAliveAndTheSleepTimer) {
+  Rig rig;
+  EXPECT_EQ(rig.reply("KeepAlive").number("sleep_limit_ms"), 600'000);
+  // The firmware keeps whole minutes: 90 s reads back as 60 s.
+  rig.status_of("SetProperty", {n(2), Bytes{0x90, 0x5F, 0x01, 0x00}});
+  EXPECT_EQ(rig.reply("KeepAlive").number("sleep_limit_ms"), 60'000);
+  rig.advance_ms(59'000);
+  rig.status_of("GetBatteryLevel");  // ordinary commands do not reset the timer
+  rig.advance_ms(2'000);
+  rig.client.timeout = Millis(5);
+  auto r = call(rig.client, *find_command("KeepAlive"), V{});
+  ASSERT_TRUE(std::holds_alternative<CallError>(r));
+  EXPECT_EQ(std::get<CallError>(r).kind, CallError::Kind::NoReply);
+  EXPECT_TRUE(rig.brick.asleep);
+}
+
+TEST(VirtualNxt, TelegramsTheFirmwareDoesNotTake) {
+  Rig rig;
+  EXPECT_FALSE(answer(rig.brick, Bytes{0x05, 0x0B}));                                 // unknown type: silence
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x00, 0x55}), (Bytes{0x02, 0x55, 0xBE}));         // unknown opcode
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x00, 0x12}), (Bytes{0x02, 0x12, 0xBE}));         // GetButtonState
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x00, 0x03, 0x01}), (Bytes{0x02, 0x03, 0xBF}));   // truncated PlayTone
+  EXPECT_FALSE(answer(rig.brick, Bytes{0x80, 0x03, 0xB8, 0x01, 0xF4, 0x01}));          // no reply wanted...
+  EXPECT_EQ(rig.brick.sounds.size(), 1u);                                              // ...but it played
+  // PlayTone is not range-checked by the brick.
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x00, 0x03, 0x01, 0x00, 0x01, 0x00}), (Bytes{0x02, 0x03, 0x00}));
+}
+
+TEST(VirtualNxt, ALateReplyIsDrainedNotTakenForTheNextCommand) {
+  Rig rig;
+  rig.client.timeout = Millis(1);
+  rig.link.late_by = 2;  // the reply comes after the host gave up
+  auto r = call(rig.client, *find_command("GetBatteryLevel"), V{});
+  ASSERT_TRUE(std::holds_alternative<CallError>(r));
+  EXPECT_EQ(std::get<CallError>(r).kind, CallError::Kind::NoReply);
+  rig.link.late_by = 0;
+  auto fw = call(rig.client, *find_command("GetFirmwareVersion"), V{});
+  ASSERT_TRUE(std::holds_alternative<Decoded>(fw));
+  EXPECT_EQ(std::get<Decoded>(fw).command->name, "GetFirmwareVersion");
+  EXPECT_EQ(rig.client.dropped, 1);
+  // A stray reply to another opcode waiting in the line is skipped too.
+  rig.link.inbox.push_back(Bytes{0x02, 0x0B, 0x00, 0x10, 0x10});
+  rig.link.late_by = 0;
+  auto k = call(rig.client, *find_command("KeepAlive"), V{});
+  ASSERT_TRUE(std::holds_alternative<Decoded>(k));
+  EXPECT_EQ(rig.client.dropped, 2);
+}
+
+TEST(VirtualNxt, AReplyThatDoesNotParseSaysWhatCameBack) {
+  InProcessTransport link([](std::span<const std::uint8_t>) { return std::optional<Bytes>(Bytes{0x02, 0x0B, 0x00, 0x01}); });
+  Client client(link);
+  auto r = call(client, *find_command("GetBatteryLevel"), V{});
+  ASSERT_TRUE(std::holds_alternative<CallError>(r));
+  EXPECT_EQ(std::get<CallError>(r).kind, CallError::Kind::BadReply);
+  EXPECT_NE(std::get<CallError>(r).message.find("02 0b 00 01"), std::string::npos) << std::get<CallError>(r).message;
+}
+
+TEST(VirtualNxt, HostChecksFileNames) {
+  EXPECT_FALSE(check_file_name("prog.rxe"));
+  EXPECT_FALSE(check_file_name("fifteen_chars_x.rxe"));
+  EXPECT_TRUE(check_file_name("sixteen_chars_xx.rxe"));
+  EXPECT_TRUE(check_file_name("a.rxe4"));
+  EXPECT_TRUE(check_file_name("dir/a.rxe"));
+  EXPECT_TRUE(check_file_name(""));
+  Rig rig;
+  auto e = upload_file(rig.client, "sixteen_chars_xx.rxe", Bytes{1});
+  ASSERT_TRUE(e);
+  EXPECT_EQ(e->kind, CallError::Kind::Input);
+  EXPECT_EQ(rig.brick.counters.requests, 0u);  // nothing was sent
+}
+
+}  // namespace
+}  // namespace nxt
