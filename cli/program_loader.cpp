@@ -125,9 +125,10 @@ std::optional<bool> is_nqc_source(const std::string& path) {
 }
 
 std::variant<rcx::Image, std::string> load_program(const std::string& path, const CompileRequest& request) {
-  // An unreadable file goes where its name points, whose reader says why.
-  bool source = is_nqc_source(path).value_or(has_extension(path, ".nqc"));
-  if (source) {
+  // A file that cannot be read (missing, a folder) is the image reader's to
+  // explain: it names the file and the reason.
+  auto source = is_nqc_source(path);
+  if (source.value_or(false)) {
     CompileResult compiled = compile_file(path, request);
     std::cerr << render_all(compiled.diagnostics, compiled.sources, {});
     if (!compiled.output) return fmt::format("{}: the program does not compile", path);

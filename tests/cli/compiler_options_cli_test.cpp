@@ -164,3 +164,14 @@ TEST(CompilerOptions, CompareGivesNqcTheSameMacros) {
   EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
   EXPECT_NE(r.out.find("same"), std::string::npos) << r.out;
 }
+
+TEST(CompilerOptions, AMissingSourceIsCannotOpenNotACompileError) {
+  TempDir d;
+  for (const std::string command : {"run", "disasm", "download"}) {
+    auto r = run_rcxc({command, d.path + "/missing.NQC", "--port", "/dev/null"});
+    if (command != "download") r = run_rcxc({command, d.path + "/missing.NQC"});
+    EXPECT_EQ(r.exit_code, 1) << command << ": " << r.err;
+    EXPECT_NE(r.err.find("missing.NQC: cannot open file"), std::string::npos) << command << ": " << r.err;
+    EXPECT_EQ(r.err.find("does not compile"), std::string::npos) << command << ": " << r.err;
+  }
+}
