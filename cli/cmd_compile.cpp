@@ -7,7 +7,6 @@
 #include "cli/commands.h"
 #include "cli/output_file.h"
 #include "cli/program_loader.h"
-#include "backend/compile.h"
 #include "backend/listing.h"
 #include "frontend/frontend.h"
 #include "rcx/image.h"
@@ -112,13 +111,12 @@ int run_compile(const CompileArgs& a) {
     std::cout << *text;
     return kExitOk;
   }
-  ir::Log log;
-  auto out = backend::compile_file(a.file, request.frontend, request.level, sm, diags, log, request.passes);
-  print_diagnostics(diags, sm, a);
+  CompileResult compiled = compile_file(a.file, request, std::move(diags));
+  print_diagnostics(compiled.diagnostics, compiled.sources, a);
   if (a.verbose)
-    for (const auto& line : log) std::cerr << "rcxc: " << line << "\n";
-  if (!out) return kExitFailure;
-  return write_outputs(a, *out, sm);
+    for (const auto& line : compiled.log) std::cerr << "rcxc: " << line << "\n";
+  if (!compiled.output) return kExitFailure;
+  return write_outputs(a, *compiled.output, compiled.sources);
 }
 
 }  // namespace
