@@ -22,8 +22,9 @@ std::optional<Output> allocate_and_generate(const ir::Program& program, ir::OptL
 // It also rescues a task that is too long written out. Each alternative
 // reports into its own copy of the diagnostics so far; the chosen one's
 // diagnostics and log are kept.
-std::optional<Output> compile(ir::Program program, ir::OptLevel level, Diagnostics& diags, ir::Log& log) {
-  if (!ir::optimize(program, level, diags, log)) return std::nullopt;
+std::optional<Output> compile(ir::Program program, ir::OptLevel level, Diagnostics& diags, ir::Log& log,
+                              const ir::PassOptions& passes) {
+  if (!ir::optimize(program, level, diags, log, passes)) return std::nullopt;
   Diagnostics chosen_diags = diags;
   ir::Log chosen_log;
   auto out = allocate_and_generate(program, level, chosen_diags, chosen_log);
@@ -49,12 +50,13 @@ std::optional<Output> compile(ir::Program program, ir::OptLevel level, Diagnosti
 }
 
 std::optional<Output> compile_file(const std::string& path, const frontend::Options& options, ir::OptLevel level,
-                                   SourceManager& sm, Diagnostics& diags, ir::Log& log) {
+                                   SourceManager& sm, Diagnostics& diags, ir::Log& log,
+                                   const ir::PassOptions& passes) {
   auto program = frontend::parse_program(path, options, sm, diags);
   if (!program) return std::nullopt;
   auto lowered = ir::lower(*program, diags);
   if (!lowered) return std::nullopt;
-  return compile(std::move(*lowered), level, diags, log);
+  return compile(std::move(*lowered), level, diags, log, passes);
 }
 
 std::optional<Output> compile_source(const std::string& name, std::string text, const frontend::Options& options,

@@ -28,6 +28,7 @@ struct CompareOptions {
   // remains of a difference in instruction counts is far below the
   // tolerance while the programs' own waits are exact.
   std::int64_t instruction_us = kCompareInstructionUs;
+  CompilerArgs compiler;  // given to both compilers (nqc: all but -O)
 };
 
 rcx::TimeTolerance compare_tolerance(std::int64_t instruction_us) {
@@ -93,7 +94,8 @@ rcx::Machine run_image(const rcx::Image& image, const Scenario& s, const Compare
 constexpr int kMaxShiftInstructions = 20;
 
 std::optional<int> align_inputs(const rcx::Image& ours, const rcx::Image& theirs, const Scenario& s,
-                                const CompareOptions& o, rcx::TimeTolerance tolerance) {
+                                const CompareOptions& o, rcx::TimeTolerance tolerance,
+                                const std::vector<std::string>& globals) {
   const rcx::Micros end = o.for_ms * rcx::kMicrosPerMs;
   Scenario shifted = s;
   std::stable_sort(shifted.inputs.begin(), shifted.inputs.end(),
@@ -102,7 +104,7 @@ std::optional<int> align_inputs(const rcx::Image& ours, const rcx::Image& theirs
   auto agree_until = [&](rcx::Micros until) {
     rcx::Machine a = run_image(ours, original, o, until);
     rcx::Machine b = run_image(theirs, shifted, o, until);
-    return rcx::compare_runs({&a, &ours, "rcxc"}, {&b, &theirs, "nqc"}, tolerance).same;
+    return rcx::compare_runs({&a, &ours, "rcxc"}, {&b, &theirs, "nqc"}, tolerance, globals).same;
   };
   // Moves inputs [first, last) by 0, then 1, -1, 2, -2, ... instruction
   // times until the runs agree up to `until`; false (inputs left moved by the
@@ -144,6 +146,14 @@ std::optional<int> align_inputs(const rcx::Image& ours, const rcx::Image& theirs
 }
 
 int run(const CompareOptions& o) {
+  if (auto bad = bad_compiler_arguments(o.compiler)) {
+    std::cerr << "rcxc compare: " << *bad << "\n";
+    return kExitUsage;
+  }
+  if (is_nqc_source(o.file) == false) {
+    std::cerr << "rcxc compare: " << o.file << " is an .rcx image; compare needs the NQC source\n";
+    return kExitFailure;
+  }
   std::vector<Scenario> scenarios;
   for (const auto& path : o.scenarios) {
     auto parsed = rcx::read_scenario_file(path);
@@ -155,7 +165,7 @@ int run(const CompareOptions& o) {
   }
   if (scenarios.empty()) scenarios = builtin_scenarios();
 
-  auto theirs = rcx::semtest::compile_with_nqc(o.nqc, o.file);
+  auto theirs = rcx::semtest::compile_with_nqc(o.nqc, o.file, nqc_arguments(o.compiler));
   if (!theirs.failure.empty()) {
     std::cerr << "rcxc compare: " << theirs.failure << "\n";
     return kExitNotComparable;
@@ -164,7 +174,7 @@ int run(const CompareOptions& o) {
     std::cout << o.file << ": nqc does not compile this program; nothing to compare\n";
     return kExitNotComparable;
   }
-  CompileResult ours = compile_file(o.file, {});
+  CompileResult ours = compile_file(o.file, compile_request(o.compiler));
   if (!ours.output) {
     std::cerr << render_all(ours.diagnostics, ours.sources, {});
     std::cout << o.file << ": nqc compiles this program but rcxc does not\n";
@@ -177,12 +187,12 @@ int run(const CompareOptions& o) {
     try {
       rcx::Machine a = run_image(our_image, s, o, o.for_ms * rcx::kMicrosPerMs);
       rcx::Machine b = run_image(*theirs.image, s, o, o.for_ms * rcx::kMicrosPerMs);
-      auto cmp = rcx::compare_runs({&a, &our_image, "rcxc"}, {&b, &*theirs.image, "nqc"}, tolerance);
+      auto cmp = rcx::compare_runs({&a, &our_image, "rcxc"}, {&b, &*theirs.image, "nqc"}, tolerance, ours.globals);
       if (cmp.same) {
         std::cout << "same      " << o.file << " [" << s.name << "]\n";
         continue;
       }
-      if (auto shifted = align_inputs(our_image, *theirs.image, s, o, tolerance)) {
+      if (auto shifted = align_inputs(our_image, *theirs.image, s, o, tolerance, ours.globals)) {
         std::cout << "same      " << o.file << " [" << s.name << "] once " << *shifted
                   << " input time(s) moved by at most " << kMaxShiftInstructions
                   << " instruction times for nqc's code (instruction timing)\n";
@@ -206,6 +216,7 @@ void register_compare(CLI::App& app, int& exit_code) {
   auto* cmd = app.add_subcommand("compare", "Run a program as rcxc and as nqc compile it; report behaviour differences");
   auto o = std::make_shared<CompareOptions>();
   cmd->add_option("FILE", o->file, "NQC source file")->required();
+  add_compiler_options(cmd, o->compiler);
   add_repeatable(cmd, "--scenario", o->scenarios, "Scenario TOML file (repeatable); default: built-in scenarios");
   cmd->add_option("--nqc-path", o->nqc, "The nqc to compare with (path or name; default: nqc on PATH)");
   cmd->add_option("--for", o->for_ms, "Virtual milliseconds per run (default 20000)")

@@ -6,7 +6,7 @@
 
 #include "cli/commands.h"
 #include "cli/output_file.h"
-#include "backend/compile.h"
+#include "cli/program_loader.h"
 #include "backend/listing.h"
 #include "frontend/frontend.h"
 #include "rcx/image.h"
@@ -21,28 +21,15 @@ namespace {
 struct CompileArgs {
   std::string file;
   std::optional<std::string> output;
-  std::vector<std::string> include_dirs;
-  std::vector<std::string> defines;
-  std::vector<std::string> undefines;
+  CompilerArgs compiler;                   // -I -D -U -n -O
   std::vector<std::string> warning_flags;  // -Werror
   std::string diagnostics = "text";
   std::size_t max_errors = kDefaultMaxErrors;
-  std::string optimize = "s";
-  bool no_stdlib = false;
   bool preprocess_only = false;
   bool no_warnings = false;
   std::string listing;  // "-" = standard output
   bool verbose = false;
 };
-
-frontend::Options frontend_options(const CompileArgs& a) {
-  frontend::Options o;
-  o.include_dirs = a.include_dirs;
-  for (const auto& d : a.defines) o.define(d);
-  o.undefines = a.undefines;
-  o.no_stdlib = a.no_stdlib;
-  return o;
-}
 
 void print_diagnostics(const Diagnostics& diags, const SourceManager& sm, const CompileArgs& a) {
   std::cerr << render_all(diags, sm, RenderOptions{a.diagnostics == "json", a.max_errors});
@@ -93,18 +80,10 @@ int write_outputs(const CompileArgs& a, const backend::Output& out, const Source
   return kExitOk;
 }
 
-bool is_identifier(const std::string& name) {
-  if (name.empty() || std::isdigit(static_cast<unsigned char>(name[0]))) return false;
-  return std::all_of(name.begin(), name.end(), [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; });
-}
-
 // Command-line values the option parser cannot judge: macro names and an
 // empty output name.
 std::optional<std::string> bad_arguments(const CompileArgs& a) {
-  for (const auto& d : a.defines)
-    if (!is_identifier(d.substr(0, d.find('=')))) return "-D" + d + ": a macro name must be an identifier";
-  for (const auto& u : a.undefines)
-    if (!is_identifier(u)) return "-U" + u + ": a macro name must be an identifier";
+  if (auto bad = bad_compiler_arguments(a.compiler)) return bad;
   if (a.output && a.output->empty()) return "-o needs a file name";
   return std::nullopt;
 }
@@ -124,22 +103,20 @@ int run_compile(const CompileArgs& a) {
     diags.warnings_as_errors = true;
   }
   diags.suppress_warnings = a.no_warnings;
-  frontend::Options options = frontend_options(a);
+  const CompileRequest request = compile_request(a.compiler);
   if (a.preprocess_only) {
-    auto text = frontend::preprocess_file(a.file, options, sm, diags);
+    auto text = frontend::preprocess_file(a.file, request.frontend, sm, diags);
     print_diagnostics(diags, sm, a);
     if (!text) return kExitFailure;
     std::cout << *text;
     return kExitOk;
   }
-  ir::Log log;
-  auto level = a.optimize == "0" ? ir::OptLevel::O0 : a.optimize == "1" ? ir::OptLevel::O1 : ir::OptLevel::Os;
-  auto out = backend::compile_file(a.file, options, level, sm, diags, log);
-  print_diagnostics(diags, sm, a);
+  CompileResult compiled = compile_file(a.file, request, std::move(diags));
+  print_diagnostics(compiled.diagnostics, compiled.sources, a);
   if (a.verbose)
-    for (const auto& line : log) std::cerr << "rcxc: " << line << "\n";
-  if (!out) return kExitFailure;
-  return write_outputs(a, *out, sm);
+    for (const auto& line : compiled.log) std::cerr << "rcxc: " << line << "\n";
+  if (!compiled.output) return kExitFailure;
+  return write_outputs(a, *compiled.output, compiled.sources);
 }
 
 }  // namespace
@@ -149,15 +126,10 @@ void register_compile(CLI::App& app, int& exit_code) {
   auto args = std::make_shared<CompileArgs>();
   cmd->add_option("FILE", args->file, "NQC source file")->required();
   cmd->add_option("-o,--output", args->output, "Output .rcx image");
-  add_repeatable(cmd, "-I", args->include_dirs, "Add a folder to the #include search path");
-  add_repeatable(cmd, "-D", args->defines, "Define a macro: -DNAME or -DNAME=VALUE");
-  add_repeatable(cmd, "-U", args->undefines, "Undefine a macro");
-  cmd->add_flag("-n", args->no_stdlib, "Do not read the standard library rcx.nqh");
+  add_compiler_options(cmd, args->compiler);
   cmd->add_flag("-E", args->preprocess_only, "Print the preprocessed source and stop");
   add_repeatable(cmd, "-W", args->warning_flags, "-Werror: treat warnings as errors");
   cmd->add_flag("-w", args->no_warnings, "Do not report warnings");
-  cmd->add_option("-O", args->optimize, "Optimisation: -O0, -O1 or -Os (default)")
-      ->check(CLI::IsMember({"0", "1", "s"}));
   cmd->add_option("--listing", args->listing, "Write a listing to FILE (or standard output without =FILE)")
       ->expected(0, 1)
       ->default_str("-");

@@ -7,8 +7,8 @@
 
 #include <fmt/format.h>
 
-#include "backend/compile.h"
 #include "cli/commands.h"
+#include "cli/program_loader.h"
 #include "cli/tower.h"
 #include "link/download.h"
 #include "rcx/image.h"
@@ -25,40 +25,8 @@ struct DownloadArgs {
   int retries = 30;
   bool no_sound = false;
   bool verbose = false;
-  std::vector<std::string> include_dirs;
+  CompilerArgs compiler;  // for a source FILE, as `rcxc compile` takes them
 };
-
-bool ends_with(const std::string& s, std::string_view suffix) {
-  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
-
-// Compiles NQC source in memory (default options, -Os), printing its
-// diagnostics; nullopt after errors.
-std::optional<rcx::Image> compile(const std::string& file, const std::vector<std::string>& include_dirs) {
-  SourceManager sm;
-  Diagnostics diags;
-  frontend::Options options;
-  options.include_dirs = include_dirs;
-  ir::Log log;
-  auto out = backend::compile_file(file, options, ir::OptLevel::Os, sm, diags, log);
-  std::cerr << render_all(diags, sm, {});
-  if (!out) return std::nullopt;
-  return out->image;
-}
-
-// Reads (or compiles) the image to download, or says why not; an empty
-// message means the compiler already reported the errors.
-std::variant<rcx::Image, std::string> load(const std::string& file, const std::vector<std::string>& include_dirs) {
-  if (ends_with(file, ".nqc")) {
-    if (!std::filesystem::exists(file)) return fmt::format("cannot read {}", file);
-    auto image = compile(file, include_dirs);
-    if (!image) return std::string();
-    return *image;
-  }
-  auto image = rcx::read_image_file(file);
-  if (auto* e = std::get_if<rcx::ImageError>(&image)) return e->message;
-  return std::get<rcx::Image>(std::move(image));
-}
 
 // "[########............]  120/300 bytes  40%  52 B/s", redrawn in place.
 void draw_progress(const rcx::DownloadProgress& p, std::chrono::steady_clock::time_point start) {
@@ -84,9 +52,13 @@ int exit_code_for(rcx::DownloadFailure kind) {
 }
 
 int run_download(const DownloadArgs& a) {
-  auto image = load(a.file, a.include_dirs);
+  if (auto bad = bad_compiler_arguments(a.compiler)) {
+    std::cerr << "rcxc download: " << *bad << "\n";
+    return kExitUsage;
+  }
+  auto image = load_program(a.file, compile_request(a.compiler));
   if (auto* e = std::get_if<std::string>(&image)) {
-    if (!e->empty()) std::cerr << "rcxc download: " << *e << "\n";
+    std::cerr << "rcxc download: " << *e << "\n";
     return kExitFailure;
   }
   auto tower = open_tower("download", a.port);
@@ -123,8 +95,8 @@ int run_download(const DownloadArgs& a) {
 void register_download(CLI::App& app, int& exit_code) {
   auto* cmd = app.add_subcommand("download", "Compile if needed and download a program into the RCX over the IR tower");
   auto a = std::make_shared<DownloadArgs>();
-  cmd->add_option("FILE", a->file, ".nqc source (compiled first) or .rcx image")->required();
-  add_repeatable(cmd, "-I", a->include_dirs, "Include directory for .nqc source");
+  cmd->add_option("FILE", a->file, "NQC source (compiled first) or .rcx image")->required();
+  add_compiler_options(cmd, a->compiler);
   cmd->add_option("--port", a->port, "Tower device: usb, serial, a path (default: RCX_PORT, else usb)");
   cmd->add_option("--program", a->program, "Program slot 1..5")->check(CLI::Range(1, 5));
   cmd->add_flag("--run", a->run, "Start the program after downloading");

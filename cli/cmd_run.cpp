@@ -26,25 +26,11 @@ struct RunOptions {
   std::string report;
   std::string trace;
   std::int64_t instruction_us = rcx::kDefaultInstructionCostUs;
+  CompilerArgs compiler;  // for a source FILE, as `rcxc compile` takes them
 };
 
 bool ends_with(const std::string& s, std::string_view suffix) {
   return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
-
-// The one place a FILE becomes a program image: `.nqc` sources are compiled
-// in memory exactly as `rcxc compile` would (diagnostics go to stderr),
-// anything else is read as an .rcx image.
-std::variant<rcx::Image, std::string> load_program(const std::string& path) {
-  if (ends_with(path, ".nqc")) {
-    CompileResult compiled = compile_file(path, {});
-    std::cerr << render_all(compiled.diagnostics, compiled.sources, {});
-    if (!compiled.output) return fmt::format("{}: the program does not compile", path);
-    return std::move(compiled.output->image);
-  }
-  auto image = rcx::read_image_file(path);
-  if (auto* e = std::get_if<rcx::ImageError>(&image)) return e->message;
-  return std::get<rcx::Image>(std::move(image));
 }
 
 // Symbol names come from the image and may be any bytes: invalid UTF-8 is
@@ -77,7 +63,11 @@ int run(const RunOptions& o) {
     std::cerr << "rcxc run: --trace file must end in .vcd or .json: " << o.trace << "\n";
     return kExitUsage;
   }
-  auto loaded = load_program(o.file);
+  if (auto bad = bad_compiler_arguments(o.compiler)) {
+    std::cerr << "rcxc run: " << *bad << "\n";
+    return kExitUsage;
+  }
+  auto loaded = load_program(o.file, compile_request(o.compiler));
   if (auto* e = std::get_if<std::string>(&loaded)) {
     std::cerr << "rcxc run: " << *e << "\n";
     return kExitFailure;
@@ -93,7 +83,7 @@ int run(const RunOptions& o) {
     inputs = std::get<std::vector<rcx::TimedInput>>(std::move(parsed));
   }
   std::int64_t run_ms = o.for_ms;
-  if (o.scenario.empty() && ends_with(o.file, ".nqc")) {
+  if (o.scenario.empty() && is_nqc_source(o.file).value_or(false)) {
     if (!inputs_from_source(o, inputs, run_ms)) return kExitFailure;
   }
   rcx::Config config;
@@ -133,7 +123,8 @@ int run(const RunOptions& o) {
 void register_run(CLI::App& app, int& exit_code) {
   auto* cmd = app.add_subcommand("run", "Run a program on the RCX emulator in virtual time");
   auto o = std::make_shared<RunOptions>();
-  cmd->add_option("FILE", o->file, ".rcx image or .nqc source (compiled in memory)")->required();
+  cmd->add_option("FILE", o->file, ".rcx image or NQC source (compiled in memory)")->required();
+  add_compiler_options(cmd, o->compiler);
   cmd->add_option("--scenario", o->scenario, "TOML file of timed inputs ([[input]] tables)");
   cmd->add_option("--for", o->for_ms, "virtual time limit in ms (default 60000)")->check(CLI::Range(std::int64_t{1}, kMaxRunMs));
   cmd->add_option("--seed", o->seed, "seed of the random source (default 1)");

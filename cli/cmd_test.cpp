@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
 #include <filesystem>
 #include <iostream>
 
@@ -23,11 +24,19 @@ struct TestOptions {
   std::vector<std::string> paths;
   std::string nqc;  // non-empty: compile with this nqc instead of rcxc
   bool verbose = false;
+  CompilerArgs compiler;  // for every file; a file's @options add to them
 };
 
 constexpr rcx::Micros kDefaultRunUs = 60'000'000;
 
-// The .nqc files named, folders searched recursively, in a stable order.
+bool has_nqc_extension(const fs::path& path) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext == ".nqc";
+}
+
+// The files named and the .nqc files (any case: FOO.NQC) in the folders
+// named, searched recursively, in a stable order.
 std::vector<std::string> collect(const std::vector<std::string>& paths, std::vector<std::string>& missing) {
   std::vector<std::string> files;
   for (const auto& p : paths) {
@@ -35,7 +44,7 @@ std::vector<std::string> collect(const std::vector<std::string>& paths, std::vec
     if (fs::is_directory(p, ec)) {
       std::vector<std::string> found;
       for (const auto& entry : fs::recursive_directory_iterator(p, ec))
-        if (entry.is_regular_file() && entry.path().extension() == ".nqc") found.push_back(entry.path().string());
+        if (entry.is_regular_file() && has_nqc_extension(entry.path())) found.push_back(entry.path().string());
       std::sort(found.begin(), found.end());
       files.insert(files.end(), found.begin(), found.end());
     } else if (fs::is_regular_file(p, ec)) {
@@ -53,17 +62,42 @@ struct Compiled {
   std::string failure;  // could not compile for a reason that is not the program's
 };
 
-Compiled compile(const TestOptions& o, const std::string& file) {
+// The command line's compiler options, then the file's @options: their
+// -I, -D and -U come after the command line's, their -n and -O win.
+std::variant<CompilerArgs, std::string> options_for(const TestOptions& o, const rcx::semtest::Spec& spec,
+                                                    const std::string& file) {
+  if (spec.options.empty()) return o.compiler;
+  auto parsed = parse_compiler_options(spec.options, fs::path(file).parent_path().string());
+  if (auto* error = std::get_if<std::string>(&parsed)) return fmt::format("bad @options: {}", *error);
+  const auto& own = std::get<CompilerArgs>(parsed);
+  CompilerArgs merged = o.compiler;
+  merged.include_dirs.insert(merged.include_dirs.end(), own.include_dirs.begin(), own.include_dirs.end());
+  merged.defines.insert(merged.defines.end(), own.defines.begin(), own.defines.end());
+  merged.undefines.insert(merged.undefines.end(), own.undefines.begin(), own.undefines.end());
+  merged.no_stdlib = merged.no_stdlib || own.no_stdlib;
+  bool picks_level = std::any_of(spec.options.begin(), spec.options.end(),
+                                 [](const std::string& w) { return w.rfind("-O", 0) == 0; });
+  if (picks_level) merged.optimize = own.optimize;
+  return merged;
+}
+
+Compiled compile(const TestOptions& o, const std::string& file, const CompilerArgs& args,
+                 const rcx::semtest::Spec& spec) {
   if (!o.nqc.empty()) {
-    auto r = rcx::semtest::compile_with_nqc(o.nqc, file);
+    auto r = rcx::semtest::compile_with_nqc(o.nqc, file, nqc_arguments(args));
     return {std::move(r.image), std::move(r.messages), std::move(r.failure)};
   }
-  auto r = compile_nqc_file(file);
+  CompileRequest request = compile_request(args);
+  // Task expectations hold at every level: a tail-started task (-Os) would
+  // run inside main and never start (docs/testing.md).
+  request.passes.tail_starts = !spec.expects_task_events();
+  auto r = compile_nqc_file(file, request);
   return {std::move(r.image), std::move(r.messages), {}};
 }
 
 // Runs one test file; returns its failures (empty = pass).
 std::vector<Failure> run_test(const TestOptions& o, const std::string& file, std::string& log) {
+  if (is_nqc_source(file) == false) return {{0, "an .rcx image, not an NQC test program"}};
   auto parsed = rcx::semtest::parse_spec_file(file);
   if (auto* errors = std::get_if<std::vector<rcx::semtest::SpecError>>(&parsed)) {
     std::vector<Failure> out;
@@ -78,7 +112,9 @@ std::vector<Failure> run_test(const TestOptions& o, const std::string& file, std
     log = "    skipped: marked @nqc-differs\n";
     return {};
   }
-  Compiled c = compile(o, file);
+  auto args = options_for(o, spec, file);
+  if (auto* error = std::get_if<std::string>(&args)) return {{spec.options_line, *error}};
+  Compiled c = compile(o, file, std::get<CompilerArgs>(args), spec);
   if (!c.failure.empty()) return {{0, c.failure}};
   std::vector<Failure> failures = rcx::semtest::check_diagnostics(spec, c.messages);
   if (!c.image || spec.expects_compile_error()) {
@@ -130,13 +166,19 @@ int run(const TestOptions& o) {
 void register_test(CLI::App& app, int& exit_code) {
   auto* cmd = app.add_subcommand("test", "Run semantic tests: .nqc programs with // @expect directives");
   auto o = std::make_shared<TestOptions>();
-  cmd->add_option("PATHS", o->paths, ".nqc files, or folders to search for them")->required();
+  cmd->add_option("PATHS", o->paths, "NQC test programs, or folders to search for .nqc files")->required();
+  add_compiler_options(cmd, o->compiler);
   auto use_nqc = std::make_shared<bool>(false);
   auto nqc_path = std::make_shared<std::string>("nqc");
   cmd->add_flag("--nqc", *use_nqc, "compile with nqc instead of rcxc, for comparison");
   cmd->add_option("--nqc-path", *nqc_path, "the nqc to use with --nqc (path or name; default: nqc on PATH)");
   cmd->add_flag("-v,--verbose", o->verbose, "say how every run ended");
   cmd->callback([&exit_code, o, use_nqc, nqc_path] {
+    if (auto bad = bad_compiler_arguments(o->compiler)) {
+      std::cerr << "rcxc test: " << *bad << "\n";
+      exit_code = kExitUsage;
+      return;
+    }
     o->nqc = *use_nqc ? *nqc_path : std::string();
     exit_code = run(*o);
   });

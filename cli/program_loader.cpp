@@ -1,19 +1,105 @@
 #include "cli/program_loader.h"
 
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+
 #include "backend/compile.h"
+#include "ir/lower.h"
+#include "cli/commands.h"
 
 namespace rcxc::cli {
+namespace {
+
+bool is_identifier(const std::string& name) {
+  if (name.empty() || std::isdigit(static_cast<unsigned char>(name[0]))) return false;
+  return std::all_of(name.begin(), name.end(), [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; });
+}
+
+bool has_extension(const std::string& path, std::string_view extension) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  return std::equal(ext.begin(), ext.end(), extension.begin(), extension.end(),
+                    [](char a, char b) { return std::tolower(static_cast<unsigned char>(a)) == b; });
+}
+
+ir::OptLevel level_of(const std::string& optimize) {
+  return optimize == "0" ? ir::OptLevel::O0 : optimize == "1" ? ir::OptLevel::O1 : ir::OptLevel::Os;
+}
+
+}  // namespace
+
+void add_compiler_options(CLI::App* cmd, CompilerArgs& args) {
+  add_repeatable(cmd, "-I", args.include_dirs, "Add a folder to the #include search path");
+  add_repeatable(cmd, "-D", args.defines, "Define a macro: -DNAME or -DNAME=VALUE");
+  add_repeatable(cmd, "-U", args.undefines, "Undefine a macro");
+  cmd->add_flag("-n", args.no_stdlib, "Do not read the standard library rcx.nqh");
+  cmd->add_option("-O", args.optimize, "Optimisation: -O0, -O1 or -Os (default)")->check(CLI::IsMember({"0", "1", "s"}));
+}
+
+std::optional<std::string> bad_compiler_arguments(const CompilerArgs& args) {
+  for (const auto& d : args.defines)
+    if (!is_identifier(d.substr(0, d.find('=')))) return "-D" + d + ": a macro name must be an identifier";
+  for (const auto& u : args.undefines)
+    if (!is_identifier(u)) return "-U" + u + ": a macro name must be an identifier";
+  return std::nullopt;
+}
+
+std::variant<CompilerArgs, std::string> parse_compiler_options(const std::vector<std::string>& words,
+                                                               const std::string& base_dir) {
+  CLI::App app{"compiler options"};
+  CompilerArgs args;
+  add_compiler_options(&app, args);
+  std::vector<std::string> reversed(words.rbegin(), words.rend());  // CLI11 takes them last first
+  try {
+    app.parse(reversed);
+  } catch (const CLI::ParseError& e) {
+    return std::string(e.what());
+  }
+  if (auto bad = bad_compiler_arguments(args)) return *bad;
+  for (auto& dir : args.include_dirs)
+    if (std::filesystem::path(dir).is_relative()) dir = (std::filesystem::path(base_dir) / dir).string();
+  return args;
+}
+
+std::vector<std::string> nqc_arguments(const CompilerArgs& args) {
+  std::vector<std::string> out;
+  for (const auto& dir : args.include_dirs) out.push_back("-I" + dir);
+  for (const auto& d : args.defines) out.push_back("-D" + d);
+  for (const auto& u : args.undefines) out.push_back("-U" + u);
+  if (args.no_stdlib) out.push_back("-n");
+  return out;
+}
+
+CompileRequest compile_request(const CompilerArgs& args) {
+  CompileRequest r;
+  r.frontend.include_dirs = args.include_dirs;
+  for (const auto& d : args.defines) r.frontend.define(d);
+  r.frontend.undefines = args.undefines;
+  r.frontend.no_stdlib = args.no_stdlib;
+  r.level = level_of(args.optimize);
+  return r;
+}
 
 CompileResult compile_file(const std::string& path, const CompileRequest& request, Diagnostics diags) {
   CompileResult r;
   r.diagnostics = std::move(diags);
-  r.output = backend::compile_file(path, request.frontend, request.level, r.sources, r.diagnostics, r.log);
+  // backend::compile_file's steps, keeping the parsed program's globals.
+  auto program = frontend::parse_program(path, request.frontend, r.sources, r.diagnostics);
+  if (program) {
+    for (const auto& g : program->globals) r.globals.push_back(g.name);
+    if (auto lowered = ir::lower(*program, r.diagnostics))
+      r.output = backend::compile(std::move(*lowered), request.level, r.diagnostics, r.log, request.passes);
+  }
   if (r.diagnostics.has_errors()) r.output.reset();
   return r;
 }
 
-CompiledForTest compile_nqc_file(const std::string& path) {
-  CompileResult r = compile_file(path, {});
+CompiledForTest compile_nqc_file(const std::string& path, const CompileRequest& request) {
+  CompileResult r = compile_file(path, request);
   CompiledForTest t;
   if (r.output) t.image = std::move(r.output->image);
   for (const auto& d : r.diagnostics.all()) {
@@ -23,6 +109,34 @@ CompiledForTest compile_nqc_file(const std::string& path) {
     t.messages.push_back({d.severity == Severity::Error, in_file ? static_cast<int>(d.span.begin.line) : 0, d.message});
   }
   return t;
+}
+
+std::optional<bool> is_nqc_source(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) return std::nullopt;
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return std::nullopt;
+  std::string head(4096, '\0');
+  in.read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<std::size_t>(in.gcount()));
+  if (head.rfind("RCXI", 0) == 0) return false;
+  if (has_extension(path, ".rcx")) return false;
+  return head.find('\0') == std::string::npos;
+}
+
+std::variant<rcx::Image, std::string> load_program(const std::string& path, const CompileRequest& request) {
+  // A file that cannot be read (missing, a folder) is the image reader's to
+  // explain: it names the file and the reason.
+  auto source = is_nqc_source(path);
+  if (source.value_or(false)) {
+    CompileResult compiled = compile_file(path, request);
+    std::cerr << render_all(compiled.diagnostics, compiled.sources, {});
+    if (!compiled.output) return fmt::format("{}: the program does not compile", path);
+    return std::move(compiled.output->image);
+  }
+  auto image = rcx::read_image_file(path);
+  if (auto* e = std::get_if<rcx::ImageError>(&image)) return e->message;
+  return std::get<rcx::Image>(std::move(image));
 }
 
 }  // namespace rcxc::cli

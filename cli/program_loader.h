@@ -1,10 +1,14 @@
 // The one way the CLI turns an NQC source file into a program image in
-// memory: `rcxc test`, `rcxc run FILE.nqc` and `rcxc download FILE.nqc` all
-// compile through here, so they behave exactly like `rcxc compile`.
+// memory: `rcxc test`, `run`, `compare`, `download` and `disasm` all compile
+// through here, with the options `rcxc compile` takes, so they behave
+// exactly like `rcxc compile`.
 #pragma once
+
+#include <CLI/CLI.hpp>
 
 #include <optional>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include "backend/codegen.h"
@@ -16,16 +20,42 @@
 
 namespace rcxc::cli {
 
+// The compiler's options as the command line gives them (-I, -D, -U, -n,
+// -O), shared by every command that compiles.
+struct CompilerArgs {
+  std::vector<std::string> include_dirs;
+  std::vector<std::string> defines;
+  std::vector<std::string> undefines;
+  bool no_stdlib = false;
+  std::string optimize = "s";
+};
+
+// Registers -I, -D, -U, -n and -O0/-O1/-Os on `cmd`, storing into `args`.
+void add_compiler_options(CLI::App* cmd, CompilerArgs& args);
+// What the option parser cannot judge (macro names must be identifiers), or
+// nullopt when the options are good.
+std::optional<std::string> bad_compiler_arguments(const CompilerArgs& args);
+// Parses compiler options given as words (a test's `@options` line) with
+// the same rules; relative -I folders are taken from `base_dir`. The error
+// says which word is wrong.
+std::variant<CompilerArgs, std::string> parse_compiler_options(const std::vector<std::string>& words,
+                                                               const std::string& base_dir);
+// The words that give nqc the same -I, -D, -U and -n (nqc has no levels).
+std::vector<std::string> nqc_arguments(const CompilerArgs& args);
+
 struct CompileRequest {
   frontend::Options frontend;
   ir::OptLevel level = ir::OptLevel::Os;
+  ir::PassOptions passes;
 };
+CompileRequest compile_request(const CompilerArgs& args);
 
 struct CompileResult {
   SourceManager sources;
   Diagnostics diagnostics;
   std::optional<backend::Output> output;  // nullopt when there were errors
   ir::Log log;                            // what the passes decided (-v)
+  std::vector<std::string> globals;       // the file-scope variables, stdlib's included
 };
 
 // Frontend, lowering, passes and code generation for the file at `path`.
@@ -37,6 +67,17 @@ struct CompiledForTest {
   std::optional<rcx::Image> image;
   std::vector<rcx::semtest::CompilerMessage> messages;
 };
-CompiledForTest compile_nqc_file(const std::string& path);
+CompiledForTest compile_nqc_file(const std::string& path, const CompileRequest& request);
+
+// Whether FILE holds NQC source rather than an .rcx image. Content first: a
+// file that starts with the image signature "RCXI" is an image whatever its
+// name; otherwise a name ending in .rcx (any case) or bytes no text has (a
+// NUL) make it an image, which the image reader then refuses with a reason;
+// anything else is source. nullopt when the file cannot be read.
+std::optional<bool> is_nqc_source(const std::string& path);
+
+// FILE as a program image: source is compiled in memory (diagnostics go to
+// stderr), an image is read. The error names the file.
+std::variant<rcx::Image, std::string> load_program(const std::string& path, const CompileRequest& request);
 
 }  // namespace rcxc::cli

@@ -178,7 +178,14 @@ int estimate_size(const Function& f);
 // an empty vector after reporting which variables hold the slots.
 std::vector<int> allocate_slots(const Program& p, Diagnostics& diags);
 
+// Passes a caller may turn off whatever the level.
+struct PassOptions {
+  // `rcxc test` keeps every task a task when a test expects task events: a
+  // tail-started task runs in main and has no start of its own.
+  bool tail_starts = true;
+};
+
 // pipeline.cpp: everything above in order. Returns false on error.
-bool optimize(Program& p, OptLevel level, Diagnostics& diags, Log& log);
+bool optimize(Program& p, OptLevel level, Diagnostics& diags, Log& log, const PassOptions& passes = {});
 
 }  // namespace rcxc::ir

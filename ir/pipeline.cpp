@@ -3,9 +3,9 @@
 
 namespace rcxc::ir {
 
-bool optimize(Program& p, OptLevel level, Diagnostics& diags, Log& log) {
+bool optimize(Program& p, OptLevel level, Diagnostics& diags, Log& log, const PassOptions& passes) {
   if (!resolve_calls(p, level, diags, log)) return false;
-  if (level == OptLevel::Os) run_tail_started_tasks_in_main(p, log);
+  if (level == OptLevel::Os && passes.tail_starts) run_tail_started_tasks_in_main(p, log);
   if (level != OptLevel::O0) {
     for (int round = 0; round < 3; ++round) {
       fold_constants(p);

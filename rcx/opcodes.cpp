@@ -18,8 +18,11 @@ constexpr SourceSet kGetValueSources = kRcxSources & ~sources({2, 4});
 // "index, source, argument" arithmetic on a variable.
 constexpr Operand kVarSrcArg[] = {
     {"index", UByte, R::Variable}, {"source", UByte, R::Source, kVarImm}, {"argument", Short, R::Argument, 0, 1, 1}};
+// Set variable takes every source (seed: "All sources are allowed"); on the
+// RCX the Cybermaster sources 5-7 read 0 (docs/emulator.md, "Sources").
+constexpr SourceSet kAllSources = 0xFFFF;
 constexpr Operand kSetVar[] = {
-    {"index", UByte, R::Variable}, {"source", UByte, R::Source, kRcxSources}, {"argument", Short, R::Argument, 0, 1, 1}};
+    {"index", UByte, R::Variable}, {"source", UByte, R::Source, kAllSources}, {"argument", Short, R::Argument, 0, 1, 1}};
 constexpr Operand kTestNear[] = {
     {"opsrc1", UByte, R::OpSource, kTest1}, {"src2", UByte, R::Source, kTest2},
     {"arg1", Short, R::Argument, 0, 1, 0},  {"arg2", Byte, R::Argument, 0, 1, 1},

@@ -10,7 +10,10 @@
 namespace rcx {
 namespace {
 
-constexpr Micros kTickUs = 10'000;          // 1/100 s: timers, waits, tone durations
+constexpr Micros kTickUs = 10'000;          // 1/100 s: waits, tone durations, a timer's count
+// A timer counts 1/100 s but reads in tenths: the firmware's timers have
+// 100 ms resolution, whatever the seed says (docs/emulator.md, "Timers").
+constexpr int kTimerTicksPerReading = 10;
 constexpr Micros kMinuteUs = 60'000'000;
 constexpr int kSoundQueueDepth = 8;
 constexpr unsigned kAllTasks = (1u << kMaxTasks) - 1;
@@ -386,7 +389,8 @@ void Machine::do_return(int task, TaskState& t) {
 
 int Machine::timer_value(int timer) const {
   if (timer < 0 || timer >= kTimers) return 0;
-  return wrap16(static_cast<int>((now_us_ - state_.timer_zero[static_cast<std::size_t>(timer)]) / kTickUs));
+  const Micros ticks = (now_us_ - state_.timer_zero[static_cast<std::size_t>(timer)]) / kTickUs;
+  return wrap16(static_cast<int>(ticks / kTimerTicksPerReading));
 }
 
 int Machine::clock_minutes() const {

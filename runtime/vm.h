@@ -262,7 +262,7 @@ class Machine {
   const State& state() const { return state_; }
   const TaskState& task(int index) const { return tasks_[static_cast<std::size_t>(index)]; }
   const ProgramSlot& slot(int index) const { return slots_[static_cast<std::size_t>(index)]; }
-  int timer_value(int timer) const;       // 1/100 s since cleared
+  int timer_value(int timer) const;       // 1/10 s since cleared (the brick's reading)
   int clock_minutes() const;
   int sensor_value(int sensor) const;
   int motor_state(int output) const;      // the seed's motor state byte

@@ -173,6 +173,17 @@ std::map<std::string, int> globals(const Machine& m, const Image& image) {
   return out;
 }
 
+// The value of each of `names` the image gives a variable: the first
+// variable symbol of that name, which is the file-scope one (compare.h).
+std::map<std::string, int> globals(const Machine& m, const Image& image, const std::vector<std::string>& names) {
+  std::map<std::string, int> out;
+  for (const auto& s : image.symbols)
+    if (s.type == SymbolType::Variable && !out.contains(s.name) &&
+        std::find(names.begin(), names.end(), s.name) != names.end())
+      out[s.name] = m.state().vars[s.index];
+  return out;
+}
+
 std::string side_by_side(const RunView& a, const RunView& b) {
   auto la = observable_lines(*a.machine), lb = observable_lines(*b.machine);
   std::size_t width = a.label.size();
@@ -194,7 +205,8 @@ std::vector<std::string> observable_lines(const Machine& machine) {
   return out;
 }
 
-RunComparison compare_runs(const RunView& a, const RunView& b, TimeTolerance tol) {
+RunComparison compare_runs(const RunView& a, const RunView& b, TimeTolerance tol,
+                           const std::optional<std::vector<std::string>>& global_names) {
   RunComparison r;
   // Events are compared up to where a run was cut off by the time limit;
   // a run that ended has shown everything it would, so what the other shows
@@ -241,7 +253,10 @@ RunComparison compare_runs(const RunView& a, const RunView& b, TimeTolerance tol
   // rcxc removed as unused) are not compared.
   bool both_ended = a.machine->stop().kind != StopKind::TimeLimit && b.machine->stop().kind != StopKind::TimeLimit;
   if (both_ended) {
-    auto ga = globals(*a.machine, *a.image), gb = globals(*b.machine, *b.image);
+    auto values = [&](const RunView& v) {
+      return global_names ? globals(*v.machine, *v.image, *global_names) : globals(*v.machine, *v.image);
+    };
+    auto ga = values(a), gb = values(b);
     for (const auto& [name, va] : ga) {
       auto it = gb.find(name);
       if (it != gb.end() && it->second != va)

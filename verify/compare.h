@@ -4,6 +4,7 @@
 // behaves like nqc's for the same program under the same inputs.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -37,7 +38,14 @@ struct RunComparison {
   std::string side_by_side;              // both event lists, aligned, when they differ
 };
 
-RunComparison compare_runs(const RunView& a, const RunView& b, TimeTolerance tolerance = {});
+// `globals`: the program's file-scope variables. Given, only they are
+// compared: locals and parameters are the compilers' business (two compilers
+// put them in different slots and keep them alive differently), and in each
+// image a global is the first variable symbol of its name (both compilers
+// number globals before locals, in declaration order; a local that shadows a
+// global comes later). Not given, every name both images give once is.
+RunComparison compare_runs(const RunView& a, const RunView& b, TimeTolerance tolerance = {},
+                           const std::optional<std::vector<std::string>>& globals = std::nullopt);
 
 // The observable events of a run as text lines ("1020ms output A on rev 7",
 // "1500ms output A off"): an output's direction and power appear only

@@ -47,7 +47,8 @@ std::vector<CompilerMessage> parse_nqc_messages(const std::string& text) {
 
 }  // namespace
 
-ExternalCompile compile_with_nqc(const std::string& nqc, const std::string& file) {
+ExternalCompile compile_with_nqc(const std::string& nqc, const std::string& file,
+                                 const std::vector<std::string>& args) {
   ExternalCompile result;
   std::string dir = (std::filesystem::temp_directory_path() / "rcxc-nqc-XXXXXX").string();
   if (!mkdtemp(dir.data())) {
@@ -61,8 +62,10 @@ ExternalCompile compile_with_nqc(const std::string& nqc, const std::string& file
   std::string dir_arg = "-I" + (std::filesystem::path(file).parent_path().empty()
                                     ? std::string(".")
                                     : std::filesystem::path(file).parent_path().string());
-  std::vector<char*> argv{const_cast<char*>(nqc.c_str()), const_cast<char*>("-Trcx"), dir_arg.data(), out_arg.data(),
-                          const_cast<char*>(file.c_str()), nullptr};
+  std::vector<char*> argv{const_cast<char*>(nqc.c_str()), const_cast<char*>("-Trcx"), dir_arg.data(), out_arg.data()};
+  for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(const_cast<char*>(file.c_str()));
+  argv.push_back(nullptr);
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
   posix_spawn_file_actions_addopen(&actions, 1, log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);

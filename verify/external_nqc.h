@@ -17,7 +17,9 @@ struct ExternalCompile {
   std::string failure;                                // nqc could not be run at all
 };
 
-// Runs `nqc -Trcx -O<tmp> FILE` (`nqc` is a path or a name found on PATH).
-ExternalCompile compile_with_nqc(const std::string& nqc, const std::string& file);
+// Runs `nqc -Trcx -O<tmp> ARGS FILE` (`nqc` is a path or a name found on
+// PATH; `args` are more options: -I, -D, -U, -n).
+ExternalCompile compile_with_nqc(const std::string& nqc, const std::string& file,
+                                 const std::vector<std::string>& args = {});
 
 }  // namespace rcx::semtest

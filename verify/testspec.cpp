@@ -10,6 +10,7 @@
 #include <charconv>
 #include <cmath>
 #include <filesystem>
+#include <sstream>
 
 namespace rcx::semtest {
 namespace {
@@ -326,6 +327,14 @@ void parse_directive(std::string_view text, int line, Spec& spec) {
     spec.scenario_file = c.next();
     if (spec.scenario_file.empty()) throw ParseFail{"expected a scenario file name"};
     need_end(c);
+  } else if (word == "options") {
+    // Words split at blanks only: an option's value may hold ':' or ','.
+    if (spec.options_line) throw ParseFail{fmt::format("a second @options (the first is on line {})", spec.options_line)};
+    std::istringstream words(std::string(space == std::string_view::npos ? std::string_view() : text.substr(space)));
+    for (std::string w; words >> w;)
+      if (!(spec.options.empty() && w == ":")) spec.options.push_back(w);
+    if (spec.options.empty()) throw ParseFail{"expected compiler options, e.g. @options -O0 -DSPEED=5"};
+    spec.options_line = line;
   } else if (word == "nqc-differs") {
     // A note for the comparison runs: nqc's code for this program is known to
     // behave differently (the reason follows); `rcxc test --nqc` skips it.
@@ -365,7 +374,7 @@ void parse_directive(std::string_view text, int line, Spec& spec) {
     spec.diagnostics.push_back(std::move(d));
   } else {
     throw ParseFail{fmt::format(
-        "unknown directive '@{}' (for, seed, scenario, input, expect, expect-error, expect-warning, nqc-differs)", word)};
+        "unknown directive '@{}' (for, seed, scenario, options, input, expect, expect-error, expect-warning, nqc-differs)", word)};
   }
 }
 
@@ -509,6 +518,15 @@ std::variant<std::vector<TimedInput>, std::string> all_inputs(const Spec& spec, 
 
 bool Spec::expects_compile_error() const {
   return std::any_of(diagnostics.begin(), diagnostics.end(), [](const ExpectDiagnostic& d) { return d.error; });
+}
+
+bool Spec::expects_task_events() const {
+  auto about_tasks = [](const EventPattern& p) { return p.kind == EventKind::TaskStart || p.kind == EventKind::TaskStop; };
+  return std::any_of(expectations.begin(), expectations.end(), [&](const Expectation& e) {
+    if (const auto* event = std::get_if<ExpectEvent>(&e.check)) return about_tasks(event->pattern);
+    if (const auto* count = std::get_if<ExpectCount>(&e.check)) return about_tasks(count->pattern);
+    return false;
+  });
 }
 
 std::variant<Spec, std::vector<SpecError>> parse_spec(std::string_view source) {

@@ -70,9 +70,15 @@ struct Spec {
   std::optional<Micros> run_for_us;
   std::uint64_t seed = 1;
   bool nqc_differs = false;       // `@nqc-differs: reason`
+  // `@options -O0 -DNAME ...`: compiler options, as words; the caller checks
+  // them (they are `rcxc compile`'s, which this file does not know).
+  std::vector<std::string> options;
+  int options_line = 0;
   std::vector<Expectation> expectations;
   std::vector<ExpectDiagnostic> diagnostics;
   bool expects_compile_error() const;
+  // Whether an expectation is about task events (task-start, task-stop).
+  bool expects_task_events() const;
 };
 
 // The spec's @input lines plus the inputs of its @scenario file (a path

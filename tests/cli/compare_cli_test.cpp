@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include "rcx/image.h"
 #include "tests/support/process.h"
@@ -131,4 +132,30 @@ TEST(CompareCli, ScenarioBeforeTheFile) {
                      d.write("p.nqc", kSource), "--for", "5000"});
   EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
   EXPECT_NE(r.out.find("press.toml"), std::string::npos) << r.out;
+}
+
+// Two locals of one block, the first dead before the second is set: rcxc
+// gives them one slot (named after the first), nqc two (both are in scope).
+// The slot named `first` ends at 20 under rcxc and 10 under nqc, but no
+// robot shows a local: compare judges the globals.
+TEST(CompareCli, LocalsInDifferentSlotsAreNoDifference) {
+  if (::access("/usr/bin/nqc", X_OK) != 0) GTEST_SKIP() << "nqc is not installed";
+  TempDir d;
+  auto src = d.write("p.nqc",
+                     "int total;\n"
+                     "task main() {\n"
+                     "  int first;\n  first = Message() + 10;\n  total = first;\n"
+                     "  int second;\n  second = Message() + 20;\n  total += second;\n"
+                     "}\n");
+  auto r = run_rcxc({"compare", src, "--scenario", d.write("idle.toml", "")});
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_EQ(r.out.find("DIFFERENT"), std::string::npos) << r.out;
+  // The global still counts: a program whose total differs is different.
+  auto other = d.write("other.nqc", "int total;\ntask main() { total = 31; }\n");
+  auto fake = d.write("fake-nqc", "#!/bin/sh\nfor a in \"$@\"; do case \"$a\" in -O*) o=\"${a#-O}\";; esac; done\n"
+                                  "exec '" RCXC_BINARY "' compile -o \"$o\" '" + other + "'\n");
+  chmod(fake.c_str(), 0755);
+  r = run_rcxc({"compare", src, "--scenario", d.path + "/idle.toml", "--nqc-path", fake});
+  EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+  EXPECT_NE(r.out.find("global 'total' = 30 (rcxc) but 31 (nqc)"), std::string::npos) << r.out;
 }

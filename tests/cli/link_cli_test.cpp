@@ -144,6 +144,16 @@ TEST(LinkCli, DownloadCompilesNqcSource) {
   EXPECT_EQ(get_var0(brick.path), "42\n");
 }
 
+TEST(LinkCli, DownloadTakesTheCompilerOptionsAndAnUpperCaseName) {
+  BrickProcess brick;
+  ASSERT_FALSE(brick.path.empty());
+  std::string src = write_temp("PROG.NQC", {});
+  std::ofstream(src) << "int x;\ntask main() {\n  x = VALUE;\n}\n";
+  auto r = run_rcxc({"download", "--port", brick.path, "-DVALUE=42", "-O0", src, "--run"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(get_var0(brick.path), "42\n");
+}
+
 TEST(LinkCli, CompileErrorsAreExit1BeforeTouchingThePort) {
   std::string src = write_temp("bad.nqc", {});
   std::ofstream(src) << "task main() { y = 1; }\n";

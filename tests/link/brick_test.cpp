@@ -141,6 +141,21 @@ TEST(LinkBrick, VariablesAndGetValue) {
   EXPECT_EQ(v, (Bytes{0x2E, 0xFB}));  // -1234 as a little-endian short
 }
 
+TEST(LinkBrick, GetValueReadsATimerInTenths) {
+  Brick b = make_brick();
+  Host host{b};
+  b.vm.run_until(2'560 * kMicrosPerMs);
+  EXPECT_EQ(host(req(Op::GetValue, {1, 2})), (Bytes{25, 0}));
+}
+
+TEST(LinkBrick, SetVariableFromACybermasterSourceStoresZero) {
+  Brick b = make_brick();
+  Host host{b};
+  ASSERT_TRUE(host(req(Op::SetVariable, {4, 2, 77})));
+  EXPECT_EQ(host(req(Op::SetVariable, {4, 6, 0})), Bytes{});
+  EXPECT_EQ(host(req(Op::GetValue, {0, 4})), (Bytes{0, 0}));
+}
+
 TEST(LinkBrick, DatalogUploadsDlrecs) {
   Brick b = make_brick();
   Host host{b};

@@ -459,6 +459,15 @@ TEST(VmDatalog, EntryTypesBySource) {
   EXPECT_EQ(log[3].type, 0x80);
 }
 
+TEST(VmDatalog, TimerEntriesHoldTenths) {
+  // wait at 1 ms until 2501 ms: timer 1 (from power-on) reads 25 tenths.
+  auto m = run_task(code({logsize(1), wait(250), lognext(TIMER, 1)}));
+  const auto& log = m.state().datalog;
+  ASSERT_EQ(log.size(), 1u);
+  EXPECT_EQ(log[0].type, 0x21);
+  EXPECT_EQ(log[0].value, 25);
+}
+
 // ---------------------------------------------------------------- power
 
 TEST(VmPower, PowerOffIgnoredWhenDelayIsZero) {

@@ -42,11 +42,33 @@ TEST(VmSources, VariableImmediateProgramMessage) {
   EXPECT_EQ(var(m, 3), 42);
 }
 
-TEST(VmSources, TimerCountsHundredthsSinceCleared) {
-  // timerclr at 0 ms, wait at 1 ms until 1501 ms, read timer: 150.
-  auto m = run_task(code({timerclr(0), wait(150), setv(0, TIMER, 0), setv(1, TIMER, 3)}));
-  EXPECT_EQ(var(m, 0), 150);
-  EXPECT_EQ(var(m, 1), 150);  // timer 3 counts from power-on (0 ms)
+TEST(VmSources, TimerReadsTenthsSinceCleared) {
+  // The firmware's timers have 100 ms resolution, not the seed's 1/100 s
+  // (docs/emulator.md). timerclr at 0 ms, wait at 1 ms until 1501 ms: 15.
+  // 1593 ms still reads 15 (truncated), 1604 ms reads 16.
+  auto m = run_task(code({timerclr(0), wait(150), setv(0, TIMER, 0), setv(1, TIMER, 3), wait(9), setv(2, TIMER, 0),
+                          wait(1), setv(3, TIMER, 0)}));
+  EXPECT_EQ(var(m, 0), 15);
+  EXPECT_EQ(var(m, 1), 15);  // timer 3 counts from power-on (0 ms)
+  EXPECT_EQ(var(m, 2), 15);
+  EXPECT_EQ(var(m, 3), 16);
+}
+
+TEST(VmSources, TimerWrapsAsASigned16BitCountOfTenths) {
+  rcx::Machine m(ms_config());
+  m.run_until(std::int64_t{3'276'800} * kMicrosPerMs);  // 32768 tenths
+  EXPECT_EQ(m.timer_value(0), -32768);
+}
+
+TEST(VmSources, SetVariableFromTheCybermasterSourcesReadsZero) {
+  // Sources 5-7 exist only on the Cybermaster; Set variable allows every
+  // source (seed) and the firmware has no fault state, so the RCX stores 0.
+  auto m = run_task(code({set(0, 9), set(1, 9), set(2, 9), setv(0, 5, 0), setv(1, 6, 1), setv(2, 7, 2), set(3, 1)}));
+  EXPECT_EQ(m.stop().kind, rcx::StopKind::Ended);
+  EXPECT_EQ(var(m, 0), 0);
+  EXPECT_EQ(var(m, 1), 0);
+  EXPECT_EQ(var(m, 2), 0);
+  EXPECT_EQ(var(m, 3), 1);
 }
 
 TEST(VmSources, RandomIsInRangeAndReproducibleBySeed) {

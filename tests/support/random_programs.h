@@ -102,7 +102,7 @@ class Generator {
 
 // Two tasks commanding the same outputs, never at the same time: each
 // acts only in its own time windows (main at 400 ms x k, the other at
-// 400 ms x k + 200 ms, scheduled by Timer(0)), so whatever a command costs,
+// 400 ms x k + 200 ms, scheduled by Timer(0), which reads tenths), so whatever a command costs,
 // the order of everything they do is fixed. A step is at most a few dozen
 // instructions, which take 4 ms each while the other task busy-waits.
 class TwoTaskGenerator : public Generator {
@@ -121,7 +121,7 @@ class TwoTaskGenerator : public Generator {
     }
     out << "task other() {\n";
     for (int k = 0; k < steps; ++k) {
-      out << "  until (Timer(0) >= " << 40 * k + 20 << ");\n";
+      out << "  until (Timer(0) >= " << 4 * k + 2 << ");\n";
       step(out);
       if (shared_sub && pick(0, 2) == 0) out << "  both();\n";
     }
@@ -131,11 +131,11 @@ class TwoTaskGenerator : public Generator {
     if (pick(0, 1) == 1) step(out);
     out << "  ClearTimer(0); start other;\n";
     for (int k = 0; k < steps; ++k) {
-      if (k > 0) out << "  until (Timer(0) >= " << 40 * k << ");\n";
+      if (k > 0) out << "  until (Timer(0) >= " << 4 * k << ");\n";
       step(out);
       if (shared_sub && pick(0, 2) == 0) out << "  both();\n";
     }
-    out << "  until (Timer(0) >= " << 40 * steps + 30 << ");\n";
+    out << "  until (Timer(0) >= " << 4 * steps + 3 << ");\n";
     marker(out);
     out << "}\n";
     return out.str();

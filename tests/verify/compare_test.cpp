@@ -178,3 +178,33 @@ TEST(Compare, ANameGivenToSeveralVariablesIsNotCompared) {
   RunResult c = run_program(kSetVar5, 100, 5'000'000, "w"), d = run_program(kSetVar6, 100, 5'000'000, "w");
   EXPECT_FALSE(compare(c, d).same);
 }
+
+TEST(Compare, GivenTheGlobalsOnlyTheyAreCompared) {
+  // "v" differs (5 vs 6); told the program's only global is "g", the
+  // comparison leaves "v" (a local) alone.
+  RunResult a = run_program(kSetVar5, 10), b = run_program(kSetVar6, 10);
+  auto cmp = [&](std::vector<std::string> globals) {
+    return compare_runs({&a.machine, &a.image, "one"}, {&b.machine, &b.image, "two"}, {}, globals);
+  };
+  EXPECT_TRUE(cmp({"g"}).same);
+  EXPECT_FALSE(cmp({"v"}).same);
+}
+
+TEST(Compare, AGlobalIsTheFirstVariableOfItsName) {
+  // Both images name slot 0 "v" (the global, 5 in both) and slot 1 "v" too
+  // (a local that shadows it: 0 in one, 9 in the other). The global is
+  // compared and agrees; the local is not.
+  Bytes set_local_9 = {0x14, 0x01, 0x02, 0x09, 0x00};
+  Bytes prefix = kSetVar5;
+  prefix.insert(prefix.end(), set_local_9.begin(), set_local_9.end());
+  RunResult a = run_program(kSetVar5, 10), b = run_program(prefix, 10);
+  for (RunResult* r : {&a, &b}) r->image.symbols.push_back({SymbolType::Variable, 1, "v"});
+  EXPECT_TRUE(compare_runs({&a.machine, &a.image, "one"}, {&b.machine, &b.image, "two"}, {},
+                           std::vector<std::string>{"v"})
+                  .same);
+  RunResult c = run_program(kSetVar6, 10);
+  c.image.symbols.push_back({SymbolType::Variable, 1, "v"});
+  EXPECT_FALSE(compare_runs({&a.machine, &a.image, "one"}, {&c.machine, &c.image, "two"}, {},
+                            std::vector<std::string>{"v"})
+                   .same);
+}
