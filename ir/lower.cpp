@@ -165,6 +165,8 @@ struct Lowerer {
       case ast::UnaryOp::BitNot: return wrap16(~static_cast<long>(*x));
       case ast::UnaryOp::LogNot: return *x == 0 ? 1 : 0;
       case ast::UnaryOp::Plus: return *x;
+      case ast::UnaryOp::Abs: return *x == -32768 ? 32767 : (*x < 0 ? -*x : *x);
+      case ast::UnaryOp::Sign: return (*x > 0) - (*x < 0);
       default: return std::nullopt;
     }
   }
@@ -504,6 +506,8 @@ struct Lowerer {
         return arith(Op::SubtractFromVariable, d, Operand::imm(1));
       }
       case ast::UnaryOp::LogNot: return truth(d, e);
+      case ast::UnaryOp::Abs: return arith(Op::AbsoluteValue, d, arith_value(*u.operand));
+      case ast::UnaryOp::Sign: return arith(Op::SignVariable, d, arith_value(*u.operand));
       case ast::UnaryOp::PreInc:
       case ast::UnaryOp::PreDec:
         if (auto v = step(u, e.span)) set(d, Operand::var(*v));
@@ -667,7 +671,8 @@ struct Lowerer {
       assign(*a, e.span);
     } else if (const auto* u = ast::as<ast::Unary>(e); u && u->op != ast::UnaryOp::Negate &&
                                                        u->op != ast::UnaryOp::BitNot && u->op != ast::UnaryOp::LogNot &&
-                                                       u->op != ast::UnaryOp::Plus) {
+                                                       u->op != ast::UnaryOp::Plus && u->op != ast::UnaryOp::Abs &&
+                                                       u->op != ast::UnaryOp::Sign) {
       step(*u, e.span);
     } else if (const auto* c = ast::as<ast::Call>(e)) {
       call(*c, e.span);
