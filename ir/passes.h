@@ -172,10 +172,12 @@ void inline_call(Program& p, FuncId caller, BlockId block, std::size_t index);
 // Bytes a function's code takes when every branch is near (an estimate).
 int estimate_size(const Function& f);
 
-// slots.cpp: binds every variable to one of the 32 slots. Variables share
-// a slot only when they are never live at once and can never be used by two
-// tasks at the same time. Returns slot per VarId (-1: unused variable), or
-// an empty vector after reporting which variables hold the slots.
+// slots.cpp: binds every variable to one of the 32 slots. Each global has
+// the slot nqc gives it (the lowest free one in declaration order, used or
+// not). Other variables share a slot only when they are never live at once
+// and can never be used by two tasks at the same time. Returns slot per
+// VarId (-1: unused variable), or an empty vector after reporting which
+// variables hold the slots.
 std::vector<int> allocate_slots(const Program& p, Diagnostics& diags);
 
 // pipeline.cpp: everything above in order. Returns false on error.

@@ -618,6 +618,26 @@ TEST(Slots, ReservedSlotsAreSkipped) {
   EXPECT_EQ(slots[static_cast<std::size_t>(g)], 3);
 }
 
+TEST(Slots, EveryGlobalHasNqcsSlotUsedOrNot) {
+  // nqc: the lowest free slot in declaration order, unused globals too; a
+  // temporary never takes a global's slot.
+  Builder b;
+  VarId unused = b.global("unused");
+  VarId t = b.temp();
+  VarId g = b.global("g");
+  VarId late = b.global("late");
+  FuncId f = b.function("main");
+  b.block(f, {set(t, Operand::src(1, 0)), set(late, V(t)), set(g, I(2))});
+  b.p.reserved_slots = 0x2;
+  Diagnostics d;
+  auto slots = allocate_slots(b.p, d);
+  ASSERT_EQ(slots.size(), 4u);
+  EXPECT_EQ(slots[static_cast<std::size_t>(unused)], 0);
+  EXPECT_EQ(slots[static_cast<std::size_t>(g)], 2);
+  EXPECT_EQ(slots[static_cast<std::size_t>(late)], 3);
+  EXPECT_EQ(slots[static_cast<std::size_t>(t)], 4);
+}
+
 TEST(Slots, ExhaustionNamesTheHolders) {
   Builder b;
   FuncId f = b.function("main");
