@@ -50,6 +50,7 @@ struct Lowerer {
   std::vector<std::vector<BlockId>> switches;
   std::vector<Frame> frames;
   std::vector<ast::SymbolId> expanding;
+  std::map<ast::SymbolId, VarId> inline_locals;  // inline functions' locals declared without a value
   std::vector<SourceSpan> call_sites;  // where each expansion in `expanding` was called
   bool has_goto = false;
   SourceSpan span{};
@@ -338,6 +339,13 @@ struct Lowerer {
   }
   // The second operand of variable arithmetic (variable or immediate).
   Operand arith_value(const ast::Expr& e) { return operand_for(Op::AddToVariable, 1, e); }
+  // arith_value, except that ++x and --x step x now and stand for x itself.
+  Operand stepped_value(const ast::Expr& e) {
+    if (const auto* u = ast::as<ast::Unary>(chosen(e));
+        u && (u->op == ast::UnaryOp::PreInc || u->op == ast::UnaryOp::PreDec))
+      if (auto v = step(*u, e.span)) return Operand::var(*v);
+    return arith_value(e);
+  }
 
   // An operand a test-and-branch can compare (not random or program number,
   // argument within a byte so either position works).
@@ -543,7 +551,11 @@ struct Lowerer {
     switch (b.op) {
       case ast::BinaryOp::Mod: {
         // a % b == a - (a / b) * b with the firmware's truncating division.
-        Operand x = arith_value(*b.lhs), y = arith_value(*b.rhs);
+        // As in nqc's code, a variable on the left is read after the right
+        // side is computed, and ++x / --x stand for x itself: with b at 5,
+        // --b % b++ is 5 % 4.
+        Operand x = stepped_value(*b.lhs);
+        Operand y = arith_value(*b.rhs);
         set(d, x);
         arith(Op::DivideVariable, d, y);
         arith(Op::MultiplyVariable, d, y);
@@ -835,7 +847,18 @@ struct Lowerer {
   }
   void lower_stmt(const ast::DeclStmt& d, const ast::Stmt&) {
     for (const auto& v : d.vars) {
-      VarId id = out.add_var(v.name, VarKind::Local, v.span);
+      // nqc gives an inline function's local one variable for all calls, so
+      // a call that reads it before writing it sees the previous call's
+      // value. A local with an initial value is written first: each
+      // expansion may have its own.
+      VarId id = -1;
+      if (!expanding.empty() && !v.init) {
+        auto [it, added] = inline_locals.try_emplace(v.symbol, -1);
+        if (added) it->second = out.add_var(v.name, VarKind::Local, v.span);
+        id = it->second;
+      } else {
+        id = out.add_var(v.name, VarKind::Local, v.span);
+      }
       bind(v.symbol, Binding{id, nullptr});
       if (v.init) into(id, *v.init);
     }
