@@ -638,6 +638,34 @@ TEST(Slots, EveryGlobalHasNqcsSlotUsedOrNot) {
   EXPECT_EQ(slots[static_cast<std::size_t>(t)], 4);
 }
 
+TEST(DeadStore, ALocalReadBeforeItIsWrittenKeepsItsLastValueForTheNextRun) {
+  // sub { seen = k; k = seen + 10; }: the next call reads k, so the write
+  // at the end is not dead.
+  Builder b;
+  VarId seen = b.global("seen"), k = b.local("k");
+  FuncId f = b.function("count_up");
+  b.block(f, {set(seen, V(k)), set(k, V(seen)), add(k, I(10))});
+  remove_dead_stores(b.p);
+  EXPECT_EQ(b.at(f, 0).instrs.size(), 3u);
+}
+
+TEST(ReadBeforeWrite, WarnsOnceAtTheRead) {
+  Builder b;
+  VarId seen = b.global("seen"), k = b.local("k"), j = b.local("j");
+  FuncId f = b.function("main");
+  SourceSpan at{{1, 5, 3}, {1, 5, 12}};
+  Instr read = set(seen, V(k));
+  read.span = at;
+  b.block(f, {set(j, I(1)), set(seen, V(j)), read, set(k, I(3)), set(seen, V(k))}, Branch{Cmp::NE, V(k), I(0), 1, 1});
+  b.block(f, {set(seen, V(k))});
+  Diagnostics d;
+  warn_reads_before_writes(b.p, d);
+  ASSERT_EQ(d.all().size(), 1u);
+  EXPECT_EQ(d.all()[0].severity, Severity::Warning);
+  EXPECT_NE(d.all()[0].message.find("'k' is read before it is written"), std::string::npos);
+  EXPECT_EQ(d.all()[0].span.begin.line, 5u);
+}
+
 TEST(Slots, ExhaustionNamesTheHolders) {
   Builder b;
   FuncId f = b.function("main");
