@@ -50,7 +50,8 @@ struct Lowerer {
   std::vector<std::vector<BlockId>> switches;
   std::vector<Frame> frames;
   std::vector<ast::SymbolId> expanding;
-  std::map<ast::SymbolId, VarId> inline_locals;  // inline functions' locals declared without a value
+  // Inline functions' locals declared without a value, per task or sub.
+  std::map<std::pair<ast::SymbolId, FuncId>, VarId> inline_locals;
   std::vector<SourceSpan> call_sites;  // where each expansion in `expanding` was called
   bool has_goto = false;
   SourceSpan span{};
@@ -847,13 +848,14 @@ struct Lowerer {
   }
   void lower_stmt(const ast::DeclStmt& d, const ast::Stmt&) {
     for (const auto& v : d.vars) {
-      // nqc gives an inline function's local one variable for all calls, so
-      // a call that reads it before writing it sees the previous call's
-      // value. A local with an initial value is written first: each
-      // expansion may have its own.
+      // nqc gives an inline function's local one variable for all calls in
+      // a task (or sub), so a call that reads it before writing it sees the
+      // previous call's value; each task has its own, as tasks run at once.
+      // A local with an initial value is written first: each expansion may
+      // have its own.
       VarId id = -1;
       if (!expanding.empty() && !v.init) {
-        auto [it, added] = inline_locals.try_emplace(v.symbol, -1);
+        auto [it, added] = inline_locals.try_emplace({v.symbol, fid}, -1);
         if (added) it->second = out.add_var(v.name, VarKind::Local, v.span);
         id = it->second;
       } else {
