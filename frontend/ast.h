@@ -115,6 +115,8 @@ enum class UnaryOp : std::uint8_t {
   PreDec,   // --x
   PostInc,  // x++
   PostDec,  // x--
+  Abs,      // abs(x): the firmware's Absolute value (abs(-32768) is 32767)
+  Sign,     // sign(x): -1, 0 or 1
 };
 
 struct Unary {
@@ -366,6 +368,8 @@ struct Param {
   std::string name;
   SourceSpan span;
   SymbolId symbol = kNoSymbol;
+  // nqc's `__sensor NAME`: a `const int &` whose argument must be SENSOR_n.
+  bool sensor = false;
 };
 
 // `task NAME() body` / `sub NAME() body`. body is always a Block.

@@ -48,6 +48,8 @@ std::optional<std::int16_t> fold_unary(UnaryOp op, std::int16_t a) {
     case UnaryOp::BitNot: return wrap16(~static_cast<std::int32_t>(a));
     case UnaryOp::LogNot: return static_cast<std::int16_t>(a == 0);
     case UnaryOp::Plus: return a;
+    case UnaryOp::Abs: return a == -32768 ? std::int16_t{32767} : static_cast<std::int16_t>(a < 0 ? -a : a);
+    case UnaryOp::Sign: return static_cast<std::int16_t>((a > 0) - (a < 0));
     default: return std::nullopt;
   }
 }

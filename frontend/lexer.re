@@ -134,7 +134,7 @@ std::vector<Token> lex(std::string_view text, std::uint32_t file, Diagnostics& d
       }
       "||=" | "+-=" | "<<=" | ">>=" | "##" | "&&" | "||" | "==" | "!=" | "<=" | ">=" | "<<" | ">>" | "++" | "--"
       | "+=" | "-=" | "*=" | "/=" | "%=" | "&=" | "|=" | "^="
-      | [-+*/%&|^~!<>=?:;,.(){}[\]#$] { emit(TokenKind::Punct, start); continue; }
+      | [-+*/%&|^~!<>=?:;,.(){}[\]#$@] { emit(TokenKind::Punct, start); continue; }
       * {
         diags.error({c.loc(start), c.loc(c.p)}, "stray character " + describe_char(*start) + " in program");
         emit(TokenKind::Unknown, start);

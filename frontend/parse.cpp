@@ -22,6 +22,8 @@ const std::unordered_map<std::string_view, TK>& keywords() {
       {"goto", P::token::GOTO},     {"start", P::token::START},       {"stop", P::token::STOP},
       {"asm", P::token::ASM},       {"true", P::token::TRUE},         {"false", P::token::FALSE},
       {"inline", P::token::INLINE}, {"__source", P::token::SOURCE},   {"__source_arg", P::token::SOURCE_ARG},
+      {"abs", P::token::ABS},       {"sign", P::token::SIGN},         {"__nolist", P::token::NOLIST},
+      {"__sensor", P::token::SENSOR},
   };
   return map;
 }

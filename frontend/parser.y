@@ -73,6 +73,32 @@ Expr asg(AssignOp op, Expr a, Expr b, const SourceSpan& s, const SourceSpan& op_
   return mk(Assign{op, std::move(a), std::move(b), op_span}, s);
 }
 Expr un(UnaryOp op, Expr a, const SourceSpan& s) { return mk(Unary{op, std::move(a)}, s); }
+// nqc's `@E`: the source whose type is E's upper 16 bits and whose argument
+// its lower 16 (`@(0x10000 + n)` is Timer(n)). Constants fold in 16 bits, so
+// the literals of E's +/- chain are summed here, in full width; what is left
+// (n) joins the argument. Names hold 16-bit values, so they never carry a
+// type.
+void additive_terms(Expr e, bool negate, std::int64_t& literal, std::vector<std::pair<bool, Expr>>& rest) {
+  if (auto* lit = std::get_if<IntLit>(&e.node)) {
+    literal += negate ? -lit->value : lit->value;
+    return;
+  }
+  if (auto* b = std::get_if<Binary>(&e.node); b && (b->op == BinaryOp::Add || b->op == BinaryOp::Sub)) {
+    additive_terms(std::move(*b->lhs), negate, literal, rest);
+    additive_terms(std::move(*b->rhs), b->op == BinaryOp::Sub ? !negate : negate, literal, rest);
+    return;
+  }
+  rest.emplace_back(negate, std::move(e));
+}
+Expr encoded_source(Expr e, const SourceSpan& s) {
+  std::int64_t literal = 0;
+  std::vector<std::pair<bool, Expr>> rest;
+  const SourceSpan whole = e.span;
+  additive_terms(std::move(e), false, literal, rest);
+  Expr arg = mk(IntLit{literal & 0xffff}, whole);
+  for (auto& [negate, term] : rest) arg = bin(negate ? BinaryOp::Sub : BinaryOp::Add, std::move(arg), std::move(term), whole);
+  return mk(Source{mk(IntLit{literal >> 16}, whole), std::move(arg), 0, 0}, s);
+}
 void note_order(Program& p, SymbolKind kind, std::size_t index) {
   p.order.push_back(TopLevelRef{kind, static_cast<std::uint32_t>(index)});
 }
@@ -87,7 +113,7 @@ void note_order(Program& p, SymbolKind kind, std::size_t index) {
 %token WHILE "while" DO "do" UNTIL "until" FOR "for" REPEAT "repeat" SWITCH "switch"
 %token CASE "case" DEFAULT "default" BREAK "break" CONTINUE "continue" RETURN "return"
 %token GOTO "goto" START "start" STOP "stop" ASM "asm" TRUE "true" FALSE "false" INLINE "inline"
-%token SOURCE "__source" SOURCE_ARG "__source_arg"
+%token SOURCE "__source" SOURCE_ARG "__source_arg" ABS "abs" SIGN "sign" NOLIST "__nolist" SENSOR "__sensor"
 %token OROR "||" ANDAND "&&" EQ "==" NE "!=" LE "<=" GE ">=" SHL "<<" SHR ">>" INC "++" DEC "--"
 %token ADD_ASSIGN "+=" SUB_ASSIGN "-=" MUL_ASSIGN "*=" DIV_ASSIGN "/=" MOD_ASSIGN "%="
 %token AND_ASSIGN "&=" OR_ASSIGN "|=" XOR_ASSIGN "^=" SHL_ASSIGN "<<=" SHR_ASSIGN ">>="
@@ -160,6 +186,13 @@ top
         note_order(feed.program, SymbolKind::Function, feed.program.functions.size());
         feed.program.functions.push_back(Function{$3, @3, std::move($5), std::move($7), kNoSymbol});
       }
+  | NOLIST VOID IDENT '(' params_opt ')' block
+      {
+        // nqc's `__nolist` keeps a function out of its listings; rcxc's
+        // listings show code by address, so it changes nothing here.
+        note_order(feed.program, SymbolKind::Function, feed.program.functions.size());
+        feed.program.functions.push_back(Function{$3, @3, std::move($5), std::move($7), kNoSymbol});
+      }
   | ';'
   | error ';'
   | error '}'
@@ -202,6 +235,7 @@ param
   | CONST INT IDENT        { $$ = Param{ParamKind::Const, $3, @3, kNoSymbol}; }
   | INT '&' IDENT          { $$ = Param{ParamKind::Reference, $3, @3, kNoSymbol}; }
   | CONST INT '&' IDENT    { $$ = Param{ParamKind::ConstReference, $4, @4, kNoSymbol}; }
+  | SENSOR IDENT           { $$ = Param{ParamKind::ConstReference, $2, @2, kNoSymbol, true}; }
   | INT '*' IDENT
       {
         feed.diags.error(@$, "the RCX has no pointers: write 'int &" + $3 + "' to pass a variable by reference").parsed_past = true;
@@ -320,6 +354,16 @@ expr
         $$ = mk(SourceArg{std::move($3), type}, @$);
       }
   | '(' expr ')'            { $$ = std::move($2); $$.span = @$; }
+  | ABS '(' expr ')'        { $$ = un(UnaryOp::Abs, std::move($3), @$); }
+  | SIGN '(' expr ')'       { $$ = un(UnaryOp::Sign, std::move($3), @$); }
+  | '@' expr %prec UNARY    { $$ = encoded_source(std::move($2), @$); }
+  | SENSOR '(' expr ')'
+      {
+        // nqc's __sensor(E): a sensor number as is, or the number of the
+        // sensor E reads (SENSOR_2 gives 1); anything else is an error.
+        if (std::holds_alternative<IntLit>($3.node)) $$ = std::move($3);
+        else $$ = mk(SourceArg{std::move($3), static_cast<std::int16_t>(9)}, @$);
+      }
   | expr '[' expr ']'
       {
         feed.diags.error(@$, "the RCX has no arrays, so nothing can be indexed");

@@ -195,6 +195,9 @@ class Preprocessor {
   void define_builtins() {
     std::uint32_t cmd = sm_.add("<command line>", "");
     define_text("__RCX", "1", cmd);
+    // nqc 3.1 defines its version as __NQC__ (301); programs written for it
+    // test it to tell nqc from other compilers, and rcxc takes their nqc path.
+    define_text("__NQC__", "301", cmd);
     define_text("__RCXC__", "1", cmd);
     for (const auto& [name, value] : opts_.defines) define_text(name, value.empty() ? "1" : value, cmd);
     for (const auto& name : opts_.undefines) defined_.erase(name);

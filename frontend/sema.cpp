@@ -690,7 +690,9 @@ class Checker {
         const Function& g = prog_.functions[prog_.symbols[c->symbol].index];
         for (std::size_t i = 0; i < c->args.size() && i < g.params.size() && !found; ++i) {
           const auto* n = as<Name>(c->args[i]);
-          if (n && n->symbol == param && &g != &f) found = required_source_type(g, g.params[i].symbol, depth + 1);
+          if (n && n->symbol == param && &g != &f)
+            found = g.params[i].sensor ? std::optional<std::int16_t>(static_cast<std::int16_t>(rcx::Source::SensorValue))
+                                       : required_source_type(g, g.params[i].symbol, depth + 1);
         }
       }
       visit_children(e, scan_expr);
@@ -721,7 +723,8 @@ class Checker {
 
   void check_argument(const Function& f, const Param& p, const Expr& arg) {
     if (p.kind == ParamKind::ConstReference && !depends_on_const_param(arg)) {
-      if (auto type = required_source_type(f, p.symbol)) {
+      if (auto type = p.sensor ? std::optional<std::int16_t>(static_cast<std::int16_t>(rcx::Source::SensorValue))
+                               : required_source_type(f, p.symbol)) {
         const auto* src = as<Source>(arg);
         if (!src || src->type_value != *type) {
           std::string what = *type == static_cast<int>(rcx::Source::SensorValue)

@@ -170,12 +170,16 @@ void inline_call(Program& p, FuncId caller, BlockId block, std::size_t index) {
     if (r.setup == block && !tail.instrs.empty()) r.setup = rest;
 
   // The copy gets its own locals and temporaries: copies in two tasks must
-  // not share them, and a call's locals start afresh anyway.
+  // not share them, and a call's locals start afresh anyway. Except a local
+  // the subroutine reads before writing: the called subroutine keeps it from
+  // one call to the next, so every copy keeps that one variable too and
+  // inlining does not change what the program computes.
+  const VarSet kept = call_effects(p).reads[static_cast<std::size_t>(callee_of(call))];
   std::map<VarId, VarId> fresh;
   auto own = [&](Operand& a) {
     if (!a.is_var()) return;
     const Var& v = p.vars[static_cast<std::size_t>(a.value)];
-    if (v.kind == VarKind::Global || v.slot) return;
+    if (v.kind == VarKind::Global || v.slot || kept.has(a.value)) return;
     auto [it, added] = fresh.try_emplace(a.value, 0);
     if (added) it->second = p.add_var(v.name, v.kind, v.span);
     a.value = it->second;

@@ -80,6 +80,10 @@ Liveness compute_liveness(const Program& p, const Function& f, const CallEffects
       const Block& b = f.blocks[i];
       VarSet out(p.vars.size());
       for (BlockId s : successors(b.term)) out.merge(L.live_in[static_cast<std::size_t>(s)]);
+      // What the code reads before writing it is read again when the code
+      // next runs (the next call of a subroutine, a task started again), so
+      // its last value stays live past the exit.
+      if (std::holds_alternative<Exit>(b.term)) out.merge(L.live_in[0]);
       VarSet live = out;
       for (VarId v : reads_of(b.term))
         if (tracked(p, v)) live.add(v);

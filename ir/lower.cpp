@@ -50,6 +50,8 @@ struct Lowerer {
   std::vector<std::vector<BlockId>> switches;
   std::vector<Frame> frames;
   std::vector<ast::SymbolId> expanding;
+  // Inline functions' locals declared without a value, per task or sub.
+  std::map<std::pair<ast::SymbolId, FuncId>, VarId> inline_locals;
   std::vector<SourceSpan> call_sites;  // where each expansion in `expanding` was called
   bool has_goto = false;
   SourceSpan span{};
@@ -165,6 +167,8 @@ struct Lowerer {
       case ast::UnaryOp::BitNot: return wrap16(~static_cast<long>(*x));
       case ast::UnaryOp::LogNot: return *x == 0 ? 1 : 0;
       case ast::UnaryOp::Plus: return *x;
+      case ast::UnaryOp::Abs: return *x == -32768 ? 32767 : (*x < 0 ? -*x : *x);
+      case ast::UnaryOp::Sign: return (*x > 0) - (*x < 0);
       default: return std::nullopt;
     }
   }
@@ -336,6 +340,13 @@ struct Lowerer {
   }
   // The second operand of variable arithmetic (variable or immediate).
   Operand arith_value(const ast::Expr& e) { return operand_for(Op::AddToVariable, 1, e); }
+  // arith_value, except that ++x and --x step x now and stand for x itself.
+  Operand stepped_value(const ast::Expr& e) {
+    if (const auto* u = ast::as<ast::Unary>(chosen(e));
+        u && (u->op == ast::UnaryOp::PreInc || u->op == ast::UnaryOp::PreDec))
+      if (auto v = step(*u, e.span)) return Operand::var(*v);
+    return arith_value(e);
+  }
 
   // An operand a test-and-branch can compare (not random or program number,
   // argument within a byte so either position works).
@@ -504,6 +515,8 @@ struct Lowerer {
         return arith(Op::SubtractFromVariable, d, Operand::imm(1));
       }
       case ast::UnaryOp::LogNot: return truth(d, e);
+      case ast::UnaryOp::Abs: return arith(Op::AbsoluteValue, d, arith_value(*u.operand));
+      case ast::UnaryOp::Sign: return arith(Op::SignVariable, d, arith_value(*u.operand));
       case ast::UnaryOp::PreInc:
       case ast::UnaryOp::PreDec:
         if (auto v = step(u, e.span)) set(d, Operand::var(*v));
@@ -539,7 +552,11 @@ struct Lowerer {
     switch (b.op) {
       case ast::BinaryOp::Mod: {
         // a % b == a - (a / b) * b with the firmware's truncating division.
-        Operand x = arith_value(*b.lhs), y = arith_value(*b.rhs);
+        // As in nqc's code, a variable on the left is read after the right
+        // side is computed, and ++x / --x stand for x itself: with b at 5,
+        // --b % b++ is 5 % 4.
+        Operand x = stepped_value(*b.lhs);
+        Operand y = arith_value(*b.rhs);
         set(d, x);
         arith(Op::DivideVariable, d, y);
         arith(Op::MultiplyVariable, d, y);
@@ -667,7 +684,8 @@ struct Lowerer {
       assign(*a, e.span);
     } else if (const auto* u = ast::as<ast::Unary>(e); u && u->op != ast::UnaryOp::Negate &&
                                                        u->op != ast::UnaryOp::BitNot && u->op != ast::UnaryOp::LogNot &&
-                                                       u->op != ast::UnaryOp::Plus) {
+                                                       u->op != ast::UnaryOp::Plus && u->op != ast::UnaryOp::Abs &&
+                                                       u->op != ast::UnaryOp::Sign) {
       step(*u, e.span);
     } else if (const auto* c = ast::as<ast::Call>(e)) {
       call(*c, e.span);
@@ -830,7 +848,19 @@ struct Lowerer {
   }
   void lower_stmt(const ast::DeclStmt& d, const ast::Stmt&) {
     for (const auto& v : d.vars) {
-      VarId id = out.add_var(v.name, VarKind::Local, v.span);
+      // nqc gives an inline function's local one variable for all calls in
+      // a task (or sub), so a call that reads it before writing it sees the
+      // previous call's value; each task has its own, as tasks run at once.
+      // A local with an initial value is written first: each expansion may
+      // have its own.
+      VarId id = -1;
+      if (!expanding.empty() && !v.init) {
+        auto [it, added] = inline_locals.try_emplace({v.symbol, fid}, -1);
+        if (added) it->second = out.add_var(v.name, VarKind::Local, v.span);
+        id = it->second;
+      } else {
+        id = out.add_var(v.name, VarKind::Local, v.span);
+      }
       bind(v.symbol, Binding{id, nullptr});
       if (v.init) into(id, *v.init);
     }

@@ -172,10 +172,18 @@ void inline_call(Program& p, FuncId caller, BlockId block, std::size_t index);
 // Bytes a function's code takes when every branch is near (an estimate).
 int estimate_size(const Function& f);
 
-// slots.cpp: binds every variable to one of the 32 slots. Variables share
-// a slot only when they are never live at once and can never be used by two
-// tasks at the same time. Returns slot per VarId (-1: unused variable), or
-// an empty vector after reporting which variables hold the slots.
+// uninitialized.cpp: warns where a local may be read before it is written
+// (once per variable, at the read). Such a local holds what the code left in
+// it last time: a subroutine's and an inline function's locals are one
+// variable for every call, as in nqc, at every optimisation level.
+void warn_reads_before_writes(const Program& p, Diagnostics& diags);
+
+// slots.cpp: binds every variable to one of the 32 slots. Each global has
+// the slot nqc gives it (the lowest free one in declaration order, used or
+// not). Other variables share a slot only when they are never live at once
+// and can never be used by two tasks at the same time. Returns slot per
+// VarId (-1: unused variable), or an empty vector after reporting which
+// variables hold the slots.
 std::vector<int> allocate_slots(const Program& p, Diagnostics& diags);
 
 // Passes a caller may turn off whatever the level.

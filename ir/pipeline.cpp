@@ -4,6 +4,8 @@
 namespace rcxc::ir {
 
 bool optimize(Program& p, OptLevel level, Diagnostics& diags, Log& log, const PassOptions& passes) {
+  // Before any pass, so every level reports the same reads.
+  warn_reads_before_writes(p, diags);
   if (!resolve_calls(p, level, diags, log)) return false;
   if (level == OptLevel::Os && passes.tail_starts) run_tail_started_tasks_in_main(p, log);
   if (level != OptLevel::O0) {

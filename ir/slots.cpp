@@ -166,12 +166,16 @@ std::vector<int> allocate_slots(const Program& p, Diagnostics& diags) {
     slot_tasks[static_cast<std::size_t>(slot[static_cast<std::size_t>(v)])] |= mine;
     return true;
   };
-  // Fixed slots first, then globals (each its own slot), then the rest.
+  // Fixed slots first, then globals, then the rest. Every file-scope
+  // global gets the slot nqc gives it, used or not: the lowest free one in
+  // declaration order. The PC reads globals by number, raw asm names them
+  // by number and a brick's five programs share the 32 slots, so leaving an
+  // unused global out would move every later one.
   for (int pass = 0; pass < 3; ++pass)
     for (std::size_t v = 0; v < nv; ++v) {
-      if (!used[v]) continue;
       const Var& var = p.vars[v];
       bool global = var.kind == VarKind::Global;
+      if (!used[v] && !global) continue;
       int want = var.slot ? 0 : (global ? 1 : 2);
       if (want != pass) continue;
       if (!assign(static_cast<VarId>(v), global || var.slot.has_value())) {

@@ -171,6 +171,17 @@ TEST(RandomPrograms, EveryOptimisationLevelBehavesAsUnoptimised) {
   EXPECT_GT(ended, 250);
 }
 
+TEST(RandomPrograms, LocalsKeptFromCallToCallComputeTheSameAtEveryLevel) {
+  for (unsigned seed = seed_offset() + 1; seed <= seed_offset() + 300; ++seed) {
+    std::string text = test::KeptLocalGenerator(seed).program();
+    std::string error;
+    auto reference = observe(text, ir::OptLevel::O0, error);
+    ASSERT_TRUE(reference) << "seed " << seed << ": " << error << "\n" << text;
+    ASSERT_TRUE(reference->ended) << "seed " << seed << "\n" << text;
+    ASSERT_TRUE(levels_agree(text, seed, *reference));
+  }
+}
+
 TEST(RandomPrograms, TwoTasksInTurnsBehaveAsUnoptimised) {
   for (unsigned seed = seed_offset() + 1; seed <= seed_offset() + 300; ++seed) {
     std::string text = TwoTaskGenerator(seed).program();

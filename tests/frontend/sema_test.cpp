@@ -20,6 +20,11 @@ struct BadProgram {
 };
 
 const BadProgram kCases[] = {
+    {"SensorParameterNeedsASensor", "void f(__sensor s) { ClearSensor(s); }\ntask main() { f(2); }\n",
+     {"2:17: error: argument for 's' of 'f' must be a sensor (SENSOR_1, SENSOR_2 or SENSOR_3)"}, true},
+    {"SensorParameterRefusesAVariable", "int x;\nvoid f(__sensor s) { }\ntask main() { f(x); }\n",
+     {"3:17: error: argument for 's' of 'f' must be a sensor (SENSOR_1, SENSOR_2 or SENSOR_3)"}},
+    {"AbsAndSignAreKeywordsAsInNqc", "int abs;\ntask main() { }\n", {"1:5: error: expected identifier or '*' before 'abs'"}},
     {"UndefinedVariable", "task main()\n{\n  int x;\n  x = y + 1;\n}\n", {"4:7: error: 'y' is not declared"}},
     {"UndefinedNameReportedOncePerBody", "task main()\n{\n  q = 1;\n  q = 2;\n}\n",
      {"3:3: error: 'q' is not declared"}},
@@ -241,6 +246,33 @@ TEST(Sema, SourcesAndSensorIndexesFold) {
   const auto& sensor = std::get<Source>(sum.rhs->node);
   EXPECT_EQ(sensor.type_value, 9);
   EXPECT_EQ(sensor.arg_value, 2);
+}
+
+TEST(Sema, NqcsAtSourceSplitsTypeAndArgumentInFullWidth) {
+  // @(0x10000 + 2) is Timer(2): 0x10000 does not fit 16 bits, so the
+  // literals are added before the split; a name joins the argument.
+  auto r = run_frontend(
+      "#define N 1\nint a, b, c, d;\n"
+      "task main() { a = @(0x10000 + 2); b = @(0x90000 + N); c = @3; d = @(0x90000 + __sensor(SENSOR_3)); }\n");
+  ASSERT_TRUE(r.program) << r.text();
+  const auto& body = std::get<Block>(r.program->tasks[0].body.node).stmts;
+  auto source = [&](std::size_t i) {
+    return std::get<Source>(std::get<Assign>(std::get<ExprStmt>(body[i].node).expr.node).value->node);
+  };
+  EXPECT_EQ(source(0).type_value, 1);
+  EXPECT_EQ(source(0).arg_value, 2);
+  EXPECT_EQ(source(1).type_value, 9);
+  EXPECT_EQ(source(1).arg_value, 1);
+  EXPECT_EQ(source(2).type_value, 0);
+  EXPECT_EQ(source(2).arg_value, 3);
+  EXPECT_EQ(source(3).type_value, 9);
+  EXPECT_EQ(source(3).arg_value, 2);
+}
+
+TEST(Sema, NqcsPredefinedVersionMacro) {
+  auto r = run_frontend("int v = __NQC__;\n__nolist void f() { }\ntask main() { f(); }\n");
+  ASSERT_TRUE(r.program) << r.text();
+  EXPECT_EQ(r.program->globals[0].init->constant, std::optional<std::int16_t>(301));
 }
 
 TEST(Sema, FoldConstantSeesThroughSubstitutedSources) {

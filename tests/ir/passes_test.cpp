@@ -618,6 +618,54 @@ TEST(Slots, ReservedSlotsAreSkipped) {
   EXPECT_EQ(slots[static_cast<std::size_t>(g)], 3);
 }
 
+TEST(Slots, EveryGlobalHasNqcsSlotUsedOrNot) {
+  // nqc: the lowest free slot in declaration order, unused globals too; a
+  // temporary never takes a global's slot.
+  Builder b;
+  VarId unused = b.global("unused");
+  VarId t = b.temp();
+  VarId g = b.global("g");
+  VarId late = b.global("late");
+  FuncId f = b.function("main");
+  b.block(f, {set(t, Operand::src(1, 0)), set(late, V(t)), set(g, I(2))});
+  b.p.reserved_slots = 0x2;
+  Diagnostics d;
+  auto slots = allocate_slots(b.p, d);
+  ASSERT_EQ(slots.size(), 4u);
+  EXPECT_EQ(slots[static_cast<std::size_t>(unused)], 0);
+  EXPECT_EQ(slots[static_cast<std::size_t>(g)], 2);
+  EXPECT_EQ(slots[static_cast<std::size_t>(late)], 3);
+  EXPECT_EQ(slots[static_cast<std::size_t>(t)], 4);
+}
+
+TEST(DeadStore, ALocalReadBeforeItIsWrittenKeepsItsLastValueForTheNextRun) {
+  // sub { seen = k; k = seen + 10; }: the next call reads k, so the write
+  // at the end is not dead.
+  Builder b;
+  VarId seen = b.global("seen"), k = b.local("k");
+  FuncId f = b.function("count_up");
+  b.block(f, {set(seen, V(k)), set(k, V(seen)), add(k, I(10))});
+  remove_dead_stores(b.p);
+  EXPECT_EQ(b.at(f, 0).instrs.size(), 3u);
+}
+
+TEST(ReadBeforeWrite, WarnsOnceAtTheRead) {
+  Builder b;
+  VarId seen = b.global("seen"), k = b.local("k"), j = b.local("j");
+  FuncId f = b.function("main");
+  SourceSpan at{{1, 5, 3}, {1, 5, 12}};
+  Instr read = set(seen, V(k));
+  read.span = at;
+  b.block(f, {set(j, I(1)), set(seen, V(j)), read, set(k, I(3)), set(seen, V(k))}, Branch{Cmp::NE, V(k), I(0), 1, 1});
+  b.block(f, {set(seen, V(k))});
+  Diagnostics d;
+  warn_reads_before_writes(b.p, d);
+  ASSERT_EQ(d.all().size(), 1u);
+  EXPECT_EQ(d.all()[0].severity, Severity::Warning);
+  EXPECT_NE(d.all()[0].message.find("'k' is read before it is written"), std::string::npos);
+  EXPECT_EQ(d.all()[0].span.begin.line, 5u);
+}
+
 TEST(Slots, ExhaustionNamesTheHolders) {
   Builder b;
   FuncId f = b.function("main");

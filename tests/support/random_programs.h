@@ -401,6 +401,57 @@ class CoinGenerator : public Generator {
   }
 };
 
+// Subroutines and inline functions whose locals are read before they are
+// written, so each call sees what the previous call left (one variable for
+// all calls, as in nqc), called from main, in loops and branches, and from
+// one another: -O1 and -Os inline the subroutines, and every level must
+// still compute what -O0's one copy computes.
+class KeptLocalGenerator : public Generator {
+ public:
+  using Generator::Generator;
+
+  std::string program() {
+    std::ostringstream out;
+    out << "int x, y;\n";
+    int functions = pick(0, 2);
+    for (int f = 0; f < functions; ++f) {
+      out << "void f" << f << "(int a) {\n  int m" << f << ";\n";
+      out << "  y = y * 3 + m" << f << ";\n  m" << f << " = a + " << pick(1, 9) << ";\n}\n";
+    }
+    int subs = pick(1, 3);
+    for (int s = 0; s < subs; ++s) {
+      out << "sub s" << s << "() {\n  int k" << s << ";\n";
+      if (pick(0, 2) == 0) out << "  int j" << s << " = x;\n  y += j" << s << ";\n";  // written first
+      kept_step(out, "k" + std::to_string(s));
+      if (s > 0 && pick(0, 1) == 0) out << "  s" << pick(0, s - 1) << "();\n";
+      if (functions > 0 && pick(0, 1) == 0) out << "  f" << pick(0, functions - 1) << "(x);\n";
+      out << "}\n";
+    }
+    out << "task main() {\n  x = 0; y = 0;\n";
+    int n = pick(2, 7);
+    for (int i = 0; i < n; ++i) {
+      int k = pick(0, 5);
+      std::string call = k < 4 || functions == 0 ? "s" + std::to_string(pick(0, subs - 1)) + "();"
+                                                 : "f" + std::to_string(pick(0, functions - 1)) + "(x);";
+      if (k == 1) out << "  repeat (" << pick(2, 3) << ") { " << call << " x += 1; }\n";
+      else if (k == 2) out << "  if (x > " << pick(0, 6) << ") " << call << " else x += 2;\n";
+      else out << "  " << call << " x += " << pick(1, 4) << ";\n";
+    }
+    marker(out);
+    out << "}\n";
+    return out.str();
+  }
+
+ private:
+  // Reads the kept local, then writes it: sometimes only on one side of an
+  // if, so some calls leave it as it was.
+  void kept_step(std::ostringstream& out, const std::string& k) {
+    out << "  y = y + " << k << " * " << pick(1, 3) << ";\n";
+    if (pick(0, 2) == 0) out << "  if (x > " << pick(0, 8) << ") " << k << " = x + y;\n";
+    else out << "  " << k << " = " << k << " + x + " << pick(1, 5) << ";\n";
+  }
+};
+
 // Arithmetic, comparisons and control flow over three globals, with the
 // 16-bit edge values: every level must compute the same.
 // Who else reads the program: nqc (which miscompiles some constants and
