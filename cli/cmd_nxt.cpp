@@ -282,14 +282,18 @@ void register_nxt(CLI::App& app, int& exit_code) {
   nxt_cmd->add_option("--timeout", a->timeout_ms, "Milliseconds to wait for a reply")->check(CLI::Range(1, 60000));
   nxt_cmd->require_subcommand(1);
   nxt_cmd->fallthrough();
-  nxt_cmd->footer(table_help() +
-                  "Exit codes: 0 done; 1 the brick refused or a file is bad; 2 bad command line or value;\n"
-                  "3 the port could not be opened; 4 the brick did not answer or answered nonsense; 130 Ctrl-C.");
+  const std::string exit_codes =
+      "Exit codes: 0 done; 1 the brick refused or a file is bad; 2 bad command line or value;\n"
+      "3 the port could not be opened; 4 the brick did not answer or answered nonsense; 130 Ctrl-C.";
+  nxt_cmd->footer(table_help() + exit_codes);
 
   // Registers an action whose callback checks its values, then runs `make()`
   // (which returns the action, or a usage message) against the brick.
-  auto add = [nxt_cmd](const std::string& name, const std::string& help) {
-    return nxt_cmd->add_subcommand(name, help);
+  // Actions show the exit codes, not the whole table (CLI11 would inherit it).
+  auto add = [nxt_cmd, exit_codes](const std::string& name, const std::string& help) {
+    auto* sub = nxt_cmd->add_subcommand(name, help);
+    sub->footer(exit_codes);
+    return sub;
   };
   auto run = [&exit_code, a](CLI::App* sub, std::function<std::variant<Action, std::string>()> make) {
     std::string name = sub->get_name();

@@ -224,6 +224,24 @@ TEST(NxtCli, PortsThatCannotBeOpenedOrDoNotAnswer) {
   EXPECT_NE(bad.err.find("b.toml:1: an input needs exactly one of"), std::string::npos) << bad.err;
 }
 
+TEST(NxtCli, UsbAndBluetoothWithoutHardwareCannotBeOpened) {
+  // No NXT (and no adapter) here: both must fail as "cannot open", not hang.
+  auto usb = run_rcxc({"nxt", "--port", "usb", "battery"}, "", 30'000);
+  EXPECT_EQ(usb.exit_code, 3) << usb.err;
+  EXPECT_NE(usb.err.find("NXT"), std::string::npos) << usb.err;
+  auto bt = run_rcxc({"nxt", "--port", "bt:00:16:53:00:00:01", "battery"}, "", 30'000);
+  EXPECT_EQ(bt.exit_code, 3) << bt.err;
+}
+
+TEST(NxtCli, VerboseBrickLogsTelegramsDecoded) {
+  // The brick's -v goes to its stderr; here the host's -v shows the same form.
+  NxtBrickProcess brick;
+  auto r = nxt(brick.path, {"-v", "tone", "440", "100"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("nxt: -> PlayTone frequency_hz=440 duration_ms=100"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("nxt: <- PlayTone -> ok"), std::string::npos) << r.err;
+}
+
 TEST(NxtCli, HelpListsEveryCommandOfTheTable) {
   auto r = run_rcxc({"nxt", "--help"});
   EXPECT_EQ(r.exit_code, 0);
