@@ -2,8 +2,6 @@
 // Bluetooth, and `rcxc nxt brick --pty`, the virtual NXT. Values are checked
 // here, before the port is opened: the brick itself does not range-check
 // PlayTone or SetOutputState, and a refused value must leave nothing half-done.
-#include <signal.h>
-#include <sys/signalfd.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -19,6 +17,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
+#include "cli/nxt_tether.h"
 #include "nxt/client.h"
 #include "nxt/commands.h"
 #include "nxt/scenario.h"
@@ -70,15 +69,8 @@ int exit_code_for(CallError::Kind kind) {
 
 Failure failure(const CallError& e) { return {exit_code_for(e.kind), e.message}; }
 
-// SIGINT/SIGTERM become a readable descriptor every wait polls: Ctrl-C ends
-// a wait within one poll slice, and no global flag is needed.
-int stop_descriptor() {
-  sigset_t set;
-  sigemptyset(&set);
-  for (int s : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&set, s);
-  if (pthread_sigmask(SIG_BLOCK, &set, nullptr) != 0) return -1;
-  return signalfd(-1, &set, SFD_CLOEXEC);
-}
+// Ctrl-C: a signalfd every wait polls (cli/nxt_tether.h).
+int stop_descriptor() { return stop_signal_descriptor(); }
 
 int report(const NxtArgs& a, const std::string& action, std::variant<Output, Failure> result) {
   if (auto* f = std::get_if<Failure>(&result)) {
