@@ -310,6 +310,36 @@ TEST(NxtTether, ABrickThatDoesNotAnswerFailsTheRun) {
   nxt::close_pty_pair(pty);
 }
 
+TEST(NxtCli, CtrlCEndsAWaitForASilentBrickAt130) {
+  auto opened = nxt::open_pty_pair();
+  ASSERT_TRUE(std::holds_alternative<nxt::PtyPair>(opened));
+  auto pty = std::get<nxt::PtyPair>(opened);
+  pid_t pid = ::fork();
+  if (pid == 0) {
+    int null = ::open("/dev/null", O_WRONLY);
+    ::dup2(null, 1);
+    ::dup2(null, 2);
+    std::vector<std::string> args{RCXC_BINARY, "nxt", "--port", pty.slave_path, "--timeout", "10000", "battery"};
+    std::vector<char*> argv;
+    for (auto& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    ::execv(argv[0], argv.data());
+    ::_exit(127);
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));  // it is waiting for the reply by now
+  auto t0 = std::chrono::steady_clock::now();
+  ::kill(pid, SIGINT);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  auto took = std::chrono::steady_clock::now() - t0;
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 130);
+  // The wait itself ends within 100 ms (NxtInterrupt, in process); here the
+  // process must also exit and be reaped on a busy machine: some slack.
+  EXPECT_LT(took, std::chrono::milliseconds(250));
+  nxt::close_pty_pair(pty);
+}
+
 TEST(NxtCli, HelpListsEveryCommandOfTheTable) {
   auto r = run_rcxc({"nxt", "--help"});
   EXPECT_EQ(r.exit_code, 0);
