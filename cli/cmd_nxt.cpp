@@ -2,8 +2,6 @@
 // Bluetooth, and `rcxc nxt brick --pty`, the virtual NXT. Values are checked
 // here, before the port is opened: the brick itself does not range-check
 // PlayTone or SetOutputState, and a refused value must leave nothing half-done.
-#include <signal.h>
-#include <sys/signalfd.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -19,6 +17,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
+#include "cli/nxt_tether.h"
 #include "nxt/client.h"
 #include "nxt/commands.h"
 #include "nxt/scenario.h"
@@ -70,15 +69,8 @@ int exit_code_for(CallError::Kind kind) {
 
 Failure failure(const CallError& e) { return {exit_code_for(e.kind), e.message}; }
 
-// SIGINT/SIGTERM become a readable descriptor every wait polls: Ctrl-C ends
-// a wait within one poll slice, and no global flag is needed.
-int stop_descriptor() {
-  sigset_t set;
-  sigemptyset(&set);
-  for (int s : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&set, s);
-  if (pthread_sigmask(SIG_BLOCK, &set, nullptr) != 0) return -1;
-  return signalfd(-1, &set, SFD_CLOEXEC);
-}
+// Ctrl-C: a signalfd every wait polls (cli/nxt_tether.h).
+int stop_descriptor() { return stop_signal_descriptor(); }
 
 int report(const NxtArgs& a, const std::string& action, std::variant<Output, Failure> result) {
   if (auto* f = std::get_if<Failure>(&result)) {
@@ -282,14 +274,18 @@ void register_nxt(CLI::App& app, int& exit_code) {
   nxt_cmd->add_option("--timeout", a->timeout_ms, "Milliseconds to wait for a reply")->check(CLI::Range(1, 60000));
   nxt_cmd->require_subcommand(1);
   nxt_cmd->fallthrough();
-  nxt_cmd->footer(table_help() +
-                  "Exit codes: 0 done; 1 the brick refused or a file is bad; 2 bad command line or value;\n"
-                  "3 the port could not be opened; 4 the brick did not answer or answered nonsense; 130 Ctrl-C.");
+  const std::string exit_codes =
+      "Exit codes: 0 done; 1 the brick refused or a file is bad; 2 bad command line or value;\n"
+      "3 the port could not be opened; 4 the brick did not answer or answered nonsense; 130 Ctrl-C.";
+  nxt_cmd->footer(table_help() + exit_codes);
 
   // Registers an action whose callback checks its values, then runs `make()`
   // (which returns the action, or a usage message) against the brick.
-  auto add = [nxt_cmd](const std::string& name, const std::string& help) {
-    return nxt_cmd->add_subcommand(name, help);
+  // Actions show the exit codes, not the whole table (CLI11 would inherit it).
+  auto add = [nxt_cmd, exit_codes](const std::string& name, const std::string& help) {
+    auto* sub = nxt_cmd->add_subcommand(name, help);
+    sub->footer(exit_codes);
+    return sub;
   };
   auto run = [&exit_code, a](CLI::App* sub, std::function<std::variant<Action, std::string>()> make) {
     std::string name = sub->get_name();

@@ -2,10 +2,13 @@
 // a timeline, or a JSON report, and optionally writes a trace file.
 #include <fmt/format.h>
 
+#include <unistd.h>
+
 #include <iostream>
 #include <variant>
 
 #include "cli/commands.h"
+#include "cli/nxt_tether.h"
 #include "cli/output_file.h"
 #include "cli/program_loader.h"
 #include "rcx/image.h"
@@ -27,7 +30,37 @@ struct RunOptions {
   std::string trace;
   std::int64_t instruction_us = rcx::kDefaultInstructionCostUs;
   CompilerArgs compiler;  // for a source FILE, as `rcxc compile` takes them
+  std::optional<std::string> nxt_port;  // --nxt: tethered to an NXT, in real time
 };
+
+// The program on the emulator in real time, its outputs, sensors, sounds and
+// messages an NXT's (cli/nxt_tether.h). 0, or the exit code of a failure.
+int run_on_nxt(rcx::Machine& machine, const std::string& port, std::int64_t run_ms) {
+  auto spec = nxt::parse_port(port, std::nullopt);
+  if (auto* e = std::get_if<nxt::LinkError>(&spec)) {
+    std::cerr << "rcxc run: " << e->message << "\n";
+    return kExitUsage;
+  }
+  int stop = stop_signal_descriptor();
+  auto opened = nxt::open_port(std::get<nxt::PortSpec>(spec), stop);
+  if (auto* e = std::get_if<nxt::LinkError>(&opened)) {
+    std::cerr << "rcxc run: " << e->message << "\n";
+    if (stop >= 0) ::close(stop);
+    return kExitNoPort;
+  }
+  auto transport = std::move(std::get<std::unique_ptr<nxt::Transport>>(opened));
+  nxt::Client client(*transport);
+  TetherStats stats;
+  std::string error = run_tethered(machine, client, run_ms * rcx::kMicrosPerMs, stop, stats);
+  if (stop >= 0) ::close(stop);
+  std::cerr << fmt::format("rcxc run: tethered to {}: {} writes, {} sensor reads\n", transport->describe(),
+                           stats.writes, stats.polls);
+  if (!error.empty()) {
+    std::cerr << "rcxc run: " << error << "\n";
+    return error == "interrupted" ? 130 : kExitNoReply;
+  }
+  return kExitOk;
+}
 
 bool ends_with(const std::string& s, std::string_view suffix) {
   return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
@@ -98,7 +131,9 @@ int run(const RunOptions& o) {
   if (!image.find(rcx::FragmentType::Task, 0)) std::cerr << "rcxc run: warning: " << o.file << " has no task 0 to start\n";
   for (const auto& in : inputs) machine.schedule(in);
   machine.start_program();
-  machine.run(run_ms * rcx::kMicrosPerMs);
+  int tether_code = kExitOk;
+  if (o.nxt_port) tether_code = run_on_nxt(machine, *o.nxt_port, run_ms);
+  else machine.run(run_ms * rcx::kMicrosPerMs);
 
   if (o.report == "json")
     std::cout << json_text(rcx::report_json(machine, image)) << "\n";
@@ -111,6 +146,7 @@ int run(const RunOptions& o) {
       return kExitFailure;
     }
   }
+  if (tether_code != kExitOk) return tether_code;
   if (machine.stop().kind == rcx::StopKind::Fault) {
     if (o.report == "json") std::cerr << "rcxc run: the program faulted: " << machine.stop().fault->message << "\n";
     return kExitFailure;
@@ -132,6 +168,8 @@ void register_run(CLI::App& app, int& exit_code) {
   cmd->add_option("--trace", o->trace, "write a trace: F.vcd (GTKWave) or F.json (events)");
   cmd->add_option("--instruction-us", o->instruction_us, "virtual cost of one instruction in microseconds (default 2000)")
       ->check(CLI::Range(int64_t{1}, int64_t{1'000'000}));
+  cmd->add_option("--nxt", o->nxt_port,
+                  "run in real time with an NXT's motors, sensors and speaker (usb, bt:ADDR, a tty; docs/nxt.md)");
   auto* for_option = cmd->get_option("--for");
   cmd->callback([&exit_code, o, for_option] {
     o->for_given = for_option->count() > 0;

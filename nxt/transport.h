@@ -86,8 +86,8 @@ std::variant<PtyPair, LinkError> open_pty_pair();
 void close_pty_pair(PtyPair& pty);
 
 // In-process transport: each telegram sent is handed to `answer`, whose reply
-// (if any) the next receive returns. Tests can hold replies back, split them
-// late, or add stray telegrams through `inbox`.
+// (if any) the next receive returns. Tests can hold replies back (`late_by`)
+// or put stray telegrams on the line (`inbox`).
 class InProcessTransport final : public Transport {
  public:
   using Answer = std::function<std::optional<Bytes>(std::span<const std::uint8_t>)>;

@@ -1,6 +1,7 @@
 // `rcxc nxt` end to end: `rcxc nxt brick --pty` in the background, the
 // actions run as a user would against its pseudo-terminal.
 #include <gtest/gtest.h>
+#include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
 #include <sys/wait.h>
@@ -29,7 +30,7 @@ struct NxtBrickProcess {
   int out = -1;
   std::string path;
 
-  explicit NxtBrickProcess(std::vector<std::string> extra = {}) {
+  explicit NxtBrickProcess(std::vector<std::string> extra = {}, const std::string& stderr_path = "") {
     int p[2];
     if (::pipe(p) != 0) return;
     pid = ::fork();
@@ -37,6 +38,10 @@ struct NxtBrickProcess {
       ::dup2(p[1], 1);
       ::close(p[0]);
       ::close(p[1]);
+      if (!stderr_path.empty()) {
+        int err = ::open(stderr_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        if (err >= 0) ::dup2(err, 2);
+      }
       std::vector<std::string> args{RCXC_BINARY, "nxt", "brick", "--pty"};
       args.insert(args.end(), extra.begin(), extra.end());
       std::vector<char*> argv;
@@ -222,6 +227,117 @@ TEST(NxtCli, PortsThatCannotBeOpenedOrDoNotAnswer) {
                       "", 10'000);
   EXPECT_EQ(bad.exit_code, 1);
   EXPECT_NE(bad.err.find("b.toml:1: an input needs exactly one of"), std::string::npos) << bad.err;
+}
+
+TEST(NxtCli, UsbAndBluetoothWithoutHardwareCannotBeOpened) {
+  // No NXT (and no adapter) here: both must fail as "cannot open", not hang.
+  auto usb = run_rcxc({"nxt", "--port", "usb", "battery"}, "", 30'000);
+  EXPECT_EQ(usb.exit_code, 3) << usb.err;
+  EXPECT_NE(usb.err.find("NXT"), std::string::npos) << usb.err;
+  auto bt = run_rcxc({"nxt", "--port", "bt:00:16:53:00:00:01", "battery"}, "", 30'000);
+  EXPECT_EQ(bt.exit_code, 3) << bt.err;
+}
+
+TEST(NxtCli, VerboseBrickLogsTelegramsDecoded) {
+  // The brick's -v goes to its stderr; here the host's -v shows the same form.
+  NxtBrickProcess brick;
+  auto r = nxt(brick.path, {"-v", "tone", "440", "100"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("nxt: -> PlayTone frequency_hz=440 duration_ms=100"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("nxt: <- PlayTone -> ok"), std::string::npos) << r.err;
+}
+
+// `rcxc run --nxt`: the emulator judges the program, so the timeline must be
+// the emulator-only run's; the NXT must have been driven and stopped.
+TEST(NxtTether, SquareDanceDrivesTheNxtMotorsAndStopsThem) {
+  NxtBrickProcess brick;
+  std::string prog = std::string(RCXC_SOURCE_DIR) + "/examples/square_dance.nqc";
+  auto alone = run_rcxc({"run", prog, "--for", "1500"}, "", 30'000);
+  auto tethered = run_rcxc({"run", prog, "--for", "1500", "--nxt", brick.path}, "", 30'000);
+  ASSERT_EQ(tethered.exit_code, 0) << tethered.err;
+  EXPECT_EQ(tethered.out, alone.out);
+  EXPECT_NE(tethered.err.find("sensor reads"), std::string::npos) << tethered.err;
+  // Output A ran forward at RCX power 7 (NXT 100) for about 1.5 s, then every
+  // motor was stopped (brake, power 0) when the run ended.
+  auto r = nxt(brick.path, {"--json", "motor-state", "A"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto j = json_of(r);
+  EXPECT_EQ(j["power"], 0);
+  EXPECT_EQ(j["mode"], nxt::kMotorOn | nxt::kBrake);
+  EXPECT_GT(j["tacho_count"].get<int>(), 1000);
+  EXPECT_LT(j["tacho_count"].get<int>(), 2500);
+}
+
+TEST(NxtTether, MusicBoxTonesBecomePlayTone) {
+  TempDir dir;
+  std::string log = dir.path + "/brick.log";
+  NxtBrickProcess brick({"-v"}, log);
+  std::string prog = std::string(RCXC_SOURCE_DIR) + "/examples/music_box.nqc";
+  auto alone = run_rcxc({"run", prog, "--report", "json"}, "", 30'000);
+  auto tethered = run_rcxc({"run", prog, "--report", "json", "--nxt", brick.path}, "", 30'000);
+  ASSERT_EQ(tethered.exit_code, 0) << tethered.err;
+  // The same events at the same virtual times; only where the clock stood
+  // when the run was seen to end differs (by at most one real-time step).
+  auto a = nlohmann::json::parse(alone.out), t = nlohmann::json::parse(tethered.out);
+  EXPECT_NEAR(t["time_ms"].get<double>(), a["time_ms"].get<double>(), 20.0);
+  a.erase("time_ms");
+  t.erase("time_ms");
+  EXPECT_EQ(t, a);
+  brick.stop();
+  std::ifstream in(log);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  // 262 Hz for 20/100 s is PlayTone 262 Hz 200 ms; system sound 5 a tone of its own.
+  EXPECT_NE(text.find("PlayTone (no reply) frequency_hz=262 duration_ms=200"), std::string::npos) << text;
+  auto tones = nlohmann::json::parse(alone.out);
+  std::size_t played = 0;
+  for (std::size_t at = 0; (at = text.find("-> PlayTone", at)) != std::string::npos; ++at) ++played;
+  std::size_t expected = 0;
+  for (const auto& e : tones["events"])
+    if (e["kind"] == "tone" || e["kind"] == "sound") ++expected;
+  EXPECT_EQ(played, expected);
+  EXPECT_GT(expected, 4u);
+}
+
+TEST(NxtTether, ABrickThatDoesNotAnswerFailsTheRun) {
+  auto opened = nxt::open_pty_pair();
+  ASSERT_TRUE(std::holds_alternative<nxt::PtyPair>(opened));
+  auto pty = std::get<nxt::PtyPair>(opened);
+  std::string prog = std::string(RCXC_SOURCE_DIR) + "/examples/square_dance.nqc";
+  auto r = run_rcxc({"run", prog, "--for", "500", "--nxt", pty.slave_path}, "", 30'000);
+  EXPECT_EQ(r.exit_code, 4);
+  EXPECT_NE(r.err.find("no reply to GetBatteryLevel"), std::string::npos) << r.err;
+  EXPECT_EQ(run_rcxc({"run", prog, "--nxt", "/dev/no-such-nxt"}).exit_code, 3);
+  nxt::close_pty_pair(pty);
+}
+
+TEST(NxtCli, CtrlCEndsAWaitForASilentBrickAt130) {
+  auto opened = nxt::open_pty_pair();
+  ASSERT_TRUE(std::holds_alternative<nxt::PtyPair>(opened));
+  auto pty = std::get<nxt::PtyPair>(opened);
+  pid_t pid = ::fork();
+  if (pid == 0) {
+    int null = ::open("/dev/null", O_WRONLY);
+    ::dup2(null, 1);
+    ::dup2(null, 2);
+    std::vector<std::string> args{RCXC_BINARY, "nxt", "--port", pty.slave_path, "--timeout", "10000", "battery"};
+    std::vector<char*> argv;
+    for (auto& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    ::execv(argv[0], argv.data());
+    ::_exit(127);
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));  // it is waiting for the reply by now
+  auto t0 = std::chrono::steady_clock::now();
+  ::kill(pid, SIGINT);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  auto took = std::chrono::steady_clock::now() - t0;
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 130);
+  // The wait itself ends within 100 ms (NxtInterrupt, in process); here the
+  // process must also exit and be reaped on a busy machine: some slack.
+  EXPECT_LT(took, std::chrono::milliseconds(250));
+  nxt::close_pty_pair(pty);
 }
 
 TEST(NxtCli, HelpListsEveryCommandOfTheTable) {

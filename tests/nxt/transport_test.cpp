@@ -12,6 +12,7 @@
 #include "nxt/scenario.h"
 #include "nxt/transport.h"
 #include "nxt/virtual_nxt.h"
+#include "tests/nxt/round_trips.h"
 
 namespace nxt {
 namespace {
@@ -115,6 +116,15 @@ TEST_F(PtyNxt, RoundTripsOverThePty) {
   // -v logs decoded telegrams, not only hex.
   EXPECT_EQ(log.at(0), "-> GetBatteryLevel");
   EXPECT_EQ(log.at(1), "<- GetBatteryLevel -> ok millivolts=7800");
+}
+
+TEST_F(PtyNxt, EveryCommandOfTheTableMakesARoundTripOverThePty) {
+  auto port = host();
+  Client client(*port);
+  test::every_command_round_trip(client);
+  TearDown();  // stop the server before looking at the brick
+  EXPECT_EQ(brick.name, "Robo");
+  EXPECT_TRUE(brick.files.empty());
 }
 
 TEST_F(PtyNxt, FramesWrittenByteByByteAreReassembled) {
