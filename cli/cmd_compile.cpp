@@ -27,7 +27,7 @@ struct CompileArgs {
   std::vector<std::string> warning_flags;  // -Werror
   std::string diagnostics = "text";
   std::size_t max_errors = kDefaultMaxErrors;
-  std::string optimize = "s";
+  std::string optimize = "2";
   bool no_stdlib = false;
   bool preprocess_only = false;
   bool no_warnings = false;
@@ -133,7 +133,10 @@ int run_compile(const CompileArgs& a) {
     return kExitOk;
   }
   ir::Log log;
-  auto level = a.optimize == "0" ? ir::OptLevel::O0 : a.optimize == "1" ? ir::OptLevel::O1 : ir::OptLevel::Os;
+  auto level = a.optimize == "0"   ? ir::OptLevel::O0
+               : a.optimize == "1" ? ir::OptLevel::O1
+               : a.optimize == "s" ? ir::OptLevel::Os
+                                   : ir::OptLevel::O2;
   auto out = backend::compile_file(a.file, options, level, sm, diags, log);
   print_diagnostics(diags, sm, a);
   if (a.verbose)
@@ -156,8 +159,11 @@ void register_compile(CLI::App& app, int& exit_code) {
   cmd->add_flag("-E", args->preprocess_only, "Print the preprocessed source and stop");
   add_repeatable(cmd, "-W", args->warning_flags, "-Werror: treat warnings as errors");
   cmd->add_flag("-w", args->no_warnings, "Do not report warnings");
-  cmd->add_option("-O", args->optimize, "Optimisation: -O0, -O1 or -Os (default)")
-      ->check(CLI::IsMember({"0", "1", "s"}));
+  cmd->add_option("-O", args->optimize,
+                  "Optimisation: -O0 none; -O1 clean-ups only, every motor command kept; -O2 (default) the "
+                  "fastest code, shrunk only where no instruction more runs; -Os the smallest code, trading "
+                  "time for bytes (outlined code runs a call and a return more)")
+      ->check(CLI::IsMember({"0", "1", "2", "s"}));
   cmd->add_option("--listing", args->listing, "Write a listing to FILE (or standard output without =FILE)")
       ->expected(0, 1)
       ->default_str("-");

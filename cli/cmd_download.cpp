@@ -32,7 +32,7 @@ bool ends_with(const std::string& s, std::string_view suffix) {
   return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
-// Compiles NQC source in memory (default options, -Os), printing its
+// Compiles NQC source in memory (default options, -O2), printing its
 // diagnostics; nullopt after errors.
 std::optional<rcx::Image> compile(const std::string& file, const std::vector<std::string>& include_dirs) {
   SourceManager sm;
@@ -40,7 +40,7 @@ std::optional<rcx::Image> compile(const std::string& file, const std::vector<std
   frontend::Options options;
   options.include_dirs = include_dirs;
   ir::Log log;
-  auto out = backend::compile_file(file, options, ir::OptLevel::Os, sm, diags, log);
+  auto out = backend::compile_file(file, options, ir::OptLevel::O2, sm, diags, log);
   std::cerr << render_all(diags, sm, {});
   if (!out) return std::nullopt;
   return out->image;

@@ -18,7 +18,7 @@ namespace rcxc::cli {
 
 struct CompileRequest {
   frontend::Options frontend;
-  ir::OptLevel level = ir::OptLevel::Os;
+  ir::OptLevel level = ir::OptLevel::O2;
 };
 
 struct CompileResult {

@@ -60,6 +60,22 @@ struct Folder {
 
   void vary(State& s, VarId v) const { s.vary(v); }
 
+  // The constant `in` leaves in `dest` (its private destination), given
+  // the state before it; nullopt when not known.
+  std::optional<int> folded(const Instr& in, const State& s) const {
+    std::optional<int> result;
+    if (in.args.size() == 2) {
+      auto src = known(s, in.args[1]);
+      auto old = known(s, in.args[0]);
+      if (src && (old || in.op == rcx::Op::SetVariable || in.op == rcx::Op::AbsoluteValue ||
+                  in.op == rcx::Op::SignVariable))
+        result = arithmetic(in.op, old.value_or(0), *src);
+      // x*0 and x&0 are 0 whatever x was.
+      if (src && *src == 0 && (in.op == rcx::Op::MultiplyVariable || in.op == rcx::Op::AndVariable)) result = 0;
+    }
+    return result;
+  }
+
   // The effect of one instruction on the state.
   void transfer(const Instr& in, State& s) const {
     FuncId g = callee_of(in);
@@ -74,17 +90,7 @@ struct Folder {
     if (u.writes.empty()) return;
     VarId dest = u.writes.front();
     if (!private_var(dest)) return;
-    std::optional<int> result;
-    if (in.args.size() == 2) {
-      auto src = known(s, in.args[1]);
-      auto old = known(s, in.args[0]);
-      if (src && (old || in.op == rcx::Op::SetVariable || in.op == rcx::Op::AbsoluteValue ||
-                  in.op == rcx::Op::SignVariable))
-        result = arithmetic(in.op, old.value_or(0), *src);
-      // x*0 and x&0 are 0 whatever x was.
-      if (src && *src == 0 && (in.op == rcx::Op::MultiplyVariable || in.op == rcx::Op::AndVariable)) result = 0;
-    }
-    if (result)
+    if (auto result = folded(in, s))
       s.set(dest, *result);
     else
       s.vary(dest);
@@ -117,10 +123,8 @@ struct Folder {
     }
     // An arithmetic step whose result is known becomes a plain set: same
     // size, and the steps before it may then be dead.
-    State after = s;
-    transfer(in, after);
     if (dest.is_var() && private_var(dest.value) && in.op != rcx::Op::SetVariable) {
-      if (auto c = after.get(dest.value)) {
+      if (auto c = folded(in, s)) {
         in.op = rcx::Op::SetVariable;
         in.args[1] = Operand::imm(*c);
       }
