@@ -118,7 +118,7 @@ struct Totals {
   std::int64_t ours_ended = 0, theirs_ended = 0;  // programs that end by themselves
   int ended = 0;
   double ours_latency = 0, theirs_latency = 0;
-  int later = 0, unlike = 0;
+  int later = 0, unlike = 0, events = 0;
   long o2_bytes = 0, os_bytes = 0, nqc_bytes = 0;
   int o2_larger = 0, os_larger = 0, programs = 0;
 };
@@ -150,6 +150,7 @@ void print_corpus(Totals& t) {
     t.ours_latency += s.ours_latency_ms;
     t.theirs_latency += s.theirs_latency_ms;
     t.later += s.ours_latency_ms > s.theirs_latency_ms;
+    t.events += s.events;
     t.unlike += !s.behaves_alike;
     t.o2_bytes += o2->code_bytes;
     t.os_bytes += os->code_bytes;
@@ -251,10 +252,11 @@ int main(int, char** argv) {
   std::cout << fmt::format("    of which programs that end  {:.3f}  ({} vs {} over {} programs: their whole work)\n",
                            ratio(static_cast<double>(t.ours_ended), static_cast<double>(t.theirs_ended)),
                            t.ours_ended, t.theirs_ended, t.ended);
-  std::cout << fmt::format("  reaction latency        {:.3f}  ({:.0f} vs {:.0f} ms summed over matched events; {} "
-                           "programs react later than nqc's; {} differ at 2 ms)\n",
-                           ratio(t.ours_latency, t.theirs_latency), t.ours_latency, t.theirs_latency, t.later,
-                           t.unlike);
+  double per_event = t.events > 0 ? 1.0 / t.events : 0;
+  std::cout << fmt::format("  reaction latency        {:.3f}  (from input to event, {:.1f} vs {:.1f} ms on average over "
+                           "{} matched events; {} programs react later than nqc's; {} differ at 2 ms)\n",
+                           ratio(t.ours_latency, t.theirs_latency), t.ours_latency * per_event,
+                           t.theirs_latency * per_event, t.events, t.later, t.unlike);
   std::cout << fmt::format("  code size, corpus       {:.3f} at -O2, {:.3f} at -Os  ({} / {} vs {} bytes; larger: {} "
                            "at -O2, {} at -Os)\n",
                            ratio(static_cast<double>(t.o2_bytes), static_cast<double>(t.nqc_bytes)),
