@@ -56,9 +56,9 @@ std::string timing_note(const rcx::RunComparison& cmp, const CompareOptions& o) 
   if (d.events == 0) return "";
   double mean = d.mean_sooner_us / static_cast<double>(o.instruction_us);
   double worst = static_cast<double>(d.worst_later_us) / static_cast<double>(o.instruction_us);
-  std::string out = fmt::format("; timing over {} matched events: rcxc's code acted {:.1f} instructions {} on average "
-                                "({:.1f} ms on the brick)",
-                                d.events, std::abs(mean), mean >= 0 ? "sooner" : "later",
+  std::string out = fmt::format("; timing over {} matched event{}: rcxc's code acted {:.1f} instructions {} on "
+                                "average ({:.1f} ms on the brick)",
+                                d.events, d.events == 1 ? "" : "s", std::abs(mean), mean >= 0 ? "sooner" : "later",
                                 std::abs(mean) * kBrickInstructionMs);
   if (d.worst_later_us > 0)
     out += fmt::format(", at worst {:.0f} later ({:.0f} ms)", worst, worst * kBrickInstructionMs);
