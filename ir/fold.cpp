@@ -2,7 +2,8 @@
 #include <algorithm>
 #include <climits>
 #include <cstdint>
-#include <set>
+#include <functional>
+#include <queue>
 
 #include "ir/liveness.h"
 #include "ir/passes.h"
@@ -153,10 +154,15 @@ void fold_function(const Program& p, Function& f, const std::vector<VarSet>& foo
   // paths into it are (a sequence of if/else statements costs one visit
   // per block, not one per path through the ones before).
   std::vector<int> order = reverse_postorder_index(f);
-  std::set<std::pair<int, BlockId>> work{{order[0], 0}};
+  // A min-heap on that order, each block in it at most once.
+  std::priority_queue<std::pair<int, BlockId>, std::vector<std::pair<int, BlockId>>, std::greater<>> work;
+  std::vector<bool> queued(n, false);
+  work.emplace(order[0], 0);
+  queued[0] = true;
   while (!work.empty()) {
-    BlockId b = work.begin()->second;
-    work.erase(work.begin());
+    BlockId b = work.top().second;
+    work.pop();
+    queued[static_cast<std::size_t>(b)] = false;
     State s = in[static_cast<std::size_t>(b)];
     for (const auto& instr : f.blocks[static_cast<std::size_t>(b)].instrs) folder.transfer(instr, s);
     for (BlockId succ : successors(f.blocks[static_cast<std::size_t>(b)].term)) {
@@ -164,7 +170,10 @@ void fold_function(const Program& p, Function& f, const std::vector<VarSet>& foo
       State m = meet(target, restricted(s, live.live_in[static_cast<std::size_t>(succ)]));
       if (!(m == target)) {
         target = std::move(m);
-        work.emplace(order[static_cast<std::size_t>(succ)], succ);
+        if (!queued[static_cast<std::size_t>(succ)]) {
+          queued[static_cast<std::size_t>(succ)] = true;
+          work.emplace(order[static_cast<std::size_t>(succ)], succ);
+        }
       }
     }
   }

@@ -18,6 +18,13 @@ void VarSet::remove(VarId v) {
 }
 
 bool VarSet::merge(const VarSet& o) {
+  // The data-flow passes merge mostly what is already there (every round
+  // after the first): those merges allocate nothing.
+  if (o.items.empty() || std::includes(items.begin(), items.end(), o.items.begin(), o.items.end())) return false;
+  if (items.empty()) {
+    items = o.items;
+    return true;
+  }
   std::vector<VarId> out;
   out.reserve(items.size() + o.items.size());
   std::set_union(items.begin(), items.end(), o.items.begin(), o.items.end(), std::back_inserter(out));
