@@ -64,8 +64,9 @@ std::optional<std::vector<std::size_t>> neighbours(const std::vector<Selected>& 
 
 // The instruction to move: the neighbours' own when all are equal, else
 // the shortest constant wait when all are constant waits.
-std::optional<MInstr> common_part(const std::vector<const MInstr*>& ns) {
+std::optional<MInstr> common_part(const std::vector<const MInstr*>& ns, WaitSplit waits) {
   if (std::all_of(ns.begin(), ns.end(), [&](const MInstr* m) { return m->bytes == ns[0]->bytes; })) return *ns[0];
+  if (waits == WaitSplit::Never) return std::nullopt;
   const MInstr* shortest = nullptr;
   for (const MInstr* m : ns) {
     auto w = constant_wait(*m);
@@ -113,14 +114,14 @@ bool has_early_return(const Selected& sub) {
 
 // Moves one instruction into `sub` from beside its calls; false when that
 // would not save bytes or is not possible.
-bool absorb(std::vector<Selected>& fragments, Selected& sub, Side side, std::vector<std::string>& log) {
+bool absorb(std::vector<Selected>& fragments, Selected& sub, Side side, WaitSplit waits, std::vector<std::string>& log) {
   auto sites = call_sites(fragments, sub.index);
   if (sites.size() < 2 || (side == Side::After && has_early_return(sub))) return false;
   auto at = neighbours(fragments, sites, side);
   if (!at) return false;
   std::vector<const MInstr*> ns;
   for (std::size_t k = 0; k < sites.size(); ++k) ns.push_back(&fragments[sites[k].fragment].code[(*at)[k]]);
-  auto moved = common_part(ns);
+  auto moved = common_part(ns, waits);
   if (!moved) return false;
   auto whole = static_cast<int>(std::count_if(ns.begin(), ns.end(), [&](const MInstr* m) { return m->bytes == moved->bytes; }));
   int size = static_cast<int>(moved->bytes.size());
@@ -149,7 +150,7 @@ bool absorb(std::vector<Selected>& fragments, Selected& sub, Side side, std::vec
 
 }  // namespace
 
-void absorb_call_neighbours(std::vector<Selected>& fragments, std::vector<std::string>& log) {
+void absorb_call_neighbours(std::vector<Selected>& fragments, std::vector<std::string>& log, WaitSplit waits) {
   for (const auto& f : fragments)
     for (const auto& m : f.code)
       if (m.raw) return;
@@ -158,7 +159,7 @@ void absorb_call_neighbours(std::vector<Selected>& fragments, std::vector<std::s
     for (std::size_t s = 0; s < fragments.size(); ++s) {
       if (fragments[s].type != rcx::FragmentType::Subroutine) continue;
       for (Side side : {Side::Before, Side::After})
-        while (absorb(fragments, fragments[s], side, log)) changed = true;
+        while (absorb(fragments, fragments[s], side, waits, log)) changed = true;
     }
   }
 }

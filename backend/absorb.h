@@ -23,7 +23,9 @@ namespace rcxc::backend {
 // the call without the instruction would run it too), and after the call
 // only into subroutines without an early return (which would skip it).
 // Programs with raw asm are left alone: their calls cannot all be seen.
-// Each move is appended to `log`.
-void absorb_call_neighbours(std::vector<Selected>& fragments, std::vector<std::string>& log);
+// Each move is appended to `log`. Differing waits are split only when
+// `waits` allows it (-Os): the split runs one wait instruction more.
+enum class WaitSplit { Never, Allowed };
+void absorb_call_neighbours(std::vector<Selected>& fragments, std::vector<std::string>& log, WaitSplit waits);
 
 }  // namespace rcxc::backend

@@ -303,9 +303,11 @@ std::optional<Output> generate(const ir::Program& p, const std::vector<int>& slo
   if (options.outline) {
     // The user's subroutines take what their calls share first (outlining
     // it instead would save less), then new subroutines do.
-    absorb_call_neighbours(selected, log ? *log : discarded);
+    absorb_call_neighbours(selected, log ? *log : discarded, WaitSplit::Allowed);
     outline(selected, log ? *log : discarded);
-    absorb_call_neighbours(selected, log ? *log : discarded);
+    absorb_call_neighbours(selected, log ? *log : discarded, WaitSplit::Allowed);
+  } else if (options.absorb) {
+    absorb_call_neighbours(selected, log ? *log : discarded, WaitSplit::Never);
   }
   Output out;
   int memory = 0;

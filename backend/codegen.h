@@ -53,8 +53,12 @@ struct Output {
 };
 
 struct GenerateOptions {
-  // -Os: move repeated task code into new subroutines, and code every call
-  // of a subroutine has beside it into the subroutine.
+  // -O2: move an instruction every call of a subroutine has beside it into
+  // the subroutine (the same instructions run).
+  bool absorb = false;
+  // -Os: also move repeated task code into new subroutines (a call and a
+  // return more per pass) and split differing waits beside calls (one
+  // instruction more).
   bool outline = false;
 };
 

@@ -12,7 +12,10 @@ std::optional<Output> allocate_and_generate(const ir::Program& program, ir::OptL
                                             ir::Log& log) {
   auto slots = ir::allocate_slots(program, diags);
   if (slots.empty() && !program.vars.empty()) return std::nullopt;
-  return generate(program, slots, diags, GenerateOptions{level == ir::OptLevel::Os}, &log);
+  GenerateOptions options;
+  options.absorb = ir::shrinks_without_slowing(level);
+  options.outline = ir::trades_time_for_size(level);
+  return generate(program, slots, diags, options, &log);
 }
 
 }  // namespace
@@ -28,7 +31,8 @@ std::optional<Output> compile(ir::Program program, ir::OptLevel level, Diagnosti
   Diagnostics chosen_diags = diags;
   ir::Log chosen_log;
   auto out = allocate_and_generate(program, level, chosen_diags, chosen_log);
-  if (level == ir::OptLevel::Os) {
+  // A rerolled loop runs two instructions more per step: -Os only.
+  if (ir::trades_time_for_size(level)) {
     ir::Program rerolled = std::move(program);
     ir::Log steps;
     if (ir::reroll_sequences(rerolled, steps)) {

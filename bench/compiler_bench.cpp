@@ -6,10 +6,25 @@
 // which become loops (rerolling splits one block many times), and many
 // calls of one subroutine (absorption looks at every call). Time and memory must grow linearly: items/second
 // roughly the same at every size. Programs this long are too big for the
-// brick, so a run may end in the size diagnostic, after every pass.
+// brick, so a run may end in the size diagnostic, after every pass. They
+// compile at -Os, which runs every pass (rerolling and outlining too).
+//
+// Before the benchmarks, a table against nqc in the same run: programs of
+// 1 000 to 100 000 lines written as people write them (inline functions
+// called from tasks, loops, tests, waits, motor commands), each compiled
+// by `rcxc compile` and by `nqc -Trcx` as processes, CPU time of each
+// (startup, standard library and writing the image included).
 #include <benchmark/benchmark.h>
+#include <sys/resource.h>
+#include <unistd.h>
 
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
 #include <string>
+
+#include <fmt/format.h>
 
 #include "backend/compile.h"
 
@@ -67,6 +82,83 @@ std::string many_sub_calls(int n) {
   return src + "}\n";
 }
 
+// About `lines` lines: half in inline functions of 20 lines (parameters,
+// a local, tests, motor commands), each called once, and half in four
+// tasks (loops, tests, waits, motor commands, the calls). Too long for the
+// brick from a few thousand lines, which both compilers find at the end.
+std::string typical_program(int lines) {
+  std::string src = "int speed, count, seen;\n";
+  int inlines = std::max(1, lines / 40);
+  for (int f = 0; f < inlines; ++f) {
+    src += fmt::format("void step{}(int n, int &total) {{\n  int k = n * 2;\n", f);
+    for (int i = 0; i < 17; ++i)
+      src += fmt::format("  if (k > {}) {{ total += k; OnFwd(OUT_A); }} else {{ total -= {}; Off(OUT_A); }}\n", i, i);
+    src += "}\n";
+  }
+  int next_call = 0;
+  for (int t = 0; t < 4; ++t) {
+    src += fmt::format("task t{}() {{\n  int local = {};\n  while (true) {{\n", t, t);
+    for (int i = 0; i < lines / 8; ++i) {
+      if (i % 5 == 1 && next_call < inlines) {
+        src += fmt::format("    step{}(local, count);\n", next_call++);
+        continue;
+      }
+      switch (i % 5) {
+        case 0: src += fmt::format("    if (SENSOR_1 == 1) {{ OnRev(OUT_A + OUT_C); Wait({}); }}\n", i % 50 * 10 + 10); break;
+        case 2: src += fmt::format("    repeat ({}) {{ PlaySound(SOUND_CLICK); local++; }}\n", i % 4 + 2); break;
+        case 3: src += "    until (SENSOR_2 > 50 || Timer(0) > 100);\n"; break;
+        default: src += fmt::format("    speed = (speed + local * {}) % 8; SetPower(OUT_A, speed);\n", i % 9); break;
+      }
+    }
+    src += "  }\n}\n";
+  }
+  return src + "task main() {\n  SetSensor(SENSOR_1, SENSOR_TOUCH); SetSensor(SENSOR_2, SENSOR_LIGHT);\n"
+               "  start t0; start t1; start t2; start t3;\n}\n";
+}
+
+double children_cpu_seconds() {
+  rusage u{};
+  getrusage(RUSAGE_CHILDREN, &u);
+  return static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
+         static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec) / 1e6;
+}
+
+// CPU seconds of one run of `command`, the mean of `runs`; nullopt when it
+// fails (nqc gives up on some long programs: that size has no comparison).
+std::optional<double> process_cpu(const std::string& command, int runs) {
+  double before = children_cpu_seconds();
+  for (int r = 0; r < runs; ++r)
+    if (std::system((command + " >/dev/null 2>&1").c_str()) != 0) return std::nullopt;
+  return (children_cpu_seconds() - before) / runs;
+}
+
+void print_against_nqc(const std::filesystem::path& rcxc) {
+  namespace fs = std::filesystem;
+  if (std::system("nqc -help >/dev/null 2>&1") == -1 || !fs::exists(rcxc)) return;
+  fs::path dir = fs::temp_directory_path() / fmt::format("rcxc-compiler-bench-{}", getpid());
+  fs::create_directories(dir);
+  std::cout << fmt::format("{:>8} {:>12} {:>12} {:>7} {:>14}\n", "lines", "rcxc ms", "nqc ms", "ratio", "rcxc us/line");
+  for (int lines : {1000, 3000, 10000, 30000, 100000}) {
+    fs::path file = dir / fmt::format("typical{}.nqc", lines);
+    std::string text = typical_program(lines);
+    std::ofstream(file) << text;
+    auto real_lines = std::count(text.begin(), text.end(), '\n');
+    int runs = lines <= 3000 ? 10 : lines <= 10000 ? 3 : 1;
+    // rcxc refuses a program too big for the brick after every pass has
+    // run: that is still the whole compile, so its exit status is not asked.
+    double before = children_cpu_seconds();
+    for (int r = 0; r < runs; ++r)
+      if (std::system(("'" + rcxc.string() + "' compile -w '" + file.string() + "' -o /dev/null >/dev/null 2>&1").c_str()) == -1)
+        break;
+    double ours = (children_cpu_seconds() - before) / runs;
+    auto theirs = process_cpu("nqc -Trcx -O/dev/null '" + file.string() + "'", runs);
+    std::cout << fmt::format("{:>8} {:>12.1f} {:>12} {:>7} {:>14.1f}\n", real_lines, ours * 1000,
+                             theirs ? fmt::format("{:.1f}", *theirs * 1000) : "fails",
+                             theirs ? fmt::format("{:.2f}", ours / *theirs) : "-", ours * 1e6 / static_cast<double>(real_lines));
+  }
+  fs::remove_all(dir);
+}
+
 void compile(benchmark::State& state, const std::string& src) {
   for (auto _ : state) {
     rcxc::SourceManager sm;
@@ -105,4 +197,10 @@ BENCHMARK(BM_ManySubCalls)->Arg(1000)->Arg(4000)->Arg(16000)->Unit(benchmark::kM
 
 }  // namespace
 
-BENCHMARK_MAIN();
+int main(int argc, char** argv) {
+  print_against_nqc(std::filesystem::absolute(argv[0]).parent_path().parent_path() / "rcxc");
+  benchmark::Initialize(&argc, argv);
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

@@ -1,5 +1,6 @@
-// Code size: for every corpus program, rcxc's code bytes and variable slots
-// against `nqc -Trcx` (when nqc is installed), as a table with the totals;
+// Code size at -Os (the smallest code): for every corpus program, rcxc's
+// code bytes and variable slots against `nqc -Trcx` (when nqc is
+// installed), as a table with the totals;
 // then the totals over 400 random programs (tests/support/random_programs.h);
 // plus the compile time of each corpus program as the benchmark proper.
 //
@@ -23,25 +24,14 @@
 #include <fmt/ranges.h>
 
 #include "backend/compile.h"
+#include "bench/corpus.h"
 #include "tests/support/random_programs.h"
 
 namespace {
 
 namespace fs = std::filesystem;
 
-fs::path corpus_dir() {
-  if (const char* env = std::getenv("RCXC_CORPUS_DIR")) return env;
-  return fs::path(__FILE__).parent_path().parent_path().parent_path() / "shared" / "corpus";
-}
-
-std::vector<fs::path> corpus_files() {
-  std::vector<fs::path> files;
-  if (!fs::exists(corpus_dir())) return files;
-  for (const auto& e : fs::recursive_directory_iterator(corpus_dir()))
-    if (e.path().extension() == ".nqc") files.push_back(e.path());
-  std::sort(files.begin(), files.end());
-  return files;
-}
+using rcxc::bench::corpus_files;
 
 struct Size {
   int bytes = 0;
@@ -60,19 +50,14 @@ std::optional<Size> ours(const fs::path& file) {
 // nqc's listing ends with "Total size: N bytes" and names variables as
 // "*** Var N = name".
 std::optional<Size> theirs(const fs::path& file) {
-  std::string cmd = "nqc -Trcx -L '" + file.string() + "' 2>/dev/null";
-  FILE* pipe = popen(cmd.c_str(), "r");
-  if (pipe == nullptr) return std::nullopt;
-  std::string text;
-  std::array<char, 4096> buf{};
-  while (std::size_t n = fread(buf.data(), 1, buf.size(), pipe)) text.append(buf.data(), n);
-  if (pclose(pipe) != 0) return std::nullopt;
-  std::smatch m;
-  if (!std::regex_search(text, m, std::regex("Total size: ([0-9]+) bytes"))) return std::nullopt;
-  Size s{std::stoi(m[1]), 0};
+  auto text = rcxc::bench::nqc_listing(file);
+  if (!text) return std::nullopt;
+  auto bytes = rcxc::bench::nqc_bytes(*text);
+  if (!bytes) return std::nullopt;
+  Size s{*bytes, 0};
   std::set<int> vars;
   std::regex var("\\*\\*\\* Var ([0-9]+) =");
-  for (auto it = std::sregex_iterator(text.begin(), text.end(), var); it != std::sregex_iterator(); ++it)
+  for (auto it = std::sregex_iterator(text->begin(), text->end(), var); it != std::sregex_iterator(); ++it)
     vars.insert(std::stoi((*it)[1]));
   s.slots = static_cast<int>(vars.size());
   return s;

@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <iostream>
 #include <optional>
 
@@ -12,6 +13,7 @@
 #include "cli/program_loader.h"
 #include "verify/compare.h"
 #include "runtime/scenario.h"
+#include "verify/scenarios.h"
 
 namespace rcxc::cli {
 namespace {
@@ -38,46 +40,30 @@ rcx::TimeTolerance compare_tolerance(std::int64_t instruction_us) {
   return {instruction_us * 500, 0.005, instruction_us * 5};
 }
 
-struct Scenario {
-  std::string name;
-  std::vector<rcx::TimedInput> inputs;
-};
-
-rcx::TimedInput at(std::int64_t ms, rcx::Input in) { return {ms * rcx::kMicrosPerMs, in}; }
-
-// Inputs most programs react to: bumpers pressed and released, IR messages,
-// light levels across the thresholds programs use, wheels turning.
-std::vector<Scenario> builtin_scenarios() {
-  Scenario idle{"idle", {}};
-  Scenario touch{"touch and messages", {}};
-  for (int s = 0; s < 3; ++s) {
-    for (auto [down, up] : {std::pair{1000, 1500}, {3000, 3300}, {6000, 8000}, {12000, 12400}}) {
-      touch.inputs.push_back(at(down, rcx::SensorRawInput{s, 100}));
-      touch.inputs.push_back(at(up, rcx::SensorRawInput{s, 1023}));
-    }
-  }
-  for (auto [ms, value] : {std::pair{2000, 1}, {4000, 2}, {7000, 7}, {10000, 3}})
-    touch.inputs.push_back(at(ms, rcx::MessageInput{value}));
-  Scenario light{"light levels and rotation", {}};
-  const int levels[] = {800, 500, 300, 700, 450, 900, 350, 600, 750, 400};
-  for (int i = 0; i < 10; ++i)
-    for (int s = 0; s < 3; ++s) {
-      light.inputs.push_back(at(i * 1000, rcx::SensorRawInput{s, levels[(i + s) % 10]}));
-      light.inputs.push_back(at(i * 1000 + 500, rcx::RotationInput{s, (i + 1) * 20 * (s == 1 ? -1 : 1)}));
-    }
-  return {idle, touch, light};
-}
+using Scenario = rcx::NamedScenario;
 
 rcx::Machine run_image(const rcx::Image& image, const Scenario& s, const CompareOptions& o, rcx::Micros until_us) {
-  rcx::Config config;
-  config.seed = o.seed;
-  config.instruction_cost_us = o.instruction_us;
-  rcx::Machine m(config);
-  if (auto error = m.load(0, image)) throw std::runtime_error(*error);
-  for (const auto& in : s.inputs) m.schedule(in);
-  m.start_program();
-  m.run(until_us);
-  return m;
+  return rcx::run_scenario(image, s, o.instruction_us, o.seed, until_us);
+}
+
+// The brick takes about 2 ms per instruction (docs/emulator.md); the runs
+// here take o.instruction_us, so a time difference is so many instructions.
+constexpr double kBrickInstructionMs = rcx::kDefaultInstructionCostUs / 1000.0;
+
+// "timing: ..." for the matched events of one scenario: how much sooner (or
+// later) rcxc's code acted, in instructions and in brick time.
+std::string timing_note(const rcx::RunComparison& cmp, const CompareOptions& o) {
+  auto d = rcx::timing_difference(cmp.matched);
+  if (d.events == 0) return "";
+  double mean = d.mean_sooner_us / static_cast<double>(o.instruction_us);
+  double worst = static_cast<double>(d.worst_later_us) / static_cast<double>(o.instruction_us);
+  std::string out = fmt::format("; timing over {} matched event{}: rcxc's code acted {:.1f} instructions {} on "
+                                "average ({:.1f} ms on the brick)",
+                                d.events, d.events == 1 ? "" : "s", std::abs(mean), mean >= 0 ? "sooner" : "later",
+                                std::abs(mean) * kBrickInstructionMs);
+  if (d.worst_later_us > 0)
+    out += fmt::format(", at worst {:.0f} later ({:.0f} ms)", worst, worst * kBrickInstructionMs);
+  return out;
 }
 
 // A program that samples an input twice a few instructions apart reacts to a
@@ -163,7 +149,7 @@ int run(const CompareOptions& o) {
     }
     scenarios.push_back({path, std::get<std::vector<rcx::TimedInput>>(std::move(parsed))});
   }
-  if (scenarios.empty()) scenarios = builtin_scenarios();
+  if (scenarios.empty()) scenarios = rcx::builtin_scenarios();
 
   auto theirs = rcx::semtest::compile_with_nqc(o.nqc, o.file, nqc_arguments(o.compiler));
   if (!theirs.failure.empty()) {
@@ -189,7 +175,7 @@ int run(const CompareOptions& o) {
       rcx::Machine b = run_image(*theirs.image, s, o, o.for_ms * rcx::kMicrosPerMs);
       auto cmp = rcx::compare_runs({&a, &our_image, "rcxc"}, {&b, &*theirs.image, "nqc"}, tolerance, ours.globals);
       if (cmp.same) {
-        std::cout << "same      " << o.file << " [" << s.name << "]\n";
+        std::cout << "same      " << o.file << " [" << s.name << "]" << timing_note(cmp, o) << "\n";
         continue;
       }
       if (auto shifted = align_inputs(our_image, *theirs.image, s, o, tolerance, ours.globals)) {

@@ -5,8 +5,13 @@
 
 #include <algorithm>
 #include <cctype>
+#include <condition_variable>
 #include <filesystem>
+#include <functional>
 #include <iostream>
+#include <mutex>
+#include <optional>
+#include <thread>
 
 #include "cli/commands.h"
 #include "verify/external_nqc.h"
@@ -25,6 +30,7 @@ struct TestOptions {
   std::string nqc;  // non-empty: compile with this nqc instead of rcxc
   bool verbose = false;
   CompilerArgs compiler;  // for every file; a file's @options add to them
+  unsigned jobs = 0;  // tests run at once; 0: one per core
 };
 
 constexpr rcx::Micros kDefaultRunUs = 60'000'000;
@@ -140,23 +146,74 @@ std::vector<Failure> run_test(const TestOptions& o, const std::string& file, std
   return failures;
 }
 
+struct TestResult {
+  std::vector<Failure> failures;
+  std::string log;
+};
+
+TestResult run_one(const TestOptions& o, const std::string& file) {
+  TestResult r;
+  try {
+    r.failures = run_test(o, file, r.log);
+  } catch (const std::exception& e) {
+    // A bug or an exhausted machine: this test fails, the others still run.
+    r.failures = {{0, std::string("internal error: ") + e.what()}};
+  }
+  return r;
+}
+
+// Runs the tests on `jobs` threads; `report(i, result)` is called for every
+// file in the order of `files`, as soon as it and all before it are done,
+// so the output is the same whatever the number of jobs.
+void run_all(const TestOptions& o, const std::vector<std::string>& files, unsigned jobs,
+             const std::function<void(std::size_t, const TestResult&)>& report) {
+  std::vector<std::optional<TestResult>> results(files.size());
+  std::mutex mutex;
+  std::condition_variable done;
+  std::size_t next = 0;
+  auto work = [&] {
+    for (;;) {
+      std::size_t i;
+      {
+        std::lock_guard lock(mutex);
+        if (next == files.size()) return;
+        i = next++;
+      }
+      TestResult r = run_one(o, files[i]);
+      std::lock_guard lock(mutex);
+      results[i] = std::move(r);
+      done.notify_one();
+    }
+  };
+  std::vector<std::jthread> workers;
+  for (unsigned k = 0; k < std::min<std::size_t>(jobs, files.size()); ++k) workers.emplace_back(work);
+  for (std::size_t i = 0; i < files.size(); ++i) {
+    std::unique_lock lock(mutex);
+    done.wait(lock, [&] { return results[i].has_value(); });
+    TestResult r = std::move(*results[i]);
+    results[i].reset();
+    lock.unlock();
+    report(i, r);
+  }
+}
+
 int run(const TestOptions& o) {
   std::vector<std::string> missing;
   auto files = collect(o.paths, missing);
   for (const auto& m : missing) std::cerr << "rcxc test: no such file or folder: " << m << "\n";
   if (files.empty() && missing.empty()) std::cerr << "rcxc test: no .nqc files found\n";
   int passed = 0, failed = 0;
-  for (const auto& file : files) {
-    std::string log;
-    auto failures = run_test(o, file, log);
-    std::cout << (failures.empty() ? "PASS " : "FAIL ") << file << "\n";
-    for (const auto& f : failures) {
+  unsigned jobs = o.jobs > 0 ? o.jobs : std::max(1u, std::thread::hardware_concurrency());
+  run_all(o, files, jobs, [&](std::size_t i, const TestResult& r) {
+    const std::string& file = files[i];
+    std::cout << (r.failures.empty() ? "PASS " : "FAIL ") << file << "\n";
+    for (const auto& f : r.failures) {
       std::string where = f.line > 0 ? fmt::format("{}:{}: ", file, f.line) : file + ": ";
       std::cout << "  " << where << f.message << "\n";
     }
-    std::cout << log;
-    (failures.empty() ? passed : failed)++;
-  }
+    std::cout << r.log << std::flush;
+    (r.failures.empty() ? passed : failed)++;
+  });
   std::cout << fmt::format("{} passed, {} failed\n", passed, failed);
   return (failed == 0 && missing.empty() && !files.empty()) ? kExitOk : kExitFailure;
 }
@@ -173,6 +230,8 @@ void register_test(CLI::App& app, int& exit_code) {
   cmd->add_flag("--nqc", *use_nqc, "compile with nqc instead of rcxc, for comparison");
   cmd->add_option("--nqc-path", *nqc_path, "the nqc to use with --nqc (path or name; default: nqc on PATH)");
   cmd->add_flag("-v,--verbose", o->verbose, "say how every run ended");
+  cmd->add_option("-j,--jobs", o->jobs, "tests run at once (default: the number of cores); the output order is the same")
+      ->check(CLI::Range(1u, 1024u).description(""));
   cmd->callback([&exit_code, o, use_nqc, nqc_path] {
     if (auto bad = bad_compiler_arguments(o->compiler)) {
       std::cerr << "rcxc test: " << *bad << "\n";

@@ -27,7 +27,10 @@ bool has_extension(const std::string& path, std::string_view extension) {
 }
 
 ir::OptLevel level_of(const std::string& optimize) {
-  return optimize == "0" ? ir::OptLevel::O0 : optimize == "1" ? ir::OptLevel::O1 : ir::OptLevel::Os;
+  return optimize == "0"   ? ir::OptLevel::O0
+         : optimize == "1" ? ir::OptLevel::O1
+         : optimize == "s" ? ir::OptLevel::Os
+                           : ir::OptLevel::O2;
 }
 
 }  // namespace
@@ -37,7 +40,11 @@ void add_compiler_options(CLI::App* cmd, CompilerArgs& args) {
   add_repeatable(cmd, "-D", args.defines, "Define a macro: -DNAME or -DNAME=VALUE");
   add_repeatable(cmd, "-U", args.undefines, "Undefine a macro");
   cmd->add_flag("-n", args.no_stdlib, "Do not read the standard library rcx.nqh");
-  cmd->add_option("-O", args.optimize, "Optimisation: -O0, -O1 or -Os (default)")->check(CLI::IsMember({"0", "1", "s"}));
+  cmd->add_option("-O", args.optimize,
+                  "Optimisation: -O0 none; -O1 clean-ups only, every motor command kept; -O2 (default) the "
+                  "fastest code, shrunk only where no instruction more runs; -Os the smallest code, trading "
+                  "time for bytes (outlined code runs a call and a return more)")
+      ->check(CLI::IsMember({"0", "1", "2", "s"}));
 }
 
 std::optional<std::string> bad_compiler_arguments(const CompilerArgs& args) {

@@ -27,10 +27,10 @@ struct CompilerArgs {
   std::vector<std::string> defines;
   std::vector<std::string> undefines;
   bool no_stdlib = false;
-  std::string optimize = "s";
+  std::string optimize = "2";
 };
 
-// Registers -I, -D, -U, -n and -O0/-O1/-Os on `cmd`, storing into `args`.
+// Registers -I, -D, -U, -n and -O0/-O1/-O2/-Os on `cmd`, storing into `args`.
 void add_compiler_options(CLI::App* cmd, CompilerArgs& args);
 // What the option parser cannot judge (macro names must be identifiers), or
 // nullopt when the options are good.
@@ -45,7 +45,7 @@ std::vector<std::string> nqc_arguments(const CompilerArgs& args);
 
 struct CompileRequest {
   frontend::Options frontend;
-  ir::OptLevel level = ir::OptLevel::Os;
+  ir::OptLevel level = ir::OptLevel::O2;
   ir::PassOptions passes;
 };
 CompileRequest compile_request(const CompilerArgs& args);

@@ -76,6 +76,9 @@ class Checker {
   std::unordered_map<std::string, SymbolId> globals_;
   std::vector<std::unordered_map<std::string, SymbolId>> scopes_;  // innermost last
   SymbolId owner_ = kNoSymbol;
+  // The first symbol declared in the body being checked: its locals all
+  // come after, so the unused-variable report reads only those.
+  SymbolId body_symbols_begin_ = 0;
   bool in_function_ = false;
   std::unordered_map<std::string, SymbolId> labels_;
   std::set<std::string> reported_undefined_;
@@ -171,6 +174,7 @@ class Checker {
 
   void begin_body(SymbolId owner) {
     owner_ = owner;
+    body_symbols_begin_ = static_cast<SymbolId>(prog_.symbols.size());
     scopes_.assign(1, {});
     labels_.clear();
     reported_undefined_.clear();
@@ -208,7 +212,7 @@ class Checker {
   }
 
   void report_unused() {
-    for (SymbolId id = 0; id < prog_.symbols.size(); ++id) {
+    for (SymbolId id = body_symbols_begin_; id < prog_.symbols.size(); ++id) {
       const Symbol& s = prog_.symbols[id];
       if (s.owner == owner_ && s.kind == SymbolKind::Local && !s.used)
         diags_.warning(s.span, "unused variable '" + s.name + "'");

@@ -1,4 +1,4 @@
-// Bytes as NQC source: the whole compiler at -O0, -O1 and -Os, then each
+// Bytes as NQC source: the whole compiler at -O0, -O1, -O2 and -Os, then each
 // image it produced runs on the emulator for a bounded virtual time. An
 // accepted program the emulator refuses or faults on is a compiler bug,
 // unless the source has `asm` (the one way to write arbitrary bytes): the
@@ -138,10 +138,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::string text(reinterpret_cast<const char*>(data), size);
   auto unoptimised = compile_and_run(text, rcxc::ir::OptLevel::O0);
   auto o1 = compile_and_run(text, rcxc::ir::OptLevel::O1);
+  auto o2 = compile_and_run(text, rcxc::ir::OptLevel::O2);
   auto os = compile_and_run(text, rcxc::ir::OptLevel::Os);
   if (!unoptimised || !self_contained(*unoptimised)) return 0;
   auto globals = global_names(text);
   if (o1) compare_levels(globals, *unoptimised, *o1, "-O1");
+  if (o2) compare_levels(globals, *unoptimised, *o2, "-O2");
   if (os) compare_levels(globals, *unoptimised, *os, "-Os");
   return 0;
 }

@@ -240,7 +240,7 @@ bool resolve_calls(Program& p, OptLevel level, Diagnostics& diags, Log& log) {
                               p.functions[static_cast<std::size_t>(cheapest)].name, inline_growth(p, cheapest)));
     inline_everywhere(p, cheapest);
   }
-  if (level == OptLevel::Os)
+  if (shrinks_without_slowing(level))
     for (FuncId s : live_subs(p))
       if (int growth = inline_growth(p, s); growth <= 0) {
         log.push_back(fmt::format("sub {} inlined at its calls ({:+} bytes)", p.functions[static_cast<std::size_t>(s)].name, growth));

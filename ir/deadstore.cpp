@@ -61,14 +61,21 @@ bool remove_in(const Program& p, Function& f, const CallEffects& calls) {
 }  // namespace
 
 void remove_dead_stores(Program& p) {
-  // Removing one store can make the stores feeding it dead: repeat.
-  for (int round = 0; round < 8; ++round) {
-    auto calls = call_effects(p);
+  // Removing one store can make the stores feeding it dead: repeated, per
+  // function, until nothing goes. Subroutines first: a call's effect on
+  // its caller is what the subroutine reads and writes, so the callers
+  // are done with the subroutines' final effects.
+  constexpr int kRounds = 8;
+  auto settle = [&](FuncKind kind, const CallEffects& calls) {
     bool any = false;
     for (auto& f : p.functions)
-      if (!f.blocks.empty()) any |= remove_in(p, f, calls);
-    if (!any) break;
-  }
+      if (f.kind == kind && !f.blocks.empty())
+        for (int round = 0; round < kRounds && remove_in(p, f, calls); ++round) any = true;
+    return any;
+  };
+  auto calls = call_effects(p);
+  if (settle(FuncKind::Sub, calls)) calls = call_effects(p);
+  settle(FuncKind::Task, calls);
 }
 
 }  // namespace rcxc::ir

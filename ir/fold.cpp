@@ -2,7 +2,8 @@
 #include <algorithm>
 #include <climits>
 #include <cstdint>
-#include <set>
+#include <functional>
+#include <queue>
 
 #include "ir/liveness.h"
 #include "ir/passes.h"
@@ -60,6 +61,22 @@ struct Folder {
 
   void vary(State& s, VarId v) const { s.vary(v); }
 
+  // The constant `in` leaves in `dest` (its private destination), given
+  // the state before it; nullopt when not known.
+  std::optional<int> folded(const Instr& in, const State& s) const {
+    std::optional<int> result;
+    if (in.args.size() == 2) {
+      auto src = known(s, in.args[1]);
+      auto old = known(s, in.args[0]);
+      if (src && (old || in.op == rcx::Op::SetVariable || in.op == rcx::Op::AbsoluteValue ||
+                  in.op == rcx::Op::SignVariable))
+        result = arithmetic(in.op, old.value_or(0), *src);
+      // x*0 and x&0 are 0 whatever x was.
+      if (src && *src == 0 && (in.op == rcx::Op::MultiplyVariable || in.op == rcx::Op::AndVariable)) result = 0;
+    }
+    return result;
+  }
+
   // The effect of one instruction on the state.
   void transfer(const Instr& in, State& s) const {
     FuncId g = callee_of(in);
@@ -74,17 +91,7 @@ struct Folder {
     if (u.writes.empty()) return;
     VarId dest = u.writes.front();
     if (!private_var(dest)) return;
-    std::optional<int> result;
-    if (in.args.size() == 2) {
-      auto src = known(s, in.args[1]);
-      auto old = known(s, in.args[0]);
-      if (src && (old || in.op == rcx::Op::SetVariable || in.op == rcx::Op::AbsoluteValue ||
-                  in.op == rcx::Op::SignVariable))
-        result = arithmetic(in.op, old.value_or(0), *src);
-      // x*0 and x&0 are 0 whatever x was.
-      if (src && *src == 0 && (in.op == rcx::Op::MultiplyVariable || in.op == rcx::Op::AndVariable)) result = 0;
-    }
-    if (result)
+    if (auto result = folded(in, s))
       s.set(dest, *result);
     else
       s.vary(dest);
@@ -117,10 +124,8 @@ struct Folder {
     }
     // An arithmetic step whose result is known becomes a plain set: same
     // size, and the steps before it may then be dead.
-    State after = s;
-    transfer(in, after);
     if (dest.is_var() && private_var(dest.value) && in.op != rcx::Op::SetVariable) {
-      if (auto c = after.get(dest.value)) {
+      if (auto c = folded(in, s)) {
         in.op = rcx::Op::SetVariable;
         in.args[1] = Operand::imm(*c);
       }
@@ -149,10 +154,15 @@ void fold_function(const Program& p, Function& f, const std::vector<VarSet>& foo
   // paths into it are (a sequence of if/else statements costs one visit
   // per block, not one per path through the ones before).
   std::vector<int> order = reverse_postorder_index(f);
-  std::set<std::pair<int, BlockId>> work{{order[0], 0}};
+  // A min-heap on that order, each block in it at most once.
+  std::priority_queue<std::pair<int, BlockId>, std::vector<std::pair<int, BlockId>>, std::greater<>> work;
+  std::vector<bool> queued(n, false);
+  work.emplace(order[0], 0);
+  queued[0] = true;
   while (!work.empty()) {
-    BlockId b = work.begin()->second;
-    work.erase(work.begin());
+    BlockId b = work.top().second;
+    work.pop();
+    queued[static_cast<std::size_t>(b)] = false;
     State s = in[static_cast<std::size_t>(b)];
     for (const auto& instr : f.blocks[static_cast<std::size_t>(b)].instrs) folder.transfer(instr, s);
     for (BlockId succ : successors(f.blocks[static_cast<std::size_t>(b)].term)) {
@@ -160,7 +170,10 @@ void fold_function(const Program& p, Function& f, const std::vector<VarSet>& foo
       State m = meet(target, restricted(s, live.live_in[static_cast<std::size_t>(succ)]));
       if (!(m == target)) {
         target = std::move(m);
-        work.emplace(order[static_cast<std::size_t>(succ)], succ);
+        if (!queued[static_cast<std::size_t>(succ)]) {
+          queued[static_cast<std::size_t>(succ)] = true;
+          work.emplace(order[static_cast<std::size_t>(succ)], succ);
+        }
       }
     }
   }

@@ -10,6 +10,7 @@
 // backend can choose near or far branch forms at the end.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -224,9 +225,36 @@ bool same_instr(const Instr& a, const Instr& b);
 bool reads_random(const Operand& o);
 
 // Variables an instruction reads and writes (Var operands only).
+// The variables of one instruction: a few, kept inline, so the passes that
+// ask about every instruction of every block allocate nothing (raw asm with
+// more operands spills to the heap).
+class VarList {
+ public:
+  void push_back(VarId v) {
+    if (size_ < kInline) {
+      inline_[size_] = v;
+    } else {
+      if (size_ == kInline) spill_.assign(inline_.begin(), inline_.end());
+      spill_.push_back(v);
+    }
+    ++size_;
+  }
+  const VarId* begin() const { return size_ <= kInline ? inline_.data() : spill_.data(); }
+  const VarId* end() const { return begin() + size_; }
+  bool empty() const { return size_ == 0; }
+  std::size_t size() const { return size_; }
+  VarId front() const { return *begin(); }
+
+ private:
+  static constexpr std::size_t kInline = 4;
+  std::array<VarId, kInline> inline_{};
+  std::vector<VarId> spill_;
+  std::size_t size_ = 0;
+};
+
 struct VarUse {
-  std::vector<VarId> reads;
-  std::vector<VarId> writes;  // a write that fully replaces the old value
+  VarList reads;
+  VarList writes;  // a write that fully replaces the old value
 };
 VarUse uses_of(const Instr& in);
 std::vector<VarId> reads_of(const Terminator& t);

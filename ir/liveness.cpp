@@ -18,6 +18,13 @@ void VarSet::remove(VarId v) {
 }
 
 bool VarSet::merge(const VarSet& o) {
+  // The data-flow passes merge mostly what is already there (every round
+  // after the first): those merges allocate nothing.
+  if (o.items.empty() || std::includes(items.begin(), items.end(), o.items.begin(), o.items.end())) return false;
+  if (items.empty()) {
+    items = o.items;
+    return true;
+  }
   std::vector<VarId> out;
   out.reserve(items.size() + o.items.size());
   std::set_union(items.begin(), items.end(), o.items.begin(), o.items.end(), std::back_inserter(out));
@@ -106,12 +113,19 @@ CallEffects call_effects(const Program& p) {
   }
   // What each function reads before writing, found by its own liveness,
   // which depends on its callees': repeated until nothing changes (it only
-  // grows, and subroutines are not recursive by the time this runs).
+  // grows, and subroutines are not recursive by the time this runs). Only
+  // what is called needs it: a task's own liveness is no call's effect.
   calls.reads.assign(p.functions.size(), VarSet());
+  std::vector<bool> called(p.functions.size(), false);
+  for (const auto& f : p.functions)
+    for (const auto& b : f.blocks)
+      for (const auto& in : b.instrs)
+        if (FuncId g = callee_of(in); g >= 0 && static_cast<std::size_t>(g) < called.size())
+          called[static_cast<std::size_t>(g)] = true;
   for (bool changed = true; changed;) {
     changed = false;
     for (std::size_t f = 0; f < p.functions.size(); ++f) {
-      if (p.functions[f].blocks.empty()) continue;
+      if (p.functions[f].blocks.empty() || !called[f]) continue;
       Liveness L = compute_liveness(p, p.functions[f], calls);
       changed |= calls.reads[f].merge(L.live_in[0]);
     }

@@ -10,7 +10,18 @@
 
 namespace rcxc::ir {
 
-enum class OptLevel { O0, O1, Os };
+// -O0 nothing; -O1 the clean-ups every compiler does; -O2 (the default)
+// the fastest code: on top of -O1 the size passes that never add an
+// instruction to any path the program runs; -Os also the size passes that
+// trade time for bytes (outlining, rerolling, speculation, coin tosses,
+// back-and-forth loops, splitting waits into subroutines), each of which
+// may run an instruction more (a call and a return per outlined copy).
+enum class OptLevel { O0, O1, O2, Os };
+
+// Passes that save bytes or instructions and never add an executed one.
+inline bool shrinks_without_slowing(OptLevel level) { return level == OptLevel::O2 || level == OptLevel::Os; }
+// Passes that save bytes at the cost of executed instructions.
+inline bool trades_time_for_size(OptLevel level) { return level == OptLevel::Os; }
 
 // What the passes did, for `rcxc compile -v`.
 using Log = std::vector<std::string>;
@@ -39,6 +50,9 @@ void remove_redundant_motor_commands(Program& p);
 // mode equal to the default the sensor type just set (slope 0) is dropped.
 void merge_motor_commands(Function& f, const std::vector<Var>& vars);
 void drop_redundant_sensor_modes(Function& f);
+// peephole.cpp: `set t, x; mul t, -1; sub t, 1` (~x once x was computed
+// into t) becomes `set t, -1; sub t, x`: one instruction and 5 bytes less.
+void shorten_complements(Function& f);
 
 // tailstart.cpp: a task that main starts as the last thing it does before
 // ending (`start a; start b;` at main's end: either), that nothing else
@@ -164,7 +178,7 @@ void toss_coins_on_loop_counter(Program& p, Log& log);
 // calls.cpp: makes subroutine calls fit the firmware: rejects recursion
 // (naming the cycle), inlines subroutines called from subroutines (one
 // return address per task), drops subroutines nobody calls, inlines
-// subroutines while there are more than 8 (cheapest first) and, with -Os,
+// subroutines while there are more than 8 (cheapest first) and, from -O2,
 // wherever inlining is not larger than calling. Returns false on error.
 bool resolve_calls(Program& p, OptLevel level, Diagnostics& diags, Log& log);
 // Replaces the call at (block, index) of `caller` by a copy of `callee`.

@@ -239,3 +239,34 @@ void drop_redundant_sensor_modes(Function& f) {
 }
 
 }  // namespace rcxc::ir
+
+namespace rcxc::ir {
+
+// `~x` of an expression computed into t is `set t, x; mul t, -1; sub t, 1`
+// (15 bytes); `set t, -1; sub t, x` (10 bytes, one instruction less) is the
+// same 16-bit value and reads x once, as before.
+void shorten_complements(Function& f) {
+  auto is_imm_step = [](const Instr& in, rcx::Op op, VarId t, int value) {
+    return !in.raw && in.op == op && in.args.size() == 2 && in.args[0].is_var(t) && in.args[1].is_imm() &&
+           in.args[1].value == value;
+  };
+  for (auto& b : f.blocks) {
+    auto& code = b.instrs;
+    for (std::size_t i = 0; i + 2 < code.size(); ++i) {
+      const Instr& set = code[i];
+      if (set.raw || set.op != rcx::Op::SetVariable || set.args.size() != 2 || !set.args[0].is_var()) continue;
+      VarId t = set.args[0].value;
+      Operand x = set.args[1];
+      if (x.is_var(t) || !accepts(rcx::Op::SubtractFromVariable, 1, x)) continue;
+      if (!is_imm_step(code[i + 1], rcx::Op::MultiplyVariable, t, -1) ||
+          !is_imm_step(code[i + 2], rcx::Op::SubtractFromVariable, t, 1))
+        continue;
+      code[i].args[1] = Operand::imm(-1);
+      code[i + 1].op = rcx::Op::SubtractFromVariable;
+      code[i + 1].args[1] = x;
+      code.erase(code.begin() + static_cast<std::ptrdiff_t>(i) + 2);
+    }
+  }
+}
+
+}  // namespace rcxc::ir

@@ -2,25 +2,68 @@
 #include "ir/passes.h"
 
 namespace rcxc::ir {
+namespace {
+
+// A hash of every function's code, to see whether a round of the clean-up
+// passes changed anything (a changed program hashing the same would only
+// end the rounds early: less optimised, never wrong).
+std::uint64_t code_hash(const Program& p) {
+  std::uint64_t h = 1469598103934665603ull;
+  auto mix = [&](std::int64_t v) { h = (h ^ static_cast<std::uint64_t>(v)) * 1099511628211ull; };
+  auto operand = [&](const Operand& o) {
+    mix(static_cast<int>(o.kind));
+    mix(o.source);
+    mix(o.value);
+  };
+  for (const auto& f : p.functions) {
+    mix(static_cast<std::int64_t>(f.blocks.size()));
+    for (const auto& b : f.blocks) {
+      mix(static_cast<std::int64_t>(b.instrs.size()));
+      for (const auto& in : b.instrs) {
+        mix(static_cast<int>(in.op));
+        for (const auto& a : in.args) operand(a);
+      }
+      mix(static_cast<std::int64_t>(b.term.index()));
+      for (BlockId s : successors(b.term)) mix(s);
+      if (const auto* br = std::get_if<Branch>(&b.term)) {
+        mix(static_cast<int>(br->cmp));
+        operand(br->a);
+        operand(br->b);
+      }
+    }
+  }
+  return h;
+}
+
+}  // namespace
 
 bool optimize(Program& p, OptLevel level, Diagnostics& diags, Log& log, const PassOptions& passes) {
   // Before any pass, so every level reports the same reads.
   warn_reads_before_writes(p, diags);
   if (!resolve_calls(p, level, diags, log)) return false;
-  if (level == OptLevel::Os && passes.tail_starts) run_tail_started_tasks_in_main(p, log);
+  if (shrinks_without_slowing(level) && passes.tail_starts) run_tail_started_tasks_in_main(p, log);
   if (level != OptLevel::O0) {
+    // Up to three rounds, each finding what the last one's removals
+    // exposed; a round that changes nothing ends them.
     for (int round = 0; round < 3; ++round) {
+      std::uint64_t before = code_hash(p);
       fold_constants(p);
       remove_dead_stores(p);
-      for (auto& f : p.functions) simplify_cfg(f);
+      for (auto& f : p.functions) {
+        shorten_complements(f);
+        simplify_cfg(f);
+      }
+      if (code_hash(p) == before) break;
     }
     for (auto& f : p.functions) merge_nested_repeats(f, log);
-    if (level == OptLevel::Os) {
-      halve_back_and_forth_loops(p, log);
+    // The flip adds a jump per pass (each half loops back on its own) and
+    // speculation an assignment when the condition holds: -Os only.
+    if (trades_time_for_size(level)) halve_back_and_forth_loops(p, log);
+    if (shrinks_without_slowing(level)) {
       for (auto& f : p.functions) {
         merge_motor_commands(f, p.vars);
         drop_redundant_sensor_modes(f);
-        speculate_assignments(f, p.vars);
+        if (trades_time_for_size(level)) speculate_assignments(f, p.vars);
       }
       remove_redundant_motor_commands(p);
     }
@@ -35,7 +78,8 @@ bool optimize(Program& p, OptLevel level, Diagnostics& diags, Log& log, const Pa
       place_branch_targets(f);
       place_exit_last(f);
     }
-  if (level == OptLevel::Os) toss_coins_on_loop_counter(p, log);
+  // A coin toss runs one loop test more on one of its sides.
+  if (trades_time_for_size(level)) toss_coins_on_loop_counter(p, log);
   return true;
 }
 

@@ -795,7 +795,10 @@ void Machine::loop(Micros until_us, bool stop_when_idle) {
       now_us_ = std::max(next, now_us_);
       continue;
     }
-    if (step(chosen)) now_us_ += cost;
+    if (step(chosen)) {
+      now_us_ += cost;
+      ++instructions_executed_;
+    }
     next_task_ = chosen + 1 == kMaxTasks ? 0 : chosen + 1;
   }
 }

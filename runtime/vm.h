@@ -255,6 +255,8 @@ class Machine {
   // reaches the limit reports StopKind::TimeLimit.
   const StopInfo& run(Micros limit_us);
   Micros now_us() const { return now_us_; }
+  // Bytecode instructions this machine has executed, all tasks together.
+  std::int64_t instructions_executed() const { return instructions_executed_; }
   const StopInfo& stop() const { return stop_; }
   bool any_task_active() const;
 
@@ -300,6 +302,7 @@ class Machine {
   std::array<ProgramSlot, kPrograms> slots_{};
   std::array<TaskState, kMaxTasks> tasks_{};
   int active_count_ = 0;
+  std::int64_t instructions_executed_ = 0;
   unsigned active_mask_ = 0;              // bit n = task n active
   // Decoded instruction caches for the current program: tasks, then subs.
   std::array<std::vector<Decoded>, kMaxTasks + kMaxSubroutines> decoded_{};

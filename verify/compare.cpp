@@ -205,6 +205,18 @@ std::vector<std::string> observable_lines(const Machine& machine) {
   return out;
 }
 
+TimingDifference timing_difference(const std::vector<MatchedEvent>& matched) {
+  TimingDifference d;
+  double sooner = 0;
+  for (const auto& m : matched) {
+    sooner += static_cast<double>(m.b_us - m.a_us);
+    d.worst_later_us = std::max(d.worst_later_us, m.a_us - m.b_us);
+  }
+  d.events = static_cast<int>(matched.size());
+  if (d.events > 0) d.mean_sooner_us = sooner / d.events;
+  return d;
+}
+
 RunComparison compare_runs(const RunView& a, const RunView& b, TimeTolerance tol,
                            const std::optional<std::vector<std::string>>& global_names) {
   RunComparison r;
@@ -243,6 +255,7 @@ RunComparison compare_runs(const RunView& a, const RunView& b, TimeTolerance tol
                                             allowed / kMicrosPerMs));
         break;
       }
+      r.matched.push_back({ea.t_us, eb.t_us});
       wa.take();
       wb.take();
     }

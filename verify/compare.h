@@ -32,8 +32,15 @@ struct RunView {
   std::string label;  // "rcxc", "nqc"
 };
 
+// One event both runs show, at its time in each (a's, then b's).
+struct MatchedEvent {
+  Micros a_us = 0;
+  Micros b_us = 0;
+};
+
 struct RunComparison {
   bool same = true;
+  std::vector<MatchedEvent> matched;     // the events both runs show, as paired
   std::vector<std::string> differences;  // one line each
   std::string side_by_side;              // both event lists, aligned, when they differ
 };
@@ -51,5 +58,15 @@ RunComparison compare_runs(const RunView& a, const RunView& b, TimeTolerance tol
 // "1500ms output A off"): an output's direction and power appear only
 // while it is on, and a change nobody could see is no line.
 std::vector<std::string> observable_lines(const Machine& machine);
+
+// How much sooner a's code acted than b's over the matched events: the mean
+// and the worst (largest) lateness of a, in microseconds; zeros without
+// matched events.
+struct TimingDifference {
+  int events = 0;
+  double mean_sooner_us = 0;  // negative: a acted later on average
+  Micros worst_later_us = 0;  // the most a acted after b (0 if never)
+};
+TimingDifference timing_difference(const std::vector<MatchedEvent>& matched);
 
 }  // namespace rcx

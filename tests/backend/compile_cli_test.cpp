@@ -76,6 +76,33 @@ TEST(CompileCli, OptimisationLevelsDiffer) {
   EXPECT_LT(d.read("os.rcx").size(), d.read("o0.rcx").size());
 }
 
+// The default is -O2, the fastest code: a loop body written twice stays in
+// the loop, where -Os would move it into a subroutine (a call and a return
+// per pass) for fewer bytes.
+TEST(CompileCli, TheDefaultLevelIsMinusO2) {
+  TempDir d;
+  std::string src = d.write("p.nqc", R"(int x;
+task main() {
+  while (true) {
+    OnFwd(OUT_A); Wait(20); x += 3; PlaySound(1); Off(OUT_A); Wait(20);
+    OnFwd(OUT_A); Wait(20); x += 3; PlaySound(1); Off(OUT_A); Wait(20);
+  }
+}
+)");
+  auto plain = run_rcxc({"compile", src, "-o", d.path + "/default.rcx"});
+  auto o2 = run_rcxc({"compile", src, "-O2", "-o", d.path + "/o2.rcx", "-v"});
+  auto os = run_rcxc({"compile", src, "-Os", "-o", d.path + "/os.rcx", "-v"});
+  ASSERT_EQ(plain.exit_code, 0) << plain.err;
+  ASSERT_EQ(o2.exit_code, 0) << o2.err;
+  ASSERT_EQ(os.exit_code, 0) << os.err;
+  EXPECT_EQ(d.read("default.rcx"), d.read("o2.rcx"));
+  EXPECT_NE(d.read("os.rcx"), d.read("o2.rcx"));
+  EXPECT_NE(os.err.find("outlined into sub"), std::string::npos) << os.err;
+  EXPECT_EQ(o2.err.find("outlined"), std::string::npos) << o2.err;
+  auto help = run_rcxc({"compile", "--help"});
+  EXPECT_NE(help.out.find("-O2 (default)"), std::string::npos) << help.out;
+}
+
 TEST(CompileCli, ErrorsExitWithOne) {
   TempDir d;
   auto r = run_rcxc({"compile", d.write("p.nqc", "task main() { x = 1; }\n")});

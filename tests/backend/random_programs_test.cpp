@@ -127,9 +127,9 @@ std::optional<Observed> observe(const std::string& text, ir::OptLevel level, std
 
 namespace {
 
-// Whether -O1 and -Os run `text` as `reference` (its -O0 run) does.
+// Whether -O1, -O2 and -Os run `text` as `reference` (its -O0 run) does.
 ::testing::AssertionResult levels_agree(const std::string& text, unsigned seed, const Observed& reference) {
-  for (auto level : {ir::OptLevel::O1, ir::OptLevel::Os}) {
+  for (auto level : {ir::OptLevel::O1, ir::OptLevel::O2, ir::OptLevel::Os}) {
     std::string error;
     auto got = observe(text, level, error);
     auto fail = [&](const std::string& what) {

@@ -58,6 +58,19 @@ TEST(CompareCli, SameBehaviourIsSame) {
   EXPECT_EQ(r.out.find("DIFFERENT"), std::string::npos) << r.out;
 }
 
+// Against -O0 code (three arithmetic steps on a local before the motor
+// commands), rcxc's code computes the power at compile time and switches
+// A on sooner: each scenario's line says by how much.
+TEST(CompareCli, SameLinesSayHowMuchSoonerRcxcActed) {
+  TempDir d;
+  std::string src = d.write("p.nqc", "task main() { int x = 1; x += 2; x *= 2; SetPower(OUT_A, x); On(OUT_A); }\n");
+  auto r = run_rcxc({"compare", src, "--nqc-path", rcxc_o0_as_nqc(d)});
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("timing over 1 matched event: rcxc's code acted"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("instructions sooner on average"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("later"), std::string::npos) << r.out;
+}
+
 TEST(CompareCli, ADifferentSoundIsADifferenceNoInputShiftCanHide) {
   TempDir d;
   auto r = run_rcxc({"compare", d.write("p.nqc", kSource), "--nqc-path", fake_nqc(d, image_playing(d, 2))});

@@ -116,3 +116,24 @@ TEST(TestCommand, BrokenScenarioFileFailsWithItsLine) {
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.out.find("bad.toml:"), std::string::npos) << r.out;
 }
+
+// Tests run in parallel but report in file order: a slow first test (an
+// hour of brick time busy, about two million instructions) and many quick
+// ones give the same output with one job and with eight.
+TEST(TestCommand, ParallelRunsKeepTheOutputOrder) {
+  TempDir d;
+  d.write("a_slow.nqc", "// @for 3600s\n// @expect global n == 5\n"
+                        "int n;\ntask main() { while (true) { n = 5; } }\n");
+  for (int i = 0; i < 12; ++i)
+    d.write("b" + std::to_string(10 + i) + ".nqc",
+            "// @expect global n == " + std::to_string(i % 3 == 0 ? 7 : 6) + "\n" + kCounter);
+  auto one = run_rcxc({"test", "-j", "1", d.path});
+  auto many = run_rcxc({"test", "-j", "8", d.path});
+  EXPECT_EQ(one.exit_code, 1);
+  EXPECT_EQ(many.exit_code, 1);
+  EXPECT_EQ(one.out, many.out);
+  EXPECT_LT(one.out.find("a_slow.nqc"), one.out.find("b10.nqc")) << one.out;
+  EXPECT_NE(many.out.find("9 passed, 4 failed"), std::string::npos) << many.out;
+  auto bad = run_rcxc({"test", "-j", "0", d.path});
+  EXPECT_EQ(bad.exit_code, 2) << bad.err;
+}

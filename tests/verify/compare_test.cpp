@@ -53,6 +53,24 @@ TEST(Compare, ExtraInstructionsWithinToleranceAreTheSame) {
   EXPECT_TRUE(compare(a, b).same);
 }
 
+// The events both runs show are paired with their times: one run with an
+// instruction more before them acts 2 ms later on each (A on, sound 2).
+TEST(Compare, MatchedEventsGiveTheTimingDifference) {
+  RunResult a = run_program(kSetVar5, 100);
+  Bytes two = kSetVar5;
+  two.insert(two.end(), kSetVar5.begin(), kSetVar5.end());
+  RunResult b = run_program(two, 100);
+  auto c = compare(a, b);
+  ASSERT_EQ(c.matched.size(), 2u);
+  auto d = timing_difference(c.matched);
+  EXPECT_EQ(d.events, 2);
+  EXPECT_DOUBLE_EQ(d.mean_sooner_us, 2000.0);
+  EXPECT_EQ(d.worst_later_us, 0);
+  auto reverse = timing_difference(compare(b, a).matched);
+  EXPECT_DOUBLE_EQ(reverse.mean_sooner_us, -2000.0);
+  EXPECT_EQ(reverse.worst_later_us, 2000);
+}
+
 TEST(Compare, DifferentEventValueIsReportedSideBySide) {
   RunResult a = run_program(kSetVar5, 100);
   RunResult b = run_program(kSetVar5, 100);

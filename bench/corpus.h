@@ -1,0 +1,52 @@
+// What the benchmarks against nqc share: the corpus of NQC programs (through
+// RCXC_CORPUS_DIR, or ../shared/corpus beside the source tree) and nqc's
+// listing of a program.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <optional>
+#include <regex>
+#include <string>
+#include <vector>
+
+namespace rcxc::bench {
+
+inline std::filesystem::path corpus_dir() {
+  if (const char* env = std::getenv("RCXC_CORPUS_DIR")) return env;
+  return std::filesystem::path(__FILE__).parent_path().parent_path().parent_path() / "shared" / "corpus";
+}
+
+// Every .nqc file of the corpus, sorted; empty without the corpus.
+inline std::vector<std::filesystem::path> corpus_files() {
+  std::vector<std::filesystem::path> files;
+  if (!std::filesystem::exists(corpus_dir())) return files;
+  for (const auto& e : std::filesystem::recursive_directory_iterator(corpus_dir()))
+    if (e.path().extension() == ".nqc") files.push_back(e.path());
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+// `nqc -Trcx -L FILE`'s listing, or nullopt when nqc fails or is missing.
+inline std::optional<std::string> nqc_listing(const std::filesystem::path& file) {
+  std::string cmd = "nqc -Trcx -L '" + file.string() + "' 2>/dev/null";
+  FILE* pipe = popen(cmd.c_str(), "r");
+  if (pipe == nullptr) return std::nullopt;
+  std::string text;
+  std::array<char, 4096> buf{};
+  while (std::size_t n = fread(buf.data(), 1, buf.size(), pipe)) text.append(buf.data(), n);
+  if (pclose(pipe) != 0) return std::nullopt;
+  return text;
+}
+
+// nqc's code size: its listing ends with "Total size: N bytes".
+inline std::optional<int> nqc_bytes(const std::string& listing) {
+  std::smatch m;
+  if (!std::regex_search(listing, m, std::regex("Total size: ([0-9]+) bytes"))) return std::nullopt;
+  return std::stoi(m[1]);
+}
+
+}  // namespace rcxc::bench
