@@ -4,6 +4,7 @@
 #include <memory>
 #include <optional>
 
+#include "cli/color.h"
 #include "cli/commands.h"
 #include "cli/output_file.h"
 #include "backend/compile.h"
@@ -26,6 +27,7 @@ struct CompileArgs {
   std::vector<std::string> undefines;
   std::vector<std::string> warning_flags;  // -Werror
   std::string diagnostics = "text";
+  std::string color = "auto";
   std::size_t max_errors = kDefaultMaxErrors;
   std::string optimize = "s";
   bool no_stdlib = false;
@@ -45,7 +47,7 @@ frontend::Options frontend_options(const CompileArgs& a) {
 }
 
 void print_diagnostics(const Diagnostics& diags, const SourceManager& sm, const CompileArgs& a) {
-  std::cerr << render_all(diags, sm, RenderOptions{a.diagnostics == "json", a.max_errors});
+  std::cerr << render_all(diags, sm, RenderOptions{a.diagnostics == "json", a.max_errors, color_on_stderr(a.color)});
 }
 
 // FILE.nqc -> FILE.rcx unless -o says otherwise.
@@ -153,17 +155,25 @@ void register_compile(CLI::App& app, int& exit_code) {
   add_repeatable(cmd, "-D", args->defines, "Define a macro: -DNAME or -DNAME=VALUE");
   add_repeatable(cmd, "-U", args->undefines, "Undefine a macro");
   cmd->add_flag("-n", args->no_stdlib, "Do not read the standard library rcx.nqh");
-  cmd->add_flag("-E", args->preprocess_only, "Print the preprocessed source and stop");
+  cmd->add_flag("-E", args->preprocess_only, "Print the preprocessed source and stop (nqc's -E<file> writes errors; here they go to stderr)");
   add_repeatable(cmd, "-W", args->warning_flags, "-Werror: treat warnings as errors");
   cmd->add_flag("-w", args->no_warnings, "Do not report warnings");
-  cmd->add_option("-O", args->optimize, "Optimisation: -O0, -O1 or -Os (default)")
-      ->check(CLI::IsMember({"0", "1", "s"}));
+  cmd->add_option("-O", args->optimize, "Optimisation: -O0, -O1 or -Os (default); unlike nqc's -O<file>, -o names the output")
+      ->check(CLI::Validator(
+          [](std::string& level) {
+            if (level == "0" || level == "1" || level == "s") return std::string();
+            // nqc's -O<file>: say what to write instead.
+            return "-O" + level + ": -O is the optimisation level here (-O0, -O1, -Os); the output file is -o " +
+                   level + " (nqc's -O<file>; 'rcxc nqc' takes nqc's options)";
+          },
+          "{0,1,s}"));
   cmd->add_option("--listing", args->listing, "Write a listing to FILE (or standard output without =FILE)")
       ->expected(0, 1)
       ->default_str("-");
   cmd->add_flag("-v,--verbose", args->verbose, "Report what the optimiser did (inlining, loop counters, sizes)");
   cmd->add_option("--diagnostics", args->diagnostics, "Diagnostics format: text (default) or json")
       ->check(CLI::IsMember({"text", "json"}));
+  add_color_option(cmd, args->color);
   cmd->add_option("--max-errors", args->max_errors, "Stop printing after N errors (default 20, 0: print all)")
       ->check(CLI::Range(0, 1000000).description(""));
   cmd->callback([&exit_code, args] {

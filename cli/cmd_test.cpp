@@ -115,8 +115,9 @@ int run(const TestOptions& o) {
     auto failures = run_test(o, file, log);
     std::cout << (failures.empty() ? "PASS " : "FAIL ") << file << "\n";
     for (const auto& f : failures) {
+      // The compiler's form, so editors' error matchers find the line.
       std::string where = f.line > 0 ? fmt::format("{}:{}: ", file, f.line) : file + ": ";
-      std::cout << "  " << where << f.message << "\n";
+      std::cout << where << "error: " << f.message << "\n";
     }
     std::cout << log;
     (failures.empty() ? passed : failed)++;

@@ -51,6 +51,10 @@ std::vector<Note> SourceManager::expansion_notes(const SourceLoc& loc) const {
   return notes;
 }
 
+void SourceManager::mark_library(std::uint32_t file) {
+  if (file < files_.size()) files_[file].library = true;
+}
+
 void SourceManager::set_include_site(std::uint32_t file, SourceSpan site) {
   if (file < files_.size()) files_[file].included_from = site;
 }
@@ -194,6 +198,24 @@ std::vector<std::array<std::uint32_t, 3>> reading_key(const SourceLoc& loc, cons
 
 }  // namespace
 
+Diagnostic as_reported(const Diagnostic& d, const SourceManager& sm) {
+  const SourceLoc& at = d.span.begin;
+  if (!at.valid() || at.expansion == 0 || !sm.is_library(at.file)) return d;
+  for (const Note& use : sm.expansion_notes(at)) {
+    if (sm.is_library(use.span.begin.file)) continue;
+    Diagnostic moved = d;
+    moved.span = use.span;
+    // The library line, without the expansion chain that leads back here.
+    SourceSpan library = d.span;
+    library.begin.expansion = library.end.expansion = 0;
+    moved.notes.insert(moved.notes.begin(),
+                       Note{library, fmt::format("in macro '{}' of the standard library {}",
+                                                 sm.expansion(at.expansion).macro, sm.path(at.file))});
+    return moved;
+  }
+  return d;
+}
+
 std::vector<const Diagnostic*> in_source_order(const Diagnostics& diags, const SourceManager& sm) {
   struct Keyed {
     const Diagnostic* d;
@@ -201,7 +223,7 @@ std::vector<const Diagnostic*> in_source_order(const Diagnostics& diags, const S
   };
   std::vector<Keyed> keyed;
   for (const auto& d : diags.all())
-    keyed.push_back({&d, d.span.begin.valid() ? reading_key(d.span.begin, sm) : decltype(Keyed::key){}});
+    keyed.push_back({&d, d.span.begin.valid() ? reading_key(as_reported(d, sm).span.begin, sm) : decltype(Keyed::key){}});
   std::stable_sort(keyed.begin(), keyed.end(), [](const Keyed& a, const Keyed& b) {
     if (a.key.empty() || b.key.empty()) return !a.key.empty() && b.key.empty();
     return a.key < b.key;
@@ -211,7 +233,8 @@ std::vector<const Diagnostic*> in_source_order(const Diagnostics& diags, const S
   return ordered;
 }
 
-std::string render_text(const Diagnostic& d, const SourceManager& sm, bool color) {
+std::string render_text(const Diagnostic& shown, const SourceManager& sm, bool color) {
+  const Diagnostic d = as_reported(shown, sm);
   std::string out;
   Palette palette{color};
   render_one(out, d.severity, d.span, d.message, sm, palette, unplaced_file(d, sm));
@@ -219,7 +242,8 @@ std::string render_text(const Diagnostic& d, const SourceManager& sm, bool color
   return out;
 }
 
-std::string render_json(const Diagnostic& d, const SourceManager& sm) {
+std::string render_json(const Diagnostic& shown, const SourceManager& sm) {
+  const Diagnostic d = as_reported(shown, sm);
   nlohmann::json j = location_json(d.span, sm);
   if (!d.span.begin.valid()) j["file"] = unplaced_file(d, sm);
   j["severity"] = severity_name(d.severity);

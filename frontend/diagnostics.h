@@ -64,6 +64,11 @@ class SourceManager {
   // The notes "in expansion of macro X" for a location, innermost first.
   std::vector<Note> expansion_notes(const SourceLoc& loc) const;
 
+  // The standard library (rcx.nqh): a problem its text shows is the user's
+  // use of it, so diagnostics move to the user's line (as_reported).
+  void mark_library(std::uint32_t file);
+  bool is_library(std::uint32_t file) const { return file < files_.size() && files_[file].library; }
+
   // Where `file` was #included (so diagnostics in it can say so).
   void set_include_site(std::uint32_t file, SourceSpan site);
   // The notes "FILE was included from here" for a location, innermost first.
@@ -75,6 +80,7 @@ class SourceManager {
     std::string text;
     std::vector<std::size_t> line_starts;
     SourceSpan included_from;  // invalid when not #included
+    bool library = false;
   };
   std::vector<File> files_;
   std::vector<MacroExpansion> expansions_;
@@ -116,6 +122,11 @@ class Diagnostics {
   std::vector<Diagnostic> list_;
   Diagnostic discarded_;
 };
+
+// `d` as the user should see it: an error inside a standard-library macro
+// (Random() without its argument) is placed where the user's text used the
+// macro, with the library line as a note. Rendering applies it.
+Diagnostic as_reported(const Diagnostic& d, const SourceManager& sm);
 
 // gcc-style text: "file:line:col: error: message", the source line, a caret
 // under the span, then each note the same way.
