@@ -44,7 +44,9 @@ int main(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     // Bad command line: say what was wrong, then how to call us, on stderr.
-    std::cerr << "rcxc: " << e.what() << "\n\n";
+    std::cerr << "rcxc: " << e.what() << "\n";
+    if (auto hint = rcxc::cli::nqc_habit_hint({argv + 1, argv + argc})) std::cerr << "rcxc: " << *hint << "\n";
+    std::cerr << "\n";
     const CLI::App* where = &app;
     for (const CLI::App* sub : app.get_subcommands()) where = sub;
     std::cerr << where->help();

@@ -464,6 +464,21 @@ bool started_as_nqc(const char* argv0) {
   return name == "nqc" || name == "nqc.exe";
 }
 
+std::optional<std::string> nqc_habit_hint(const std::vector<std::string>& args) {
+  for (const std::string& a : args) {
+    if (a.size() <= 2 || a[0] != '-' || a[1] == '-') continue;
+    const std::string value = a.substr(2);
+    std::string instead;
+    if (a[1] == 'E') instead = "errors always go to stderr here (-E prints the preprocessed source)";
+    if (a[1] == 'L') instead = "write --listing=" + value;
+    if (a[1] == 'T') instead = "rcxc always compiles for the RCX: leave -T out";
+    if (!instead.empty())
+      return fmt::format("'{}' is nqc's option: {}; or run 'rcxc nqc ...' with nqc's options (docs/nqc.md)", a,
+                         instead);
+  }
+  return std::nullopt;
+}
+
 std::string render_nqc(const Diagnostics& diags, const SourceManager& sm) {
   std::string out;
   for (const Diagnostic* d : in_source_order(diags, sm)) {

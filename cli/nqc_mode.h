@@ -4,6 +4,7 @@
 // unchanged. docs/nqc.md lists what this mode does and does not do.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -24,6 +25,11 @@ bool started_as_nqc(const char* argv0);
 // Runs one nqc command line (`args` without the program name; NQC_OPTIONS
 // and NQC_INCLUDE are read from the environment) and returns the exit code.
 int run_nqc_mode(const std::vector<std::string>& args);
+
+// When a rejected rcxc command line holds an nqc habit (-Efile, -Lfile,
+// -Trcx), what to write instead; nullopt otherwise. (compile's -O<file> is
+// judged by -O's own check.)
+std::optional<std::string> nqc_habit_hint(const std::vector<std::string>& args);
 
 // Diagnostics the way nqc prints them: "# Error: MESSAGE", the line BricxCC
 // searches (`File "NAME" ; line N`), the source line and carets after "# ",

@@ -217,6 +217,23 @@ TEST(NqcMode, ApiPrintsTheStandardLibrary) {
   EXPECT_EQ(r.out, s.str());
 }
 
+// The native command line rejects nqc's habits and says what to write.
+TEST(NqcMode, NqcHabitsOnTheNativeCommandLineGetAHint) {
+  TempDir d;
+  std::string ok = d.write("ok.nqc", kFiles.at("ok.nqc"));
+  auto e = run_rcxc({"compile", "-Etemp.log", ok});
+  EXPECT_EQ(e.exit_code, 2);
+  EXPECT_NE(e.err.find("'-Etemp.log' is nqc's option: errors always go to stderr here"), std::string::npos) << e.err;
+  auto t = run_rcxc({"compile", "-Trcx", ok});
+  EXPECT_EQ(t.exit_code, 2);
+  EXPECT_NE(t.err.find("rcxc always compiles for the RCX"), std::string::npos) << t.err;
+  auto l = run_rcxc({"compile", "-Lx.lst", ok});
+  EXPECT_EQ(l.exit_code, 2);
+  EXPECT_NE(l.err.find("write --listing=x.lst"), std::string::npos) << l.err;
+  auto fine = run_rcxc({"compile", "--bogus", ok});
+  EXPECT_EQ(fine.err.find("nqc's option"), std::string::npos) << fine.err;
+}
+
 TEST(NqcMode, ActionsAfterAFailureDoNotRun) {
   NqcLink nqc;
   // The compile error stops the call before -api would print anything.
