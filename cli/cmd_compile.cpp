@@ -4,6 +4,7 @@
 #include <memory>
 #include <optional>
 
+#include "cli/color.h"
 #include "cli/commands.h"
 #include "cli/output_file.h"
 #include "cli/program_loader.h"
@@ -24,6 +25,7 @@ struct CompileArgs {
   CompilerArgs compiler;                   // -I -D -U -n -O
   std::vector<std::string> warning_flags;  // -Werror
   std::string diagnostics = "text";
+  std::string color = "auto";
   std::size_t max_errors = kDefaultMaxErrors;
   bool preprocess_only = false;
   bool no_warnings = false;
@@ -32,7 +34,7 @@ struct CompileArgs {
 };
 
 void print_diagnostics(const Diagnostics& diags, const SourceManager& sm, const CompileArgs& a) {
-  std::cerr << render_all(diags, sm, RenderOptions{a.diagnostics == "json", a.max_errors});
+  std::cerr << render_all(diags, sm, RenderOptions{a.diagnostics == "json", a.max_errors, color_on_stderr(a.color)});
 }
 
 // FILE.nqc -> FILE.rcx unless -o says otherwise.
@@ -127,7 +129,7 @@ void register_compile(CLI::App& app, int& exit_code) {
   cmd->add_option("FILE", args->file, "NQC source file")->required();
   cmd->add_option("-o,--output", args->output, "Output .rcx image");
   add_compiler_options(cmd, args->compiler);
-  cmd->add_flag("-E", args->preprocess_only, "Print the preprocessed source and stop");
+  cmd->add_flag("-E", args->preprocess_only, "Print the preprocessed source and stop (nqc's -E<file> writes errors; here they go to stderr)");
   add_repeatable(cmd, "-W", args->warning_flags, "-Werror: treat warnings as errors");
   cmd->add_flag("-w", args->no_warnings, "Do not report warnings");
   cmd->add_option("--listing", args->listing, "Write a listing to FILE (or standard output without =FILE)")
@@ -136,6 +138,7 @@ void register_compile(CLI::App& app, int& exit_code) {
   cmd->add_flag("-v,--verbose", args->verbose, "Report what the optimiser did (inlining, loop counters, sizes)");
   cmd->add_option("--diagnostics", args->diagnostics, "Diagnostics format: text (default) or json")
       ->check(CLI::IsMember({"text", "json"}));
+  add_color_option(cmd, args->color);
   cmd->add_option("--max-errors", args->max_errors, "Stop printing after N errors (default 20, 0: print all)")
       ->check(CLI::Range(0, 1000000).description(""));
   cmd->callback([&exit_code, args] {

@@ -208,8 +208,9 @@ int run(const TestOptions& o) {
     const std::string& file = files[i];
     std::cout << (r.failures.empty() ? "PASS " : "FAIL ") << file << "\n";
     for (const auto& f : r.failures) {
+      // The compiler's form, so editors' error matchers find the line.
       std::string where = f.line > 0 ? fmt::format("{}:{}: ", file, f.line) : file + ": ";
-      std::cout << "  " << where << f.message << "\n";
+      std::cout << where << "error: " << f.message << "\n";
     }
     std::cout << r.log << std::flush;
     (r.failures.empty() ? passed : failed)++;

@@ -2,15 +2,27 @@
 // libraries. It only parses options and calls the libraries.
 #include <cstdio>
 #include <iostream>
+#include <string_view>
 
 #include "cli/commands.h"
+#include "cli/nqc_mode.h"
 #include "cli/version.h"
 
 int main(int argc, char** argv) {
+  // nqc's command line has its own grammar (-Trcx, -O<file>, actions after
+  // the file), so it is read by hand, not by CLI11.
+  if (argc > 0 && rcxc::cli::started_as_nqc(argv[0])) return rcxc::cli::run_nqc_mode({argv + 1, argv + argc});
+  if (argc > 1 && std::string_view(argv[1]) == "nqc") return rcxc::cli::run_nqc_mode({argv + 2, argv + argc});
+
   CLI::App app{"rcxc — NQC compiler and RCX emulator", "rcxc"};
   app.set_version_flag("--version", std::string("rcxc ") + rcxc::kVersion);
   app.require_subcommand(0, 1);
   app.fallthrough(false);
+  app.footer(
+      "nqc's command line: rcxc nqc [nqc options] FILE, or rcxc installed as 'nqc' (a symbolic link),\n"
+      "takes nqc 3.1's options with nqc's meanings (-Trcx, -O<file>, -E<file>, -L, -d, -run, ...; docs/nqc.md).\n"
+      "The subcommands' own options differ from nqc's: 'compile -O' sets the optimisation level (-o names\n"
+      "the output) and 'compile -E' prints the preprocessed source (errors go to stderr).");
 
   int exit_code = rcxc::cli::kExitOk;
   rcxc::cli::register_compile(app, exit_code);
@@ -33,7 +45,9 @@ int main(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     // Bad command line: say what was wrong, then how to call us, on stderr.
-    std::cerr << "rcxc: " << e.what() << "\n\n";
+    std::cerr << "rcxc: " << e.what() << "\n";
+    if (auto hint = rcxc::cli::nqc_habit_hint({argv + 1, argv + argc})) std::cerr << "rcxc: " << *hint << "\n";
+    std::cerr << "\n";
     const CLI::App* where = &app;
     for (const CLI::App* sub : app.get_subcommands()) where = sub;
     std::cerr << where->help();

@@ -425,6 +425,9 @@ struct Program {
   // Every top-level declaration in the order of the (preprocessed) source:
   // stdlib first, then the program. Filled by the parser.
   std::vector<TopLevelRef> order;
+  // The macros defined at the end of the program (OUT_A, SENSOR_TOUCH, the
+  // program's own), for "did you mean" when a name is not declared.
+  std::vector<std::string> macro_names;
 
   const Symbol& symbol(SymbolId id) const { return symbols.at(id); }
 };

@@ -1,6 +1,7 @@
 #include "frontend/diagnostics.h"
 
 #include <algorithm>
+#include <array>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -8,6 +9,9 @@
 namespace rcxc {
 
 std::uint32_t SourceManager::add(std::string path, std::string text) {
+  // A UTF-8 byte-order mark (Windows editors write one) is not program text;
+  // dropping it also keeps columns as editors count them.
+  if (text.rfind("\xEF\xBB\xBF", 0) == 0) text.erase(0, 3);
   File f{std::move(path), std::move(text), {0}, {}};
   for (std::size_t i = 0; i < f.text.size(); ++i)
     if (f.text[i] == '\n') f.line_starts.push_back(i + 1);
@@ -47,6 +51,10 @@ std::vector<Note> SourceManager::expansion_notes(const SourceLoc& loc) const {
   return notes;
 }
 
+void SourceManager::mark_library(std::uint32_t file) {
+  if (file < files_.size()) files_[file].library = true;
+}
+
 void SourceManager::set_include_site(std::uint32_t file, SourceSpan site) {
   if (file < files_.size()) files_[file].included_from = site;
 }
@@ -74,7 +82,7 @@ std::string_view severity_name(Severity s) {
 }
 
 Diagnostic& Diagnostics::error(SourceSpan span, std::string message) {
-  list_.push_back({Severity::Error, span, std::move(message), {}});
+  list_.push_back({Severity::Error, span, std::move(message), {}, false, {}});
   return list_.back();
 }
 
@@ -83,7 +91,7 @@ Diagnostic& Diagnostics::warning(SourceSpan span, std::string message) {
     discarded_ = {};
     return discarded_;
   }
-  list_.push_back({warnings_as_errors ? Severity::Error : Severity::Warning, span, std::move(message), {}});
+  list_.push_back({warnings_as_errors ? Severity::Error : Severity::Warning, span, std::move(message), {}, false, {}});
   return list_.back();
 }
 
@@ -106,14 +114,37 @@ std::string file_name(const SourceManager& sm, const SourceLoc& loc) {
   return loc.file < sm.size() ? sm.path(loc.file) : std::string("<unknown>");
 }
 
+// The file a message without a position is about: editors' matchers need
+// a file name at the start of the line.
+std::string unplaced_file(const Diagnostic& d, const SourceManager& sm) {
+  if (!d.file.empty()) return d.file;
+  if (d.severity == Severity::Note) return "";  // about the run, not a file ("N more errors not shown")
+  return sm.size() != 0 ? sm.path(0) : std::string();
+}
+
+// ANSI colours as gcc uses them: the place and message bold, the severity
+// in its colour, the caret green.
+struct Palette {
+  bool on = false;
+  std::string paint(std::string_view code, std::string_view text) const {
+    return on ? fmt::format("\x1b[{}m{}\x1b[0m", code, text) : std::string(text);
+  }
+  std::string severity(Severity s) const {
+    std::string_view code = s == Severity::Error ? "1;31" : s == Severity::Warning ? "1;35" : "1;36";
+    return paint(code, fmt::format("{}:", severity_name(s)));
+  }
+};
+
 void render_one(std::string& out, Severity sev, const SourceSpan& span, const std::string& message,
-                const SourceManager& sm) {
+                const SourceManager& sm, const Palette& palette, const std::string& unplaced = "") {
   const SourceLoc& b = span.begin;
   if (!b.valid()) {
-    out += fmt::format("rcxc: {}: {}\n", severity_name(sev), message);
+    out += fmt::format("{} {} {}\n", palette.paint("1", (unplaced.empty() ? std::string("rcxc") : unplaced) + ":"),
+                       palette.severity(sev), palette.paint("1", message));
     return;
   }
-  out += fmt::format("{}:{}:{}: {}: {}\n", file_name(sm, b), b.line, b.column, severity_name(sev), message);
+  out += fmt::format("{} {} {}\n", palette.paint("1", fmt::format("{}:{}:{}:", file_name(sm, b), b.line, b.column)),
+                     palette.severity(sev), palette.paint("1", message));
   std::string_view text = sm.line(b.file, b.line);
   if (text.empty() && b.column <= 1) return;
   out += fmt::format("  {}\n  ", text);
@@ -123,8 +154,7 @@ void render_one(std::string& out, Severity sev, const SourceSpan& span, const st
   std::size_t width = 1;
   if (span.end.file == b.file && span.end.line == b.line && span.end.column > b.column)
     width = span.end.column - b.column;
-  out += '^';
-  if (width > 1) out += std::string(width - 1, '~');
+  out += palette.paint("1;32", "^" + std::string(width - 1, '~'));
   out += '\n';
 }
 
@@ -153,17 +183,69 @@ std::vector<Note> all_notes(const Diagnostic& d, const SourceManager& sm) {
   return notes;
 }
 
+// Where a location stands in the reading order: the #include sites that led
+// to it from the outermost file inwards, then the place itself.
+std::vector<std::array<std::uint32_t, 3>> reading_key(const SourceLoc& loc, const SourceManager& sm) {
+  auto expansions = sm.expansion_notes(loc);
+  SourceLoc at = expansions.empty() ? loc : expansions.back().span.begin;
+  std::vector<std::array<std::uint32_t, 3>> key;
+  for (const Note& site : sm.include_notes(at))
+    key.push_back({site.span.begin.file, site.span.begin.line, site.span.begin.column});
+  std::reverse(key.begin(), key.end());
+  key.push_back({at.file, at.line, at.column});
+  return key;
+}
+
 }  // namespace
 
-std::string render_text(const Diagnostic& d, const SourceManager& sm) {
+Diagnostic as_reported(const Diagnostic& d, const SourceManager& sm) {
+  const SourceLoc& at = d.span.begin;
+  if (!at.valid() || at.expansion == 0 || !sm.is_library(at.file)) return d;
+  for (const Note& use : sm.expansion_notes(at)) {
+    if (sm.is_library(use.span.begin.file)) continue;
+    Diagnostic moved = d;
+    moved.span = use.span;
+    // The library line, without the expansion chain that leads back here.
+    SourceSpan library = d.span;
+    library.begin.expansion = library.end.expansion = 0;
+    moved.notes.insert(moved.notes.begin(),
+                       Note{library, fmt::format("in macro '{}' of the standard library {}",
+                                                 sm.expansion(at.expansion).macro, sm.path(at.file))});
+    return moved;
+  }
+  return d;
+}
+
+std::vector<const Diagnostic*> in_source_order(const Diagnostics& diags, const SourceManager& sm) {
+  struct Keyed {
+    const Diagnostic* d;
+    std::vector<std::array<std::uint32_t, 3>> key;  // empty: no position
+  };
+  std::vector<Keyed> keyed;
+  for (const auto& d : diags.all())
+    keyed.push_back({&d, d.span.begin.valid() ? reading_key(as_reported(d, sm).span.begin, sm) : decltype(Keyed::key){}});
+  std::stable_sort(keyed.begin(), keyed.end(), [](const Keyed& a, const Keyed& b) {
+    if (a.key.empty() || b.key.empty()) return !a.key.empty() && b.key.empty();
+    return a.key < b.key;
+  });
+  std::vector<const Diagnostic*> ordered;
+  for (const auto& k : keyed) ordered.push_back(k.d);
+  return ordered;
+}
+
+std::string render_text(const Diagnostic& shown, const SourceManager& sm, bool color) {
+  const Diagnostic d = as_reported(shown, sm);
   std::string out;
-  render_one(out, d.severity, d.span, d.message, sm);
-  for (const auto& n : all_notes(d, sm)) render_one(out, Severity::Note, n.span, n.message, sm);
+  Palette palette{color};
+  render_one(out, d.severity, d.span, d.message, sm, palette, unplaced_file(d, sm));
+  for (const auto& n : all_notes(d, sm)) render_one(out, Severity::Note, n.span, n.message, sm, palette);
   return out;
 }
 
-std::string render_json(const Diagnostic& d, const SourceManager& sm) {
+std::string render_json(const Diagnostic& shown, const SourceManager& sm) {
+  const Diagnostic d = as_reported(shown, sm);
   nlohmann::json j = location_json(d.span, sm);
+  if (!d.span.begin.valid()) j["file"] = unplaced_file(d, sm);
   j["severity"] = severity_name(d.severity);
   j["message"] = d.message;
   j["notes"] = nlohmann::json::array();
@@ -178,13 +260,14 @@ std::string render_json(const Diagnostic& d, const SourceManager& sm) {
 }
 
 std::string render_all(const Diagnostics& diags, const SourceManager& sm, const RenderOptions& options) {
-  auto render = [&](const Diagnostic& d) { return options.json ? render_json(d, sm) + "\n" : render_text(d, sm); };
+  auto render = [&](const Diagnostic& d) { return options.json ? render_json(d, sm) + "\n" : render_text(d, sm, options.color); };
   std::string out;
   std::size_t errors = 0;
-  for (const auto& d : diags.all()) {
+  for (const Diagnostic* in_order : in_source_order(diags, sm)) {
+    const Diagnostic& d = *in_order;
     if (d.severity == Severity::Error && options.max_errors != 0 && errors == options.max_errors) {
       Diagnostic rest{Severity::Note, {}, fmt::format("{} more errors not shown (--max-errors=0 shows every error)",
-                                                       diags.error_count() - errors), {}};
+                                                       diags.error_count() - errors), {}, false, {}};
       return out + render(rest);
     }
     if (d.severity == Severity::Error) ++errors;

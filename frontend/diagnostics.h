@@ -64,6 +64,11 @@ class SourceManager {
   // The notes "in expansion of macro X" for a location, innermost first.
   std::vector<Note> expansion_notes(const SourceLoc& loc) const;
 
+  // The standard library (rcx.nqh): a problem its text shows is the user's
+  // use of it, so diagnostics move to the user's line (as_reported).
+  void mark_library(std::uint32_t file);
+  bool is_library(std::uint32_t file) const { return file < files_.size() && files_[file].library; }
+
   // Where `file` was #included (so diagnostics in it can say so).
   void set_include_site(std::uint32_t file, SourceSpan site);
   // The notes "FILE was included from here" for a location, innermost first.
@@ -75,6 +80,7 @@ class SourceManager {
     std::string text;
     std::vector<std::size_t> line_starts;
     SourceSpan included_from;  // invalid when not #included
+    bool library = false;
   };
   std::vector<File> files_;
   std::vector<MacroExpansion> expansions_;
@@ -92,6 +98,9 @@ struct Diagnostic {
   // statement, a malformed number, a pointer): the code around it is whole
   // and can still be checked.
   bool parsed_past = false;
+  // The file a diagnostic without a position is about, when it is not the
+  // program being compiled (which is the default: SourceManager's file 0).
+  std::string file;
 };
 
 // Collects diagnostics of one compilation. Warnings can be silenced (-w) or
@@ -114,12 +123,25 @@ class Diagnostics {
   Diagnostic discarded_;
 };
 
+// `d` as the user should see it: an error inside a standard-library macro
+// (Random() without its argument) is placed where the user's text used the
+// macro, with the library line as a note. Rendering applies it.
+Diagnostic as_reported(const Diagnostic& d, const SourceManager& sm);
+
 // gcc-style text: "file:line:col: error: message", the source line, a caret
 // under the span, then each note the same way.
-std::string render_text(const Diagnostic& d, const SourceManager& sm);
+// With `color`, ANSI colours as gcc prints them on a terminal.
+std::string render_text(const Diagnostic& d, const SourceManager& sm, bool color = false);
 // One JSON object (a single line) with file, line, column, end, severity,
 // message and notes, for IDEs.
 std::string render_json(const Diagnostic& d, const SourceManager& sm);
+
+// The diagnostics in the order of the text they are about, as a reader meets
+// it: a message in a macro's body counts where the macro is used, one in an
+// #included file where the #include is. Stages report in their own order
+// (preprocessor, parser, checks, code generation); readers want line order.
+// Those without a position come last, in the order they were reported.
+std::vector<const Diagnostic*> in_source_order(const Diagnostics& diags, const SourceManager& sm);
 
 inline constexpr std::size_t kDefaultMaxErrors = 20;
 
@@ -130,6 +152,7 @@ struct RenderOptions {
   // saying how many are left out, and printing stops: a file that is not NQC
   // at all would otherwise bury the first, useful error. 0 prints all.
   std::size_t max_errors = kDefaultMaxErrors;
+  bool color = false;  // ANSI colours (--color; on a terminal by default)
 };
 std::string render_all(const Diagnostics& diags, const SourceManager& sm, const RenderOptions& options);
 

@@ -14,19 +14,19 @@ namespace {
 std::optional<std::uint32_t> load(const std::string& path, SourceManager& sm, Diagnostics& diags) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) {
-    diags.error({}, "'" + path + "' is a directory, not a source file");
+    diags.error({}, "'" + path + "' is a directory, not a source file").file = path;
     return std::nullopt;
   }
   std::ifstream in(path, std::ios::binary);
   if (!in) {
-    diags.error({}, "cannot open '" + path + "'");
+    diags.error({}, "cannot open '" + path + "'").file = path;
     return std::nullopt;
   }
   std::ostringstream ss;
   ss << in.rdbuf();
   std::string text = ss.str();
   if (std::string why = not_source_reason(path, text); !why.empty()) {
-    diags.error({}, why);
+    diags.error({}, why).file = path;
     return std::nullopt;
   }
   return sm.add(path, std::move(text));
@@ -72,6 +72,7 @@ std::optional<ast::Program> run(std::uint32_t file, const std::string& dir, cons
   if (!pp.complete) return std::nullopt;
   ast::Program program = parse_tokens(pp.tokens, diags);
   program.pragmas = std::move(pp.pragmas);
+  program.macro_names = std::move(pp.macro_names);
   if (diags.has_errors()) {
     check_around_syntax_errors(program, diags);
     return std::nullopt;

@@ -133,6 +133,8 @@ yy::Parser::symbol_type next_token(Feed& feed) {
     ++feed.pos;
     feed.prev_end = feed.pos >= 2 ? feed.tokens[feed.pos - 2].span.end : SourceLoc{};
     feed.last_text = t.text;
+    if (t.is("{")) feed.open_braces.push_back(t.span);
+    if (t.is("}") && !feed.open_braces.empty()) feed.open_braces.pop_back();
     bool mnemonic = t.kind == TokenKind::Identifier && is_mnemonic_position(feed, t);
     track_asm(feed, t);
     switch (t.kind) {
@@ -166,7 +168,7 @@ yy::Parser::symbol_type next_token(Feed& feed) {
 
 ast::Program parse_tokens(const std::vector<Token>& all_tokens, Diagnostics& diags) {
   std::vector<Token> tokens = without_rcx2_statements(all_tokens, diags);
-  Feed feed{tokens, diags, {}, 0, {}, {}, 0, false, 0};
+  Feed feed{tokens, diags, {}, 0, {}, {}, 0, false, 0, {}};
   P parser(feed);
   parser.parse();
   return std::move(feed.program);

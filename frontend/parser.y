@@ -42,6 +42,7 @@ struct Feed {
   int asm_stage = 0;         // 0 none, 1 saw 'asm', 2 inside its braces
   bool asm_item_start = false;
   int asm_depth = 0;
+  std::vector<SourceSpan> open_braces;  // each '{' handed out and not yet closed
 };
 
 yy::Parser::symbol_type next_token(Feed& feed);
@@ -175,6 +176,16 @@ top
       {
         note_order(feed.program, SymbolKind::Sub, feed.program.subs.size());
         feed.program.subs.push_back(Sub{$2, @2, std::move($5), kNoSymbol});
+      }
+  | SUB IDENT '(' params ')' block
+      {
+        // The firmware's subroutine call carries no values.
+        feed.diags.error(@4, "subroutines take no parameters (the RCX's subroutine call carries no values): "
+                             "write 'void " + $2 + "(...)' for a function with parameters, or pass values in "
+                             "global variables").parsed_past = true;
+        // Checked as that function, so its body and calls are still judged.
+        note_order(feed.program, SymbolKind::Function, feed.program.functions.size());
+        feed.program.functions.push_back(Function{$2, @2, std::move($4), std::move($6), kNoSymbol});
       }
   | VOID IDENT '(' params_opt ')' block
       {
@@ -477,7 +488,10 @@ void yy::Parser::report_syntax_error(const context& ctx) const {
   // first line of a program is wrong): then at what was found.
   if (want.rfind("';'", 0) == 0 && feed.prev_end.valid() && feed.prev_end.file == where.begin.file)
     where = {feed.prev_end, feed.prev_end};
-  feed.diags.error(where, want.empty() ? "syntax error at " + found : "expected " + want + " before " + found);
+  auto& d = feed.diags.error(where, want.empty() ? "syntax error at " + found : "expected " + want + " before " + found);
+  // At the end of the file the mistake is far above: show the '{' left open.
+  if (ctx.token() == symbol_kind::S_YYEOF && !feed.open_braces.empty())
+    d.notes.push_back({feed.open_braces.back(), "this '{' is not closed"});
 }
 
 }  // namespace rcxc::frontend

@@ -144,6 +144,7 @@ class Preprocessor {
     if (!opts_.no_stdlib) {
       if (auto text = stdlib::find(kStdlibName)) {
         std::uint32_t id = sm_.add(kStdlibName, std::string(*text));
+        sm_.mark_library(id);
         push_file(id, "", std::string("<stdlib>/") + kStdlibName);
       } else {
         diags_.error({}, "the standard library rcx.nqh is missing from this build");
@@ -162,6 +163,7 @@ class Preprocessor {
     end.span = last_span_;
     out_.tokens.push_back(end);
     out_.complete = !aborted_;
+    for (const auto& [name, id] : defined_) out_.macro_names.push_back(name);
     return std::move(out_);
   }
 
@@ -715,6 +717,7 @@ class Preprocessor {
       std::string key = "<stdlib>/" + name;
       if (!enter_checked(key, where)) return;
       std::uint32_t id = sm_.add(name, std::string(*text));
+      sm_.mark_library(id);
       sm_.set_include_site(id, where);
       push_file(id, "", key);
       return;

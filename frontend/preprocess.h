@@ -20,6 +20,7 @@ struct Preprocessed {
   // bound): the tokens end in the middle of the program, so parsing them
   // would only add errors about a cut the user did not make.
   bool complete = true;
+  std::vector<std::string> macro_names;  // defined at the end, for "did you mean"
 };
 
 // Preprocesses file `file` (already added to `sm`, with `dir` as the folder

@@ -8,6 +8,7 @@
 
 #include "frontend/fold.h"
 #include "frontend/ranges.h"
+#include "frontend/spelling.h"
 
 namespace rcxc::frontend {
 namespace {
@@ -154,11 +155,32 @@ class Checker {
     return kind == SymbolKind::Sub || kind == SymbolKind::Function || kind == SymbolKind::Task;
   }
 
-  void undefined(const std::string& name, SourceSpan span, const std::string& what) {
+  // The names a misspelt one could have meant: for a call the subs and
+  // functions (the API's too), otherwise the variables in scope; and the
+  // macros (OUT_A, SENSOR_TOUCH, ...) either way.
+  std::vector<std::string> spelling_candidates(bool callee) const {
+    std::vector<std::string> names = prog_.macro_names;
+    auto take = [&](const auto& table) {
+      for (const auto& [n, id] : table)
+        if (is_callable(prog_.symbols[id].kind) == callee) names.push_back(n);
+    };
+    take(globals_);
+    for (const auto& scope : scopes_) take(scope);
+    return names;
+  }
+
+  void undefined(const std::string& name, SourceSpan span, const std::string& what, bool callee) {
     // One report per name and body keeps a misspelt name from flooding.
     if (!reported_undefined_.insert(name).second) return;
-    std::string why = is_rcx2_api_name(name) ? " (it belongs to the RCX 2 firmware's API; this target is the RCX)" : what;
-    diags_.error(span, "'" + name + "' is not declared" + why);
+    if (is_rcx2_api_name(name)) {
+      diags_.error(span, "'" + name + "' is not declared (it belongs to the RCX 2 firmware's API; this target is the RCX)");
+      return;
+    }
+    if (auto meant = closest_name(name, spelling_candidates(callee))) {
+      diags_.error(span, "'" + name + "' is not declared; did you mean '" + *meant + "'?");
+      return;
+    }
+    diags_.error(span, "'" + name + "' is not declared" + what);
   }
 
   // ------------------------------------------------------ declarations --
@@ -556,7 +578,7 @@ class Checker {
   void visit_expr(Name& n, Expr& e, Use) {
     auto id = lookup(n.name);
     if (!id) {
-      undefined(n.name, e.span, "");
+      undefined(n.name, e.span, "", false);
       return;
     }
     const Symbol& s = prog_.symbols[*id];
@@ -640,7 +662,7 @@ class Checker {
     bool args_ok = diags_.error_count() == errors_before;
     auto id = lookup_callee(n.callee);
     if (!id) {
-      undefined(n.callee, n.callee_span, " (no sub or function of that name)");
+      undefined(n.callee, n.callee_span, " (no sub or function of that name)", true);
       return;
     }
     const Symbol& s = prog_.symbols[*id];

@@ -134,6 +134,28 @@ TEST(LinkCli, NqcDownloadsAndRunsOnTheVirtualBrick) {
   EXPECT_EQ(get_var0(brick.path), "42\n");
 }
 
+// rcxc's nqc mode speaks to the brick as nqc does: options, then the file
+// and actions in the order given.
+TEST(LinkCli, NqcModeDownloadsSelectsAndRuns) {
+  BrickProcess brick;
+  ASSERT_FALSE(brick.path.empty());
+  std::string src = write_temp("prog.nqc", {});
+  std::ofstream(src) << "int x;\ntask main() {\n  x = 7;\n  x = x * 6;\n}\n";
+  auto d = run_rcxc({"nqc", "-S" + brick.path, "-d", "-pgm", "3", src, "-run"});
+  ASSERT_EQ(d.exit_code, 0) << d.out << d.err;
+  EXPECT_NE(d.err.find("to program 3"), std::string::npos) << d.err;
+  EXPECT_EQ(get_var0(brick.path), "42\n");
+  auto log = run_rcxc({"nqc", "-S" + brick.path, "-datalog", "-near", "-far", "-sleep", "5", "-msg", "3", "-clear"});
+  EXPECT_EQ(log.exit_code, 0) << log.err;
+  EXPECT_NE(log.out.find("0 entries"), std::string::npos) << log.out;
+}
+
+TEST(LinkCli, NqcModeWithoutATowerExitsAsNqc) {
+  auto r = run_rcxc({"nqc", "-S/dev/no-such-tower", "-run"});
+  EXPECT_EQ(r.exit_code, 255);
+  EXPECT_NE(r.err.find("no-such-tower"), std::string::npos) << r.err;
+}
+
 TEST(LinkCli, DownloadCompilesNqcSource) {
   BrickProcess brick;
   ASSERT_FALSE(brick.path.empty());

@@ -33,7 +33,7 @@ TEST(TestCommand, FailingTestShowsExpectedAndActual) {
   auto r = run_rcxc({"test", f});
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.out.find("FAIL " + f), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find(f + ":1: expected global n == 7; got n = 6"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find(f + ":1: error: expected global n == 7; got n = 6"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("0 passed, 1 failed"), std::string::npos) << r.out;
 }
 
@@ -67,7 +67,7 @@ TEST(TestCommand, BadDirectiveIsReportedWithItsLine) {
   auto f = d.write("dir.nqc", std::string("\n// @expect global n ~ 6\n") + kCounter);
   auto r = run_rcxc({"test", f});
   EXPECT_EQ(r.exit_code, 1);
-  EXPECT_NE(r.out.find(f + ":2: bad directive"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find(f + ":2: error: bad directive"), std::string::npos) << r.out;
 }
 
 TEST(TestCommand, MissingPathIsAnError) {

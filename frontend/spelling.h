@@ -1,0 +1,21 @@
+// "Did you mean": the name a misspelt one most likely stands for.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace rcxc::frontend {
+
+// Edits (insert, delete, replace, swap two neighbours) from `a` to `b`; a
+// letter differing only in case costs nothing, as `onfwd` is plainly `OnFwd`.
+std::size_t spelling_distance(std::string_view a, std::string_view b);
+
+// The candidate nearest to `misspelt`, if it is near enough to be a typing
+// slip (a third of the name's length in edits; only case for
+// names shorter than three) and no other candidate is as
+// near; names starting with "__" (the library's own helpers) are skipped.
+std::optional<std::string> closest_name(std::string_view misspelt, const std::vector<std::string>& candidates);
+
+}  // namespace rcxc::frontend

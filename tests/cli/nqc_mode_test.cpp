@@ -1,0 +1,245 @@
+// rcxc's nqc mode (`rcxc nqc ...`, or rcxc started as `nqc`) against the
+// real nqc: the same command lines, in twin folders holding the same files,
+// must give the same exit codes, create the same files and point at the same
+// source lines (BricxCC jumps to the `line N` of each error).
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <regex>
+#include <set>
+#include <sstream>
+
+#include "tests/support/process.h"
+
+namespace {
+
+using rcxc::test::run_process;
+using rcxc::test::run_rcxc;
+using rcxc::test::TempDir;
+namespace fs = std::filesystem;
+
+const std::map<std::string, std::string> kFiles = {
+    {"ok.nqc", "task main()\n{\n  OnFwd(OUT_A);\n  Wait(100);\n}\n"},
+    {"undeclared.nqc", "task main()\n{\n  OnFwd(OUT_A);\n  x = 1;\n}\n"},
+    {"nocall.nqc", "task main()\n{\n  Wait(10);\n\n  Launch(3);\n}\n"},
+    {"inc.nqc", "#include \"lib.nqh\"\ntask main()\n{\n  Go();\n}\n"},
+    {"badinc.nqc", "#include \"badlib.nqh\"\ntask main()\n{\n  Go();\n}\n"},
+    {"inc/lib.nqh", "void Go()\n{\n  OnFwd(OUT_A);\n}\n"},
+    {"inc/badlib.nqh", "void Go()\n{\n  OnFwd(OUT_A);\n  Stopp(OUT_A);\n}\n"},
+    {"defs.nqc", "int y;\ntask main()\n{\n#ifdef X\n  x = 1;\n#endif\n#if LEVEL != 2\n  z = 2;\n#endif\n  y = 1;\n}\n"},
+    {"plain.nqc", "int x;\ntask main()\n{\n  x = OUT_A;\n}\n"},
+};
+
+struct Outcome {
+  int exit_code = -1;
+  std::string out;
+  std::string err;
+  std::set<std::string> created;  // files that were not there before
+  std::string logs;               // the text of every created .log file
+};
+
+std::string shell_word(const std::string& s) { return "'" + s + "'"; }
+
+// Runs `program ARGS` in a fresh folder holding kFiles.
+Outcome run_in_folder(const std::string& program, const std::vector<std::string>& args, const std::string& env = "",
+                      const std::string& stdin_text = "") {
+  TempDir d;
+  for (const auto& [name, text] : kFiles) {
+    fs::create_directories(fs::path(d.path + "/" + name).parent_path());
+    d.write(name, text);
+  }
+  std::string command = "cd " + shell_word(d.path) + " && exec env " + env + " " + shell_word(program);
+  for (const auto& a : args) command += " " + shell_word(a);
+  auto r = run_process({"/bin/sh", "-c", command}, stdin_text, 60000);
+  Outcome o{r.exit_code, r.out, r.err, {}, {}};
+  for (const auto& entry : fs::recursive_directory_iterator(d.path)) {
+    std::string rel = fs::relative(entry.path(), d.path).string();
+    if (entry.is_regular_file() && !kFiles.count(rel)) {
+      o.created.insert(rel);
+      if (entry.path().extension() == ".log") {
+        std::ifstream in(entry.path());
+        std::stringstream s;
+        s << in.rdbuf();
+        o.logs += s.str();
+      }
+    }
+  }
+  return o;
+}
+
+// The places the errors point at, as BricxCC reads them: file and line.
+std::set<std::string> error_lines(const std::string& text) {
+  std::set<std::string> lines;
+  static const std::regex place("File \"([^\"]*)\" ; line ([0-9]+)");
+  for (auto it = std::sregex_iterator(text.begin(), text.end(), place); it != std::sregex_iterator(); ++it)
+    lines.insert((*it)[1].str() + ":" + (*it)[2].str());
+  return lines;
+}
+
+bool have_nqc() { return ::access("/usr/bin/nqc", X_OK) == 0; }
+
+// rcxc under the name nqc, through a symbolic link as an installation makes.
+struct NqcLink {
+  TempDir dir;
+  std::string path = dir.path + "/nqc";
+  NqcLink() { fs::create_symlink(RCXC_BINARY, path); }
+};
+
+struct Case {
+  std::vector<std::string> args;
+  std::string env;
+  std::string stdin_text;
+  Case(std::vector<std::string> a, std::string e = "", std::string in = "")
+      : args(std::move(a)), env(std::move(e)), stdin_text(std::move(in)) {}
+};
+
+void expect_same_as_nqc(const Case& c) {
+  NqcLink rcxc_as_nqc;
+  Outcome theirs = run_in_folder("/usr/bin/nqc", c.args, c.env, c.stdin_text);
+  Outcome ours = run_in_folder(rcxc_as_nqc.path, c.args, c.env, c.stdin_text);
+  std::string call;
+  for (const auto& a : c.args) call += " " + a;
+  SCOPED_TRACE(c.env + " nqc" + call + "\n--- nqc:\n" + theirs.out + theirs.err + theirs.logs + "--- rcxc:\n" + ours.out +
+               ours.err + ours.logs);
+  EXPECT_EQ(ours.exit_code, theirs.exit_code);
+  EXPECT_EQ(ours.created, theirs.created);
+  EXPECT_EQ(ours.out.empty(), theirs.out.empty());
+  EXPECT_EQ(error_lines(ours.err), error_lines(theirs.err));
+  EXPECT_EQ(error_lines(ours.out), error_lines(theirs.out));
+  EXPECT_EQ(error_lines(ours.logs), error_lines(theirs.logs));
+}
+
+TEST(NqcMode, CompilingBehavesAsNqc) {
+  if (!have_nqc()) GTEST_SKIP() << "nqc is not installed";
+  for (const Case& c : std::vector<Case>{
+           {{"-Trcx", "ok.nqc"}},
+           {{"-TRCX", "-Oout.rcx", "ok.nqc"}},
+           {{"-L", "ok.nqc"}},
+           {{"-Lx.lst", "ok.nqc"}},
+           {{"-s", "-Lx.lst", "-Oy.rcx", "ok.nqc"}},
+           {{"undeclared.nqc"}},
+           {{"nocall.nqc"}},
+           {{"-E", "undeclared.nqc"}},
+           {{"-Eerr.log", "undeclared.nqc"}},
+           {{"-Eerr.log", "ok.nqc"}},
+           {{"missing.nqc"}},
+           {{"-n", "plain.nqc"}},
+           {{"plain.nqc"}},
+           {{"defs.nqc"}},
+           {{"-b", "ok.nqc"}},
+           {{"-"}, "", kFiles.at("undeclared.nqc")},
+           {{"-"}, "", kFiles.at("ok.nqc")},
+           {{"-DLEVEL=2", "defs.nqc"}},
+           {{"-DLEVEL=2", "-DX", "defs.nqc"}},
+           {{"-DLEVEL=2", "-DX", "-UX", "defs.nqc"}},
+           {{"-Iinc", "inc.nqc"}},
+           {{"inc.nqc"}, "NQC_INCLUDE=inc"},
+           {{"ok.nqc"}, "NQC_OPTIONS=-Lq.lst"},
+           {{"-api"}},
+       })
+    expect_same_as_nqc(c);
+}
+
+// BricxCC's own compile line, with a program that compiles, one with an
+// error, and one whose error is in an included file.
+TEST(NqcMode, BricxccCompileLineBehavesAsNqc) {
+  if (!have_nqc()) GTEST_SKIP() << "nqc is not installed";
+  for (const char* file : {"ok.nqc", "undeclared.nqc", "badinc.nqc"})
+    expect_same_as_nqc({{"-Etemp.log", "-Ltemp.lst", "-Iinc", "-Iother", "-Trcx", "-Of.rcx", file}});
+}
+
+TEST(NqcMode, BadCommandLinesBehaveAsNqc) {
+  if (!have_nqc()) GTEST_SKIP() << "nqc is not installed";
+  for (const Case& c : std::vector<Case>{
+           {std::vector<std::string>{}},
+           {{"-Z", "ok.nqc"}},
+           {{"-q", "-v"}},
+           {{"-pgm"}},
+           {{"ok.nqc", "-Lx.lst"}},  // an option after the file: the file is still compiled
+           {{"ok.nqc", "undeclared.nqc"}},
+           {{"-help"}},
+           {{"-S/dev/no-such-tower", "-run"}},
+           {{"-S/dev/no-such-tower", "-d", "ok.nqc"}},
+           {{"-S/dev/no-such-tower", "-d", "undeclared.nqc"}},
+           {{"-firmware", "no-such.srec"}},
+       })
+    expect_same_as_nqc(c);
+}
+
+// From here on rcxc alone: the exact format BricxCC and users see.
+TEST(NqcMode, ErrorsComeInNqcsFormat) {
+  NqcLink nqc;
+  auto o = run_in_folder(nqc.path, {"-Etemp.log", "-Trcx", "-Of.rcx", "undeclared.nqc"});
+  EXPECT_EQ(o.exit_code, 243);
+  EXPECT_EQ(o.logs,
+            "# Error: 'x' is not declared\n"
+            "File \"undeclared.nqc\" ; line 4\n"
+            "#   x = 1;\n"
+            "#   ^\n"
+            "#----------------------------------------------------------\n"
+            "# 1 error during compilation\n");
+  EXPECT_EQ(o.created, (std::set<std::string>{"temp.log"}));
+}
+
+TEST(NqcMode, SubcommandIsTheSameMode) {
+  TempDir d;
+  std::string src = d.write("p.nqc", kFiles.at("undeclared.nqc"));
+  auto r = run_rcxc({"nqc", "-Trcx", src});
+  EXPECT_EQ(r.exit_code, 243);
+  EXPECT_NE(r.err.find("File \"" + src + "\" ; line 4\n"), std::string::npos) << r.err;
+}
+
+TEST(NqcMode, AMacroErrorIsShownAtTheUsersLine) {
+  TempDir d;
+  std::string src = d.write("m.nqc", "#define BUMP y = y + 1\ntask main()\n{\n  BUMP;\n}\n");
+  auto r = run_rcxc({"nqc", src});
+  EXPECT_EQ(r.exit_code, 243);
+  EXPECT_NE(r.err.find("; line 4\n#   BUMP;\n"), std::string::npos) << r.err;
+}
+
+TEST(NqcMode, OtherTargetsAreRefused) {
+  for (const char* target : {"-TRCX2", "-TScout", "-TCM", "-TSpy", "-TSwan"}) {
+    auto r = run_rcxc({"nqc", target, "ok.nqc"});
+    EXPECT_EQ(r.exit_code, 244) << target;
+    EXPECT_NE(r.err.find("not supported"), std::string::npos) << r.err;
+  }
+}
+
+TEST(NqcMode, ApiPrintsTheStandardLibrary) {
+  std::ifstream in(std::string(RCXC_SOURCE_DIR) + "/stdlib/rcx.nqh", std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  auto r = run_rcxc({"nqc", "-api"});
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_EQ(r.out, s.str());
+}
+
+// The native command line rejects nqc's habits and says what to write.
+TEST(NqcMode, NqcHabitsOnTheNativeCommandLineGetAHint) {
+  TempDir d;
+  std::string ok = d.write("ok.nqc", kFiles.at("ok.nqc"));
+  auto e = run_rcxc({"compile", "-Etemp.log", ok});
+  EXPECT_EQ(e.exit_code, 2);
+  EXPECT_NE(e.err.find("'-Etemp.log' is nqc's option: errors always go to stderr here"), std::string::npos) << e.err;
+  auto t = run_rcxc({"compile", "-Trcx", ok});
+  EXPECT_EQ(t.exit_code, 2);
+  EXPECT_NE(t.err.find("rcxc always compiles for the RCX"), std::string::npos) << t.err;
+  auto l = run_rcxc({"compile", "-Lx.lst", ok});
+  EXPECT_EQ(l.exit_code, 2);
+  EXPECT_NE(l.err.find("write --listing=x.lst"), std::string::npos) << l.err;
+  auto fine = run_rcxc({"compile", "--bogus", ok});
+  EXPECT_EQ(fine.err.find("nqc's option"), std::string::npos) << fine.err;
+}
+
+TEST(NqcMode, ActionsAfterAFailureDoNotRun) {
+  NqcLink nqc;
+  // The compile error stops the call before -api would print anything.
+  auto o = run_in_folder(nqc.path, {"undeclared.nqc", "-api"});
+  EXPECT_EQ(o.exit_code, 243);
+  EXPECT_EQ(o.out, "");
+}
+
+}  // namespace

@@ -1,0 +1,136 @@
+// Diagnostics that do not trap someone coming from nqc or typing fast: "did
+// you mean", the unclosed '{', parameters on a sub, a byte-order mark,
+// library errors at the user's line, reading order, a file name on every
+// error, colour.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "frontend/spelling.h"
+#include "tests/frontend/frontend_test_util.h"
+#include "tests/support/process.h"
+
+namespace {
+
+using rcxc::test::run_frontend;
+using rcxc::test::run_rcxc;
+using rcxc::test::TempDir;
+
+TEST(Spelling, DistanceCountsEditsAndIgnoresCase) {
+  using rcxc::frontend::spelling_distance;
+  EXPECT_EQ(spelling_distance("Wiat", "Wait"), 1u);  // two neighbours swapped
+  EXPECT_EQ(spelling_distance("onfwd", "OnFwd"), 0u);
+  EXPECT_EQ(spelling_distance("Off", "OnFwd"), 3u);
+  EXPECT_EQ(spelling_distance("", "abc"), 3u);
+}
+
+TEST(Spelling, ClosestNameNeedsOneClearWinner) {
+  using rcxc::frontend::closest_name;
+  std::vector<std::string> names{"OUT_A", "OUT_B", "OUT_C", "Wait", "SENSOR_TOUCH", "__internal"};
+  EXPECT_EQ(closest_name("Wiat", names), "Wait");
+  EXPECT_EQ(closest_name("SENSOR_TUOCH", names), "SENSOR_TOUCH");
+  EXPECT_EQ(closest_name("OUT_D", names), std::nullopt);  // A, B and C are as near
+  EXPECT_EQ(closest_name("xyz", names), std::nullopt);
+  EXPECT_EQ(closest_name("__internl", names), std::nullopt);  // the library's helpers are not offered
+}
+
+TEST(HelpfulDiagnostics, MisspeltApiNameSuggestsTheRightOne) {
+  auto r = run_frontend("task main()\n{\n  Wiat(100);\n  OnFwd(OUT_A + SENSOR_TUOCH);\n}\n");
+  EXPECT_EQ(r.brief(), (std::vector<std::string>{"3:3: error: 'Wiat' is not declared; did you mean 'Wait'?",
+                                                 "4:17: error: 'SENSOR_TUOCH' is not declared; did you mean "
+                                                 "'SENSOR_TOUCH'?"}));
+}
+
+TEST(HelpfulDiagnostics, MisspeltOwnNamesSuggestTheProgramsNames) {
+  auto r = run_frontend(
+      "int counter;\nsub bump() { counter++; }\ntask main()\n{\n  int speed;\n  countr = 1;\n  spede = 2;\n  bmup();\n  Wait(speed);\n}\n");
+  EXPECT_EQ(r.brief(), (std::vector<std::string>{"6:3: error: 'countr' is not declared; did you mean 'counter'?",
+                                                 "7:3: error: 'spede' is not declared; did you mean 'speed'?",
+                                                 "8:3: error: 'bmup' is not declared; did you mean 'bump'?"}));
+}
+
+TEST(HelpfulDiagnostics, UnclosedBraceAtEndOfFileIsPointedAt) {
+  auto r = run_frontend("task main()\n{\n  while (true) {\n    Wait(1);\n}\n");
+  ASSERT_EQ(r.diags.all().size(), 1u) << r.text();
+  const auto& d = r.diags.all()[0];
+  EXPECT_EQ(d.message, "expected '}' before end of file");
+  ASSERT_EQ(d.notes.size(), 1u);
+  EXPECT_EQ(d.notes[0].message, "this '{' is not closed");
+  EXPECT_EQ(d.notes[0].span.begin.line, 2u);  // the task's: the while's closes on line 5
+}
+
+TEST(HelpfulDiagnostics, SubWithParametersSaysSubsTakeNone) {
+  auto r = run_frontend("int total;\nsub add(int n)\n{\n  total += n;\n}\ntask main()\n{\n  add(2);\n}\n");
+  // One error: the body and the call are judged as the function it could be.
+  ASSERT_EQ(r.diags.all().size(), 1u) << r.text();
+  EXPECT_EQ(r.diags.all()[0].span.begin.line, 2u);
+  EXPECT_NE(r.diags.all()[0].message.find("subroutines take no parameters"), std::string::npos);
+  EXPECT_NE(r.diags.all()[0].message.find("'void add(...)'"), std::string::npos);
+}
+
+TEST(HelpfulDiagnostics, ByteOrderMarkIsSkipped) {
+  auto r = run_frontend("\xEF\xBB\xBFtask main()\n{\n  x = 1;\n}\n");
+  EXPECT_EQ(r.brief(), (std::vector<std::string>{"3:3: error: 'x' is not declared"}));
+  auto clean = run_frontend("\xEF\xBB\xBF" "task main()\n{\n}\n");
+  EXPECT_TRUE(clean.diags.all().empty()) << clean.text();
+}
+
+TEST(HelpfulDiagnostics, ErrorInALibraryMacroIsShownAtTheUsersLine) {
+  auto r = run_frontend("int v;\ntask main()\n{\n  v = Random();\n}\n");
+  std::string text = render_all(r.diags, r.sm, {});
+  EXPECT_EQ(text.rfind("test.nqc:4:7: error: expected an expression before ')'\n", 0), 0u) << text;
+  EXPECT_NE(text.find("rcx.nqh:"), std::string::npos) << text;
+  EXPECT_NE(text.find("note: in macro 'Random' of the standard library rcx.nqh"), std::string::npos) << text;
+}
+
+TEST(HelpfulDiagnostics, MessagesComeInReadingOrder) {
+  rcxc::SourceManager sm;
+  auto main_file = sm.add("main.nqc", "#include \"lib.nqh\"\nline 2\nline 3\n");
+  auto lib = sm.add("lib.nqh", "lib 1\nlib 2\n");
+  sm.set_include_site(lib, {{main_file, 1, 1}, {main_file, 1, 2}});
+  rcxc::Diagnostics diags;
+  diags.error({{main_file, 3, 1}, {main_file, 3, 2}}, "third");
+  diags.error({}, "no place");
+  diags.error({{lib, 2, 1}, {lib, 2, 2}}, "second");
+  diags.error({{main_file, 2, 1}, {main_file, 2, 2}}, "fourth");
+  diags.error({{lib, 1, 1}, {lib, 1, 2}}, "first");
+  std::vector<std::string> order;
+  for (const auto* d : in_source_order(diags, sm)) order.push_back(d->message);
+  // The included file's lines stand where the #include is (line 1).
+  EXPECT_EQ(order, (std::vector<std::string>{"first", "second", "fourth", "third", "no place"}));
+}
+
+TEST(HelpfulDiagnostics, ErrorsWithoutAPositionNameTheFile) {
+  TempDir d;
+  std::string nomain = d.write("nomain.nqc", "int x;\n");
+  auto r = run_rcxc({"compile", nomain});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.err.rfind(nomain + ": error: the program has no 'task main()'", 0), 0u) << r.err;
+  auto missing = run_rcxc({"compile", d.path + "/missing.nqc"});
+  EXPECT_EQ(missing.err.rfind(d.path + "/missing.nqc: error: cannot open", 0), 0u) << missing.err;
+}
+
+TEST(HelpfulDiagnostics, ColourOnlyWhenAskedOrOnATerminal) {
+  TempDir d;
+  std::string bad = d.write("bad.nqc", "task main()\n{\n  x = 1;\n}\n");
+  auto plain = run_rcxc({"compile", bad});  // stderr is a pipe: auto means none
+  EXPECT_EQ(plain.err.find('\x1b'), std::string::npos) << plain.err;
+  auto never = run_rcxc({"compile", "--color=never", bad});
+  EXPECT_EQ(never.err.find('\x1b'), std::string::npos) << never.err;
+  auto always = run_rcxc({"compile", "--color=always", bad});
+  EXPECT_NE(always.err.find("\x1b[1;31merror:\x1b[0m"), std::string::npos) << always.err;
+  auto wrong = run_rcxc({"compile", "--color=sometimes", bad});
+  EXPECT_EQ(wrong.exit_code, 2);
+}
+
+TEST(HelpfulDiagnostics, NqcsOutputOptionGetsAHint) {
+  TempDir d;
+  std::string ok = d.write("ok.nqc", "task main() { }\n");
+  auto r = run_rcxc({"compile", "-Oout.rcx", ok});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("the output file is -o out.rcx"), std::string::npos) << r.err;
+  EXPECT_EQ(run_rcxc({"compile", "-O1", ok}).exit_code, 0);
+}
+
+}  // namespace
