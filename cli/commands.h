@@ -39,5 +39,6 @@ void register_compare(CLI::App& app, int& exit_code);
 void register_brick(CLI::App& app, int& exit_code);
 void register_download(CLI::App& app, int& exit_code);
 void register_remote(CLI::App& app, int& exit_code);
+void register_lsp(CLI::App& app, int& exit_code);
 
 }  // namespace rcxc::cli
