@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <random>
 #include <sstream>
 
 #include "lsp/index.h"
@@ -451,6 +452,42 @@ TEST(LspCodeAction, SimilarNamesPreferCaseSlips) {
   EXPECT_EQ(names[0], "OnFwd");
   EXPECT_EQ(names[1], "onfwd");
   EXPECT_EQ(names[2], "OnFud");
+}
+
+// ------------------------------------------------------------ robustness --
+
+// Random edits of a real program and random requests, some well formed and
+// some not: every request gets exactly one reply with its id, nothing throws.
+TEST(LspRobustness, RandomEditsAndRequestsAlwaysGetOneReply) {
+  Session s(kProgram);
+  std::mt19937 rng(20);
+  auto below = [&](int n) { return static_cast<int>(rng() % static_cast<unsigned>(n)); };
+  const char* methods[] = {"textDocument/hover",      "textDocument/completion",     "textDocument/definition",
+                           "textDocument/references", "textDocument/documentSymbol", "textDocument/codeAction"};
+  const std::string alphabet = "abcXYZ_09 ;{}()#/*\"\n\t=+-<>&|!~'\xc3\xa9\xff";
+  std::string text = kProgram;
+  for (int round = 0; round < 400; ++round) {
+    for (int e = below(4); e >= 0; --e) {
+      std::size_t at = text.empty() ? 0 : static_cast<std::size_t>(below(static_cast<int>(text.size())));
+      if (below(2) == 0 && !text.empty())
+        text.erase(at, static_cast<std::size_t>(1 + below(8)));
+      else
+        text.insert(at, 1, alphabet[static_cast<std::size_t>(below(static_cast<int>(alphabet.size())))]);
+    }
+    auto change = handle(s.server, note("textDocument/didChange", {{"textDocument", {{"uri", s.uri}, {"version", round}}},
+                                                                   {"contentChanges", json::array({{{"text", text}}})}}));
+    ASSERT_EQ(change.size(), 1u);
+    json params = {{"textDocument", {{"uri", s.uri}}},
+                   {"position", pos(below(30) - 2, below(70) - 2)},
+                   {"range", {{"start", pos(below(25), below(40))}, {"end", pos(below(25), below(80))}}},
+                   {"context", {{"includeDeclaration", below(2) == 0}, {"diagnostics", json::array()}}}};
+    if (below(5) == 0) params.erase(params.begin());
+    if (below(7) == 0) params["position"] = "nowhere";
+    auto out = handle(s.server, request(1000 + round, methods[below(6)], params));
+    ASSERT_EQ(out.size(), 1u);
+    EXPECT_EQ(out[0]["id"], 1000 + round);
+    EXPECT_TRUE(out[0].contains("result") || out[0].contains("error"));
+  }
 }
 
 // ------------------------------------------------------- the real binary --
