@@ -100,6 +100,7 @@ struct Collector {
     d.name = std::move(name);
     d.kind = kind;
     d.at = range_of(span);
+    d.extent = d.at;
     d.signature = std::move(signature);
     d.doc = doc_above(sm, span.begin.file, span.begin.line, false);
     d.scope = scope;
@@ -132,21 +133,30 @@ struct Collector {
         s.node);
   }
 
+  // The body's range becomes the extent of the definition just added (when
+  // it was added: names spelled by a macro are not).
+  Range extend_last(Range whole) {
+    if (!defs.empty() && defs.back().at.begin.file == whole.begin.file && defs.back().at.begin.line == whole.begin.line &&
+        defs.back().at.begin.column == whole.begin.column && whole.end.file == whole.begin.file)
+      defs.back().extent = whole;
+    return whole;
+  }
+
   void program(const ast::Program& p) {
     for (const auto& g : p.globals) add(g.name, DefKind::Global, g.span, "int " + g.name);
     for (const auto& t : p.tasks) {
       add(t.name, DefKind::Task, t.span, "task " + t.name + "()");
-      body(t.body, {place_of(t.span.begin), place_of(t.body.span.end)}, "task " + t.name);
+      body(t.body, extend_last({place_of(t.span.begin), place_of(t.body.span.end)}), "task " + t.name);
     }
     for (const auto& s : p.subs) {
       add(s.name, DefKind::Sub, s.span, "sub " + s.name + "()");
-      body(s.body, {place_of(s.span.begin), place_of(s.body.span.end)}, "sub " + s.name);
+      body(s.body, extend_last({place_of(s.span.begin), place_of(s.body.span.end)}), "sub " + s.name);
     }
     for (const auto& f : p.functions) {
       std::string sig = "void " + f.name + "(";
       for (std::size_t i = 0; i < f.params.size(); ++i) sig += (i ? ", " : "") + param_text(f.params[i]);
       add(f.name, DefKind::Function, f.span, sig + ")");
-      Range scope{place_of(f.span.begin), place_of(f.body.span.end)};
+      Range scope = extend_last({place_of(f.span.begin), place_of(f.body.span.end)});
       for (const auto& prm : f.params)
         add(prm.name, DefKind::Param, prm.span, param_text(prm) + "  // parameter of " + f.name, scope, f.name);
       body(f.body, scope, "function " + f.name);
@@ -169,6 +179,7 @@ void scan_file(Index& index, std::uint32_t file) {
     d.name = t.text;
     d.kind = DefKind::Macro;
     d.at = range_of(t.span);
+    d.extent = d.at;
     d.signature = define_text(index.sm, file, t.span.begin.line);
     d.doc = doc_above(index.sm, file, t.span.begin.line, true);
     index.defs.push_back(std::move(d));

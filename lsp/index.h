@@ -38,6 +38,7 @@ struct Definition {
   std::string name;
   DefKind kind = DefKind::Global;
   Range at;                     // the declaring name
+  Range extent;                 // the whole declaration as far as known (tasks, subs, functions: to the body's end)
   std::string signature;        // e.g. "void OnFwd(const int outputs)", "#define OUT_A 1"
   std::string doc;              // the comment above the definition, without `//`
   std::optional<Range> scope;   // Local, Param, Label: the body they belong to

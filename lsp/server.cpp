@@ -296,13 +296,16 @@ json find_references(Request& r) {
 
 json document_symbols(Request& r) {
   const Index& index = r.doc->index;
+  std::vector<const Definition*> defs;
+  for (const auto& d : index.defs)
+    if (d.at.begin.file == index.main_file && !d.scope) defs.push_back(&d);
+  std::stable_sort(defs.begin(), defs.end(), [](const Definition* a, const Definition* b) {
+    return std::pair(a->at.begin.line, a->at.begin.column) < std::pair(b->at.begin.line, b->at.begin.column);
+  });
   json list = json::array();
-  for (const auto& d : index.defs) {
-    if (d.at.begin.file != index.main_file || d.scope) continue;
-    json range = range_json(index.sm, d.at);
-    list.push_back({{"name", d.name}, {"detail", d.signature}, {"kind", symbol_kind(d)}, {"range", range},
-                    {"selectionRange", range}});
-  }
+  for (const Definition* d : defs)
+    list.push_back({{"name", d->name}, {"detail", d->signature}, {"kind", symbol_kind(*d)},
+                    {"range", range_json(index.sm, d->extent)}, {"selectionRange", range_json(index.sm, d->at)}});
   return list;
 }
 

@@ -417,6 +417,12 @@ TEST(LspSymbols, TasksSubsFunctionsAndGlobals) {
   EXPECT_EQ(kinds["back_off"], 6);
   EXPECT_EQ(kinds["blink"], 12);
   EXPECT_EQ(kinds["main"], 24);
+  // In source order; a task's range covers its body, the selection its name.
+  EXPECT_EQ(symbols[0]["name"], "bumps");
+  EXPECT_EQ(symbols[3]["name"], "main");
+  EXPECT_EQ(symbols[3]["selectionRange"]["start"], pos(15, 5));
+  EXPECT_EQ(symbols[3]["range"]["start"], pos(15, 5));
+  EXPECT_EQ(symbols[3]["range"]["end"], pos(23, 1));
 }
 
 // ---------------------------------------------------------- code actions --
