@@ -14,13 +14,6 @@
 namespace rcxc::test {
 namespace {
 
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 // The commands `rcxc --help` lists.
 std::vector<std::string> commands() {
   std::string help = run_rcxc({"--help"}).out;
@@ -70,7 +63,7 @@ TEST(Help, HelpAndVersionCommands) {
 }
 
 TEST(Help, TheManPageCoversEveryCommandAndOption) {
-  std::string man = slurp(RCXC_SOURCE_DIR "/docs/rcxc.1");
+  std::string man = read_text_file(RCXC_SOURCE_DIR "/docs/rcxc.1");
   // groff escapes '-' as '\-' in option names.
   auto unescape = [](std::string s) { return std::regex_replace(s, std::regex(R"(\\-)"), "-"); };
   std::string text = unescape(man);
@@ -92,8 +85,8 @@ TEST(Help, TheManPageCoversEveryCommandAndOption) {
 }
 
 TEST(Help, CompletionScriptsKnowEveryCommandAndOption) {
-  std::string bash = slurp(RCXC_SOURCE_DIR "/completions/rcxc.bash");
-  std::string zsh = slurp(RCXC_SOURCE_DIR "/completions/_rcxc");
+  std::string bash = read_text_file(RCXC_SOURCE_DIR "/completions/rcxc.bash");
+  std::string zsh = read_text_file(RCXC_SOURCE_DIR "/completions/_rcxc");
   for (const auto& c : commands()) {
     EXPECT_NE(bash.find(" " + c), std::string::npos) << "rcxc.bash lacks " << c;
     EXPECT_NE(zsh.find("'" + c + ":"), std::string::npos) << "_rcxc lacks " << c;

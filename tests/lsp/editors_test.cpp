@@ -21,15 +21,8 @@ using nlohmann::json;
 
 const std::string kEditors = RCXC_SOURCE_DIR "/editors/";
 
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 json read_json(const std::string& path) {
-  std::string text = slurp(path);
+  std::string text = read_text_file(path);
   EXPECT_FALSE(text.empty()) << path;
   json j = json::parse(text, nullptr, false);
   EXPECT_FALSE(j.is_discarded()) << path << " is not valid JSON";
@@ -38,7 +31,7 @@ json read_json(const std::string& path) {
 
 // Every name of the API: inline functions and macros of rcx.nqh.
 std::vector<std::string> api_names() {
-  std::string nqh = slurp(RCXC_SOURCE_DIR "/stdlib/rcx.nqh");
+  std::string nqh = read_text_file(RCXC_SOURCE_DIR "/stdlib/rcx.nqh");
   std::vector<std::string> names;
   std::regex def(R"(^(?:void|#define) ([A-Za-z_][A-Za-z0-9_]*))", std::regex::multiline);
   for (std::sregex_iterator it(nqh.begin(), nqh.end(), def), end; it != end; ++it) names.push_back((*it)[1]);
@@ -91,9 +84,9 @@ TEST(Editors, TextMateGrammarParsesAndItsPatternsCompile) {
 TEST(Editors, EveryApiNameIsHighlightedEverywhere) {
   auto names = api_names();
   ASSERT_GT(names.size(), 80u);
-  std::string vim = slurp(kEditors + "vim/syntax/nqc.vim");
-  std::string grammar = slurp(kEditors + "vscode/syntaxes/nqc.tmLanguage.json");
-  std::string emacs = slurp(kEditors + "emacs/nqc-mode.el");
+  std::string vim = read_text_file(kEditors + "vim/syntax/nqc.vim");
+  std::string grammar = read_text_file(kEditors + "vscode/syntaxes/nqc.tmLanguage.json");
+  std::string emacs = read_text_file(kEditors + "emacs/nqc-mode.el");
   for (const auto& n : names) {
     if (n.rfind("__", 0) == 0) continue;
     EXPECT_TRUE(has_word(vim, n)) << n << " missing from editors/vim/syntax/nqc.vim";
@@ -137,7 +130,7 @@ TEST(Editors, VimFilesLoadInHeadlessNeovimAndMakeFindsTheError) {
                         "-c", "syntax on", "-c", "source " RCXC_SOURCE_DIR "/tests/lsp/nvim_editor.vim"},
                        "", 60000);
   ASSERT_FALSE(r.timed_out);
-  json result = json::parse(slurp(out), nullptr, false);
+  json result = json::parse(read_text_file(out), nullptr, false);
   ASSERT_FALSE(result.is_discarded()) << r.out << r.err;
   ASSERT_FALSE(result.contains("exception")) << result["exception"];
   EXPECT_EQ(result["filetype"], "nqc");

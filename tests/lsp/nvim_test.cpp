@@ -32,10 +32,7 @@ json run_nvim_client(const TempDir& dir, const std::string& nvim, json config) {
                         "luafile " RCXC_SOURCE_DIR "/tests/lsp/nvim_client.lua"},
                        "", 90000);
   EXPECT_FALSE(r.timed_out) << r.err;
-  std::ifstream in(dir.path + "/result.json");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  json result = json::parse(ss.str(), nullptr, false);
+  json result = json::parse(read_text_file(dir.path + "/result.json"), nullptr, false);
   EXPECT_FALSE(result.is_discarded()) << "no result from nvim: " << r.out << r.err;
   return result;
 }
