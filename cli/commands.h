@@ -40,5 +40,7 @@ void register_brick(CLI::App& app, int& exit_code);
 void register_download(CLI::App& app, int& exit_code);
 void register_remote(CLI::App& app, int& exit_code);
 void register_nxt(CLI::App& app, int& exit_code);
+void register_lsp(CLI::App& app, int& exit_code);
+void register_help(CLI::App& app, int& exit_code);  // help [COMMAND], version
 
 }  // namespace rcxc::cli

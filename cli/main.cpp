@@ -34,6 +34,8 @@ int main(int argc, char** argv) {
   rcxc::cli::register_download(app, exit_code);
   rcxc::cli::register_remote(app, exit_code);
   rcxc::cli::register_nxt(app, exit_code);
+  rcxc::cli::register_lsp(app, exit_code);
+  rcxc::cli::register_help(app, exit_code);
 
   try {
     app.parse(argc, argv);

@@ -11,5 +11,6 @@ set(RCXC_LAYERS
   "ir:rcx,frontend"
   "backend:rcx,frontend,ir"
   "verify:rcx,runtime"
+  "lsp:stdlib,frontend"
   "nxt:"
-  "cli:rcx,runtime,link,stdlib,frontend,ir,backend,verify,nxt,cli")
+  "cli:rcx,runtime,link,stdlib,frontend,ir,backend,verify,nxt,lsp,cli")

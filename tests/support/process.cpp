@@ -92,6 +92,13 @@ ProcessResult run_rcxc(const std::vector<std::string>& args, const std::string& 
   return run_process(argv, stdin_text, timeout_ms);
 }
 
+std::string read_text_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
 std::string make_temp_dir() {
   const char* base = std::getenv("TMPDIR");
   std::string tmpl = std::string(base ? base : "/tmp") + "/rcxc-test-XXXXXX";

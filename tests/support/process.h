@@ -23,6 +23,9 @@ ProcessResult run_process(const std::vector<std::string>& argv, const std::strin
 // Runs the rcxc binary under test with `args`.
 ProcessResult run_rcxc(const std::vector<std::string>& args, const std::string& stdin_text = "", int timeout_ms = 0);
 
+// The whole content of the file at `path` ("" when it cannot be read).
+std::string read_text_file(const std::string& path);
+
 // A fresh empty directory under the system temp dir, removed by the caller.
 std::string make_temp_dir();
 

@@ -1,0 +1,46 @@
+// `rcxc lsp`: the language server on standard input and output
+// (docs/editors.md). Everything but the process set-up is in lsp/.
+#include <iostream>
+
+#include "cli/commands.h"
+#include "cli/version.h"
+#include "lsp/server.h"
+
+namespace rcxc::cli {
+
+namespace {
+struct LspArgs {
+  std::vector<std::string> include_dirs;
+  std::vector<std::string> defines;
+  std::vector<std::string> undefines;
+  bool no_stdlib = false;
+  bool stdio = false;
+  std::string stdlib_dir;
+};
+}  // namespace
+
+void register_lsp(CLI::App& app, int& exit_code) {
+  auto* cmd = app.add_subcommand("lsp", "Language server (LSP over standard input and output) for editors");
+  auto args = std::make_shared<LspArgs>();
+  add_repeatable(cmd, "-I", args->include_dirs, "Add a folder to the #include search path");
+  add_repeatable(cmd, "-D", args->defines, "Define a macro: -DNAME or -DNAME=VALUE");
+  add_repeatable(cmd, "-U", args->undefines, "Undefine a macro");
+  cmd->add_flag("-n", args->no_stdlib, "Do not read the standard library rcx.nqh");
+  // Language clients (VS Code's among them) pass --stdio; it is the only transport.
+  cmd->add_flag("--stdio", args->stdio, "Talk over standard input and output (the default and only transport)");
+  cmd->add_option("--stdlib-dir", args->stdlib_dir,
+                  "Where to write the copy of rcx.nqh that go to definition opens (default: a cache folder)");
+  cmd->callback([&exit_code, args] {
+    lsp::Server server;
+    server.options.include_dirs = args->include_dirs;
+    for (const auto& d : args->defines) server.options.define(d);
+    server.options.undefines = args->undefines;
+    server.options.no_stdlib = args->no_stdlib;
+    server.stdlib_dir = args->stdlib_dir;
+    server.version = kVersion;
+    std::ios::sync_with_stdio(false);
+    exit_code = lsp::serve(server, std::cin, std::cout, std::cerr);
+  });
+}
+
+}  // namespace rcxc::cli

@@ -1,0 +1,2 @@
+" NQC sources and headers (rcxc, docs/editors.md).
+autocmd BufRead,BufNewFile *.nqc,*.nqh setfiletype nqc

@@ -1,0 +1,380 @@
+#include "lsp/index.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <map>
+#include <set>
+#include <tuple>
+
+#include "frontend/parse.h"
+#include "frontend/preprocess.h"
+#include "frontend/token.h"
+#include "stdlib/stdlib.h"
+
+namespace rcxc::lsp {
+namespace {
+
+Place place_of(const SourceLoc& loc) { return {loc.file, loc.line, loc.column}; }
+Range range_of(const SourceSpan& span) { return {place_of(span.begin), place_of(span.end)}; }
+
+bool before(const Place& a, const Place& b) { return a.line < b.line || (a.line == b.line && a.column < b.column); }
+
+bool contains(const Range& r, const Place& p) {
+  return p.file == r.begin.file && !before(p, r.begin) && before(p, r.end);
+}
+
+std::string trim(std::string_view s) {
+  auto b = s.find_first_not_of(" \t\r");
+  if (b == std::string_view::npos) return "";
+  auto e = s.find_last_not_of(" \t\r");
+  return std::string(s.substr(b, e - b + 1));
+}
+
+bool starts_with(std::string_view s, std::string_view prefix) { return s.substr(0, prefix.size()) == prefix; }
+
+bool is_define_line(std::string_view line) {
+  std::string t = trim(line);
+  if (!starts_with(t, "#")) return false;
+  return starts_with(trim(std::string_view(t).substr(1)), "define");
+}
+
+// The `//` comment block right above line `line`. For a macro the block may
+// sit above a run of #define lines (one comment for a group of constants).
+// Section rules (`// ---- Outputs ----`) are headings, not documentation.
+std::string doc_above(const SourceManager& sm, std::uint32_t file, std::uint32_t line, bool macro) {
+  std::uint32_t l = line;
+  if (macro)
+    while (l > 1 && is_define_line(sm.line(file, l - 1))) --l;
+  std::vector<std::string> lines;
+  while (l > 1) {
+    std::string t = trim(sm.line(file, l - 1));
+    if (!starts_with(t, "//")) break;
+    --l;
+    std::string text = trim(std::string_view(t).substr(2));
+    if (starts_with(text, "---")) break;
+    lines.push_back(text);
+  }
+  std::reverse(lines.begin(), lines.end());
+  std::string doc;
+  for (const auto& s : lines) {
+    if (!doc.empty()) doc += '\n';
+    doc += s;
+  }
+  return doc;
+}
+
+std::string param_text(const ast::Param& p) {
+  switch (p.kind) {
+    case ast::ParamKind::Value: return "int " + p.name;
+    case ast::ParamKind::Const: return "const int " + p.name;
+    case ast::ParamKind::Reference: return "int &" + p.name;
+    case ast::ParamKind::ConstReference: return "const int &" + p.name;
+  }
+  return p.name;
+}
+
+// The #define line (with its continuation lines) as written.
+std::string define_text(const SourceManager& sm, std::uint32_t file, std::uint32_t line) {
+  std::string text;
+  for (std::uint32_t l = line; l < line + 20; ++l) {
+    std::string part = trim(sm.line(file, l));
+    bool more = !part.empty() && part.back() == '\\';
+    if (more) part = trim(std::string_view(part).substr(0, part.size() - 1));
+    if (!text.empty()) text += ' ';
+    text += part;
+    if (!more) break;
+  }
+  return text;
+}
+
+bool from_file(const SourceSpan& s) { return s.begin.valid() && s.begin.expansion == 0; }
+
+struct Collector {
+  const SourceManager& sm;
+  std::vector<Definition>& defs;
+
+  void add(std::string name, DefKind kind, const SourceSpan& span, std::string signature,
+           std::optional<Range> scope = std::nullopt, std::string owner = "") {
+    if (!from_file(span)) return;
+    Definition d;
+    d.name = std::move(name);
+    d.kind = kind;
+    d.at = range_of(span);
+    d.extent = d.at;
+    d.signature = std::move(signature);
+    d.doc = doc_above(sm, span.begin.file, span.begin.line, false);
+    d.scope = scope;
+    d.owner = std::move(owner);
+    defs.push_back(std::move(d));
+  }
+
+  void body(const ast::Stmt& s, const Range& scope, const std::string& owner) {
+    std::visit(
+        [&](const auto& n) {
+          using T = std::decay_t<decltype(n)>;
+          if constexpr (std::is_same_v<T, ast::Block>) {
+            for (const auto& c : n.stmts) body(c, scope, owner);
+          } else if constexpr (std::is_same_v<T, ast::DeclStmt>) {
+            for (const auto& v : n.vars)
+              add(v.name, DefKind::Local, v.span, "int " + v.name + "  // local in " + owner, scope, owner);
+          } else if constexpr (std::is_same_v<T, ast::If>) {
+            body(*n.then_branch, scope, owner);
+            if (n.else_branch) body(**n.else_branch, scope, owner);
+          } else if constexpr (std::is_same_v<T, ast::For>) {
+            if (n.init) body(**n.init, scope, owner);
+            body(*n.body, scope, owner);
+          } else if constexpr (std::is_same_v<T, ast::Labeled>) {
+            add(n.label, DefKind::Label, n.label_span, n.label + ":  // label in " + owner, scope, owner);
+            body(*n.body, scope, owner);
+          } else if constexpr (requires { n.body; }) {
+            body(*n.body, scope, owner);
+          }
+        },
+        s.node);
+  }
+
+  // The body's range becomes the extent of the definition just added (when
+  // it was added: names spelled by a macro are not).
+  Range extend_last(Range whole) {
+    if (!defs.empty() && defs.back().at.begin.file == whole.begin.file && defs.back().at.begin.line == whole.begin.line &&
+        defs.back().at.begin.column == whole.begin.column && whole.end.file == whole.begin.file)
+      defs.back().extent = whole;
+    return whole;
+  }
+
+  void program(const ast::Program& p) {
+    for (const auto& g : p.globals) add(g.name, DefKind::Global, g.span, "int " + g.name);
+    for (const auto& t : p.tasks) {
+      add(t.name, DefKind::Task, t.span, "task " + t.name + "()");
+      body(t.body, extend_last({place_of(t.span.begin), place_of(t.body.span.end)}), "task " + t.name);
+    }
+    for (const auto& s : p.subs) {
+      add(s.name, DefKind::Sub, s.span, "sub " + s.name + "()");
+      body(s.body, extend_last({place_of(s.span.begin), place_of(s.body.span.end)}), "sub " + s.name);
+    }
+    for (const auto& f : p.functions) {
+      std::string sig = "void " + f.name + "(";
+      for (std::size_t i = 0; i < f.params.size(); ++i) sig += (i ? ", " : "") + param_text(f.params[i]);
+      add(f.name, DefKind::Function, f.span, sig + ")");
+      Range scope = extend_last({place_of(f.span.begin), place_of(f.body.span.end)});
+      for (const auto& prm : f.params)
+        add(prm.name, DefKind::Param, prm.span, param_text(prm) + "  // parameter of " + f.name, scope, f.name);
+      body(f.body, scope, "function " + f.name);
+    }
+  }
+};
+
+// Macros and identifier occurrences, read from each file's own tokens.
+void scan_file(Index& index, std::uint32_t file) {
+  Diagnostics ignored;
+  std::vector<frontend::Token> tokens = frontend::lex(index.sm.text(file), file, ignored);
+  for (std::size_t i = 0; i < tokens.size(); ++i) {
+    const auto& t = tokens[i];
+    if (t.kind != frontend::TokenKind::Identifier) continue;
+    index.occurrences.push_back({t.text, range_of(t.span)});
+    bool directive = i >= 2 && tokens[i - 2].line_start && tokens[i - 2].is("#") &&
+                     tokens[i - 1].is_identifier("define") && !t.line_start;
+    if (!directive) continue;
+    Definition d;
+    d.name = t.text;
+    d.kind = DefKind::Macro;
+    d.at = range_of(t.span);
+    d.extent = d.at;
+    d.signature = define_text(index.sm, file, t.span.begin.line);
+    d.doc = doc_above(index.sm, file, t.span.begin.line, true);
+    index.defs.push_back(std::move(d));
+  }
+}
+
+SourceSpan outside_macros(SourceSpan span, const SourceManager& sm) {
+  for (int guard = 0; span.begin.expansion != 0 && guard < 1000; ++guard) span = sm.expansion(span.begin.expansion).site;
+  return span;
+}
+
+DocDiagnostic::Related related_of(const Note& n, const SourceManager& sm) {
+  DocDiagnostic::Related r;
+  r.message = n.message;
+  SourceSpan s = outside_macros(n.span, sm);
+  if (!s.begin.valid()) return r;
+  r.path = sm.path(s.begin.file);
+  r.line = s.begin.line;
+  r.column = s.begin.column;
+  bool end_ok = s.end.valid() && s.end.file == s.begin.file && before(place_of(s.begin), place_of(s.end));
+  r.end_line = end_ok ? s.end.line : s.begin.line;
+  r.end_column = end_ok ? s.end.column : s.begin.column + 1;
+  return r;
+}
+
+// The compiler's diagnostics, each placed in the document: in an included
+// file's problem at its #include line, in the standard library's at the top.
+std::vector<DocDiagnostic> compile_diagnostics(const std::string& path, const std::string& text,
+                                               const frontend::Options& options) {
+  SourceManager sm;
+  Diagnostics diags;
+  frontend::parse_source(path, text, options, sm, diags);
+  std::vector<DocDiagnostic> out;
+  const std::uint32_t main = 0;  // parse_source adds the document first
+  for (const auto& d : diags.all()) {
+    DocDiagnostic dd;
+    dd.severity = d.severity;
+    dd.message = d.message;
+    SourceSpan span = outside_macros(d.span, sm);
+    if (span.begin.valid() && span.begin.file != main) {
+      dd.related.push_back(related_of({span, d.message}, sm));
+      SourceSpan site{};
+      for (const auto& n : sm.include_notes(span.begin))
+        if (n.span.begin.file == main) site = n.span;
+      dd.message = "in " + std::filesystem::path(sm.path(span.begin.file)).filename().string() + ":" +
+                   std::to_string(span.begin.line) + ": " + d.message;
+      span = site;
+    }
+    if (span.begin.valid()) {
+      dd.line = span.begin.line;
+      dd.column = span.begin.column;
+      bool end_ok = span.end.valid() && span.end.file == span.begin.file &&
+                    before(place_of(span.begin), place_of(span.end));
+      dd.end_line = end_ok ? span.end.line : span.begin.line;
+      dd.end_column = end_ok ? span.end.column : span.begin.column + 1;
+    }
+    for (const auto& n : d.notes) dd.related.push_back(related_of(n, sm));
+    out.push_back(std::move(dd));
+  }
+  return out;
+}
+
+}  // namespace
+
+std::string_view def_kind_name(DefKind k) {
+  switch (k) {
+    case DefKind::Task: return "task";
+    case DefKind::Sub: return "sub";
+    case DefKind::Function: return "function";
+    case DefKind::Global: return "global variable";
+    case DefKind::Local: return "local variable";
+    case DefKind::Param: return "parameter";
+    case DefKind::Label: return "label";
+    case DefKind::Macro: return "macro";
+  }
+  return "name";
+}
+
+Index build_index(const std::string& path, const std::string& text, const frontend::Options& options) {
+  Index index;
+  index.diagnostics = compile_diagnostics(path, text, options);
+
+  Diagnostics ignored;
+  index.main_file = index.sm.add(path, text);
+  std::string dir = std::filesystem::path(path).parent_path().string();
+  frontend::Preprocessed pp = frontend::preprocess(index.main_file, dir.empty() ? "." : dir, options, index.sm, ignored);
+  ast::Program program = frontend::parse_tokens(pp.tokens, ignored);
+  Collector{index.sm, index.defs}.program(program);
+
+  for (std::uint32_t f = 0; f < index.sm.size(); ++f) {
+    auto embedded = stdlib::find(index.sm.path(f));
+    index.is_stdlib.push_back(embedded && *embedded == index.sm.text(f));
+    scan_file(index, f);
+  }
+  return index;
+}
+
+const Occurrence* occurrence_at(const Index& index, std::uint32_t file, std::uint32_t line, std::uint32_t column) {
+  Place p{file, line, column};
+  for (const auto& o : index.occurrences)
+    if (contains(o.at, p) || (o.at.end.file == file && o.at.end.line == line && o.at.end.column == column))
+      return &o;
+  return nullptr;
+}
+
+const Definition* resolve(const Index& index, const std::string& name, const Place& where) {
+  const Definition* macro = nullptr;
+  const Definition* local = nullptr;
+  const Definition* top = nullptr;
+  for (const auto& d : index.defs) {
+    if (d.name != name) continue;
+    if (contains(d.at, where)) return &d;
+    if (d.kind == DefKind::Macro) {
+      if (!macro) macro = &d;
+    } else if (d.scope) {
+      if (!contains(*d.scope, where)) continue;
+      // The innermost scope; within one, the last declaration before the use.
+      if (!local || before(local->scope->begin, d.scope->begin) ||
+          (!before(d.scope->begin, local->scope->begin) && before(d.at.begin, where)))
+        local = &d;
+    } else if (!top) {
+      top = &d;
+    }
+  }
+  if (macro) return macro;
+  return local ? local : top;
+}
+
+std::vector<Range> references(const Index& index, const Definition& def, bool with_declaration) {
+  std::vector<Range> out;
+  std::set<std::tuple<std::string, std::uint32_t, std::uint32_t>> seen;  // a file read twice counts once
+  for (const auto& o : index.occurrences) {
+    if (o.name != def.name) continue;
+    if (resolve(index, o.name, o.at.begin) != &def) continue;
+    if (!with_declaration && o.at.begin.file == def.at.begin.file && o.at.begin.line == def.at.begin.line &&
+        o.at.begin.column == def.at.begin.column)
+      continue;
+    if (!seen.insert({index.sm.path(o.at.begin.file), o.at.begin.line, o.at.begin.column}).second) continue;
+    out.push_back(o.at);
+  }
+  return out;
+}
+
+std::vector<const Definition*> visible_at(const Index& index, const Place& where) {
+  std::vector<const Definition*> out;
+  std::set<std::string> names;
+  auto take = [&](const Definition& d) {
+    if (starts_with(d.name, "__")) return;
+    if (names.insert(d.name).second) out.push_back(&d);
+  };
+  for (const auto& d : index.defs)
+    if (d.scope && contains(*d.scope, where)) take(*resolve(index, d.name, where));
+  for (const auto& d : index.defs)
+    if (!d.scope) take(d);
+  return out;
+}
+
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  const std::size_t n = a.size(), m = b.size();
+  std::vector<std::vector<std::size_t>> d(n + 1, std::vector<std::size_t>(m + 1));
+  for (std::size_t i = 0; i <= n; ++i) d[i][0] = i;
+  for (std::size_t j = 0; j <= m; ++j) d[0][j] = j;
+  for (std::size_t i = 1; i <= n; ++i)
+    for (std::size_t j = 1; j <= m; ++j) {
+      std::size_t cost = a[i - 1] == b[j - 1] ? 0 : 1;
+      d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + cost});
+      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1]) d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+    }
+  return d[n][m];
+}
+
+std::vector<std::string> similar_names(const Index& index, const std::string& name, const Place& where,
+                                       std::size_t limit) {
+  auto lower = [](std::string s) {
+    for (auto& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return s;
+  };
+  const std::string key = lower(name);
+  const std::size_t allowed = std::max<std::size_t>(1, name.size() / 3);
+  // Ranked by the distance ignoring case (a slip of the shift key costs
+  // less than a wrong letter), then by the exact distance.
+  std::vector<std::tuple<std::size_t, std::size_t, std::string>> scored;
+  for (const Definition* d : visible_at(index, where)) {
+    if (d->name == name || d->kind == DefKind::Label) continue;
+    std::size_t dist = edit_distance(key, lower(d->name));
+    if (dist > allowed) continue;
+    scored.emplace_back(dist, edit_distance(name, d->name), d->name);
+  }
+  std::sort(scored.begin(), scored.end());
+  std::vector<std::string> out;
+  for (const auto& [folded, exact, n] : scored) {
+    if (out.size() == limit) break;
+    out.push_back(n);
+  }
+  return out;
+}
+
+}  // namespace rcxc::lsp

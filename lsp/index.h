@@ -1,0 +1,107 @@
+// What the language server knows about one open document: the compiler's
+// diagnostics for it and every name in it and in the files it reads (the
+// standard library, #includes), with where each is defined and used.
+//
+// The diagnostics come from the compiler exactly as `rcxc compile` reports
+// them. The names come from a second, lenient pass (preprocess and parse,
+// no checks), so a program with errors in it still has its tasks, functions
+// and variables to hover, complete and jump to.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "frontend/diagnostics.h"
+#include "frontend/frontend.h"
+
+namespace rcxc::lsp {
+
+enum class DefKind : std::uint8_t { Task, Sub, Function, Global, Local, Param, Label, Macro };
+std::string_view def_kind_name(DefKind k);
+
+// A place in one of the index's files; lines and columns count from 1, the
+// column in bytes (the compiler's convention).
+struct Place {
+  std::uint32_t file = 0;
+  std::uint32_t line = 0;
+  std::uint32_t column = 0;
+};
+
+struct Range {
+  Place begin;
+  Place end;  // same file, exclusive
+};
+
+struct Definition {
+  std::string name;
+  DefKind kind = DefKind::Global;
+  Range at;                     // the declaring name
+  Range extent;                 // the whole declaration as far as known (tasks, subs, functions: to the body's end)
+  std::string signature;        // e.g. "void OnFwd(const int outputs)", "#define OUT_A 1"
+  std::string doc;              // the comment above the definition, without `//`
+  std::optional<Range> scope;   // Local, Param, Label: the body they belong to
+  std::string owner;            // Local, Param, Label: the task, sub or function
+};
+
+// One identifier as spelled in a file (comments and strings excluded).
+struct Occurrence {
+  std::string name;
+  Range at;
+};
+
+// A compiler diagnostic placed in the document itself: problems inside an
+// included file or a macro are shown where the document includes or uses it.
+struct DocDiagnostic {
+  Severity severity = Severity::Error;
+  std::uint32_t line = 0;  // 1-based; 0 when the problem has no position
+  std::uint32_t column = 0;
+  std::uint32_t end_line = 0;
+  std::uint32_t end_column = 0;
+  std::string message;
+  struct Related {
+    std::string path;  // "" when the note has no position
+    std::uint32_t line = 0, column = 0, end_line = 0, end_column = 0;
+    std::string message;
+  };
+  std::vector<Related> related;
+};
+
+struct Index {
+  SourceManager sm;                 // every file read, the document is file `main_file`
+  std::uint32_t main_file = 0;
+  std::vector<bool> is_stdlib;      // by file: the embedded standard library
+  std::vector<Definition> defs;
+  std::vector<Occurrence> occurrences;
+  std::vector<DocDiagnostic> diagnostics;
+};
+
+// Compiles `text` as the file at `path` (includes are searched next to it
+// and in options.include_dirs) and indexes what it defines and uses.
+Index build_index(const std::string& path, const std::string& text, const frontend::Options& options);
+
+// The identifier at (line, column) of `file`, if the position is on one.
+const Occurrence* occurrence_at(const Index& index, std::uint32_t file, std::uint32_t line, std::uint32_t column);
+
+// What the identifier `name` at `where` refers to: a macro, else the
+// innermost local, parameter or label in scope, else a top-level name.
+const Definition* resolve(const Index& index, const std::string& name, const Place& where);
+
+// Every occurrence that refers to `def` (its own declaration included when
+// `with_declaration`), in file then source order.
+std::vector<Range> references(const Index& index, const Definition& def, bool with_declaration);
+
+// The definitions visible at `where` (in scope locals and parameters, then
+// every macro and top-level name), one per name, for completion.
+std::vector<const Definition*> visible_at(const Index& index, const Place& where);
+
+// Names close to `name` (edit distance, case differences counting less), best
+// first, at most `limit`: the "did you mean" candidates for an unknown name.
+std::vector<std::string> similar_names(const Index& index, const std::string& name, const Place& where,
+                                       std::size_t limit = 3);
+
+// Edit distance (insertions, deletions, substitutions, transpositions).
+std::size_t edit_distance(const std::string& a, const std::string& b);
+
+}  // namespace rcxc::lsp

@@ -1,0 +1,43 @@
+// JSON-RPC 2.0 over a byte stream with LSP's framing: a header block
+// (`Content-Length: N`, optionally `Content-Type`), an empty line, then N
+// bytes of JSON.
+#pragma once
+
+#include <istream>
+#include <optional>
+#include <ostream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+namespace rcxc::lsp {
+
+// Error codes of JSON-RPC and LSP.
+inline constexpr int kParseError = -32700;
+inline constexpr int kInvalidRequest = -32600;
+inline constexpr int kMethodNotFound = -32601;
+inline constexpr int kInvalidParams = -32602;
+inline constexpr int kInternalError = -32603;
+inline constexpr int kServerNotInitialized = -32002;
+
+// The largest message body accepted; a longer one is read past unparsed.
+inline constexpr std::size_t kMaxBody = 64u << 20;
+
+struct Frame {
+  enum class Kind { Message, BadHeader, End } kind = Kind::End;
+  std::string body;   // Message: the JSON text
+  std::string error;  // BadHeader: what was wrong
+};
+
+// Reads the next frame. A header block without a usable Content-Length is
+// reported (and skipped) as BadHeader; End at end of input.
+Frame read_frame(std::istream& in);
+
+// Writes one message with its header and flushes.
+void write_message(std::ostream& out, const nlohmann::json& message);
+
+nlohmann::json response(const nlohmann::json& id, nlohmann::json result);
+nlohmann::json error_response(const nlohmann::json& id, int code, const std::string& message);
+nlohmann::json notification(const std::string& method, nlohmann::json params);
+
+}  // namespace rcxc::lsp

@@ -1,0 +1,544 @@
+#include "lsp/server.h"
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+
+#include "lsp/jsonrpc.h"
+#include "stdlib/stdlib.h"
+
+namespace rcxc::lsp {
+namespace {
+
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+// ------------------------------------------------------------ positions --
+// LSP counts characters in UTF-16 code units from 0; the compiler counts
+// bytes from 1.
+
+std::size_t utf8_length(unsigned char lead) {
+  if (lead < 0x80) return 1;
+  if ((lead >> 5) == 0x6) return 2;
+  if ((lead >> 4) == 0xe) return 3;
+  if ((lead >> 3) == 0x1e) return 4;
+  return 1;  // a stray continuation byte counts as one
+}
+
+std::uint32_t utf16_of_byte_column(std::string_view line, std::uint32_t column) {
+  std::size_t bytes = column > 0 ? column - 1 : 0;
+  std::uint32_t units = 0;
+  for (std::size_t i = 0; i < bytes && i < line.size();) {
+    std::size_t n = utf8_length(static_cast<unsigned char>(line[i]));
+    units += n == 4 ? 2 : 1;
+    i += n;
+  }
+  if (bytes > line.size()) units += static_cast<std::uint32_t>(bytes - line.size());
+  return units;
+}
+
+std::uint32_t byte_column_of_utf16(std::string_view line, std::int64_t character) {
+  std::size_t i = 0;
+  std::int64_t units = 0;
+  while (i < line.size() && units < character) {
+    std::size_t n = utf8_length(static_cast<unsigned char>(line[i]));
+    units += n == 4 ? 2 : 1;
+    i += n;
+  }
+  return static_cast<std::uint32_t>(std::min(i, line.size())) + 1;
+}
+
+// The text of 1-based line `line` of `text`.
+std::string_view line_of(std::string_view text, std::uint32_t line) {
+  std::size_t start = 0;
+  for (std::uint32_t l = 1; l < line; ++l) {
+    auto nl = text.find('\n', start);
+    if (nl == std::string_view::npos) return {};
+    start = nl + 1;
+  }
+  auto end = text.find('\n', start);
+  std::string_view s = text.substr(start, end == std::string_view::npos ? std::string_view::npos : end - start);
+  if (!s.empty() && s.back() == '\r') s.remove_suffix(1);
+  return s;
+}
+
+json position(std::string_view line_text, std::uint32_t line, std::uint32_t column) {
+  if (line == 0) return {{"line", 0}, {"character", 0}};
+  return {{"line", line - 1}, {"character", utf16_of_byte_column(line_text, column)}};
+}
+
+json range_json(const SourceManager& sm, const Range& r) {
+  return {{"start", position(sm.line(r.begin.file, r.begin.line), r.begin.line, r.begin.column)},
+          {"end", position(sm.line(r.end.file, r.end.line), r.end.line, r.end.column)}};
+}
+
+// A client position as a Place in the document (file main_file).
+std::optional<Place> place_of(const Document& doc, const json& pos) {
+  std::int64_t line = pos.at("line").get<std::int64_t>();
+  std::int64_t character = pos.at("character").get<std::int64_t>();
+  if (line < 0 || character < 0 || line > 10'000'000) return std::nullopt;
+  auto l = static_cast<std::uint32_t>(line + 1);
+  return Place{doc.index.main_file, l, byte_column_of_utf16(line_of(doc.text, l), character)};
+}
+
+// Byte offset in `text` of a client position (for incremental changes).
+std::size_t offset_of(std::string_view text, const json& pos) {
+  std::int64_t line = std::max<std::int64_t>(0, pos.at("line").get<std::int64_t>());
+  std::size_t start = 0;
+  for (std::int64_t l = 0; l < line; ++l) {
+    auto nl = text.find('\n', start);
+    if (nl == std::string_view::npos) return text.size();
+    start = nl + 1;
+  }
+  auto l = static_cast<std::uint32_t>(line + 1);
+  return std::min(text.size(), start + byte_column_of_utf16(line_of(text, l), pos.at("character").get<std::int64_t>()) - 1);
+}
+
+// ------------------------------------------------------------------ URIs --
+
+int hex_value(char c) {
+  if (c >= '0' && c <= '9') return c - '0';
+  if (c >= 'a' && c <= 'f') return c - 'a' + 10;
+  if (c >= 'A' && c <= 'F') return c - 'A' + 10;
+  return -1;
+}
+
+// ------------------------------------------------------- the stdlib copy --
+
+std::string stdlib_copy(Server& server, const std::string& name) {
+  auto text = stdlib::find(name);
+  if (!text) return "";
+  std::error_code ec;
+  fs::path dir = server.stdlib_dir;
+  if (dir.empty()) {
+    const char* cache = std::getenv("XDG_CACHE_HOME");
+    const char* home = std::getenv("HOME");
+    fs::path base = cache && *cache ? fs::path(cache) : home && *home ? fs::path(home) / ".cache" : fs::temp_directory_path(ec);
+    // One folder per library text, so an older rcxc's copy is never shown.
+    dir = base / "rcxc" / ("stdlib-" + std::to_string(std::hash<std::string_view>{}(*text) % 1000000007u));
+  }
+  fs::path file = dir / name;
+  std::ifstream existing(file, std::ios::binary);
+  std::stringstream ss;
+  if (existing) ss << existing.rdbuf();
+  if (!existing || ss.str() != *text) {
+    fs::create_directories(dir, ec);
+    std::ofstream out(file, std::ios::binary | std::ios::trunc);
+    out << *text;
+    if (!out) return "";
+  }
+  return fs::absolute(file, ec).string();
+}
+
+std::string file_uri(Server& server, const Document& doc, const std::string& uri, std::uint32_t file) {
+  if (file == doc.index.main_file) return uri;
+  const std::string& path = doc.index.sm.path(file);
+  if (file < doc.index.is_stdlib.size() && doc.index.is_stdlib[file]) {
+    std::string copy = stdlib_copy(server, path);
+    return copy.empty() ? "" : path_to_uri(copy);
+  }
+  std::error_code ec;
+  return path_to_uri(fs::absolute(path, ec).string());
+}
+
+json location(Server& server, const Document& doc, const std::string& uri, const Range& r) {
+  std::string target = file_uri(server, doc, uri, r.begin.file);
+  if (target.empty()) return nullptr;
+  return {{"uri", target}, {"range", range_json(doc.index.sm, r)}};
+}
+
+// ----------------------------------------------------------- diagnostics --
+
+json diagnostic_json(Server& server, const Document& doc, const DocDiagnostic& d) {
+  auto text_line = [&](std::uint32_t l) { return line_of(doc.text, l); };
+  json j = {{"range",
+             {{"start", position(text_line(d.line), d.line, d.column)},
+              {"end", position(text_line(d.end_line), d.end_line, d.end_column)}}},
+            {"severity", d.severity == Severity::Error ? 1 : d.severity == Severity::Warning ? 2 : 3},
+            {"source", "rcxc"},
+            {"message", d.message}};
+  json related = json::array();
+  for (const auto& r : d.related) {
+    if (r.path.empty()) continue;
+    std::string uri;
+    std::string line_text;
+    std::error_code ec;
+    if (fs::path(r.path).is_relative() && stdlib::find(r.path) && !fs::exists(fs::path(doc.path).parent_path() / r.path, ec)) {
+      std::string copy = stdlib_copy(server, r.path);
+      if (copy.empty()) continue;
+      uri = path_to_uri(copy);
+      line_text = std::string(line_of(*stdlib::find(r.path), r.line));
+    } else if (r.path == doc.path) {
+      uri = path_to_uri(fs::absolute(r.path, ec).string());
+      line_text = std::string(line_of(doc.text, r.line));
+    } else {
+      uri = path_to_uri(fs::absolute(r.path, ec).string());
+    }
+    json range = {{"start", position(line_text, r.line, r.column)},
+                  {"end", position(line_text, r.end_line, r.end_column)}};
+    related.push_back({{"location", {{"uri", uri}, {"range", range}}}, {"message", r.message}});
+  }
+  if (!related.empty()) j["relatedInformation"] = related;
+  return j;
+}
+
+json publish(Server& server, const std::string& uri, const Document* doc) {
+  json list = json::array();
+  if (doc)
+    for (const auto& d : doc->index.diagnostics) list.push_back(diagnostic_json(server, *doc, d));
+  json params = {{"uri", uri}, {"diagnostics", list}};
+  if (doc) params["version"] = doc->version;
+  return notification("textDocument/publishDiagnostics", params);
+}
+
+void reindex(const Server& server, Document& doc) { doc.index = build_index(doc.path, doc.text, server.options); }
+
+// --------------------------------------------------------------- requests --
+
+const char* const kKeywords[] = {"task",  "sub",    "void",    "int",   "const",   "if",       "else",
+                                 "while", "do",     "until",   "for",   "repeat",  "switch",   "case",
+                                 "default", "break", "continue", "return", "goto", "start",    "stop",
+                                 "asm",   "true",   "false",   "inline"};
+
+int completion_kind(const Definition& d) {
+  switch (d.kind) {
+    case DefKind::Task: return 23;  // Event: it runs by itself
+    case DefKind::Sub:
+    case DefKind::Function: return 3;
+    case DefKind::Global:
+    case DefKind::Local:
+    case DefKind::Param: return 6;
+    case DefKind::Label: return 18;
+    case DefKind::Macro: return d.signature.find(d.name + "(") != std::string::npos ? 3 : 21;
+  }
+  return 1;
+}
+
+int symbol_kind(const Definition& d) {
+  switch (d.kind) {
+    case DefKind::Task: return 24;  // Event
+    case DefKind::Sub: return 6;    // Method
+    case DefKind::Function: return 12;
+    case DefKind::Macro: return 14;  // Constant
+    default: return 13;              // Variable
+  }
+}
+
+std::string hover_text(const Definition& d, bool in_stdlib) {
+  std::string text = "```nqc\n" + d.signature + "\n```";
+  std::string where = std::string(def_kind_name(d.kind)) + (in_stdlib ? " of the RCX API (rcx.nqh)" : "");
+  text += "\n" + where;
+  if (!d.doc.empty()) text += "\n\n" + d.doc;
+  return text;
+}
+
+struct Request {
+  Server& server;
+  const json& params;
+  std::string uri;
+  Document* doc = nullptr;
+};
+
+const Definition* definition_at(const Request& r, const Place& at, const Occurrence** occ_out = nullptr) {
+  const Occurrence* occ = occurrence_at(r.doc->index, at.file, at.line, at.column);
+  if (occ_out) *occ_out = occ;
+  return occ ? resolve(r.doc->index, occ->name, occ->at.begin) : nullptr;
+}
+
+json hover(Request& r) {
+  auto at = place_of(*r.doc, r.params.at("position"));
+  if (!at) return nullptr;
+  const Occurrence* occ = nullptr;
+  const Definition* def = definition_at(r, *at, &occ);
+  if (!def) return nullptr;
+  bool in_stdlib = r.doc->index.is_stdlib[def->at.begin.file];
+  return {{"contents", {{"kind", "markdown"}, {"value", hover_text(*def, in_stdlib)}}},
+          {"range", range_json(r.doc->index.sm, occ->at)}};
+}
+
+json completion(Request& r) {
+  auto at = place_of(*r.doc, r.params.at("position"));
+  if (!at) return nullptr;
+  json items = json::array();
+  for (const Definition* d : visible_at(r.doc->index, *at)) {
+    if (d->kind == DefKind::Label) continue;
+    json item = {{"label", d->name}, {"kind", completion_kind(*d)}, {"detail", d->signature}};
+    if (!d->doc.empty()) item["documentation"] = {{"kind", "markdown"}, {"value", d->doc}};
+    items.push_back(item);
+  }
+  for (const char* k : kKeywords) items.push_back({{"label", k}, {"kind", 14}});
+  return {{"isIncomplete", false}, {"items", items}};
+}
+
+json definition(Request& r) {
+  auto at = place_of(*r.doc, r.params.at("position"));
+  if (!at) return nullptr;
+  const Definition* def = definition_at(r, *at);
+  if (!def) return nullptr;
+  return location(r.server, *r.doc, r.uri, def->at);
+}
+
+json find_references(Request& r) {
+  auto at = place_of(*r.doc, r.params.at("position"));
+  if (!at) return nullptr;
+  const Definition* def = definition_at(r, *at);
+  if (!def) return json::array();
+  bool with_decl = r.params.contains("context") && r.params["context"].value("includeDeclaration", false);
+  json list = json::array();
+  for (const Range& range : references(r.doc->index, *def, with_decl)) {
+    json loc = location(r.server, *r.doc, r.uri, range);
+    if (!loc.is_null()) list.push_back(loc);
+  }
+  return list;
+}
+
+json document_symbols(Request& r) {
+  const Index& index = r.doc->index;
+  std::vector<const Definition*> defs;
+  for (const auto& d : index.defs)
+    if (d.at.begin.file == index.main_file && !d.scope) defs.push_back(&d);
+  std::stable_sort(defs.begin(), defs.end(), [](const Definition* a, const Definition* b) {
+    return std::pair(a->at.begin.line, a->at.begin.column) < std::pair(b->at.begin.line, b->at.begin.column);
+  });
+  json list = json::array();
+  for (const Definition* d : defs)
+    list.push_back({{"name", d->name}, {"detail", d->signature}, {"kind", symbol_kind(*d)},
+                    {"range", range_json(index.sm, d->extent)}, {"selectionRange", range_json(index.sm, d->at)}});
+  return list;
+}
+
+// "did you mean" quick fixes for the names the compiler does not know.
+json code_actions(Request& r) {
+  const Index& index = r.doc->index;
+  static const std::regex unknown("^'([A-Za-z_][A-Za-z0-9_]*)' is not declared");
+  static const std::regex suggested("did you mean '([A-Za-z_][A-Za-z0-9_]*)'");
+  auto first = place_of(*r.doc, r.params.at("range").at("start"));
+  auto last = place_of(*r.doc, r.params.at("range").at("end"));
+  if (!first || !last) return nullptr;
+  json actions = json::array();
+  for (const auto& d : index.diagnostics) {
+    std::smatch m;
+    if (d.line == 0 || !std::regex_search(d.message, m, unknown)) continue;
+    // The request's range must touch the diagnostic's.
+    if (d.end_line < first->line || (d.end_line == first->line && d.end_column < first->column)) continue;
+    if (d.line > last->line || (d.line == last->line && d.column > last->column)) continue;
+    std::string name = m[1];
+    const Occurrence* occ = nullptr;
+    for (const auto& o : index.occurrences)
+      if (o.name == name && o.at.begin.file == index.main_file && o.at.begin.line == d.line &&
+          o.at.begin.column >= d.column && (o.at.begin.line < d.end_line || o.at.begin.column < d.end_column)) {
+        occ = &o;
+        break;
+      }
+    if (!occ) continue;
+    std::vector<std::string> names;
+    std::smatch s;
+    if (std::regex_search(d.message, s, suggested)) names.push_back(s[1]);
+    for (auto& n : similar_names(index, name, occ->at.begin))
+      if (std::find(names.begin(), names.end(), n) == names.end()) names.push_back(n);
+    for (std::size_t i = 0; i < names.size(); ++i) {
+      json edit = {{"range", range_json(index.sm, occ->at)}, {"newText", names[i]}};
+      actions.push_back({{"title", "Change '" + name + "' to '" + names[i] + "'"},
+                         {"kind", "quickfix"},
+                         {"isPreferred", i == 0},
+                         {"diagnostics", json::array({diagnostic_json(r.server, *r.doc, d)})},
+                         {"edit", {{"changes", {{r.uri, json::array({edit})}}}}}});
+    }
+  }
+  return actions;
+}
+
+json initialize_result(Server& server, const json& params) {
+  if (params.is_object() && params.contains("initializationOptions")) {
+    const json& init = params["initializationOptions"];
+    if (init.is_object() && init.contains("includeDirs") && init["includeDirs"].is_array())
+      for (const auto& d : init["includeDirs"])
+        if (d.is_string()) server.options.include_dirs.push_back(d.get<std::string>());
+  }
+  json capabilities = {
+      {"textDocumentSync", {{"openClose", true}, {"change", 1}, {"save", {{"includeText", false}}}}},
+      {"hoverProvider", true},
+      {"completionProvider", {{"resolveProvider", false}}},
+      {"definitionProvider", true},
+      {"referencesProvider", true},
+      {"documentSymbolProvider", true},
+      {"codeActionProvider", {{"codeActionKinds", json::array({"quickfix"})}}},
+  };
+  return {{"capabilities", capabilities}, {"serverInfo", {{"name", "rcxc"}, {"version", server.version}}}};
+}
+
+std::string text_document_uri(const json& params) { return params.at("textDocument").at("uri").get<std::string>(); }
+
+std::vector<json> notify(Server& server, const std::string& method, const json& params) {
+  if (method == "exit") {
+    server.exited = true;
+    return {};
+  }
+  if (!server.initialized) return {};
+  if (method == "textDocument/didOpen") {
+    const json& td = params.at("textDocument");
+    std::string uri = td.at("uri").get<std::string>();
+    Document& doc = server.documents[uri];
+    doc.path = uri_to_path(uri);
+    doc.text = td.at("text").get<std::string>();
+    doc.version = td.value("version", 0);
+    reindex(server, doc);
+    return {publish(server, uri, &doc)};
+  }
+  if (method == "textDocument/didChange") {
+    std::string uri = text_document_uri(params);
+    auto it = server.documents.find(uri);
+    if (it == server.documents.end()) return {};
+    Document& doc = it->second;
+    for (const auto& change : params.at("contentChanges")) {
+      std::string text = change.at("text").get<std::string>();
+      if (change.contains("range")) {
+        std::size_t a = offset_of(doc.text, change["range"].at("start"));
+        std::size_t b = offset_of(doc.text, change["range"].at("end"));
+        if (b < a) std::swap(a, b);
+        doc.text.replace(a, b - a, text);
+      } else {
+        doc.text = std::move(text);
+      }
+    }
+    if (params.at("textDocument").contains("version")) doc.version = params["textDocument"].value("version", doc.version);
+    reindex(server, doc);
+    return {publish(server, uri, &doc)};
+  }
+  if (method == "textDocument/didSave") {
+    std::string uri = text_document_uri(params);
+    auto it = server.documents.find(uri);
+    if (it == server.documents.end()) return {};
+    reindex(server, it->second);  // an included file may have changed
+    return {publish(server, uri, &it->second)};
+  }
+  if (method == "textDocument/didClose") {
+    std::string uri = text_document_uri(params);
+    server.documents.erase(uri);
+    return {publish(server, uri, nullptr)};
+  }
+  return {};  // initialized, $/cancelRequest, workspace/didChangeConfiguration, ...: nothing to do
+}
+
+struct UnknownMethod {};
+
+json answer(Server& server, const std::string& method, const json& params) {
+  using Handler = json (*)(Request&);
+  static const std::map<std::string, Handler> handlers = {
+      {"textDocument/hover", hover},
+      {"textDocument/completion", completion},
+      {"textDocument/definition", definition},
+      {"textDocument/references", find_references},
+      {"textDocument/documentSymbol", document_symbols},
+      {"textDocument/codeAction", code_actions},
+  };
+  auto h = handlers.find(method);
+  if (h == handlers.end()) throw UnknownMethod{};
+  Request r{server, params, text_document_uri(params)};
+  auto it = server.documents.find(r.uri);
+  if (it == server.documents.end()) return nullptr;  // not open: nothing known about it
+  r.doc = &it->second;
+  return h->second(r);
+}
+
+}  // namespace
+
+std::vector<json> handle(Server& server, const json& message) {
+  if (!message.is_object() || !message.contains("method") || !message["method"].is_string()) {
+    if (message.is_object() && message.contains("id") && !message.contains("method") &&
+        (message.contains("result") || message.contains("error")))
+      return {};  // a reply to a request of ours (we send none): ignored
+    json id = message.is_object() && message.contains("id") ? message["id"] : json(nullptr);
+    return {error_response(id, kInvalidRequest, "not a JSON-RPC request or notification")};
+  }
+  const std::string method = message["method"].get<std::string>();
+  const json params = message.contains("params") ? message["params"] : json::object();
+  if (!message.contains("id")) {
+    try {
+      return notify(server, method, params);
+    } catch (const std::exception&) {
+      return {};  // a malformed notification cannot be answered; it is dropped
+    }
+  }
+  const json& id = message["id"];
+  if (!id.is_string() && !id.is_number_integer()) return {error_response(nullptr, kInvalidRequest, "bad request id")};
+  if (method == "initialize") {
+    if (server.initialized) return {error_response(id, kInvalidRequest, "initialize was already received")};
+    server.initialized = true;
+    return {response(id, initialize_result(server, params))};
+  }
+  if (!server.initialized) return {error_response(id, kServerNotInitialized, "initialize first")};
+  if (server.shutdown) return {error_response(id, kInvalidRequest, "the server is shutting down")};
+  if (method == "shutdown") {
+    server.shutdown = true;
+    return {response(id, nullptr)};
+  }
+  try {
+    return {response(id, answer(server, method, params))};
+  } catch (const UnknownMethod&) {
+    return {error_response(id, kMethodNotFound, "unknown method '" + method + "'")};
+  } catch (const nlohmann::json::exception& e) {
+    return {error_response(id, kInvalidParams, std::string("bad parameters for ") + method + ": " + e.what())};
+  } catch (const std::exception& e) {
+    return {error_response(id, kInternalError, e.what())};
+  }
+}
+
+std::vector<json> handle_text(Server& server, const std::string& body) {
+  json message = json::parse(body, nullptr, false);
+  if (message.is_discarded()) return {error_response(nullptr, kParseError, "the message is not valid JSON")};
+  return handle(server, message);
+}
+
+int serve(Server& server, std::istream& in, std::ostream& out, std::ostream& log) {
+  while (!server.exited) {
+    Frame frame = read_frame(in);
+    if (frame.kind == Frame::Kind::End) break;
+    if (frame.kind == Frame::Kind::BadHeader) {
+      log << "rcxc lsp: skipped a message: " << frame.error << "\n";
+      continue;
+    }
+    for (const auto& reply : handle_text(server, frame.body)) write_message(out, reply);
+  }
+  return server.shutdown && server.exited ? 0 : 1;
+}
+
+std::string uri_to_path(const std::string& uri) {
+  std::string rest;
+  if (uri.rfind("file://localhost/", 0) == 0)
+    rest = uri.substr(16);
+  else if (uri.rfind("file://", 0) == 0)
+    rest = uri.substr(7);
+  else
+    return uri;  // untitled: and other schemes name no file
+  std::string path;
+  for (std::size_t i = 0; i < rest.size(); ++i) {
+    int hi, lo;
+    if (rest[i] == '%' && i + 2 < rest.size() && (hi = hex_value(rest[i + 1])) >= 0 && (lo = hex_value(rest[i + 2])) >= 0) {
+      path.push_back(static_cast<char>(hi * 16 + lo));
+      i += 2;
+    } else {
+      path.push_back(rest[i]);
+    }
+  }
+  return path;
+}
+
+std::string path_to_uri(const std::string& path) {
+  static const char* hex = "0123456789ABCDEF";
+  std::string uri = "file://";
+  for (unsigned char c : path) {
+    if (std::isalnum(c) || c == '/' || c == '-' || c == '_' || c == '.' || c == '~') {
+      uri.push_back(static_cast<char>(c));
+    } else {
+      uri.push_back('%');
+      uri.push_back(hex[c >> 4]);
+      uri.push_back(hex[c & 15]);
+    }
+  }
+  return uri;
+}
+
+}  // namespace rcxc::lsp

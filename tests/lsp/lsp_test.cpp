@@ -1,0 +1,532 @@
+// The language server's protocol: framing, the lifecycle, and each request
+// on real programs (diagnostics, hover, completion, definition, references,
+// symbols, quick fixes), plus robustness against bad input.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <random>
+#include <sstream>
+
+#include "lsp/index.h"
+#include "lsp/jsonrpc.h"
+#include "lsp/server.h"
+#include "tests/support/process.h"
+
+namespace rcxc::lsp {
+namespace {
+
+using nlohmann::json;
+
+std::string framed(const json& j) {
+  std::string body = j.dump();
+  return "Content-Length: " + std::to_string(body.size()) + "\r\n\r\n" + body;
+}
+
+json request(int id, const std::string& method, json params = json::object()) {
+  return {{"jsonrpc", "2.0"}, {"id", id}, {"method", method}, {"params", params}};
+}
+
+json note(const std::string& method, json params = json::object()) {
+  return {{"jsonrpc", "2.0"}, {"method", method}, {"params", params}};
+}
+
+json pos(int line, int character) { return {{"line", line}, {"character", character}}; }
+
+// A server with one open document; `diagnostics` is what didOpen published.
+struct Session {
+  test::TempDir dir;
+  Server server;
+  std::string uri;
+  json diagnostics;
+
+  explicit Session(const std::string& text, const std::string& name = "prog.nqc") {
+    server.stdlib_dir = dir.path + "/stdlib-copy";
+    EXPECT_EQ(handle(server, request(1, "initialize", {{"capabilities", json::object()}})).size(), 1u);
+    EXPECT_TRUE(handle(server, note("initialized")).empty());
+    std::string path = dir.write(name, text);
+    uri = path_to_uri(path);
+    auto out = handle(server, note("textDocument/didOpen", {{"textDocument",
+                                                             {{"uri", uri}, {"languageId", "nqc"}, {"version", 1}, {"text", text}}}}));
+    EXPECT_EQ(out.size(), 1u);
+    if (!out.empty()) diagnostics = out[0]["params"]["diagnostics"];
+  }
+
+  json ask(const std::string& method, json params) {
+    params["textDocument"] = {{"uri", uri}};
+    auto out = handle(server, request(7, method, params));
+    EXPECT_EQ(out.size(), 1u);
+    if (out.empty()) return nullptr;
+    EXPECT_FALSE(out[0].contains("error")) << out[0].dump();
+    return out[0]["result"];
+  }
+  json at(const std::string& method, int line, int character) { return ask(method, {{"position", pos(line, character)}}); }
+};
+
+// ---------------------------------------------------------------- framing --
+
+TEST(LspFraming, ReadsMessagesInTurn) {
+  std::istringstream in(framed({{"a", 1}}) + "content-length: 7\r\nContent-Type: application/vscode-jsonrpc; charset=utf-8\r\n\r\n{\"b\":2}");
+  Frame f = read_frame(in);
+  ASSERT_EQ(f.kind, Frame::Kind::Message);
+  EXPECT_EQ(json::parse(f.body)["a"], 1);
+  f = read_frame(in);
+  ASSERT_EQ(f.kind, Frame::Kind::Message);
+  EXPECT_EQ(f.body, "{\"b\":2}");
+  EXPECT_EQ(read_frame(in).kind, Frame::Kind::End);
+}
+
+TEST(LspFraming, BadHeadersAreReportedNotFatal) {
+  std::istringstream in("Content-Type: x\r\n\r\nContent-Length: abc\r\n\r\nContent-Length: 99999999999999999999\r\n\r\n" +
+                        framed({{"ok", true}}));
+  Frame f = read_frame(in);
+  EXPECT_EQ(f.kind, Frame::Kind::BadHeader);
+  EXPECT_NE(f.error.find("Content-Length"), std::string::npos);
+  EXPECT_EQ(read_frame(in).kind, Frame::Kind::BadHeader);
+  EXPECT_EQ(read_frame(in).kind, Frame::Kind::BadHeader);
+  f = read_frame(in);
+  ASSERT_EQ(f.kind, Frame::Kind::Message);
+  EXPECT_EQ(json::parse(f.body)["ok"], true);
+}
+
+TEST(LspFraming, ATruncatedBodyEndsTheStream) {
+  std::istringstream in("Content-Length: 50\r\n\r\n{\"a\":");
+  EXPECT_EQ(read_frame(in).kind, Frame::Kind::End);
+}
+
+TEST(LspFraming, WritesContentLengthInBytes) {
+  std::ostringstream out;
+  write_message(out, {{"s", "\xc3\xa9"}});
+  EXPECT_EQ(out.str(), "Content-Length: 10\r\n\r\n{\"s\":\"\xc3\xa9\"}");
+}
+
+// -------------------------------------------------------------- lifecycle --
+
+TEST(LspLifecycle, InitializeAnnouncesTheFeatures) {
+  Server server;
+  auto out = handle(server, request(1, "initialize", {{"capabilities", json::object()}}));
+  ASSERT_EQ(out.size(), 1u);
+  const json& caps = out[0]["result"]["capabilities"];
+  EXPECT_EQ(caps["textDocumentSync"]["change"], 1);
+  EXPECT_TRUE(caps["hoverProvider"].get<bool>());
+  EXPECT_TRUE(caps["definitionProvider"].get<bool>());
+  EXPECT_TRUE(caps["referencesProvider"].get<bool>());
+  EXPECT_TRUE(caps["documentSymbolProvider"].get<bool>());
+  EXPECT_TRUE(caps.contains("completionProvider"));
+  EXPECT_TRUE(caps.contains("codeActionProvider"));
+  EXPECT_EQ(out[0]["result"]["serverInfo"]["name"], "rcxc");
+}
+
+TEST(LspLifecycle, RequestsBeforeInitializeAreRefused) {
+  Server server;
+  auto out = handle(server, request(3, "textDocument/hover", {}));
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(out[0]["error"]["code"], kServerNotInitialized);
+  EXPECT_EQ(out[0]["id"], 3);
+}
+
+TEST(LspLifecycle, BadMessagesGetErrorsAndTheServerGoesOn) {
+  Server server;
+  handle(server, request(1, "initialize"));
+  auto out = handle_text(server, "{not json");
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(out[0]["error"]["code"], kParseError);
+  EXPECT_TRUE(out[0]["id"].is_null());
+  out = handle_text(server, "[1,2]");
+  EXPECT_EQ(out[0]["error"]["code"], kInvalidRequest);
+  out = handle(server, request(4, "no/such/method"));
+  EXPECT_EQ(out[0]["error"]["code"], kMethodNotFound);
+  out = handle(server, request(5, "textDocument/hover", {{"textDocument", 42}}));
+  EXPECT_EQ(out[0]["error"]["code"], kInvalidParams);
+  out = handle(server, request(6, "textDocument/hover", {{"textDocument", {{"uri", "file:///x.nqc"}}}, {"position", "x"}}));
+  EXPECT_EQ(out[0]["id"], 6);  // not open: nothing known, but an answer
+  // A malformed notification is dropped without a reply.
+  EXPECT_TRUE(handle(server, note("textDocument/didOpen", {{"textDocument", "?"}})).empty());
+  EXPECT_TRUE(handle(server, note("textDocument/didChange", json::array())).empty());
+  out = handle(server, request(8, "shutdown"));
+  EXPECT_TRUE(out[0]["result"].is_null());
+  out = handle(server, request(9, "textDocument/hover", {}));
+  EXPECT_EQ(out[0]["error"]["code"], kInvalidRequest);
+}
+
+TEST(LspLifecycle, ServeAnswersAndExitsWithTheRightCode) {
+  Server server;
+  std::istringstream in("garbage\r\n\r\n" + framed(request(1, "initialize")) + framed(request(2, "shutdown")) +
+                        framed(note("exit")) + framed(request(3, "initialize")));
+  std::ostringstream out, log;
+  EXPECT_EQ(serve(server, in, out, log), 0);
+  EXPECT_NE(log.str().find("skipped"), std::string::npos);
+  std::istringstream replies(out.str());
+  EXPECT_EQ(json::parse(read_frame(replies).body)["id"], 1);
+  EXPECT_EQ(json::parse(read_frame(replies).body)["id"], 2);
+  EXPECT_EQ(read_frame(replies).kind, Frame::Kind::End);  // nothing read after exit
+
+  Server abrupt;
+  std::istringstream in2(framed(request(1, "initialize")) + framed(note("exit")));
+  EXPECT_EQ(serve(abrupt, in2, out, log), 1);  // exit without shutdown
+}
+
+TEST(LspLifecycle, UrisRoundTrip) {
+  EXPECT_EQ(uri_to_path("file:///home/a%20b/x.nqc"), "/home/a b/x.nqc");
+  EXPECT_EQ(path_to_uri("/home/a b/x.nqc"), "file:///home/a%20b/x.nqc");
+  EXPECT_EQ(uri_to_path(path_to_uri("/tmp/é#1.nqc")), "/tmp/é#1.nqc");
+  EXPECT_EQ(uri_to_path("file:///bad%zz"), "/bad%zz");
+}
+
+// ------------------------------------------------------------ diagnostics --
+
+TEST(LspDiagnostics, TheCompilersErrorsWithRanges) {
+  Session s("task main()\n{\n  OnFwd(OUT_A);\n  x = 3;\n}\n");
+  ASSERT_EQ(s.diagnostics.size(), 1u) << s.diagnostics.dump();
+  const json& d = s.diagnostics[0];
+  EXPECT_EQ(d["severity"], 1);
+  EXPECT_EQ(d["message"], "'x' is not declared");
+  EXPECT_EQ(d["range"]["start"], pos(3, 2));
+  EXPECT_EQ(d["range"]["end"], pos(3, 3));
+}
+
+TEST(LspDiagnostics, ChangesRecompileAndCleanCodeClearsThem) {
+  Session s("task main()\n{\n  y = 1;\n}\n");
+  ASSERT_EQ(s.diagnostics.size(), 1u);
+  auto out = handle(s.server, note("textDocument/didChange",
+                                   {{"textDocument", {{"uri", s.uri}, {"version", 2}}},
+                                    {"contentChanges", json::array({{{"text", "int y;\ntask main()\n{\n  y = 1;\n}\n"}}})}}));
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(out[0]["params"]["version"], 2);
+  EXPECT_TRUE(out[0]["params"]["diagnostics"].empty()) << out[0].dump();
+  // An incremental change (a client may send one anyway) is applied too.
+  out = handle(s.server, note("textDocument/didChange",
+                              {{"textDocument", {{"uri", s.uri}, {"version", 3}}},
+                               {"contentChanges", json::array({{{"range", {{"start", pos(3, 2)}, {"end", pos(3, 3)}}},
+                                                                {"text", "zz"}}})}}));
+  EXPECT_EQ(out[0]["params"]["diagnostics"][0]["message"], "'zz' is not declared");
+  out = handle(s.server, note("textDocument/didClose", {{"textDocument", {{"uri", s.uri}}}}));
+  EXPECT_TRUE(out[0]["params"]["diagnostics"].empty());
+}
+
+TEST(LspDiagnostics, WarningsAndSyntaxErrors) {
+  Session s("task main()\n{\n  int unused;\n  Wait(10)\n}\n");
+  ASSERT_FALSE(s.diagnostics.empty());
+  bool syntax = false;
+  for (const auto& d : s.diagnostics) syntax |= d["severity"] == 1 && d["range"]["start"]["line"].get<int>() >= 3;
+  EXPECT_TRUE(syntax) << s.diagnostics.dump();
+}
+
+TEST(LspDiagnostics, ColumnsAreUtf16) {
+  // "é" is two bytes but one UTF-16 unit; "𝄞" four bytes, two units.
+  Session s("task main()\n{\n  /*é𝄞*/ x = 1;\n}\n");
+  ASSERT_EQ(s.diagnostics.size(), 1u);
+  EXPECT_EQ(s.diagnostics[0]["range"]["start"], pos(2, 10));
+}
+
+TEST(LspDiagnostics, AnErrorInAnIncludedFileShowsAtTheInclude) {
+  test::TempDir dir;
+  dir.write("bad.nqh", "int a;\nint a;\n");
+  std::string text = "#include \"bad.nqh\"\ntask main() { a = 1; }\n";
+  std::string path = dir.write("p.nqc", text);
+  Server server;
+  handle(server, request(1, "initialize"));
+  auto out = handle(server, note("textDocument/didOpen", {{"textDocument", {{"uri", path_to_uri(path)}, {"text", text}}}}));
+  const json& d = out.at(0)["params"]["diagnostics"].at(0);
+  EXPECT_EQ(d["range"]["start"]["line"], 0);
+  EXPECT_NE(d["message"].get<std::string>().find("bad.nqh:2"), std::string::npos) << d.dump();
+  EXPECT_NE(d["relatedInformation"][0]["location"]["uri"].get<std::string>().find("bad.nqh"), std::string::npos);
+}
+
+// ---------------------------------------------------------------- hover --
+
+const char* kProgram =
+    "// How many times the bumper was hit.\n"   // 0
+    "int bumps;\n"                               // 1
+    "\n"                                         // 2
+    "// Backs off and turns.\n"                  // 3
+    "sub back_off()\n"                           // 4
+    "{\n"                                        // 5
+    "  OnRev(OUT_A + OUT_C);\n"                  // 6
+    "  Wait(50);\n"                              // 7
+    "}\n"                                        // 8
+    "\n"                                         // 9
+    "void blink(const int times, int &left)\n"   // 10
+    "{\n"                                        // 11
+    "  repeat (times) { PlaySound(SOUND_UP); left = left - 1; }\n"  // 12
+    "}\n"                                        // 13
+    "\n"                                         // 14
+    "task main()\n"                              // 15
+    "{\n"                                        // 16
+    "  int speed = 3;\n"                         // 17
+    "  SetSensor(SENSOR_1, SENSOR_TOUCH);\n"     // 18
+    "  while (true) {\n"                         // 19
+    "    if (SENSOR_1 == 1) { bumps++; back_off(); blink(2, speed); }\n"  // 20
+    "    OnFwd(OUT_A);\n"                        // 21
+    "  }\n"                                      // 22
+    "}\n";                                       // 23
+
+std::string hover_value(const json& result) { return result.is_null() ? "" : result["contents"]["value"].get<std::string>(); }
+
+TEST(LspHover, ApiFunctionsShowSignatureAndDoc) {
+  Session s(kProgram);
+  EXPECT_TRUE(s.diagnostics.empty()) << s.diagnostics.dump();
+  std::string h = hover_value(s.at("textDocument/hover", 7, 3));  // Wait
+  EXPECT_NE(h.find("void Wait(const int &ticks)"), std::string::npos) << h;
+  EXPECT_NE(h.find("hundredths of a second"), std::string::npos) << h;
+  EXPECT_NE(h.find("rcx.nqh"), std::string::npos) << h;
+  h = hover_value(s.at("textDocument/hover", 21, 5));  // OnFwd
+  EXPECT_NE(h.find("void OnFwd(const int outputs)"), std::string::npos) << h;
+}
+
+TEST(LspHover, ApiConstantsShowTheirDefinitionAndGroupComment) {
+  Session s(kProgram);
+  std::string h = hover_value(s.at("textDocument/hover", 18, 25));  // SENSOR_TOUCH
+  EXPECT_NE(h.find("#define SENSOR_TOUCH (SENSOR_TYPE_TOUCH * 256 + SENSOR_MODE_BOOL)"), std::string::npos) << h;
+  EXPECT_NE(h.find("configuration for SetSensor"), std::string::npos) << h;
+  h = hover_value(s.at("textDocument/hover", 6, 20));  // OUT_C, in a group whose comment is a section rule
+  EXPECT_NE(h.find("#define OUT_C 4"), std::string::npos) << h;
+  EXPECT_EQ(h.find("----"), std::string::npos) << h;
+}
+
+TEST(LspHover, TheProgramsOwnNames) {
+  Session s(kProgram);
+  std::string h = hover_value(s.at("textDocument/hover", 20, 26));  // bumps
+  EXPECT_NE(h.find("int bumps"), std::string::npos) << h;
+  EXPECT_NE(h.find("How many times the bumper was hit."), std::string::npos) << h;
+  h = hover_value(s.at("textDocument/hover", 20, 37));  // back_off
+  EXPECT_NE(h.find("sub back_off()"), std::string::npos) << h;
+  EXPECT_NE(h.find("Backs off and turns."), std::string::npos) << h;
+  h = hover_value(s.at("textDocument/hover", 20, 49));  // blink
+  EXPECT_NE(h.find("void blink(const int times, int &left)"), std::string::npos) << h;
+  h = hover_value(s.at("textDocument/hover", 20, 57));  // speed, a local
+  EXPECT_NE(h.find("int speed"), std::string::npos) << h;
+  EXPECT_NE(h.find("local variable"), std::string::npos) << h;
+  h = hover_value(s.at("textDocument/hover", 12, 12));  // times, a parameter
+  EXPECT_NE(h.find("const int times"), std::string::npos) << h;
+  EXPECT_TRUE(s.at("textDocument/hover", 19, 3).is_null());   // `while`: a keyword
+  EXPECT_TRUE(s.at("textDocument/hover", 2, 0).is_null());    // an empty line
+  EXPECT_TRUE(s.at("textDocument/hover", 500, 3).is_null());  // past the end
+}
+
+// ------------------------------------------------------------ completion --
+
+std::vector<std::string> labels(const json& result) {
+  std::vector<std::string> out;
+  for (const auto& item : result["items"]) out.push_back(item["label"]);
+  return out;
+}
+
+bool has(const std::vector<std::string>& v, const std::string& s) { return std::find(v.begin(), v.end(), s) != v.end(); }
+
+TEST(LspCompletion, ApiNamesConstantsAndTheProgramsNamesInScope) {
+  Session s(kProgram);
+  auto in_main = labels(s.at("textDocument/completion", 21, 4));
+  for (const char* name : {"OnFwd", "Wait", "SetSensor", "OUT_A", "SENSOR_TOUCH", "SOUND_UP", "Timer", "bumps",
+                           "back_off", "blink", "main", "speed", "while", "repeat"})
+    EXPECT_TRUE(has(in_main, name)) << name;
+  EXPECT_FALSE(has(in_main, "times"));     // blink's parameter is not in scope in main
+  EXPECT_FALSE(has(in_main, "__source"));  // compiler internals are not offered
+  auto in_blink = labels(s.at("textDocument/completion", 12, 4));
+  EXPECT_TRUE(has(in_blink, "times"));
+  EXPECT_FALSE(has(in_blink, "speed"));
+  json r = s.at("textDocument/completion", 21, 4);
+  for (const auto& item : r["items"])
+    if (item["label"] == "Wait") {
+      EXPECT_EQ(item["detail"], "void Wait(const int &ticks)");
+      EXPECT_EQ(item["kind"], 3);
+    }
+}
+
+TEST(LspCompletion, WorksWhileTheProgramHasErrors) {
+  Session s("int total;\ntask main()\n{\n  int here;\n  to\n}\n");
+  EXPECT_FALSE(s.diagnostics.empty());
+  auto names = labels(s.at("textDocument/completion", 4, 4));
+  EXPECT_TRUE(has(names, "total"));
+  EXPECT_TRUE(has(names, "here"));
+  EXPECT_TRUE(has(names, "OnFwd"));
+}
+
+// ---------------------------------------------------- definition, references --
+
+TEST(LspDefinition, TheProgramsNamesAndTheStandardLibrary) {
+  Session s(kProgram);
+  json loc = s.at("textDocument/definition", 20, 37);  // back_off
+  EXPECT_EQ(loc["uri"], s.uri);
+  EXPECT_EQ(loc["range"]["start"], pos(4, 4));
+  loc = s.at("textDocument/definition", 20, 57);  // speed
+  EXPECT_EQ(loc["range"]["start"], pos(17, 6));
+  loc = s.at("textDocument/definition", 7, 3);  // Wait, in the embedded library
+  std::string path = uri_to_path(loc["uri"]);
+  EXPECT_EQ(path, s.dir.path + "/stdlib-copy/rcx.nqh");
+  std::ifstream copy(path);
+  std::string line;
+  for (int i = 0; i <= loc["range"]["start"]["line"].get<int>(); ++i) std::getline(copy, line);
+  EXPECT_NE(line.find("void Wait("), std::string::npos) << line;
+}
+
+TEST(LspDefinition, IntoIncludedFiles) {
+  test::TempDir dir;
+  dir.write("lib.nqh", "// Turns left.\nvoid turn_left() { OnRev(OUT_A); }\n#define SPEED 5\n");
+  std::string text = "#include \"lib.nqh\"\ntask main() { turn_left(); SetPower(OUT_A, SPEED); }\n";
+  std::string path = dir.write("p.nqc", text);
+  Server server;
+  handle(server, request(1, "initialize"));
+  std::string uri = path_to_uri(path);
+  auto opened = handle(server, note("textDocument/didOpen", {{"textDocument", {{"uri", uri}, {"text", text}}}}));
+  EXPECT_TRUE(opened[0]["params"]["diagnostics"].empty()) << opened[0].dump();
+  auto ask = [&](const std::string& method, int line, int ch, json extra = json::object()) {
+    extra["textDocument"] = {{"uri", uri}};
+    extra["position"] = pos(line, ch);
+    return handle(server, request(2, method, extra)).at(0)["result"];
+  };
+  json loc = ask("textDocument/definition", 1, 16);
+  EXPECT_EQ(uri_to_path(loc["uri"]), dir.path + "/lib.nqh");
+  EXPECT_EQ(loc["range"]["start"], pos(1, 5));
+  EXPECT_NE(hover_value(ask("textDocument/hover", 1, 16)).find("Turns left."), std::string::npos);
+  loc = ask("textDocument/definition", 1, 45);  // SPEED
+  EXPECT_EQ(loc["range"]["start"], pos(2, 8));
+  // References of turn_left from its use: the definition in lib.nqh and the call.
+  json refs = ask("textDocument/references", 1, 16, {{"context", {{"includeDeclaration", true}}}});
+  ASSERT_EQ(refs.size(), 2u) << refs.dump();
+}
+
+TEST(LspReferences, EveryUseOfAName) {
+  Session s(kProgram);
+  json refs = s.ask("textDocument/references", {{"position", pos(1, 5)}, {"context", {{"includeDeclaration", true}}}});
+  ASSERT_EQ(refs.size(), 2u) << refs.dump();  // int bumps; and bumps++
+  EXPECT_EQ(refs[1]["range"]["start"], pos(20, 25));
+  refs = s.ask("textDocument/references", {{"position", pos(1, 5)}, {"context", {{"includeDeclaration", false}}}});
+  EXPECT_EQ(refs.size(), 1u);
+  // `left` is blink's parameter: three uses in blink, none elsewhere.
+  refs = s.ask("textDocument/references", {{"position", pos(12, 41)}, {"context", {{"includeDeclaration", true}}}});
+  EXPECT_EQ(refs.size(), 3u) << refs.dump();
+}
+
+TEST(LspReferences, ALocalShadowsAGlobalOfTheSameName) {
+  Session s("int n;\ntask main()\n{\n  int n;\n  n = 1;\n}\ntask other() { n = 2; }\n");
+  json loc = s.at("textDocument/definition", 4, 2);
+  EXPECT_EQ(loc["range"]["start"], pos(3, 6));
+  loc = s.at("textDocument/definition", 6, 15);
+  EXPECT_EQ(loc["range"]["start"], pos(0, 4));
+}
+
+// ------------------------------------------------------------- symbols --
+
+TEST(LspSymbols, TasksSubsFunctionsAndGlobals) {
+  Session s(kProgram);
+  json symbols = s.ask("textDocument/documentSymbol", json::object());
+  std::map<std::string, int> kinds;
+  for (const auto& sym : symbols) kinds[sym["name"]] = sym["kind"];
+  EXPECT_EQ(kinds.size(), 4u) << symbols.dump();  // nothing of the library, no locals
+  EXPECT_EQ(kinds["bumps"], 13);
+  EXPECT_EQ(kinds["back_off"], 6);
+  EXPECT_EQ(kinds["blink"], 12);
+  EXPECT_EQ(kinds["main"], 24);
+  // In source order; a task's range covers its body, the selection its name.
+  EXPECT_EQ(symbols[0]["name"], "bumps");
+  EXPECT_EQ(symbols[3]["name"], "main");
+  EXPECT_EQ(symbols[3]["selectionRange"]["start"], pos(15, 5));
+  EXPECT_EQ(symbols[3]["range"]["start"], pos(15, 5));
+  EXPECT_EQ(symbols[3]["range"]["end"], pos(23, 1));
+}
+
+// ---------------------------------------------------------- code actions --
+
+TEST(LspCodeAction, DidYouMeanFixesAMisspeltName) {
+  Session s("int count;\ntask main()\n{\n  OnFwdd(OUT_A);\n  cuont = 2;\n}\n");
+  ASSERT_EQ(s.diagnostics.size(), 2u) << s.diagnostics.dump();
+  json actions = s.ask("textDocument/codeAction", {{"range", {{"start", pos(3, 3)}, {"end", pos(3, 3)}}},
+                                                   {"context", {{"diagnostics", json::array()}}}});
+  ASSERT_FALSE(actions.empty());
+  EXPECT_EQ(actions[0]["title"], "Change 'OnFwdd' to 'OnFwd'");
+  EXPECT_TRUE(actions[0]["isPreferred"].get<bool>());
+  const json& edit = actions[0]["edit"]["changes"][s.uri][0];
+  EXPECT_EQ(edit["newText"], "OnFwd");
+  EXPECT_EQ(edit["range"]["start"], pos(3, 2));
+  EXPECT_EQ(edit["range"]["end"], pos(3, 8));
+  actions = s.ask("textDocument/codeAction", {{"range", {{"start", pos(4, 0)}, {"end", pos(4, 12)}}},
+                                              {"context", {{"diagnostics", json::array()}}}});
+  ASSERT_FALSE(actions.empty());
+  EXPECT_EQ(actions[0]["edit"]["changes"][s.uri][0]["newText"], "count");
+  // Nothing to fix on a line without an error.
+  EXPECT_TRUE(s.ask("textDocument/codeAction", {{"range", {{"start", pos(0, 0)}, {"end", pos(0, 3)}}}}).empty());
+}
+
+TEST(LspCodeAction, SimilarNamesPreferCaseSlips) {
+  EXPECT_EQ(edit_distance("OnFwd", "OnFwd"), 0u);
+  EXPECT_EQ(edit_distance("OnFwd", "OnFdw"), 1u);  // a transposition is one edit
+  EXPECT_EQ(edit_distance("kitten", "sitting"), 3u);
+  Index index = build_index("/nonexistent/p.nqc", "int onfwd;\nint OnFud;\ntask main() { }\n", {});
+  auto names = similar_names(index, "OnFWD", {index.main_file, 3, 15});
+  // Case slips first (the closer one first), then a wrong letter.
+  ASSERT_EQ(names.size(), 3u);
+  EXPECT_EQ(names[0], "OnFwd");
+  EXPECT_EQ(names[1], "onfwd");
+  EXPECT_EQ(names[2], "OnFud");
+}
+
+// ------------------------------------------------------------ robustness --
+
+// Random edits of a real program and random requests, some well formed and
+// some not: every request gets exactly one reply with its id, nothing throws.
+TEST(LspRobustness, RandomEditsAndRequestsAlwaysGetOneReply) {
+  Session s(kProgram);
+  std::mt19937 rng(20);
+  auto below = [&](int n) { return static_cast<int>(rng() % static_cast<unsigned>(n)); };
+  const char* methods[] = {"textDocument/hover",      "textDocument/completion",     "textDocument/definition",
+                           "textDocument/references", "textDocument/documentSymbol", "textDocument/codeAction"};
+  const std::string alphabet = "abcXYZ_09 ;{}()#/*\"\n\t=+-<>&|!~'\xc3\xa9\xff";
+  std::string text = kProgram;
+  for (int round = 0; round < 400; ++round) {
+    for (int e = below(4); e >= 0; --e) {
+      std::size_t at = text.empty() ? 0 : static_cast<std::size_t>(below(static_cast<int>(text.size())));
+      if (below(2) == 0 && !text.empty())
+        text.erase(at, static_cast<std::size_t>(1 + below(8)));
+      else
+        text.insert(at, 1, alphabet[static_cast<std::size_t>(below(static_cast<int>(alphabet.size())))]);
+    }
+    auto change = handle(s.server, note("textDocument/didChange", {{"textDocument", {{"uri", s.uri}, {"version", round}}},
+                                                                   {"contentChanges", json::array({{{"text", text}}})}}));
+    ASSERT_EQ(change.size(), 1u);
+    json params = {{"textDocument", {{"uri", s.uri}}},
+                   {"position", pos(below(30) - 2, below(70) - 2)},
+                   {"range", {{"start", pos(below(25), below(40))}, {"end", pos(below(25), below(80))}}},
+                   {"context", {{"includeDeclaration", below(2) == 0}, {"diagnostics", json::array()}}}};
+    if (below(5) == 0) params.erase(params.begin());
+    if (below(7) == 0) params["position"] = "nowhere";
+    auto out = handle(s.server, request(1000 + round, methods[below(6)], params));
+    ASSERT_EQ(out.size(), 1u);
+    EXPECT_EQ(out[0]["id"], 1000 + round);
+    EXPECT_TRUE(out[0].contains("result") || out[0].contains("error"));
+  }
+}
+
+// ------------------------------------------------------- the real binary --
+
+TEST(LspProcess, RcxcLspSpeaksOverStdio) {
+  test::TempDir dir;
+  std::string path = dir.write("p.nqc", "task main() { Wait(1) }\n");
+  std::string input = framed(request(1, "initialize", {{"processId", nullptr}, {"capabilities", json::object()}})) +
+                      framed(note("initialized")) +
+                      framed(note("textDocument/didOpen", {{"textDocument",
+                                                            {{"uri", path_to_uri(path)}, {"languageId", "nqc"},
+                                                             {"version", 1}, {"text", "task main() { Wait(1) }\n"}}}})) +
+                      "Bad-Header\r\n\r\n" + framed(request(2, "shutdown")) + framed(note("exit"));
+  auto r = test::run_rcxc({"lsp", "--stdio"}, input, 20000);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  std::istringstream out(r.out);
+  std::vector<json> messages;
+  for (Frame f = read_frame(out); f.kind == Frame::Kind::Message; f = read_frame(out)) messages.push_back(json::parse(f.body));
+  ASSERT_EQ(messages.size(), 3u) << r.out;
+  EXPECT_EQ(messages[0]["id"], 1);
+  EXPECT_EQ(messages[1]["method"], "textDocument/publishDiagnostics");
+  EXPECT_FALSE(messages[1]["params"]["diagnostics"].empty());
+  EXPECT_EQ(messages[2]["id"], 2);
+  EXPECT_NE(r.err.find("skipped"), std::string::npos);
+}
+
+TEST(LspProcess, EndOfInputWithoutExitIsExitCodeOne) {
+  auto r = test::run_rcxc({"lsp"}, framed(request(1, "initialize")), 20000);
+  EXPECT_EQ(r.exit_code, 1);
+  auto r2 = test::run_rcxc({"lsp"}, std::string("\x00\xff garbage", 10), 20000);
+  EXPECT_EQ(r2.exit_code, 1);
+  EXPECT_FALSE(r2.timed_out);
+}
+
+}  // namespace
+}  // namespace rcxc::lsp

@@ -1,0 +1,92 @@
+// `rcxc lsp` under a real LSP client: headless Neovim opens a program,
+// attaches the server and asks for diagnostics, hover, completion and
+// definition (tests/lsp/nvim_client.lua). Skipped when nvim is absent.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "tests/support/process.h"
+
+namespace rcxc::test {
+namespace {
+
+using nlohmann::json;
+
+std::string find_nvim() {
+  auto r = run_process({"/bin/sh", "-c", "command -v nvim"});
+  std::string path = r.out.substr(0, r.out.find('\n'));
+  return r.exit_code == 0 ? path : "";
+}
+
+json run_nvim_client(const TempDir& dir, const std::string& nvim, json config) {
+  config["rcxc"] = RCXC_BINARY;
+  config["stdlib_dir"] = dir.path + "/stdlib";
+  config["out"] = dir.path + "/result.json";
+  std::string config_path = dir.write("config.json", config.dump());
+  auto r = run_process({nvim, "--headless", "-n", "-i", "NONE", "-u", "NONE", "--cmd",
+                        "let g:rcxc_config = '" + config_path + "'", "-c",
+                        "luafile " RCXC_SOURCE_DIR "/tests/lsp/nvim_client.lua"},
+                       "", 90000);
+  EXPECT_FALSE(r.timed_out) << r.err;
+  json result = json::parse(read_text_file(dir.path + "/result.json"), nullptr, false);
+  EXPECT_FALSE(result.is_discarded()) << "no result from nvim: " << r.out << r.err;
+  return result;
+}
+
+TEST(NvimClient, DiagnosticsHoverCompletionAndDefinition) {
+  std::string nvim = find_nvim();
+  if (nvim.empty()) GTEST_SKIP() << "nvim is not installed (apt-get install neovim)";
+  TempDir dir;
+  std::string file = dir.write("bumper.nqc",
+                               "int hits;\n"                 // 0
+                               "sub back_off()\n"            // 1
+                               "{\n"                         // 2
+                               "  OnRev(OUT_A);\n"           // 3
+                               "  Wait(50);\n"               // 4
+                               "}\n"                         // 5
+                               "task main()\n"               // 6
+                               "{\n"                         // 7
+                               "  back_off();\n"             // 8
+                               "  hitz = 1;\n"               // 9
+                               "  \n"                        // 10
+                               "}\n");                       // 11
+  json result = run_nvim_client(dir, nvim,
+                                {{"file", file},
+                                 {"hover", {4, 3}},        // Wait
+                                 {"completion", {10, 2}},  // the empty line in main
+                                 {"definition", {8, 4}},   // back_off
+                                 {"jump", {3, 4}}});       // OnRev, into the library
+  ASSERT_FALSE(result.is_discarded());
+  ASSERT_FALSE(result.contains("error")) << result["error"];
+  EXPECT_TRUE(result["attached"].get<bool>());
+
+  ASSERT_EQ(result["diagnostics"].size(), 1u) << result.dump();
+  const json& d = result["diagnostics"][0];
+  EXPECT_EQ(d["message"], "'hitz' is not declared");
+  EXPECT_EQ(d["lnum"], 9);
+  EXPECT_EQ(d["col"], 2);
+  EXPECT_EQ(d["end_col"], 6);
+  EXPECT_EQ(d["severity"], 1);  // vim.diagnostic.severity.ERROR
+
+  std::string hover = result["hover"].get<std::string>();
+  EXPECT_NE(hover.find("void Wait(const int &ticks)"), std::string::npos) << hover;
+  EXPECT_NE(hover.find("hundredths of a second"), std::string::npos) << hover;
+
+  std::vector<std::string> labels = result["completion"];
+  for (const char* name : {"OnFwd", "OUT_A", "SENSOR_1", "hits", "back_off", "main"})
+    EXPECT_NE(std::find(labels.begin(), labels.end(), name), labels.end()) << name;
+
+  EXPECT_EQ(result["definition"]["uri"], "file://" + file);
+  EXPECT_EQ(result["definition"]["line"], 1);
+  EXPECT_EQ(result["definition"]["character"], 4);
+
+  EXPECT_EQ(result["jump"]["file"], dir.path + "/stdlib/rcx.nqh");
+  EXPECT_NE(result["jump"]["text"].get<std::string>().find("void OnRev("), std::string::npos) << result["jump"];
+}
+
+}  // namespace
+}  // namespace rcxc::test
