@@ -13,7 +13,7 @@ _rcxc() {
     cword=$COMP_CWORD
   fi
 
-  local commands="compile run disasm test compare brick download remote lsp help version"
+  local commands="compile run disasm test compare brick download remote nxt nqc lsp help version"
   if [[ $cword -eq 1 ]]; then
     COMPREPLY=($(compgen -W "$commands --help --version" -- "$cur"))
     return
@@ -22,16 +22,16 @@ _rcxc() {
   local command=${words[1]} options="" files=""
   case $command in
     compile)
-      options="-o --output -I -D -U -n -E -Werror -w -O0 -O1 -Os --listing -v --verbose --diagnostics --max-errors --help"
+      options="-o --output -I -D -U -n -E -Werror -w -O0 -O1 -O2 -Os --listing -v --verbose --diagnostics --max-errors --color --help"
       files="!*.@(nqc|nqh)" ;;
     run)
-      options="--scenario --for --seed --report --trace --instruction-us --help"
+      options="--scenario --for --seed --report --trace --instruction-us --nxt -I -D -U -n -O0 -O1 -O2 -Os --help"
       files="!*.@(nqc|rcx)" ;;
     disasm)
       options="--help"
       files="!*.rcx" ;;
     test)
-      options="--nqc --nqc-path -v --verbose --help"
+      options="--nqc --nqc-path -v --verbose -j --jobs -I -D -U -n -O0 -O1 -O2 -Os --help"
       files="!*.nqc" ;;
     compare)
       options="--scenario --nqc-path --for --seed --instruction-us --help"
@@ -41,6 +41,12 @@ _rcxc() {
     download)
       options="-I --port --program --run --retries --no-sound -v --verbose --help"
       files="!*.@(nqc|rcx)" ;;
+    nxt)
+      options="--port --json -v --verbose --timeout --help"
+      if [[ $COMP_CWORD -eq 2 || $prev != -* ]]; then
+        COMPREPLY=($(compgen -W "info battery tone motor motor-state sensor read ultrasonic mailbox start stop current play keepalive ls upload download rm raw bench brick $options" -- "$cur"))
+        return
+      fi ;;
     remote)
       options="--port --csv --retries --help"
       if [[ $cword -eq 2 || ${words[cword-1]} == --* && $cword -eq 3 ]]; then
