@@ -118,7 +118,7 @@ TEST(CompilerOptions, ATestPicksItsLevel) {
   // The level shows in slot 1: -O0 keeps the local i there, -O1 and -Os
   // fold it away. The file's level wins over the command line's.
   const std::string program = "int v;\ntask main() { int i; i = 2; v = i * 3; }\n";
-  for (auto [level, slot1] : {std::pair{"-O0", 2}, {"-O1", 0}, {"-Os", 0}}) {
+  for (auto [level, slot1] : {std::pair{"-O0", 2}, {"-O1", 0}, {"-O2", 0}, {"-Os", 0}}) {
     auto f = d.write(std::string("t") + level + ".nqc", std::string("// @options ") + level +
                                                             "\n// @expect global v == 6\n// @expect var 1 == " +
                                                             std::to_string(slot1) + "\n" + program);
@@ -127,7 +127,7 @@ TEST(CompilerOptions, ATestPicksItsLevel) {
     r = run_rcxc({"test", std::string(level) == "-O0" ? "-Os" : "-O0", f});
     EXPECT_EQ(r.exit_code, 0) << level << "\n" << r.out << r.err;
   }
-  auto bad = d.write("bad.nqc", "// @options -O2\n// @expect global v == 0\nint v;\ntask main() {}\n");
+  auto bad = d.write("bad.nqc", "// @options -O3\n// @expect global v == 0\nint v;\ntask main() {}\n");
   auto r = run_rcxc({"test", bad});
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.out.find(bad + ":1: bad @options"), std::string::npos) << r.out;
