@@ -146,12 +146,13 @@ std::vector<std::uint8_t> write_image(const Image& image) {
 }
 
 std::variant<Image, ImageError> read_image_file(const std::string& path) {
-  auto file = read_file(path);
+  auto file = read_file(path, kImageFile);
   if (const auto* problem = std::get_if<FileProblem>(&file)) {
     switch (*problem) {
       case FileProblem::Directory: return ImageError{fmt::format("{}: is a directory, not an .rcx image", path)};
       case FileProblem::CannotOpen: return ImageError{fmt::format("{}: cannot open file", path)};
       case FileProblem::ReadError: return ImageError{fmt::format("{}: read error", path)};
+      case FileProblem::TooLarge: return ImageError{too_large_message(path, kImageFile)};
     }
   }
   const std::string& text = std::get<std::string>(file);

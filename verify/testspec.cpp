@@ -536,8 +536,10 @@ std::variant<Spec, std::vector<SpecError>> parse_spec(std::string_view source) {
 }
 
 std::variant<Spec, std::vector<SpecError>> parse_spec_file(const std::string& path) {
-  auto file = read_file(path);
-  if (std::holds_alternative<FileProblem>(file)) return std::vector<SpecError>{{0, "cannot read " + path}};
+  auto file = read_file(path, kSourceFile);
+  if (const auto* problem = std::get_if<FileProblem>(&file))
+    return std::vector<SpecError>{
+        {0, *problem == FileProblem::TooLarge ? too_large_message(path, kSourceFile) : "cannot read " + path}};
   return parse_spec(std::get<std::string>(file));
 }
 
