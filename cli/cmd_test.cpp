@@ -27,21 +27,50 @@ struct TestOptions {
 
 constexpr rcx::Micros kDefaultRunUs = 60'000'000;
 
+// The .nqc files under `folder`, searched with a work list of folders.
+// Links to folders are not followed (a link loop cannot trap the search);
+// a folder or link that cannot be read is added to `problems` and the
+// search goes on with the rest.
+void search_folder(const fs::path& folder, std::vector<std::string>& found, std::vector<std::string>& problems) {
+  std::vector<fs::path> pending{folder};
+  while (!pending.empty()) {
+    fs::path dir = std::move(pending.back());
+    pending.pop_back();
+    std::error_code ec;
+    fs::directory_iterator it(dir, ec);
+    for (; !ec && it != fs::directory_iterator(); it.increment(ec)) {
+      const fs::path& path = it->path();
+      std::error_code link_ec, target_ec;
+      auto link = it->symlink_status(link_ec);
+      if (!link_ec && fs::is_directory(link)) {
+        pending.push_back(path);
+        continue;
+      }
+      if (path.extension() != ".nqc") continue;
+      auto target = it->status(target_ec);
+      if (target_ec)
+        problems.push_back(fmt::format("cannot read {}: {}", path.string(), target_ec.message()));
+      else if (fs::is_regular_file(target))
+        found.push_back(path.string());
+    }
+    if (ec) problems.push_back(fmt::format("cannot read folder {}: {}", dir.string(), ec.message()));
+  }
+}
+
 // The .nqc files named, folders searched recursively, in a stable order.
-std::vector<std::string> collect(const std::vector<std::string>& paths, std::vector<std::string>& missing) {
+std::vector<std::string> collect(const std::vector<std::string>& paths, std::vector<std::string>& problems) {
   std::vector<std::string> files;
   for (const auto& p : paths) {
     std::error_code ec;
     if (fs::is_directory(p, ec)) {
       std::vector<std::string> found;
-      for (const auto& entry : fs::recursive_directory_iterator(p, ec))
-        if (entry.is_regular_file() && entry.path().extension() == ".nqc") found.push_back(entry.path().string());
+      search_folder(p, found, problems);
       std::sort(found.begin(), found.end());
       files.insert(files.end(), found.begin(), found.end());
     } else if (fs::is_regular_file(p, ec)) {
       files.push_back(p);
     } else {
-      missing.push_back(p);
+      problems.push_back("no such file or folder: " + p);
     }
   }
   return files;
@@ -105,10 +134,10 @@ std::vector<Failure> run_test(const TestOptions& o, const std::string& file, std
 }
 
 int run(const TestOptions& o) {
-  std::vector<std::string> missing;
-  auto files = collect(o.paths, missing);
-  for (const auto& m : missing) std::cerr << "rcxc test: no such file or folder: " << m << "\n";
-  if (files.empty() && missing.empty()) std::cerr << "rcxc test: no .nqc files found\n";
+  std::vector<std::string> problems;
+  auto files = collect(o.paths, problems);
+  for (const auto& m : problems) std::cerr << "rcxc test: " << m << "\n";
+  if (files.empty() && problems.empty()) std::cerr << "rcxc test: no .nqc files found\n";
   int passed = 0, failed = 0;
   for (const auto& file : files) {
     std::string log;
@@ -122,7 +151,7 @@ int run(const TestOptions& o) {
     (failures.empty() ? passed : failed)++;
   }
   std::cout << fmt::format("{} passed, {} failed\n", passed, failed);
-  return (failed == 0 && missing.empty() && !files.empty()) ? kExitOk : kExitFailure;
+  return (failed == 0 && problems.empty() && !files.empty()) ? kExitOk : kExitFailure;
 }
 
 }  // namespace

@@ -12,6 +12,18 @@ const Fragment* Image::find(FragmentType type, int index) const {
   return nullptr;
 }
 
+std::string printable_name(std::string_view name) {
+  std::string out;
+  for (char ch : name) {
+    auto c = static_cast<unsigned char>(ch);
+    if (c < 0x20 || c == 0x7f || c == '\\')
+      out += fmt::format("\\x{:02x}", c);
+    else
+      out += ch;
+  }
+  return out;
+}
+
 std::string Image::name_of(SymbolType type, int index) const {
   for (const auto& s : symbols)
     if (s.type == type && s.index == index) return s.name;

@@ -17,7 +17,16 @@ struct ExternalCompile {
   std::string failure;                                // nqc could not be run at all
 };
 
-// Runs `nqc -Trcx -O<tmp> FILE` (`nqc` is a path or a name found on PATH).
-ExternalCompile compile_with_nqc(const std::string& nqc, const std::string& file);
+// What nqc may use: a macro bomb makes it take gigabytes and never return.
+// The memory limit is its address space (RLIMIT_AS), the time both its CPU
+// time (RLIMIT_CPU) and the wall-clock time after which it is killed.
+struct NqcLimits {
+  int seconds = 20;
+  int memory_mib = 512;
+};
+
+// Runs `nqc -Trcx -O<tmp> FILE` (`nqc` is a path or a name found on PATH)
+// within `limits`; a run that passes them is a failure saying so.
+ExternalCompile compile_with_nqc(const std::string& nqc, const std::string& file, const NqcLimits& limits = {});
 
 }  // namespace rcx::semtest

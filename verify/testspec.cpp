@@ -121,6 +121,9 @@ Micros need_time(Cursor& c, std::string_view what) {
   }
   double v = 0;
   auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+  // from_chars reads "nan" and "inf" too; NaN passes every comparison.
+  if (ec == std::errc() && p == s.data() + s.size() && !std::isfinite(v))
+    throw ParseFail{fmt::format("expected {} (like 500ms or 2s), found '{}', which is not a finite number", what, t)};
   if (ec != std::errc() || p != s.data() + s.size() || s.empty() || v < 0 || v > 1e7)
     throw ParseFail{fmt::format("expected {} (like 500ms or 2s), found '{}'", what, t)};
   return static_cast<Micros>(std::llround(v * scale));
