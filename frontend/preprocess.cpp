@@ -30,9 +30,11 @@ constexpr int kMaxIfNesting = 512;
 constexpr std::size_t kExpansionBase = 500'000;
 constexpr std::size_t kExpansionPerInputToken = 32;
 // Argument tokens the macro calls being expanded at one time may hold
-// together (live_argument_tokens_): a few MB, far above real nesting (the
-// stdlib's deepest is a few levels of a few tokens).
-constexpr std::size_t kLiveArgumentBase = 50'000;
+// together (live_argument_tokens_). 1000 nested calls of a one-parameter
+// macro (tests/frontend/stress_test.cpp) hold about 2.5 million; each costs
+// about 250 bytes, so this bounds the preprocessor near 750 MB. F(F(F(...)))
+// 10,000 deep stops here in 0.6 s instead of taking 8 GB.
+constexpr std::size_t kLiveArgumentBase = 3'000'000;
 constexpr std::size_t kLiveArgumentPerInputToken = 4;
 constexpr const char* kStdlibName = "rcx.nqh";
 
