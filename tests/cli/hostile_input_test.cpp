@@ -48,38 +48,38 @@ std::string sub_chain(int depth) {
 TEST(HostileInput, SeventyThousandNestedBlocks) {
   TempDir d;
   auto r = compile(d, "task main() {" + repeat("{", 70000) + repeat("}", 70000) + "}\n");
-  // The 4001st bracket: '{' of main is the first, at column 13.
-  expect_error(r, "p.nqc:1:4013: error: brackets nested more than 4000 deep");
+  // The 3201st bracket: '{' of main is the first, at column 13.
+  expect_error(r, "p.nqc:1:3213: error: brackets nested more than 3200 deep");
 }
 
 TEST(HostileInput, HundredThousandPrefixOperators) {
   TempDir d;
   expect_error(compile(d, "int x; task main() { x = " + repeat("- ", 100000) + "x; }\n"),
-               "error: nested more than 4000 levels deep");
+               "error: nested more than 3200 levels deep");
 }
 
 TEST(HostileInput, TwoHundredThousandTermSum) {
   TempDir d;
   expect_error(compile(d, "int x; task main() { x = x" + repeat("+x", 199999) + "; }\n"),
-               "error: nested more than 4000 levels deep");
+               "error: nested more than 3200 levels deep");
 }
 
 TEST(HostileInput, HundredThousandChainedIfs) {
   TempDir d;
   expect_error(compile(d, "int x; task main() { " + repeat("if (x) ", 100000) + "x = 1; }\n"),
-               "error: nested more than 4000 levels deep");
+               "error: nested more than 3200 levels deep");
 }
 
 TEST(HostileInput, HundredThousandChainedAssignments) {
   TempDir d;
   expect_error(compile(d, "int x; task main() { " + repeat("x = ", 100000) + "1; }\n"),
-               "error: nested more than 4000 levels deep");
+               "error: nested more than 3200 levels deep");
 }
 
 TEST(HostileInput, ADeepGlobalInitialiserToo) {
   TempDir d;
   expect_error(compile(d, "int x = " + repeat("~", 5000) + "1; task main() { }\n"),
-               "error: nested more than 4000 levels deep");
+               "error: nested more than 3200 levels deep");
 }
 
 TEST(HostileInput, DeeplyParenthesisedIfExpression) {
