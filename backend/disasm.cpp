@@ -125,7 +125,8 @@ std::string disassemble(const rcx::Image& image) {
     for (int index = 0; index < (task ? rcx::kMaxTasks : rcx::kMaxSubroutines); ++index) {
       const rcx::Fragment* f = image.find(kind, index);
       if (f == nullptr) continue;
-      std::string name = image.name_of(task ? rcx::SymbolType::Task : rcx::SymbolType::Subroutine, index);
+      std::string name =
+          rcx::printable_name(image.name_of(task ? rcx::SymbolType::Task : rcx::SymbolType::Subroutine, index));
       out += fmt::format("{} {}{}{} ({} bytes)\n", task ? "task" : "sub", index, name.empty() ? "" : " ", name,
                          f->code.size());
       for (int at = 0; at < static_cast<int>(f->code.size());) {

@@ -59,6 +59,11 @@ std::optional<std::string> source_file_at(const std::string& path, const SourceM
 int write_outputs(const CompileArgs& a, const backend::Output& out, const SourceManager& sm) {
   auto image = rcx::write_image(out.image);
   std::string path = image_path(a);
+  if (!a.listing.empty() && a.listing != "-" && same_file(path, a.listing)) {
+    std::cerr << "rcxc compile: the image and the listing would both be written to " << a.listing
+              << " (choose another name)\n";
+    return kExitUsage;
+  }
   for (const std::string* target : {static_cast<const std::string*>(&path), &a.listing}) {
     if (target->empty() || *target == "-") continue;
     if (auto source = source_file_at(*target, sm)) {

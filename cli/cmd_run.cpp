@@ -100,6 +100,12 @@ int run(const RunOptions& o) {
     std::cerr << "rcxc run: " << *bad << "\n";
     return kExitUsage;
   }
+  for (const std::string* input : {&o.file, &o.scenario})
+    if (!o.trace.empty() && !input->empty() && same_file(o.trace, *input)) {
+      std::cerr << "rcxc run: refusing to write the trace to " << o.trace << ": it is the input " << *input
+                << " (choose another name)\n";
+      return kExitUsage;
+    }
   auto loaded = load_program(o.file, compile_request(o.compiler));
   if (auto* e = std::get_if<std::string>(&loaded)) {
     std::cerr << "rcxc run: " << *e << "\n";

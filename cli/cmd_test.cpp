@@ -41,22 +41,51 @@ bool has_nqc_extension(const fs::path& path) {
   return ext == ".nqc";
 }
 
+// The .nqc files under `folder`, searched with a work list of folders.
+// Links to folders are not followed (a link loop cannot trap the search);
+// a folder or link that cannot be read is added to `problems` and the
+// search goes on with the rest.
+void search_folder(const fs::path& folder, std::vector<std::string>& found, std::vector<std::string>& problems) {
+  std::vector<fs::path> pending{folder};
+  while (!pending.empty()) {
+    fs::path dir = std::move(pending.back());
+    pending.pop_back();
+    std::error_code ec;
+    fs::directory_iterator it(dir, ec);
+    for (; !ec && it != fs::directory_iterator(); it.increment(ec)) {
+      const fs::path& path = it->path();
+      std::error_code link_ec, target_ec;
+      auto link = it->symlink_status(link_ec);
+      if (!link_ec && fs::is_directory(link)) {
+        pending.push_back(path);
+        continue;
+      }
+      if (!has_nqc_extension(path)) continue;
+      auto target = it->status(target_ec);
+      if (target_ec)
+        problems.push_back(fmt::format("cannot read {}: {}", path.string(), target_ec.message()));
+      else if (fs::is_regular_file(target))
+        found.push_back(path.string());
+    }
+    if (ec) problems.push_back(fmt::format("cannot read folder {}: {}", dir.string(), ec.message()));
+  }
+}
+
 // The files named and the .nqc files (any case: FOO.NQC) in the folders
 // named, searched recursively, in a stable order.
-std::vector<std::string> collect(const std::vector<std::string>& paths, std::vector<std::string>& missing) {
+std::vector<std::string> collect(const std::vector<std::string>& paths, std::vector<std::string>& problems) {
   std::vector<std::string> files;
   for (const auto& p : paths) {
     std::error_code ec;
     if (fs::is_directory(p, ec)) {
       std::vector<std::string> found;
-      for (const auto& entry : fs::recursive_directory_iterator(p, ec))
-        if (entry.is_regular_file() && has_nqc_extension(entry.path())) found.push_back(entry.path().string());
+      search_folder(p, found, problems);
       std::sort(found.begin(), found.end());
       files.insert(files.end(), found.begin(), found.end());
     } else if (fs::is_regular_file(p, ec)) {
       files.push_back(p);
     } else {
-      missing.push_back(p);
+      problems.push_back("no such file or folder: " + p);
     }
   }
   return files;
@@ -198,10 +227,10 @@ void run_all(const TestOptions& o, const std::vector<std::string>& files, unsign
 }
 
 int run(const TestOptions& o) {
-  std::vector<std::string> missing;
-  auto files = collect(o.paths, missing);
-  for (const auto& m : missing) std::cerr << "rcxc test: no such file or folder: " << m << "\n";
-  if (files.empty() && missing.empty()) std::cerr << "rcxc test: no .nqc files found\n";
+  std::vector<std::string> problems;
+  auto files = collect(o.paths, problems);
+  for (const auto& m : problems) std::cerr << "rcxc test: " << m << "\n";
+  if (files.empty() && problems.empty()) std::cerr << "rcxc test: no .nqc files found\n";
   int passed = 0, failed = 0;
   unsigned jobs = o.jobs > 0 ? o.jobs : std::max(1u, std::thread::hardware_concurrency());
   run_all(o, files, jobs, [&](std::size_t i, const TestResult& r) {
@@ -216,7 +245,7 @@ int run(const TestOptions& o) {
     (r.failures.empty() ? passed : failed)++;
   });
   std::cout << fmt::format("{} passed, {} failed\n", passed, failed);
-  return (failed == 0 && missing.empty() && !files.empty()) ? kExitOk : kExitFailure;
+  return (failed == 0 && problems.empty() && !files.empty()) ? kExitOk : kExitFailure;
 }
 
 }  // namespace

@@ -1,40 +1,85 @@
 #include "cli/output_file.h"
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <filesystem>
 #include <fstream>
+#include <vector>
 
 namespace rcxc::cli {
+namespace {
+
+bool write_all(int fd, const std::string& bytes) {
+  std::size_t done = 0;
+  while (done < bytes.size()) {
+    ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return false;
+    done += static_cast<std::size_t>(n);
+  }
+  return true;
+}
+
+// The mode a new file gets from open(..., 0666): mkstemp makes 0600.
+mode_t new_file_mode() {
+  mode_t mask = ::umask(0);
+  ::umask(mask);
+  return 0666 & ~mask;
+}
+
+}  // namespace
 
 bool write_file_atomically(const std::string& path, const std::string& bytes) {
+  namespace fs = std::filesystem;
   // Anything but a plain file (-o /dev/null, a FIFO, a symbolic link such as
   // /dev/stderr) is written through: renaming over it would replace the
   // device or the link itself with a regular file.
   std::error_code status_error;
-  auto status = std::filesystem::symlink_status(path, status_error);
-  if (std::filesystem::exists(status) && !std::filesystem::is_regular_file(status)) {
+  auto status = fs::symlink_status(path, status_error);
+  if (fs::exists(status) && !fs::is_regular_file(status)) {
     std::ofstream f(path, std::ios::binary);
     f << bytes;
     f.close();
     return static_cast<bool>(f);
   }
-  std::string temp = path + ".rcxc-tmp";
-  {
-    std::ofstream f(temp, std::ios::binary);
-    f << bytes;
-    f.close();
-    if (!f) {
-      std::error_code ec;
-      std::filesystem::remove(temp, ec);
-      return false;
-    }
-  }
+  // The temporary is made by mkstemp (O_CREAT|O_EXCL, a random name) in the
+  // target's folder, so the rename stays on one file system and no one can
+  // have put a link at the temporary's name beforehand.
+  fs::path target(path);
+  fs::path folder = target.parent_path().empty() ? fs::path(".") : target.parent_path();
+  std::string pattern = (folder / ("." + target.filename().string() + ".XXXXXX")).string();
+  std::vector<char> name(pattern.begin(), pattern.end());
+  name.push_back('\0');
+  int fd = ::mkstemp(name.data());
+  if (fd < 0) return false;
+  std::string temp(name.data());
+  struct stat old{};
+  mode_t mode = ::stat(path.c_str(), &old) == 0 ? (old.st_mode & 07777) : new_file_mode();
+  bool ok = ::fchmod(fd, mode) == 0 && write_all(fd, bytes);
+  ok = (::close(fd) == 0) && ok;
   std::error_code ec;
-  std::filesystem::rename(temp, path, ec);
-  if (ec) {
+  if (ok) fs::rename(temp, path, ec);
+  if (!ok || ec) {
     std::error_code ignored;
-    std::filesystem::remove(temp, ignored);
+    fs::remove(temp, ignored);
+    return false;
   }
-  return !ec;
+  return true;
+}
+
+bool same_file(const std::string& a, const std::string& b) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (fs::equivalent(a, b, ec) && !ec) return true;
+  // Not both there yet: the same name, once made absolute and normal.
+  auto normal = [](const std::string& p) {
+    std::error_code e;
+    return fs::weakly_canonical(fs::absolute(p, e), e).lexically_normal();
+  };
+  return normal(a) == normal(b);
 }
 
 }  // namespace rcxc::cli

@@ -5,9 +5,15 @@
 
 namespace rcxc::cli {
 
-// Writes `bytes` into a new file beside `path`, then renames it over
-// `path`: a failed or interrupted write leaves what was there before. Anything
-// else at `path` (a device, a pipe, a symbolic link) is written through.
+// Writes `bytes` into a temporary beside `path` (mkstemp: a fresh random
+// name, O_EXCL), then renames it over `path`: a failed or interrupted write
+// leaves what was there before, and no predictable name exists for a
+// symbolic link to redirect. The file keeps the mode of the one it replaces
+// (new ones get 0666 less the umask). Anything else at `path` (a device, a
+// pipe, a symbolic link) is written through.
 bool write_file_atomically(const std::string& path, const std::string& bytes);
+
+// Whether two paths name the same file (or would, once written).
+bool same_file(const std::string& a, const std::string& b);
 
 }  // namespace rcxc::cli

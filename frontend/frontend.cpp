@@ -7,24 +7,22 @@
 #include "frontend/parse.h"
 #include "frontend/preprocess.h"
 #include "frontend/sema.h"
+#include "rcx/file_read.h"
 
 namespace rcxc::frontend {
 namespace {
 
 std::optional<std::uint32_t> load(const std::string& path, SourceManager& sm, Diagnostics& diags) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) {
-    diags.error({}, "'" + path + "' is a directory, not a source file").file = path;
+  auto file = rcx::read_file(path, rcx::kSourceFile);
+  if (const auto* problem = std::get_if<rcx::FileProblem>(&file)) {
+    switch (*problem) {
+      case rcx::FileProblem::Directory: diags.error({}, "'" + path + "' is a directory, not a source file").file = path; break;
+      case rcx::FileProblem::TooLarge: diags.error({}, rcx::too_large_message(path, rcx::kSourceFile)).file = path; break;
+      case rcx::FileProblem::CannotOpen: case rcx::FileProblem::ReadError: diags.error({}, "cannot open '" + path + "'").file = path;
+    }
     return std::nullopt;
   }
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    diags.error({}, "cannot open '" + path + "'").file = path;
-    return std::nullopt;
-  }
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  std::string text = ss.str();
+  std::string& text = std::get<std::string>(file);
   if (std::string why = not_source_reason(path, text); !why.empty()) {
     diags.error({}, why).file = path;
     return std::nullopt;

@@ -1,7 +1,10 @@
 #include "frontend/parse.h"
 
+#include <algorithm>
+#include <string>
 #include <unordered_map>
 
+#include "frontend/nesting.h"
 #include "parser.hpp"
 
 namespace rcxc::frontend {
@@ -166,11 +169,37 @@ yy::Parser::symbol_type next_token(Feed& feed) {
   }
 }
 
+namespace {
+
+// Brackets nested deeper than the tree may be: reported at the first
+// bracket too many, and the tokens end there, so that the parser's stack
+// never holds more than that many open constructs.
+void cut_at_too_deep_brackets(std::vector<Token>& tokens, Diagnostics& diags) {
+  int depth = 0;
+  for (std::size_t i = 0; i < tokens.size(); ++i) {
+    if (tokens[i].kind != TokenKind::Punct) continue;
+    if (tokens[i].is("{") || tokens[i].is("(") || tokens[i].is("[")) {
+      if (++depth <= kMaxNesting) continue;
+      diags.error(tokens[i].span, "brackets nested more than " + std::to_string(kMaxNesting) + " deep; split it up");
+      Token end = tokens.back();  // End
+      end.span = tokens[i].span;
+      tokens.resize(i);
+      tokens.push_back(std::move(end));
+      return;
+    }
+    if (tokens[i].is("}") || tokens[i].is(")") || tokens[i].is("]")) depth = std::max(0, depth - 1);
+  }
+}
+
+}  // namespace
+
 ast::Program parse_tokens(const std::vector<Token>& all_tokens, Diagnostics& diags) {
   std::vector<Token> tokens = without_rcx2_statements(all_tokens, diags);
+  cut_at_too_deep_brackets(tokens, diags);
   Feed feed{tokens, diags, {}, 0, {}, {}, 0, false, 0, {}};
   P parser(feed);
   parser.parse();
+  limit_nesting(feed.program, diags);
   return std::move(feed.program);
 }
 

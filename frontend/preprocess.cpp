@@ -8,6 +8,7 @@
 #include <unordered_map>
 #include <unordered_set>
 
+#include "rcx/file_read.h"
 #include "stdlib/stdlib.h"
 
 namespace rcxc::frontend {
@@ -19,12 +20,22 @@ constexpr std::size_t kMaxIncludeDepth = 64;
 // Macro calls nested inside macro arguments, e.g. F(F(F(...))): each level
 // costs a few stack frames, so this also bounds stack use.
 constexpr std::size_t kMaxExpansionDepth = 2000;
+// Nesting levels of one #if expression: a parenthesis counts two (the
+// expression inside it and its operand), a prefix operator or ?: one.
+constexpr int kMaxIfNesting = 512;
 // Tokens macro expansion may produce in one compilation: a base plus a
 // multiple of the tokens read from files. Far above what real programs need
 // (the stdlib's macros add a few tokens each), low enough that exponentially
 // growing macros stop in well under a second.
 constexpr std::size_t kExpansionBase = 500'000;
 constexpr std::size_t kExpansionPerInputToken = 32;
+// Argument tokens the macro calls being expanded at one time may hold
+// together (live_argument_tokens_). 1000 nested calls of a one-parameter
+// macro (tests/frontend/stress_test.cpp) hold about 2.5 million; each costs
+// about 250 bytes, so this bounds the preprocessor near 750 MB. F(F(F(...)))
+// 10,000 deep stops here in 0.6 s instead of taking 8 GB.
+constexpr std::size_t kLiveArgumentBase = 3'000'000;
+constexpr std::size_t kLiveArgumentPerInputToken = 4;
 constexpr const char* kStdlibName = "rcx.nqh";
 
 struct Macro {
@@ -179,6 +190,11 @@ class Preprocessor {
   HideSets hide_sets_;
   std::size_t expanded_tokens_ = 0;
   std::size_t input_tokens_ = 0;
+  // Argument tokens held by the macro calls now being expanded, outermost
+  // to innermost. F(F(F(...))) copies nearly all of its arguments again at
+  // each level, so this grows with the square of the nesting: it is checked
+  // at each level before going deeper (kLiveArgumentBase, ...PerInputToken).
+  std::size_t live_argument_tokens_ = 0;
   bool aborted_ = false;
   SourceSpan last_span_;
   Preprocessed out_;
@@ -320,9 +336,18 @@ class Preprocessor {
       if (!collect_args(s, t, m, args, rparen)) return true;
       hide = hide_sets_.intersect(t.hide, rparen.hide);
     }
+    std::size_t argument_tokens = 0;
+    for (const auto& a : args) argument_tokens += a.size();
+    if (live_argument_tokens_ + argument_tokens > kLiveArgumentBase + kLiveArgumentPerInputToken * input_tokens_) {
+      diags_.error(t.span, "macro calls nested too deeply inside the arguments of '" + m.name + "'");
+      aborted_ = true;
+      return true;
+    }
+    live_argument_tokens_ += argument_tokens;
     hide = hide_sets_.with(hide, id);
     std::uint32_t exp = sm_.add_expansion({m.name, t.span});
     std::vector<Token> result = substitute(m, args, hide, exp, depth);
+    live_argument_tokens_ -= argument_tokens;
     if (expanded_tokens_ > kExpansionBase + kExpansionPerInputToken * input_tokens_) {
       diags_.error(t.span, "macro expansion of '" + m.name + "' grows without bound");
       aborted_ = true;
@@ -667,14 +692,6 @@ class Preprocessor {
     extra_tokens(line, 2);
   }
 
-  std::optional<std::string> read_file(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) return std::nullopt;
-    std::ostringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-  }
-
   void do_include(const std::vector<Token>& line, const Token& hash) {
     std::vector<Token> rest(line.begin() + 1, line.end());
     if (!rest.empty() && rest[0].kind == TokenKind::Identifier) rest = expand_list(rest, 0);
@@ -700,8 +717,13 @@ class Preprocessor {
       fs::path p = fs::path(d) / name;
       std::error_code ec;
       if (!fs::is_regular_file(p, ec)) continue;
-      auto text = read_file(p.string());
-      if (!text) continue;
+      auto file = rcx::read_file(p.string(), rcx::kSourceFile);
+      if (auto* problem = std::get_if<rcx::FileProblem>(&file)) {
+        if (*problem != rcx::FileProblem::TooLarge) continue;
+        diags_.error(where, rcx::too_large_message(p.string(), rcx::kSourceFile));
+        return;
+      }
+      std::string* text = &std::get<std::string>(file);
       if (std::string why = not_source_reason(p.string(), *text); !why.empty()) {
         diags_.error(where, why);
         return;
@@ -823,18 +845,36 @@ class Preprocessor {
       diags_.error(line[0].span, "#" + line[0].text + " needs an expression");
       return false;
     }
-    CondEval ev{toks, diags_, 0, false};
+    CondEval ev{toks, diags_, 0, false, 0};
     std::int64_t v = ev.ternary();
     if (!ev.failed && ev.pos < toks.size()) ev.fail(toks[ev.pos], "unexpected '" + toks[ev.pos].text + "' in #if expression");
     return !ev.failed && v != 0;
   }
 
   // A recursive-descent evaluator of #if expressions over 64-bit integers.
+  // Its recursion is bounded by kMaxIfNesting (parentheses, prefix
+  // operators and `?:` each nest), so no #if line can overflow the stack.
   struct CondEval {
     const std::vector<Token>& toks;
     Diagnostics& diags;
     std::size_t pos;
     bool failed;
+    int depth;
+
+    // Counts one level while alive; false when the limit is passed (then
+    // the evaluation has failed with a message at `at`).
+    struct Nest {
+      CondEval& ev;
+      explicit Nest(CondEval& e) : ev(e) { ++ev.depth; }
+      ~Nest() { --ev.depth; }
+      bool ok(const Token& at) {
+        if (ev.depth <= kMaxIfNesting) return true;
+        ev.fail(at, "#if expression nested too deeply (more than " + std::to_string(kMaxIfNesting) + " levels)");
+        return false;
+      }
+      Nest(const Nest&) = delete;
+      Nest& operator=(const Nest&) = delete;
+    };
 
     void fail(const Token& at, const std::string& msg) {
       if (!failed) diags.error(at.span, msg);
@@ -850,6 +890,8 @@ class Preprocessor {
     const Token& here() const { return pos < toks.size() ? toks[pos] : toks.back(); }
 
     std::int64_t ternary() {
+      Nest nest(*this);
+      if (!nest.ok(here()) || failed) return 0;
       std::int64_t c = binary(0);
       if (!accept("?")) return c;
       std::int64_t a = ternary();
@@ -915,6 +957,8 @@ class Preprocessor {
         return 0;
       }
       const Token& t = toks[pos];
+      Nest nest(*this);
+      if (!nest.ok(t) || failed) return 0;
       if (accept("-")) return static_cast<std::int64_t>(0 - static_cast<std::uint64_t>(unary()));
       if (accept("+")) return unary();
       if (accept("!")) return !unary();

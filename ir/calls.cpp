@@ -10,6 +10,10 @@ namespace rcxc::ir {
 namespace {
 
 constexpr int kCallSize = 2;  // call opcode + index
+// A subroutine with its calls inlined may be this big before the passes
+// that shrink it (outlining, rerolling) run: twenty times the RCX's program
+// memory. Past that, doubling chains of calls take seconds per link.
+constexpr long long kMaxFlattenedBytes = 131072;
 
 struct CallSite {
   FuncId caller;
@@ -204,14 +208,76 @@ void inline_call(Program& p, FuncId caller, BlockId block, std::size_t index) {
   }
   append_repeats(f, callee.repeats, base);
   f.blocks[static_cast<std::size_t>(block)].term = Jump{base};
-  // Lay the copy out right after the call site, then the continuation.
+  // Lay the copy out right after the call site, then the continuation, in
+  // one permutation: moving block by block made each call cost the copy's
+  // size times the function's, quadratic in chains of inlined calls.
   auto count = static_cast<BlockId>(callee.blocks.size());
-  for (BlockId k = 0; k < count; ++k) move_block(f, base + k, block + 1 + k);
-  move_block(f, rest + count, block + 1 + count);
+  std::vector<BlockId> order;
+  order.reserve(f.blocks.size());
+  for (BlockId b = 0; b <= block; ++b) order.push_back(b);
+  for (BlockId k = 0; k < count; ++k) order.push_back(base + k);
+  order.push_back(rest);
+  for (BlockId b = block + 1; b < rest; ++b) order.push_back(b);
+  permute_blocks(f, order);
 }
+
+namespace {
+
+// Estimated bytes of each function once every call in it is inlined
+// (flatten), memoised per function and worked out callees first: a chain of
+// subroutines each calling the previous twice doubles at every link, so
+// this is where such a chain is stopped, before the doubling is done. Sizes
+// saturate just above `limit`. Needs an acyclic call graph.
+std::vector<long long> flattened_sizes(const Program& p, long long limit) {
+  std::vector<long long> size(p.functions.size(), -1);
+  std::vector<FuncId> stack;
+  for (std::size_t root = 0; root < p.functions.size(); ++root) {
+    stack.push_back(static_cast<FuncId>(root));
+    while (!stack.empty()) {
+      FuncId f = stack.back();
+      const Function& fn = p.functions[static_cast<std::size_t>(f)];
+      if (size[static_cast<std::size_t>(f)] >= 0) {
+        stack.pop_back();
+        continue;
+      }
+      bool ready = true;
+      for (FuncId g : callees(fn))
+        if (size[static_cast<std::size_t>(g)] < 0) {
+          stack.push_back(g);
+          ready = false;
+        }
+      if (!ready) continue;
+      long long total = estimate_size(fn);
+      for (const auto& b : fn.blocks)
+        for (const auto& in : b.instrs)
+          if (FuncId g = callee_of(in); g >= 0) total = std::min(limit + 1, total + size[static_cast<std::size_t>(g)]);
+      size[static_cast<std::size_t>(f)] = total;
+      stack.pop_back();
+    }
+  }
+  return size;
+}
+
+// Reports a subroutine too big once the subroutines it calls are inlined.
+bool report_explosion(const Program& p, Diagnostics& diags) {
+  auto sizes = flattened_sizes(p, kMaxFlattenedBytes);
+  for (FuncId s : live_subs(p)) {
+    const Function& fn = p.functions[static_cast<std::size_t>(s)];
+    if (sizes[static_cast<std::size_t>(s)] <= kMaxFlattenedBytes || callees(fn).empty()) continue;
+    diags.error(fn.span, fmt::format("sub {} would grow past {} bytes once the subroutines it calls are inlined into "
+                                     "it (the RCX cannot call a subroutine from a subroutine, and its calls nest "
+                                     "too often)",
+                                     fn.name, kMaxFlattenedBytes));
+    return true;
+  }
+  return false;
+}
+
+}  // namespace
 
 bool resolve_calls(Program& p, OptLevel level, Diagnostics& diags, Log& log) {
   if (report_recursion(p, diags)) return false;
+  if (report_explosion(p, diags)) return false;
   std::vector<bool> done(p.functions.size(), false);
   for (FuncId s : live_subs(p)) flatten(p, s, done, log);
   // Subroutines no task calls any more are dropped.

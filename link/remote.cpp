@@ -4,6 +4,7 @@
 
 #include <charconv>
 #include <ctime>
+#include <algorithm>
 #include <map>
 #include <sstream>
 
@@ -21,6 +22,9 @@ constexpr int kUnlockKey[] = {76, 69, 71, 79, 174};
 constexpr int kDatalogChunk = 50;     // records per upload request
 constexpr int kFirmwareBlock = 100;   // bytes per firmware block
 constexpr int kFirmwareBlockChecksumError = 3;
+// The ROM stores a firmware download from 0x8000 on (seed, Start firmware
+// download), in the external RAM that ends at 0xffff.
+constexpr std::uint32_t kFirmwareFirst = 0x8000, kFirmwareEnd = 0x10000;
 
 RemoteError usage(std::string message) { return {RemoteFailure::Usage, std::move(message)}; }
 
@@ -120,11 +124,12 @@ Outcome clear(Link& link) {
 }
 
 Outcome firmware(Link& link, const std::string& path, const RemoteOptions& options) {
-  auto file = read_file(path);
+  auto file = read_file(path, kFirmwareFile);
   if (const auto* problem = std::get_if<FileProblem>(&file))
     return RemoteError{RemoteFailure::Input, *problem == FileProblem::Directory
                                                  ? fmt::format("{}: is a directory, not a firmware file", path)
-                                                 : fmt::format("cannot read {}", path)};
+                                             : *problem == FileProblem::TooLarge ? too_large_message(path, kFirmwareFile)
+                                                                                 : fmt::format("cannot read {}", path)};
   auto parsed = parse_srec(std::get<std::string>(file));
   if (auto* e = std::get_if<std::string>(&parsed)) return RemoteError{RemoteFailure::Input, path + ": " + *e};
   const Firmware& fw = std::get<Firmware>(parsed);
@@ -138,6 +143,7 @@ Outcome firmware(Link& link, const std::string& path, const RemoteOptions& optio
   if (reply_field(info(Op::StartFirmwareDownload), std::get<Bytes>(start), "errorcode") != 0)
     return RemoteError{RemoteFailure::Refused, "the RCX refused to start the firmware download"};
   int sequence = 1;
+  int checksum_errors = 0;  // in a row, for the block being sent
   for (std::size_t at = 0; at < fw.bytes.size();) {
     std::size_t n = std::min<std::size_t>(kFirmwareBlock, fw.bytes.size() - at);
     bool last = at + n == fw.bytes.size();
@@ -145,7 +151,16 @@ Outcome firmware(Link& link, const std::string& path, const RemoteOptions& optio
     if (auto* e = std::get_if<LinkError>(&r)) return RemoteError{RemoteFailure::Link, e->message};
     int code = reply_field(info(Op::TransferData), std::get<Bytes>(r), "errorcode");
     ++sequence;  // also after a block checksum error: the ROM counts it (seed)
-    if (code == kFirmwareBlockChecksumError && !last) continue;
+    if (code == kFirmwareBlockChecksumError && !last) {
+      // A brick that reports every block as garbled would keep us here.
+      if (++checksum_errors > link.options.retries)
+        return RemoteError{RemoteFailure::Refused,
+                           fmt::format("the RCX reported a checksum error for the firmware block at 0x{:04x} {} times "
+                                       "in a row; giving up",
+                                       kFirmwareFirst + at, checksum_errors)};
+      continue;
+    }
+    checksum_errors = 0;
     if (code != 0)
       return RemoteError{RemoteFailure::Refused, fmt::format("the RCX rejected the firmware (error {})", code)};
     at += n;
@@ -313,8 +328,12 @@ std::optional<RemoteError> check_remote(const std::vector<std::string>& words) {
 }
 
 std::variant<Firmware, std::string> parse_srec(const std::string& text) {
-  std::map<int, std::uint8_t> bytes;
-  std::optional<int> entry;
+  // Every address is checked against the RAM the ROM loads firmware into
+  // before anything is stored, in 64-bit arithmetic: an S3 record carries a
+  // 32-bit address, and a file may put its bytes anywhere.
+  std::vector<std::uint8_t> image(kFirmwareEnd - kFirmwareFirst, 0);
+  std::uint32_t end = 0;  // one past the highest byte stored, from kFirmwareFirst; 0 = none
+  std::optional<std::uint32_t> entry;
   std::istringstream lines(text);
   std::string line;
   int line_no = 0;
@@ -332,27 +351,34 @@ std::variant<Firmware, std::string> parse_srec(const std::string& text) {
     for (std::size_t i = 0; i + 1 < r.size(); ++i) sum += r[i];
     if (static_cast<std::uint8_t>(~sum) != r.back()) return fmt::format("line {}: bad record checksum", line_no);
     char type = line[1];
-    int addr_len = (type == '1' || type == '9') ? 2 : (type == '2' || type == '8') ? 3 : (type == '3' || type == '7') ? 4 : 0;
     if (type == '0' || type == '5' || type == '6') continue;
+    std::size_t addr_len = (type == '1' || type == '9') ? 2 : (type == '2' || type == '8') ? 3 : (type == '3' || type == '7') ? 4 : 0;
     if (addr_len == 0) return fmt::format("line {}: unknown record type S{}", line_no, type);
-    if (r.size() < static_cast<std::size_t>(addr_len) + 2) return fmt::format("line {}: too short", line_no);
-    int addr = 0;
-    for (int i = 0; i < addr_len; ++i) addr = (addr << 8) | r[1 + static_cast<std::size_t>(i)];
+    if (r.size() < addr_len + 2) return fmt::format("line {}: too short for its address", line_no);
+    std::uint64_t addr = 0;
+    for (std::size_t i = 0; i < addr_len; ++i) addr = (addr << 8) | r[1 + i];
     if (type >= '7') {
-      entry = addr;
+      if (addr < kFirmwareFirst || addr >= kFirmwareEnd)
+        return fmt::format("line {}: entry address 0x{:x} is outside the firmware's RAM 0x{:x}..0x{:x}", line_no, addr,
+                           kFirmwareFirst, kFirmwareEnd - 1);
+      entry = static_cast<std::uint32_t>(addr);
       continue;
     }
-    for (std::size_t i = 1 + static_cast<std::size_t>(addr_len); i + 1 < r.size(); ++i)
-      bytes[addr++] = r[i];
+    const std::size_t n = r.size() - addr_len - 2;
+    if (n == 0) continue;
+    if (addr < kFirmwareFirst || addr + n > kFirmwareEnd)
+      return fmt::format("line {}: data at 0x{:x}..0x{:x} is outside the firmware's RAM 0x{:x}..0x{:x}", line_no, addr,
+                         addr + n - 1, kFirmwareFirst, kFirmwareEnd - 1);
+    std::copy_n(r.begin() + static_cast<std::ptrdiff_t>(1 + addr_len), n,
+                image.begin() + static_cast<std::ptrdiff_t>(addr - kFirmwareFirst));
+    end = std::max(end, static_cast<std::uint32_t>(addr + n - kFirmwareFirst));
   }
-  if (bytes.empty()) return std::string("no data records");
+  if (end == 0) return std::string("no data records");
+  image.resize(end);
   Firmware fw;
-  fw.start = bytes.begin()->first;
-  int end = bytes.rbegin()->first + 1;
-  if (end - fw.start > 0x10000) return std::string("the data spans more than 64 KB");
-  fw.bytes.assign(static_cast<std::size_t>(end - fw.start), 0);
-  for (auto [a, b] : bytes) fw.bytes[static_cast<std::size_t>(a - fw.start)] = b;
-  fw.entry = entry.value_or(fw.start);
+  fw.start = kFirmwareFirst;
+  fw.entry = static_cast<int>(entry.value_or(kFirmwareFirst));
+  fw.bytes = std::move(image);
   return fw;
 }
 

@@ -43,8 +43,11 @@ std::variant<std::string, RemoteError> run_remote(Link& link, const std::vector<
 // the action can be tried.
 std::optional<RemoteError> check_remote(const std::vector<std::string>& words);
 
-// Firmware as S-records: the bytes from the lowest to the highest address
-// (gaps zero-filled) and the entry address (S7/S8/S9 record, else the lowest).
+// Firmware as S-records: the bytes from 0x8000, where the ROM stores a
+// firmware download, to the highest address given (gaps zero-filled), and
+// the entry address (S7/S8/S9 record, else 0x8000). Data or an entry outside
+// 0x8000..0xffff, a bad checksum, count or record type is an error naming
+// the line.
 struct Firmware {
   int start = 0;
   int entry = 0;

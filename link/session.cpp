@@ -62,6 +62,7 @@ Attempt attempt_once(Link& link, const Bytes& request, const Bytes& framed, Mill
     echo_left -= skip;
     if (skip == bytes.size()) {
       if (echo_left == 0 && !expects_reply) return result;
+      if (std::chrono::steady_clock::now() >= deadline) break;
       continue;
     }
     result.heard = true;
@@ -72,6 +73,9 @@ Attempt attempt_once(Link& link, const Bytes& request, const Bytes& framed, Mill
       }
       reject(link, std::get<Rejected>(event).reason);
     }
+    // A port that never stops delivering (/dev/zero, a broken driver) is
+    // never silent long enough to time out: the deadline ends it too.
+    if (std::chrono::steady_clock::now() >= deadline) break;
   }
   result.echo_missing = echo_left > 0;
   if (pending(decoder) > 0) reject(link, fmt::format("{} bytes of an incomplete reply", pending(decoder)));

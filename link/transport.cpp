@@ -138,6 +138,16 @@ PortSpec resolve_port(const std::optional<std::string>& option, const std::optio
 std::variant<std::unique_ptr<Transport>, TransportError> open_port(const PortSpec& spec) {
   int fd = ::open(spec.path.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK);
   if (fd < 0) return TransportError{open_advice(spec.path)};
+  // A tower is a character device (USB driver, serial port, pty) or a
+  // socket; anything else, a regular file above all, would get IR packets
+  // written into it.
+  struct stat st{};
+  if (::fstat(fd, &st) != 0 || !(S_ISCHR(st.st_mode) || S_ISSOCK(st.st_mode))) {
+    ::close(fd);
+    return TransportError{fmt::format("{} is {}, not a tower (a character device, socket or pseudo-terminal)",
+                                      spec.path, S_ISREG(st.st_mode) ? "a regular file" : S_ISDIR(st.st_mode) ? "a directory"
+                                                                     : S_ISFIFO(st.st_mode) ? "a FIFO" : "not a device")};
+  }
   if (spec.kind == PortKind::Serial) {
     if (auto err = configure_tty(fd, spec.path, true)) {
       ::close(fd);

@@ -1,19 +1,34 @@
 #include "rcx/file_read.h"
 
+#include <fmt/format.h>
+
 #include <filesystem>
 #include <fstream>
-#include <iterator>
 
 namespace rcx {
 
-std::variant<std::string, FileProblem> read_file(const std::string& path) {
+std::variant<std::string, FileProblem> read_file(const std::string& path, FileKind kind) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) return FileProblem::Directory;
   std::ifstream in(path, std::ios::binary);
   if (!in) return FileProblem::CannotOpen;
-  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::string bytes;
+  char chunk[65536];
+  while (in) {
+    in.read(chunk, sizeof chunk);
+    bytes.append(chunk, static_cast<std::size_t>(in.gcount()));
+    if (bytes.size() > kind.max_bytes) return FileProblem::TooLarge;
+  }
   if (in.bad()) return FileProblem::ReadError;
   return bytes;
+}
+
+std::string too_large_message(const std::string& path, FileKind kind) {
+  std::size_t cap = kind.max_bytes;
+  std::string size = cap % (1u << 20) == 0 ? fmt::format("{} MiB", cap >> 20)
+                     : cap % 1024 == 0     ? fmt::format("{} KiB", cap >> 10)
+                                           : fmt::format("{} bytes", cap);
+  return fmt::format("{}: larger than a {} may be ({}); is it the right file?", path, kind.noun, size);
 }
 
 }  // namespace rcx

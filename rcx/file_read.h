@@ -1,19 +1,38 @@
 // Reading a whole file the user named (an image, a scenario, a firmware
-// file, a test). A directory is refused before it is opened: a filebuf on
-// a directory throws (EISDIR) on some reads and reads as empty on others,
-// and neither tells the user what is wrong.
+// file, a source, a test). A directory is refused before it is opened: a
+// filebuf on a directory throws (EISDIR) on some reads and reads as empty
+// on others, and neither tells the user what is wrong. Every read has a
+// size cap suited to the kind of file, so /dev/zero, /dev/urandom or an
+// endless pipe ends with a message instead of growing until memory runs out.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <variant>
 
 namespace rcx {
 
-enum class FileProblem : std::uint8_t { Directory, CannotOpen, ReadError };
+enum class FileProblem : std::uint8_t { Directory, CannotOpen, ReadError, TooLarge };
+
+// What a file is read as, and the most bytes it may have. The caps are far
+// above anything real (the RCX has 32 KB of RAM; a whole firmware as
+// S-records is about 45 KB) and far below what would hurt the machine.
+struct FileKind {
+  const char* noun;  // "scenario file": for messages
+  std::size_t max_bytes;
+};
+inline constexpr FileKind kSourceFile{"source file", std::size_t{1} << 20};
+inline constexpr FileKind kImageFile{".rcx image", std::size_t{1} << 20};
+inline constexpr FileKind kScenarioFile{"scenario file", std::size_t{1} << 20};
+inline constexpr FileKind kFirmwareFile{"firmware file", std::size_t{1} << 20};
 
 // The file's bytes, or what kept them from being read. Each caller says it
-// in its own words ("P: is a directory, not a scenario file").
-std::variant<std::string, FileProblem> read_file(const std::string& path);
+// in its own words ("P: is a directory, not a scenario file"); a file
+// larger than `kind.max_bytes` is TooLarge after reading one byte more.
+std::variant<std::string, FileProblem> read_file(const std::string& path, FileKind kind);
+
+// "P: larger than a source file may be (1 MiB); is it the right file?"
+std::string too_large_message(const std::string& path, FileKind kind);
 
 }  // namespace rcx

@@ -12,6 +12,18 @@ const Fragment* Image::find(FragmentType type, int index) const {
   return nullptr;
 }
 
+std::string printable_name(std::string_view name) {
+  std::string out;
+  for (char ch : name) {
+    auto c = static_cast<unsigned char>(ch);
+    if (c < 0x20 || c == 0x7f || c == '\\')
+      out += fmt::format("\\x{:02x}", c);
+    else
+      out += ch;
+  }
+  return out;
+}
+
 std::string Image::name_of(SymbolType type, int index) const {
   for (const auto& s : symbols)
     if (s.type == type && s.index == index) return s.name;
@@ -146,12 +158,13 @@ std::vector<std::uint8_t> write_image(const Image& image) {
 }
 
 std::variant<Image, ImageError> read_image_file(const std::string& path) {
-  auto file = read_file(path);
+  auto file = read_file(path, kImageFile);
   if (const auto* problem = std::get_if<FileProblem>(&file)) {
     switch (*problem) {
       case FileProblem::Directory: return ImageError{fmt::format("{}: is a directory, not an .rcx image", path)};
       case FileProblem::CannotOpen: return ImageError{fmt::format("{}: cannot open file", path)};
       case FileProblem::ReadError: return ImageError{fmt::format("{}: read error", path)};
+      case FileProblem::TooLarge: return ImageError{too_large_message(path, kImageFile)};
     }
   }
   const std::string& text = std::get<std::string>(file);

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <span>
 #include <string>
+#include <string_view>
 #include <variant>
 #include <vector>
 
@@ -40,6 +41,11 @@ struct Image {
   // The symbol name for a task/sub/variable, or "" when the image has none.
   std::string name_of(SymbolType type, int index) const;
 };
+
+// A symbol name from an image as it may go into text output: names are any
+// bytes in the file, so control characters (escape sequences, newlines
+// that would forge lines of a timeline) and backslashes become \xNN.
+std::string printable_name(std::string_view name);
 
 struct ImageError {
   std::string message;  // says what is wrong and at which byte offset

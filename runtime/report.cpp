@@ -16,12 +16,12 @@ nlohmann::json ms(Micros us) {
 }
 
 std::string task_label(const Image& image, int task) {
-  std::string name = image.name_of(SymbolType::Task, task);
+  std::string name = printable_name(image.name_of(SymbolType::Task, task));
   return name.empty() ? fmt::format("task {}", task) : fmt::format("task {} ({})", task, name);
 }
 
 std::string var_label(const Image& image, int index) {
-  std::string name = image.name_of(SymbolType::Variable, index);
+  std::string name = printable_name(image.name_of(SymbolType::Variable, index));
   return name.empty() ? fmt::format("var{}", index) : name;
 }
 
@@ -135,7 +135,7 @@ std::string timeline_text(const Machine& m, const Image& image) {
     out += fmt::format("output {}: {} {} power {}\n", kOutputNames[i], to_string(o.mode), to_string(o.dir), o.power);
   }
   for (int i = 0; i < kMaxVariables; ++i) {
-    std::string name = image.name_of(SymbolType::Variable, i);
+    std::string name = printable_name(image.name_of(SymbolType::Variable, i));
     if (!name.empty() || s.vars[static_cast<std::size_t>(i)] != 0)
       out += fmt::format("var[{}]{} = {}\n", i, name.empty() ? "" : " " + name, s.vars[static_cast<std::size_t>(i)]);
   }

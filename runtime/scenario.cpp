@@ -88,12 +88,13 @@ std::variant<std::vector<TimedInput>, ScenarioError> parse_scenario(std::string_
 }
 
 std::variant<std::vector<TimedInput>, ScenarioError> read_scenario_file(const std::string& path) {
-  auto file = read_file(path);
+  auto file = read_file(path, kScenarioFile);
   if (const auto* problem = std::get_if<FileProblem>(&file)) {
     switch (*problem) {
       case FileProblem::Directory: return ScenarioError{fmt::format("{}: is a directory, not a scenario file", path)};
       case FileProblem::CannotOpen: return ScenarioError{fmt::format("{}: cannot open scenario file", path)};
       case FileProblem::ReadError: return ScenarioError{fmt::format("{}: read error", path)};
+      case FileProblem::TooLarge: return ScenarioError{too_large_message(path, kScenarioFile)};
     }
   }
   return parse_scenario(std::get<std::string>(file), path);

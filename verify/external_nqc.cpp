@@ -1,25 +1,30 @@
 #include "verify/external_nqc.h"
 
 #include <fcntl.h>
-#include <spawn.h>
+#include <fmt/format.h>
+#include <signal.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cerrno>
+#include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
-
-extern char** environ;
+#include <thread>
 
 namespace rcx::semtest {
 namespace {
 
+// nqc's messages, at most the first 64 KB (a runaway nqc may write more).
 std::string slurp(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
+  std::string text(64 * 1024, '\0');
+  in.read(text.data(), static_cast<std::streamsize>(text.size()));
+  text.resize(static_cast<std::size_t>(in.gcount()));
+  return text;
 }
 
 // nqc reports errors as
@@ -45,10 +50,72 @@ std::vector<CompilerMessage> parse_nqc_messages(const std::string& text) {
   return out;
 }
 
+struct Child {
+  bool started = false;
+  bool timed_out = false;
+  int status = 0;
+};
+
+// Runs argv[0] (searched on PATH) with stdout and stderr into `log_path`,
+// under an address-space and CPU-time limit set in the child, and kills it
+// when it has not ended `limits.seconds` after it started. A pipe that
+// closes on exec tells a failed exec (its errno) from a program that ran.
+Child run_limited(std::vector<char*>& argv, const std::string& log_path, const NqcLimits& limits) {
+  Child child;
+  int report[2];
+  if (::pipe2(report, O_CLOEXEC) != 0) return child;
+  int log = ::open(log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0600);
+  if (log < 0) {
+    ::close(report[0]);
+    ::close(report[1]);
+    return child;
+  }
+  const rlim_t memory = static_cast<rlim_t>(limits.memory_mib) << 20;
+  const rlim_t cpu = static_cast<rlim_t>(limits.seconds);
+  pid_t pid = ::fork();
+  if (pid == 0) {
+    // Only async-signal-safe calls between fork and exec.
+    struct rlimit as{memory, memory}, cpu_limit{cpu, cpu + 1};
+    ::setrlimit(RLIMIT_AS, &as);
+    ::setrlimit(RLIMIT_CPU, &cpu_limit);
+    ::dup2(log, 1);
+    ::dup2(log, 2);
+    ::execvp(argv[0], argv.data());
+    int e = errno;
+    [[maybe_unused]] auto n = ::write(report[1], &e, sizeof e);
+    ::_exit(127);
+  }
+  ::close(log);
+  ::close(report[1]);
+  if (pid < 0) {
+    ::close(report[0]);
+    return child;
+  }
+  int exec_errno = 0;
+  ssize_t n = 0;
+  do n = ::read(report[0], &exec_errno, sizeof exec_errno);
+  while (n < 0 && errno == EINTR);
+  ::close(report[0]);
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(limits.seconds);
+  for (;;) {
+    pid_t done = ::waitpid(pid, &child.status, WNOHANG);
+    if (done == pid || (done < 0 && errno != EINTR)) break;
+    if (std::chrono::steady_clock::now() >= deadline) {
+      ::kill(pid, SIGKILL);
+      ::waitpid(pid, &child.status, 0);
+      child.timed_out = true;
+      break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  child.started = n != static_cast<ssize_t>(sizeof exec_errno);
+  return child;
+}
+
 }  // namespace
 
 ExternalCompile compile_with_nqc(const std::string& nqc, const std::string& file,
-                                 const std::vector<std::string>& args) {
+                                 const std::vector<std::string>& args, const NqcLimits& limits) {
   ExternalCompile result;
   std::string dir = (std::filesystem::temp_directory_path() / "rcxc-nqc-XXXXXX").string();
   if (!mkdtemp(dir.data())) {
@@ -66,18 +133,16 @@ ExternalCompile compile_with_nqc(const std::string& nqc, const std::string& file
   for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
   argv.push_back(const_cast<char*>(file.c_str()));
   argv.push_back(nullptr);
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, 1, log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
-  posix_spawn_file_actions_adddup2(&actions, 1, 2);
-  pid_t pid = 0;
-  int rc = posix_spawnp(&pid, nqc.c_str(), &actions, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  int status = 0;
-  if (rc == 0) waitpid(pid, &status, 0);
+  Child child = run_limited(argv, log_path, limits);
   std::string log = slurp(log_path);
-  if (rc != 0) {
+  const int status = child.status;
+  if (!child.started) {
     result.failure = "cannot run '" + nqc + "' (is nqc installed?)";
+  } else if (child.timed_out) {
+    result.failure = fmt::format("nqc did not finish within {} s and was stopped", limits.seconds);
+  } else if (WIFSIGNALED(status)) {
+    result.failure = fmt::format("nqc was killed by signal {} (over its limit of {} MiB of memory or {} s?)",
+                                 WTERMSIG(status), limits.memory_mib, limits.seconds);
   } else {
     result.messages = parse_nqc_messages(log);
     if (WIFEXITED(status) && WEXITSTATUS(status) == 0) {

@@ -122,6 +122,9 @@ Micros need_time(Cursor& c, std::string_view what) {
   }
   double v = 0;
   auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+  // from_chars reads "nan" and "inf" too; NaN passes every comparison.
+  if (ec == std::errc() && p == s.data() + s.size() && !std::isfinite(v))
+    throw ParseFail{fmt::format("expected {} (like 500ms or 2s), found '{}', which is not a finite number", what, t)};
   if (ec != std::errc() || p != s.data() + s.size() || s.empty() || v < 0 || v > 1e7)
     throw ParseFail{fmt::format("expected {} (like 500ms or 2s), found '{}'", what, t)};
   return static_cast<Micros>(std::llround(v * scale));
@@ -554,8 +557,10 @@ std::variant<Spec, std::vector<SpecError>> parse_spec(std::string_view source) {
 }
 
 std::variant<Spec, std::vector<SpecError>> parse_spec_file(const std::string& path) {
-  auto file = read_file(path);
-  if (std::holds_alternative<FileProblem>(file)) return std::vector<SpecError>{{0, "cannot read " + path}};
+  auto file = read_file(path, kSourceFile);
+  if (const auto* problem = std::get_if<FileProblem>(&file))
+    return std::vector<SpecError>{
+        {0, *problem == FileProblem::TooLarge ? too_large_message(path, kSourceFile) : "cannot read " + path}};
   return parse_spec(std::get<std::string>(file));
 }
 

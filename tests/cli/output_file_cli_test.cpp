@@ -66,4 +66,43 @@ TEST(OutputFileCli, ADirectoryIsNotWritable) {
   EXPECT_NE(r.err.find("cannot write " + d.path + "/out"), std::string::npos) << r.err;
 }
 
+TEST(OutputFileCli, NoPredictableTemporaryALinkCouldRedirect) {
+  // The temporary was "OUT.rcxc-tmp": a link planted there made the
+  // compiler write through it into any file the user could write.
+  TempDir d;
+  std::string victim = d.write("victim.txt", "precious\n");
+  std::filesystem::create_symlink(victim, d.path + "/p.rcx.rcxc-tmp");
+  auto r = run_rcxc({"compile", d.write("p.nqc", kProgram), "-o", d.path + "/p.rcx"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  auto kept = d.read("victim.txt");
+  EXPECT_EQ(std::string(kept.begin(), kept.end()), "precious\n");
+  EXPECT_TRUE(std::filesystem::is_symlink(d.path + "/p.rcx.rcxc-tmp"));
+  // The image is a plain file with the usual mode for new files.
+  struct stat st{};
+  ASSERT_EQ(stat((d.path + "/p.rcx").c_str(), &st), 0);
+  mode_t mask = umask(0);
+  umask(mask);
+  EXPECT_EQ(st.st_mode & 0777, 0666 & ~mask);
+}
+
+TEST(OutputFileCli, AnImageAndAListingOfTheSameNameAreRefused) {
+  TempDir d;
+  std::string src = d.write("p.nqc", kProgram);
+  auto r = run_rcxc({"compile", src, "-o", d.path + "/out", "--listing=" + d.path + "/./out"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("the image and the listing would both be written to"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(d.path + "/out"));
+}
+
+TEST(OutputFileCli, ATraceOverTheInputImageIsRefused) {
+  TempDir d;
+  ASSERT_EQ(run_rcxc({"compile", d.write("p.nqc", kProgram), "-o", d.path + "/img.json"}).exit_code, 0);
+  auto before = d.read("img.json");
+  auto r = run_rcxc({"run", d.path + "/img.json", "--trace", d.path + "/img.json"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("refusing to write the trace to " + d.path + "/img.json: it is the input"), std::string::npos)
+      << r.err;
+  EXPECT_EQ(d.read("img.json"), before);
+}
+
 }  // namespace

@@ -189,3 +189,22 @@ TEST(RunCli, ScenarioThatIsADirectoryIsExit1) {
   EXPECT_EQ(r.exit_code, 1) << r.out;
   EXPECT_NE(r.err.find(d.path + ": is a directory, not a scenario file"), std::string::npos) << r.err;
 }
+
+TEST(RunCli, ControlCharactersInSymbolNamesAreEscapedInText) {
+  // Names come from the image: an escape sequence could colour the
+  // terminal, a newline forge a line of the timeline.
+  rcx::Image img;
+  img.fragments.push_back({rcx::FragmentType::Task, 0, {0x14, 0x00, 0x02, 0x05, 0x00}});
+  img.symbols.push_back({rcx::SymbolType::Task, 0, "ma\x1b[31min"});
+  img.symbols.push_back({rcx::SymbolType::Variable, 0, "n\n  99 ms  output A on\\"});
+  TempDir d;
+  auto bytes = rcx::write_image(img);
+  auto r = run_rcxc({"run", d.write("p.rcx", bytes)});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.out.find('\x1b'), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("task 0 (ma\\x1b[31min) started"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("n\\x0a  99 ms  output A on\\x5c = 5"), std::string::npos) << r.out;
+  auto dis = run_rcxc({"disasm", d.path + "/p.rcx"});
+  ASSERT_EQ(dis.exit_code, 0) << dis.err;
+  EXPECT_NE(dis.out.find("task 0 ma\\x1b[31min"), std::string::npos) << dis.out;
+}

@@ -137,3 +137,19 @@ TEST(TestCommand, ParallelRunsKeepTheOutputOrder) {
   auto bad = run_rcxc({"test", "-j", "0", d.path});
   EXPECT_EQ(bad.exit_code, 2) << bad.err;
 }
+
+TEST(TestCommand, LinkLoopsAreReportedAndTheSearchGoesOn) {
+  // A file link to itself made the search throw (ELOOP) and rcxc abort; a
+  // folder link back up is not followed, so the good test runs once.
+  TempDir d;
+  std::filesystem::create_directory(d.path + "/sub");
+  d.write("sub/good.nqc", std::string("// @expect global n == 6\n") + kCounter);
+  std::filesystem::create_symlink(d.path + "/sub/self.nqc", d.path + "/sub/self.nqc");
+  std::filesystem::create_directory_symlink(d.path, d.path + "/sub/up");
+  auto r = run_rcxc({"test", d.path}, "", 30'000);
+  EXPECT_FALSE(r.timed_out);
+  EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+  EXPECT_NE(r.err.find("rcxc test: cannot read " + d.path + "/sub/self.nqc: "), std::string::npos) << r.err;
+  EXPECT_NE(r.out.find("PASS " + d.path + "/sub/good.nqc"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("1 passed, 0 failed"), std::string::npos) << r.out;
+}

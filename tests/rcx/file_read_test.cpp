@@ -11,7 +11,7 @@ TEST(FileRead, BytesComeBackUnchanged) {
   auto path = std::filesystem::temp_directory_path() / "rcxc-file-read-test.bin";
   const std::string bytes("a\r\nb\0c\xff", 7);
   std::ofstream(path, std::ios::binary) << bytes;
-  auto result = read_file(path.string());
+  auto result = read_file(path.string(), kSourceFile);
   std::filesystem::remove(path);
   ASSERT_TRUE(std::holds_alternative<std::string>(result));
   EXPECT_EQ(std::get<std::string>(result), bytes);
@@ -20,11 +20,35 @@ TEST(FileRead, BytesComeBackUnchanged) {
 TEST(FileRead, DirectoryAndMissingFileAreProblems) {
   auto dir = std::filesystem::temp_directory_path() / "rcxc-file-read-test-dir";
   std::filesystem::create_directories(dir);
-  auto from_dir = read_file(dir.string());
+  auto from_dir = read_file(dir.string(), kSourceFile);
   std::filesystem::remove(dir);
   ASSERT_TRUE(std::holds_alternative<FileProblem>(from_dir));
   EXPECT_EQ(std::get<FileProblem>(from_dir), FileProblem::Directory);
-  auto missing = read_file((dir / "no-such-file").string());
+  auto missing = read_file((dir / "no-such-file").string(), kSourceFile);
   ASSERT_TRUE(std::holds_alternative<FileProblem>(missing));
   EXPECT_EQ(std::get<FileProblem>(missing), FileProblem::CannotOpen);
+}
+
+TEST(FileRead, EndlessDevicesStopAtTheCap) {
+  // /dev/zero never ends: the reader stops one byte past the cap.
+  FileKind tiny{"test file", 4096};
+  auto zero = read_file("/dev/zero", tiny);
+  ASSERT_TRUE(std::holds_alternative<FileProblem>(zero));
+  EXPECT_EQ(std::get<FileProblem>(zero), FileProblem::TooLarge);
+  auto urandom = read_file("/dev/urandom", kImageFile);
+  ASSERT_TRUE(std::holds_alternative<FileProblem>(urandom));
+  EXPECT_EQ(std::get<FileProblem>(urandom), FileProblem::TooLarge);
+  EXPECT_EQ(too_large_message("/dev/zero", kScenarioFile),
+            "/dev/zero: larger than a scenario file may be (1 MiB); is it the right file?");
+}
+
+TEST(FileRead, AFileOfExactlyTheCapIsRead) {
+  auto path = std::filesystem::temp_directory_path() / "rcxc-file-read-cap.bin";
+  std::ofstream(path, std::ios::binary) << std::string(4096, 'x');
+  auto exact = read_file(path.string(), FileKind{"test file", 4096});
+  auto over = read_file(path.string(), FileKind{"test file", 4095});
+  std::filesystem::remove(path);
+  ASSERT_TRUE(std::holds_alternative<std::string>(exact));
+  EXPECT_EQ(std::get<std::string>(exact).size(), 4096u);
+  ASSERT_TRUE(std::holds_alternative<FileProblem>(over));
 }

@@ -184,3 +184,17 @@ TEST(TestSpec, DiagnosticsMatchByLineAndText) {
   EXPECT_EQ(check_diagnostics(none, {{true, 2, "syntax error"}}).size(), 1u);
   EXPECT_TRUE(check_diagnostics(none, {{false, 2, "unused variable 'z'"}}).empty());
 }
+
+TEST(TestSpec, NanAndInfinityAreNotTimes) {
+  // "nan" passed every range check (NaN compares false) and was rounded.
+  for (const char* value : {"nan", "NaN", "inf", "infinity", "-inf", "nanms", "infs"}) {
+    auto errors = parse_bad(std::string("// @for ") + value + "\n");
+    ASSERT_EQ(errors.size(), 1u) << value;
+    EXPECT_NE(errors[0].message.find(std::string("found '") + value + "', which is not a finite number"),
+              std::string::npos)
+        << errors[0].message;
+    auto at = parse_bad(std::string("// @input at ") + value + ": message 1\n");
+    ASSERT_EQ(at.size(), 1u) << value;
+    EXPECT_NE(at[0].message.find("not a finite number"), std::string::npos) << at[0].message;
+  }
+}

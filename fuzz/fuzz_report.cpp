@@ -1,0 +1,30 @@
+// Bytes as a .rcx file, run bounded, then every report writer: the text
+// timeline (whose symbol names must come out without control characters),
+// the JSON report and trace (dumped as `rcxc run` does, invalid UTF-8
+// replaced), and the VCD trace.
+#include <cstddef>
+#include <cstdint>
+#include <cstdlib>
+#include <span>
+#include <variant>
+
+#include "rcx/image.h"
+#include "runtime/report.h"
+#include "runtime/vm.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  auto result = rcx::read_image(std::span<const std::uint8_t>(data, size));
+  const auto* image = std::get_if<rcx::Image>(&result);
+  if (image == nullptr) return 0;
+  rcx::Machine machine;
+  if (machine.load(0, *image)) return 0;
+  machine.start_program();
+  machine.run(500 * 1000);
+  std::string text = rcx::timeline_text(machine, *image);
+  for (char c : text)
+    if (static_cast<unsigned char>(c) < 0x20 && c != '\n') std::abort();  // a name was not escaped
+  (void)rcx::report_json(machine, *image).dump(2, ' ', false, nlohmann::json::error_handler_t::replace);
+  (void)rcx::trace_json(machine, *image).dump(2, ' ', false, nlohmann::json::error_handler_t::replace);
+  (void)rcx::trace_vcd(machine, *image);
+  return 0;
+}

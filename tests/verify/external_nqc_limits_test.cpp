@@ -1,0 +1,56 @@
+// nqc runs under a time and memory limit (issue 21): a macro bomb made it
+// take 7 GB and never return. Fake nqc scripts stand in for the real one.
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+
+#include "verify/external_nqc.h"
+
+using namespace rcx::semtest;
+
+namespace {
+
+struct FakeNqc {
+  std::filesystem::path dir = std::filesystem::temp_directory_path() /
+                              ("rcxc-fake-nqc-" + std::to_string(::getpid()) + "-" +
+                               ::testing::UnitTest::GetInstance()->current_test_info()->name());
+  std::string script, source;
+  explicit FakeNqc(const std::string& body) {
+    std::filesystem::create_directories(dir);
+    script = (dir / "nqc").string();
+    std::ofstream(script) << "#!/bin/sh\n" << body << "\n";
+    ::chmod(script.c_str(), 0755);
+    source = (dir / "p.nqc").string();
+    std::ofstream(source) << "task main() {}\n";
+  }
+  ~FakeNqc() {
+    std::error_code ec;
+    std::filesystem::remove_all(dir, ec);
+  }
+};
+
+}  // namespace
+
+TEST(NqcLimits, AnNqcThatNeverEndsIsKilled) {
+  FakeNqc fake("exec sleep 600");
+  auto start = std::chrono::steady_clock::now();
+  auto r = compile_with_nqc(fake.script, fake.source, {}, NqcLimits{1, 512});
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(30));  // a hang guard
+  EXPECT_FALSE(r.image);
+  EXPECT_EQ(r.failure, "nqc did not finish within 1 s and was stopped");
+}
+
+TEST(NqcLimits, NqcRunsUnderTheMemoryLimit) {
+  // The script prints its own limits as nqc's "log".
+  FakeNqc fake("echo \"as $(ulimit -v) cpu $(ulimit -t)\"; exit 1");
+  auto r = compile_with_nqc(fake.script, fake.source, {}, NqcLimits{7, 256});
+  EXPECT_EQ(r.failure, "nqc failed: as 262144 cpu 7\n");
+}
+
+TEST(NqcLimits, AMissingNqcIsSaidSo) {
+  auto r = compile_with_nqc("/no/such/nqc", "p.nqc");
+  EXPECT_EQ(r.failure, "cannot run '/no/such/nqc' (is nqc installed?)");
+}
