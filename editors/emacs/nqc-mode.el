@@ -28,14 +28,14 @@
 ;; The API of rcxc's stdlib/rcx.nqh (tests/lsp/editors_test.cpp checks it).
 (defconst nqc-api-functions
   '("SetOutput" "SetDirection" "SetPower" "On" "Off" "Float" "Fwd" "Rev" "Toggle" "OnFwd"
-    "OnRev" "Wait" "OnFor" "ClearTimer" "SetWatch" "SetSensorType" "SetSensorMode" "SetSensor"
+    "OnRev" "Wait" "OnFor" "ClearTimer" "OutputStatus" "UploadDatalog" "SetWatch" "SetSensorType" "SetSensorMode" "SetSensor"
     "ClearSensor" "PlaySound" "PlayTone" "SelectDisplay" "ClearMessage" "SendMessage"
     "SetTxPower" "CreateDatalog" "AddToDatalog" "SetSleepTime" "SleepNow" "StopAllTasks"
     "Timer" "Watch" "SensorValue" "SensorType" "SensorMode" "SensorValueRaw" "SensorValueBool"
     "Message" "Random" "Program"))
 
 (defconst nqc-api-constants
-  '("OUT_A" "OUT_B" "OUT_C" "OUT_AB" "OUT_AC" "OUT_BC" "OUT_ABC" "OUT_FLOAT" "OUT_OFF"
+  '("T1" "T2" "T3" "T4" "OUT_A" "OUT_B" "OUT_C" "OUT_AB" "OUT_AC" "OUT_BC" "OUT_ABC" "OUT_FLOAT" "OUT_OFF"
     "OUT_ON" "OUT_REV" "OUT_TOGGLE" "OUT_FWD" "OUT_LOW" "OUT_HALF" "OUT_FULL" "SENSOR_1"
     "SENSOR_2" "SENSOR_3" "S1" "S2" "S3" "SENSOR_TYPE_NONE" "SENSOR_TYPE_TOUCH"
     "SENSOR_TYPE_TEMPERATURE" "SENSOR_TYPE_LIGHT" "SENSOR_TYPE_ROTATION" "SENSOR_MODE_RAW"

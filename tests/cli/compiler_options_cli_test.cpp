@@ -130,7 +130,7 @@ TEST(CompilerOptions, ATestPicksItsLevel) {
   auto bad = d.write("bad.nqc", "// @options -O3\n// @expect global v == 0\nint v;\ntask main() {}\n");
   auto r = run_rcxc({"test", bad});
   EXPECT_EQ(r.exit_code, 1);
-  EXPECT_NE(r.out.find(bad + ":1: bad @options"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find(bad + ":1: error: bad @options"), std::string::npos) << r.out;
   auto twice = d.write("twice.nqc", "// @options -O0\n// @options -O1\nint v;\ntask main() {}\n");
   r = run_rcxc({"test", twice});
   EXPECT_EQ(r.exit_code, 1);

@@ -66,7 +66,7 @@ TEST(NvimClient, DiagnosticsHoverCompletionAndDefinition) {
 
   ASSERT_EQ(result["diagnostics"].size(), 1u) << result.dump();
   const json& d = result["diagnostics"][0];
-  EXPECT_EQ(d["message"], "'hitz' is not declared");
+  EXPECT_EQ(d["message"], "'hitz' is not declared; did you mean 'hits'?");
   EXPECT_EQ(d["lnum"], 9);
   EXPECT_EQ(d["col"], 2);
   EXPECT_EQ(d["end_col"], 6);

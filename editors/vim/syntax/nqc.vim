@@ -15,10 +15,10 @@ syn keyword nqcAsm        asm
 syn keyword nqcBuiltin    __source __source_arg
 syn keyword nqcTodo       contained TODO FIXME XXX NOTE
 syn keyword nqcApiFunction SetOutput SetDirection SetPower On Off Float Fwd Rev Toggle OnFwd OnRev Wait OnFor
-  \ ClearTimer SetWatch SetSensorType SetSensorMode SetSensor ClearSensor PlaySound PlayTone SelectDisplay
+  \ ClearTimer OutputStatus UploadDatalog SetWatch SetSensorType SetSensorMode SetSensor ClearSensor PlaySound PlayTone SelectDisplay
   \ ClearMessage SendMessage SetTxPower CreateDatalog AddToDatalog SetSleepTime SleepNow StopAllTasks Timer Watch
   \ SensorValue SensorType SensorMode SensorValueRaw SensorValueBool Message Random Program
-syn keyword nqcApiConstant OUT_A OUT_B OUT_C OUT_AB OUT_AC OUT_BC OUT_ABC OUT_FLOAT OUT_OFF OUT_ON OUT_REV
+syn keyword nqcApiConstant T1 T2 T3 T4 OUT_A OUT_B OUT_C OUT_AB OUT_AC OUT_BC OUT_ABC OUT_FLOAT OUT_OFF OUT_ON OUT_REV
   \ OUT_TOGGLE OUT_FWD OUT_LOW OUT_HALF OUT_FULL SENSOR_1 SENSOR_2 SENSOR_3 S1 S2 S3 SENSOR_TYPE_NONE
   \ SENSOR_TYPE_TOUCH SENSOR_TYPE_TEMPERATURE SENSOR_TYPE_LIGHT SENSOR_TYPE_ROTATION SENSOR_MODE_RAW
   \ SENSOR_MODE_BOOL SENSOR_MODE_EDGE SENSOR_MODE_PULSE SENSOR_MODE_PERCENT SENSOR_MODE_CELSIUS
