@@ -117,7 +117,7 @@ TEST(HostileInput, DoublingSubroutineChains) {
   // 14 links inline to 40 KB: only -Os, which outlines the repeats, fits
   // them in a subroutine; -O2 says at once that it does not fit.
   EXPECT_EQ(compile(d, sub_chain(14), "-Os").exit_code, 0);
-  expect_error(compile(d, sub_chain(14)), "p.nqc:15:5: error: sub s13 is 40960 bytes long");
+  expect_error(compile(d, sub_chain(14)), "p.nqc:16:6: error: task main is 40966 bytes long");
   expect_error(compile(d, sub_chain(16)), "p.nqc:16:5: error: sub s14 would grow past 131072 bytes");
   expect_error(compile(d, sub_chain(60)), "error: sub s");
 }
