@@ -8,7 +8,7 @@
 namespace rcxc {
 namespace {
 
-constexpr ir::OptLevel kLevels[] = {ir::OptLevel::O0, ir::OptLevel::O1, ir::OptLevel::Os};
+constexpr ir::OptLevel kLevels[] = {ir::OptLevel::O0, ir::OptLevel::O1, ir::OptLevel::O2, ir::OptLevel::Os};
 
 TEST(KeptLocals, AnInlineFunctionsLocalIsOneVariablePerTaskAtEveryLevel) {
   // As nqc allocates it: main's calls add 0 then 1, t2's 0 then 10. One
@@ -40,6 +40,25 @@ task main() { count_up(); count_up(); first = seen; count_up(); second = seen; }
     auto m = test::run_image(c.out->image, 1'000);
     EXPECT_EQ(test::global_value(m, c.out->image, "first"), 10) << "level " << static_cast<int>(level);
     EXPECT_EQ(test::global_value(m, c.out->image, "second"), 20) << "level " << static_cast<int>(level);
+  }
+}
+
+TEST(KeptLocals, ALocalKeptAcrossCallsFromASubAndATaskIsOneVariableAtEveryLevel) {
+  // count_up is inlined into twice (a subroutine cannot call another), then
+  // at -O2 and -Os at main's call too (not larger): the copy made last,
+  // when no call of count_up is left, keeps k like the first.
+  const std::string text = R"(
+int seen, first, second;
+sub count_up() { int k; seen = k; k = seen + 10; }
+sub twice() { count_up(); Wait(1); }
+task main() { count_up(); first = seen; twice(); second = seen; }
+)";
+  for (auto level : kLevels) {
+    auto c = test::compile_program(text, level);
+    ASSERT_TRUE(c.out);
+    auto m = test::run_image(c.out->image, 1'000);
+    EXPECT_EQ(test::global_value(m, c.out->image, "first"), 0) << "level " << static_cast<int>(level);
+    EXPECT_EQ(test::global_value(m, c.out->image, "second"), 10) << "level " << static_cast<int>(level);
   }
 }
 
