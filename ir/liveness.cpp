@@ -111,21 +111,18 @@ CallEffects call_effects(const Program& p) {
       if (tracked(p, v)) own.add(v);
     t = std::move(own);
   }
-  // What each function reads before writing, found by its own liveness,
+  // What each subroutine reads before writing, found by its own liveness,
   // which depends on its callees': repeated until nothing changes (it only
-  // grows, and subroutines are not recursive by the time this runs). Only
-  // what is called needs it: a task's own liveness is no call's effect.
+  // grows, and subroutines are not recursive by the time this runs). Tasks
+  // are left out: a task is started, never called, so its own liveness is
+  // no call's effect. Every subroutine counts, called now or not: inlining
+  // removes a call before it copies the body, and the last copy must keep
+  // the same variables as the earlier ones.
   calls.reads.assign(p.functions.size(), VarSet());
-  std::vector<bool> called(p.functions.size(), false);
-  for (const auto& f : p.functions)
-    for (const auto& b : f.blocks)
-      for (const auto& in : b.instrs)
-        if (FuncId g = callee_of(in); g >= 0 && static_cast<std::size_t>(g) < called.size())
-          called[static_cast<std::size_t>(g)] = true;
   for (bool changed = true; changed;) {
     changed = false;
     for (std::size_t f = 0; f < p.functions.size(); ++f) {
-      if (p.functions[f].blocks.empty() || !called[f]) continue;
+      if (p.functions[f].blocks.empty() || p.functions[f].kind != FuncKind::Sub) continue;
       Liveness L = compute_liveness(p, p.functions[f], calls);
       changed |= calls.reads[f].merge(L.live_in[0]);
     }

@@ -487,6 +487,50 @@ TEST(Calls, ASubWithATemporaryRunBySeveralTasksIsInlinedWithOwnCopies) {
   EXPECT_NE(slots[static_cast<std::size_t>(temp_of(main))], slots[static_cast<std::size_t>(temp_of(other))]);
 }
 
+TEST(Calls, EveryInlinedCopyKeepsTheLocalTheSubReadsBeforeWriting) {
+  // sub count_up() { seen = k; k = seen + 10; } inlined at both calls of
+  // main: k carries from one copy to the next as it does from one call to
+  // the next. The last copy too: by the time its body is copied the call
+  // is gone and the sub is called nowhere.
+  Builder b;
+  VarId seen = b.global("seen"), k = b.local("k");
+  FuncId main = b.function("main");
+  FuncId s = b.function("count_up", FuncKind::Sub);
+  b.block(main, {call(s), call(s)});
+  b.block(s, {set(seen, V(k)), set(k, V(seen)), add(k, I(10))});
+  auto inline_first_call = [&] {
+    for (std::size_t blk = 0; blk < b.fn(main).blocks.size(); ++blk)
+      for (std::size_t i = 0; i < b.at(main, static_cast<BlockId>(blk)).instrs.size(); ++i)
+        if (callee_of(b.at(main, static_cast<BlockId>(blk)).instrs[i]) == s) {
+          inline_call(b.p, main, static_cast<BlockId>(blk), i);
+          return true;
+        }
+    return false;
+  };
+  ASSERT_TRUE(inline_first_call());
+  ASSERT_TRUE(inline_first_call());
+  EXPECT_EQ(count_ops(b.fn(main), rcx::Op::CallSubroutine), 0u);
+  std::size_t reads_of_k = 0, writes_of_k = 0;
+  for (const auto& blk : b.fn(main).blocks)
+    for (const auto& in : blk.instrs) {
+      for (VarId v : uses_of(in).reads) reads_of_k += v == k ? 1 : 0;
+      for (VarId v : uses_of(in).writes) writes_of_k += v == k ? 1 : 0;
+    }
+  EXPECT_EQ(reads_of_k, 4u);   // seen = k, and add k's read of itself, per copy
+  EXPECT_EQ(writes_of_k, 4u);  // set k and add k, per copy
+  EXPECT_EQ(b.p.vars.size(), 2u) << "an inlined copy got a variable of its own";
+}
+
+TEST(Liveness, AnUncalledSubStillReportsWhatItReadsBeforeWriting) {
+  Builder b;
+  VarId seen = b.global("seen"), k = b.local("k");
+  b.function("main");
+  FuncId s = b.function("count_up", FuncKind::Sub);
+  b.block(s, {set(seen, V(k)), set(k, V(seen))});
+  auto calls = call_effects(b.p);
+  EXPECT_TRUE(calls.reads[static_cast<std::size_t>(s)].has(k));
+}
+
 TEST(Calls, ASubOnlyUsingGlobalsStaysASub) {
   Builder b;
   VarId g = b.global("g");
