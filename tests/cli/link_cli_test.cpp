@@ -20,50 +20,9 @@ namespace {
 using rcxc::test::run_process;
 using rcxc::test::run_rcxc;
 
-// `rcxc brick --pty --fast ...` running in the background; the pty path is
-// the first line it prints. Stopped with SIGINT, as a user would.
-struct BrickProcess {
-  pid_t pid = -1;
-  int out = -1;
-  std::string path;
-  int exit_code = -1;
-
-  explicit BrickProcess(std::vector<std::string> extra = {}) {
-    int p[2];
-    if (::pipe(p) != 0) return;
-    pid = ::fork();
-    if (pid == 0) {
-      ::dup2(p[1], 1);
-      ::close(p[0]);
-      ::close(p[1]);
-      std::vector<std::string> args{RCXC_BINARY, "brick", "--pty", "--fast"};
-      args.insert(args.end(), extra.begin(), extra.end());
-      std::vector<char*> argv;
-      for (auto& a : args) argv.push_back(a.data());
-      argv.push_back(nullptr);
-      ::execv(argv[0], argv.data());
-      ::_exit(127);
-    }
-    ::close(p[1]);
-    out = p[0];
-    // Read the first line (the pty path), waiting at most 10 s.
-    char c;
-    pollfd fd{out, POLLIN, 0};
-    while (::poll(&fd, 1, 10000) > 0 && ::read(out, &c, 1) == 1 && c != '\n') path += c;
-  }
-  int stop() {
-    if (pid > 0) {
-      ::kill(pid, SIGINT);
-      int status = 0;
-      ::waitpid(pid, &status, 0);
-      exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-      pid = -1;
-    }
-    if (out >= 0) ::close(out);
-    out = -1;
-    return exit_code;
-  }
-  ~BrickProcess() { stop(); }
+// `rcxc brick --pty --fast ...` running in the background.
+struct BrickProcess : rcxc::test::PtyServer {
+  explicit BrickProcess(const std::vector<std::string>& extra = {}) : PtyServer({"brick", "--pty", "--fast"}, extra) {}
 };
 
 std::string write_temp(const std::string& name, const std::vector<std::uint8_t>& bytes) {

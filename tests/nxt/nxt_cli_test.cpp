@@ -24,52 +24,10 @@ using rcxc::test::run_process;
 using rcxc::test::run_rcxc;
 using rcxc::test::TempDir;
 
-// The first stdout line of `rcxc nxt brick --pty ...` is the pty path.
-struct NxtBrickProcess {
-  pid_t pid = -1;
-  int out = -1;
-  std::string path;
-
-  explicit NxtBrickProcess(std::vector<std::string> extra = {}, const std::string& stderr_path = "") {
-    int p[2];
-    if (::pipe(p) != 0) return;
-    pid = ::fork();
-    if (pid == 0) {
-      ::dup2(p[1], 1);
-      ::close(p[0]);
-      ::close(p[1]);
-      if (!stderr_path.empty()) {
-        int err = ::open(stderr_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        if (err >= 0) ::dup2(err, 2);
-      }
-      std::vector<std::string> args{RCXC_BINARY, "nxt", "brick", "--pty"};
-      args.insert(args.end(), extra.begin(), extra.end());
-      std::vector<char*> argv;
-      for (auto& a : args) argv.push_back(a.data());
-      argv.push_back(nullptr);
-      ::execv(argv[0], argv.data());
-      ::_exit(127);
-    }
-    ::close(p[1]);
-    out = p[0];
-    char c;
-    pollfd fd{out, POLLIN, 0};
-    while (::poll(&fd, 1, 10000) > 0 && ::read(out, &c, 1) == 1 && c != '\n') path += c;
-  }
-  int stop() {
-    int code = -1;
-    if (pid > 0) {
-      ::kill(pid, SIGINT);
-      int status = 0;
-      ::waitpid(pid, &status, 0);
-      code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-      pid = -1;
-    }
-    if (out >= 0) ::close(out);
-    out = -1;
-    return code;
-  }
-  ~NxtBrickProcess() { stop(); }
+// `rcxc nxt brick --pty ...` running in the background.
+struct NxtBrickProcess : rcxc::test::PtyServer {
+  explicit NxtBrickProcess(const std::vector<std::string>& extra = {}, const std::string& stderr_path = "")
+      : PtyServer({"nxt", "brick", "--pty"}, extra, stderr_path) {}
 };
 
 rcxc::test::ProcessResult nxt(const std::string& port, std::vector<std::string> args) {

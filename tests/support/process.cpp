@@ -129,4 +129,45 @@ std::vector<std::uint8_t> TempDir::read(const std::string& name) const {
   return {t.begin(), t.end()};
 }
 
+PtyServer::PtyServer(std::vector<std::string> args, const std::vector<std::string>& extra,
+                     const std::string& stderr_path) {
+  int p[2];
+  if (::pipe(p) != 0) return;
+  args.insert(args.begin(), RCXC_BINARY);
+  args.insert(args.end(), extra.begin(), extra.end());
+  pid = ::fork();
+  if (pid == 0) {
+    ::dup2(p[1], 1);
+    ::close(p[0]);
+    ::close(p[1]);
+    if (!stderr_path.empty()) {
+      int err = ::open(stderr_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+      if (err >= 0) ::dup2(err, 2);
+    }
+    std::vector<char*> argv;
+    for (auto& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    ::execv(argv[0], argv.data());
+    ::_exit(127);
+  }
+  ::close(p[1]);
+  out = p[0];
+  char c;
+  pollfd fd{out, POLLIN, 0};
+  while (::poll(&fd, 1, 10000) > 0 && ::read(out, &c, 1) == 1 && c != '\n') path += c;
+}
+
+int PtyServer::stop() {
+  if (pid > 0) {
+    ::kill(pid, SIGINT);
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+    exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    pid = -1;
+  }
+  if (out >= 0) ::close(out);
+  out = -1;
+  return exit_code;
+}
+
 }  // namespace rcxc::test

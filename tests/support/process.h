@@ -42,4 +42,22 @@ struct TempDir {
   std::vector<std::uint8_t> read(const std::string& name) const;
 };
 
+// `rcxc ARGS... EXTRA...` running in the background as a server that prints the path
+// of its pseudo-terminal as its first stdout line (`rcxc brick --pty`, `rcxc
+// nxt brick --pty`); waits at most 10 s for that line. stderr goes to
+// `stderr_path` when given. Stopped with SIGINT, as a user would.
+struct PtyServer {
+  int pid = -1;
+  int out = -1;
+  std::string path;
+  int exit_code = -1;
+
+  PtyServer(std::vector<std::string> args, const std::vector<std::string>& extra, const std::string& stderr_path = "");
+  PtyServer(const PtyServer&) = delete;
+  PtyServer& operator=(const PtyServer&) = delete;
+  // The server's exit code (128 + signal when a signal ended it).
+  int stop();
+  ~PtyServer() { stop(); }
+};
+
 }  // namespace rcxc::test
