@@ -75,10 +75,8 @@ std::string json_text(const nlohmann::json& j) {
 // A program with test directives (docs/testing.md) carries its own inputs:
 // without --scenario they drive the run, and @for sets the time limit unless
 // --for is given. Says so on stderr, so the timeline is never a surprise.
-bool inputs_from_source(const RunOptions& o, std::vector<rcx::TimedInput>& inputs, std::int64_t& run_ms) {
-  auto parsed = rcx::semtest::parse_spec_file(o.file);
-  if (!std::holds_alternative<rcx::semtest::Spec>(parsed)) return true;  // `rcxc test` reports bad directives
-  const auto& spec = std::get<rcx::semtest::Spec>(parsed);
+bool inputs_from_source(const RunOptions& o, const rcx::semtest::Spec& spec, std::vector<rcx::TimedInput>& inputs,
+                        std::int64_t& run_ms) {
   if (spec.inputs.empty() && spec.scenario_file.empty() && !spec.run_for_us) return true;
   auto gathered = rcx::semtest::all_inputs(spec, o.file);
   if (auto* error = std::get_if<std::string>(&gathered)) {
@@ -106,7 +104,24 @@ int run(const RunOptions& o) {
                 << " (choose another name)\n";
       return kExitUsage;
     }
-  auto loaded = load_program(o.file, compile_request(o.compiler));
+  // A test program's own directives: its @options compile it as `rcxc test`
+  // does; its inputs drive the run unless --scenario is given. Bad
+  // directives are `rcxc test`'s to report; a run ignores them.
+  std::optional<rcx::semtest::Spec> spec;
+  if (is_nqc_source(o.file).value_or(false))
+    if (auto parsed = rcx::semtest::parse_spec_file(o.file); auto* good = std::get_if<rcx::semtest::Spec>(&parsed))
+      spec = std::move(*good);
+  CompilerArgs compiler = o.compiler;
+  if (spec && !spec->options.empty()) {
+    auto merged = with_file_options(o.compiler, spec->options, o.file);
+    if (auto* e = std::get_if<std::string>(&merged)) {
+      std::cerr << o.file << ":" << spec->options_line << ": error: " << *e << "\n";
+      return kExitUsage;
+    }
+    compiler = std::get<CompilerArgs>(std::move(merged));
+    std::cerr << "rcxc run: using the compiler options written in " << o.file << " (// @options)\n";
+  }
+  auto loaded = load_program(o.file, compile_request(compiler));
   if (auto* e = std::get_if<std::string>(&loaded)) {
     std::cerr << "rcxc run: " << *e << "\n";
     return kExitFailure;
@@ -122,8 +137,8 @@ int run(const RunOptions& o) {
     inputs = std::get<std::vector<rcx::TimedInput>>(std::move(parsed));
   }
   std::int64_t run_ms = o.for_ms;
-  if (o.scenario.empty() && is_nqc_source(o.file).value_or(false)) {
-    if (!inputs_from_source(o, inputs, run_ms)) return kExitFailure;
+  if (o.scenario.empty() && spec) {
+    if (!inputs_from_source(o, *spec, inputs, run_ms)) return kExitFailure;
   }
   rcx::Config config;
   config.seed = o.seed;

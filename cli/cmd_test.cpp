@@ -97,25 +97,6 @@ struct Compiled {
   std::string failure;  // could not compile for a reason that is not the program's
 };
 
-// The command line's compiler options, then the file's @options: their
-// -I, -D and -U come after the command line's, their -n and -O win.
-std::variant<CompilerArgs, std::string> options_for(const TestOptions& o, const rcx::semtest::Spec& spec,
-                                                    const std::string& file) {
-  if (spec.options.empty()) return o.compiler;
-  auto parsed = parse_compiler_options(spec.options, fs::path(file).parent_path().string());
-  if (auto* error = std::get_if<std::string>(&parsed)) return fmt::format("bad @options: {}", *error);
-  const auto& own = std::get<CompilerArgs>(parsed);
-  CompilerArgs merged = o.compiler;
-  merged.include_dirs.insert(merged.include_dirs.end(), own.include_dirs.begin(), own.include_dirs.end());
-  merged.defines.insert(merged.defines.end(), own.defines.begin(), own.defines.end());
-  merged.undefines.insert(merged.undefines.end(), own.undefines.begin(), own.undefines.end());
-  merged.no_stdlib = merged.no_stdlib || own.no_stdlib;
-  bool picks_level = std::any_of(spec.options.begin(), spec.options.end(),
-                                 [](const std::string& w) { return w.rfind("-O", 0) == 0; });
-  if (picks_level) merged.optimize = own.optimize;
-  return merged;
-}
-
 Compiled compile(const TestOptions& o, const std::string& file, const CompilerArgs& args,
                  const rcx::semtest::Spec& spec) {
   if (!o.nqc.empty()) {
@@ -147,7 +128,7 @@ std::vector<Failure> run_test(const TestOptions& o, const std::string& file, std
     log = "    skipped: marked @nqc-differs\n";
     return {};
   }
-  auto args = options_for(o, spec, file);
+  auto args = with_file_options(o.compiler, spec.options, file);
   if (auto* error = std::get_if<std::string>(&args)) return {{spec.options_line, *error}};
   Compiled c = compile(o, file, std::get<CompilerArgs>(args), spec);
   if (!c.failure.empty()) return {{0, c.failure}};

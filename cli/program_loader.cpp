@@ -80,6 +80,23 @@ std::variant<CompilerArgs, std::string> parse_compiler_options(const std::vector
   return args;
 }
 
+std::variant<CompilerArgs, std::string> with_file_options(const CompilerArgs& command_line,
+                                                          const std::vector<std::string>& words,
+                                                          const std::string& file) {
+  if (words.empty()) return command_line;
+  auto parsed = parse_compiler_options(words, std::filesystem::path(file).parent_path().string());
+  if (auto* error = std::get_if<std::string>(&parsed)) return "bad @options: " + *error;
+  const auto& own = std::get<CompilerArgs>(parsed);
+  CompilerArgs merged = command_line;
+  merged.include_dirs.insert(merged.include_dirs.end(), own.include_dirs.begin(), own.include_dirs.end());
+  merged.defines.insert(merged.defines.end(), own.defines.begin(), own.defines.end());
+  merged.undefines.insert(merged.undefines.end(), own.undefines.begin(), own.undefines.end());
+  merged.no_stdlib = merged.no_stdlib || own.no_stdlib;
+  bool picks_level = std::any_of(words.begin(), words.end(), [](const std::string& w) { return w.rfind("-O", 0) == 0; });
+  if (picks_level) merged.optimize = own.optimize;
+  return merged;
+}
+
 std::vector<std::string> nqc_arguments(const CompilerArgs& args) {
   std::vector<std::string> out;
   for (const auto& dir : args.include_dirs) out.push_back("-I" + dir);

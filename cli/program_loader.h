@@ -40,6 +40,12 @@ std::optional<std::string> bad_compiler_arguments(const CompilerArgs& args);
 // says which word is wrong.
 std::variant<CompilerArgs, std::string> parse_compiler_options(const std::vector<std::string>& words,
                                                                const std::string& base_dir);
+// The command line's options, then a program's own `@options` words (read
+// from `file`): their -I, -D and -U come after the command line's, their -n
+// and -O win. Used by `rcxc test` and `rcxc run`, so both compile alike.
+std::variant<CompilerArgs, std::string> with_file_options(const CompilerArgs& command_line,
+                                                          const std::vector<std::string>& words,
+                                                          const std::string& file);
 // The words that give nqc the same -I, -D, -U and -n (nqc has no levels).
 std::vector<std::string> nqc_arguments(const CompilerArgs& args);
 

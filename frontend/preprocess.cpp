@@ -217,7 +217,7 @@ class Preprocessor {
     // test it to tell nqc from other compilers, and rcxc takes their nqc path.
     define_text("__NQC__", "301", cmd);
     define_text("__RCXC__", "1", cmd);
-    for (const auto& [name, value] : opts_.defines) define_text(name, value.empty() ? "1" : value, cmd);
+    for (const auto& [name, value] : opts_.defines) define_text(name, value, cmd);
     for (const auto& name : opts_.undefines) defined_.erase(name);
   }
 

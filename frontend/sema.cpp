@@ -785,10 +785,15 @@ class Checker {
       return;
     }
     int type = *n.type->constant;
-    if (type < 0 || type > 15 || (type >= 5 && type <= 7)) {
-      diags_.error(n.type->span, "source type " + std::to_string(type) + " does not exist on the RCX");
+    if (type < 0 || type > 15) {
+      diags_.error(n.type->span, "source type " + std::to_string(type) + " does not exist (types are 0 to 15)");
       return;
     }
+    // nqc emits the CyberMaster sources for -Trcx too, so a program using them
+    // compiles; the RCX has nothing behind them (docs/emulator.md, "Sources").
+    if (type >= 5 && type <= 7)
+      diags_.warning(n.type->span, "source type " + std::to_string(type) +
+                                       " is a CyberMaster source; on the RCX it reads 0");
     n.type_value = static_cast<std::int16_t>(type);
     n.arg_value = *n.arg->constant;
     if (type == static_cast<int>(rcx::Source::Immediate)) e.constant = n.arg_value;

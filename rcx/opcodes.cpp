@@ -11,16 +11,14 @@ using R = Role;
 constexpr SourceSet kVarImm = sources({0, 2});
 constexpr SourceSet kVarImmRandom = sources({0, 2, 4});
 constexpr SourceSet kDatalogSources = sources({0, 1, 9, 14});
-constexpr SourceSet kTest1 = kRcxSources & ~sources({4, 8});
-constexpr SourceSet kTest2 = kRcxSources & ~sources({2, 4, 8});
-constexpr SourceSet kGetValueSources = kRcxSources & ~sources({2, 4});
+constexpr SourceSet kTest1 = kAllSources & ~sources({4, 8});
+constexpr SourceSet kTest2 = kAllSources & ~sources({2, 4, 8});
+constexpr SourceSet kGetValueSources = kAllSources & ~sources({2, 4});
 
 // "index, source, argument" arithmetic on a variable.
 constexpr Operand kVarSrcArg[] = {
     {"index", UByte, R::Variable}, {"source", UByte, R::Source, kVarImm}, {"argument", Short, R::Argument, 0, 1, 1}};
-// Set variable takes every source (seed: "All sources are allowed"); on the
-// RCX the Cybermaster sources 5-7 read 0 (docs/emulator.md, "Sources").
-constexpr SourceSet kAllSources = 0xFFFF;
+// Set variable takes every source (seed: "All sources are allowed").
 constexpr Operand kSetVar[] = {
     {"index", UByte, R::Variable}, {"source", UByte, R::Source, kAllSources}, {"argument", Short, R::Argument, 0, 1, 1}};
 constexpr Operand kTestNear[] = {

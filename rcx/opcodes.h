@@ -50,8 +50,10 @@ constexpr SourceSet sources(std::initializer_list<int> list) {
   for (int v : list) s = static_cast<SourceSet>(s | (1u << v));
   return s;
 }
-// The sources that exist on the RCX (all but the Cybermaster ones).
-inline constexpr SourceSet kRcxSources = 0xFFFF & ~sources({5, 6, 7});
+// Every source type; an opcode's operand narrows this as the reference says.
+// The CyberMaster ones (5-7) are allowed wherever the reference allows them
+// (nqc emits them for -Trcx) and read 0 on the RCX (docs/emulator.md).
+inline constexpr SourceSet kAllSources = 0xFFFF;
 constexpr bool allows(SourceSet set, int source) {
   return source >= 0 && source < 16 && ((set >> source) & 1u) != 0;
 }

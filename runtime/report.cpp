@@ -100,8 +100,11 @@ nlohmann::json report_json(const Machine& m, const Image& image) {
   j["vars"] = nlohmann::json::array();
   for (auto v : s.vars) j["vars"].push_back(v);
   j["globals"] = nlohmann::json::object();
+  // Both compilers list file-scope globals before locals, so the first symbol
+  // of a name is the global; a task's local of the same name must not hide it.
   for (const auto& sym : image.symbols)
-    if (sym.type == SymbolType::Variable && sym.index < kMaxVariables) j["globals"][sym.name] = s.vars[sym.index];
+    if (sym.type == SymbolType::Variable && sym.index < kMaxVariables && !j["globals"].contains(sym.name))
+      j["globals"][sym.name] = s.vars[sym.index];
   for (int i = 0; i < kOutputs; ++i) j["outputs"][kOutputNames[i]] = output_json(s.outputs[static_cast<std::size_t>(i)]);
   j["message"] = s.message;
   j["display"] = s.display;

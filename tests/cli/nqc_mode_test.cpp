@@ -30,6 +30,7 @@ const std::map<std::string, std::string> kFiles = {
     {"inc/lib.nqh", "void Go()\n{\n  OnFwd(OUT_A);\n}\n"},
     {"inc/badlib.nqh", "void Go()\n{\n  OnFwd(OUT_A);\n  Stopp(OUT_A);\n}\n"},
     {"defs.nqc", "int y;\ntask main()\n{\n#ifdef X\n  x = 1;\n#endif\n#if LEVEL != 2\n  z = 2;\n#endif\n  y = 1;\n}\n"},
+    {"if_defined.nqc", "int y;\ntask main()\n{\n#if X\n  y = 2;\n#endif\n  y = 1;\n}\n"},
     {"plain.nqc", "int x;\ntask main()\n{\n  x = OUT_A;\n}\n"},
 };
 
@@ -135,6 +136,7 @@ TEST(NqcMode, CompilingBehavesAsNqc) {
            {{"-DLEVEL=2", "defs.nqc"}},
            {{"-DLEVEL=2", "-DX", "defs.nqc"}},
            {{"-DLEVEL=2", "-DX", "-UX", "defs.nqc"}},
+           {{"-DX", "if_defined.nqc"}},  // nqc's -DX is empty, so `#if X` has no value
            {{"-Iinc", "inc.nqc"}},
            {{"inc.nqc"}, "NQC_INCLUDE=inc"},
            {{"ok.nqc"}, "NQC_OPTIONS=-Lq.lst"},

@@ -57,3 +57,31 @@ TEST(RunSourceInputs, ScenarioOptionReplacesTheDirectives) {
   EXPECT_EQ(j["globals"]["seen"], 0);
   EXPECT_EQ(r.err.find("using the inputs"), std::string::npos) << r.err;
 }
+
+// A test program's // @options compile it for `rcxc run` as for `rcxc test`:
+// here a -D the program needs (without it the program does not compile) and
+// an -I to a folder next to it; the command line's -D comes first, the
+// file's after it.
+TEST(RunSourceInputs, OptionsDirectiveCompilesTheRun) {
+  File f;
+  std::filesystem::create_directory(f.dir + "/inc");
+  std::ofstream(f.dir + "/inc/speed.nqh") << "#define SPEED_OF(x) ((x) * 2)\n";
+  std::string program = f.dir + "/o.nqc";
+  std::ofstream(program) << "// @options -Iinc -DSPEED=3\n"
+                            "#include \"speed.nqh\"\n"
+                            "int v;\n"
+                            "task main() { v = SPEED_OF(SPEED); }\n";
+  auto r = run_rcxc({"run", program, "--report", "json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(nlohmann::json::parse(r.out)["globals"]["v"], 6);
+  EXPECT_NE(r.err.find("using the compiler options written in"), std::string::npos) << r.err;
+}
+
+TEST(RunSourceInputs, BadOptionsDirectiveIsAnErrorAtItsLine) {
+  File f;
+  std::string program = f.dir + "/bad.nqc";
+  std::ofstream(program) << "int v;\n// @options -Ofast\ntask main() { v = 1; }\n";
+  auto r = run_rcxc({"run", program});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("bad.nqc:2: error: bad @options"), std::string::npos) << r.err;
+}

@@ -95,3 +95,15 @@ TEST(Report, TraceJsonIncludesInputs) {
   ASSERT_EQ(j.size(), 1u);
   EXPECT_EQ(j[0], (nlohmann::json{{"t", 5}, {"kind", "sensor"}, {"sensor", 1}, {"raw", 300}}));
 }
+
+// A task's local may share a global's name; the image lists globals first,
+// and the report's `globals` must show the global, not whichever came last.
+TEST(Report, GlobalWinsOverALocalOfTheSameName) {
+  auto img = image({{0, code({set(0, 4), set(7, 9)})}});
+  img.symbols.push_back({rcx::SymbolType::Variable, 0, "n"});
+  img.symbols.push_back({rcx::SymbolType::Variable, 7, "n"});
+  auto m = run(img);
+  auto j = rcx::report_json(m, img);
+  EXPECT_EQ(j["globals"]["n"], 4);
+  EXPECT_EQ(j["globals"].size(), 1u);
+}
