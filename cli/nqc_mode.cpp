@@ -18,7 +18,7 @@
 #include <fmt/format.h>
 
 #include "backend/compile.h"
-#include "backend/listing.h"
+#include "backend/nqc_listing.h"
 #include "cli/output_file.h"
 #include "cli/version.h"
 #include "link/download.h"
@@ -119,7 +119,7 @@ std::string read_option(const std::string& word, NqcOptions& o) {
     case 's': return flag(o.source_in_listing);
     case 'v': return flag(o.verbose);
     case 'q': return flag(o.quiet);
-    case 'c':  // LASM-style listing: the listing stays rcxc's (docs/nqc.md)
+    case 'c':  // LASM-style listing: the listing stays in nqc's default layout (docs/nqc.md)
     case 'x': {  // no packet header: the towers rcxc drives always use one
       bool ignored = false;
       return flag(ignored);
@@ -335,7 +335,7 @@ class Session {
       }
     }
     if (o_.listing) {
-      std::string text = backend::listing(out, o_.source_in_listing ? &sm : nullptr);
+      std::string text = backend::nqc_listing(out, o_.source_in_listing ? &sm : nullptr);
       if (o_.listing->file.empty()) {
         std::cout << text;
       } else if (!write_file_atomically(o_.listing->file, text)) {

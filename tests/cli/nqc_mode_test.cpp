@@ -194,6 +194,21 @@ TEST(NqcMode, SubcommandIsTheSameMode) {
   EXPECT_NE(r.err.find("File \"" + src + "\" ; line 4\n"), std::string::npos) << r.err;
 }
 
+// -L is nqc's layout (tests/backend/nqc_listing_test compares it with nqc's
+// own on nqc's images); -s puts each source line above the first
+// instruction made from it, as nqc does.
+TEST(NqcMode, ListingWithSourceLinesIsNqcsLayout) {
+  TempDir d;
+  std::string src = d.write("s.nqc", "int x;\ntask main()\n{\n  x = 3;\n  PlaySound(2);\n}\n");
+  auto r = run_rcxc({"nqc", "-L", "-s", src});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("*** Var 0 = x\n\n*** Task 0 = main, size: "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("  x = 3;\n006 setv     var[0], 3                         14 00 02 03 00 \n"), std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("  PlaySound(2);\n011 plays    2 "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\nTotal size: 13 bytes\n"), std::string::npos) << r.out;
+}
+
 TEST(NqcMode, AMacroErrorIsShownAtTheUsersLine) {
   TempDir d;
   std::string src = d.write("m.nqc", "#define BUMP y = y + 1\ntask main()\n{\n  BUMP;\n}\n");
