@@ -5,7 +5,6 @@
 // corpus program nqc compiles. Skipped when nqc is absent.
 #include <gtest/gtest.h>
 
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -102,8 +101,8 @@ TEST(NqcListing, EveryInstructionListsAsNqcListsIt) {
 TEST(NqcListing, CorpusProgramsListAsNqcListsThem) {
   std::string nqc = find_nqc();
   if (nqc.empty()) GTEST_SKIP() << "nqc is not installed";
-  const char* corpus = std::getenv("RCXC_CORPUS_DIR");
-  if (!corpus || !fs::exists(corpus)) GTEST_SKIP() << "no corpus";
+  const fs::path corpus = RCXC_CORPUS_DIR;
+  if (!fs::exists(corpus)) GTEST_SKIP() << "no corpus at " << corpus;
   test::TempDir dir;
   int compared = 0;
   for (const auto& e : fs::recursive_directory_iterator(corpus)) {
