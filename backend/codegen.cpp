@@ -44,6 +44,16 @@ struct Selector {
   const std::vector<int>& slots;
   const Indices& indices;
   Diagnostics& diags;
+  bool drop_self_copies = false;
+
+  // `set` of a variable from one that got the same slot: once two variables
+  // share a slot (the source dies where the copy begins), the copy between
+  // them changes nothing.
+  bool self_copy(const ir::Instr& in) const {
+    return !in.raw && in.op == rcx::Op::SetVariable && in.args.size() == 2 && in.args[0].is_var() &&
+           in.args[1].is_var() && resolve(in.args[0]).second >= 0 &&
+           resolve(in.args[0]) == resolve(in.args[1]);
+  }
 
   // Source and argument of an operand once slots and indices are known.
   std::pair<int, int> resolve(const Operand& o) const {
@@ -249,7 +259,7 @@ struct Selector {
     for (std::size_t b = 0; b < f.blocks.size(); ++b) {
       block_start[b] = static_cast<int>(out.size());
       for (const auto& in : f.blocks[b].instrs)
-        if (!select(in, out)) return std::nullopt;
+        if (!(drop_self_copies && self_copy(in)) && !select(in, out)) return std::nullopt;
       select_terminator(f, static_cast<ir::BlockId>(b), out);
     }
     return out;
@@ -282,7 +292,7 @@ std::optional<Output> generate(const ir::Program& p, const std::vector<int>& slo
                                const GenerateOptions& options, std::vector<std::string>* log) {
   auto idx = number_functions(p, diags);
   if (!idx) return std::nullopt;
-  Selector sel{p, slots, *idx, diags};
+  Selector sel{p, slots, *idx, diags, options.drop_self_copies};
   std::vector<Selected> selected;
   for (int pass = 0; pass < 2; ++pass)
     for (std::size_t f = 0; f < p.functions.size(); ++f) {

@@ -53,6 +53,8 @@ struct Output {
 };
 
 struct GenerateOptions {
+  // From -O1: leave out a copy between two variables that share a slot.
+  bool drop_self_copies = false;
   // -O2: move an instruction every call of a subroutine has beside it into
   // the subroutine (the same instructions run).
   bool absorb = false;

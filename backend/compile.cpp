@@ -13,6 +13,7 @@ std::optional<Output> allocate_and_generate(const ir::Program& program, ir::OptL
   auto slots = ir::allocate_slots(program, diags);
   if (slots.empty() && !program.vars.empty()) return std::nullopt;
   GenerateOptions options;
+  options.drop_self_copies = level != ir::OptLevel::O0;
   options.absorb = ir::shrinks_without_slowing(level);
   options.outline = ir::trades_time_for_size(level);
   return generate(program, slots, diags, options, &log);

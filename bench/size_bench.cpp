@@ -1,8 +1,11 @@
-// Code size at -Os (the smallest code): for every corpus program, rcxc's
+// Code size at the default level (-O2, the fastest code, never larger
+// than nqc's) and at -Os (the smallest): for every corpus program, rcxc's
 // code bytes and variable slots against `nqc -Trcx` (when nqc is
-// installed), as a table with the totals;
-// then the totals over 400 random programs (tests/support/random_programs.h);
-// plus the compile time of each corpus program as the benchmark proper.
+// installed), as a table with the totals; then the totals over 400 random
+// programs (tests/support/random_programs.h) at both levels, naming the
+// seeds of any program larger than nqc's; plus the compile time of each
+// corpus program at -Os as the benchmark proper. speed_bench gives the
+// sizes of the other generated kinds (motor sequences, two tasks, calls).
 //
 // The corpus is found through the RCXC_CORPUS_DIR environment variable, or
 // next to the source tree (../shared/corpus).
@@ -38,11 +41,11 @@ struct Size {
   int slots = 0;
 };
 
-std::optional<Size> ours(const fs::path& file) {
+std::optional<Size> ours(const fs::path& file, rcxc::ir::OptLevel level = rcxc::ir::OptLevel::Os) {
   rcxc::SourceManager sm;
   rcxc::Diagnostics diags;
   rcxc::ir::Log log;
-  auto out = rcxc::backend::compile_file(file.string(), {}, rcxc::ir::OptLevel::Os, sm, diags, log);
+  auto out = rcxc::backend::compile_file(file.string(), {}, level, sm, diags, log);
   if (!out) return std::nullopt;
   return Size{out->code_bytes, out->slots_used};
 }
@@ -64,30 +67,36 @@ std::optional<Size> theirs(const fs::path& file) {
 }
 
 void print_table() {
-  int ours_total = 0, theirs_total = 0, larger = 0;
-  std::cout << fmt::format("{:<24} {:>9} {:>9} {:>6} {:>10} {:>10}\n", "program", "rcxc", "nqc", "ratio", "rcxc slots",
-                           "nqc slots");
+  int o2_total = 0, os_total = 0, theirs_total = 0, o2_larger = 0, os_larger = 0;
+  std::cout << fmt::format("{:<24} {:>6} {:>6} {:>6} {:>6} {:>6} {:>10} {:>10}\n", "program", "-O2", "-Os", "nqc",
+                           "-O2/nqc", "-Os/nqc", "rcxc slots", "nqc slots");
   for (const auto& f : corpus_files()) {
+    auto o2 = ours(f, rcxc::ir::OptLevel::O2);
     auto a = ours(f);
     auto b = theirs(f);
     std::string name = f.filename().string();
-    if (!a) {
-      std::cout << fmt::format("{:<24} {:>9} {:>9}\n", name, "error", b ? std::to_string(b->bytes) : "error");
+    if (!a || !o2) {
+      std::cout << fmt::format("{:<24} {:>6} {:>6} {:>6}\n", name, "error", "error", b ? std::to_string(b->bytes) : "error");
       continue;
     }
     if (!b) {
-      std::cout << fmt::format("{:<24} {:>9} {:>9} {:>6} {:>10}\n", name, a->bytes, "-", "-", a->slots);
+      std::cout << fmt::format("{:<24} {:>6} {:>6} {:>6} {:>7} {:>7} {:>10}\n", name, o2->bytes, a->bytes, "-", "-", "-",
+                               a->slots);
       continue;
     }
-    ours_total += a->bytes;
+    o2_total += o2->bytes;
+    os_total += a->bytes;
     theirs_total += b->bytes;
-    larger += a->bytes > b->bytes ? 1 : 0;
-    std::cout << fmt::format("{:<24} {:>9} {:>9} {:>6.2f} {:>10} {:>10}\n", name, a->bytes, b->bytes,
+    o2_larger += o2->bytes > b->bytes ? 1 : 0;
+    os_larger += a->bytes > b->bytes ? 1 : 0;
+    std::cout << fmt::format("{:<24} {:>6} {:>6} {:>6} {:>7.2f} {:>7.2f} {:>10} {:>10}\n", name, o2->bytes, a->bytes,
+                             b->bytes, static_cast<double>(o2->bytes) / b->bytes,
                              static_cast<double>(a->bytes) / b->bytes, a->slots, b->slots);
   }
   if (theirs_total > 0)
-    std::cout << fmt::format("{:<24} {:>9} {:>9} {:>6.3f}   ({} programs larger than nqc's)\n", "total", ours_total,
-                             theirs_total, static_cast<double>(ours_total) / theirs_total, larger);
+    std::cout << fmt::format("{:<24} {:>6} {:>6} {:>6} {:>7.3f} {:>7.3f}   (larger than nqc's: {} at -O2, {} at -Os)\n",
+                             "total", o2_total, os_total, theirs_total, static_cast<double>(o2_total) / theirs_total,
+                             static_cast<double>(os_total) / theirs_total, o2_larger, os_larger);
   else
     std::cout << "(nqc not installed or corpus absent: no comparison)\n";
 }
@@ -98,25 +107,31 @@ void print_random_totals() {
   fs::path dir = fs::temp_directory_path() / fmt::format("rcxc-size-{}", getpid());
   fs::create_directories(dir);
   fs::path file = dir / "random.nqc";
-  long ours_total = 0, theirs_total = 0;
+  long o2_total = 0, os_total = 0, theirs_total = 0;
   int compared = 0;
-  std::vector<unsigned> larger_seeds;
+  std::vector<unsigned> o2_larger, os_larger;
   for (unsigned seed = 1; seed <= 400; ++seed) {
     std::ofstream(file) << rcxc::test::ExpressionGenerator(seed, true).program();
+    auto o2 = ours(file, rcxc::ir::OptLevel::O2);
     auto a = ours(file);
     auto b = theirs(file);
-    if (!a || !b) continue;
-    ours_total += a->bytes;
+    if (!o2 || !a || !b) continue;
+    o2_total += o2->bytes;
+    os_total += a->bytes;
     theirs_total += b->bytes;
-    if (a->bytes > b->bytes) larger_seeds.push_back(seed);
+    if (o2->bytes > b->bytes) o2_larger.push_back(seed);
+    if (a->bytes > b->bytes) os_larger.push_back(seed);
     ++compared;
   }
   fs::remove_all(dir);
   if (theirs_total > 0)
-    std::cout << fmt::format("{:<24} {:>9} {:>9} {:>6.3f}   ({} random programs, {} larger than nqc's)\n",
-                             "random programs", ours_total, theirs_total,
-                             static_cast<double>(ours_total) / theirs_total, compared, larger_seeds.size());
-  if (!larger_seeds.empty()) std::cout << fmt::format("larger: seeds {}\n", fmt::join(larger_seeds, ", "));
+    std::cout << fmt::format("{:<24} {:>6} {:>6} {:>6} {:>7.3f} {:>7.3f}   ({} random programs; larger than nqc's: {} at "
+                             "-O2, {} at -Os)\n",
+                             "random programs", o2_total, os_total, theirs_total,
+                             static_cast<double>(o2_total) / theirs_total, static_cast<double>(os_total) / theirs_total,
+                             compared, o2_larger.size(), os_larger.size());
+  if (!o2_larger.empty()) std::cout << fmt::format("larger at -O2: seeds {}\n", fmt::join(o2_larger, ", "));
+  if (!os_larger.empty()) std::cout << fmt::format("larger at -Os: seeds {}\n", fmt::join(os_larger, ", "));
 }
 
 void BM_Compile(benchmark::State& state, const fs::path& file) {

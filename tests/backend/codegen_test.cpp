@@ -7,6 +7,7 @@
 #include "backend/codegen.h"
 #include "backend/compile.h"
 #include "tests/ir/ir_builder.h"
+#include "tests/support/compiled.h"
 
 using namespace rcxc;
 using namespace rcxc::ir;
@@ -282,4 +283,42 @@ TEST(Branch, FarJumpOffsetsFollowTheSeed) {
   EXPECT_FALSE(backend::reaches(rcx::Op::DecrementLoopCounterNear, 10, 266));
   EXPECT_EQ(backend::offset_origin(rcx::Op::TestAndBranchNear), 6);
   EXPECT_EQ(backend::offset_origin(rcx::Op::BranchAlwaysNear), 1);
+}
+
+// A copy between two variables that slot allocation put in one slot (the
+// source dies where the copy begins) is no instruction from -O1 on; -O0
+// keeps it, and a copy between different slots stays at every level.
+TEST(Codegen, CopyWithinOneSlotIsLeftOut) {
+  Builder b;
+  FuncId t = b.function("main");
+  VarId x = b.temp(), y = b.temp(), z = b.temp();
+  b.block(t, {set(x, I(5)), set(y, V(x)), add(y, I(1)), set(z, V(y))});
+  const Bytes set_x{0x14, 0x03, 0x02, 0x05, 0x00}, copy_within{0x14, 0x03, 0x00, 0x03, 0x00},
+      add_one{0x24, 0x03, 0x02, 0x01, 0x00}, copy_to_4{0x14, 0x04, 0x00, 0x03, 0x00};
+  Diagnostics d;
+  backend::GenerateOptions options;
+  options.drop_self_copies = true;
+  auto dropped = backend::generate(b.p, {3, 3, 4}, d, options);
+  ASSERT_TRUE(dropped);
+  EXPECT_EQ(dropped->fragments[0].code, cat({set_x, add_one, copy_to_4}));
+  auto kept = backend::generate(b.p, {3, 3, 4}, d);
+  ASSERT_TRUE(kept);
+  EXPECT_EQ(kept->fragments[0].code, cat({set_x, copy_within, add_one, copy_to_4}));
+}
+
+// `(b & 7) ^ 3` is `(t | 3) - (t & 3)` with t = b & 7: the second use of t
+// copies it into a temporary that takes t's slot, as t dies there.
+TEST(Codegen, XorOfAMaskedValueCopiesNothingWithinASlot) {
+  const char* text = "int b, c;\ntask main() { b = 13; c = (b & 7) ^ 3; }\n";
+  for (auto level : {ir::OptLevel::O0, ir::OptLevel::O1, ir::OptLevel::O2, ir::OptLevel::Os}) {
+    auto c = rcxc::test::compile_program(text, level);
+    ASSERT_TRUE(c.out);
+    auto m = rcxc::test::run_image(c.out->image, 100);
+    EXPECT_EQ(rcxc::test::global_value(m, c.out->image, "c"), 6);
+    int self_copies = 0;
+    for (const auto& f : c.out->fragments)
+      for (const auto& in : f.instrs)
+        self_copies += in.bytes.size() == 5 && in.bytes[0] == 0x14 && in.bytes[2] == 0 && in.bytes[1] == in.bytes[3];
+    EXPECT_EQ(self_copies, level == ir::OptLevel::O0 ? 1 : 0) << static_cast<int>(level);
+  }
 }
