@@ -18,7 +18,6 @@
 
 #include "cli/commands.h"
 #include "cli/nxt_tether.h"
-#include "cli/program_loader.h"
 #include "nxt/client.h"
 #include "nxt/commands.h"
 #include "nxt/scenario.h"
@@ -243,8 +242,16 @@ std::variant<std::vector<nxt::ScenarioInput>, std::string> scenario_from_directi
   return out;
 }
 
+// A scenario file: NQC source (named .nqc) for its // @input lines, else TOML.
 std::variant<std::vector<nxt::ScenarioInput>, std::string> read_brick_scenario(const std::string& path) {
-  if (is_nqc_source(path).value_or(false) && !path.ends_with(".toml")) return scenario_from_directives(path);
+  std::string lower = path;
+  std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return std::tolower(c); });
+  if (lower.ends_with(".nqc")) {
+    auto inputs = scenario_from_directives(path);
+    if (auto* list = std::get_if<std::vector<nxt::ScenarioInput>>(&inputs); list && list->empty())
+      std::cerr << "rcxc nxt brick: " << path << " has no // @input lines: the inputs stay as they are\n";
+    return inputs;
+  }
   auto parsed = nxt::read_scenario_file(path);
   if (auto* e = std::get_if<nxt::ScenarioError>(&parsed)) return e->message;
   return std::get<std::vector<nxt::ScenarioInput>>(std::move(parsed));
@@ -710,7 +717,7 @@ void register_nxt(CLI::App& app, int& exit_code) {
     auto scenario = std::make_shared<std::string>(), program = std::make_shared<std::string>();
     cmd->add_flag("--pty", *pty, "Serve on a new pseudo-terminal");
     cmd->add_option("--scenario", *scenario,
-                    "Inputs over time: TOML (docs/nxt.md), or an NQC program whose // @input lines to replay; "
+                    "Inputs over time: TOML (docs/nxt.md), or a .nqc program whose // @input lines to replay; "
                     "times count from the first telegram");
     cmd->add_option("--program", *program,
                     "Start with program NAME.rxe running (made empty if absent), as if started on the brick: "

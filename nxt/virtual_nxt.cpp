@@ -53,6 +53,13 @@ void reset_io(VirtualNxt& n) {
   for (auto& q : n.queues) q.clear();
 }
 
+// A program starts: it resets the sleep timer and all I/O.
+void begin_program(VirtualNxt& n, const std::string& name) {
+  n.program = name;
+  n.awake_since_us = n.now_us;
+  reset_io(n);
+}
+
 bool is_executable(const std::string& name) {
   auto dot = name.rfind('.');
   std::string ext = dot == std::string::npos ? "" : name.substr(dot + 1);
@@ -149,9 +156,7 @@ Outcome direct(VirtualNxt& n, const Decoded& d) {
     case 0x00: {  // StartProgram: a file that does not exist answers 0xC0 (firmware, not the seed's 0xBD)
       std::string name = txt(d, "name");
       if (!n.files.count(name) || !is_executable(name)) return fail(status::kOutOfRange);
-      n.program = name;
-      n.awake_since_us = n.now_us;
-      reset_io(n);
+      begin_program(n, name);
       return ok();
     }
     case 0x01:  // StopProgram
@@ -540,9 +545,7 @@ std::optional<std::string> start_program(VirtualNxt& n, const std::string& name)
     if (free_flash(n) == 0) return "the flash is full";
     n.files[name] = StoredFile{{}, 0, true, false};
   }
-  n.program = name;
-  n.awake_since_us = n.now_us;
-  reset_io(n);
+  begin_program(n, name);
   return std::nullopt;
 }
 

@@ -307,6 +307,11 @@ TEST(NxtTether, ScenarioAndNxtDoNotGoTogether) {
                      "/dev/no-such-nxt"});
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("--scenario and --nxt do not go together"), std::string::npos) << r.err;
+  auto bad_input = run_rcxc(
+      {"nxt", "brick", "--pty", "--scenario", dir.write("b.nqc", std::string("// @input at 5ms: sensor 9 raw 3\ntask main() {}\n"))},
+      "", 10'000);
+  EXPECT_EQ(bad_input.exit_code, 1);
+  EXPECT_NE(bad_input.err.find("b.nqc:1: "), std::string::npos) << bad_input.err;
   auto bad = run_rcxc({"nxt", "brick", "--pty", "--program", "notes.txt"}, "", 10'000);
   EXPECT_EQ(bad.exit_code, 2);
   EXPECT_NE(bad.err.find("--program: \"notes.txt\" is not a program (.rxe)"), std::string::npos) << bad.err;
