@@ -24,6 +24,7 @@
 #include "nxt/telegram.h"
 #include "nxt/transport.h"
 #include "nxt/virtual_nxt.h"
+#include "verify/testspec.h"
 
 namespace rcxc::cli {
 namespace {
@@ -219,19 +220,63 @@ std::string table_help() {
   return s;
 }
 
-int serve_brick(bool on_pty, const std::string& scenario_path, bool verbose) {
+// The virtual NXT's inputs from an NQC program's own test directives
+// (`// @input`, docs/testing.md): what `rcxc run` feeds the emulator, as the
+// NXT's inputs 1-3, mailbox 1 and battery see it.
+std::variant<std::vector<nxt::ScenarioInput>, std::string> scenario_from_directives(const std::string& path) {
+  auto parsed = rcx::semtest::parse_spec_file(path);
+  if (auto* errors = std::get_if<std::vector<rcx::semtest::SpecError>>(&parsed))
+    return fmt::format("{}:{}: {}", path, errors->front().line, errors->front().message);
+  auto gathered = rcx::semtest::all_inputs(std::get<rcx::semtest::Spec>(parsed), path);
+  if (auto* e = std::get_if<std::string>(&gathered)) return *e;
+  std::vector<nxt::ScenarioInput> out;
+  for (const auto& in : std::get<std::vector<rcx::TimedInput>>(gathered)) {
+    nxt::ScenarioInput s;
+    s.at_ms = in.at_us / rcx::kMicrosPerMs;
+    if (auto* raw = std::get_if<rcx::SensorRawInput>(&in.input)) s.port = raw->sensor, s.raw = raw->raw;
+    else if (auto* r = std::get_if<rcx::RotationInput>(&in.input)) s.port = r->sensor, s.rotation = r->position;
+    else if (auto* m = std::get_if<rcx::MessageInput>(&in.input)) s.message = m->value, s.queue = kTetherInbox;
+    else if (auto* b = std::get_if<rcx::BatteryInput>(&in.input)) s.battery_mv = b->millivolts;
+    out.push_back(s);
+  }
+  return out;
+}
+
+// A scenario file: NQC source (named .nqc) for its // @input lines, else TOML.
+std::variant<std::vector<nxt::ScenarioInput>, std::string> read_brick_scenario(const std::string& path) {
+  std::string lower = path;
+  std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return std::tolower(c); });
+  if (lower.ends_with(".nqc")) {
+    auto inputs = scenario_from_directives(path);
+    if (auto* list = std::get_if<std::vector<nxt::ScenarioInput>>(&inputs); list && list->empty())
+      std::cerr << "rcxc nxt brick: " << path << " has no // @input lines: the inputs stay as they are\n";
+    return inputs;
+  }
+  auto parsed = nxt::read_scenario_file(path);
+  if (auto* e = std::get_if<nxt::ScenarioError>(&parsed)) return e->message;
+  return std::get<std::vector<nxt::ScenarioInput>>(std::move(parsed));
+}
+
+int serve_brick(bool on_pty, const std::string& scenario_path, const std::string& program, bool verbose) {
   if (!on_pty) {
     std::cerr << "rcxc nxt brick: only --pty is supported (the virtual NXT serves on a pseudo-terminal)\n";
     return kExitUsage;
   }
   std::vector<nxt::ScenarioInput> scenario;
   if (!scenario_path.empty()) {
-    auto parsed = nxt::read_scenario_file(scenario_path);
-    if (auto* e = std::get_if<nxt::ScenarioError>(&parsed)) {
-      std::cerr << "rcxc nxt brick: " << e->message << "\n";
+    auto read = read_brick_scenario(scenario_path);
+    if (auto* e = std::get_if<std::string>(&read)) {
+      std::cerr << "rcxc nxt brick: " << *e << "\n";
       return kExitFailure;
     }
-    scenario = std::get<std::vector<nxt::ScenarioInput>>(parsed);
+    scenario = std::get<std::vector<nxt::ScenarioInput>>(std::move(read));
+  }
+  nxt::VirtualNxt brick = nxt::make_virtual_nxt(std::move(scenario));
+  if (!program.empty()) {
+    if (auto bad = nxt::start_program(brick, program)) {
+      std::cerr << "rcxc nxt brick: --program: " << *bad << "\n";
+      return kExitUsage;
+    }
   }
   auto opened = nxt::open_pty_pair();
   if (auto* e = std::get_if<nxt::LinkError>(&opened)) {
@@ -247,7 +292,6 @@ int serve_brick(bool on_pty, const std::string& scenario_path, bool verbose) {
   }
   std::cout << pty.slave_path << std::endl;
   std::cerr << "rcxc nxt brick: a virtual NXT on " << pty.slave_path << " (Bluetooth framing); Ctrl-C stops\n";
-  nxt::VirtualNxt brick = nxt::make_virtual_nxt(std::move(scenario));
   nxt::ServeOptions options;
   options.stop_fd = stop;
   if (verbose) options.on_log = [](const std::string& line) { std::cerr << "nxt: " << line << "\n"; };
@@ -297,6 +341,18 @@ void register_nxt(CLI::App& app, int& exit_code) {
         return;
       }
       exit_code = with_brick(*a, name, std::get<Action>(made));
+    });
+  };
+
+  // An action on one sensor port: its PORT argument (1-4) is checked, then
+  // `make` gets the port index 0-3.
+  auto run_on_input = [&run](CLI::App* sub, std::function<std::variant<Action, std::string>(int)> make) {
+    auto port = std::make_shared<std::string>();
+    sub->add_option("PORT", *port, "1-4")->required();
+    run(sub, [port, make]() -> std::variant<Action, std::string> {
+      auto p = input_port(*port);
+      if (!p) return bad_input_port(*port);
+      return make(*p);
     });
   };
 
@@ -386,32 +442,23 @@ void register_nxt(CLI::App& app, int& exit_code) {
 
   {
     auto* cmd = add("sensor", "Set a sensor port's TYPE and MODE (names from the NXT protocol)");
-    auto port = std::make_shared<std::string>(), type = std::make_shared<std::string>(),
-         mode = std::make_shared<std::string>("RAWMODE");
-    cmd->add_option("PORT", *port, "1-4")->required();
-    cmd->add_option("TYPE", *type, names_of(nxt::sensor_types()))->required();
-    cmd->add_option("MODE", *mode, names_of(nxt::sensor_modes()) + " (MODE may be left off: BOOLEAN)");
-    run(cmd, [=]() -> std::variant<Action, std::string> {
-      auto p = input_port(*port);
-      if (!p) return bad_input_port(*port);
+    auto type = std::make_shared<std::string>(), mode = std::make_shared<std::string>("RAWMODE");
+    run_on_input(cmd, [=](int p) -> std::variant<Action, std::string> {
       auto t = nxt::sensor_type_named(*type);
       if (!t) return fmt::format("\"{}\" is not a sensor type ({})", *type, names_of(nxt::sensor_types()));
       auto m = nxt::sensor_mode_named(*mode);
       if (!m) return fmt::format("\"{}\" is not a sensor mode ({})", *mode, names_of(nxt::sensor_modes()));
-      return Action([v = values({std::int64_t{*p}, std::int64_t{*t}, std::int64_t{*m}})](Client& c) {
+      return Action([v = values({std::int64_t{p}, std::int64_t{*t}, std::int64_t{*m}})](Client& c) {
         return simple(c, "SetInputMode", v, "");
       });
     });
+    cmd->add_option("TYPE", *type, names_of(nxt::sensor_types()))->required();
+    cmd->add_option("MODE", *mode, names_of(nxt::sensor_modes()) + " (MODE may be left off: BOOLEAN)");
   }
 
   {
-    auto* cmd = add("read", "Read a sensor port (valid, raw, normalized, scaled)");
-    auto port = std::make_shared<std::string>();
-    cmd->add_option("PORT", *port, "1-4")->required();
-    run(cmd, [port]() -> std::variant<Action, std::string> {
-      auto p = input_port(*port);
-      if (!p) return bad_input_port(*port);
-      return Action([p = *p](Client& c) -> std::variant<Output, Failure> {
+    run_on_input(add("read", "Read a sensor port (valid, raw, normalized, scaled)"), [](int p) {
+      return Action([p](Client& c) -> std::variant<Output, Failure> {
         auto r = nxt::call_ok(c, "GetInputValues", values({std::int64_t{p}}));
         if (auto* e = std::get_if<CallError>(&r)) return failure(*e);
         const auto& d = std::get<nxt::Decoded>(r);
@@ -430,13 +477,8 @@ void register_nxt(CLI::App& app, int& exit_code) {
   }
 
   {
-    auto* cmd = add("ultrasonic", "Distance from an ultrasonic sensor (I2C), in cm");
-    auto port = std::make_shared<std::string>();
-    cmd->add_option("PORT", *port, "1-4")->required();
-    run(cmd, [port]() -> std::variant<Action, std::string> {
-      auto p = input_port(*port);
-      if (!p) return bad_input_port(*port);
-      return Action([p = *p](Client& c) -> std::variant<Output, Failure> {
+    run_on_input(add("ultrasonic", "Distance from an ultrasonic sensor (I2C), in cm"), [](int p) {
+      return Action([p](Client& c) -> std::variant<Output, Failure> {
         auto r = nxt::read_ultrasonic(c, p);
         if (auto* e = std::get_if<CallError>(&r)) return failure(*e);
         int cm = std::get<int>(r);
@@ -672,10 +714,17 @@ void register_nxt(CLI::App& app, int& exit_code) {
   {
     auto* cmd = add("brick", "Serve a virtual NXT on a pseudo-terminal (its path is the first line printed)");
     auto pty = std::make_shared<bool>(false);
-    auto scenario = std::make_shared<std::string>();
+    auto scenario = std::make_shared<std::string>(), program = std::make_shared<std::string>();
     cmd->add_flag("--pty", *pty, "Serve on a new pseudo-terminal");
-    cmd->add_option("--scenario", *scenario, "Sensor inputs over time (TOML, docs/nxt.md)");
-    cmd->callback([&exit_code, a, pty, scenario] { exit_code = serve_brick(*pty, *scenario, a->verbose); });
+    cmd->add_option("--scenario", *scenario,
+                    "Inputs over time: TOML (docs/nxt.md), or a .nqc program whose // @input lines to replay; "
+                    "times count from the first telegram");
+    cmd->add_option("--program", *program,
+                    "Start with program NAME.rxe running (made empty if absent), as if started on the brick: "
+                    "mailboxes need one");
+    cmd->callback([&exit_code, a, pty, scenario, program] {
+      exit_code = serve_brick(*pty, *scenario, *program, a->verbose);
+    });
   }
 }
 

@@ -12,6 +12,7 @@
 #include "cli/output_file.h"
 #include "cli/program_loader.h"
 #include "rcx/image.h"
+#include "rcx/program_io.h"
 #include "runtime/report.h"
 #include "runtime/scenario.h"
 #include "verify/testspec.h"
@@ -35,7 +36,7 @@ struct RunOptions {
 
 // The program on the emulator in real time, its outputs, sensors, sounds and
 // messages an NXT's (cli/nxt_tether.h). 0, or the exit code of a failure.
-int run_on_nxt(rcx::Machine& machine, const std::string& port, std::int64_t run_ms) {
+int run_on_nxt(rcx::Machine& machine, const rcx::Image& image, const std::string& port, std::int64_t run_ms) {
   auto spec = nxt::parse_port(port, std::nullopt);
   if (auto* e = std::get_if<nxt::LinkError>(&spec)) {
     std::cerr << "rcxc run: " << e->message << "\n";
@@ -50,11 +51,20 @@ int run_on_nxt(rcx::Machine& machine, const std::string& port, std::int64_t run_
   }
   auto transport = std::move(std::get<std::unique_ptr<nxt::Transport>>(opened));
   nxt::Client client(*transport);
+  TetherOptions options;
+  options.limit_us = run_ms * rcx::kMicrosPerMs;
+  options.stop_fd = stop;
+  options.io = rcx::program_io(image);
+  // Bytes that do not decode hide what they read: poll every sensor.
+  if (!options.io.complete) options.io.sensors_read = {true, true, true};
   TetherStats stats;
-  std::string error = run_tethered(machine, client, run_ms * rcx::kMicrosPerMs, stop, stats);
+  std::string error = run_tethered(machine, client, options, stats);
   if (stop >= 0) ::close(stop);
-  std::cerr << fmt::format("rcxc run: tethered to {}: {} writes, {} sensor reads\n", transport->describe(),
-                           stats.writes, stats.polls);
+  for (const auto& note : stats.notes) std::cerr << "rcxc run: note: " << note << "\n";
+  std::cerr << fmt::format("rcxc run: tethered to {}: {} writes, {} sensor reads (inputs 1-3: {}), {} message reads, "
+                           "{} messages received\n",
+                           transport->describe(), stats.writes, stats.polls, fmt::join(stats.polls_per_input, "/"),
+                           stats.message_reads, stats.messages_received);
   if (!error.empty()) {
     std::cerr << "rcxc run: " << error << "\n";
     return error == "interrupted" ? 130 : kExitNoReply;
@@ -85,6 +95,14 @@ bool inputs_from_source(const RunOptions& o, const rcx::semtest::Spec& spec, std
   }
   inputs = std::get<std::vector<rcx::TimedInput>>(std::move(gathered));
   if (spec.run_for_us && !o.for_given) run_ms = *spec.run_for_us / rcx::kMicrosPerMs;
+  if (o.nxt_port && !inputs.empty()) {
+    // On an NXT the sensors, messages and battery are the brick's.
+    inputs.clear();
+    std::cerr << "rcxc run: --nxt: the inputs written in " << o.file
+              << " are not used: the NXT's sensors and mailbox are the inputs (`rcxc nxt brick --pty --scenario "
+              << o.file << "` replays them); @for sets the time limit\n";
+    return true;
+  }
   std::cerr << "rcxc run: using the inputs written in " << o.file << " (// @input, @for; --scenario overrides)\n";
   return true;
 }
@@ -104,6 +122,12 @@ int run(const RunOptions& o) {
                 << " (choose another name)\n";
       return kExitUsage;
     }
+  if (o.nxt_port && !o.scenario.empty()) {
+    std::cerr << "rcxc run: --scenario and --nxt do not go together: on an NXT the sensors, messages and battery "
+                 "come from the brick (give the scenario to the virtual NXT: rcxc nxt brick --pty --scenario "
+              << o.scenario << ")\n";
+    return kExitUsage;
+  }
   // A test program's own directives: its @options compile it as `rcxc test`
   // does; its inputs drive the run unless --scenario is given. Bad
   // directives are `rcxc test`'s to report; a run ignores them.
@@ -153,7 +177,7 @@ int run(const RunOptions& o) {
   for (const auto& in : inputs) machine.schedule(in);
   machine.start_program();
   int tether_code = kExitOk;
-  if (o.nxt_port) tether_code = run_on_nxt(machine, *o.nxt_port, run_ms);
+  if (o.nxt_port) tether_code = run_on_nxt(machine, image, *o.nxt_port, run_ms);
   else machine.run(run_ms * rcx::kMicrosPerMs);
 
   if (o.report == "json")

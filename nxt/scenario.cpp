@@ -29,28 +29,41 @@ std::optional<std::int64_t> number(const toml::table& t, std::string_view key, s
 }
 
 ScenarioInput one_input(const toml::table& t, std::string_view path) {
+  static constexpr std::string_view kKeys[] = {"at_ms",    "sensor",     "raw",     "distance_cm",
+                                               "rotation", "battery_mv", "message", "mailbox"};
   for (const auto& [key, node] : t) {
-    auto k = key.str();
-    if (k != "at_ms" && k != "sensor" && k != "raw" && k != "distance_cm" && k != "battery_mv")
-      throw Bad{fmt::format("{}: unknown key '{}' (the NXT brick reads at_ms, sensor, raw, distance_cm, battery_mv)",
-                            at(path, node), k)};
+    if (std::find(std::begin(kKeys), std::end(kKeys), key.str()) == std::end(kKeys))
+      throw Bad{fmt::format("{}: unknown key '{}' (the NXT brick reads at_ms, sensor, raw, distance_cm, rotation, "
+                            "battery_mv, message, mailbox)",
+                            at(path, node), key.str())};
   }
   auto when = number(t, "at_ms", 0, INT64_MAX / 1000, path);
   if (!when) throw Bad{fmt::format("{}: input without 'at_ms'", at(path, t))};
   auto sensor = number(t, "sensor", 1, 4, path);
   auto raw = number(t, "raw", 0, 1023, path);
   auto distance = number(t, "distance_cm", 0, 255, path);
+  auto rotation = number(t, "rotation", INT32_MIN, INT32_MAX, path);
   auto battery = number(t, "battery_mv", 0, 65535, path);
-  if ((raw ? 1 : 0) + (distance ? 1 : 0) + (battery ? 1 : 0) != 1)
-    throw Bad{fmt::format("{}: an input needs exactly one of 'raw', 'distance_cm', 'battery_mv'", at(path, t))};
-  if (sensor.has_value() == battery.has_value())
-    throw Bad{fmt::format("{}: 'sensor' (1-4) goes with 'raw' and 'distance_cm', not with 'battery_mv'", at(path, t))};
+  auto message = number(t, "message", INT32_MIN, INT32_MAX, path);
+  auto mailbox = number(t, "mailbox", 1, 10, path);
+  bool for_a_port = raw || distance || rotation;
+  if ((raw ? 1 : 0) + (distance ? 1 : 0) + (rotation ? 1 : 0) + (battery ? 1 : 0) + (message ? 1 : 0) != 1)
+    throw Bad{fmt::format("{}: an input needs exactly one of 'raw', 'distance_cm', 'rotation', 'battery_mv', 'message'",
+                          at(path, t))};
+  if (sensor.has_value() != for_a_port)
+    throw Bad{fmt::format("{}: 'sensor' (1-4) goes with 'raw', 'distance_cm' and 'rotation', not with 'battery_mv' "
+                          "or 'message'",
+                          at(path, t))};
+  if (mailbox && !message) throw Bad{fmt::format("{}: 'mailbox' goes with 'message'", at(path, t))};
   ScenarioInput in;
   in.at_ms = *when;
   if (sensor) in.port = static_cast<int>(*sensor) - 1;
   if (raw) in.raw = static_cast<int>(*raw);
   if (distance) in.distance_cm = static_cast<int>(*distance);
+  if (rotation) in.rotation = static_cast<int>(*rotation);
   if (battery) in.battery_mv = static_cast<int>(*battery);
+  if (message) in.message = static_cast<std::int32_t>(*message);
+  if (mailbox) in.queue = static_cast<int>(*mailbox) - 1;
   return in;
 }
 

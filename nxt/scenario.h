@@ -13,6 +13,16 @@
 //   distance_cm = 40    # 0..255, what an ultrasonic sensor on the port reads
 //
 //   [[input]]
+//   at_ms = 900
+//   sensor = 3
+//   rotation = 16       # an RCX rotation sensor's position, 1/16 turns (ANGLE)
+//
+//   [[input]]
+//   at_ms = 950
+//   message = 101       # int32 + NUL into mailbox 1, as a master's MessageWrite
+//   mailbox = 1         # 1..10 (optional, default 1)
+//
+//   [[input]]
 //   at_ms = 1000
 //   battery_mv = 7200
 #pragma once
@@ -28,10 +38,13 @@ namespace nxt {
 
 struct ScenarioInput {
   std::int64_t at_ms = 0;
-  int port = -1;  // 0..3, or -1 for battery
+  int port = -1;  // 0..3, or -1 for battery and messages
   std::optional<int> raw;
   std::optional<int> distance_cm;
   std::optional<int> battery_mv;
+  std::optional<int> rotation;
+  std::optional<std::int32_t> message;
+  int queue = 0;  // the message's mailbox, 0..9
 };
 
 struct ScenarioError {

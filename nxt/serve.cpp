@@ -28,6 +28,7 @@ std::optional<ServeError> serve(VirtualNxt& nxt, int fd, const ServeOptions& opt
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
   const Micros base = nxt.now_us;
+  nxt.scenario_origin_us.reset();
   FrameReader reader;
   while (true) {
     pollfd fds[2] = {{fd, POLLIN, 0}, {options.stop_fd, POLLIN, 0}};
@@ -47,6 +48,10 @@ std::optional<ServeError> serve(VirtualNxt& nxt, int fd, const ServeOptions& opt
     if (n <= 0) return ServeError{"the pty was closed"};
     reader.feed(std::span(buf, static_cast<std::size_t>(n)));
     while (auto telegram = reader.next()) {
+      if (!nxt.scenario_origin_us) {
+        nxt.scenario_origin_us = nxt.now_us;
+        advance_to(nxt, nxt.now_us);
+      }
       log_telegram(options, "->", *telegram);
       auto reply = answer(nxt, *telegram);
       if (!reply) {

@@ -95,13 +95,12 @@ class FramedFdTransport final : public Transport {
           reader_.feed(std::span(buf, static_cast<std::size_t>(n)));
           continue;
         }
-        if (n == 0 || (n < 0 && errno != EAGAIN && errno != EINTR && errno != EIO))
-          return LinkError{LinkError::Kind::Lost, fmt::format("{} was closed", name_)};
-        if (n < 0 && errno == EIO) {
-          // A pty whose other side is not open reads EIO: nothing to read yet.
-          if (wait.count() == 0) return std::optional<Bytes>{};
-          ::poll(nullptr, 0, 5);
-        }
+        // EIO: the tty hung up (a pty whose brick went away, an rfcomm
+        // link that dropped).
+        if (n == 0 || (n < 0 && errno == EIO))
+          return LinkError{LinkError::Kind::Lost, fmt::format("{} hung up: the link is lost", name_)};
+        if (n < 0 && errno != EAGAIN && errno != EINTR)
+          return LinkError{LinkError::Kind::Lost, fmt::format("cannot read from {}: {}", name_, errno_text())};
       }
       if (wait.count() == 0) return std::optional<Bytes>{};
     }

@@ -47,9 +47,17 @@ void reset_io(VirtualNxt& n) {
     Sensor fresh;
     fresh.raw = s.raw;
     fresh.distance_cm = s.distance_cm;
+    fresh.rotation = fresh.rotation_base = s.rotation;
     s = fresh;
   }
   for (auto& q : n.queues) q.clear();
+}
+
+// A program starts: it resets the sleep timer and all I/O.
+void begin_program(VirtualNxt& n, const std::string& name) {
+  n.program = name;
+  n.awake_since_us = n.now_us;
+  reset_io(n);
 }
 
 bool is_executable(const std::string& name) {
@@ -113,6 +121,8 @@ int scaled(const Sensor& s) {
     // Temperature in tenths of a degree, with the RCX sensor's formula.
     case 0xA0: return (785 - norm) * 10 / 8;
     case 0xC0: return (785 - norm) * 10 / 8 * 9 / 5 + 320;
+    // ANGLESTEPSMODE: an RCX rotation sensor's count, 16 a turn.
+    case 0xE0: return s.rotation - s.rotation_base;
     default: return norm;
   }
 }
@@ -146,9 +156,7 @@ Outcome direct(VirtualNxt& n, const Decoded& d) {
     case 0x00: {  // StartProgram: a file that does not exist answers 0xC0 (firmware, not the seed's 0xBD)
       std::string name = txt(d, "name");
       if (!n.files.count(name) || !is_executable(name)) return fail(status::kOutOfRange);
-      n.program = name;
-      n.awake_since_us = n.now_us;
-      reset_io(n);
+      begin_program(n, name);
       return ok();
     }
     case 0x01:  // StopProgram
@@ -193,6 +201,7 @@ Outcome direct(VirtualNxt& n, const Decoded& d) {
       if (s.type >= kFirstColourType && s.type <= kLastSensorType) delay = kColourValidDelayUs;
       s.valid_at = n.now_us + delay;
       s.transitions = 0;
+      s.rotation_base = s.rotation;
       s.ls_ready_at = -1;
       s.ls_answer.clear();
       return ok();
@@ -216,7 +225,9 @@ Outcome direct(VirtualNxt& n, const Decoded& d) {
     case 0x08: {  // ResetInputScaledValue
       std::int64_t port = num(d, "port");
       if (port > 3) return fail(status::kOutOfRange);
-      n.sensors[static_cast<std::size_t>(port)].transitions = 0;
+      Sensor& s = n.sensors[static_cast<std::size_t>(port)];
+      s.transitions = 0;
+      s.rotation_base = s.rotation;
       return ok();
     }
     case 0x09: {  // MessageWrite: needs a running program
@@ -527,14 +538,37 @@ std::uint32_t free_flash(const VirtualNxt& n) {
   return used >= n.flash_bytes ? 0 : n.flash_bytes - used;
 }
 
+std::optional<std::string> start_program(VirtualNxt& n, const std::string& name) {
+  if (auto bad = check_file_name(name)) return *bad;
+  if (!is_executable(name)) return fmt::format("\"{}\" is not a program (.rxe)", name);
+  if (!n.files.count(name)) {
+    if (free_flash(n) == 0) return "the flash is full";
+    n.files[name] = StoredFile{{}, 0, true, false};
+  }
+  begin_program(n, name);
+  return std::nullopt;
+}
+
 void advance_to(VirtualNxt& n, Micros now_us) {
-  while (n.next_input < n.scenario.size() && n.scenario[n.next_input].at_ms * 1000 <= now_us) {
+  while (n.scenario_origin_us && n.next_input < n.scenario.size() &&
+         *n.scenario_origin_us + n.scenario[n.next_input].at_ms * 1000 <= now_us) {
     const auto& in = n.scenario[n.next_input++];
     if (in.battery_mv) n.battery_mv = *in.battery_mv;
     if (in.port >= 0) {
       Sensor& s = n.sensors[static_cast<std::size_t>(in.port)];
       if (in.raw) set_raw(s, *in.raw);
       if (in.distance_cm) s.distance_cm = *in.distance_cm;
+      if (in.rotation) s.rotation = *in.rotation;
+    }
+    if (in.message) {
+      // As a master's MessageWrite: the firmware refuses it without a program.
+      if (!n.program) {
+        ++n.counters.messages_dropped;
+        continue;
+      }
+      auto& q = n.queues[static_cast<std::size_t>(in.queue)];
+      if (q.size() == kQueueDepth) q.pop_front();
+      q.push_back(message_int(*in.message));
     }
   }
   if (now_us <= n.now_us) return;

@@ -49,6 +49,10 @@ struct Sensor {
   bool boolean = false;  // the firmware's hysteresis state
   int transitions = 0;   // boolean edges since ResetInputScaledValue
   int distance_cm = 255;  // what an ultrasonic sensor on this port sees
+  // An RCX rotation sensor on the port (ANGLE): its shaft position in 1/16
+  // turns, and the position where ANGLESTEPSMODE's count was last zeroed.
+  int rotation = 0;
+  int rotation_base = 0;
   // I2C: the transaction in flight and its answer.
   Micros ls_ready_at = -1;
   Bytes ls_answer;
@@ -105,8 +109,13 @@ struct VirtualNxt {
   std::uint32_t flash_bytes = 128 * 1024;
   std::vector<ScenarioInput> scenario;
   std::size_t next_input = 0;
+  // Where scenario time 0 lies on the brick's clock; none yet: no input is
+  // due (serve() sets it at the first telegram, so a host's run and the
+  // scenario start together).
+  std::optional<Micros> scenario_origin_us = 0;
   struct {
     std::uint64_t requests = 0, replies = 0, ignored = 0;
+    std::uint64_t messages_dropped = 0;  // scenario messages while no program ran
   } counters;
 };
 
@@ -122,7 +131,13 @@ std::optional<Bytes> answer(VirtualNxt& nxt, std::span<const std::uint8_t> teleg
 
 std::uint32_t free_flash(const VirtualNxt& nxt);
 
-// Serving on a descriptor with Bluetooth framing, in real time.
+// A program `name` running, as if started on the brick's own menu: the file
+// is made (empty) if it is not there. Mailboxes need a running program.
+// The message says why not (not an executable name, no space).
+std::optional<std::string> start_program(VirtualNxt& nxt, const std::string& name);
+
+// Serving on a descriptor with Bluetooth framing, in real time. Scenario
+// times count from the first telegram that arrives.
 struct ServeOptions {
   int stop_fd = -1;  // serving ends when this becomes readable
   std::function<void(const std::string&)> on_log;  // each telegram decoded (-v)

@@ -7,7 +7,9 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
+#include <map>
 #include <thread>
 #include <fstream>
 
@@ -256,6 +258,65 @@ TEST(NxtTether, MusicBoxTonesBecomePlayTone) {
   EXPECT_GT(expected, 4u);
 }
 
+TEST(NxtTether, MailboxMessagesReachMessageAndSendMessageReachesTheOutbox) {
+  TempDir dir;
+  std::string prog = dir.write("echo.nqc", std::string("int got;\ntask main() {\n  until (Message() != 0);\n"
+                                                       "  got = Message();\n  SendMessage(got + 1);\n}\n"));
+  NxtBrickProcess brick({"--program", "idle.rxe"});
+  // From outside, before the run: a host puts 41 in mailbox 1.
+  ASSERT_EQ(nxt(brick.path, {"mailbox", "write", "1", "--int", "41"}).exit_code, 0);
+  auto r = run_rcxc({"run", prog, "--for", "1000", "--report", "json", "--nxt", brick.path}, "", 30'000);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(json_of(r)["globals"]["got"], 41);
+  EXPECT_EQ(json_of(r)["stop"], "ended");
+  EXPECT_NE(r.err.find("1 messages received"), std::string::npos) << r.err;
+  // The program's SendMessage(42) waits in mailbox 11 for a master to read.
+  EXPECT_EQ(nxt(brick.path, {"mailbox", "read", "11"}).out, "42 (int32)\n");
+  EXPECT_EQ(nxt(brick.path, {"mailbox", "read", "1"}).out, "(empty)\n");
+}
+
+TEST(NxtTether, WithoutAProgramOnTheNxtTheRunSaysMessagesGoNowhere) {
+  TempDir dir;
+  std::string prog = dir.write("send.nqc", std::string("task main() { SendMessage(5); }\n"));
+  NxtBrickProcess brick;
+  auto r = run_rcxc({"run", prog, "--nxt", brick.path}, "", 30'000);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("note: no program runs on the NXT"), std::string::npos) << r.err;
+}
+
+TEST(NxtTether, ABrickThatGoesAwayMidRunFailsTheRunAt4) {
+  std::string prog = std::string(RCXC_SOURCE_DIR) + "/examples/bumper_car.nqc";  // reads sensor 1 all along
+  NxtBrickProcess brick;
+  std::thread pull_the_plug([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(400));
+    brick.stop();
+  });
+  auto t0 = std::chrono::steady_clock::now();
+  auto r = run_rcxc({"run", prog, "--for", "10000", "--nxt", brick.path}, "", 30'000);
+  auto took = std::chrono::steady_clock::now() - t0;
+  pull_the_plug.join();
+  EXPECT_EQ(r.exit_code, 4) << r.err;
+  EXPECT_NE(r.err.find("hung up: the link is lost"), std::string::npos) << r.err;
+  EXPECT_LT(took, std::chrono::seconds(3));  // not the run's 10 s, nor a reply timeout per command
+}
+
+TEST(NxtTether, ScenarioAndNxtDoNotGoTogether) {
+  TempDir dir;
+  std::string scenario = dir.write("s.toml", std::string("[[input]]\nat_ms = 0\nsensor = 1\nraw = 5\n"));
+  auto r = run_rcxc({"run", std::string(RCXC_SOURCE_DIR) + "/examples/bumper_car.nqc", "--scenario", scenario, "--nxt",
+                     "/dev/no-such-nxt"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--scenario and --nxt do not go together"), std::string::npos) << r.err;
+  auto bad_input = run_rcxc(
+      {"nxt", "brick", "--pty", "--scenario", dir.write("b.nqc", std::string("// @input at 5ms: sensor 9 raw 3\ntask main() {}\n"))},
+      "", 10'000);
+  EXPECT_EQ(bad_input.exit_code, 1);
+  EXPECT_NE(bad_input.err.find("b.nqc:1: "), std::string::npos) << bad_input.err;
+  auto bad = run_rcxc({"nxt", "brick", "--pty", "--program", "notes.txt"}, "", 10'000);
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("--program: \"notes.txt\" is not a program (.rxe)"), std::string::npos) << bad.err;
+}
+
 TEST(NxtTether, ABrickThatDoesNotAnswerFailsTheRun) {
   auto opened = nxt::open_pty_pair();
   ASSERT_TRUE(std::holds_alternative<nxt::PtyPair>(opened));
@@ -267,6 +328,77 @@ TEST(NxtTether, ABrickThatDoesNotAnswerFailsTheRun) {
   EXPECT_EQ(run_rcxc({"run", prog, "--nxt", "/dev/no-such-nxt"}).exit_code, 3);
   nxt::close_pty_pair(pty);
 }
+
+// Every example, tethered to a virtual NXT that replays the example's own
+// `// @input` lines (sensors on inputs 1-3, messages into mailbox 1), against
+// the emulator-only run. A sensor change reaches the program at most one
+// poll period after the brick saw it (the next poll); what the program does
+// about it then follows at its own pace, a loop of a few instructions: so
+// each input is checked within one poll period, each event within one poll
+// period plus that reaction step, and the end state must be the same.
+std::vector<std::string> examples() {
+  std::vector<std::string> out;
+  for (const auto& e : std::filesystem::directory_iterator(std::string(RCXC_SOURCE_DIR) + "/examples"))
+    if (e.path().extension() == ".nqc") out.push_back(e.path().stem().string());
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+// Times of a trace's or report's events, by what each is (all but the time).
+std::map<std::string, std::vector<double>> times_by_event(const nlohmann::json& events, bool inputs) {
+  std::map<std::string, std::vector<double>> times;
+  std::map<int, int> last;  // per sensor: the value it held (an open input reads raw 1023)
+  for (auto e : events) {
+    if ((e["kind"] == "sensor") != inputs) continue;
+    if (inputs) {
+      int sensor = e["sensor"].get<int>();
+      int value = e.contains("raw") ? e["raw"].get<int>() : e["rotation"].get<int>();
+      int before = last.count(sensor) ? last[sensor] : (e.contains("raw") ? 1023 : 0);
+      last[sensor] = value;
+      if (value == before) continue;  // the tether's first reading of an unchanged input
+    }
+    double at = e["t"].get<double>();
+    e.erase("t");
+    times[e.dump()].push_back(at);
+  }
+  return times;
+}
+
+void expect_same_within(const nlohmann::json& alone, const nlohmann::json& tethered, bool inputs, double ms) {
+  auto a = times_by_event(alone, inputs), t = times_by_event(tethered, inputs);
+  for (const auto& [what, times] : a) {
+    ASSERT_TRUE(t.count(what)) << "the tethered run lacks " << what;
+    ASSERT_EQ(t[what].size(), times.size()) << what;
+    for (std::size_t i = 0; i < times.size(); ++i) EXPECT_NEAR(t[what][i], times[i], ms) << what << " #" << i + 1;
+  }
+  for (const auto& entry : t) EXPECT_TRUE(a.count(entry.first)) << "the tethered run adds " << entry.first;
+}
+
+class TetheredExample : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(TetheredExample, GivesTheEmulatorOnlyRunWithinOnePollPeriod) {
+  const std::string prog = std::string(RCXC_SOURCE_DIR) + "/examples/" + GetParam() + ".nqc";
+  TempDir dir;
+  auto alone = run_rcxc({"run", prog, "--report", "json", "--trace", dir.path + "/alone.json"}, "", 60'000);
+  ASSERT_EQ(alone.exit_code, 0) << alone.err;
+  NxtBrickProcess brick({"--scenario", prog, "--program", "idle.rxe"});
+  auto tethered =
+      run_rcxc({"run", prog, "--report", "json", "--trace", dir.path + "/tethered.json", "--nxt", brick.path}, "", 60'000);
+  ASSERT_EQ(tethered.exit_code, 0) << tethered.err;
+  auto a = nlohmann::json::parse(alone.out), t = nlohmann::json::parse(tethered.out);
+  constexpr double kPollMs = 50.0;      // cli/nxt_tether.h, kTetherPollUs
+  constexpr double kReactionMs = 10.0;  // five instructions at 2 ms: the examples' loops are shorter
+  expect_same_within(nlohmann::json::parse(rcxc::test::read_text_file(dir.path + "/alone.json")),
+                     nlohmann::json::parse(rcxc::test::read_text_file(dir.path + "/tethered.json")), true, kPollMs);
+  expect_same_within(a["events"], t["events"], false, kPollMs + kReactionMs);
+  EXPECT_GT(a["events"].size(), 0u);
+  for (const char* key : {"stop", "globals", "outputs", "message", "display", "datalog"})
+    EXPECT_EQ(t[key], a[key]) << key;
+  EXPECT_NE(tethered.err.find(" writes, "), std::string::npos) << tethered.err;
+}
+
+INSTANTIATE_TEST_SUITE_P(Examples, TetheredExample, ::testing::ValuesIn(examples()),
+                         [](const auto& info) { return info.param; });
 
 TEST(NxtCli, CtrlCEndsAWaitForASilentBrickAt130) {
   auto opened = nxt::open_pty_pair();

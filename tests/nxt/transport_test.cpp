@@ -193,11 +193,24 @@ distance_cm = 40
 [[input]]
 at_ms = 200
 battery_mv = 7000
+[[input]]
+at_ms = 600
+sensor = 3
+rotation = -16
+[[input]]
+at_ms = 700
+message = 101
+mailbox = 2
 )",
                            "s.toml");
   ASSERT_TRUE(std::holds_alternative<std::vector<ScenarioInput>>(ok)) << std::get<ScenarioError>(ok).message;
   const auto& in = std::get<std::vector<ScenarioInput>>(ok);
-  ASSERT_EQ(in.size(), 3u);
+  ASSERT_EQ(in.size(), 5u);
+  EXPECT_EQ(in[3].port, 2);
+  EXPECT_EQ(in[3].rotation, -16);
+  EXPECT_EQ(in[4].port, -1);
+  EXPECT_EQ(in[4].message, 101);
+  EXPECT_EQ(in[4].queue, 1);
   EXPECT_EQ(in[0].at_ms, 100);  // sorted by time
   EXPECT_EQ(in[0].distance_cm, 40);
   EXPECT_EQ(in[2].port, 3);
@@ -208,7 +221,12 @@ battery_mv = 7000
   };
   EXPECT_NE(bad("[[input]]\nat_ms = 1\nsensor = 5\nraw = 1\n").find("s.toml:3: 'sensor' = 5 is out of range 1..4"),
             std::string::npos);
-  EXPECT_NE(bad("[[input]]\nat_ms = 1\nsensor = 1\nrotation = 1\n").find("unknown key 'rotation'"), std::string::npos);
+  EXPECT_NE(bad("[[input]]\nat_ms = 1\nsensor = 1\npressed = true\n").find("unknown key 'pressed'"), std::string::npos);
+  EXPECT_NE(bad("[[input]]\nat_ms = 1\nmessage = 5\nsensor = 1\n").find("'sensor' (1-4) goes with"), std::string::npos);
+  EXPECT_NE(bad("[[input]]\nat_ms = 1\nsensor = 1\nraw = 5\nmailbox = 2\n").find("'mailbox' goes with 'message'"),
+            std::string::npos);
+  EXPECT_NE(bad("[[input]]\nat_ms = 1\nmessage = 5\nmailbox = 11\n").find("'mailbox' = 11 is out of range 1..10"),
+            std::string::npos);
   EXPECT_NE(bad("[[input]]\nat_ms = 1\nraw = 1\n").find("'sensor' (1-4) goes with"), std::string::npos);
   EXPECT_NE(bad("[[input]]\nsensor = 1\nraw = 1\n").find("without 'at_ms'"), std::string::npos);
   EXPECT_NE(bad("x = 1\n").find("[[input]]"), std::string::npos);

@@ -48,6 +48,19 @@ struct Rig {
 };
 
 Value n(std::int64_t v) { return v; }
+
+// A scenario input at `ms` on `port` (-1: none), its value set by the caller.
+ScenarioInput input_at(std::int64_t ms, int port = -1) {
+  ScenarioInput in;
+  in.at_ms = ms;
+  in.port = port;
+  return in;
+}
+ScenarioInput raw_at(std::int64_t ms, int port, int raw) {
+  ScenarioInput in = input_at(ms, port);
+  in.raw = raw;
+  return in;
+}
 Value s(std::string v) { return v; }
 
 TEST(VirtualNxt, EveryCommandOfTheTableMakesARoundTrip) {
@@ -201,7 +214,9 @@ TEST(VirtualNxt, AnIllegalPortAnswersC0WithAFullZeroBody) {
 }
 
 TEST(VirtualNxt, SensorsFollowTheScenarioAfterTheValidDelay) {
-  std::vector<ScenarioInput> scenario{{100, 0, 200, {}, {}}, {300, 0, 800, {}, {}}, {400, -1, {}, {}, 7100}};
+  ScenarioInput battery = input_at(400);
+  battery.battery_mv = 7100;
+  std::vector<ScenarioInput> scenario{raw_at(100, 0, 200), raw_at(300, 0, 800), battery};
   Rig rig(scenario);
   rig.status_of("SetInputMode", {n(0), n(0x01), n(0x20)});
   EXPECT_EQ(rig.reply("GetInputValues", {n(0)}).number("valid"), 0);
@@ -231,8 +246,49 @@ TEST(VirtualNxt, SensorsFollowTheScenarioAfterTheValidDelay) {
   EXPECT_EQ(rig.reply("GetInputValues", {n(2)}).number("valid"), 1);
 }
 
+TEST(VirtualNxt, AnAngleSensorCountsRotationSinceItsModeWasSet) {
+  ScenarioInput turned = input_at(100, 2), back = input_at(200, 2);
+  turned.rotation = 40;
+  back.rotation = 24;
+  Rig rig({turned, back});
+  rig.status_of("SetInputMode", {n(2), n(0x04), n(0xE0)});  // ANGLE, ANGLESTEPSMODE
+  rig.advance_ms(150);
+  EXPECT_EQ(rig.reply("GetInputValues", {n(2)}).number("scaled"), 40);
+  rig.status_of("ResetInputScaledValue", {n(2)});
+  EXPECT_EQ(rig.reply("GetInputValues", {n(2)}).number("scaled"), 0);
+  rig.advance_ms(100);  // the shaft went back 16 steps
+  EXPECT_EQ(rig.reply("GetInputValues", {n(2)}).number("scaled"), -16);
+  // Setting the mode again zeroes the count, as the reset does.
+  rig.status_of("SetInputMode", {n(2), n(0x04), n(0xE0)});
+  EXPECT_EQ(rig.reply("GetInputValues", {n(2)}).number("scaled"), 0);
+}
+
+TEST(VirtualNxt, ScenarioMessagesReachAMailboxOnlyWhileAProgramRuns) {
+  ScenarioInput early = input_at(10), late = input_at(100);
+  early.message = 5;
+  late.message = 150;
+  late.queue = 2;
+  Rig rig({early, late});
+  rig.advance_ms(20);  // no program yet: the firmware would refuse a MessageWrite
+  EXPECT_EQ(rig.brick.counters.messages_dropped, 1u);
+  ASSERT_FALSE(start_program(rig.brick, "idle.rxe"));
+  EXPECT_EQ(rig.reply("GetCurrentProgramName").text("name"), "idle.rxe");
+  rig.advance_ms(100);
+  auto m = rig.reply("MessageRead", {n(2), n(0), n(1)});
+  ASSERT_EQ(m.status, 0);
+  EXPECT_EQ(m.number("size"), 5);
+  Bytes data = m.bytes("data").value_or(Bytes{});
+  data.resize(5);
+  EXPECT_EQ(data, message_int(150));
+  EXPECT_EQ(rig.status_of("MessageRead", {n(0), n(0), n(1)}), status::kQueueEmpty);
+  EXPECT_TRUE(start_program(rig.brick, "a.txt").has_value());
+  EXPECT_TRUE(start_program(rig.brick, "a_very_long_name.rxe").has_value());
+}
+
 TEST(VirtualNxt, UltrasonicOverI2C) {
-  std::vector<ScenarioInput> scenario{{0, 3, {}, 42, {}}};
+  ScenarioInput echo = input_at(0, 3);
+  echo.distance_cm = 42;
+  std::vector<ScenarioInput> scenario{echo};
   Rig rig(scenario);
   // Before the port is LOWSPEED and valid, LS commands fail with 0xE0.
   EXPECT_EQ(rig.status_of("LSWrite", {n(3), n(2), n(1), Bytes{2, 0x42}}), status::kChannelBusy);
