@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <optional>
 
 #include "runtime/sensors.h"
 
@@ -139,6 +138,7 @@ void draw_marks(std::string& out, const TraceLayout& layout, const std::vector<M
                 std::string_view color, std::string_view symbol) {
   auto bucket_of = [&](const Mark& mark) { return static_cast<int>((layout.x_of(mark.t) - layout.left) / kMarkBucketPx); };
   std::vector<std::size_t> starts;  // first mark of each bucket
+  double free_x = 0;                 // right of the last symbol or label drawn
   for (std::size_t i = 0; i < marks.size(); ++i)
     if (i == 0 || bucket_of(marks[i]) != bucket_of(marks[i - 1])) starts.push_back(i);
   for (std::size_t b = 0; b < starts.size(); ++b) {
@@ -154,11 +154,18 @@ void draw_marks(std::string& out, const TraceLayout& layout, const std::vector<M
     // A label only where it fits before the next mark: dense marks keep
     // their details in the tooltips.
     std::string label = j - i > 1 ? fmt::format("{} (+{})", marks[i].label, j - i - 1) : marks[i].label;
-    double label_end = x + 7 + static_cast<double>(label.size()) * kLabelCharPx;
+    // Beside the mark on the right, else on the left (the last marks of a run).
+    double label_width = static_cast<double>(label.size()) * kLabelCharPx;
     double next_x = j < marks.size() ? layout.x_of(marks[j].t) - 6 : kWidth;
-    if (label_end <= next_x && label_end <= kWidth)
+    if (x + 7 + label_width <= std::min<double>(next_x, kWidth)) {
       out += fmt::format(R"(<text x="{}" y="{}" font-size="11" fill="#333">{}</text>)", coord(x + 7), coord(y + 4),
                          xml(label));
+      free_x = x + 7 + label_width;
+    } else if (j == marks.size() && x - 7 - label_width >= std::max<double>(free_x, layout.left)) {
+      out += fmt::format(R"(<text x="{}" y="{}" font-size="11" fill="#333" text-anchor="end">{}</text>)",
+                         coord(x - 7), coord(y + 4), xml(label));
+    }
+    free_x = std::max(free_x, x + 6);
     out += "</g>\n";
   }
 }
@@ -284,13 +291,13 @@ void draw_sensor(std::string& out, const TraceLayout& layout, const Lane& lane, 
 
 void draw_task(std::string& out, const TraceLayout& layout, const Lane& lane, const Machine& m) {
   std::vector<Interval> intervals;
-  std::optional<Micros> started;
+  Micros started = -1;  // -1: not running
   for (const auto& e : m.state().events) {
     if (e.index != lane.index) continue;
-    if (e.kind == EventKind::TaskStart && !started) started = e.t_us;
-    if (e.kind == EventKind::TaskStop && started) intervals.push_back({*started, e.t_us, 1, 0}), started.reset();
+    if (e.kind == EventKind::TaskStart && started < 0) started = e.t_us;
+    if (e.kind == EventKind::TaskStop && started >= 0) intervals.push_back({started, e.t_us, 1, 0}), started = -1;
   }
-  if (started) intervals.push_back({*started, layout.end_us, 1, 0});
+  if (started >= 0) intervals.push_back({started, layout.end_us, 1, 0});
   for (auto& iv : intervals) iv.to = std::max(iv.to, iv.from + 1);  // a task that ran no time still shows
   for (const auto& r : runs_of(layout, intervals))
     out += fmt::format(R"(<g><title>{} running: {}</title><rect x="{}" y="{}" width="{}" height="{}" fill="{}"/></g>)"
@@ -429,9 +436,15 @@ std::string trace_svg(const Machine& m, const Image& image, const EventNames& na
   for (const auto& lane : layout.lanes) {
     out += fmt::format(R"(<rect x="{}" y="{}" width="{}" height="{}" fill="{}"/>)", layout.left, lane.top,
                        layout.plot_width, lane.height, trace_colors::kLaneBackground);
+    // A sensor's label is two lines (SENSOR_1 / (touch)) beside its scale.
+    std::string label = xml(lane.label);
+    std::size_t split = lane.kind == LaneKind::Sensor ? label.find(" (") : std::string::npos;
+    if (split != std::string::npos)
+      label = fmt::format(R"({}<tspan x="{}" dy="15">{}</tspan>)", label.substr(0, split), layout.left - 26,
+                          label.substr(split + 1));
     out += fmt::format(R"(<text x="{}" y="{}" text-anchor="end" fill="#222">{}</text>)" "\n",
-                       layout.left - (lane.kind == LaneKind::Sensor ? 26 : 8), lane.top + lane.height / 2 + 4,
-                       xml(lane.label));
+                       layout.left - (lane.kind == LaneKind::Sensor ? 26 : 8),
+                       lane.top + lane.height / 2 + (split != std::string::npos ? -3 : 4), label);
   }
   // Grid and time axis.
   Micros step = tick_step(layout.end_us);

@@ -177,6 +177,19 @@ TEST(RunCli, DrawnTracesAreWrittenAndStaySmallForLongRuns) {
   EXPECT_NE(r.out.find("var[0] n = "), std::string::npos);
 }
 
+TEST(RunCli, CompilerTemporariesAreNotShown) {
+  TempDir d;
+  // The products need temporaries (slots 3..5 here) that end non-zero.
+  auto p = d.write("t.nqc", "int a, b, c;\ntask main() { a = 3; b = 4; c = (a * b) + (a * 7 - b) * (b - a * 2); }\n");
+  auto r = run_rcxc({"run", p, "--trace", d.path + "/t.vcd"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("var[0] a = 3\nvar[1] b = 4\nvar[2] c = -22\nmessage:"), std::string::npos) << r.out;
+  std::string vcd = rcxc::test::read_text_file(d.path + "/t.vcd");
+  for (const char* name : {" a $end", " b $end", " c $end"}) EXPECT_NE(vcd.find(name), std::string::npos) << name;
+  EXPECT_EQ(vcd.find(" var3 $end"), std::string::npos) << vcd;
+  EXPECT_EQ(vcd.find(" var31 $end"), std::string::npos) << vcd;
+}
+
 TEST(RunCli, SeedChangesRandomValues) {
   TempDir d;
   rcx::Image img;
