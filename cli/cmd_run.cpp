@@ -4,6 +4,8 @@
 
 #include <unistd.h>
 
+#include <algorithm>
+#include <filesystem>
 #include <iostream>
 #include <variant>
 
@@ -15,6 +17,8 @@
 #include "rcx/program_io.h"
 #include "runtime/report.h"
 #include "runtime/scenario.h"
+#include "runtime/trace_svg.h"
+#include "stdlib/stdlib.h"
 #include "verify/testspec.h"
 #include "runtime/vm.h"
 
@@ -82,6 +86,31 @@ std::string json_text(const nlohmann::json& j) {
   return j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 
+// The trace formats, by the file's extension.
+constexpr std::string_view kTraceExtensions[] = {".vcd", ".json", ".svg", ".html"};
+
+bool known_trace_file(const std::string& path) {
+  return std::any_of(std::begin(kTraceExtensions), std::end(kTraceExtensions),
+                     [&](std::string_view ext) { return ends_with(path, ext); });
+}
+
+// Sounds, displays and sensor types as the standard library names them.
+rcx::EventNames event_names() {
+  rcx::EventNames names;
+  for (const auto& [name, value] : stdlib::defined_numbers("SOUND_")) names.sounds.emplace(value, name);
+  for (const auto& [name, value] : stdlib::defined_numbers("DISPLAY_")) names.displays.emplace(value, name);
+  for (const auto& [name, value] : stdlib::defined_numbers("SENSOR_TYPE_")) names.sensor_types.emplace(value, name);
+  return names;
+}
+
+std::string trace_text(const std::string& path, const rcx::Machine& machine, const rcx::Image& image,
+                       const rcx::EventNames& names, const std::string& program) {
+  if (ends_with(path, ".vcd")) return rcx::trace_vcd(machine, image);
+  if (ends_with(path, ".svg")) return rcx::trace_svg(machine, image, names, program);
+  if (ends_with(path, ".html")) return rcx::trace_html(machine, image, names, program);
+  return json_text(rcx::trace_json(machine, image)) + "\n";
+}
+
 // A program with test directives (docs/testing.md) carries its own inputs:
 // without --scenario they drive the run, and @for sets the time limit unless
 // --for is given. Says so on stderr, so the timeline is never a surprise.
@@ -108,8 +137,8 @@ bool inputs_from_source(const RunOptions& o, const rcx::semtest::Spec& spec, std
 }
 
 int run(const RunOptions& o) {
-  if (!o.trace.empty() && !ends_with(o.trace, ".vcd") && !ends_with(o.trace, ".json")) {
-    std::cerr << "rcxc run: --trace file must end in .vcd or .json: " << o.trace << "\n";
+  if (!o.trace.empty() && !known_trace_file(o.trace)) {
+    std::cerr << "rcxc run: --trace file must end in .vcd, .json, .svg or .html: " << o.trace << "\n";
     return kExitUsage;
   }
   if (auto bad = bad_compiler_arguments(o.compiler)) {
@@ -180,12 +209,14 @@ int run(const RunOptions& o) {
   if (o.nxt_port) tether_code = run_on_nxt(machine, image, *o.nxt_port, run_ms);
   else machine.run(run_ms * rcx::kMicrosPerMs);
 
+  rcx::EventNames names = event_names();
   if (o.report == "json")
     std::cout << json_text(rcx::report_json(machine, image)) << "\n";
   else
-    std::cout << rcx::timeline_text(machine, image);
+    std::cout << rcx::timeline_text(machine, image, names);
   if (!o.trace.empty()) {
-    std::string text = ends_with(o.trace, ".vcd") ? rcx::trace_vcd(machine, image) : json_text(rcx::trace_json(machine, image)) + "\n";
+    std::string program = std::filesystem::path(o.file).filename().string();
+    std::string text = trace_text(o.trace, machine, image, names, program);
     if (!write_file_atomically(o.trace, text)) {
       std::cerr << "rcxc run: cannot write trace file " << o.trace << "\n";
       return kExitFailure;
@@ -210,7 +241,8 @@ void register_run(CLI::App& app, int& exit_code) {
   cmd->add_option("--for", o->for_ms, "virtual time limit in ms (default 60000)")->check(CLI::Range(std::int64_t{1}, kMaxRunMs));
   cmd->add_option("--seed", o->seed, "seed of the random source (default 1)");
   cmd->add_option("--report", o->report, "print a report instead of the timeline: json")->check(CLI::IsMember({"json"}));
-  cmd->add_option("--trace", o->trace, "write a trace: F.vcd (GTKWave) or F.json (events)");
+  cmd->add_option("--trace", o->trace,
+                  "write a trace: F.vcd (GTKWave), F.json (events), F.svg or F.html (the run drawn as a timeline)");
   cmd->add_option("--instruction-us", o->instruction_us, "virtual cost of one instruction in microseconds (default 2000)")
       ->check(CLI::Range(int64_t{1}, int64_t{1'000'000}));
   cmd->add_option("--nxt", o->nxt_port,

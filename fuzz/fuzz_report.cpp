@@ -1,7 +1,8 @@
 // Bytes as a .rcx file, run bounded, then every report writer: the text
 // timeline (whose symbol names must come out without control characters),
 // the JSON report and trace (dumped as `rcxc run` does, invalid UTF-8
-// replaced), and the VCD trace.
+// replaced), the VCD trace, and the SVG drawing (whose text must stay
+// ASCII without `<` or `&` outside markup: names are escaped).
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
@@ -10,6 +11,7 @@
 
 #include "rcx/image.h"
 #include "runtime/report.h"
+#include "runtime/trace_svg.h"
 #include "runtime/vm.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -26,5 +28,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   (void)rcx::report_json(machine, *image).dump(2, ' ', false, nlohmann::json::error_handler_t::replace);
   (void)rcx::trace_json(machine, *image).dump(2, ' ', false, nlohmann::json::error_handler_t::replace);
   (void)rcx::trace_vcd(machine, *image);
+  std::string svg = rcx::trace_svg(machine, *image, {}, "fuzz");
+  for (char c : svg)
+    if (static_cast<unsigned char>(c) >= 0x80 || (static_cast<unsigned char>(c) < 0x20 && c != '\n')) std::abort();
   return 0;
 }

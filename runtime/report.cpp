@@ -36,16 +36,18 @@ nlohmann::json output_json(const Output& o) {
   return {{"mode", to_string(o.mode)}, {"dir", to_string(o.dir)}, {"power", o.power}};
 }
 
-std::string event_text(const Event& e, const Image& image) {
+std::string event_text(const Event& e, const Image& image, const EventNames& names) {
   switch (e.kind) {
     case EventKind::Output:
       return fmt::format("output {} {} {} power {}", kOutputNames[e.index], to_string(e.output.mode),
                          to_string(e.output.dir), e.output.power);
-    case EventKind::Sound: return fmt::format("sound {}", e.value);
+    case EventKind::Sound: return "sound " + name_or_number(names.sounds, e.value);
     case EventKind::Tone: return fmt::format("tone {} Hz for {} ms", e.value, e.duration * 10);
-    case EventKind::Display: return fmt::format("display {}", e.value);
+    case EventKind::Display: return "display " + name_or_number(names.displays, e.value);
     case EventKind::MessageSent: return fmt::format("message sent {}", e.value);
-    case EventKind::Datalog: return fmt::format("datalog 0x{:02x} = {}", e.type, e.value);
+    case EventKind::MessageReceived: return fmt::format("message received {}", e.value);
+    case EventKind::Datalog: return fmt::format("datalog {} = {}", datalog_source(e.type, image), e.value);
+    case EventKind::SensorReading: return fmt::format("SENSOR_{} reads {}", e.index + 1, e.value);
     case EventKind::TaskStart: return task_label(image, e.index) + " started";
     case EventKind::TaskStop: return task_label(image, e.index) + " stopped";
     case EventKind::Sensor:
@@ -58,6 +60,27 @@ std::string event_text(const Event& e, const Image& image) {
 std::string format_ms(Micros us) { return fmt::format("{}.{:03d}", us / kMicrosPerMs, us % kMicrosPerMs); }
 
 }  // namespace
+
+std::string name_or_number(const std::map<int, std::string>& names, int value) {
+  auto it = names.find(value);
+  return it == names.end() ? std::to_string(value) : it->second;
+}
+
+std::vector<bool> named_variables(const Image& image) {
+  std::vector<bool> named(kMaxVariables, false);
+  bool any = false;
+  for (const auto& sym : image.symbols)
+    if (sym.type == SymbolType::Variable && sym.index < kMaxVariables) named[sym.index] = any = true;
+  if (!any) named.assign(kMaxVariables, true);
+  return named;
+}
+
+std::string datalog_source(int type, const Image& image) {
+  if (type < 0x20) return var_label(image, type);
+  if (type < 0x40) return fmt::format("Timer({})", type & 3);
+  if (type < 0x80) return fmt::format("SENSOR_{}", (type & 3) + 1);
+  return "Watch()";
+}
 
 nlohmann::json event_json(const Event& e, const Image& image) {
   nlohmann::json j = {{"t", ms(e.t_us)}, {"kind", to_string(e.kind)}};
@@ -83,6 +106,8 @@ nlohmann::json event_json(const Event& e, const Image& image) {
       j[e.type == 0 ? "raw" : "rotation"] = e.value;
       break;
     case EventKind::Variable: j["var"] = e.index, j["value"] = e.value; break;
+    case EventKind::SensorReading: j["sensor"] = e.index + 1, j["value"] = e.value; break;
+    case EventKind::MessageReceived: j["value"] = e.value; break;
   }
   return j;
 }
@@ -111,8 +136,11 @@ nlohmann::json report_json(const Machine& m, const Image& image) {
   j["datalog"] = nlohmann::json::array();
   for (const auto& e : s.datalog) j["datalog"].push_back(e.value);
   j["events"] = nlohmann::json::array();
+  // What the program did; inputs and what follows from them are in the trace.
   for (const auto& e : s.events)
-    if (e.kind != EventKind::Sensor && e.kind != EventKind::Variable) j["events"].push_back(event_json(e, image));
+    if (e.kind != EventKind::Sensor && e.kind != EventKind::Variable && e.kind != EventKind::SensorReading &&
+        e.kind != EventKind::MessageReceived)
+      j["events"].push_back(event_json(e, image));
   return j;
 }
 
@@ -122,11 +150,11 @@ nlohmann::json trace_json(const Machine& m, const Image& image) {
   return j;
 }
 
-std::string timeline_text(const Machine& m, const Image& image) {
+std::string timeline_text(const Machine& m, const Image& image, const EventNames& names) {
   const State& s = m.state();
   std::string out;
   for (const auto& e : s.events)
-    if (e.kind != EventKind::Variable) out += fmt::format("{:>12} ms  {}\n", format_ms(e.t_us), event_text(e, image));
+    if (e.kind != EventKind::Variable) out += fmt::format("{:>12} ms  {}\n", format_ms(e.t_us), event_text(e, image, names));
   out += fmt::format("stopped: {} at {} ms\n", to_string(m.stop().kind), format_ms(m.now_us()));
   if (m.stop().fault) {
     const Fault& f = *m.stop().fault;
@@ -137,9 +165,10 @@ std::string timeline_text(const Machine& m, const Image& image) {
     const Output& o = s.outputs[static_cast<std::size_t>(i)];
     out += fmt::format("output {}: {} {} power {}\n", kOutputNames[i], to_string(o.mode), to_string(o.dir), o.power);
   }
+  std::vector<bool> shown = named_variables(image);
   for (int i = 0; i < kMaxVariables; ++i) {
     std::string name = printable_name(image.name_of(SymbolType::Variable, i));
-    if (!name.empty() || s.vars[static_cast<std::size_t>(i)] != 0)
+    if (shown[static_cast<std::size_t>(i)] && (!name.empty() || s.vars[static_cast<std::size_t>(i)] != 0))
       out += fmt::format("var[{}]{} = {}\n", i, name.empty() ? "" : " " + name, s.vars[static_cast<std::size_t>(i)]);
   }
   out += fmt::format("message: {}  display: {}\n", s.message, s.display);
@@ -188,10 +217,12 @@ std::string trace_vcd(const Machine& m, const Image& image) {
     raw[i] = add(fmt::format("sensor_{}_raw", i + 1), 10);
     rot[i] = add(fmt::format("sensor_{}_rotation", i + 1), 16);
   }
-  for (int i = 0; i < kMaxVariables; ++i) vars[i] = add(vcd_name(var_label(image, i)), 16);
+  std::vector<bool> named = named_variables(image);
+  for (int i = 0; i < kMaxVariables; ++i) vars[i] = named[static_cast<std::size_t>(i)] ? add(vcd_name(var_label(image, i)), 16) : -1;
   int sound = add("sound", 8);
   int tone = add("tone_hz", 16);
   int message = add("message_sent", 8);
+  int received = add("message_received", 8);
 
   std::string out = "$date rcxc run $end\n$version rcxc emulator $end\n$timescale 1us $end\n$scope module rcx $end\n";
   for (const auto& s : signals) out += fmt::format("$var wire {} {} {} $end\n", s.width, s.id, s.name);
@@ -205,8 +236,9 @@ std::string trace_vcd(const Machine& m, const Image& image) {
   for (int i = 0; i < kOutputs; ++i)
     out += value(out_mode[i], static_cast<int>(initial.mode)) + value(out_dir[i], 0) + value(out_power[i], initial.power);
   for (int i = 0; i < kSensors; ++i) out += value(raw[i], Sensor{}.raw) + value(rot[i], 0);
-  for (int i = 0; i < kMaxVariables; ++i) out += value(vars[i], 0);
-  out += value(sound, 0) + value(tone, 0) + value(message, 0) + "$end\n";
+  for (int i = 0; i < kMaxVariables; ++i)
+    if (vars[i] >= 0) out += value(vars[i], 0);
+  out += value(sound, 0) + value(tone, 0) + value(message, 0) + value(received, 0) + "$end\n";
   Micros last = 0;
   for (const auto& e : m.state().events) {
     std::string change;
@@ -216,10 +248,13 @@ std::string trace_vcd(const Machine& m, const Image& image) {
                  value(out_dir[e.index], e.output.dir == Direction::Reverse) + value(out_power[e.index], e.output.power);
         break;
       case EventKind::Sensor: change = value(e.type == 0 ? raw[e.index] : rot[e.index], e.value); break;
-      case EventKind::Variable: change = value(vars[e.index], e.value); break;
+      case EventKind::Variable:
+        if (vars[e.index] >= 0) change = value(vars[e.index], e.value);
+        break;
       case EventKind::Sound: change = value(sound, e.value + 1); break;  // 0 = silence, n+1 = sound n
       case EventKind::Tone: change = value(tone, e.value); break;
       case EventKind::MessageSent: change = value(message, e.value); break;
+      case EventKind::MessageReceived: change = value(received, e.value); break;
       default: break;
     }
     if (change.empty()) continue;

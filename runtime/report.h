@@ -3,6 +3,7 @@
 // Schemas are documented in docs/emulator.md.
 #pragma once
 
+#include <map>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -11,16 +12,39 @@
 
 namespace rcx {
 
+// The names NQC gives the numbers in events (SOUND_DOUBLE_BEEP for sound 1).
+// They live in the standard library, which runtime/ does not read: the caller
+// fills them (cli/ from stdlib::defined_numbers). A number without a name is
+// printed as a number.
+struct EventNames {
+  std::map<int, std::string> sounds;        // SOUND_*
+  std::map<int, std::string> displays;      // DISPLAY_*
+  std::map<int, std::string> sensor_types;  // SENSOR_TYPE_*
+};
+
+// Variables the program named: the image's variable symbols. An image that
+// names no variable at all (hand-made, or from a compiler that writes no
+// symbols) gets every slot, since none can be told apart as a temporary.
+std::vector<bool> named_variables(const Image& image);
+// What a datalog entry recorded, as NQC writes the source: `Timer(0)`,
+// `SENSOR_2`, `Watch()`, a variable's name or `var[5]`.
+std::string datalog_source(int type, const Image& image);
+// `sound 1` as `SOUND_DOUBLE_BEEP` (or the number when unnamed).
+std::string name_or_number(const std::map<int, std::string>& names, int value);
+
 // The `--report json` object.
 nlohmann::json report_json(const Machine& machine, const Image& image);
 // One event as JSON ({t, kind, ...}); the image gives task names.
 nlohmann::json event_json(const Event& event, const Image& image);
 // Every event (inputs included) as a JSON array: the `--trace F.json` file.
 nlohmann::json trace_json(const Machine& machine, const Image& image);
-// Human-readable timeline and final state (what `rcxc run` prints by default).
-std::string timeline_text(const Machine& machine, const Image& image);
-// A Value Change Dump of outputs, sensor inputs, variables and sounds.
-// Variable changes appear only if the machine ran with trace_variables.
+// Human-readable timeline and final state (what `rcxc run` prints by default):
+// the program's own variables only (named_variables), sounds, displays and
+// datalog sources by name.
+std::string timeline_text(const Machine& machine, const Image& image, const EventNames& names = {});
+// A Value Change Dump of outputs, sensor inputs, the program's variables
+// (named_variables) and sounds. Variable changes appear only if the machine
+// ran with trace_variables.
 std::string trace_vcd(const Machine& machine, const Image& image);
 
 }  // namespace rcx

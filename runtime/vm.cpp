@@ -62,6 +62,7 @@ std::vector<std::uint8_t> encode_reply(std::span<const Operand> layout, std::spa
 Machine::Machine(Config config) : config_(config), rng_(config.seed) {
   state_.battery_mv = config.battery_mv;
   if (config_.instruction_cost_us < 1) config_.instruction_cost_us = 1;
+  for (std::size_t i = 0; i < kSensors; ++i) noted_reading_[i] = sensor_reading(state_.sensors[i]);
 }
 
 const char* to_string(StopKind kind) {
@@ -95,6 +96,8 @@ const char* to_string(EventKind kind) {
     case EventKind::TaskStop: return "task_stop";
     case EventKind::Sensor: return "sensor";
     case EventKind::Variable: return "variable";
+    case EventKind::SensorReading: return "sensor_reading";
+    case EventKind::MessageReceived: return "message_received";
   }
   return "?";
 }
@@ -319,7 +322,12 @@ void Machine::power_off() {
 
 int Machine::get_value(int source, int argument) { return value_of(source, argument); }
 
-void Machine::set_message(int value) { state_.message = value & 0xff; }
+void Machine::set_message(int value) {
+  state_.message = value & 0xff;
+  Event e{now_us_, EventKind::MessageReceived};
+  e.value = state_.message;
+  emit(e);
+}
 
 // ------------------------------------------------------------ tasks
 
@@ -448,6 +456,16 @@ void Machine::set_var(int index, int value) {
 
 void Machine::emit(Event e) { state_.events.push_back(e); }
 
+void Machine::note_reading(int sensor) {
+  int reading = sensor_reading(state_.sensors[static_cast<std::size_t>(sensor)]);
+  int& noted = noted_reading_[static_cast<std::size_t>(sensor)];
+  if (reading == noted) return;
+  noted = reading;
+  Event e{now_us_, EventKind::SensorReading};
+  e.index = sensor, e.value = reading;
+  emit(e);
+}
+
 void Machine::set_output(int index, Output next) {
   Output& o = state_.outputs[static_cast<std::size_t>(index)];
   if (o.mode == next.mode && o.dir == next.dir && o.power == next.power) return;
@@ -461,6 +479,7 @@ void Machine::clear_sensor(int sensor) {
   Sensor& s = state_.sensors[static_cast<std::size_t>(sensor)];
   s.transitions = 0;
   s.rotation_zero = s.rotation;
+  note_reading(sensor);
 }
 
 void Machine::set_sensor_raw(int sensor, int raw) {
@@ -755,6 +774,7 @@ void Machine::apply(const Input& input) {
     e.index = s->sensor, e.value = state_.sensors[static_cast<std::size_t>(s->sensor)].raw, e.type = 0;
   if (auto* r = std::get_if<RotationInput>(&input)) e.index = r->sensor, e.value = r->position, e.type = 1;
   emit(e);
+  note_reading(e.index);
 }
 
 void Machine::apply_due_inputs() {

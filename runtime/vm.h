@@ -94,6 +94,9 @@ enum class EventKind : std::uint8_t {
   TaskStop,    // task `index` stopped (ended, stopped or killed)
   Sensor,      // an input reached sensor `index`: `value` = raw (type 0) or rotation position (type 1)
   Variable,    // variable `index` set to `value` (only with Config::trace_variables)
+  SensorReading,   // the value a program reads from sensor `index` became `value`
+                   // (after an input, a type/mode change or a clear)
+  MessageReceived, // `value` arrived by infrared (an input, or the host's Set message)
 };
 
 struct Event {
@@ -293,6 +296,8 @@ class Machine {
   void clear_sensor(int sensor);
   void set_var(int index, int value);
   void emit(Event e);
+  // Emits SensorReading when sensor's reading differs from the last one emitted.
+  void note_reading(int sensor);
   // Executes an opcode that programs and hosts share; false if `op` is not one.
   bool shared_command(Op op, const std::array<int, 5>& v, int& error_code);
   Micros next_wake() const;
@@ -313,6 +318,7 @@ class Machine {
   Micros now_us_ = 0;
   std::uint64_t rng_;
   int next_task_ = 0;                     // round-robin cursor
+  std::array<int, kSensors> noted_reading_;  // last SensorReading value per sensor
   StopInfo stop_;
   int dl_kind_ = -1;                      // open download: -1 none, 0 task, 1 sub
   int dl_index_ = 0;

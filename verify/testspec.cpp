@@ -416,6 +416,8 @@ std::string event_text(const Event& e, const Image& image) {
     }
     case EventKind::Sensor: return t + fmt::format("sensor {} = {}", e.index + 1, e.value);
     case EventKind::Variable: return t + fmt::format("var {} = {}", e.index, e.value);
+    case EventKind::SensorReading: return t + fmt::format("SENSOR_{} reads {}", e.index + 1, e.value);
+    case EventKind::MessageReceived: return t + fmt::format("message received {}", e.value);
   }
   return t;
 }

@@ -153,6 +153,43 @@ TEST(RunCli, TracesAreWritten) {
   EXPECT_NE(r.err.find("cannot write trace"), std::string::npos);
 }
 
+TEST(RunCli, DrawnTracesAreWrittenAndStaySmallForLongRuns) {
+  TempDir d;
+  // Ten minutes of output A changing every 10 ms, a click, a message and a
+  // display change each round: tens of thousands of events.
+  auto p = d.write("busy.nqc",
+                   "int n;\ntask main() { while (true) { OnFwd(OUT_A); Wait(1); OnRev(OUT_A); Wait(1); Off(OUT_A);\n"
+                   "  PlaySound(SOUND_CLICK); SendMessage(n % 255); n++; SelectDisplay(n % 7); } }\n");
+  for (std::string name : {"run.svg", "run.html"}) {
+    auto r = run_rcxc({"run", p, "--for", "600000", "--trace", d.path + "/" + name});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    std::string text = rcxc::test::read_text_file(d.path + "/" + name);
+    EXPECT_NE(text.find("<svg xmlns="), std::string::npos);
+    EXPECT_NE(text.find(">600 s</text>"), std::string::npos);
+    EXPECT_NE(text.find("sound SOUND_CLICK"), std::string::npos);
+    EXPECT_LT(text.size(), 1'000'000u) << name;
+  }
+  // The text timeline of the same run has every event.
+  auto r = run_rcxc({"run", p, "--for", "600000"});
+  EXPECT_GT(r.out.size(), 2'000'000u);
+  EXPECT_NE(r.out.find("ms  sound SOUND_CLICK\n"), std::string::npos);
+  EXPECT_NE(r.out.find("ms  display DISPLAY_OUT_A\n"), std::string::npos);
+  EXPECT_NE(r.out.find("var[0] n = "), std::string::npos);
+}
+
+TEST(RunCli, CompilerTemporariesAreNotShown) {
+  TempDir d;
+  // The products need temporaries (slots 3..5 here) that end non-zero.
+  auto p = d.write("t.nqc", "int a, b, c;\ntask main() { a = 3; b = 4; c = (a * b) + (a * 7 - b) * (b - a * 2); }\n");
+  auto r = run_rcxc({"run", p, "--trace", d.path + "/t.vcd"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("var[0] a = 3\nvar[1] b = 4\nvar[2] c = -22\nmessage:"), std::string::npos) << r.out;
+  std::string vcd = rcxc::test::read_text_file(d.path + "/t.vcd");
+  for (const char* name : {" a $end", " b $end", " c $end"}) EXPECT_NE(vcd.find(name), std::string::npos) << name;
+  EXPECT_EQ(vcd.find(" var3 $end"), std::string::npos) << vcd;
+  EXPECT_EQ(vcd.find(" var31 $end"), std::string::npos) << vcd;
+}
+
 TEST(RunCli, SeedChangesRandomValues) {
   TempDir d;
   rcx::Image img;

@@ -92,8 +92,85 @@ TEST(Report, TraceJsonIncludesInputs) {
   m.run_until(10'000);
   rcx::Image img;
   auto j = rcx::trace_json(m, img);
-  ASSERT_EQ(j.size(), 1u);
+  ASSERT_EQ(j.size(), 2u);
   EXPECT_EQ(j[0], (nlohmann::json{{"t", 5}, {"kind", "sensor"}, {"sensor", 1}, {"raw", 300}}));
+  // An unconfigured sensor reads its raw value.
+  EXPECT_EQ(j[1], (nlohmann::json{{"t", 5}, {"kind", "sensor_reading"}, {"sensor", 1}, {"value", 300}}));
+}
+
+TEST(Report, TraceJsonHasIncomingMessagesButTheReportLeavesInputsOut) {
+  rcx::Machine m(ms_config());
+  m.schedule({5000, rcx::MessageInput{42}});
+  m.run_until(10'000);
+  rcx::Image img;
+  auto j = rcx::trace_json(m, img);
+  ASSERT_EQ(j.size(), 1u);
+  EXPECT_EQ(j[0], (nlohmann::json{{"t", 5}, {"kind", "message_received"}, {"value", 42}}));
+  EXPECT_TRUE(rcx::report_json(m, img)["events"].empty());
+  EXPECT_EQ(rcx::report_json(m, img)["message"], 42);
+}
+
+TEST(Report, TimelineNamesSoundsDisplaysDatalogSourcesAndIncomingMessages) {
+  rcx::EventNames names;
+  names.sounds = {{1, "SOUND_DOUBLE_BEEP"}};
+  names.displays = {{4, "DISPLAY_OUT_A"}};
+  auto img = named(image({{0, code({sound(1), sound(3), display(IMM, 4), logsize(5), set(0, 12), lognext(VAR, 0),
+                                    lognext(VAR, 7), lognext(TIMER, 2), lognext(SENSOR, 1), lognext(14, 0),
+                                    wait(100)})}}));
+  rcx::Machine m(ms_config());
+  m.load(0, img);
+  m.schedule({50'000, rcx::MessageInput{42}});
+  m.start_program();
+  m.run(2'000'000);
+  std::string text = rcx::timeline_text(m, img, names);
+  EXPECT_NE(text.find("ms  sound SOUND_DOUBLE_BEEP\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("ms  sound 3\n"), std::string::npos) << text;  // no name given: the number
+  EXPECT_NE(text.find("ms  display DISPLAY_OUT_A\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("ms  datalog count = 12\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("ms  datalog var7 = 0\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("ms  datalog Timer(2) = 0\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("ms  datalog SENSOR_2 = 1023\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("ms  datalog Watch() = 0\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("50.000 ms  message received 42\n"), std::string::npos) << text;
+  EXPECT_EQ(text.find("0x"), std::string::npos) << text;
+}
+
+TEST(Report, TimelineShowsWhatTheProgramReadsFromASensor) {
+  rcx::Machine m(ms_config());
+  m.load(0, image({{0, code({senstype(0, 1), wait(100)})}}));
+  m.schedule({300'000, rcx::SensorRawInput{0, 100}});
+  m.start_program();
+  m.run(2'000'000);
+  std::string text = rcx::timeline_text(m, image({}));
+  EXPECT_NE(text.find("0.000 ms  SENSOR_1 reads 0\n"), std::string::npos) << text;  // touch: open reads 0
+  EXPECT_NE(text.find("300.000 ms  input: sensor 1 raw 100\n     300.000 ms  SENSOR_1 reads 1\n"), std::string::npos)
+      << text;
+}
+
+TEST(Report, TimelineAndVcdHideCompilerTemporaries) {
+  // count (0) and speed (2) are the program's; slot 5 is a temporary.
+  rcx::Config c = ms_config();
+  c.trace_variables = true;
+  auto img = named(image({{0, code({set(0, 1), set(2, 2), set(5, 9)})}}));
+  auto m = run(img, 1000, c);
+  std::string text = rcx::timeline_text(m, img);
+  EXPECT_NE(text.find("var[0] count = 1\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("var[2] speed = 2\n"), std::string::npos) << text;
+  EXPECT_EQ(text.find("var[5]"), std::string::npos) << text;
+  std::string vcd = rcx::trace_vcd(m, img);
+  EXPECT_NE(vcd.find(" count $end"), std::string::npos) << vcd;
+  EXPECT_NE(vcd.find(" speed $end"), std::string::npos) << vcd;
+  EXPECT_EQ(vcd.find(" var5 $end"), std::string::npos) << vcd;
+  int declared = 0;
+  for (std::size_t at = vcd.find("$var wire 16"); at != std::string::npos; at = vcd.find("$var wire 16", at + 1)) ++declared;
+  EXPECT_EQ(declared, 2 + 3 + 1) << vcd;  // count, speed, the three rotation sensors, tone_hz
+}
+
+TEST(Report, AnImageWithoutVariableNamesShowsEverySlotItUses) {
+  auto img = image({{0, code({set(5, 9)})}});
+  auto m = run(img);
+  std::string text = rcx::timeline_text(m, img);
+  EXPECT_NE(text.find("var[5] = 9\n"), std::string::npos) << text;
 }
 
 // A task's local may share a global's name; the image lists globals first,
