@@ -24,18 +24,31 @@ int main(int argc, char** argv) {
       "The subcommands' own options differ from nqc's: 'compile -O' sets the optimisation level (-o names\n"
       "the output) and 'compile -E' prints the preprocessed source (errors go to stderr).");
 
+  // In the order `rcxc --help` lists them. Registering every command's
+  // options costs about as much CPU as compiling a short program, so a
+  // command line that starts with a command's name registers that command
+  // alone; anything else (help, version, --help, a typo) registers all.
+  struct Command {
+    std::string_view name;
+    void (*add)(CLI::App&, int&);
+  };
+  static constexpr Command kCommands[] = {
+      {"compile", rcxc::cli::register_compile}, {"run", rcxc::cli::register_run},
+      {"disasm", rcxc::cli::register_disasm},   {"test", rcxc::cli::register_test},
+      {"compare", rcxc::cli::register_compare}, {"brick", rcxc::cli::register_brick},
+      {"download", rcxc::cli::register_download}, {"remote", rcxc::cli::register_remote},
+      {"nxt", rcxc::cli::register_nxt},         {"lsp", rcxc::cli::register_lsp},
+  };
   int exit_code = rcxc::cli::kExitOk;
-  rcxc::cli::register_compile(app, exit_code);
-  rcxc::cli::register_run(app, exit_code);
-  rcxc::cli::register_disasm(app, exit_code);
-  rcxc::cli::register_test(app, exit_code);
-  rcxc::cli::register_compare(app, exit_code);
-  rcxc::cli::register_brick(app, exit_code);
-  rcxc::cli::register_download(app, exit_code);
-  rcxc::cli::register_remote(app, exit_code);
-  rcxc::cli::register_nxt(app, exit_code);
-  rcxc::cli::register_lsp(app, exit_code);
-  rcxc::cli::register_help(app, exit_code);
+  const Command* named = nullptr;
+  for (const Command& c : kCommands)
+    if (argc > 1 && c.name == argv[1]) named = &c;
+  if (named) {
+    named->add(app, exit_code);
+  } else {
+    for (const Command& c : kCommands) c.add(app, exit_code);
+    rcxc::cli::register_help(app, exit_code);
+  }
 
   try {
     app.parse(argc, argv);

@@ -1,8 +1,10 @@
 #include "frontend/frontend.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <unordered_set>
 
 #include "frontend/parse.h"
 #include "frontend/preprocess.h"
@@ -64,10 +66,121 @@ void check_around_syntax_errors(ast::Program& program, Diagnostics& diags) {
   check(program, diags);
 }
 
+// An inline function defined at the standard library's top level: its
+// tokens [begin, end) and the names its body uses.
+struct LibraryFunction {
+  std::string_view name;
+  std::size_t begin = 0, end = 0;
+  bool reached = false;
+};
+
+// Index of the token that closes the bracket at `open` (before `limit`), or
+// `limit` when it is not closed there.
+std::size_t closing(const std::vector<Token>& tokens, std::size_t open, std::size_t limit) {
+  std::string_view opener = tokens[open].text, closer = opener == "(" ? ")" : "}";
+  int depth = 0;
+  for (std::size_t i = open; i < limit; ++i) {
+    if (tokens[i].kind != TokenKind::Punct) continue;
+    if (tokens[i].text == opener) ++depth;
+    if (tokens[i].text == closer && --depth == 0) return i;
+  }
+  return limit;
+}
+
+// The standard library defines dozens of inline functions and a program
+// calls a few; parsing and checking all of them was most of the library's
+// cost, paid at every start. These are the preprocessed tokens without the
+// library's function definitions that nothing the program says reaches
+// (directly or through the library functions it does reach; macros are
+// already expanded, so a macro's use counts). nullopt when every one is
+// reached or the library's text is not in the expected shape.
+std::optional<std::vector<Token>> without_unreached_library_functions(const std::vector<Token>& tokens,
+                                                                      const SourceManager& sm) {
+  // rcx.nqh is read before the program, so its tokens come first.
+  std::size_t library_end = 0;
+  while (library_end < tokens.size() && tokens[library_end].kind != TokenKind::End &&
+         sm.is_library(presumed_loc(tokens[library_end].span.begin, sm).file))
+    ++library_end;
+  std::vector<LibraryFunction> functions;
+  std::unordered_set<std::string_view> used;
+  auto use_names = [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i)
+      if (tokens[i].kind == TokenKind::Identifier) used.insert(tokens[i].text);
+  };
+  int depth = 0;
+  for (std::size_t i = 0; i < library_end;) {
+    const Token& t = tokens[i];
+    std::size_t head = i + (t.is_identifier("inline") ? 1 : 0);
+    if (depth == 0 && head + 2 < library_end && tokens[head].is_identifier("void") &&
+        tokens[head + 1].kind == TokenKind::Identifier && tokens[head + 2].is("(")) {
+      std::size_t params_end = closing(tokens, head + 2, library_end);
+      if (params_end + 1 >= library_end || !tokens[params_end + 1].is("{")) return std::nullopt;
+      std::size_t body_end = closing(tokens, params_end + 1, library_end);
+      if (body_end == library_end) return std::nullopt;
+      functions.push_back({tokens[head + 1].text, i, body_end + 1, false});
+      i = body_end + 1;
+      continue;
+    }
+    if (t.kind == TokenKind::Punct && (t.text == "(" || t.text == "{" || t.text == "[")) ++depth;
+    if (t.kind == TokenKind::Punct && (t.text == ")" || t.text == "}" || t.text == "]")) --depth;
+    use_names(i, i + 1);
+    ++i;
+  }
+  use_names(library_end, tokens.size());
+  for (bool grew = true; grew;) {
+    grew = false;
+    for (auto& f : functions)
+      if (!f.reached && used.count(f.name)) {
+        f.reached = grew = true;
+        // The parameters' and body's names, the function's own included.
+        use_names(f.begin, f.end);
+      }
+  }
+  if (std::all_of(functions.begin(), functions.end(), [](const LibraryFunction& f) { return f.reached; }))
+    return std::nullopt;
+  std::vector<Token> kept;
+  kept.reserve(tokens.size());
+  std::size_t from = 0;
+  for (const auto& f : functions) {
+    if (f.reached) continue;
+    kept.insert(kept.end(), tokens.begin() + static_cast<std::ptrdiff_t>(from),
+                tokens.begin() + static_cast<std::ptrdiff_t>(f.begin));
+    from = f.end;
+  }
+  kept.insert(kept.end(), tokens.begin() + static_cast<std::ptrdiff_t>(from), tokens.end());
+  return kept;
+}
+
+// Parses and checks the program with only the library functions it
+// reaches. Kept when that finds no error: with the rest of the library
+// unchanged (it has no problems of its own) the program and its warnings
+// are the same. After an error the caller checks again with the whole
+// library, so messages (did you mean ...) still see every name.
+std::optional<ast::Program> parse_reached(const std::vector<Token>& tokens, const SourceManager& sm,
+                                          Diagnostics& diags) {
+  auto reached = without_unreached_library_functions(tokens, sm);
+  if (!reached) return std::nullopt;
+  Diagnostics trial;
+  trial.warnings_as_errors = diags.warnings_as_errors;
+  trial.suppress_warnings = diags.suppress_warnings;
+  ast::Program program = parse_tokens(*reached, trial);
+  if (!trial.has_errors()) check(program, trial);
+  if (trial.has_errors()) return std::nullopt;
+  for (const auto& d : trial.all()) diags.add(d);
+  return program;
+}
+
 std::optional<ast::Program> run(std::uint32_t file, const std::string& dir, const Options& options,
                                 SourceManager& sm, Diagnostics& diags) {
   Preprocessed pp = preprocess(file, dir, options, sm, diags);
   if (!pp.complete) return std::nullopt;
+  if (!options.whole_library && !diags.has_errors()) {
+    if (auto program = parse_reached(pp.tokens, sm, diags)) {
+      program->pragmas = std::move(pp.pragmas);
+      program->macro_names = std::move(pp.macro_names);
+      return program;
+    }
+  }
   ast::Program program = parse_tokens(pp.tokens, diags);
   program.pragmas = std::move(pp.pragmas);
   program.macro_names = std::move(pp.macro_names);

@@ -17,6 +17,10 @@ struct Options {
   std::vector<std::pair<std::string, std::string>> defines;  // -D NAME[=VALUE] ("1" if no value)
   std::vector<std::string> undefines;                       // -U NAME
   bool no_stdlib = false;                                   // -n: do not include rcx.nqh
+  // Parse and check every standard-library function, not only those the
+  // program reaches. The result is the same (tests compare the two); the
+  // default skips the library's unused functions for speed.
+  bool whole_library = false;
 
   // Adds `-D`'s argument: NAME or NAME=VALUE.
   void define(const std::string& option);

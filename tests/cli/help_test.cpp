@@ -62,6 +62,20 @@ TEST(Help, HelpAndVersionCommands) {
   EXPECT_EQ(version.out.rfind("rcxc ", 0), 0u);
 }
 
+// `rcxc COMMAND ...` registers that command alone (cli/main.cpp, for
+// startup time); `rcxc help COMMAND` registers every command. Both must
+// describe the command alike, so no command depends on another's options.
+TEST(Help, ACommandAloneDescribesItselfAsAmongAll) {
+  auto names = commands();
+  ASSERT_GE(names.size(), 10u);
+  for (const auto& name : names) {
+    auto alone = run_rcxc({name, "--help"});
+    auto among_all = run_rcxc({"help", name});
+    EXPECT_EQ(alone.exit_code, 0) << name;
+    EXPECT_EQ(alone.out, among_all.out) << name;
+  }
+}
+
 TEST(Help, TheManPageCoversEveryCommandAndOption) {
   std::string man = read_text_file(RCXC_SOURCE_DIR "/docs/rcxc.1");
   // groff escapes '-' as '\-' in option names.
