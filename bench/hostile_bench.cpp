@@ -17,7 +17,7 @@ std::string repeat(const std::string& s, int n) {
   return out;
 }
 
-void compile_once(benchmark::State& state, const std::string& src) {
+void compile_once(const std::string& src) {
   rcxc::SourceManager sm;
   rcxc::Diagnostics diags;
   rcxc::ir::Log log;
@@ -26,7 +26,7 @@ void compile_once(benchmark::State& state, const std::string& src) {
 }
 
 void BM_Hostile(benchmark::State& state, const std::string& src) {
-  for (auto _ : state) compile_once(state, src);
+  for (auto _ : state) compile_once(src);
 }
 BENCHMARK_CAPTURE(BM_Hostile, blocks_70000, "task main() {" + repeat("{", 70000) + repeat("}", 70000) + "}\n")
     ->Unit(benchmark::kMillisecond);
@@ -51,7 +51,7 @@ void BM_NestedLoopsWithLocals(benchmark::State& state) {
   int depth = static_cast<int>(state.range(0));
   std::string src = "int x;\ntask main()\n{\n" + repeat("for (int i = 0; i < 2; i++)\n{\n", depth) + "x = x + 1;\n" +
                     repeat("}\n", depth) + "}\n";
-  for (auto _ : state) compile_once(state, src);
+  for (auto _ : state) compile_once(src);
   state.SetItemsProcessed(state.iterations() * depth);  // levels
 }
 BENCHMARK(BM_NestedLoopsWithLocals)->Arg(250)->Arg(500)->Arg(1000)->Unit(benchmark::kMillisecond);

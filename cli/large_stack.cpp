@@ -45,12 +45,15 @@ void run_with_stack(std::size_t bytes, const std::function<void()>& body) {
     started = pthread_attr_setstacksize(&attr, size) == 0 && pthread_create(&thread, &attr, run_job, &job) == 0;
     pthread_attr_destroy(&attr);
   }
-  if (started) pthread_join(thread, nullptr);
-  pthread_sigmask(SIG_SETMASK, &job.mask, nullptr);
   if (!started) {
+    pthread_sigmask(SIG_SETMASK, &job.mask, nullptr);
     body();
     return;
   }
+  pthread_join(thread, nullptr);
+  // The mask stays: a signal `body` blocked and left pending (a second
+  // Ctrl-C its signalfd never read) would otherwise be delivered here and
+  // end the process with it, where one thread would have exited normally.
   if (job.thrown) std::rethrow_exception(job.thrown);
 }
 

@@ -16,7 +16,8 @@ namespace rcxc::cli {
 inline constexpr std::size_t kWorkStackBytes = std::size_t{64} << 20;
 
 // Runs `body` on a new thread with a stack of `bytes` and waits for it;
-// rethrows what `body` threw. Under an address-space limit too small for
+// rethrows what `body` threw. The calling thread keeps every signal
+// blocked afterwards (it is about to return from main, or is a worker). Under an address-space limit too small for
 // that stack it tries a quarter, then a sixteenth; when no thread can be
 // made at all, `body` runs on the calling thread.
 void run_with_stack(std::size_t bytes, const std::function<void()>& body);

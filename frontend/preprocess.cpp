@@ -474,6 +474,11 @@ class Preprocessor {
 
   // Fully expands a token list on its own (a macro argument, an #if line).
   std::vector<Token> expand_list(std::vector<Token> in, std::size_t depth) {
+    // Nothing to expand (a long #if line of numbers and operators): no copy.
+    if (std::none_of(in.begin(), in.end(), [&](const Token& t) {
+          return t.kind == TokenKind::Identifier && defined_.count(t.text) != 0;
+        }))
+      return in;
     Stream s;
     std::reverse(in.begin(), in.end());
     s.stack = std::move(in);
@@ -610,8 +615,8 @@ class Preprocessor {
     if (line.empty()) return;  // the null directive
     const Token& name = line[0];
     const std::string& d = name.text;
-    if (d == "if" || d == "ifdef" || d == "ifndef") return begin_if(d, line, hash);
-    if (d == "elif") return do_elif(line, hash);
+    if (d == "if" || d == "ifdef" || d == "ifndef") return begin_if(d, line, hash);  // may consume `line`
+    if (d == "elif") return do_elif(line, hash);  // may consume `line`
     if (d == "else") return do_else(line, hash);
     if (d == "endif") return do_endif(line, hash);
     if (!active()) return;
@@ -636,7 +641,7 @@ class Preprocessor {
                      "extra tokens after #" + line[0].text + " are ignored");
   }
 
-  void begin_if(const std::string& d, const std::vector<Token>& line, const Token& hash) {
+  void begin_if(const std::string& d, std::vector<Token>& line, const Token& hash) {
     Cond c;
     c.parent_active = active();
     c.span = {hash.span.begin, line[0].span.end};
@@ -669,7 +674,7 @@ class Preprocessor {
     return true;
   }
 
-  void do_elif(const std::vector<Token>& line, const Token&) {
+  void do_elif(std::vector<Token>& line, const Token&) {
     if (!check_open_group(line)) return;
     Cond& c = conds_.back();
     if (!c.parent_active || c.taken) {
@@ -905,12 +910,15 @@ class Preprocessor {
 
   // ------------------------------------------------------ #if evaluation --
 
-  bool eval_condition(const std::vector<Token>& line) {
+  // Consumes `line` (the directive's tokens): the expression is made of
+  // them in place, since a line can be most of a file's tokens.
+  bool eval_condition(std::vector<Token>& line) {
+    const Token directive = line[0];
     // Replace `defined X` / `defined(X)` before expanding macros.
-    std::vector<Token> toks;
+    std::size_t kept = 0;
     for (std::size_t i = 1; i < line.size(); ++i) {
       if (!line[i].is_identifier("defined")) {
-        toks.push_back(line[i]);
+        line[kept++] = std::move(line[i]);
         continue;
       }
       std::size_t j = i + 1;
@@ -923,14 +931,16 @@ class Preprocessor {
       Token v = line[i];
       v.kind = TokenKind::Number;
       v.text = find_macro(line[j].text) ? "1" : "0";
-      toks.push_back(v);
+      line[kept++] = std::move(v);
       i = paren ? j + 1 : j;
     }
+    line.resize(kept);
+    std::vector<Token> toks = std::move(line);
     std::size_t before = diags_.error_count();
     toks = expand_list(std::move(toks), 0);
     if (diags_.error_count() != before) return false;
     if (toks.empty()) {
-      diags_.error(line[0].span, "#" + line[0].text + " needs an expression");
+      diags_.error(directive.span, "#" + directive.text + " needs an expression");
       return false;
     }
     CondEval ev{toks, diags_, 0, false, 0};

@@ -154,6 +154,17 @@ TEST(HostileInput, TheDeepestNestingAllowedIsCompiledWhateverTheCallersStack) {
   }
 }
 
+TEST(HostileInput, ALoopNestWithALocalPerLevelGoesThroughThePassesInTime) {
+  // 1000 nested loops, each with its own counter: the liveness analysis
+  // went round the whole function once per level (65 s in a release
+  // build). Every pass runs; then the 1000 counters do not fit the RCX's
+  // 32 slots.
+  TempDir d;
+  auto r = compile(d, "int x;\ntask main()\n{\n" + repeat("for (int i = 0; i < 2; i++)\n{\n", 1000) + "x = x + 1;\n" +
+                          repeat("}\n", 1000) + "}\n");
+  expect_error(r, "no variable slot left for 'i'");
+}
+
 TEST(HostileInput, DoublingSubroutineChains) {
   // Each link doubles the inlined code: 14 links once took 20 s (the copy
   // was moved into place block by block), 16 never ended.
