@@ -14,6 +14,7 @@
 #include <thread>
 
 #include "cli/commands.h"
+#include "cli/large_stack.h"
 #include "verify/external_nqc.h"
 #include "cli/program_loader.h"
 #include "verify/testspec.h"
@@ -196,7 +197,9 @@ void run_all(const TestOptions& o, const std::vector<std::string>& files, unsign
     }
   };
   std::vector<std::jthread> workers;
-  for (unsigned k = 0; k < std::min<std::size_t>(jobs, files.size()); ++k) workers.emplace_back(work);
+  // Each worker compiles as deeply as rcxc's main thread may (large_stack.h).
+  for (unsigned k = 0; k < std::min<std::size_t>(jobs, files.size()); ++k)
+    workers.emplace_back([&] { run_with_stack(kWorkStackBytes, work); });
   for (std::size_t i = 0; i < files.size(); ++i) {
     std::unique_lock lock(mutex);
     done.wait(lock, [&] { return results[i].has_value(); });

@@ -5,10 +5,13 @@
 #include <string_view>
 
 #include "cli/commands.h"
+#include "cli/large_stack.h"
 #include "cli/nqc_mode.h"
 #include "cli/version.h"
 
-int main(int argc, char** argv) {
+namespace {
+
+int run_main(int argc, char** argv) {
   // nqc's command line has its own grammar (-Trcx, -O<file>, actions after
   // the file), so it is read by hand, not by CLI11.
   if (argc > 0 && rcxc::cli::started_as_nqc(argv[0])) return rcxc::cli::run_nqc_mode({argv + 1, argv + argc});
@@ -72,5 +75,13 @@ int main(int argc, char** argv) {
     std::cerr << "rcxc: a subcommand is required\n\n" << app.help();
     return rcxc::cli::kExitUsage;
   }
+  return exit_code;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int exit_code = rcxc::cli::kExitFailure;
+  rcxc::cli::run_with_stack(rcxc::cli::kWorkStackBytes, [&] { exit_code = run_main(argc, argv); });
   return exit_code;
 }

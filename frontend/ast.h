@@ -199,6 +199,9 @@ struct Expr {
   // The folded 16-bit value when the expression is a compile-time constant
   // (set by sema; lowering may rely on it).
   std::optional<std::int16_t> constant;
+  // Levels of expression from here down, as the parser built it (a leaf is
+  // 1); it stops a tree taller than the nesting limit while it is built.
+  std::uint32_t parsed_height = 1;
 };
 
 // ------------------------------------------------------------------- asm --

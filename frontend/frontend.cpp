@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <iterator>
 #include <fstream>
 #include <sstream>
 #include <unordered_set>
@@ -9,9 +10,16 @@
 #include "frontend/parse.h"
 #include "frontend/preprocess.h"
 #include "frontend/sema.h"
+#include "frontend/stdlib_cache.h"
 #include "rcx/file_read.h"
 
 namespace rcxc::frontend {
+
+struct StdlibCache {
+  std::shared_ptr<const StdlibState> state;
+  ast::Program program;  // the stdlib's declarations, parsed, not checked
+};
+
 namespace {
 
 std::optional<std::uint32_t> load(const std::string& path, SourceManager& sm, Diagnostics& diags) {
@@ -170,18 +178,43 @@ std::optional<ast::Program> parse_reached(const std::vector<Token>& tokens, cons
   return program;
 }
 
+// `after` appended to `before`: the declarations of both, in order.
+ast::Program joined(const ast::Program& before, ast::Program after) {
+  ast::Program program = before;
+  auto offset = [&](ast::SymbolKind kind) {
+    switch (kind) {
+      case ast::SymbolKind::Global: return before.globals.size();
+      case ast::SymbolKind::Task: return before.tasks.size();
+      case ast::SymbolKind::Sub: return before.subs.size();
+      default: return before.functions.size();
+    }
+  };
+  for (auto ref : after.order) {
+    ref.index += static_cast<std::uint32_t>(offset(ref.kind));
+    program.order.push_back(ref);
+  }
+  std::move(after.globals.begin(), after.globals.end(), std::back_inserter(program.globals));
+  std::move(after.tasks.begin(), after.tasks.end(), std::back_inserter(program.tasks));
+  std::move(after.subs.begin(), after.subs.end(), std::back_inserter(program.subs));
+  std::move(after.functions.begin(), after.functions.end(), std::back_inserter(program.functions));
+  return program;
+}
+
 std::optional<ast::Program> run(std::uint32_t file, const std::string& dir, const Options& options,
-                                SourceManager& sm, Diagnostics& diags) {
-  Preprocessed pp = preprocess(file, dir, options, sm, diags);
+                                SourceManager& sm, Diagnostics& diags, const StdlibCache* cache = nullptr) {
+  Preprocessed pp = cache ? preprocess_after_stdlib(*cache->state, file, dir, options, sm, diags)
+                          : preprocess(file, dir, options, sm, diags);
   if (!pp.complete) return std::nullopt;
-  if (!options.whole_library && !diags.has_errors()) {
+  // The cache (fuzzing, tests) already holds the whole library parsed.
+  if (!cache && !options.whole_library && !diags.has_errors()) {
     if (auto program = parse_reached(pp.tokens, sm, diags)) {
       program->pragmas = std::move(pp.pragmas);
       program->macro_names = std::move(pp.macro_names);
       return program;
     }
   }
-  ast::Program program = parse_tokens(pp.tokens, diags);
+  ast::Program program = cache ? joined(cache->program, parse_tokens(std::move(pp.tokens), diags))
+                               : parse_tokens(std::move(pp.tokens), diags);
   program.pragmas = std::move(pp.pragmas);
   program.macro_names = std::move(pp.macro_names);
   if (diags.has_errors()) {
@@ -202,6 +235,19 @@ std::optional<ast::Program> parse_program(const std::string& path, const Options
   return run(*file, folder_of(path), options, sm, diags);
 }
 
+std::shared_ptr<const StdlibCache> make_stdlib_cache(const Options& options) {
+  auto state = preprocess_stdlib(options);
+  if (!state) return nullptr;
+  std::vector<Token> tokens = stdlib_tokens(*state);
+  Token end;
+  end.kind = TokenKind::End;
+  tokens.push_back(end);
+  Diagnostics diags;
+  ast::Program program = parse_tokens(std::move(tokens), diags);
+  if (!diags.all().empty()) return nullptr;
+  return std::make_shared<const StdlibCache>(StdlibCache{std::move(state), std::move(program)});
+}
+
 void Options::define(const std::string& option) {
   auto eq = option.find('=');
   if (eq == std::string::npos)
@@ -214,6 +260,13 @@ std::optional<ast::Program> parse_source(const std::string& name, std::string te
                                          SourceManager& sm, Diagnostics& diags) {
   std::uint32_t file = sm.add(name, std::move(text));
   return run(file, folder_of(name), options, sm, diags);
+}
+
+std::optional<ast::Program> parse_source(const std::string& name, std::string text, const Options& options,
+                                         const StdlibCache* stdlib, SourceManager& sm, Diagnostics& diags) {
+  std::uint32_t file = sm.add(name, std::move(text));
+  if (stdlib && !fits(*stdlib->state, options, sm)) stdlib = nullptr;
+  return run(file, folder_of(name), options, sm, diags, stdlib);
 }
 
 std::optional<std::string> preprocess_file(const std::string& path, const Options& options, SourceManager& sm,

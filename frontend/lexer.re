@@ -53,6 +53,12 @@ std::vector<Token> lex(std::string_view text, std::uint32_t file, Diagnostics& d
   std::string buf(text);
   Cursor c{buf.c_str(), buf.c_str() + buf.size(), buf.c_str(), buf.c_str(), file};
   std::vector<Token> out;
+  // Room for the most tokens the text can hold (each takes a byte at
+  // least), so the list is never copied while it grows: for a file that is
+  // nearly all tokens (x+x+...), a growing list would hold it one and a half
+  // times over. Room the tokens do not fill is never touched, so it costs
+  // address space, not memory.
+  out.reserve(text.size() + 1);
   bool line_start = true;
   bool space = false;
 

@@ -166,12 +166,12 @@ void take_apart(Root root) {
   }
 }
 
+}  // namespace
+
 std::string too_deep_message() {
   return "nested more than " + std::to_string(kMaxNesting) +
          " levels deep (statements and expressions inside one another); split it up";
 }
-
-}  // namespace
 
 bool limit_nesting(ast::Program& program, Diagnostics& diags) {
   bool ok = true;

@@ -5,6 +5,9 @@
 // compiler's stack goes.
 #pragma once
 
+#include <cstddef>
+#include <string>
+
 #include "frontend/ast.h"
 #include "frontend/diagnostics.h"
 
@@ -25,5 +28,14 @@ inline constexpr int kMaxNesting = 3200;
 // destroying the tree cannot overflow the stack. Returns true when nothing
 // was too deep.
 bool limit_nesting(ast::Program& program, Diagnostics& diags);
+
+// The error for a tree or parse nested past kMaxNesting.
+std::string too_deep_message();
+
+// The parser's stack holds at most this many entries per level of nesting
+// (a `for` head and its block take ten), so a deeper stack means the input
+// nests past kMaxNesting: the parse stops there, before the stack grows
+// with the input (100,000 `x =` or prefix operators in a row).
+inline constexpr std::size_t kMaxParserStack = 12 * static_cast<std::size_t>(kMaxNesting);
 
 }  // namespace rcxc::frontend

@@ -92,13 +92,15 @@ std::size_t past_parentheses(const std::vector<Token>& tokens, std::size_t open)
 // otherwise get "expected ';' before '{'". Each is reported once as what it
 // is, and its head (and a `catch` or `catch (events)`) is dropped so that the
 // blocks parse as plain blocks and the rest of the program is still checked.
-std::vector<Token> without_rcx2_statements(const std::vector<Token>& tokens, Diagnostics& diags) {
-  std::vector<Token> out;
-  out.reserve(tokens.size());
+// Works in place: the token list is the largest thing the front end
+// holds, and a copy of it would double that.
+void drop_rcx2_statements(std::vector<Token>& tokens, Diagnostics& diags) {
+  std::size_t kept = 0;
   for (std::size_t i = 0; i < tokens.size(); ++i) {
     const Token& t = tokens[i];
-    bool defined_here = !out.empty() && (out.back().is_identifier("void") || out.back().is_identifier("sub") ||
-                                         out.back().is_identifier("task") || out.back().is_identifier("inline"));
+    const Token* last_kept = kept > 0 ? &tokens[kept - 1] : nullptr;
+    bool defined_here = last_kept && (last_kept->is_identifier("void") || last_kept->is_identifier("sub") ||
+                                      last_kept->is_identifier("task") || last_kept->is_identifier("inline"));
     bool head = (t.is_identifier("monitor") || t.is_identifier("acquire")) && !defined_here;
     if (head && i + 1 < tokens.size() && tokens[i + 1].is("(")) {
       std::size_t after = past_parentheses(tokens, i + 1);
@@ -112,24 +114,29 @@ std::vector<Token> without_rcx2_statements(const std::vector<Token>& tokens, Dia
         continue;
       }
     }
-    if (t.is_identifier("catch") && !out.empty() && out.back().is("}") && i + 1 < tokens.size()) {
+    if (t.is_identifier("catch") && last_kept && last_kept->is("}") && i + 1 < tokens.size()) {
       std::size_t after = tokens[i + 1].is("(") ? past_parentheses(tokens, i + 1) : i + 1;
       if (after < tokens.size() && tokens[after].is("{")) {
         i = after - 1;
         continue;
       }
     }
-    out.push_back(t);
+    if (kept != i) tokens[kept] = std::move(tokens[i]);
+    ++kept;
   }
-  return out;
+  tokens.resize(kept);
 }
 
 }  // namespace
 
-yy::Parser::symbol_type next_token(Feed& feed) {
+yy::Parser::symbol_type next_token(Feed& feed, std::size_t stack_size) {
+  if (stack_size > kMaxParserStack && !feed.too_deep) {
+    feed.diags.error(feed.tokens[feed.pos].span, too_deep_message());
+    feed.too_deep = true;
+  }
   for (;;) {
     const Token& t = feed.tokens[feed.pos];
-    if (t.kind == TokenKind::End) {
+    if (t.kind == TokenKind::End || feed.too_deep) {
       feed.last_text.clear();
       return P::make_END(t.span);
     }
@@ -193,8 +200,8 @@ void cut_at_too_deep_brackets(std::vector<Token>& tokens, Diagnostics& diags) {
 
 }  // namespace
 
-ast::Program parse_tokens(const std::vector<Token>& all_tokens, Diagnostics& diags) {
-  std::vector<Token> tokens = without_rcx2_statements(all_tokens, diags);
+ast::Program parse_tokens(std::vector<Token> tokens, Diagnostics& diags) {
+  drop_rcx2_statements(tokens, diags);
   cut_at_too_deep_brackets(tokens, diags);
   Feed feed{tokens, diags, {}, 0, {}, {}, 0, false, 0, {}};
   P parser(feed);

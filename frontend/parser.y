@@ -16,10 +16,12 @@
 #include <algorithm>
 #include <cstdint>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "frontend/ast.h"
 #include "frontend/diagnostics.h"
+#include "frontend/nesting.h"
 #include "frontend/token.h"
 
 namespace rcxc::frontend {
@@ -43,13 +45,21 @@ struct Feed {
   bool asm_item_start = false;
   int asm_depth = 0;
   std::vector<SourceSpan> open_braces;  // each '{' handed out and not yet closed
+  // Set when the input nests deeper than the tree may (an expression taller
+  // than kMaxNesting, or the parser's stack past what that many levels
+  // need): reported once, and the parse ends there, before the tree or the
+  // stack grows with the input.
+  bool too_deep = false;
 };
 
-yy::Parser::symbol_type next_token(Feed& feed);
+// `stack_size` is the parser's stack as this token is asked for.
+yy::Parser::symbol_type next_token(Feed& feed, std::size_t stack_size);
 
 }  // namespace rcxc::frontend
 
-#define yylex rcxc::frontend::next_token
+// Expanded inside Parser::parse(), where the stack is in scope: the feed
+// stops a parse whose stack grows with the input (x = x = ... = 1).
+#define yylex(feed) rcxc::frontend::next_token(feed, yystack_.size())
 }
 
 %code {
@@ -67,13 +77,45 @@ namespace {
 using namespace rcxc;
 using namespace rcxc::ast;
 
-Expr mk(ExprNode n, const SourceSpan& s) { return Expr{std::move(n), s, std::nullopt}; }
-Stmt mks(StmtNode n, const SourceSpan& s) { return Stmt{std::move(n), s}; }
-Expr bin(BinaryOp op, Expr a, Expr b, const SourceSpan& s) { return mk(Binary{op, std::move(a), std::move(b)}, s); }
-Expr asg(AssignOp op, Expr a, Expr b, const SourceSpan& s, const SourceSpan& op_span) {
-  return mk(Assign{op, std::move(a), std::move(b), op_span}, s);
+template <class F>
+void each_operand(const ExprNode& n, F f) {
+  std::visit([&](const auto& v) {
+    using T = std::decay_t<decltype(v)>;
+    if constexpr (std::is_same_v<T, Unary>) f(*v.operand);
+    if constexpr (std::is_same_v<T, Binary>) { f(*v.lhs); f(*v.rhs); }
+    if constexpr (std::is_same_v<T, Assign>) { f(*v.target); f(*v.value); }
+    if constexpr (std::is_same_v<T, Conditional>) { f(*v.cond); f(*v.then_value); f(*v.else_value); }
+    if constexpr (std::is_same_v<T, Call>) for (const auto& a : v.args) f(a);
+    if constexpr (std::is_same_v<T, Source>) { f(*v.type); f(*v.arg); }
+    if constexpr (std::is_same_v<T, SourceArg>) f(*v.operand);
+  }, n);
 }
-Expr un(UnaryOp op, Expr a, const SourceSpan& s) { return mk(Unary{op, std::move(a)}, s); }
+// A node one level above its tallest operand. A left-associative chain
+// (x+x+...) reduces as it goes, so the parser's stack stays small while the
+// tree grows: the height is what stops it, at the operand that made it too
+// tall, and that tree is dropped at once.
+Expr mk(frontend::Feed& feed, ExprNode n, const SourceSpan& s) {
+  std::uint32_t height = 0;
+  SourceSpan last_operand = s;
+  each_operand(n, [&](const Expr& e) {
+    height = std::max(height, e.parsed_height);
+    last_operand = e.span;
+  });
+  Expr e{std::move(n), s, std::nullopt};
+  e.parsed_height = height + 1;
+  if (e.parsed_height <= static_cast<std::uint32_t>(frontend::kMaxNesting)) return e;
+  if (!feed.too_deep) feed.diags.error(last_operand, frontend::too_deep_message());
+  feed.too_deep = true;
+  return Expr{IntLit{0}, s, std::nullopt};
+}
+Stmt mks(StmtNode n, const SourceSpan& s) { return Stmt{std::move(n), s}; }
+Expr bin(frontend::Feed& feed, BinaryOp op, Expr a, Expr b, const SourceSpan& s) {
+  return mk(feed, Binary{op, std::move(a), std::move(b)}, s);
+}
+Expr asg(frontend::Feed& feed, AssignOp op, Expr a, Expr b, const SourceSpan& s, const SourceSpan& op_span) {
+  return mk(feed, Assign{op, std::move(a), std::move(b), op_span}, s);
+}
+Expr un(frontend::Feed& feed, UnaryOp op, Expr a, const SourceSpan& s) { return mk(feed, Unary{op, std::move(a)}, s); }
 // nqc's `@E`: the source whose type is E's upper 16 bits and whose argument
 // its lower 16 (`@(0x10000 + n)` is Timer(n)). Constants fold in 16 bits, so
 // the literals of E's +/- chain are summed here, in full width; what is left
@@ -91,14 +133,15 @@ void additive_terms(Expr e, bool negate, std::int64_t& literal, std::vector<std:
   }
   rest.emplace_back(negate, std::move(e));
 }
-Expr encoded_source(Expr e, const SourceSpan& s) {
+Expr encoded_source(frontend::Feed& feed, Expr e, const SourceSpan& s) {
   std::int64_t literal = 0;
   std::vector<std::pair<bool, Expr>> rest;
   const SourceSpan whole = e.span;
   additive_terms(std::move(e), false, literal, rest);
-  Expr arg = mk(IntLit{literal & 0xffff}, whole);
-  for (auto& [negate, term] : rest) arg = bin(negate ? BinaryOp::Sub : BinaryOp::Add, std::move(arg), std::move(term), whole);
-  return mk(Source{mk(IntLit{literal >> 16}, whole), std::move(arg), 0, 0}, s);
+  Expr arg = mk(feed, IntLit{literal & 0xffff}, whole);
+  for (auto& [negate, term] : rest)
+    arg = bin(feed, negate ? BinaryOp::Sub : BinaryOp::Add, std::move(arg), std::move(term), whole);
+  return mk(feed, Source{mk(feed, IntLit{literal >> 16}, whole), std::move(arg), 0, 0}, s);
 }
 void note_order(Program& p, SymbolKind kind, std::size_t index) {
   p.order.push_back(TopLevelRef{kind, static_cast<std::uint32_t>(index)});
@@ -348,32 +391,32 @@ asm_operands
   ;
 
 expr
-  : NUMBER                  { $$ = mk(IntLit{$1}, @$); }
-  | TRUE                    { $$ = mk(IntLit{1}, @$); }
-  | FALSE                   { $$ = mk(IntLit{0}, @$); }
-  | IDENT                   { $$ = mk(Name{$1, kNoSymbol}, @$); }
-  | IDENT '(' args_opt ')'  { $$ = mk(Call{$1, @1, std::move($3), kNoSymbol}, @$); }
+  : NUMBER                  { $$ = mk(feed, IntLit{$1}, @$); }
+  | TRUE                    { $$ = mk(feed, IntLit{1}, @$); }
+  | FALSE                   { $$ = mk(feed, IntLit{0}, @$); }
+  | IDENT                   { $$ = mk(feed, Name{$1, kNoSymbol}, @$); }
+  | IDENT '(' args_opt ')'  { $$ = mk(feed, Call{$1, @1, std::move($3), kNoSymbol}, @$); }
   | SOURCE '(' expr ',' expr ')'
-                            { $$ = mk(Source{std::move($3), std::move($5), 0, 0}, @$); }
-  | SOURCE_ARG '(' expr ')' { $$ = mk(SourceArg{std::move($3), std::nullopt}, @$); }
+                            { $$ = mk(feed, Source{std::move($3), std::move($5), 0, 0}, @$); }
+  | SOURCE_ARG '(' expr ')' { $$ = mk(feed, SourceArg{std::move($3), std::nullopt}, @$); }
   | SOURCE_ARG '(' expr ',' expr ')'
       {
         // The required type must be a literal-like constant; sema folds it.
         std::optional<std::int16_t> type;
         if (const auto* lit = std::get_if<IntLit>(&$5.node)) type = static_cast<std::int16_t>(lit->value);
         else feed.diags.error(@5, "the type in __source_arg(E, TYPE) must be a number");
-        $$ = mk(SourceArg{std::move($3), type}, @$);
+        $$ = mk(feed, SourceArg{std::move($3), type}, @$);
       }
   | '(' expr ')'            { $$ = std::move($2); $$.span = @$; }
-  | ABS '(' expr ')'        { $$ = un(UnaryOp::Abs, std::move($3), @$); }
-  | SIGN '(' expr ')'       { $$ = un(UnaryOp::Sign, std::move($3), @$); }
-  | '@' expr %prec UNARY    { $$ = encoded_source(std::move($2), @$); }
+  | ABS '(' expr ')'        { $$ = un(feed, UnaryOp::Abs, std::move($3), @$); }
+  | SIGN '(' expr ')'       { $$ = un(feed, UnaryOp::Sign, std::move($3), @$); }
+  | '@' expr %prec UNARY    { $$ = encoded_source(feed, std::move($2), @$); }
   | SENSOR '(' expr ')'
       {
         // nqc's __sensor(E): a sensor number as is, or the number of the
         // sensor E reads (SENSOR_2 gives 1); anything else is an error.
         if (std::holds_alternative<IntLit>($3.node)) $$ = std::move($3);
-        else $$ = mk(SourceArg{std::move($3), static_cast<std::int16_t>(9)}, @$);
+        else $$ = mk(feed, SourceArg{std::move($3), static_cast<std::int16_t>(9)}, @$);
       }
   | expr '[' expr ']'
       {
@@ -390,46 +433,46 @@ expr
         feed.diags.error(@$, "the RCX has no pointers, so no address can be taken").parsed_past = true;
         $$ = std::move($2);
       }
-  | '-' expr %prec UNARY    { $$ = un(UnaryOp::Negate, std::move($2), @$); }
-  | '+' expr %prec UNARY    { $$ = un(UnaryOp::Plus, std::move($2), @$); }
-  | '~' expr %prec UNARY    { $$ = un(UnaryOp::BitNot, std::move($2), @$); }
-  | '!' expr %prec UNARY    { $$ = un(UnaryOp::LogNot, std::move($2), @$); }
-  | INC expr %prec UNARY    { $$ = un(UnaryOp::PreInc, std::move($2), @$); }
-  | DEC expr %prec UNARY    { $$ = un(UnaryOp::PreDec, std::move($2), @$); }
-  | expr INC                { $$ = un(UnaryOp::PostInc, std::move($1), @$); }
-  | expr DEC                { $$ = un(UnaryOp::PostDec, std::move($1), @$); }
-  | expr '*' expr           { $$ = bin(BinaryOp::Mul, std::move($1), std::move($3), @$); }
-  | expr '/' expr           { $$ = bin(BinaryOp::Div, std::move($1), std::move($3), @$); }
-  | expr '%' expr           { $$ = bin(BinaryOp::Mod, std::move($1), std::move($3), @$); }
-  | expr '+' expr           { $$ = bin(BinaryOp::Add, std::move($1), std::move($3), @$); }
-  | expr '-' expr           { $$ = bin(BinaryOp::Sub, std::move($1), std::move($3), @$); }
-  | expr SHL expr           { $$ = bin(BinaryOp::Shl, std::move($1), std::move($3), @$); }
-  | expr SHR expr           { $$ = bin(BinaryOp::Shr, std::move($1), std::move($3), @$); }
-  | expr '<' expr           { $$ = bin(BinaryOp::Lt, std::move($1), std::move($3), @$); }
-  | expr LE expr            { $$ = bin(BinaryOp::Le, std::move($1), std::move($3), @$); }
-  | expr '>' expr           { $$ = bin(BinaryOp::Gt, std::move($1), std::move($3), @$); }
-  | expr GE expr            { $$ = bin(BinaryOp::Ge, std::move($1), std::move($3), @$); }
-  | expr EQ expr            { $$ = bin(BinaryOp::Eq, std::move($1), std::move($3), @$); }
-  | expr NE expr            { $$ = bin(BinaryOp::Ne, std::move($1), std::move($3), @$); }
-  | expr '&' expr           { $$ = bin(BinaryOp::BitAnd, std::move($1), std::move($3), @$); }
-  | expr '^' expr           { $$ = bin(BinaryOp::BitXor, std::move($1), std::move($3), @$); }
-  | expr '|' expr           { $$ = bin(BinaryOp::BitOr, std::move($1), std::move($3), @$); }
-  | expr ANDAND expr        { $$ = bin(BinaryOp::LogAnd, std::move($1), std::move($3), @$); }
-  | expr OROR expr          { $$ = bin(BinaryOp::LogOr, std::move($1), std::move($3), @$); }
-  | expr '?' expr ':' expr  { $$ = mk(Conditional{std::move($1), std::move($3), std::move($5)}, @$); }
-  | expr '=' expr           { $$ = asg(AssignOp::Assign, std::move($1), std::move($3), @$, @2); }
-  | expr ADD_ASSIGN expr    { $$ = asg(AssignOp::Add, std::move($1), std::move($3), @$, @2); }
-  | expr SUB_ASSIGN expr    { $$ = asg(AssignOp::Sub, std::move($1), std::move($3), @$, @2); }
-  | expr MUL_ASSIGN expr    { $$ = asg(AssignOp::Mul, std::move($1), std::move($3), @$, @2); }
-  | expr DIV_ASSIGN expr    { $$ = asg(AssignOp::Div, std::move($1), std::move($3), @$, @2); }
-  | expr MOD_ASSIGN expr    { $$ = asg(AssignOp::Mod, std::move($1), std::move($3), @$, @2); }
-  | expr AND_ASSIGN expr    { $$ = asg(AssignOp::BitAnd, std::move($1), std::move($3), @$, @2); }
-  | expr OR_ASSIGN expr     { $$ = asg(AssignOp::BitOr, std::move($1), std::move($3), @$, @2); }
-  | expr XOR_ASSIGN expr    { $$ = asg(AssignOp::BitXor, std::move($1), std::move($3), @$, @2); }
-  | expr SHL_ASSIGN expr    { $$ = asg(AssignOp::Shl, std::move($1), std::move($3), @$, @2); }
-  | expr SHR_ASSIGN expr    { $$ = asg(AssignOp::Shr, std::move($1), std::move($3), @$, @2); }
-  | expr ABS_ASSIGN expr    { $$ = asg(AssignOp::Abs, std::move($1), std::move($3), @$, @2); }
-  | expr SIGN_ASSIGN expr   { $$ = asg(AssignOp::Sign, std::move($1), std::move($3), @$, @2); }
+  | '-' expr %prec UNARY    { $$ = un(feed, UnaryOp::Negate, std::move($2), @$); }
+  | '+' expr %prec UNARY    { $$ = un(feed, UnaryOp::Plus, std::move($2), @$); }
+  | '~' expr %prec UNARY    { $$ = un(feed, UnaryOp::BitNot, std::move($2), @$); }
+  | '!' expr %prec UNARY    { $$ = un(feed, UnaryOp::LogNot, std::move($2), @$); }
+  | INC expr %prec UNARY    { $$ = un(feed, UnaryOp::PreInc, std::move($2), @$); }
+  | DEC expr %prec UNARY    { $$ = un(feed, UnaryOp::PreDec, std::move($2), @$); }
+  | expr INC                { $$ = un(feed, UnaryOp::PostInc, std::move($1), @$); }
+  | expr DEC                { $$ = un(feed, UnaryOp::PostDec, std::move($1), @$); }
+  | expr '*' expr           { $$ = bin(feed, BinaryOp::Mul, std::move($1), std::move($3), @$); }
+  | expr '/' expr           { $$ = bin(feed, BinaryOp::Div, std::move($1), std::move($3), @$); }
+  | expr '%' expr           { $$ = bin(feed, BinaryOp::Mod, std::move($1), std::move($3), @$); }
+  | expr '+' expr           { $$ = bin(feed, BinaryOp::Add, std::move($1), std::move($3), @$); }
+  | expr '-' expr           { $$ = bin(feed, BinaryOp::Sub, std::move($1), std::move($3), @$); }
+  | expr SHL expr           { $$ = bin(feed, BinaryOp::Shl, std::move($1), std::move($3), @$); }
+  | expr SHR expr           { $$ = bin(feed, BinaryOp::Shr, std::move($1), std::move($3), @$); }
+  | expr '<' expr           { $$ = bin(feed, BinaryOp::Lt, std::move($1), std::move($3), @$); }
+  | expr LE expr            { $$ = bin(feed, BinaryOp::Le, std::move($1), std::move($3), @$); }
+  | expr '>' expr           { $$ = bin(feed, BinaryOp::Gt, std::move($1), std::move($3), @$); }
+  | expr GE expr            { $$ = bin(feed, BinaryOp::Ge, std::move($1), std::move($3), @$); }
+  | expr EQ expr            { $$ = bin(feed, BinaryOp::Eq, std::move($1), std::move($3), @$); }
+  | expr NE expr            { $$ = bin(feed, BinaryOp::Ne, std::move($1), std::move($3), @$); }
+  | expr '&' expr           { $$ = bin(feed, BinaryOp::BitAnd, std::move($1), std::move($3), @$); }
+  | expr '^' expr           { $$ = bin(feed, BinaryOp::BitXor, std::move($1), std::move($3), @$); }
+  | expr '|' expr           { $$ = bin(feed, BinaryOp::BitOr, std::move($1), std::move($3), @$); }
+  | expr ANDAND expr        { $$ = bin(feed, BinaryOp::LogAnd, std::move($1), std::move($3), @$); }
+  | expr OROR expr          { $$ = bin(feed, BinaryOp::LogOr, std::move($1), std::move($3), @$); }
+  | expr '?' expr ':' expr  { $$ = mk(feed, Conditional{std::move($1), std::move($3), std::move($5)}, @$); }
+  | expr '=' expr           { $$ = asg(feed, AssignOp::Assign, std::move($1), std::move($3), @$, @2); }
+  | expr ADD_ASSIGN expr    { $$ = asg(feed, AssignOp::Add, std::move($1), std::move($3), @$, @2); }
+  | expr SUB_ASSIGN expr    { $$ = asg(feed, AssignOp::Sub, std::move($1), std::move($3), @$, @2); }
+  | expr MUL_ASSIGN expr    { $$ = asg(feed, AssignOp::Mul, std::move($1), std::move($3), @$, @2); }
+  | expr DIV_ASSIGN expr    { $$ = asg(feed, AssignOp::Div, std::move($1), std::move($3), @$, @2); }
+  | expr MOD_ASSIGN expr    { $$ = asg(feed, AssignOp::Mod, std::move($1), std::move($3), @$, @2); }
+  | expr AND_ASSIGN expr    { $$ = asg(feed, AssignOp::BitAnd, std::move($1), std::move($3), @$, @2); }
+  | expr OR_ASSIGN expr     { $$ = asg(feed, AssignOp::BitOr, std::move($1), std::move($3), @$, @2); }
+  | expr XOR_ASSIGN expr    { $$ = asg(feed, AssignOp::BitXor, std::move($1), std::move($3), @$, @2); }
+  | expr SHL_ASSIGN expr    { $$ = asg(feed, AssignOp::Shl, std::move($1), std::move($3), @$, @2); }
+  | expr SHR_ASSIGN expr    { $$ = asg(feed, AssignOp::Shr, std::move($1), std::move($3), @$, @2); }
+  | expr ABS_ASSIGN expr    { $$ = asg(feed, AssignOp::Abs, std::move($1), std::move($3), @$, @2); }
+  | expr SIGN_ASSIGN expr   { $$ = asg(feed, AssignOp::Sign, std::move($1), std::move($3), @$, @2); }
   ;
 
 args_opt
@@ -447,12 +490,14 @@ args
 namespace rcxc::frontend {
 
 void yy::Parser::error(const location_type& loc, const std::string& msg) {
-  feed.diags.error(loc, msg);
+  if (!feed.too_deep) feed.diags.error(loc, msg);
 }
 
 // gcc-like messages: "expected ';' before 'x'", naming what the grammar
 // wanted when that is short, or the most useful single expectation.
 void yy::Parser::report_syntax_error(const context& ctx) const {
+  // The parse was cut where it nested too deeply; that is the error.
+  if (feed.too_deep) return;
   std::string found = ctx.token() == symbol_kind::S_YYEOF ? "end of file" : "'" + feed.last_text + "'";
   symbol_kind_type expected[64];
   int n = ctx.expected_tokens(expected, 64);

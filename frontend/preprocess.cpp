@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <memory>
 #include <sstream>
 #include <unordered_map>
 #include <unordered_set>
@@ -29,11 +30,14 @@ constexpr int kMaxIfNesting = 512;
 // growing macros stop in well under a second.
 constexpr std::size_t kExpansionBase = 500'000;
 constexpr std::size_t kExpansionPerInputToken = 32;
-// Argument tokens the macro calls being expanded at one time may hold
-// together (live_argument_tokens_). 1000 nested calls of a one-parameter
-// macro (tests/frontend/stress_test.cpp) hold about 2.5 million; each costs
-// about 250 bytes, so this bounds the preprocessor near 750 MB. F(F(F(...)))
-// 10,000 deep stops here in 0.6 s instead of taking 8 GB.
+// Argument tokens the macro calls being expanded at one time hold together
+// (live_argument_tokens_), counted as if each level kept its own copy. An
+// argument used once is moved into its expansion rather than copied, so
+// memory stays near the input's size, but the count still bounds the work:
+// F(F(F(...))) rescans what is inside at every level. 1000 nested calls of
+// a one-parameter macro (tests/frontend/stress_test.cpp) count about 2.5
+// million; F(F(F(...))) 10,000 deep stops here in a third of a second with
+// 17 MB (it once took 8 GB).
 constexpr std::size_t kLiveArgumentBase = 3'000'000;
 constexpr std::size_t kLiveArgumentPerInputToken = 4;
 constexpr const char* kStdlibName = "rcx.nqh";
@@ -145,6 +149,34 @@ SourceSpan span_of(const std::vector<Token>& toks, std::size_t from, SourceSpan 
   return {toks[from].span.begin, toks.back().span.end};
 }
 
+}  // namespace
+
+// What reading rcx.nqh leaves behind: the preprocessor's macros and hide
+// sets, the stdlib's tokens, and what it added to the SourceManager (the
+// command line's pseudo-file, rcx.nqh itself, the macro uses in it).
+struct StdlibState {
+  std::vector<std::pair<std::string, std::string>> defines;
+  std::vector<std::string> undefines;
+  std::uint32_t first_file = 0;  // the SourceManager's size before it
+  struct File {
+    std::string path;
+    std::string text;
+    bool library = false;
+  };
+  std::vector<File> files;
+  std::vector<MacroExpansion> expansions;
+  std::vector<Macro> macros;
+  std::unordered_map<std::string, std::uint32_t> defined;
+  std::unordered_set<std::string> reported_recursion;
+  HideSets hide_sets;
+  std::size_t expanded_tokens = 0;
+  std::size_t input_tokens = 0;
+  ast::Pragmas pragmas;
+  std::vector<Token> tokens;  // the stdlib's output, without End
+};
+
+namespace {
+
 class Preprocessor {
  public:
   Preprocessor(const Options& o, SourceManager& sm, Diagnostics& d) : opts_(o), sm_(sm), diags_(d) {}
@@ -161,6 +193,44 @@ class Preprocessor {
         diags_.error({}, "the standard library rcx.nqh is missing from this build");
       }
     }
+    return read_all();
+  }
+
+  // As run(), from the state rcx.nqh left instead of reading it again; the
+  // tokens are the file's own.
+  Preprocessed run_after(const StdlibState& stdlib, std::uint32_t file, const std::string& dir) {
+    for (const auto& f : stdlib.files) {
+      std::uint32_t id = sm_.add(f.path, f.text);
+      if (f.library) sm_.mark_library(id);
+    }
+    for (const auto& e : stdlib.expansions) sm_.add_expansion(e);
+    macros_ = stdlib.macros;
+    defined_ = stdlib.defined;
+    reported_recursion_ = stdlib.reported_recursion;
+    hide_sets_ = stdlib.hide_sets;
+    expanded_tokens_ = stdlib.expanded_tokens;
+    input_tokens_ = stdlib.input_tokens;
+    out_.pragmas = stdlib.pragmas;
+    push_file(file, dir, sm_.path(file));
+    return read_all();
+  }
+
+  // After run() on an empty file: what the stdlib left, for run_after().
+  void keep_state(StdlibState& s) const {
+    s.macros = macros_;
+    s.defined = defined_;
+    s.reported_recursion = reported_recursion_;
+    s.hide_sets = hide_sets_;
+    s.expanded_tokens = expanded_tokens_;
+    s.input_tokens = input_tokens_;
+  }
+
+ private:
+  Preprocessed read_all() {
+    // Most programs come out about as long as they went in: room for that
+    // at once, rather than copies of a growing list (untouched room costs
+    // address space only).
+    out_.tokens.reserve(input_tokens_ + 1);
     Stream main;
     main.reads_files = true;
     Token t;
@@ -178,7 +248,6 @@ class Preprocessor {
     return std::move(out_);
   }
 
- private:
   const Options& opts_;
   SourceManager& sm_;
   Diagnostics& diags_;
@@ -190,10 +259,10 @@ class Preprocessor {
   HideSets hide_sets_;
   std::size_t expanded_tokens_ = 0;
   std::size_t input_tokens_ = 0;
-  // Argument tokens held by the macro calls now being expanded, outermost
-  // to innermost. F(F(F(...))) copies nearly all of its arguments again at
-  // each level, so this grows with the square of the nesting: it is checked
-  // at each level before going deeper (kLiveArgumentBase, ...PerInputToken).
+  // Argument tokens of the macro calls now being expanded, outermost to
+  // innermost. F(F(F(...))) passes nearly all of its argument on at each
+  // level, so this grows with the square of the nesting: it is checked at
+  // each level before going deeper (kLiveArgumentBase, ...PerInputToken).
   std::size_t live_argument_tokens_ = 0;
   bool aborted_ = false;
   SourceSpan last_span_;
@@ -386,6 +455,10 @@ class Preprocessor {
       args.back().push_back(std::move(t));
     }
     rparen = t;
+    // The tokens just taken leave their room behind in the stack: in
+    // F(F(F(...))) every level's stack would keep the capacity of all that
+    // the levels inside it took, a square of the nesting in memory.
+    if (s.stack.capacity() > 4 * s.stack.size() + 256) s.stack.shrink_to_fit();
     // `F()` passes no argument to a macro without parameters.
     if (m.params.empty() && args.size() == 1 && args[0].empty()) args.clear();
     if (args.size() != m.params.size()) {
@@ -401,8 +474,14 @@ class Preprocessor {
 
   // Fully expands a token list on its own (a macro argument, an #if line).
   std::vector<Token> expand_list(std::vector<Token> in, std::size_t depth) {
+    // Nothing to expand (a long #if line of numbers and operators): no copy.
+    if (std::none_of(in.begin(), in.end(), [&](const Token& t) {
+          return t.kind == TokenKind::Identifier && defined_.count(t.text) != 0;
+        }))
+      return in;
     Stream s;
-    s.stack.assign(std::make_move_iterator(in.rbegin()), std::make_move_iterator(in.rend()));
+    std::reverse(in.begin(), in.end());
+    s.stack = std::move(in);
     std::vector<Token> out;
     Token t;
     while (!aborted_ && pull(s, t, false)) {
@@ -448,8 +527,8 @@ class Preprocessor {
     return t;
   }
 
-  std::vector<Token> substitute(const Macro& m, const std::vector<std::vector<Token>>& args,
-                                std::uint32_t hide, std::uint32_t exp, std::size_t depth) {
+  std::vector<Token> substitute(const Macro& m, std::vector<std::vector<Token>>& args, std::uint32_t hide,
+                                std::uint32_t exp, std::size_t depth) {
     // Pass 1: each body token becomes a segment; parameters next to ## stay
     // unexpanded, other parameters are fully expanded first (as in C).
     struct Segment {
@@ -459,6 +538,16 @@ class Preprocessor {
     std::vector<Segment> segs;
     const auto& body = m.body;
     std::vector<bool> param_used(m.params.size(), false);
+    // An argument the body names once, outside # and ##, is expanded in
+    // place rather than copied first: nested calls then hold each token
+    // once instead of once per level.
+    std::vector<int> param_uses(m.params.size(), 0);
+    for (std::size_t i = 0; i < body.size(); ++i)
+      if (int p = param_index(m, body[i]); p >= 0) {
+        bool special = (i > 0 && (body[i - 1].is("##") || body[i - 1].is("#"))) ||
+                       (i + 1 < body.size() && body[i + 1].is("##"));
+        param_uses[static_cast<std::size_t>(p)] += special ? 2 : 1;
+      }
     for (std::size_t i = 0; i < body.size(); ++i) {
       const Token& t = body[i];
       if (t.is("##") && i > 0 && i + 1 < body.size()) {
@@ -476,8 +565,12 @@ class Preprocessor {
       int p = param_index(m, t);
       if (p >= 0) {
         bool near_paste = (i > 0 && body[i - 1].is("##")) || (i + 1 < body.size() && body[i + 1].is("##"));
-        const auto& arg = args[static_cast<std::size_t>(p)];
-        segs.push_back({near_paste ? arg : expand_list(arg, depth), false});
+        auto& arg = args[static_cast<std::size_t>(p)];
+        if (near_paste)
+          segs.push_back({arg, false});
+        else
+          segs.push_back({expand_list(param_uses[static_cast<std::size_t>(p)] == 1 ? std::move(arg) : arg, depth),
+                          false});
         // Growth is what the body adds: its own tokens, and an argument's
         // tokens each time it is used again (F(x) x x doubles its input).
         if (param_used[static_cast<std::size_t>(p)]) expanded_tokens_ += segs.back().toks.size();
@@ -502,9 +595,9 @@ class Preprocessor {
       }
       if (paste_next && !last_empty && !seg.toks.empty()) {
         out.back() = paste(out.back(), seg.toks.front());
-        out.insert(out.end(), seg.toks.begin() + 1, seg.toks.end());
+        out.insert(out.end(), std::make_move_iterator(seg.toks.begin() + 1), std::make_move_iterator(seg.toks.end()));
       } else {
-        out.insert(out.end(), seg.toks.begin(), seg.toks.end());
+        out.insert(out.end(), std::make_move_iterator(seg.toks.begin()), std::make_move_iterator(seg.toks.end()));
       }
       last_empty = seg.toks.empty() && (paste_next ? last_empty : true);
       paste_next = false;
@@ -522,8 +615,8 @@ class Preprocessor {
     if (line.empty()) return;  // the null directive
     const Token& name = line[0];
     const std::string& d = name.text;
-    if (d == "if" || d == "ifdef" || d == "ifndef") return begin_if(d, line, hash);
-    if (d == "elif") return do_elif(line, hash);
+    if (d == "if" || d == "ifdef" || d == "ifndef") return begin_if(d, line, hash);  // may consume `line`
+    if (d == "elif") return do_elif(line, hash);  // may consume `line`
     if (d == "else") return do_else(line, hash);
     if (d == "endif") return do_endif(line, hash);
     if (!active()) return;
@@ -548,7 +641,7 @@ class Preprocessor {
                      "extra tokens after #" + line[0].text + " are ignored");
   }
 
-  void begin_if(const std::string& d, const std::vector<Token>& line, const Token& hash) {
+  void begin_if(const std::string& d, std::vector<Token>& line, const Token& hash) {
     Cond c;
     c.parent_active = active();
     c.span = {hash.span.begin, line[0].span.end};
@@ -581,7 +674,7 @@ class Preprocessor {
     return true;
   }
 
-  void do_elif(const std::vector<Token>& line, const Token&) {
+  void do_elif(std::vector<Token>& line, const Token&) {
     if (!check_open_group(line)) return;
     Cond& c = conds_.back();
     if (!c.parent_active || c.taken) {
@@ -817,12 +910,15 @@ class Preprocessor {
 
   // ------------------------------------------------------ #if evaluation --
 
-  bool eval_condition(const std::vector<Token>& line) {
+  // Consumes `line` (the directive's tokens): the expression is made of
+  // them in place, since a line can be most of a file's tokens.
+  bool eval_condition(std::vector<Token>& line) {
+    const Token directive = line[0];
     // Replace `defined X` / `defined(X)` before expanding macros.
-    std::vector<Token> toks;
+    std::size_t kept = 0;
     for (std::size_t i = 1; i < line.size(); ++i) {
       if (!line[i].is_identifier("defined")) {
-        toks.push_back(line[i]);
+        line[kept++] = std::move(line[i]);
         continue;
       }
       std::size_t j = i + 1;
@@ -835,14 +931,16 @@ class Preprocessor {
       Token v = line[i];
       v.kind = TokenKind::Number;
       v.text = find_macro(line[j].text) ? "1" : "0";
-      toks.push_back(v);
+      line[kept++] = std::move(v);
       i = paren ? j + 1 : j;
     }
+    line.resize(kept);
+    std::vector<Token> toks = std::move(line);
     std::size_t before = diags_.error_count();
     toks = expand_list(std::move(toks), 0);
     if (diags_.error_count() != before) return false;
     if (toks.empty()) {
-      diags_.error(line[0].span, "#" + line[0].text + " needs an expression");
+      diags_.error(directive.span, "#" + directive.text + " needs an expression");
       return false;
     }
     CondEval ev{toks, diags_, 0, false, 0};
@@ -987,6 +1085,41 @@ Preprocessed preprocess(std::uint32_t file, const std::string& dir, const Option
                         Diagnostics& diags) {
   Preprocessor pp(options, sm, diags);
   return pp.run(file, dir);
+}
+
+std::shared_ptr<const StdlibState> preprocess_stdlib(const Options& options) {
+  if (options.no_stdlib) return nullptr;
+  SourceManager sm;
+  Diagnostics diags;
+  std::uint32_t file = sm.add("<empty>", "");
+  Preprocessor pp(options, sm, diags);
+  Preprocessed out = pp.run(file, "");
+  if (!diags.all().empty() || !out.complete) return nullptr;
+  auto state = std::make_shared<StdlibState>();
+  state->defines = options.defines;
+  state->undefines = options.undefines;
+  state->first_file = file + 1;
+  for (std::uint32_t f = file + 1; f < sm.size(); ++f) state->files.push_back({sm.path(f), sm.text(f), sm.is_library(f)});
+  for (std::uint32_t e = 1; e <= sm.expansion_count(); ++e) state->expansions.push_back(sm.expansion(e));
+  pp.keep_state(*state);
+  state->input_tokens -= 1;  // the empty file's End
+  state->pragmas = std::move(out.pragmas);
+  out.tokens.pop_back();     // End
+  state->tokens = std::move(out.tokens);
+  return state;
+}
+
+bool fits(const StdlibState& stdlib, const Options& options, const SourceManager& sm) {
+  return !options.no_stdlib && options.defines == stdlib.defines && options.undefines == stdlib.undefines &&
+         sm.size() == stdlib.first_file && sm.expansion_count() == 0;
+}
+
+const std::vector<Token>& stdlib_tokens(const StdlibState& stdlib) { return stdlib.tokens; }
+
+Preprocessed preprocess_after_stdlib(const StdlibState& stdlib, std::uint32_t file, const std::string& dir,
+                                     const Options& options, SourceManager& sm, Diagnostics& diags) {
+  Preprocessor pp(options, sm, diags);
+  return pp.run_after(stdlib, file, dir);
 }
 
 SourceLoc presumed_loc(const SourceLoc& loc, const SourceManager& sm) {

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -28,6 +29,22 @@ struct Preprocessed {
 // options.no_stdlib, the stdlib's rcx.nqh is read before it.
 Preprocessed preprocess(std::uint32_t file, const std::string& dir, const Options& options, SourceManager& sm,
                         Diagnostics& diags);
+
+// The preprocessor's state right after reading the stdlib (its macros, its
+// tokens, the files and macro uses it added to the SourceManager), so that
+// many compilations with the same -D/-U need not read rcx.nqh each time.
+struct StdlibState;
+// nullptr with -n, or when reading the stdlib reported anything.
+std::shared_ptr<const StdlibState> preprocess_stdlib(const Options& options);
+// Whether `stdlib` was made with these options and `sm` holds just the
+// file to preprocess (the stdlib's files then get the ids they had).
+bool fits(const StdlibState& stdlib, const Options& options, const SourceManager& sm);
+// The stdlib's own tokens (without End).
+const std::vector<Token>& stdlib_tokens(const StdlibState& stdlib);
+// As preprocess(), starting from `stdlib` (which must fit): the tokens are
+// the file's only, the macros and the SourceManager as if rcx.nqh was read.
+Preprocessed preprocess_after_stdlib(const StdlibState& stdlib, std::uint32_t file, const std::string& dir,
+                                     const Options& options, SourceManager& sm, Diagnostics& diags);
 
 // Renders tokens back to text for `rcxc compile -E`: one source line per
 // output line, with `# LINE "FILE"` markers when the file or line jumps.

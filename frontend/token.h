@@ -21,16 +21,18 @@ enum class TokenKind : std::uint8_t {
   Unknown,     // a character that starts no token (already diagnosed)
 };
 
+// The small fields come last, packed together: a file can hold hundreds of
+// thousands of tokens, and each byte here is that many.
 struct Token {
-  TokenKind kind = TokenKind::End;
   std::string text;
   SourceSpan span;
-  bool line_start = false;    // first token on its line (directives start so)
-  bool space_before = false;  // whitespace precedes it (for # and -E output)
   // Macros that must not expand this token again (the "hide set" of the
   // classic expansion algorithm), as an id into the preprocessor's table of
   // interned sets; 0 is the empty set.
   std::uint32_t hide = 0;
+  TokenKind kind = TokenKind::End;
+  bool line_start = false;    // first token on its line (directives start so)
+  bool space_before = false;  // whitespace precedes it (for # and -E output)
 
   bool is(std::string_view punct) const { return kind == TokenKind::Punct && text == punct; }
   bool is_identifier(std::string_view name) const { return kind == TokenKind::Identifier && text == name; }

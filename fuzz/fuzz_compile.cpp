@@ -21,6 +21,8 @@
 #include "backend/compile.h"
 #include "backend/disasm.h"
 #include "frontend/frontend.h"
+#include "frontend/stdlib_cache.h"
+#include "ir/lower.h"
 #include "fuzz/fuzz_run.h"
 #include "verify/compare.h"
 
@@ -43,13 +45,39 @@ rcxc::frontend::Options options_of(const std::string& text) {
   return options;
 }
 
-std::optional<rcx::Image> compile_and_run(const std::string& text, rcxc::ir::OptLevel level) {
+// The front end and lowering run once per input; each level compiles its
+// own copy of the lowered program (the passes rewrite it). Every
+// diagnostic is rendered, as the command line would.
+struct Lowered {
   rcxc::SourceManager sm;
   rcxc::Diagnostics diags;
+  std::optional<rcxc::ir::Program> program;
+  std::set<std::string> globals;
+};
+
+// rcx.nqh read and parsed once for the whole run (a `//!` line with -D,
+// -U or -n reads it again, as it must).
+const rcxc::frontend::StdlibCache* stdlib() {
+  static const auto cache = rcxc::frontend::make_stdlib_cache({});
+  return cache.get();
+}
+
+void lower(const std::string& text, Lowered& out) {
+  auto program = rcxc::frontend::parse_source("fuzz.nqc", text, options_of(text), stdlib(), out.sm, out.diags);
+  if (program) {
+    for (const auto& g : program->globals) out.globals.insert(g.name);
+    out.program = rcxc::ir::lower(*program, out.diags);
+  }
+  for (const auto& d : out.diags.all()) (void)rcxc::render_text(d, out.sm);
+}
+
+std::optional<rcx::Image> compile_and_run(const std::string& text, const Lowered& lowered, rcxc::ir::OptLevel level) {
+  if (!lowered.program) return std::nullopt;
+  rcxc::Diagnostics diags = lowered.diags;
   rcxc::ir::Log log;
-  rcxc::frontend::Options options = options_of(text);
-  auto out = rcxc::backend::compile_source("fuzz.nqc", text, options, level, sm, diags, log);
-  for (const auto& d : diags.all()) (void)rcxc::render_text(d, sm);
+  auto out = rcxc::backend::compile(*lowered.program, level, diags, log);
+  for (std::size_t i = lowered.diags.all().size(); i < diags.all().size(); ++i)
+    (void)rcxc::render_text(diags.all()[i], lowered.sm);
   if (!out) return std::nullopt;
   auto outcome = rcxc::fuzz::run_bounded(out->image);
   if (text.find("asm") != std::string::npos) return std::nullopt;
@@ -107,15 +135,6 @@ rcx::Image globals_named(rcx::Image image, const std::set<std::string>& globals)
   return image;
 }
 
-std::set<std::string> global_names(const std::string& text) {
-  rcxc::SourceManager sm;
-  rcxc::Diagnostics diags;
-  std::set<std::string> names;
-  if (auto program = rcxc::frontend::parse_source("fuzz.nqc", text, options_of(text), sm, diags))
-    for (const auto& g : program->globals) names.insert(g.name);
-  return names;
-}
-
 void compare_levels(const std::set<std::string>& globals, const rcx::Image& unoptimised_image,
                     const rcx::Image& optimised_image, const char* level) {
   rcx::Image unoptimised = globals_named(unoptimised_image, globals);
@@ -136,14 +155,15 @@ void compare_levels(const std::set<std::string>& globals, const rcx::Image& unop
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);
-  auto unoptimised = compile_and_run(text, rcxc::ir::OptLevel::O0);
-  auto o1 = compile_and_run(text, rcxc::ir::OptLevel::O1);
-  auto o2 = compile_and_run(text, rcxc::ir::OptLevel::O2);
-  auto os = compile_and_run(text, rcxc::ir::OptLevel::Os);
+  Lowered lowered;
+  lower(text, lowered);
+  auto unoptimised = compile_and_run(text, lowered, rcxc::ir::OptLevel::O0);
+  auto o1 = compile_and_run(text, lowered, rcxc::ir::OptLevel::O1);
+  auto o2 = compile_and_run(text, lowered, rcxc::ir::OptLevel::O2);
+  auto os = compile_and_run(text, lowered, rcxc::ir::OptLevel::Os);
   if (!unoptimised || !self_contained(*unoptimised)) return 0;
-  auto globals = global_names(text);
-  if (o1) compare_levels(globals, *unoptimised, *o1, "-O1");
-  if (o2) compare_levels(globals, *unoptimised, *o2, "-O2");
-  if (os) compare_levels(globals, *unoptimised, *os, "-Os");
+  if (o1) compare_levels(lowered.globals, *unoptimised, *o1, "-O1");
+  if (o2) compare_levels(lowered.globals, *unoptimised, *o2, "-O2");
+  if (os) compare_levels(lowered.globals, *unoptimised, *os, "-Os");
   return 0;
 }

@@ -1,7 +1,7 @@
 // The host side of the IR link against a hostile brick: the input is what
 // the "brick" sends back, in chunks, whatever the host asked. It runs
 // through the session (transact), the downloader and the remote actions
-// (datalog upload, get, firmware); every call must end, with a result or
+// (datalog upload, get, a firmware download); every call must end, with a result or
 // an error, within the retries the link allows. The port's clock is
 // virtual: pauses and read timeouts cost nothing.
 #include <cstddef>
@@ -61,6 +61,14 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   HostileBrick brick(std::span<const std::uint8_t>(data + 1, size - 1));
   brick.echoes_ = (mode & 0x80) != 0;
   rcx::Link link = rcx::make_link(brick, quick());
+  // Mode bit 2 adds the firmware download to the four actions of bits 0-1.
+  if ((mode & 0x04) != 0) {
+    rcx::Firmware fw;
+    fw.start = fw.entry = 0x8000;
+    fw.bytes.assign(250, 0x5a);  // three blocks, the last one short
+    (void)rcx::download_firmware(link, fw);
+    return 0;
+  }
   switch (mode & 0x03) {
     case 0: (void)rcx::transact(link, rcx::request_payload(rcx::info(rcx::Op::GetBatteryPower), {})); break;
     case 1: {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <iterator>
+#include <utility>
 
 namespace rcxc::ir {
 
@@ -65,7 +66,12 @@ namespace {
 bool tracked(const Program& p, VarId v) { return p.vars[static_cast<std::size_t>(v)].kind != VarKind::Global; }
 }  // namespace
 
-void step_back(const Program& p, const Instr& in, const CallEffects& calls, VarSet& live) {
+namespace {
+
+// step_back's effect on any set-like `live`: what an instruction writes
+// (or a call overwrites) is removed, what it reads is added, in that order.
+template <class Live>
+void step_back_through(const Program& p, const Instr& in, const CallEffects& calls, Live& live) {
   VarUse u = uses_of(in);
   for (VarId v : u.writes)
     if (tracked(p, v)) live.remove(v);
@@ -77,98 +83,83 @@ void step_back(const Program& p, const Instr& in, const CallEffects& calls, VarS
   for (VarId v : calls.reads[static_cast<std::size_t>(g)].members()) live.add(v);
 }
 
-namespace {
-
-// What one block does to the set live after it, read once per block: the
-// set live before it is gen | (after - kill). The data-flow rounds then
-// cost a few set operations per block instead of a step per instruction
-// (a task's `while (true)` body takes three rounds).
-struct BlockEffect {
-  VarSet gen;
-  VarSet kill;
+// A block's effect on liveness as two sets: live-in = gen + (live-out -
+// kill). Stepping back through the block builds them the way step_back
+// changes a live set.
+struct GenKill {
+  VarSet gen;   // read before any write in the block
+  VarSet kill;  // written (or overwritten by a call) in the block
+  void remove(VarId v) {
+    gen.remove(v);
+    kill.add(v);
+  }
+  void add(VarId v) { gen.add(v); }
 };
-
-// The steps of step_back, last instruction first, applied to "after"
-// without knowing it: removing v kills it (and ungens it), adding v gens it.
-BlockEffect block_effect(const Program& p, const Block& b, const CallEffects& calls) {
-  BlockEffect e;
-  auto remove = [&](VarId v) {
-    e.gen.remove(v);
-    e.kill.add(v);
-  };
-  for (VarId v : reads_of(b.term))
-    if (tracked(p, v)) e.gen.add(v);
-  for (std::size_t k = b.instrs.size(); k-- > 0;) {
-    const Instr& in = b.instrs[k];
-    VarUse u = uses_of(in);
-    for (VarId v : u.writes)
-      if (tracked(p, v)) remove(v);
-    for (VarId v : u.reads)
-      if (tracked(p, v)) e.gen.add(v);
-    FuncId g = callee_of(in);
-    if (g < 0 || static_cast<std::size_t>(g) >= calls.touches.size()) continue;
-    for (VarId v : calls.touches[static_cast<std::size_t>(g)].members()) remove(v);
-    for (VarId v : calls.reads[static_cast<std::size_t>(g)].members()) e.gen.add(v);
-  }
-  return e;
-}
-
-// gen | (after - kill) into `live` (its storage reused).
-void live_before(const BlockEffect& e, const std::vector<VarId>& after, std::vector<VarId>& live) {
-  live.clear();
-  auto g = e.gen.items.begin(), k = e.kill.items.begin();
-  for (VarId v : after) {
-    while (k != e.kill.items.end() && *k < v) ++k;
-    if (k != e.kill.items.end() && *k == v) continue;
-    while (g != e.gen.items.end() && *g < v) live.push_back(*g++);
-    if (g != e.gen.items.end() && *g == v) ++g;
-    live.push_back(v);
-  }
-  live.insert(live.end(), g, e.gen.items.end());
-}
 
 }  // namespace
 
+void step_back(const Program& p, const Instr& in, const CallEffects& calls, VarSet& live) {
+  step_back_through(p, in, calls, live);
+}
+
+// One variable at a time: from the blocks that read it first, backward
+// along the edges, through every block that does not write it. Each
+// variable is followed only where it is live, so the work is the size of
+// the answer. Iterating the equations over all blocks until nothing changes
+// took a round per level of loop nesting, each round the whole function:
+// 1000 nested loops took minutes.
 Liveness compute_liveness(const Program& p, const Function& f, const CallEffects& calls) {
-  std::size_t n = f.blocks.size();
-  Liveness L{std::vector<VarSet>(n, VarSet(p.vars.size())), std::vector<VarSet>(n, VarSet(p.vars.size()))};
-  std::vector<BlockEffect> effects;
-  std::vector<std::vector<BlockId>> succs;
-  effects.reserve(n);
-  succs.reserve(n);
-  for (const Block& b : f.blocks) {
-    effects.push_back(block_effect(p, b, calls));
-    succs.push_back(successors(b.term));
+  const std::size_t n = f.blocks.size();
+  Liveness L{std::vector<VarSet>(n), std::vector<VarSet>(n)};
+  if (n == 0) return L;
+  std::vector<GenKill> effect(n);
+  std::vector<std::vector<std::size_t>> preds(n);
+  std::vector<std::pair<VarId, std::size_t>> first_reads;  // (variable, block)
+  for (std::size_t i = 0; i < n; ++i) {
+    const Block& b = f.blocks[i];
+    GenKill& e = effect[i];
+    for (VarId v : reads_of(b.term))
+      if (tracked(p, v)) e.add(v);
+    for (std::size_t k = b.instrs.size(); k-- > 0;) step_back_through(p, b.instrs[k], calls, e);
+    for (VarId v : e.gen.members()) first_reads.emplace_back(v, i);
+    for (BlockId s : successors(b.term)) preds[static_cast<std::size_t>(s)].push_back(i);
     // What the code reads before writing it is read again when the code
     // next runs (the next call of a subroutine, a task started again), so
-    // its last value stays live past the exit.
-    if (std::holds_alternative<Exit>(b.term)) succs.back().push_back(0);
+    // its last value stays live past the exit: an edge from each exit to
+    // the entry.
+    if (std::holds_alternative<Exit>(b.term)) preds[0].push_back(i);
   }
-  // A block whose live-out did not change since it was last visited has
-  // the same live-in: only the first visit and changes cost a step.
-  std::vector<bool> visited(n, false);
-  VarSet out;
-  std::vector<VarId> live;
-  bool changed = true;
-  while (changed) {
-    changed = false;
-    for (std::size_t i = n; i-- > 0;) {
-      out.items.clear();
-      for (BlockId s : succs[i]) out.merge(L.live_in[static_cast<std::size_t>(s)]);
-      if (visited[i] && out.items == L.live_out[i].items) continue;
-      visited[i] = true;
-      L.live_out[i].items.assign(out.items.begin(), out.items.end());
-      live_before(effects[i], out.items, live);
-      // Live-outs only grow from round to round, so live-ins do too: a
-      // different size is a change.
-      if (live.size() != L.live_in[i].items.size()) {
-        L.live_in[i].items.assign(live.begin(), live.end());
-        changed = true;
+  // In order of variable, so each block's sets are built already sorted.
+  std::sort(first_reads.begin(), first_reads.end());
+  std::vector<VarId> in_stamp(n, -1), out_stamp(n, -1);
+  std::vector<std::size_t> work;
+  for (std::size_t r = 0; r < first_reads.size();) {
+    const VarId v = first_reads[r].first;
+    for (; r < first_reads.size() && first_reads[r].first == v; ++r) {
+      std::size_t b = first_reads[r].second;
+      in_stamp[b] = v;
+      L.live_in[b].items.push_back(v);
+      work.push_back(b);
+    }
+    while (!work.empty()) {
+      std::size_t b = work.back();
+      work.pop_back();
+      for (std::size_t q : preds[b]) {
+        if (out_stamp[q] != v) {
+          out_stamp[q] = v;
+          L.live_out[q].items.push_back(v);
+        }
+        if (in_stamp[q] == v || effect[q].kill.has(v)) continue;
+        in_stamp[q] = v;
+        L.live_in[q].items.push_back(v);
+        work.push_back(q);
       }
     }
   }
   return L;
 }
+
+
 
 CallEffects call_effects(const Program& p) {
   CallEffects calls;

@@ -1,5 +1,6 @@
 // Which variables hold a value that may still be read, at every point of a
-// function (classic backward dataflow over the blocks). Globals are left
+// function (backward dataflow over the blocks, solved one variable at a
+// time from its reads, so the work is the size of the answer). Globals are left
 // out: they are visible to every task and are never considered dead. A
 // local the function reads before writing stays live past its exit: the
 // next call or run reads it.

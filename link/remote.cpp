@@ -132,7 +132,12 @@ Outcome firmware(Link& link, const std::string& path, const RemoteOptions& optio
                                                                                  : fmt::format("cannot read {}", path)};
   auto parsed = parse_srec(std::get<std::string>(file));
   if (auto* e = std::get_if<std::string>(&parsed)) return RemoteError{RemoteFailure::Input, path + ": " + *e};
-  const Firmware& fw = std::get<Firmware>(parsed);
+  return download_firmware(link, std::get<Firmware>(parsed), options);
+}
+
+}  // namespace
+
+std::variant<std::string, RemoteError> download_firmware(Link& link, const Firmware& fw, const RemoteOptions& options) {
   unsigned sum = 0;
   for (auto b : fw.bytes) sum += b;
   std::vector<int> key(std::begin(kKey), std::end(kKey));
@@ -173,6 +178,8 @@ Outcome firmware(Link& link, const std::string& path, const RemoteOptions& optio
   return fmt::format("firmware downloaded ({} bytes); the RCX says \"{}\"\n", fw.bytes.size(),
                      std::string(reply.begin() + 1, reply.end()));
 }
+
+namespace {
 
 Outcome raw(Link& link, const Words& words) {
   std::string joined;

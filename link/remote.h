@@ -55,4 +55,9 @@ struct Firmware {
 };
 std::variant<Firmware, std::string> parse_srec(const std::string& text);
 
+// `remote firmware` once the file is read: deletes the brick's firmware,
+// sends `fw` block by block and unlocks it; returns what to print.
+std::variant<std::string, RemoteError> download_firmware(Link& link, const Firmware& fw,
+                                                         const RemoteOptions& options = {});
+
 }  // namespace rcx

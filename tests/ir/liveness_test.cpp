@@ -1,5 +1,6 @@
-// compute_liveness summarises each block once (what it reads first, what
-// it overwrites) and iterates over the summaries. The result must satisfy
+// compute_liveness solves the data-flow equations one variable at a time
+// from each block's summary (what it reads first, what it overwrites). The
+// result must satisfy
 // the data-flow equations as stepping back through every instruction
 // (step_back, which the passes use inside a block) states them.
 #include <gtest/gtest.h>

@@ -2,6 +2,7 @@
 
 #include <fcntl.h>
 #include <poll.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -16,7 +17,8 @@
 
 namespace rcxc::test {
 
-ProcessResult run_process(const std::vector<std::string>& argv, const std::string& stdin_text, int timeout_ms) {
+ProcessResult run_process(const std::vector<std::string>& argv, const std::string& stdin_text, int timeout_ms,
+                          std::size_t address_space_bytes) {
   int in[2], out[2], err[2];
   if (pipe(in) || pipe(out) || pipe(err)) throw std::runtime_error("pipe failed");
   pid_t pid = fork();
@@ -26,6 +28,10 @@ ProcessResult run_process(const std::vector<std::string>& argv, const std::strin
     dup2(out[1], 1);
     dup2(err[1], 2);
     for (int fd : {in[0], in[1], out[0], out[1], err[0], err[1]}) close(fd);
+    if (address_space_bytes > 0) {
+      rlimit limit{address_space_bytes, address_space_bytes};
+      if (setrlimit(RLIMIT_AS, &limit) != 0) _exit(126);
+    }
     std::vector<char*> args;
     for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
     args.push_back(nullptr);
@@ -81,15 +87,32 @@ ProcessResult run_process(const std::vector<std::string>& argv, const std::strin
   close(out[0]);
   close(err[0]);
   int status = 0;
-  waitpid(pid, &status, 0);
+  rusage usage{};
+  wait4(pid, &status, 0, &usage);
+  r.max_rss_kb = usage.ru_maxrss;
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
   return r;
 }
 
-ProcessResult run_rcxc(const std::vector<std::string>& args, const std::string& stdin_text, int timeout_ms) {
+ProcessResult run_rcxc(const std::vector<std::string>& args, const std::string& stdin_text, int timeout_ms,
+                       std::size_t address_space_bytes) {
   std::vector<std::string> argv{RCXC_BINARY};
   argv.insert(argv.end(), args.begin(), args.end());
-  return run_process(argv, stdin_text, timeout_ms);
+  return run_process(argv, stdin_text, timeout_ms, address_space_bytes);
+}
+
+bool built_with_asan() {
+#if defined(__SANITIZE_ADDRESS__)
+  return true;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+  return true;
+#else
+  return false;
+#endif
+#else
+  return false;
+#endif
 }
 
 std::string read_text_file(const std::string& path) {

@@ -2,6 +2,7 @@
 // its exit code, stdout and stderr.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -13,15 +14,24 @@ struct ProcessResult {
   std::string out;
   std::string err;
   bool timed_out = false;  // killed (SIGKILL) after the time limit
+  long max_rss_kb = 0;     // the child's peak resident memory (getrusage)
 };
 
 // Runs `argv` (argv[0] is the program path) with `stdin_text` on its stdin.
-// With `timeout_ms` > 0 the process is killed when it has not ended by then.
+// With `timeout_ms` > 0 the process is killed when it has not ended by then;
+// with `address_space_bytes` > 0 it runs under that RLIMIT_AS, so memory
+// that grows without bound fails at once instead of filling the machine.
 ProcessResult run_process(const std::vector<std::string>& argv, const std::string& stdin_text = "",
-                          int timeout_ms = 0);
+                          int timeout_ms = 0, std::size_t address_space_bytes = 0);
 
 // Runs the rcxc binary under test with `args`.
-ProcessResult run_rcxc(const std::vector<std::string>& args, const std::string& stdin_text = "", int timeout_ms = 0);
+ProcessResult run_rcxc(const std::vector<std::string>& args, const std::string& stdin_text = "", int timeout_ms = 0,
+                       std::size_t address_space_bytes = 0);
+
+// Whether this build runs under AddressSanitizer, whose shadow memory
+// needs terabytes of address space and inflates the resident size: memory
+// limits cannot be measured there.
+bool built_with_asan();
 
 // The whole content of the file at `path` ("" when it cannot be read).
 std::string read_text_file(const std::string& path);
