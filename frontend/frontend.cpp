@@ -171,7 +171,7 @@ std::optional<ast::Program> parse_reached(const std::vector<Token>& tokens, cons
   Diagnostics trial;
   trial.warnings_as_errors = diags.warnings_as_errors;
   trial.suppress_warnings = diags.suppress_warnings;
-  ast::Program program = parse_tokens(*reached, trial);
+  ast::Program program = parse_tokens(std::move(*reached), trial);
   if (!trial.has_errors()) check(program, trial);
   if (trial.has_errors()) return std::nullopt;
   for (const auto& d : trial.all()) diags.add(d);
@@ -205,8 +205,12 @@ std::optional<ast::Program> run(std::uint32_t file, const std::string& dir, cons
   Preprocessed pp = cache ? preprocess_after_stdlib(*cache->state, file, dir, options, sm, diags)
                           : preprocess(file, dir, options, sm, diags);
   if (!pp.complete) return std::nullopt;
-  // The cache (fuzzing, tests) already holds the whole library parsed.
-  if (!cache && !options.whole_library && !diags.has_errors()) {
+  // The cache (fuzzing, tests) already holds the whole library parsed. A
+  // long program skips the trial: the library's parse is then a small part
+  // of the work, and the trial's copy of the tokens would double their
+  // memory (hostile inputs must stay under 100 MB: SECURITY.md).
+  constexpr std::size_t kTrialTokenLimit = 50'000;
+  if (!cache && !options.whole_library && !diags.has_errors() && pp.tokens.size() <= kTrialTokenLimit) {
     if (auto program = parse_reached(pp.tokens, sm, diags)) {
       program->pragmas = std::move(pp.pragmas);
       program->macro_names = std::move(pp.macro_names);
