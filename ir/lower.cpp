@@ -478,21 +478,58 @@ struct Lowerer {
 
   // After a branch to `one` or `zero`: d = 1 on the first, 0 on the
   // second, both going on at `join`.
+  // The side placed after the test falls in and then jumps over the other,
+  // so it runs one instruction more. As in nqc's code that is the zero side
+  // (the test branches to `one`), unless the last test can only branch
+  // to zero (a < b of two variables).
   void one_or_zero(VarId d, BlockId one, BlockId zero, BlockId join) {
-    enter(one);
-    set(d, Operand::imm(1));
-    jump(join);
-    enter(zero);
-    set(d, Operand::imm(0));
-    jump(join);
+    bool one_first = false;
+    if (const auto* br = std::get_if<Branch>(&fn().blocks[static_cast<std::size_t>(cur)].term)) {
+      bool to_one = (br->then == one && branches_directly(br->cmp, br->a, br->b)) ||
+                    (br->otherwise == one && branches_directly(negate(br->cmp), br->a, br->b));
+      one_first = !to_one;
+    }
+    auto side = [&](BlockId b, int value) {
+      enter(b);
+      set(d, Operand::imm(value));
+      jump(join);
+    };
+    if (one_first) {
+      side(one, 1);
+      side(zero, 0);
+    } else {
+      side(zero, 0);
+      side(one, 1);
+    }
     enter(join);
   }
 
-  // d = 0 or 1: the truth of e.
+  // d = 0 or 1: the truth of e, which does not read d. `d = 0` before the
+  // tests lets the false outcome fall through to the end without a jump,
+  // but when the only test cannot branch on false (x >= y of two
+  // variables) it needs a jump all the same: then the test branches to
+  // `d = 1` and the false side sets 0 and jumps, the same bytes and one
+  // instruction less when true.
   void truth(VarId d, const ast::Expr& e) {
     BlockId t = new_block(), join = new_block();
+    BlockId test = cur;
+    auto& instrs = fn().blocks[static_cast<std::size_t>(test)].instrs;
+    std::size_t zero_at = instrs.size();
     set(d, Operand::imm(0));
     cond(e, t, join);
+    const auto* br = std::get_if<Branch>(&fn().blocks[static_cast<std::size_t>(cur)].term);
+    bool false_needs_jump = br && cur == test &&
+                            ((br->then == t && !branches_directly(negate(br->cmp), br->a, br->b)) ||
+                             (br->otherwise == t && !branches_directly(br->cmp, br->a, br->b)));
+    if (false_needs_jump) {
+      auto& same = fn().blocks[static_cast<std::size_t>(test)].instrs;
+      same.erase(same.begin() + static_cast<std::ptrdiff_t>(zero_at));
+      BlockId zero = new_block();
+      Branch b = *br;
+      (b.then == join ? b.then : b.otherwise) = zero;
+      terminate(b);
+      return one_or_zero(d, t, zero, join);
+    }
     enter(t);
     set(d, Operand::imm(1));
     jump(join);
