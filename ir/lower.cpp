@@ -479,15 +479,19 @@ struct Lowerer {
   // After a branch to `one` or `zero`: d = 1 on the first, 0 on the
   // second, both going on at `join`.
   // The side placed after the test falls in and then jumps over the other,
-  // so it runs one instruction more. As in nqc's code that is the zero side
-  // (the test branches to `one`), unless the last test can only branch
-  // to zero (a < b of two variables).
-  void one_or_zero(VarId d, BlockId one, BlockId zero, BlockId join) {
-    bool one_first = false;
+  // so it runs one instruction more. For a truth value that is the zero
+  // side, as in nqc's code (the test branches to `one`); `one_falls_in`
+  // asks for the other (x >> 15: the sign's test branches on >= 0, as
+  // nqc's does). The last test decides when it can only branch one way
+  // (a < b of two variables).
+  void one_or_zero(VarId d, BlockId one, BlockId zero, BlockId join, bool one_falls_in = false) {
+    bool one_first = one_falls_in;
     if (const auto* br = std::get_if<Branch>(&fn().blocks[static_cast<std::size_t>(cur)].term)) {
-      bool to_one = (br->then == one && branches_directly(br->cmp, br->a, br->b)) ||
-                    (br->otherwise == one && branches_directly(negate(br->cmp), br->a, br->b));
-      one_first = !to_one;
+      auto reaches = [&](BlockId side) {
+        return (br->then == side && branches_directly(br->cmp, br->a, br->b)) ||
+               (br->otherwise == side && branches_directly(negate(br->cmp), br->a, br->b));
+      };
+      one_first = one_falls_in ? reaches(zero) : !reaches(one);
     }
     auto side = [&](BlockId b, int value) {
       enter(b);
@@ -640,7 +644,7 @@ struct Lowerer {
       BlockId neg = new_block(), join = new_block();
       BlockId pos = new_block();
       terminate(Branch{Cmp::LT, Operand::var(d), Operand::imm(0), neg, pos});
-      return one_or_zero(d, neg, pos, join);
+      return one_or_zero(d, neg, pos, join, true);
     }
     shift_right_const(d, n);
   }

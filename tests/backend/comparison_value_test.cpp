@@ -81,6 +81,10 @@ const std::vector<Case> kCases = {
     // chk b < 3; chk y < 4 (both to set 1); set 0; jmp / set 1.
     {"b = (b < 3 || y < 4);", 0, 9, 0, 6, 6},
     {"b = (b < 3 || y < 4);", 0, 2, 1, 5, 5},
+    // The sign bit, x >> 15: nqc's `set; chk (to div when x >= 0); and; div;
+    // or; jmp / div`. rcxc's `set; chk (to set 0); set 1; jmp / set 0`.
+    {"b = (x >> 15);", 5, 0, 0, 5, 5},
+    {"b = (x >> 15);", -5, 0, 1, 8, 6},
 };
 
 TEST(ComparisonValue, NoOutcomeRunsMoreThanNqcsCode) {
