@@ -9,6 +9,7 @@
 #include "link/brick_server.h"
 #include "link/download.h"
 #include "link/remote.h"
+#include "tests/support/served_thread.h"
 
 namespace rcx {
 namespace {
@@ -17,29 +18,24 @@ namespace {
 struct PtyBrick : ::testing::Test {
   Brick brick = make_brick();
   Pty pty;
-  int stop[2] = {-1, -1};
-  std::thread server;
+  rcxc::test::ServedThread server;
   std::optional<TransportError> server_error;
 
   void start(double noise = 0.0) {
     auto opened = open_pty();
     ASSERT_TRUE(std::holds_alternative<Pty>(opened)) << std::get<TransportError>(opened).message;
     pty = std::move(std::get<Pty>(opened));
-    ASSERT_EQ(::pipe(stop), 0);
-    ServeOptions options;
-    options.pace = false;
-    options.noise = noise;
-    options.seed = 11;
-    options.stop_fd = stop[0];
-    server = std::thread([this, options] { server_error = serve(brick, *pty.master, options); });
+    ASSERT_TRUE(server.start([this, noise](int stop_fd) {
+      ServeOptions options;
+      options.pace = false;
+      options.noise = noise;
+      options.seed = 11;
+      options.stop_fd = stop_fd;
+      server_error = serve(brick, *pty.master, options);
+    }));
   }
   void TearDown() override {
-    if (server.joinable()) {
-      (void)!::write(stop[1], "x", 1);
-      server.join();
-    }
-    for (int fd : stop)
-      if (fd >= 0) ::close(fd);
+    server.stop();
     close_pty(pty);
   }
   std::unique_ptr<Transport> host() {

@@ -13,6 +13,7 @@
 #include "nxt/transport.h"
 #include "nxt/virtual_nxt.h"
 #include "tests/nxt/round_trips.h"
+#include "tests/support/served_thread.h"
 
 namespace nxt {
 namespace {
@@ -73,27 +74,22 @@ TEST(NxtPort, AMissingTtySaysWhatToCheck) {
 struct PtyNxt : ::testing::Test {
   VirtualNxt brick = make_virtual_nxt();
   PtyPair pty;
-  int stop[2] = {-1, -1};
-  std::thread server;
+  rcxc::test::ServedThread server;
   std::vector<std::string> log;
 
   void SetUp() override {
     auto opened = open_pty_pair();
     ASSERT_TRUE(std::holds_alternative<PtyPair>(opened)) << std::get<LinkError>(opened).message;
     pty = std::get<PtyPair>(opened);
-    ASSERT_EQ(::pipe(stop), 0);
-    ServeOptions options;
-    options.stop_fd = stop[0];
-    options.on_log = [this](const std::string& line) { log.push_back(line); };
-    server = std::thread([this, options] { serve(brick, pty.master_fd, options); });
+    ASSERT_TRUE(server.start([this](int stop_fd) {
+      ServeOptions options;
+      options.stop_fd = stop_fd;
+      options.on_log = [this](const std::string& line) { log.push_back(line); };
+      serve(brick, pty.master_fd, options);
+    }));
   }
   void TearDown() override {
-    if (server.joinable()) {
-      (void)!::write(stop[1], "x", 1);
-      server.join();
-    }
-    for (int fd : stop)
-      if (fd >= 0) ::close(fd);
+    server.stop();
     close_pty_pair(pty);
   }
   std::unique_ptr<Transport> host(int stop_fd = -1) {
