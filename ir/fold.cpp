@@ -137,7 +137,7 @@ struct Folder {
 // What `s` knows of the variables in `live` only: a constant nobody reads
 // again is no use, and keeping them all would make the states of a long
 // program (every inline copy's parameters) grow with its length.
-State restricted(const State& s, const VarSet& live) {
+State restricted(const State& s, VarSpan live) {
   State r{s.reached, {}};
   for (const auto& entry : s.consts)
     if (live.has(entry.first)) r.consts.push_back(entry);

@@ -13,6 +13,7 @@
 #include <array>
 #include <cstdint>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <variant>
 #include <vector>
@@ -146,9 +147,31 @@ struct Program {
   FuncId find_function(const std::string& name) const;  // -1 if absent
 };
 
+// Up to N values kept inline: the few ids a terminator or an opcode has
+// (a block's successors, the variables a branch reads), which the passes ask
+// for per block and per instruction, so they allocate nothing.
+template <class T, std::size_t N>
+class InlineList {
+ public:
+  void push_back(T v) {
+    if (size_ == N) throw std::length_error("InlineList: more than its capacity");
+    items_[size_++] = v;
+  }
+  const T* begin() const { return items_.data(); }
+  const T* end() const { return items_.data() + size_; }
+  std::size_t size() const { return size_; }
+  bool empty() const { return size_ == 0; }
+  const T& operator[](std::size_t i) const { return items_[i]; }
+
+ private:
+  std::array<T, N> items_{};
+  std::size_t size_ = 0;
+};
+
 // Reading and writing a function's blocks.
 BlockId add_block(Function& f);
-std::vector<BlockId> successors(const Terminator& t);
+using Successors = InlineList<BlockId, 2>;
+Successors successors(const Terminator& t);
 // For each block its index in reverse postorder from the entry (every
 // block before its successors, loops aside); -1 for blocks no path reaches.
 // Forward data-flow visiting blocks in this order meets each join once
@@ -165,7 +188,10 @@ void retarget(Terminator& t, BlockId from, BlockId to);
 // The operands of an opcode as the IR sees them: the table's operands
 // minus the Argument half of each Source/Argument pair and minus branch
 // offsets, which the backend fills in.
-std::vector<const rcx::Operand*> operand_slots(rcx::Op op);
+// At most kMaxOperandSlots (a unit test checks every opcode of the table).
+inline constexpr std::size_t kMaxOperandSlots = 8;
+using OperandSlots = InlineList<const rcx::Operand*, kMaxOperandSlots>;
+OperandSlots operand_slots(rcx::Op op);
 // Whether `o` can be operand `slot` of `op` as is: its source is allowed
 // there and an immediate fits the argument field. When not, the value must
 // go through a temporary variable first.
@@ -261,7 +287,7 @@ struct VarUse {
   VarList writes;  // a write that fully replaces the old value
 };
 VarUse uses_of(const Instr& in);
-std::vector<VarId> reads_of(const Terminator& t);
+InlineList<VarId, 2> reads_of(const Terminator& t);
 
 // Human-readable dump (tests and -v).
 std::string to_string(const Program& p);
