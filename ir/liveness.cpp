@@ -51,28 +51,47 @@ FuncId callee_of(const Instr& in) {
   return in.args[0].kind == Operand::Kind::Func ? in.args[0].value : -1;
 }
 
-std::vector<VarSet> function_footprints(const Program& p) {
-  std::vector<VarSet> own(p.functions.size(), VarSet(p.vars.size()));
-  for (std::size_t f = 0; f < p.functions.size(); ++f)
+namespace {
+
+// The footprints of every function, or of the subroutines only (a call
+// enters a subroutine, and subroutines call only subroutines, so what a
+// call does never needs a task's footprint: the passes that only want
+// call effects skip walking the tasks, most of a program).
+std::vector<VarSet> footprints(const Program& p, bool subs_only) {
+  const std::size_t n = p.functions.size();
+  std::vector<VarSet> own(n);
+  std::vector<std::vector<FuncId>> callees(n);
+  for (std::size_t f = 0; f < n; ++f) {
+    if (subs_only && p.functions[f].kind != FuncKind::Sub) continue;
+    // Gathered, then sorted once: inserting each in order cost a search
+    // per operand.
+    std::vector<VarId>& vars = own[f].items;
     for (const auto& b : p.functions[f].blocks) {
-      for (const auto& in : b.instrs)
+      for (const auto& in : b.instrs) {
         for (const auto& a : in.args)
-          if (a.is_var()) own[f].add(a.value);
-      for (VarId v : reads_of(b.term)) own[f].add(v);
+          if (a.is_var()) vars.push_back(a.value);
+        FuncId g = callee_of(in);
+        if (g >= 0 && static_cast<std::size_t>(g) != f) callees[f].push_back(g);
+      }
+      for (VarId v : reads_of(b.term)) vars.push_back(v);
     }
+    std::sort(vars.begin(), vars.end());
+    vars.erase(std::unique(vars.begin(), vars.end()), vars.end());
+    std::sort(callees[f].begin(), callees[f].end());
+    callees[f].erase(std::unique(callees[f].begin(), callees[f].end()), callees[f].end());
+  }
   // Follow calls until nothing changes (recursion, if any, terminates too).
-  bool changed = true;
-  while (changed) {
+  for (bool changed = true; changed;) {
     changed = false;
-    for (std::size_t f = 0; f < p.functions.size(); ++f)
-      for (const auto& b : p.functions[f].blocks)
-        for (const auto& in : b.instrs) {
-          FuncId g = callee_of(in);
-          if (g >= 0 && static_cast<std::size_t>(g) != f) changed |= own[f].merge(own[static_cast<std::size_t>(g)]);
-        }
+    for (std::size_t f = 0; f < n; ++f)
+      for (FuncId g : callees[f]) changed |= own[f].merge(own[static_cast<std::size_t>(g)]);
   }
   return own;
 }
+
+}  // namespace
+
+std::vector<VarSet> function_footprints(const Program& p) { return footprints(p, false); }
 
 namespace {
 bool tracked(const Program& p, VarId v) { return p.vars[static_cast<std::size_t>(v)].kind != VarKind::Global; }
@@ -211,7 +230,7 @@ Liveness compute_liveness(const Program& p, const Function& f, const CallEffects
 
 CallEffects call_effects(const Program& p) {
   CallEffects calls;
-  calls.touches = function_footprints(p);
+  calls.touches = footprints(p, true);
   for (auto& t : calls.touches) {
     VarSet own;
     for (VarId v : t.members())

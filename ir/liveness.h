@@ -75,7 +75,7 @@ struct Liveness {
 // the call only those it reads before writing (`reads`: a local a
 // subroutine keeps from one call to the next).
 struct CallEffects {
-  std::vector<VarSet> touches;
+  std::vector<VarSet> touches;  // a task's is empty: no call enters a task
   std::vector<VarSet> reads;
 };
 CallEffects call_effects(const Program& p);
