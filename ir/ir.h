@@ -10,8 +10,10 @@
 // backend can choose near or far branch forms at the end.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
+#include <initializer_list>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -50,13 +52,65 @@ struct Operand {
   friend bool operator==(const Operand&, const Operand&) = default;
 };
 
+// An instruction's operands: up to three kept inside the instruction (every
+// opcode the compiler emits but a few has at most three), more (raw asm
+// bytes) on the heap. A program's instructions then sit in their blocks'
+// arrays with their operands: the passes, which walk every instruction of
+// the program many times, read memory in order, and copying or making an
+// instruction allocates nothing.
+class Operands {
+ public:
+  Operands() = default;
+  Operands(std::initializer_list<Operand> list) {
+    for (const Operand& o : list) push_back(o);
+  }
+  Operands(const std::vector<Operand>& list) {  // NOLINT: as a vector converts
+    for (const Operand& o : list) push_back(o);
+  }
+
+  void push_back(const Operand& o) {
+    if (size_ < kInline) {
+      inline_[size_] = o;
+    } else {
+      if (size_ == kInline) spill_.assign(inline_.begin(), inline_.end());
+      spill_.push_back(o);
+    }
+    ++size_;
+  }
+  std::size_t size() const { return size_; }
+  bool empty() const { return size_ == 0; }
+  Operand* begin() { return size_ <= kInline ? inline_.data() : spill_.data(); }
+  Operand* end() { return begin() + size_; }
+  const Operand* begin() const { return size_ <= kInline ? inline_.data() : spill_.data(); }
+  const Operand* end() const { return begin() + size_; }
+  Operand& operator[](std::size_t i) { return begin()[i]; }
+  const Operand& operator[](std::size_t i) const { return begin()[i]; }
+  const Operand& at(std::size_t i) const {
+    if (i >= size_) throw std::out_of_range("Operands::at");
+    return begin()[i];
+  }
+  Operand& at(std::size_t i) {
+    if (i >= size_) throw std::out_of_range("Operands::at");
+    return begin()[i];
+  }
+  friend bool operator==(const Operands& a, const Operands& b) {
+    return std::equal(a.begin(), a.end(), b.begin(), b.end());
+  }
+
+ private:
+  static constexpr std::size_t kInline = 3;
+  std::array<Operand, kInline> inline_{};
+  std::vector<Operand> spill_;  // all of them once there are more than kInline
+  std::uint32_t size_ = 0;
+};
+
 // One instruction: an opcode of the table and one Operand per operand of
 // the table's layout, where a Source+Argument pair is ONE operand (the
 // pair's Argument entry takes no Operand of its own). A raw instruction
 // (asm byte lists) holds bytes as Imm operands and variable slots as Var.
 struct Instr {
   rcx::Op op = rcx::Op::SetVariable;
-  std::vector<Operand> args;
+  Operands args;
   bool raw = false;
   SourceSpan span{};
 };

@@ -1,8 +1,10 @@
 // The small containers the passes use instead of heap vectors per block or
-// instruction: InlineList (successors, a branch's reads, an opcode's operand
-// slots), BlockVarSets (a set per block in one array) and VarSpan.
+// instruction: Operands (an instruction's, inline up to three),
+// InlineList (successors, a branch's reads, an opcode's operand slots),
+// BlockVarSets (a set per block in one array) and VarSpan.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <vector>
 
 #include "ir/ir.h"
@@ -10,6 +12,46 @@
 
 namespace rcxc::ir {
 namespace {
+
+std::vector<Operand> as_vector(const Operands& o) { return {o.begin(), o.end()}; }
+
+TEST(Operands, InlineUpToThreeThenOnTheHeapInOrder) {
+  Operands o;
+  EXPECT_TRUE(o.empty());
+  std::vector<Operand> expected;
+  for (int i = 0; i < 7; ++i) {
+    o.push_back(Operand::imm(i));
+    expected.push_back(Operand::imm(i));
+    EXPECT_EQ(o.size(), expected.size());
+    EXPECT_EQ(as_vector(o), expected) << "after " << i + 1;
+  }
+  EXPECT_EQ(o.at(6), Operand::imm(6));
+  EXPECT_THROW((void)o.at(7), std::out_of_range);
+}
+
+TEST(Operands, CopiesAndMovesKeepTheOperandsEitherWay) {
+  for (int n : {0, 2, 3, 4, 9}) {
+    std::vector<Operand> list;
+    for (int i = 0; i < n; ++i) list.push_back(Operand::var(i));
+    Operands a = list;
+    Operands copy = a;
+    EXPECT_EQ(as_vector(copy), list);
+    copy[0 % std::max(n, 1)] = n ? Operand::imm(99) : Operand{};
+    if (n) EXPECT_EQ(as_vector(a), list) << "a copy is its own";
+    Operands moved = std::move(copy);
+    EXPECT_EQ(moved.size(), static_cast<std::size_t>(n));
+    Operands assigned;
+    assigned = a;
+    EXPECT_EQ(assigned, a);
+    EXPECT_EQ(assigned, Operands(list));
+  }
+}
+
+TEST(Operands, EqualityComparesSizeAndEachOperand) {
+  EXPECT_EQ((Operands{Operand::var(1), Operand::imm(2)}), (Operands{Operand::var(1), Operand::imm(2)}));
+  EXPECT_FALSE((Operands{Operand::var(1)}) == (Operands{Operand::var(1), Operand::imm(2)}));
+  EXPECT_FALSE((Operands{Operand::var(1), Operand::imm(3)}) == (Operands{Operand::var(1), Operand::imm(2)}));
+}
 
 TEST(InlineList, HoldsUpToItsCapacityAndRefusesMore) {
   InlineList<int, 2> l;
