@@ -154,6 +154,10 @@ void append_repeats(Function& to, const std::vector<Repeat>& from, BlockId base)
   }
 }
 
+void map_targets(Terminator& t, const std::vector<BlockId>& map) {
+  each_target(t, [&](BlockId& b) { b = map[static_cast<std::size_t>(b)]; });
+}
+
 void retarget(Terminator& t, BlockId from, BlockId to) {
   each_target(t, [&](BlockId& b) {
     if (b == from) b = to;

@@ -238,6 +238,8 @@ void offset_targets(Terminator& t, BlockId delta);
 void append_repeats(Function& to, const std::vector<Repeat>& from, BlockId base);
 // Rewrites every reference to block `from` in `t` to `to`.
 void retarget(Terminator& t, BlockId from, BlockId to);
+// Rewrites every block `t` refers to through `map` (old id -> new id).
+void map_targets(Terminator& t, const std::vector<BlockId>& map);
 
 // The operands of an opcode as the IR sees them: the table's operands
 // minus the Argument half of each Source/Argument pair and minus branch
