@@ -1,10 +1,11 @@
 #include "backend/outline.h"
 
 #include <algorithm>
+#include <charconv>
 #include <map>
+#include <unordered_map>
 
 #include <fmt/format.h>
-#include <fmt/ranges.h>
 
 namespace rcxc::backend {
 
@@ -72,9 +73,18 @@ int size_estimate(const MInstr& m) {
   return rcx::command_size(rcx::info(branch_op(m))).value_or(0);
 }
 
+void append_number(std::string& out, int n) {
+  char digits[16];
+  auto end = std::to_chars(digits, digits + sizeof digits, n).ptr;
+  out.append(digits, end);
+}
+
 // Every repeated sequence and where it occurs, keyed by what it does.
 Candidate best_candidate(const std::vector<Selected>& fragments) {
-  std::map<std::string, Candidate> seen;
+  // Hashed: a sorted map compared long keys at every level for each of
+  // the (start, length) pairs, most of -Os's time. The choice below still
+  // breaks ties by the smallest key, as walking the sorted map did.
+  std::unordered_map<std::string, Candidate> seen;
   for (std::size_t f = 0; f < fragments.size(); ++f) {
     const Selected& frag = fragments[f];
     if (frag.type != rcx::FragmentType::Task) continue;
@@ -102,7 +112,18 @@ Candidate best_candidate(const std::vector<Selected>& fragments) {
           // ends it) becomes a branch to the subroutine's end: its return
           // goes on after the call, where the branch went.
           need_end = std::max(need_end, static_cast<std::size_t>(t));
-          key += fmt::format("<{} {} {}>", static_cast<int>(m.kind), fmt::join(m.values, ","), t - static_cast<int>(i));
+          // "<kind values,... distance>", written without a format call
+          // per (start, length) pair.
+          key.push_back('<');
+          append_number(key, static_cast<int>(m.kind));
+          key.push_back(' ');
+          for (std::size_t v = 0; v < m.values.size(); ++v) {
+            if (v > 0) key.push_back(',');
+            append_number(key, m.values[v]);
+          }
+          key.push_back(' ');
+          append_number(key, t - static_cast<int>(i));
+          key.push_back('>');
         }
         key.push_back('\x7f');  // instruction boundary
         bytes += size_estimate(m);
@@ -123,10 +144,18 @@ Candidate best_candidate(const std::vector<Selected>& fragments) {
       }
     }
   }
+  // The most bytes saved, then the longest, then the smallest key.
   Candidate best;
-  for (auto& [key, c] : seen)
-    if (c.places.size() > 1 && (c.saving() > best.saving() || (c.saving() == best.saving() && c.length > best.length)))
-      best = c;
+  const std::string* best_key = nullptr;
+  for (auto& [key, c] : seen) {
+    if (c.places.size() < 2) continue;
+    bool better = c.saving() > best.saving() ||
+                  (c.saving() == best.saving() &&
+                   (c.length > best.length || (c.length == best.length && best_key && key < *best_key)));
+    if (!better) continue;
+    best = c;
+    best_key = &key;
+  }
   return best;
 }
 
