@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <charconv>
 #include <map>
-#include <unordered_map>
 
 #include <fmt/format.h>
 
@@ -81,10 +80,9 @@ void append_number(std::string& out, int n) {
 
 // Every repeated sequence and where it occurs, keyed by what it does.
 Candidate best_candidate(const std::vector<Selected>& fragments) {
-  // Hashed: a sorted map compared long keys at every level for each of
-  // the (start, length) pairs, most of -Os's time. The choice below still
-  // breaks ties by the smallest key, as walking the sorted map did.
-  std::unordered_map<std::string, Candidate> seen;
+  // Sorted (a hash map takes fewer instructions but misses the cache on
+  // nearly every one of the (start, length) pairs: slower on long code).
+  std::map<std::string, Candidate> seen;
   for (std::size_t f = 0; f < fragments.size(); ++f) {
     const Selected& frag = fragments[f];
     if (frag.type != rcx::FragmentType::Task) continue;
@@ -144,18 +142,10 @@ Candidate best_candidate(const std::vector<Selected>& fragments) {
       }
     }
   }
-  // The most bytes saved, then the longest, then the smallest key.
   Candidate best;
-  const std::string* best_key = nullptr;
-  for (auto& [key, c] : seen) {
-    if (c.places.size() < 2) continue;
-    bool better = c.saving() > best.saving() ||
-                  (c.saving() == best.saving() &&
-                   (c.length > best.length || (c.length == best.length && best_key && key < *best_key)));
-    if (!better) continue;
-    best = c;
-    best_key = &key;
-  }
+  for (auto& [key, c] : seen)
+    if (c.places.size() > 1 && (c.saving() > best.saving() || (c.saving() == best.saving() && c.length > best.length)))
+      best = c;
   return best;
 }
 
