@@ -1,10 +1,10 @@
 #include "backend/outline.h"
 
 #include <algorithm>
+#include <charconv>
 #include <map>
 
 #include <fmt/format.h>
-#include <fmt/ranges.h>
 
 namespace rcxc::backend {
 
@@ -72,8 +72,16 @@ int size_estimate(const MInstr& m) {
   return rcx::command_size(rcx::info(branch_op(m))).value_or(0);
 }
 
+void append_number(std::string& out, int n) {
+  char digits[16];
+  auto end = std::to_chars(digits, digits + sizeof digits, n).ptr;
+  out.append(digits, end);
+}
+
 // Every repeated sequence and where it occurs, keyed by what it does.
 Candidate best_candidate(const std::vector<Selected>& fragments) {
+  // Sorted (a hash map takes fewer instructions but misses the cache on
+  // nearly every one of the (start, length) pairs: slower on long code).
   std::map<std::string, Candidate> seen;
   for (std::size_t f = 0; f < fragments.size(); ++f) {
     const Selected& frag = fragments[f];
@@ -102,7 +110,18 @@ Candidate best_candidate(const std::vector<Selected>& fragments) {
           // ends it) becomes a branch to the subroutine's end: its return
           // goes on after the call, where the branch went.
           need_end = std::max(need_end, static_cast<std::size_t>(t));
-          key += fmt::format("<{} {} {}>", static_cast<int>(m.kind), fmt::join(m.values, ","), t - static_cast<int>(i));
+          // "<kind values,... distance>", written without a format call
+          // per (start, length) pair.
+          key.push_back('<');
+          append_number(key, static_cast<int>(m.kind));
+          key.push_back(' ');
+          for (std::size_t v = 0; v < m.values.size(); ++v) {
+            if (v > 0) key.push_back(',');
+            append_number(key, m.values[v]);
+          }
+          key.push_back(' ');
+          append_number(key, t - static_cast<int>(i));
+          key.push_back('>');
         }
         key.push_back('\x7f');  // instruction boundary
         bytes += size_estimate(m);

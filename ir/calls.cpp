@@ -1,5 +1,6 @@
 // Subroutine calls versus the firmware's single return address (see passes.h).
 #include <algorithm>
+#include <iterator>
 #include <map>
 #include <fmt/format.h>
 
@@ -76,35 +77,145 @@ bool report_recursion(const Program& p, Diagnostics& diags) {
   return false;
 }
 
+// Replaces the calls of `caller` that `chosen(block, index, callee)` picks
+// by copies of their callees, in one pass over the function: a block split
+// at its calls, each copy laid out right after its call and followed by the
+// rest of the block. The same program as replacing them one at a time in
+// layout order (blocks, variables and loops numbered alike), but each call
+// no longer costs a renumbering of the whole function and a new liveness of
+// every subroutine: a task with thousands of calls took the square.
+template <class Chosen>
+void inline_calls(Program& p, FuncId caller, Chosen&& chosen) {
+  struct Site {
+    BlockId block;
+    std::size_t index;
+    FuncId callee;
+  };
+  std::vector<Site> sites;
+  {
+    const Function& f = p.functions[static_cast<std::size_t>(caller)];
+    for (std::size_t b = 0; b < f.blocks.size(); ++b)
+      for (std::size_t i = 0; i < f.blocks[b].instrs.size(); ++i)
+        if (FuncId g = callee_of(f.blocks[b].instrs[i]); g >= 0 && g != caller && chosen(static_cast<BlockId>(b), i, g))
+          sites.push_back({static_cast<BlockId>(b), i, g});
+  }
+  if (sites.empty()) return;
+  // The callees call nothing by now (flattened first), so what each keeps
+  // from one call to the next is the same before and after every copy.
+  const CallEffects effects = call_effects(p);
+  Function& f = p.functions[static_cast<std::size_t>(caller)];
+  std::vector<Block> old = std::move(f.blocks);
+  // Where each old block starts in the new order.
+  std::vector<BlockId> map(old.size());
+  BlockId total = 0;
+  for (std::size_t b = 0, s = 0; b < old.size(); ++b) {
+    map[b] = total++;
+    for (; s < sites.size() && sites[s].block == static_cast<BlockId>(b); ++s)
+      total += static_cast<BlockId>(p.functions[static_cast<std::size_t>(sites[s].callee)].blocks.size()) + 1;
+  }
+  std::vector<Repeat> repeats = std::move(f.repeats);
+  for (auto& r : repeats) {
+    r.setup = map[static_cast<std::size_t>(r.setup)];
+    r.head = map[static_cast<std::size_t>(r.head)];
+  }
+  f.blocks.clear();
+  f.blocks.reserve(static_cast<std::size_t>(total));
+  f.repeats.clear();
+  std::vector<Repeat> copied_repeats;
+  std::size_t s = 0;
+  for (std::size_t b = 0; b < old.size(); ++b) {
+    Block& from = old[b];
+    Terminator term = from.term;
+    map_targets(term, map);
+    if (s == sites.size() || sites[s].block != static_cast<BlockId>(b)) {
+      from.term = term;
+      f.blocks.push_back(std::move(from));
+      continue;
+    }
+    BlockId segment = map[b];  // the block holding the instructions before the next call
+    std::size_t begin = 0;     // the first instruction of that segment
+    for (; s < sites.size() && sites[s].block == static_cast<BlockId>(b); ++s) {
+      const Instr& call = from.instrs[sites[s].index];
+      const Function& callee = p.functions[static_cast<std::size_t>(sites[s].callee)];
+      auto base = static_cast<BlockId>(f.blocks.size()) + 1;
+      auto rest = base + static_cast<BlockId>(callee.blocks.size());
+      Block head;
+      head.instrs.assign(std::make_move_iterator(from.instrs.begin() + static_cast<long>(begin)),
+                         std::make_move_iterator(from.instrs.begin() + static_cast<long>(sites[s].index)));
+      head.term = Jump{base};
+      head.span = from.span;
+      f.blocks.push_back(std::move(head));
+      // The copy gets its own locals and temporaries: copies in two tasks
+      // must not share them, and a call's locals start afresh anyway.
+      // Except a local the subroutine reads before writing: the called
+      // subroutine keeps it from one call to the next, so every copy keeps
+      // that one variable too and inlining does not change what the
+      // program computes.
+      const VarSet& kept = effects.reads[static_cast<std::size_t>(sites[s].callee)];
+      std::map<VarId, VarId> fresh;
+      auto own = [&](Operand& a) {
+        if (!a.is_var()) return;
+        const Var& v = p.vars[static_cast<std::size_t>(a.value)];
+        if (v.kind == VarKind::Global || v.slot || kept.has(a.value)) return;
+        auto [it, added] = fresh.try_emplace(a.value, 0);
+        if (added) it->second = p.add_var(v.name, v.kind, v.span);
+        a.value = it->second;
+      };
+      for (const auto& cb : callee.blocks) {
+        Block copy = cb;
+        for (auto& in : copy.instrs) {
+          if (in.span.begin.line == 0) in.span = call.span;
+          for (auto& a : in.args) own(a);
+        }
+        if (auto* br = std::get_if<Branch>(&copy.term)) {
+          own(br->a);
+          own(br->b);
+        }
+        if (std::holds_alternative<Exit>(copy.term)) {
+          copy.term = Jump{rest};
+        } else {
+          offset_targets(copy.term, base);
+        }
+        f.blocks.push_back(std::move(copy));
+      }
+      append_repeats(f, callee.repeats, base);
+      for (auto& r : f.repeats) copied_repeats.push_back(r);
+      f.repeats.clear();
+      // A loop whose setup block is split keeps its loopset, the block's
+      // last instruction, in the last part that has instructions.
+      if (sites[s].index + 1 < from.instrs.size())
+        for (auto& r : repeats)
+          if (r.setup == segment) r.setup = rest;
+      segment = rest;
+      begin = sites[s].index + 1;
+    }
+    Block tail;
+    tail.instrs.assign(std::make_move_iterator(from.instrs.begin() + static_cast<long>(begin)),
+                       std::make_move_iterator(from.instrs.end()));
+    tail.term = term;
+    tail.span = from.span;
+    f.blocks.push_back(std::move(tail));
+  }
+  f.repeats = std::move(repeats);
+  f.repeats.insert(f.repeats.end(), copied_repeats.begin(), copied_repeats.end());
+}
+
 // Inlines every call in `f` (callees first), so the subroutine calls nothing.
 void flatten(Program& p, FuncId f, std::vector<bool>& done, Log& log) {
   if (done[static_cast<std::size_t>(f)]) return;
   done[static_cast<std::size_t>(f)] = true;
   for (FuncId g : callees(p.functions[static_cast<std::size_t>(f)])) flatten(p, g, done, log);
-  for (;;) {
-    auto sites = std::vector<CallSite>{};
-    for (std::size_t b = 0; b < p.functions[static_cast<std::size_t>(f)].blocks.size() && sites.empty(); ++b) {
-      const auto& instrs = p.functions[static_cast<std::size_t>(f)].blocks[b].instrs;
-      for (std::size_t i = 0; i < instrs.size(); ++i)
-        if (callee_of(instrs[i]) >= 0) {
-          sites.push_back({f, static_cast<BlockId>(b), i});
-          break;
-        }
-    }
-    if (sites.empty()) return;
-    FuncId g = callee_of(p.functions[static_cast<std::size_t>(f)].blocks[static_cast<std::size_t>(sites[0].block)].instrs[sites[0].index]);
-    log.push_back(fmt::format("sub {} inlined into sub {} (a subroutine cannot call another on the RCX)",
-                              p.functions[static_cast<std::size_t>(g)].name, p.functions[static_cast<std::size_t>(f)].name));
-    inline_call(p, f, sites[0].block, sites[0].index);
-  }
+  for (const auto& b : p.functions[static_cast<std::size_t>(f)].blocks)
+    for (const auto& in : b.instrs)
+      if (FuncId g = callee_of(in); g >= 0)
+        log.push_back(fmt::format("sub {} inlined into sub {} (a subroutine cannot call another on the RCX)",
+                                  p.functions[static_cast<std::size_t>(g)].name, p.functions[static_cast<std::size_t>(f)].name));
+  inline_calls(p, f, [](BlockId, std::size_t, FuncId) { return true; });
 }
 
 void inline_everywhere(Program& p, FuncId g) {
-  for (;;) {
-    auto sites = calls_to(p, g);
-    if (sites.empty()) break;
-    inline_call(p, sites[0].caller, sites[0].block, sites[0].index);
-  }
+  for (std::size_t f = 0; f < p.functions.size(); ++f)
+    inline_calls(p, static_cast<FuncId>(f), [&](BlockId, std::size_t, FuncId callee) { return callee == g; });
   p.functions[static_cast<std::size_t>(g)].blocks.clear();
   p.functions[static_cast<std::size_t>(g)].repeats.clear();
 }
@@ -158,67 +269,7 @@ int estimate_size(const Function& f) {
 }
 
 void inline_call(Program& p, FuncId caller, BlockId block, std::size_t index) {
-  Function& f = p.functions[static_cast<std::size_t>(caller)];
-  const Instr call = f.blocks[static_cast<std::size_t>(block)].instrs[index];
-  const Function callee = p.functions[static_cast<std::size_t>(callee_of(call))];
-
-  // Split: the instructions after the call continue in a new block.
-  BlockId rest = add_block(f);
-  Block& head = f.blocks[static_cast<std::size_t>(block)];
-  Block& tail = f.blocks[static_cast<std::size_t>(rest)];
-  tail.instrs.assign(head.instrs.begin() + static_cast<long>(index) + 1, head.instrs.end());
-  tail.term = head.term;
-  tail.span = head.span;
-  head.instrs.resize(index);
-  for (auto& r : f.repeats)
-    if (r.setup == block && !tail.instrs.empty()) r.setup = rest;
-
-  // The copy gets its own locals and temporaries: copies in two tasks must
-  // not share them, and a call's locals start afresh anyway. Except a local
-  // the subroutine reads before writing: the called subroutine keeps it from
-  // one call to the next, so every copy keeps that one variable too and
-  // inlining does not change what the program computes.
-  const VarSet kept = call_effects(p).reads[static_cast<std::size_t>(callee_of(call))];
-  std::map<VarId, VarId> fresh;
-  auto own = [&](Operand& a) {
-    if (!a.is_var()) return;
-    const Var& v = p.vars[static_cast<std::size_t>(a.value)];
-    if (v.kind == VarKind::Global || v.slot || kept.has(a.value)) return;
-    auto [it, added] = fresh.try_emplace(a.value, 0);
-    if (added) it->second = p.add_var(v.name, v.kind, v.span);
-    a.value = it->second;
-  };
-  auto base = static_cast<BlockId>(f.blocks.size());
-  for (const auto& cb : callee.blocks) {
-    Block copy = cb;
-    for (auto& in : copy.instrs) {
-      if (in.span.begin.line == 0) in.span = call.span;
-      for (auto& a : in.args) own(a);
-    }
-    if (auto* br = std::get_if<Branch>(&copy.term)) {
-      own(br->a);
-      own(br->b);
-    }
-    if (std::holds_alternative<Exit>(copy.term)) {
-      copy.term = Jump{rest};
-    } else {
-      offset_targets(copy.term, base);
-    }
-    f.blocks.push_back(std::move(copy));
-  }
-  append_repeats(f, callee.repeats, base);
-  f.blocks[static_cast<std::size_t>(block)].term = Jump{base};
-  // Lay the copy out right after the call site, then the continuation, in
-  // one permutation: moving block by block made each call cost the copy's
-  // size times the function's, quadratic in chains of inlined calls.
-  auto count = static_cast<BlockId>(callee.blocks.size());
-  std::vector<BlockId> order;
-  order.reserve(f.blocks.size());
-  for (BlockId b = 0; b <= block; ++b) order.push_back(b);
-  for (BlockId k = 0; k < count; ++k) order.push_back(base + k);
-  order.push_back(rest);
-  for (BlockId b = block + 1; b < rest; ++b) order.push_back(b);
-  permute_blocks(f, order);
+  inline_calls(p, caller, [&](BlockId b, std::size_t i, FuncId) { return b == block && i == index; });
 }
 
 namespace {

@@ -32,28 +32,36 @@ bool pure_variable_write(const Instr& in) {
 bool remove_in(const Program& p, Function& f, const CallEffects& calls) {
   Liveness L = compute_liveness(p, f, calls);
   bool removed = false;
+  VarSet live;
+  std::vector<bool> keep;
   for (std::size_t b = 0; b < f.blocks.size(); ++b) {
     Block& block = f.blocks[b];
-    VarSet live = L.live_out[b];
+    live.items.assign(L.live_out[b].items.begin(), L.live_out[b].items.end());
     for (VarId v : reads_of(block.term))
       if (p.vars[static_cast<std::size_t>(v)].kind != VarKind::Global) live.add(v);
-    std::vector<bool> keep(block.instrs.size(), true);
+    keep.assign(block.instrs.size(), true);
+    bool removed_here = false;
     for (std::size_t k = block.instrs.size(); k-- > 0;) {
       const Instr& in = block.instrs[k];
       if (pure_variable_write(in)) {
         VarId dest = in.args[0].value;
         if (p.vars[static_cast<std::size_t>(dest)].kind != VarKind::Global && !live.has(dest)) {
           keep[k] = false;
-          removed = true;
+          removed_here = true;
           continue;
         }
       }
       step_back(p, in, calls, live);
     }
-    std::vector<Instr> kept;
-    for (std::size_t k = 0; k < block.instrs.size(); ++k)
-      if (keep[k]) kept.push_back(std::move(block.instrs[k]));
-    block.instrs = std::move(kept);
+    if (!removed_here) continue;
+    removed = true;
+    std::size_t kept = 0;
+    for (std::size_t k = 0; k < block.instrs.size(); ++k) {
+      if (!keep[k]) continue;
+      if (kept != k) block.instrs[kept] = std::move(block.instrs[k]);  // never onto itself: that empties it
+      ++kept;
+    }
+    block.instrs.erase(block.instrs.begin() + static_cast<long>(kept), block.instrs.end());
   }
   return removed;
 }

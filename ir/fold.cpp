@@ -37,18 +37,33 @@ struct State {
   friend bool operator==(const State&, const State&) = default;
 };
 
-// Merges what arrives along one more edge.
-State meet(const State& a, const State& b) {
-  if (!a.reached) return b;
-  if (!b.reached) return a;
-  State m{true, {}};
-  for (const auto& [v, c] : a.consts)
-    if (auto other = b.get(v); other && *other == c) m.consts.emplace_back(v, c);
-  return m;
+// Merges into `target` what arrives along one more edge, `s` restricted to
+// the variables in `live` (a constant nobody reads again is no use, and
+// keeping them all would make the states of a long program, every inline
+// copy's parameters, grow with its length). Returns whether `target`
+// changed. Works in place: a reached target only loses entries.
+bool meet_into(State& target, const State& s, VarSpan live) {
+  if (!target.reached) {
+    target.reached = true;
+    target.consts.clear();
+    for (const auto& entry : s.consts)
+      if (live.has(entry.first)) target.consts.push_back(entry);
+    return true;
+  }
+  // `target` holds only variables of `live` already (it was built by this
+  // function): keep those `s` agrees with.
+  std::size_t before = target.consts.size();
+  std::erase_if(target.consts, [&](const std::pair<VarId, int>& entry) {
+    auto other = s.get(entry.first);
+    return !other || *other != entry.second;
+  });
+  return target.consts.size() != before;
 }
 
 struct Folder {
   const Program& p;
+  // What each function may write of the private variables (CallEffects's
+  // touches): a call makes those unknown.
   const std::vector<VarSet>& footprints;
 
   bool private_var(VarId v) const { return p.vars[static_cast<std::size_t>(v)].kind != VarKind::Global; }
@@ -134,18 +149,8 @@ struct Folder {
   }
 };
 
-// What `s` knows of the variables in `live` only: a constant nobody reads
-// again is no use, and keeping them all would make the states of a long
-// program (every inline copy's parameters) grow with its length.
-State restricted(const State& s, const VarSet& live) {
-  State r{s.reached, {}};
-  for (const auto& entry : s.consts)
-    if (live.has(entry.first)) r.consts.push_back(entry);
-  return r;
-}
-
-void fold_function(const Program& p, Function& f, const std::vector<VarSet>& footprints, const CallEffects& calls) {
-  Folder folder{p, footprints};
+void fold_function(const Program& p, Function& f, const CallEffects& calls) {
+  Folder folder{p, calls.touches};
   Liveness live = compute_liveness(p, f, calls);
   std::size_t n = f.blocks.size();
   std::vector<State> in(n);
@@ -159,17 +164,15 @@ void fold_function(const Program& p, Function& f, const std::vector<VarSet>& foo
   std::vector<bool> queued(n, false);
   work.emplace(order[0], 0);
   queued[0] = true;
+  State s;  // reused: assigning keeps its capacity
   while (!work.empty()) {
     BlockId b = work.top().second;
     work.pop();
     queued[static_cast<std::size_t>(b)] = false;
-    State s = in[static_cast<std::size_t>(b)];
+    s = in[static_cast<std::size_t>(b)];
     for (const auto& instr : f.blocks[static_cast<std::size_t>(b)].instrs) folder.transfer(instr, s);
     for (BlockId succ : successors(f.blocks[static_cast<std::size_t>(b)].term)) {
-      State& target = in[static_cast<std::size_t>(succ)];
-      State m = meet(target, restricted(s, live.live_in[static_cast<std::size_t>(succ)]));
-      if (!(m == target)) {
-        target = std::move(m);
+      if (meet_into(in[static_cast<std::size_t>(succ)], s, live.live_in[static_cast<std::size_t>(succ)])) {
         if (!queued[static_cast<std::size_t>(succ)]) {
           queued[static_cast<std::size_t>(succ)] = true;
           work.emplace(order[static_cast<std::size_t>(succ)], succ);
@@ -179,14 +182,17 @@ void fold_function(const Program& p, Function& f, const std::vector<VarSet>& foo
   }
   for (std::size_t b = 0; b < n; ++b) {
     Block& block = f.blocks[b];
-    State s = in[b];
-    std::vector<Instr> kept;
-    for (auto& instr : block.instrs) {
+    s = in[b];
+    std::size_t kept = 0;
+    for (std::size_t k = 0; k < block.instrs.size(); ++k) {
+      Instr& instr = block.instrs[k];
       bool keep = folder.rewrite(instr, s);
       folder.transfer(instr, s);
-      if (keep) kept.push_back(std::move(instr));
+      if (!keep) continue;
+      if (kept != k) block.instrs[kept] = std::move(instr);  // never onto itself: that empties it
+      ++kept;
     }
-    block.instrs = std::move(kept);
+    block.instrs.erase(block.instrs.begin() + static_cast<long>(kept), block.instrs.end());
     if (auto* br = std::get_if<Branch>(&block.term)) {
       auto a = folder.known(s, br->a), c = folder.known(s, br->b);
       if (a) br->a = Operand::imm(*a);
@@ -199,10 +205,9 @@ void fold_function(const Program& p, Function& f, const std::vector<VarSet>& foo
 }  // namespace
 
 void fold_constants(Program& p) {
-  auto footprints = function_footprints(p);
   CallEffects calls = call_effects(p);
   for (auto& f : p.functions)
-    if (!f.blocks.empty()) fold_function(p, f, footprints, calls);
+    if (!f.blocks.empty()) fold_function(p, f, calls);
 }
 
 }  // namespace rcxc::ir

@@ -79,36 +79,43 @@ BlockId add_block(Function& f) {
   return static_cast<BlockId>(f.blocks.size() - 1);
 }
 
-std::vector<BlockId> successors(const Terminator& t) {
-  if (const auto* j = std::get_if<Jump>(&t)) return {j->target};
-  if (const auto* b = std::get_if<Branch>(&t)) return {b->then, b->otherwise};
-  if (const auto* l = std::get_if<LoopTest>(&t)) return {l->body, l->exit};
-  if (const auto* c = std::get_if<CoinToss>(&t)) return {c->zero, c->one};
-  return {};
+Successors successors(const Terminator& t) {
+  Successors s;
+  auto add = [&](BlockId a, BlockId b) {
+    s.push_back(a);
+    s.push_back(b);
+  };
+  if (const auto* j = std::get_if<Jump>(&t)) s.push_back(j->target);
+  if (const auto* b = std::get_if<Branch>(&t)) add(b->then, b->otherwise);
+  if (const auto* l = std::get_if<LoopTest>(&t)) add(l->body, l->exit);
+  if (const auto* c = std::get_if<CoinToss>(&t)) add(c->zero, c->one);
+  return s;
 }
 
 std::vector<int> reverse_postorder_index(const Function& f) {
   std::size_t n = f.blocks.size();
   std::vector<int> index(n, -1);
   if (n == 0) return index;
-  // Iterative depth-first search: (block, successors not yet visited).
+  // Iterative depth-first search: (block, how many of its successors
+  // have been visited).
   std::vector<bool> seen(n, false);
-  std::vector<std::pair<BlockId, std::vector<BlockId>>> stack;
+  std::vector<std::pair<BlockId, std::size_t>> stack;
   std::vector<BlockId> postorder;
+  postorder.reserve(n);
   seen[0] = true;
-  stack.emplace_back(0, successors(f.blocks[0].term));
+  stack.emplace_back(0, 0);
   while (!stack.empty()) {
-    auto& [b, left] = stack.back();
-    if (left.empty()) {
+    auto& [b, visited] = stack.back();
+    Successors left = successors(f.blocks[static_cast<std::size_t>(b)].term);
+    if (visited == left.size()) {
       postorder.push_back(b);
       stack.pop_back();
       continue;
     }
-    BlockId next = left.front();
-    left.erase(left.begin());
+    BlockId next = left[visited++];
     if (seen[static_cast<std::size_t>(next)]) continue;
     seen[static_cast<std::size_t>(next)] = true;
-    stack.emplace_back(next, successors(f.blocks[static_cast<std::size_t>(next)].term));
+    stack.emplace_back(next, 0);
   }
   for (std::size_t i = 0; i < postorder.size(); ++i)
     index[static_cast<std::size_t>(postorder[i])] = static_cast<int>(postorder.size() - 1 - i);
@@ -145,6 +152,10 @@ void append_repeats(Function& to, const std::vector<Repeat>& from, BlockId base)
     r.head += base;
     to.repeats.push_back(r);
   }
+}
+
+void map_targets(Terminator& t, const std::vector<BlockId>& map) {
+  each_target(t, [&](BlockId& b) { b = map[static_cast<std::size_t>(b)]; });
 }
 
 void retarget(Terminator& t, BlockId from, BlockId to) {
@@ -240,8 +251,8 @@ void remove_blocks(Function& f, const std::vector<bool>& keep) {
   renumber(f, map);
 }
 
-std::vector<const rcx::Operand*> operand_slots(rcx::Op op) {
-  std::vector<const rcx::Operand*> slots;
+OperandSlots operand_slots(rcx::Op op) {
+  OperandSlots slots;
   for (const auto& operand : rcx::info(op).operands)
     if (operand.role != rcx::Role::Argument && operand.role != rcx::Role::Offset &&
         operand.role != rcx::Role::Extension)
@@ -323,8 +334,8 @@ VarUse uses_of(const Instr& in) {
   return u;
 }
 
-std::vector<VarId> reads_of(const Terminator& t) {
-  std::vector<VarId> r;
+InlineList<VarId, 2> reads_of(const Terminator& t) {
+  InlineList<VarId, 2> r;
   if (const auto* b = std::get_if<Branch>(&t)) {
     if (b->a.is_var()) r.push_back(b->a.value);
     if (b->b.is_var()) r.push_back(b->b.value);

@@ -10,9 +10,12 @@
 // backend can choose near or far branch forms at the end.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
+#include <initializer_list>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <variant>
 #include <vector>
@@ -49,13 +52,65 @@ struct Operand {
   friend bool operator==(const Operand&, const Operand&) = default;
 };
 
+// An instruction's operands: up to three kept inside the instruction (every
+// opcode the compiler emits but a few has at most three), more (raw asm
+// bytes) on the heap. A program's instructions then sit in their blocks'
+// arrays with their operands: the passes, which walk every instruction of
+// the program many times, read memory in order, and copying or making an
+// instruction allocates nothing.
+class Operands {
+ public:
+  Operands() = default;
+  Operands(std::initializer_list<Operand> list) {
+    for (const Operand& o : list) push_back(o);
+  }
+  Operands(const std::vector<Operand>& list) {  // NOLINT: as a vector converts
+    for (const Operand& o : list) push_back(o);
+  }
+
+  void push_back(const Operand& o) {
+    if (size_ < kInline) {
+      inline_[size_] = o;
+    } else {
+      if (size_ == kInline) spill_.assign(inline_.begin(), inline_.end());
+      spill_.push_back(o);
+    }
+    ++size_;
+  }
+  std::size_t size() const { return size_; }
+  bool empty() const { return size_ == 0; }
+  Operand* begin() { return size_ <= kInline ? inline_.data() : spill_.data(); }
+  Operand* end() { return begin() + size_; }
+  const Operand* begin() const { return size_ <= kInline ? inline_.data() : spill_.data(); }
+  const Operand* end() const { return begin() + size_; }
+  Operand& operator[](std::size_t i) { return begin()[i]; }
+  const Operand& operator[](std::size_t i) const { return begin()[i]; }
+  const Operand& at(std::size_t i) const {
+    if (i >= size_) throw std::out_of_range("Operands::at");
+    return begin()[i];
+  }
+  Operand& at(std::size_t i) {
+    if (i >= size_) throw std::out_of_range("Operands::at");
+    return begin()[i];
+  }
+  friend bool operator==(const Operands& a, const Operands& b) {
+    return std::equal(a.begin(), a.end(), b.begin(), b.end());
+  }
+
+ private:
+  static constexpr std::size_t kInline = 3;
+  std::array<Operand, kInline> inline_{};
+  std::vector<Operand> spill_;  // all of them once there are more than kInline
+  std::uint32_t size_ = 0;
+};
+
 // One instruction: an opcode of the table and one Operand per operand of
 // the table's layout, where a Source+Argument pair is ONE operand (the
 // pair's Argument entry takes no Operand of its own). A raw instruction
 // (asm byte lists) holds bytes as Imm operands and variable slots as Var.
 struct Instr {
   rcx::Op op = rcx::Op::SetVariable;
-  std::vector<Operand> args;
+  Operands args;
   bool raw = false;
   SourceSpan span{};
 };
@@ -146,9 +201,31 @@ struct Program {
   FuncId find_function(const std::string& name) const;  // -1 if absent
 };
 
+// Up to N values kept inline: the few ids a terminator or an opcode has
+// (a block's successors, the variables a branch reads), which the passes ask
+// for per block and per instruction, so they allocate nothing.
+template <class T, std::size_t N>
+class InlineList {
+ public:
+  void push_back(T v) {
+    if (size_ == N) throw std::length_error("InlineList: more than its capacity");
+    items_[size_++] = v;
+  }
+  const T* begin() const { return items_.data(); }
+  const T* end() const { return items_.data() + size_; }
+  std::size_t size() const { return size_; }
+  bool empty() const { return size_ == 0; }
+  const T& operator[](std::size_t i) const { return items_[i]; }
+
+ private:
+  std::array<T, N> items_{};
+  std::size_t size_ = 0;
+};
+
 // Reading and writing a function's blocks.
 BlockId add_block(Function& f);
-std::vector<BlockId> successors(const Terminator& t);
+using Successors = InlineList<BlockId, 2>;
+Successors successors(const Terminator& t);
 // For each block its index in reverse postorder from the entry (every
 // block before its successors, loops aside); -1 for blocks no path reaches.
 // Forward data-flow visiting blocks in this order meets each join once
@@ -161,11 +238,16 @@ void offset_targets(Terminator& t, BlockId delta);
 void append_repeats(Function& to, const std::vector<Repeat>& from, BlockId base);
 // Rewrites every reference to block `from` in `t` to `to`.
 void retarget(Terminator& t, BlockId from, BlockId to);
+// Rewrites every block `t` refers to through `map` (old id -> new id).
+void map_targets(Terminator& t, const std::vector<BlockId>& map);
 
 // The operands of an opcode as the IR sees them: the table's operands
 // minus the Argument half of each Source/Argument pair and minus branch
 // offsets, which the backend fills in.
-std::vector<const rcx::Operand*> operand_slots(rcx::Op op);
+// At most kMaxOperandSlots (a unit test checks every opcode of the table).
+inline constexpr std::size_t kMaxOperandSlots = 8;
+using OperandSlots = InlineList<const rcx::Operand*, kMaxOperandSlots>;
+OperandSlots operand_slots(rcx::Op op);
 // Whether `o` can be operand `slot` of `op` as is: its source is allowed
 // there and an immediate fits the argument field. When not, the value must
 // go through a temporary variable first.
@@ -261,7 +343,7 @@ struct VarUse {
   VarList writes;  // a write that fully replaces the old value
 };
 VarUse uses_of(const Instr& in);
-std::vector<VarId> reads_of(const Terminator& t);
+InlineList<VarId, 2> reads_of(const Terminator& t);
 
 // Human-readable dump (tests and -v).
 std::string to_string(const Program& p);

@@ -6,6 +6,8 @@
 
 namespace rcxc::ir {
 
+bool VarSpan::has(VarId v) const { return std::binary_search(items.begin(), items.end(), v); }
+
 bool VarSet::has(VarId v) const { return std::binary_search(items.begin(), items.end(), v); }
 
 void VarSet::add(VarId v) {
@@ -18,12 +20,12 @@ void VarSet::remove(VarId v) {
   if (it != items.end() && *it == v) items.erase(it);
 }
 
-bool VarSet::merge(const VarSet& o) {
+bool VarSet::merge(VarSpan o) {
   // The data-flow passes merge mostly what is already there (every round
   // after the first): those merges allocate nothing.
   if (o.items.empty() || std::includes(items.begin(), items.end(), o.items.begin(), o.items.end())) return false;
   if (items.empty()) {
-    items = o.items;
+    items.assign(o.items.begin(), o.items.end());
     return true;
   }
   std::vector<VarId> out;
@@ -34,33 +36,62 @@ bool VarSet::merge(const VarSet& o) {
   return changed;
 }
 
+// A counting sort of the entries by block: stable, so each block's
+// variables stay in the increasing order they were listed in.
+BlockVarSets::BlockVarSets(std::size_t blocks, const std::vector<std::pair<std::uint32_t, VarId>>& entries)
+    : start_(blocks + 1, 0), vars_(entries.size()) {
+  for (const auto& e : entries) ++start_[e.first + 1];
+  for (std::size_t b = 0; b < blocks; ++b) start_[b + 1] += start_[b];
+  std::vector<std::uint32_t> next(start_.begin(), start_.end() - 1);
+  for (const auto& e : entries) vars_[next[e.first]++] = e.second;
+}
+
 FuncId callee_of(const Instr& in) {
   if (in.raw || in.op != rcx::Op::CallSubroutine || in.args.empty()) return -1;
   return in.args[0].kind == Operand::Kind::Func ? in.args[0].value : -1;
 }
 
-std::vector<VarSet> function_footprints(const Program& p) {
-  std::vector<VarSet> own(p.functions.size(), VarSet(p.vars.size()));
-  for (std::size_t f = 0; f < p.functions.size(); ++f)
+namespace {
+
+// The footprints of every function, or of the subroutines only (a call
+// enters a subroutine, and subroutines call only subroutines, so what a
+// call does never needs a task's footprint: the passes that only want
+// call effects skip walking the tasks, most of a program).
+std::vector<VarSet> footprints(const Program& p, bool subs_only) {
+  const std::size_t n = p.functions.size();
+  std::vector<VarSet> own(n);
+  std::vector<std::vector<FuncId>> callees(n);
+  for (std::size_t f = 0; f < n; ++f) {
+    if (subs_only && p.functions[f].kind != FuncKind::Sub) continue;
+    // Gathered, then sorted once: inserting each in order cost a search
+    // per operand.
+    std::vector<VarId>& vars = own[f].items;
     for (const auto& b : p.functions[f].blocks) {
-      for (const auto& in : b.instrs)
+      for (const auto& in : b.instrs) {
         for (const auto& a : in.args)
-          if (a.is_var()) own[f].add(a.value);
-      for (VarId v : reads_of(b.term)) own[f].add(v);
+          if (a.is_var()) vars.push_back(a.value);
+        FuncId g = callee_of(in);
+        if (g >= 0 && static_cast<std::size_t>(g) != f) callees[f].push_back(g);
+      }
+      for (VarId v : reads_of(b.term)) vars.push_back(v);
     }
+    std::sort(vars.begin(), vars.end());
+    vars.erase(std::unique(vars.begin(), vars.end()), vars.end());
+    std::sort(callees[f].begin(), callees[f].end());
+    callees[f].erase(std::unique(callees[f].begin(), callees[f].end()), callees[f].end());
+  }
   // Follow calls until nothing changes (recursion, if any, terminates too).
-  bool changed = true;
-  while (changed) {
+  for (bool changed = true; changed;) {
     changed = false;
-    for (std::size_t f = 0; f < p.functions.size(); ++f)
-      for (const auto& b : p.functions[f].blocks)
-        for (const auto& in : b.instrs) {
-          FuncId g = callee_of(in);
-          if (g >= 0 && static_cast<std::size_t>(g) != f) changed |= own[f].merge(own[static_cast<std::size_t>(g)]);
-        }
+    for (std::size_t f = 0; f < n; ++f)
+      for (FuncId g : callees[f]) changed |= own[f].merge(own[static_cast<std::size_t>(g)]);
   }
   return own;
 }
+
+}  // namespace
+
+std::vector<VarSet> function_footprints(const Program& p) { return footprints(p, false); }
 
 namespace {
 bool tracked(const Program& p, VarId v) { return p.vars[static_cast<std::size_t>(v)].kind != VarKind::Global; }
@@ -96,6 +127,32 @@ struct GenKill {
   void add(VarId v) { gen.add(v); }
 };
 
+// The predecessors of every block, in one array: block b's are
+// from[start[b], start[b + 1]).
+struct Predecessors {
+  std::vector<std::uint32_t> start;
+  std::vector<std::uint32_t> from;
+};
+
+// Each exit also counts as an edge to the entry (see compute_liveness).
+Predecessors predecessors_of(const Function& f) {
+  const std::size_t n = f.blocks.size();
+  Predecessors p{std::vector<std::uint32_t>(n + 1, 0), {}};
+  auto each_edge = [&](auto&& edge) {
+    for (std::size_t i = 0; i < n; ++i) {
+      const Terminator& t = f.blocks[i].term;
+      for (BlockId s : successors(t)) edge(static_cast<std::size_t>(s), i);
+      if (std::holds_alternative<Exit>(t)) edge(0, i);
+    }
+  };
+  each_edge([&](std::size_t to, std::size_t) { ++p.start[to + 1]; });
+  for (std::size_t b = 0; b < n; ++b) p.start[b + 1] += p.start[b];
+  p.from.resize(p.start[n]);
+  std::vector<std::uint32_t> next(p.start.begin(), p.start.end() - 1);
+  each_edge([&](std::size_t to, std::size_t from) { p.from[next[to]++] = static_cast<std::uint32_t>(from); });
+  return p;
+}
+
 }  // namespace
 
 void step_back(const Program& p, const Instr& in, const CallEffects& calls, VarSet& live) {
@@ -110,60 +167,70 @@ void step_back(const Program& p, const Instr& in, const CallEffects& calls, VarS
 // 1000 nested loops took minutes.
 Liveness compute_liveness(const Program& p, const Function& f, const CallEffects& calls) {
   const std::size_t n = f.blocks.size();
-  Liveness L{std::vector<VarSet>(n), std::vector<VarSet>(n)};
+  Liveness L;
   if (n == 0) return L;
-  std::vector<GenKill> effect(n);
-  std::vector<std::vector<std::size_t>> preds(n);
-  std::vector<std::pair<VarId, std::size_t>> first_reads;  // (variable, block)
+  // Each block's summary: what it reads first, as (variable, block) keys
+  // to sort by variable, and what it overwrites, one sorted run per block.
+  std::vector<std::uint64_t> first_reads;
+  std::vector<std::uint32_t> kill_start(n + 1, 0);
+  std::vector<VarId> kills;
+  GenKill e;
   for (std::size_t i = 0; i < n; ++i) {
     const Block& b = f.blocks[i];
-    GenKill& e = effect[i];
+    e.gen.items.clear();
+    e.kill.items.clear();
     for (VarId v : reads_of(b.term))
       if (tracked(p, v)) e.add(v);
     for (std::size_t k = b.instrs.size(); k-- > 0;) step_back_through(p, b.instrs[k], calls, e);
-    for (VarId v : e.gen.members()) first_reads.emplace_back(v, i);
-    for (BlockId s : successors(b.term)) preds[static_cast<std::size_t>(s)].push_back(i);
-    // What the code reads before writing it is read again when the code
-    // next runs (the next call of a subroutine, a task started again), so
-    // its last value stays live past the exit: an edge from each exit to
-    // the entry.
-    if (std::holds_alternative<Exit>(b.term)) preds[0].push_back(i);
+    for (VarId v : e.gen.members()) first_reads.push_back(static_cast<std::uint64_t>(v) << 32 | i);
+    kills.insert(kills.end(), e.kill.items.begin(), e.kill.items.end());
+    kill_start[i + 1] = static_cast<std::uint32_t>(kills.size());
   }
-  // In order of variable, so each block's sets are built already sorted.
+  auto kills_in = [&](std::size_t b, VarId v) {
+    return std::binary_search(kills.begin() + kill_start[b], kills.begin() + kill_start[b + 1], v);
+  };
+  // What the code reads before writing it is read again when the code
+  // next runs (the next call of a subroutine, a task started again), so
+  // its last value stays live past the exit: an edge from each exit to
+  // the entry.
+  Predecessors preds = predecessors_of(f);
+  // In order of variable, so each block's sets are listed already sorted.
   std::sort(first_reads.begin(), first_reads.end());
+  std::vector<std::pair<std::uint32_t, VarId>> ins, outs;  // (block, variable)
   std::vector<VarId> in_stamp(n, -1), out_stamp(n, -1);
-  std::vector<std::size_t> work;
+  std::vector<std::uint32_t> work;
   for (std::size_t r = 0; r < first_reads.size();) {
-    const VarId v = first_reads[r].first;
-    for (; r < first_reads.size() && first_reads[r].first == v; ++r) {
-      std::size_t b = first_reads[r].second;
+    const auto v = static_cast<VarId>(first_reads[r] >> 32);
+    for (; r < first_reads.size() && static_cast<VarId>(first_reads[r] >> 32) == v; ++r) {
+      auto b = static_cast<std::uint32_t>(first_reads[r]);
       in_stamp[b] = v;
-      L.live_in[b].items.push_back(v);
+      ins.emplace_back(b, v);
       work.push_back(b);
     }
     while (!work.empty()) {
-      std::size_t b = work.back();
+      std::uint32_t b = work.back();
       work.pop_back();
-      for (std::size_t q : preds[b]) {
+      for (std::uint32_t k = preds.start[b]; k < preds.start[b + 1]; ++k) {
+        std::uint32_t q = preds.from[k];
         if (out_stamp[q] != v) {
           out_stamp[q] = v;
-          L.live_out[q].items.push_back(v);
+          outs.emplace_back(q, v);
         }
-        if (in_stamp[q] == v || effect[q].kill.has(v)) continue;
+        if (in_stamp[q] == v || kills_in(q, v)) continue;
         in_stamp[q] = v;
-        L.live_in[q].items.push_back(v);
+        ins.emplace_back(q, v);
         work.push_back(q);
       }
     }
   }
+  L.live_in = BlockVarSets(n, ins);
+  L.live_out = BlockVarSets(n, outs);
   return L;
 }
 
-
-
 CallEffects call_effects(const Program& p) {
   CallEffects calls;
-  calls.touches = function_footprints(p);
+  calls.touches = footprints(p, true);
   for (auto& t : calls.touches) {
     VarSet own;
     for (VarId v : t.members())

@@ -7,11 +7,21 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "ir/ir.h"
 
 namespace rcxc::ir {
+
+// A sorted run of VarIds that lives in a larger array (one block's set in
+// a Liveness, a VarSet's members).
+struct VarSpan {
+  std::span<const VarId> items;
+
+  bool has(VarId v) const;
+  std::span<const VarId> members() const { return items; }
+};
 
 // A set of VarIds, kept as a sorted vector: the sets the passes handle
 // (variables live at one point, a function's footprint) are small, so this
@@ -20,13 +30,34 @@ struct VarSet {
   std::vector<VarId> items;
 
   explicit VarSet(std::size_t = 0) {}
+  VarSet(VarSpan s) : items(s.items.begin(), s.items.end()) {}  // NOLINT: a copy of the span's members
+  operator VarSpan() const { return {items}; }                   // NOLINT
   bool has(VarId v) const;
   void add(VarId v);
   void remove(VarId v);
   // Adds `o`; returns whether anything changed.
-  bool merge(const VarSet& o);
+  bool merge(VarSpan o);
   const std::vector<VarId>& members() const { return items; }
   friend bool operator==(const VarSet&, const VarSet&) = default;
+};
+
+// One sorted set of VarIds per block of a function, all in one array (the
+// passes ask for them for every block of long functions: one allocation,
+// not one per block and set).
+class BlockVarSets {
+ public:
+  BlockVarSets() = default;
+  // From (block, variable) entries listed in increasing variable order; the
+  // entries of each block are kept in that order, so each set is sorted.
+  BlockVarSets(std::size_t blocks, const std::vector<std::pair<std::uint32_t, VarId>>& entries);
+  VarSpan operator[](std::size_t b) const {
+    return {std::span<const VarId>(vars_).subspan(start_[b], start_[b + 1] - start_[b])};
+  }
+  std::size_t size() const { return start_.empty() ? 0 : start_.size() - 1; }
+
+ private:
+  std::vector<std::uint32_t> start_;  // block b's set is vars_[start_[b], start_[b + 1])
+  std::vector<VarId> vars_;
 };
 
 // Variables each function may read or write, including through the
@@ -34,8 +65,8 @@ struct VarSet {
 std::vector<VarSet> function_footprints(const Program& p);
 
 struct Liveness {
-  std::vector<VarSet> live_in;   // per block
-  std::vector<VarSet> live_out;  // per block
+  BlockVarSets live_in;   // per block
+  BlockVarSets live_out;  // per block
 };
 
 // What a call does to the variables, per callee. A subroutine shares no
@@ -44,7 +75,7 @@ struct Liveness {
 // the call only those it reads before writing (`reads`: a local a
 // subroutine keeps from one call to the next).
 struct CallEffects {
-  std::vector<VarSet> touches;
+  std::vector<VarSet> touches;  // a task's is empty: no call enters a task
   std::vector<VarSet> reads;
 };
 CallEffects call_effects(const Program& p);

@@ -45,15 +45,17 @@ bool optimize(Program& p, OptLevel level, Diagnostics& diags, Log& log, const Pa
   if (level != OptLevel::O0) {
     // Up to three rounds, each finding what the last one's removals
     // exposed; a round that changes nothing ends them.
+    std::uint64_t before = code_hash(p);
     for (int round = 0; round < 3; ++round) {
-      std::uint64_t before = code_hash(p);
       fold_constants(p);
       remove_dead_stores(p);
       for (auto& f : p.functions) {
         shorten_complements(f);
         simplify_cfg(f);
       }
-      if (code_hash(p) == before) break;
+      std::uint64_t after = code_hash(p);
+      if (after == before) break;
+      before = after;  // the next round starts from this code
     }
     for (auto& f : p.functions) merge_nested_repeats(f, log);
     // The flip adds a jump per pass (each half loops back on its own) and

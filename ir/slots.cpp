@@ -57,7 +57,7 @@ void add_liveness_edges(const Program& p, const Function& f, const CallEffects& 
       if (p.vars[static_cast<std::size_t>(v)].kind != VarKind::Global) live.add(v);
     for (std::size_t k = block.instrs.size(); k-- > 0;) {
       const Instr& in = block.instrs[k];
-      auto after = live.members();
+      const auto& after = live.members();
       for (VarId w : uses_of(in).writes)
         for (VarId l : after) g.add(w, l);
       if (FuncId callee = callee_of(in); callee >= 0)

@@ -39,12 +39,12 @@ void expect_equations_hold(const std::string& name, const std::string& text) {
       VarSet out;
       for (BlockId s : successors(block.term)) out.merge(L.live_in[static_cast<std::size_t>(s)]);
       if (std::holds_alternative<Exit>(block.term)) out.merge(L.live_in[0]);
-      EXPECT_EQ(out.members(), L.live_out[b].members()) << name << " " << f.name << " block " << b;
+      EXPECT_EQ(out, VarSet(L.live_out[b])) << name << " " << f.name << " block " << b;
       VarSet live = out;
       for (VarId v : reads_of(block.term))
         if (program->vars[static_cast<std::size_t>(v)].kind != VarKind::Global) live.add(v);
       for (std::size_t k = block.instrs.size(); k-- > 0;) step_back(*program, block.instrs[k], calls, live);
-      EXPECT_EQ(live.members(), L.live_in[b].members()) << name << " " << f.name << " block " << b;
+      EXPECT_EQ(live, VarSet(L.live_in[b])) << name << " " << f.name << " block " << b;
     }
   }
 }

@@ -939,3 +939,70 @@ TEST(Motors, AWindowEndsWhereAFieldWouldChangeAgain) {
   EXPECT_EQ(instrs[2].args[0], I(0x85));
   EXPECT_EQ(instrs[3].args[0], I(0x41));
 }
+
+namespace {
+
+// Flattening replaces all calls of a subroutine in one pass over it (a
+// block split at each of its calls): the result must be what replacing
+// them one at a time, first call first, gives, blocks, variables and
+// counter loops alike, with calls in a loop's setup block, before and
+// after other instructions, in the loop's body and at a block's end.
+TEST(Calls, InliningEveryCallAtOnceEqualsOneAtATime) {
+  auto build = [](Builder& b, FuncId& outer) {
+    VarId x = b.global("x");
+    VarId t = b.temp();
+    FuncId main = b.function("main");
+    outer = b.function("outer", FuncKind::Sub);
+    FuncId s = b.function("s", FuncKind::Sub);
+    b.block(main, {call(outer)});
+    b.block(outer, {sound(1), call(s), sound(2), call(s), loopset(I(3))}, Jump{1});
+    b.block(outer, {}, LoopTest{0, 2, 3});
+    b.block(outer, {call(s)}, Jump{1});
+    b.block(outer, {call(s), sound(3), call(s)});
+    b.fn(outer).repeats.push_back(Repeat{0, 1, false, true});
+    b.block(s, {set(t, V(x)), loopset(I(2))}, Jump{1});
+    b.block(s, {}, LoopTest{0, 2, 3});
+    b.block(s, {add(t, I(1))}, Jump{1});
+    b.block(s, {set(x, V(t))}, Branch{Cmp::GT, V(x), I(3), 4, 5});
+    b.block(s, {sound(4)});
+    b.block(s, {});
+    b.fn(s).repeats.push_back(Repeat{0, 1, false, true});
+  };
+  Builder one_by_one, at_once;
+  FuncId outer = -1;
+  build(one_by_one, outer);
+  build(at_once, outer);
+  for (bool found = true; found;) {
+    found = false;
+    const Function& f = one_by_one.fn(outer);
+    for (std::size_t blk = 0; blk < f.blocks.size() && !found; ++blk)
+      for (std::size_t i = 0; i < f.blocks[blk].instrs.size() && !found; ++i)
+        if (callee_of(f.blocks[blk].instrs[i]) >= 0) {
+          inline_call(one_by_one.p, outer, static_cast<BlockId>(blk), i);
+          found = true;
+        }
+  }
+  Diagnostics d;
+  Log log;
+  ASSERT_TRUE(resolve_calls(at_once.p, OptLevel::O0, d, log));
+  EXPECT_EQ(count_ops(at_once.fn(outer), rcx::Op::CallSubroutine), 0u);
+  EXPECT_EQ(to_string(at_once.p, at_once.fn(outer)), to_string(one_by_one.p, one_by_one.fn(outer)));
+  EXPECT_EQ(at_once.p.vars.size(), one_by_one.p.vars.size());
+  auto loops = [](const Function& f) {
+    std::vector<std::pair<BlockId, BlockId>> out;
+    for (const auto& r : f.repeats) out.emplace_back(r.setup, r.head);
+    return out;
+  };
+  EXPECT_EQ(loops(at_once.fn(outer)), loops(one_by_one.fn(outer)));
+  EXPECT_EQ(loops(at_once.fn(outer)).size(), 6u);  // its own and five copies'
+  // Each loop still names the block ending in its loopset and its test.
+  const Function& f = at_once.fn(outer);
+  for (const auto& [setup, head] : loops(f)) {
+    const Block& s = f.blocks[static_cast<std::size_t>(setup)];
+    ASSERT_FALSE(s.instrs.empty()) << "setup " << setup;
+    EXPECT_EQ(s.instrs.back().op, rcx::Op::SetLoopCounter) << "setup " << setup;
+    EXPECT_TRUE(std::holds_alternative<LoopTest>(f.blocks[static_cast<std::size_t>(head)].term)) << "head " << head;
+  }
+}
+
+}  // namespace
