@@ -54,6 +54,15 @@ void drop_redundant_sensor_modes(Function& f);
 // into t) becomes `set t, -1; sub t, x`: one instruction and 5 bytes less.
 void shorten_complements(Function& f);
 
+// coalesce.cpp: computes into the assigned variable instead of into a
+// temporary copied there at the end, where the temporary is read nowhere
+// after: `t op= V; V = t` (op one of + * & |) becomes `V op= t`, `t -= V;
+// t *= -1; V = t` (V - t, the end of a `%`) becomes `V -= t`, `t -= X;
+// t *= -1; V = t` becomes `V = X; V -= t`, `t = X; t -= V; V = t` becomes
+// `V -= X; V *= -1`, and `t = X; V op= t` becomes `V op= X`. Each is fewer
+// instructions on the same path.
+void compute_into_targets(Program& p);
+
 // tailstart.cpp: a task that main starts as the last thing it does before
 // ending (`start a; start b;` at main's end: either), that nothing else
 // starts and nothing stops, runs in main instead: main jumps into its code,

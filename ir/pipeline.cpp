@@ -49,6 +49,7 @@ bool optimize(Program& p, OptLevel level, Diagnostics& diags, Log& log, const Pa
       std::uint64_t before = code_hash(p);
       fold_constants(p);
       remove_dead_stores(p);
+      if (shrinks_without_slowing(level)) compute_into_targets(p);
       for (auto& f : p.functions) {
         shorten_complements(f);
         simplify_cfg(f);

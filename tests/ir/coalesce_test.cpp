@@ -1,0 +1,107 @@
+// ir/coalesce.cpp: computing into the assigned variable instead of into a
+// temporary copied there, on hand-built IR.
+#include <gtest/gtest.h>
+
+#include "ir/passes.h"
+#include "tests/ir/ir_builder.h"
+
+using namespace rcxc;
+using namespace rcxc::ir;
+using namespace rcxc::ir::test;
+
+namespace {
+
+using rcx::Op;
+
+Instr sub(VarId v, Operand x) { return op(Op::SubtractFromVariable, {V(v), x}); }
+Instr mul(VarId v, Operand x) { return op(Op::MultiplyVariable, {V(v), x}); }
+Instr div(VarId v, Operand x) { return op(Op::DivideVariable, {V(v), x}); }
+
+}  // namespace
+
+TEST(Coalesce, ACommutingOperationOnTheTargetIsDoneInPlace) {
+  // b = a * b lowered as t = a; t *= b; b = t.
+  Builder b;
+  VarId a = b.global("a"), g = b.global("b");
+  FuncId f = b.function("main");
+  VarId t = b.temp();
+  b.block(f, {set(t, V(a)), mul(t, V(g)), set(g, V(t))});
+  compute_into_targets(b.p);
+  ASSERT_EQ(b.at(f, 0).instrs.size(), 1u);
+  EXPECT_EQ(b.at(f, 0).instrs[0].op, Op::MultiplyVariable);
+  EXPECT_EQ(b.at(f, 0).instrs[0].args[0], V(g));
+  EXPECT_EQ(b.at(f, 0).instrs[0].args[1], V(a));
+}
+
+TEST(Coalesce, TheEndOfARemainderOfTheTargetIsOneSubtraction) {
+  // g = g % 4: t = g; t /= 4; t *= 4; t -= g; t *= -1; g = t.
+  Builder b;
+  VarId g = b.global("g");
+  FuncId f = b.function("main");
+  VarId t = b.temp();
+  b.block(f, {set(t, V(g)), div(t, I(4)), mul(t, I(4)), sub(t, V(g)), mul(t, I(-1)), set(g, V(t))});
+  compute_into_targets(b.p);
+  const auto& code = b.at(f, 0).instrs;
+  ASSERT_EQ(code.size(), 4u);
+  EXPECT_EQ(code[3].op, Op::SubtractFromVariable);
+  EXPECT_EQ(code[3].args[0], V(g));
+  EXPECT_EQ(code[3].args[1], V(t));
+}
+
+TEST(Coalesce, AReverseSubtractionIntoAnotherVariableStartsFromItsLeftSide) {
+  // h = x - t as t -= x; t *= -1; h = t  ->  h = x; h -= t.
+  Builder b;
+  VarId x = b.global("x"), h = b.global("h");
+  FuncId f = b.function("main");
+  VarId t = b.temp();
+  b.block(f, {set(t, I(9)), div(t, V(x)), sub(t, V(x)), mul(t, I(-1)), set(h, V(t))});
+  compute_into_targets(b.p);
+  const auto& code = b.at(f, 0).instrs;
+  ASSERT_EQ(code.size(), 4u);
+  EXPECT_EQ(code[2].op, Op::SetVariable);
+  EXPECT_EQ(code[2].args[0], V(h));
+  EXPECT_EQ(code[2].args[1], V(x));
+  EXPECT_EQ(code[3].op, Op::SubtractFromVariable);
+}
+
+TEST(Coalesce, ASubtractionFromAValueNegatesTheTarget) {
+  // z = y - z: t = y; t -= z; z = t  ->  z -= y; z *= -1.
+  Builder b;
+  VarId y = b.global("y"), z = b.global("z");
+  FuncId f = b.function("main");
+  VarId t = b.temp();
+  b.block(f, {set(t, V(y)), sub(t, V(z)), set(z, V(t))});
+  compute_into_targets(b.p);
+  const auto& code = b.at(f, 0).instrs;
+  ASSERT_EQ(code.size(), 2u);
+  EXPECT_EQ(code[0].op, Op::SubtractFromVariable);
+  EXPECT_EQ(code[0].args[0], V(z));
+  EXPECT_EQ(code[0].args[1], V(y));
+  EXPECT_EQ(code[1].op, Op::MultiplyVariable);
+  EXPECT_EQ(code[1].args[1], I(-1));
+}
+
+TEST(Coalesce, ATemporaryStillReadIsKept) {
+  // t is read after the copy (here by the branch, and in another block):
+  // nothing may change.
+  Builder b;
+  VarId a = b.global("a"), g = b.global("b");
+  FuncId f = b.function("main");
+  VarId t = b.temp(), u = b.temp();
+  b.block(f, {set(t, V(a)), mul(t, V(g)), set(g, V(t))}, Branch{Cmp::EQ, V(t), I(0), 1, 2});
+  b.block(f, {set(u, V(a)), add(u, V(g)), set(g, V(u))}, Jump{2});
+  b.block(f, {set(a, V(u))});
+  compute_into_targets(b.p);
+  EXPECT_EQ(b.at(f, 0).instrs.size(), 3u);
+  EXPECT_EQ(b.at(f, 1).instrs.size(), 3u);
+}
+
+TEST(Coalesce, AGlobalIsNeverTheTemporary) {
+  // Another task may read g: its value is no temporary.
+  Builder b;
+  VarId a = b.global("a"), g = b.global("g"), h = b.global("h");
+  FuncId f = b.function("main");
+  b.block(f, {set(g, V(a)), mul(g, V(h)), set(h, V(g))});
+  compute_into_targets(b.p);
+  EXPECT_EQ(b.at(f, 0).instrs.size(), 3u);
+}
