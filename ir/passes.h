@@ -63,6 +63,17 @@ void shorten_complements(Function& f);
 // instructions on the same path.
 void compute_into_targets(Program& p);
 
+// waits.cpp: consecutive constant waits in a block become one wait of
+// their sum (Wait(20); Wait(30); is Wait(50)): one instruction less, the
+// second wait no longer 2 ms late.
+void merge_consecutive_waits(Function& f);
+
+// negtest.cpp: a test for equality (== or != a constant) of a temporary or
+// local negated just before it (`t *= -1`, the end of `x % n`), with the
+// value read nowhere after, tests the value before the negation against
+// the negated constant: `x % 3 != 0` needs no negation.
+void test_before_negating(Program& p);
+
 // tailstart.cpp: a task that main starts as the last thing it does before
 // ending (`start a; start b;` at main's end: either), that nothing else
 // starts and nothing stops, runs in main instead: main jumps into its code,

@@ -49,7 +49,10 @@ bool optimize(Program& p, OptLevel level, Diagnostics& diags, Log& log, const Pa
       std::uint64_t before = code_hash(p);
       fold_constants(p);
       remove_dead_stores(p);
-      if (shrinks_without_slowing(level)) compute_into_targets(p);
+      if (shrinks_without_slowing(level)) {
+        compute_into_targets(p);
+        test_before_negating(p);
+      }
       for (auto& f : p.functions) {
         shorten_complements(f);
         simplify_cfg(f);
@@ -67,6 +70,8 @@ bool optimize(Program& p, OptLevel level, Diagnostics& diags, Log& log, const Pa
         if (trades_time_for_size(level)) speculate_assignments(f, p.vars);
       }
       remove_redundant_motor_commands(p);
+      // Removed motor commands can leave waits next to each other.
+      for (auto& f : p.functions) merge_consecutive_waits(f);
     }
   }
   // Needed at every level: a counter loop left by a jump must not keep its

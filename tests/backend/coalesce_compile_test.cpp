@@ -63,3 +63,50 @@ task main() {
 
 }  // namespace
 }  // namespace rcxc
+
+namespace rcxc {
+namespace {
+
+// `n % 3 != 0` tests the remainder before its negation, for every n
+// around the 16-bit edges (the remainder of -32768 % 3 included), and
+// consecutive waits are one wait: the count of loop passes and the time
+// they take are what -O1's code gives.
+TEST(NegatedTest, RemaindersTestedWithoutNegationCountTheSame) {
+  const char* text = R"(
+int n, hits, misses;
+task main() {
+  n = -32768; hits = 0; misses = 0;
+  repeat (40) {
+    if (n % 3 != 0) misses += 1; else hits += 1;
+    n += 1;
+  }
+  n = 32767;
+  do { n -= 1; hits += 100; } while (n % 7 != 0);
+  Wait(3); Wait(4);
+  misses += 1000;
+}
+)";
+  for (auto level : {ir::OptLevel::O1, ir::OptLevel::O2, ir::OptLevel::Os}) {
+    auto c = test::compile_program(text, level);
+    ASSERT_TRUE(c.out);
+    auto m = test::run_image(c.out->image, 2000);
+    // -32768 .. -32729: multiples of 3 are -32766, -32763, ..., -32730 (13).
+    // 32766 .. 32760 counted down to 32760 = 7 * 4680: 7 passes.
+    EXPECT_EQ(test::global_value(m, c.out->image, "hits"), 13 + 700);
+    EXPECT_EQ(test::global_value(m, c.out->image, "misses"), 27 + 1000);
+    if (level != ir::OptLevel::O1) {
+      int negations = 0, waits = 0;
+      for (const auto& frag : c.out->fragments)
+        for (const auto& in : frag.instrs) {
+          negations += in.bytes.size() == 5 && in.bytes[0] == rcx::info(rcx::Op::MultiplyVariable).code &&
+                       in.bytes[3] == 0xff && in.bytes[4] == 0xff;
+          waits += in.bytes[0] == rcx::info(rcx::Op::Wait).code;
+        }
+      EXPECT_EQ(negations, 0);
+      EXPECT_EQ(waits, 1);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace rcxc

@@ -105,3 +105,60 @@ TEST(Coalesce, AGlobalIsNeverTheTemporary) {
   compute_into_targets(b.p);
   EXPECT_EQ(b.at(f, 0).instrs.size(), 3u);
 }
+
+TEST(Waits, ConsecutiveConstantWaitsBecomeOne) {
+  // Wait(6); Wait(100); then a wait of a variable, which stays apart.
+  Builder b;
+  VarId g = b.global("g");
+  FuncId f = b.function("main");
+  b.block(f, {wait(I(6)), wait(I(100)), sound(1), wait(I(2)), wait(I(2)), wait(V(g))});
+  merge_consecutive_waits(b.fn(f));
+  const auto& code = b.at(f, 0).instrs;
+  ASSERT_EQ(code.size(), 4u);
+  EXPECT_EQ(code[0].args[0], I(106));
+  EXPECT_EQ(code[2].args[0], I(4));
+  EXPECT_EQ(code[3].args[0], V(g));
+}
+
+TEST(Waits, WaitsInTwoBlocksStayApart) {
+  // The second wait is a branch target: a path reaches it without the first.
+  Builder b;
+  VarId g = b.global("g");
+  FuncId f = b.function("main");
+  b.block(f, {wait(I(5))}, Branch{Cmp::EQ, V(g), I(0), 1, 1});
+  b.block(f, {wait(I(7))});
+  merge_consecutive_waits(b.fn(f));
+  EXPECT_EQ(b.at(f, 0).instrs.size(), 1u);
+  EXPECT_EQ(b.at(f, 1).instrs.size(), 1u);
+}
+
+TEST(NegatedTest, AnEqualityTestNeedsNoNegation) {
+  // t = -t; if (t != 3) ...  ->  if (t != -3) ...
+  Builder b;
+  VarId g = b.global("g");
+  FuncId f = b.function("main");
+  VarId t = b.temp();
+  b.block(f, {set(t, V(g)), mul(t, I(-1))}, Branch{Cmp::NE, V(t), I(3), 1, 2});
+  b.block(f, {sound(1)});
+  b.block(f, {sound(2)});
+  test_before_negating(b.p);
+  ASSERT_EQ(b.at(f, 0).instrs.size(), 1u);
+  const auto& br = std::get<Branch>(b.at(f, 0).term);
+  EXPECT_EQ(br.a, V(t));
+  EXPECT_EQ(br.b, I(-3));
+}
+
+TEST(NegatedTest, OrderedTestsAndValuesReadLaterKeepTheNegation) {
+  // -(-32768) < 0 holds where -32768 > 0 does not: an ordered test keeps
+  // its negation; so does a value read after the test.
+  Builder b;
+  VarId g = b.global("g");
+  FuncId f = b.function("main");
+  VarId t = b.temp(), u = b.temp();
+  b.block(f, {set(t, V(g)), mul(t, I(-1))}, Branch{Cmp::LT, V(t), I(0), 1, 1});
+  b.block(f, {set(u, V(g)), mul(u, I(-1))}, Branch{Cmp::EQ, I(0), V(u), 2, 2});
+  b.block(f, {set(g, V(u))});
+  test_before_negating(b.p);
+  EXPECT_EQ(b.at(f, 0).instrs.size(), 2u);
+  EXPECT_EQ(b.at(f, 1).instrs.size(), 2u);
+}
