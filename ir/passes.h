@@ -74,6 +74,14 @@ void merge_consecutive_waits(Function& f);
 // the negated constant: `x % 3 != 0` needs no negation.
 void test_before_negating(Program& p);
 
+// joinconst.cpp: a block that begins with constant arithmetic on a
+// temporary or local (`t *= 3`) that every way in has just set to a
+// constant (`t = 0;` before a test, `t = 1;` on its other side: `(a < b)
+// * 3`) starts without it, the constants set being the results: one
+// instruction less on every path. Never on a global (another task may
+// write it between).
+void push_constant_ops_into_predecessors(Function& f, const std::vector<Var>& vars);
+
 // tailstart.cpp: a task that main starts as the last thing it does before
 // ending (`start a; start b;` at main's end: either), that nothing else
 // starts and nothing stops, runs in main instead: main jumps into its code,

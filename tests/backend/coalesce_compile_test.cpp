@@ -37,7 +37,9 @@ TEST(Coalesce, AssignmentsThatReadTheirTargetComputeInPlace) {
     // subtraction from g instead of a subtraction, a negation and a copy;
     // x = 100 - x two instead of three. 30 bytes in all (h, which its
     // right side does not read, is computed in place at every level).
-    if (level == ir::OptLevel::O2) EXPECT_EQ(c.out->code_bytes, o1_bytes - 30);
+    if (level == ir::OptLevel::O2) {
+      EXPECT_EQ(c.out->code_bytes, o1_bytes - 30);
+    }
   }
 }
 
@@ -104,6 +106,44 @@ task main() {
         }
       EXPECT_EQ(negations, 0);
       EXPECT_EQ(waits, 1);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace rcxc
+
+namespace rcxc {
+namespace {
+
+// A comparison's 0 or 1 scaled or complemented (`c + (b < c) * 3`,
+// `c + ~(b < c)`): the constants set on each side are the results, at
+// every level the same values.
+TEST(JoinConstant, ScaledComparisonsComputeTheSame) {
+  const char* text = R"(
+int b, c, p, q, r, s;
+task main() {
+  b = 2; c = 5;
+  p = c + (b < c) * 3;
+  q = c + ~(b < c);
+  r = c + (c < b) * 3;
+  s = c + ~(c < b);
+}
+)";
+  int o1_bytes = 0;
+  for (auto level : {ir::OptLevel::O1, ir::OptLevel::O2, ir::OptLevel::Os}) {
+    auto c = test::compile_program(text, level);
+    ASSERT_TRUE(c.out);
+    auto m = test::run_image(c.out->image, 1000);
+    EXPECT_EQ(test::global_value(m, c.out->image, "p"), 8);
+    EXPECT_EQ(test::global_value(m, c.out->image, "q"), 3);   // ~1 = -2
+    EXPECT_EQ(test::global_value(m, c.out->image, "r"), 5);
+    EXPECT_EQ(test::global_value(m, c.out->image, "s"), 4);   // ~0 = -1
+    if (level == ir::OptLevel::O1) o1_bytes = c.out->code_bytes;
+    // Per statement one multiply (or the complement's multiply and
+    // subtraction) fewer: 2 * 5 + 2 * 10 bytes.
+    if (level == ir::OptLevel::O2) {
+      EXPECT_EQ(c.out->code_bytes, o1_bytes - 30);
     }
   }
 }

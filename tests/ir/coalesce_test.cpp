@@ -162,3 +162,36 @@ TEST(NegatedTest, OrderedTestsAndValuesReadLaterKeepTheNegation) {
   EXPECT_EQ(b.at(f, 0).instrs.size(), 2u);
   EXPECT_EQ(b.at(f, 1).instrs.size(), 2u);
 }
+
+TEST(JoinConstant, ArithmeticAtAJoinMovesIntoTheConstantsReachingIt) {
+  // t = 0; if (a < b) t = 1; t *= 3; t -= 1; g = t.
+  Builder b;
+  VarId a = b.global("a"), g = b.global("g");
+  FuncId f = b.function("main");
+  VarId t = b.temp();
+  b.block(f, {set(t, I(0))}, Branch{Cmp::LT, V(a), V(g), 1, 2});
+  b.block(f, {set(t, I(1))}, Jump{2});
+  b.block(f, {mul(t, I(3)), sub(t, I(1)), set(g, V(t))});
+  push_constant_ops_into_predecessors(b.fn(f), b.p.vars);
+  EXPECT_EQ(b.at(f, 0).instrs[0].args[1], I(-1));
+  EXPECT_EQ(b.at(f, 1).instrs[0].args[1], I(2));
+  ASSERT_EQ(b.at(f, 2).instrs.size(), 1u);
+  EXPECT_EQ(b.at(f, 2).instrs[0].op, Op::SetVariable);
+}
+
+TEST(JoinConstant, AGlobalOrAConstantSeenElsewhereStays) {
+  // g is global (another task may write it before the join); u's 0 also
+  // reaches block 3, which reads it.
+  Builder b;
+  VarId a = b.global("a"), g = b.global("g");
+  FuncId f = b.function("main");
+  VarId u = b.temp();
+  b.block(f, {set(g, I(0)), set(u, I(0))}, Branch{Cmp::LT, V(a), I(5), 1, 3});
+  b.block(f, {set(g, I(1)), set(u, I(1))}, Jump{2});
+  b.block(f, {mul(g, I(3)), add(u, I(4)), set(a, V(u))});
+  b.block(f, {set(a, V(u))}, Jump{2});
+  push_constant_ops_into_predecessors(b.fn(f), b.p.vars);
+  EXPECT_EQ(b.at(f, 2).instrs.size(), 3u);
+  EXPECT_EQ(b.at(f, 0).instrs[0].args[1], I(0));
+  EXPECT_EQ(b.at(f, 0).instrs[1].args[1], I(0));
+}
