@@ -82,6 +82,12 @@ void test_before_negating(Program& p);
 // write it between).
 void push_constant_ops_into_predecessors(Function& f, const std::vector<Var>& vars);
 
+// nonzero.cpp: `d = (v != 0)` as lowered (`d = 0;`, a test of v against
+// 0, `d = 1;` on the nonzero side) becomes `d = abs(v); d = sign(d);`:
+// two instructions on every path instead of two or three, 10 bytes
+// instead of 17.
+void compute_nonzero_by_sign(Function& f);
+
 // tailstart.cpp: a task that main starts as the last thing it does before
 // ending (`start a; start b;` at main's end: either), that nothing else
 // starts and nothing stops, runs in main instead: main jumps into its code,

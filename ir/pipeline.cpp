@@ -52,7 +52,10 @@ bool optimize(Program& p, OptLevel level, Diagnostics& diags, Log& log, const Pa
       if (shrinks_without_slowing(level)) {
         compute_into_targets(p);
         test_before_negating(p);
-        for (auto& f : p.functions) push_constant_ops_into_predecessors(f, p.vars);
+        for (auto& f : p.functions) {
+          push_constant_ops_into_predecessors(f, p.vars);
+          compute_nonzero_by_sign(f);
+        }
       }
       for (auto& f : p.functions) {
         shorten_complements(f);

@@ -150,3 +150,36 @@ task main() {
 
 }  // namespace
 }  // namespace rcxc
+
+namespace rcxc {
+namespace {
+
+// `d = (v != 0)` as abs then sign: 1 for every nonzero v, -32768 (whose
+// absolute value the firmware gives as 32767) and -1 included.
+TEST(NonZero, NonZeroValuesAreOneAtTheEdges) {
+  const char* text = R"(
+int v, p, q, r, s;
+task main() {
+  v = -32768; p = (v != 0);
+  v = -1; q = (v != 0);
+  v = 0; r = (0 != v);
+  v = 32767; s = (v != 0);
+}
+)";
+  for (auto level : {ir::OptLevel::O1, ir::OptLevel::O2}) {
+    auto c = test::compile_program(text, level);
+    ASSERT_TRUE(c.out);
+    auto m = test::run_image(c.out->image, 1000);
+    EXPECT_EQ(test::global_value(m, c.out->image, "p"), 1);
+    EXPECT_EQ(test::global_value(m, c.out->image, "q"), 1);
+    EXPECT_EQ(test::global_value(m, c.out->image, "r"), 0);
+    EXPECT_EQ(test::global_value(m, c.out->image, "s"), 1);
+    int tests = 0;
+    for (const auto& frag : c.out->fragments)
+      for (const auto& in : frag.instrs) tests += in.bytes[0] == rcx::info(rcx::Op::TestAndBranchNear).code;
+    EXPECT_EQ(tests, level == ir::OptLevel::O1 ? 4 : 0);
+  }
+}
+
+}  // namespace
+}  // namespace rcxc

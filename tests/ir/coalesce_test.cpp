@@ -195,3 +195,37 @@ TEST(JoinConstant, AGlobalOrAConstantSeenElsewhereStays) {
   EXPECT_EQ(b.at(f, 0).instrs[0].args[1], I(0));
   EXPECT_EQ(b.at(f, 0).instrs[1].args[1], I(0));
 }
+
+TEST(NonZero, AComparisonWithZeroIsTheSignOfTheAbsoluteValue) {
+  // d = 0; if (v != 0) d = 1;  ->  d = abs(v); d = sign(d);
+  Builder b;
+  VarId v = b.global("v"), d = b.global("d");
+  FuncId f = b.function("main");
+  b.block(f, {set(d, I(0))}, Branch{Cmp::EQ, I(0), V(v), 2, 1});
+  b.block(f, {set(d, I(1))}, Jump{2});
+  b.block(f, {sound(1)});
+  compute_nonzero_by_sign(b.fn(f));
+  const auto& code = b.at(f, 0).instrs;
+  ASSERT_EQ(code.size(), 2u);
+  EXPECT_EQ(code[0].op, Op::AbsoluteValue);
+  EXPECT_EQ(code[0].args[1], V(v));
+  EXPECT_EQ(code[1].op, Op::SignVariable);
+  ASSERT_TRUE(std::holds_alternative<Jump>(b.at(f, 0).term));
+  EXPECT_EQ(std::get<Jump>(b.at(f, 0).term).target, 2);
+}
+
+TEST(NonZero, OtherValuesOrOtherSidesStay) {
+  // d = 0; if (v == 0) d = 1: (v == 0) is no sign; and a side that does
+  // more than set d.
+  Builder b;
+  VarId v = b.global("v"), d = b.global("d");
+  FuncId f = b.function("main");
+  b.block(f, {set(d, I(0))}, Branch{Cmp::NE, I(0), V(v), 2, 1});
+  b.block(f, {set(d, I(1))}, Jump{2});
+  b.block(f, {set(d, I(0))}, Branch{Cmp::EQ, I(0), V(v), 4, 3});
+  b.block(f, {set(d, I(1)), sound(2)}, Jump{4});
+  b.block(f, {sound(1)});
+  compute_nonzero_by_sign(b.fn(f));
+  EXPECT_TRUE(std::holds_alternative<Branch>(b.at(f, 0).term));
+  EXPECT_TRUE(std::holds_alternative<Branch>(b.at(f, 2).term));
+}
