@@ -54,6 +54,40 @@ void drop_redundant_sensor_modes(Function& f);
 // into t) becomes `set t, -1; sub t, x`: one instruction and 5 bytes less.
 void shorten_complements(Function& f);
 
+// coalesce.cpp: computes into the assigned variable instead of into a
+// temporary copied there at the end, where the temporary is read nowhere
+// after: `t op= V; V = t` (op one of + * & |) becomes `V op= t`, `t -= V;
+// t *= -1; V = t` (V - t, the end of a `%`) becomes `V -= t`, `t -= X;
+// t *= -1; V = t` becomes `V = X; V -= t`, `t = X; t -= V; V = t` becomes
+// `V -= X; V *= -1`, and `t = X; V op= t` becomes `V op= X`. Each is fewer
+// instructions on the same path.
+void compute_into_targets(Program& p);
+
+// waits.cpp: consecutive constant waits in a block become one wait of
+// their sum (Wait(20); Wait(30); is Wait(50)): one instruction less, the
+// second wait no longer 2 ms late.
+void merge_consecutive_waits(Function& f);
+
+// negtest.cpp: a test for equality (== or != a constant) of a temporary or
+// local negated just before it (`t *= -1`, the end of `x % n`), with the
+// value read nowhere after, tests the value before the negation against
+// the negated constant: `x % 3 != 0` needs no negation.
+void test_before_negating(Program& p);
+
+// joinconst.cpp: a block that begins with constant arithmetic on a
+// temporary or local (`t *= 3`) that every way in has just set to a
+// constant (`t = 0;` before a test, `t = 1;` on its other side: `(a < b)
+// * 3`) starts without it, the constants set being the results: one
+// instruction less on every path. Never on a global (another task may
+// write it between).
+void push_constant_ops_into_predecessors(Function& f, const std::vector<Var>& vars);
+
+// nonzero.cpp: `d = (v != 0)` as lowered (`d = 0;`, a test of v against
+// 0, `d = 1;` on the nonzero side) becomes `d = abs(v); d = sign(d);`:
+// two instructions on every path instead of two or three, 10 bytes
+// instead of 17.
+void compute_nonzero_by_sign(Function& f);
+
 // tailstart.cpp: a task that main starts as the last thing it does before
 // ending (`start a; start b;` at main's end: either), that nothing else
 // starts and nothing stops, runs in main instead: main jumps into its code,

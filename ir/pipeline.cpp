@@ -49,6 +49,14 @@ bool optimize(Program& p, OptLevel level, Diagnostics& diags, Log& log, const Pa
     for (int round = 0; round < 3; ++round) {
       fold_constants(p);
       remove_dead_stores(p);
+      if (shrinks_without_slowing(level)) {
+        compute_into_targets(p);
+        test_before_negating(p);
+        for (auto& f : p.functions) {
+          push_constant_ops_into_predecessors(f, p.vars);
+          compute_nonzero_by_sign(f);
+        }
+      }
       for (auto& f : p.functions) {
         shorten_complements(f);
         simplify_cfg(f);
@@ -68,6 +76,8 @@ bool optimize(Program& p, OptLevel level, Diagnostics& diags, Log& log, const Pa
         if (trades_time_for_size(level)) speculate_assignments(f, p.vars);
       }
       remove_redundant_motor_commands(p);
+      // Removed motor commands can leave waits next to each other.
+      for (auto& f : p.functions) merge_consecutive_waits(f);
     }
   }
   // Needed at every level: a counter loop left by a jump must not keep its

@@ -1,0 +1,231 @@
+// ir/coalesce.cpp: computing into the assigned variable instead of into a
+// temporary copied there, on hand-built IR.
+#include <gtest/gtest.h>
+
+#include "ir/passes.h"
+#include "tests/ir/ir_builder.h"
+
+using namespace rcxc;
+using namespace rcxc::ir;
+using namespace rcxc::ir::test;
+
+namespace {
+
+using rcx::Op;
+
+Instr sub(VarId v, Operand x) { return op(Op::SubtractFromVariable, {V(v), x}); }
+Instr mul(VarId v, Operand x) { return op(Op::MultiplyVariable, {V(v), x}); }
+Instr div(VarId v, Operand x) { return op(Op::DivideVariable, {V(v), x}); }
+
+}  // namespace
+
+TEST(Coalesce, ACommutingOperationOnTheTargetIsDoneInPlace) {
+  // b = a * b lowered as t = a; t *= b; b = t.
+  Builder b;
+  VarId a = b.global("a"), g = b.global("b");
+  FuncId f = b.function("main");
+  VarId t = b.temp();
+  b.block(f, {set(t, V(a)), mul(t, V(g)), set(g, V(t))});
+  compute_into_targets(b.p);
+  ASSERT_EQ(b.at(f, 0).instrs.size(), 1u);
+  EXPECT_EQ(b.at(f, 0).instrs[0].op, Op::MultiplyVariable);
+  EXPECT_EQ(b.at(f, 0).instrs[0].args[0], V(g));
+  EXPECT_EQ(b.at(f, 0).instrs[0].args[1], V(a));
+}
+
+TEST(Coalesce, TheEndOfARemainderOfTheTargetIsOneSubtraction) {
+  // g = g % 4: t = g; t /= 4; t *= 4; t -= g; t *= -1; g = t.
+  Builder b;
+  VarId g = b.global("g");
+  FuncId f = b.function("main");
+  VarId t = b.temp();
+  b.block(f, {set(t, V(g)), div(t, I(4)), mul(t, I(4)), sub(t, V(g)), mul(t, I(-1)), set(g, V(t))});
+  compute_into_targets(b.p);
+  const auto& code = b.at(f, 0).instrs;
+  ASSERT_EQ(code.size(), 4u);
+  EXPECT_EQ(code[3].op, Op::SubtractFromVariable);
+  EXPECT_EQ(code[3].args[0], V(g));
+  EXPECT_EQ(code[3].args[1], V(t));
+}
+
+TEST(Coalesce, AReverseSubtractionIntoAnotherVariableStartsFromItsLeftSide) {
+  // h = x - t as t -= x; t *= -1; h = t  ->  h = x; h -= t.
+  Builder b;
+  VarId x = b.global("x"), h = b.global("h");
+  FuncId f = b.function("main");
+  VarId t = b.temp();
+  b.block(f, {set(t, I(9)), div(t, V(x)), sub(t, V(x)), mul(t, I(-1)), set(h, V(t))});
+  compute_into_targets(b.p);
+  const auto& code = b.at(f, 0).instrs;
+  ASSERT_EQ(code.size(), 4u);
+  EXPECT_EQ(code[2].op, Op::SetVariable);
+  EXPECT_EQ(code[2].args[0], V(h));
+  EXPECT_EQ(code[2].args[1], V(x));
+  EXPECT_EQ(code[3].op, Op::SubtractFromVariable);
+}
+
+TEST(Coalesce, ASubtractionFromAValueNegatesTheTarget) {
+  // z = y - z: t = y; t -= z; z = t  ->  z -= y; z *= -1.
+  Builder b;
+  VarId y = b.global("y"), z = b.global("z");
+  FuncId f = b.function("main");
+  VarId t = b.temp();
+  b.block(f, {set(t, V(y)), sub(t, V(z)), set(z, V(t))});
+  compute_into_targets(b.p);
+  const auto& code = b.at(f, 0).instrs;
+  ASSERT_EQ(code.size(), 2u);
+  EXPECT_EQ(code[0].op, Op::SubtractFromVariable);
+  EXPECT_EQ(code[0].args[0], V(z));
+  EXPECT_EQ(code[0].args[1], V(y));
+  EXPECT_EQ(code[1].op, Op::MultiplyVariable);
+  EXPECT_EQ(code[1].args[1], I(-1));
+}
+
+TEST(Coalesce, ATemporaryStillReadIsKept) {
+  // t is read after the copy (here by the branch, and in another block):
+  // nothing may change.
+  Builder b;
+  VarId a = b.global("a"), g = b.global("b");
+  FuncId f = b.function("main");
+  VarId t = b.temp(), u = b.temp();
+  b.block(f, {set(t, V(a)), mul(t, V(g)), set(g, V(t))}, Branch{Cmp::EQ, V(t), I(0), 1, 2});
+  b.block(f, {set(u, V(a)), add(u, V(g)), set(g, V(u))}, Jump{2});
+  b.block(f, {set(a, V(u))});
+  compute_into_targets(b.p);
+  EXPECT_EQ(b.at(f, 0).instrs.size(), 3u);
+  EXPECT_EQ(b.at(f, 1).instrs.size(), 3u);
+}
+
+TEST(Coalesce, AGlobalIsNeverTheTemporary) {
+  // Another task may read g: its value is no temporary.
+  Builder b;
+  VarId a = b.global("a"), g = b.global("g"), h = b.global("h");
+  FuncId f = b.function("main");
+  b.block(f, {set(g, V(a)), mul(g, V(h)), set(h, V(g))});
+  compute_into_targets(b.p);
+  EXPECT_EQ(b.at(f, 0).instrs.size(), 3u);
+}
+
+TEST(Waits, ConsecutiveConstantWaitsBecomeOne) {
+  // Wait(6); Wait(100); then a wait of a variable, which stays apart.
+  Builder b;
+  VarId g = b.global("g");
+  FuncId f = b.function("main");
+  b.block(f, {wait(I(6)), wait(I(100)), sound(1), wait(I(2)), wait(I(2)), wait(V(g))});
+  merge_consecutive_waits(b.fn(f));
+  const auto& code = b.at(f, 0).instrs;
+  ASSERT_EQ(code.size(), 4u);
+  EXPECT_EQ(code[0].args[0], I(106));
+  EXPECT_EQ(code[2].args[0], I(4));
+  EXPECT_EQ(code[3].args[0], V(g));
+}
+
+TEST(Waits, WaitsInTwoBlocksStayApart) {
+  // The second wait is a branch target: a path reaches it without the first.
+  Builder b;
+  VarId g = b.global("g");
+  FuncId f = b.function("main");
+  b.block(f, {wait(I(5))}, Branch{Cmp::EQ, V(g), I(0), 1, 1});
+  b.block(f, {wait(I(7))});
+  merge_consecutive_waits(b.fn(f));
+  EXPECT_EQ(b.at(f, 0).instrs.size(), 1u);
+  EXPECT_EQ(b.at(f, 1).instrs.size(), 1u);
+}
+
+TEST(NegatedTest, AnEqualityTestNeedsNoNegation) {
+  // t = -t; if (t != 3) ...  ->  if (t != -3) ...
+  Builder b;
+  VarId g = b.global("g");
+  FuncId f = b.function("main");
+  VarId t = b.temp();
+  b.block(f, {set(t, V(g)), mul(t, I(-1))}, Branch{Cmp::NE, V(t), I(3), 1, 2});
+  b.block(f, {sound(1)});
+  b.block(f, {sound(2)});
+  test_before_negating(b.p);
+  ASSERT_EQ(b.at(f, 0).instrs.size(), 1u);
+  const auto& br = std::get<Branch>(b.at(f, 0).term);
+  EXPECT_EQ(br.a, V(t));
+  EXPECT_EQ(br.b, I(-3));
+}
+
+TEST(NegatedTest, OrderedTestsAndValuesReadLaterKeepTheNegation) {
+  // -(-32768) < 0 holds where -32768 > 0 does not: an ordered test keeps
+  // its negation; so does a value read after the test.
+  Builder b;
+  VarId g = b.global("g");
+  FuncId f = b.function("main");
+  VarId t = b.temp(), u = b.temp();
+  b.block(f, {set(t, V(g)), mul(t, I(-1))}, Branch{Cmp::LT, V(t), I(0), 1, 1});
+  b.block(f, {set(u, V(g)), mul(u, I(-1))}, Branch{Cmp::EQ, I(0), V(u), 2, 2});
+  b.block(f, {set(g, V(u))});
+  test_before_negating(b.p);
+  EXPECT_EQ(b.at(f, 0).instrs.size(), 2u);
+  EXPECT_EQ(b.at(f, 1).instrs.size(), 2u);
+}
+
+TEST(JoinConstant, ArithmeticAtAJoinMovesIntoTheConstantsReachingIt) {
+  // t = 0; if (a < b) t = 1; t *= 3; t -= 1; g = t.
+  Builder b;
+  VarId a = b.global("a"), g = b.global("g");
+  FuncId f = b.function("main");
+  VarId t = b.temp();
+  b.block(f, {set(t, I(0))}, Branch{Cmp::LT, V(a), V(g), 1, 2});
+  b.block(f, {set(t, I(1))}, Jump{2});
+  b.block(f, {mul(t, I(3)), sub(t, I(1)), set(g, V(t))});
+  push_constant_ops_into_predecessors(b.fn(f), b.p.vars);
+  EXPECT_EQ(b.at(f, 0).instrs[0].args[1], I(-1));
+  EXPECT_EQ(b.at(f, 1).instrs[0].args[1], I(2));
+  ASSERT_EQ(b.at(f, 2).instrs.size(), 1u);
+  EXPECT_EQ(b.at(f, 2).instrs[0].op, Op::SetVariable);
+}
+
+TEST(JoinConstant, AGlobalOrAConstantSeenElsewhereStays) {
+  // g is global (another task may write it before the join); u's 0 also
+  // reaches block 3, which reads it.
+  Builder b;
+  VarId a = b.global("a"), g = b.global("g");
+  FuncId f = b.function("main");
+  VarId u = b.temp();
+  b.block(f, {set(g, I(0)), set(u, I(0))}, Branch{Cmp::LT, V(a), I(5), 1, 3});
+  b.block(f, {set(g, I(1)), set(u, I(1))}, Jump{2});
+  b.block(f, {mul(g, I(3)), add(u, I(4)), set(a, V(u))});
+  b.block(f, {set(a, V(u))}, Jump{2});
+  push_constant_ops_into_predecessors(b.fn(f), b.p.vars);
+  EXPECT_EQ(b.at(f, 2).instrs.size(), 3u);
+  EXPECT_EQ(b.at(f, 0).instrs[0].args[1], I(0));
+  EXPECT_EQ(b.at(f, 0).instrs[1].args[1], I(0));
+}
+
+TEST(NonZero, AComparisonWithZeroIsTheSignOfTheAbsoluteValue) {
+  // d = 0; if (v != 0) d = 1;  ->  d = abs(v); d = sign(d);
+  Builder b;
+  VarId v = b.global("v"), d = b.global("d");
+  FuncId f = b.function("main");
+  b.block(f, {set(d, I(0))}, Branch{Cmp::EQ, I(0), V(v), 2, 1});
+  b.block(f, {set(d, I(1))}, Jump{2});
+  b.block(f, {sound(1)});
+  compute_nonzero_by_sign(b.fn(f));
+  const auto& code = b.at(f, 0).instrs;
+  ASSERT_EQ(code.size(), 2u);
+  EXPECT_EQ(code[0].op, Op::AbsoluteValue);
+  EXPECT_EQ(code[0].args[1], V(v));
+  EXPECT_EQ(code[1].op, Op::SignVariable);
+  ASSERT_TRUE(std::holds_alternative<Jump>(b.at(f, 0).term));
+  EXPECT_EQ(std::get<Jump>(b.at(f, 0).term).target, 2);
+}
+
+TEST(NonZero, OtherValuesOrOtherSidesStay) {
+  // d = 0; if (v == 0) d = 1: (v == 0) is no sign; and a side that does
+  // more than set d.
+  Builder b;
+  VarId v = b.global("v"), d = b.global("d");
+  FuncId f = b.function("main");
+  b.block(f, {set(d, I(0))}, Branch{Cmp::NE, I(0), V(v), 2, 1});
+  b.block(f, {set(d, I(1))}, Jump{2});
+  b.block(f, {set(d, I(0))}, Branch{Cmp::EQ, I(0), V(v), 4, 3});
+  b.block(f, {set(d, I(1)), sound(2)}, Jump{4});
+  b.block(f, {sound(1)});
+  compute_nonzero_by_sign(b.fn(f));
+  EXPECT_TRUE(std::holds_alternative<Branch>(b.at(f, 0).term));
+  EXPECT_TRUE(std::holds_alternative<Branch>(b.at(f, 2).term));
+}
