@@ -37,7 +37,9 @@ TEST(Operands, CopiesAndMovesKeepTheOperandsEitherWay) {
     Operands copy = a;
     EXPECT_EQ(as_vector(copy), list);
     copy[0 % std::max(n, 1)] = n ? Operand::imm(99) : Operand{};
-    if (n) EXPECT_EQ(as_vector(a), list) << "a copy is its own";
+    if (n) {
+      EXPECT_EQ(as_vector(a), list) << "a copy is its own";
+    }
     Operands moved = std::move(copy);
     EXPECT_EQ(moved.size(), static_cast<std::size_t>(n));
     Operands assigned;
