@@ -75,15 +75,12 @@ std::string operands_text(const rcx::Decoded& d) {
 // Bytes nqc cannot name are listed one at a time as `?`.
 bool nameable(const rcx::Decoded& d) { return d.error == 0 && !rcx::info(d.op).nqc_mnemonic.empty(); }
 
-int instruction_size(const std::vector<std::uint8_t>& code, int address) {
-  rcx::Decoded d = rcx::decode_command(code, address);
-  return nameable(d) ? d.size : 1;
-}
-
-std::string line_text(const std::vector<std::uint8_t>& code, int address) {
+// The line of the instruction at `address`; `size` gets how many bytes it
+// listed.
+std::string line_text(const std::vector<std::uint8_t>& code, int address, int& size) {
   rcx::Decoded d = rcx::decode_command(code, address);
   std::string mnemonic, operands;
-  int size = 1;
+  size = 1;
   if (nameable(d)) {
     mnemonic = rcx::info(d.op).nqc_mnemonic;
     operands = operands_text(d);
@@ -118,8 +115,9 @@ std::string nqc_listing(const rcx::Image& image, const SourceLineAt& source_line
     while (address < static_cast<int>(frag->code.size())) {
       if (source_line)
         if (std::string line = source_line(frag->type, frag->index, address); !line.empty()) text += line + "\n";
-      text += line_text(frag->code, address) + "\n";
-      address += instruction_size(frag->code, address);
+      int size = 1;
+      text += line_text(frag->code, address, size) + "\n";
+      address += size;
     }
     total += frag->code.size();
   }

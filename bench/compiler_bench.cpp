@@ -17,7 +17,6 @@
 // included). A long program is written as a main file that #includes
 // parts, since rcxc reads no source file over 1 MiB.
 #include <benchmark/benchmark.h>
-#include <sys/resource.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -32,8 +31,11 @@
 #include <fmt/format.h>
 
 #include "backend/compile.h"
+#include "bench/corpus.h"
 
 namespace {
+
+using rcxc::bench::children_cpu_seconds;
 
 // `n` while loops with two-part tests, then `n` if/else statements whose
 // test has no one-instruction negation.
@@ -144,13 +146,6 @@ std::size_t write_program(const std::filesystem::path& main, const std::vector<s
   }
   flush();
   return lines;
-}
-
-double children_cpu_seconds() {
-  rusage u{};
-  getrusage(RUSAGE_CHILDREN, &u);
-  return static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
-         static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec) / 1e6;
 }
 
 // CPU seconds (user + system) of `command` run `runs` times as a process:

@@ -13,11 +13,22 @@
 #include <string>
 #include <vector>
 
+#include <sys/resource.h>
+
 namespace rcxc::bench {
 
 inline std::filesystem::path corpus_dir() {
   if (const char* env = std::getenv("RCXC_CORPUS_DIR")) return env;
   return std::filesystem::path(__FILE__).parent_path().parent_path().parent_path() / "shared" / "corpus";
+}
+
+// CPU seconds (user + system) the finished child processes spent so far:
+// the benches time rcxc and nqc as processes, the same way for both.
+inline double children_cpu_seconds() {
+  rusage u{};
+  getrusage(RUSAGE_CHILDREN, &u);
+  return static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
+         static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec) / 1e6;
 }
 
 // Every .nqc file of the corpus, sorted; empty without the corpus.

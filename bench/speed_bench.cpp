@@ -32,7 +32,6 @@
 //
 // The corpus is found through RCXC_CORPUS_DIR, or next to the source tree
 // (../shared/corpus); nqc on PATH. Without either it says so and stops.
-#include <sys/resource.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -63,6 +62,7 @@ constexpr rcx::Micros kRunUs = 20'000 * rcx::kMicrosPerMs;
 
 using rcxc::bench::corpus_dir;
 using rcxc::bench::corpus_files;
+using rcxc::bench::children_cpu_seconds;
 
 std::optional<rcxc::backend::Output> ours(const fs::path& file, rcxc::ir::OptLevel level) {
   rcxc::SourceManager sm;
@@ -377,24 +377,16 @@ SizeTotals generated_sizes() {
   return t;
 }
 
-// CPU seconds the children spent so far.
-double children_cpu() {
-  rusage u{};
-  getrusage(RUSAGE_CHILDREN, &u);
-  return static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
-         static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec) / 1e6;
-}
-
 // CPU time of compiling every corpus program `rounds` times with `command`
 // (FILE replaced by the program), as processes.
 double compile_cpu(const std::string& command, const std::vector<fs::path>& files, int rounds) {
-  double before = children_cpu();
+  double before = children_cpu_seconds();
   for (int r = 0; r < rounds; ++r)
     for (const auto& f : files) {
       std::string cmd = std::regex_replace(command, std::regex("FILE"), "'" + f.string() + "'");
       if (std::system((cmd + " >/dev/null 2>&1").c_str()) == -1) return 0;
     }
-  return children_cpu() - before;
+  return children_cpu_seconds() - before;
 }
 
 fs::path rcxc_binary(const char* argv0) { return fs::absolute(argv0).parent_path().parent_path() / "rcxc"; }

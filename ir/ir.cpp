@@ -16,6 +16,10 @@ Cmp negate(Cmp c) {
   return c;
 }
 
+bool branches_directly(Cmp c, const Operand& a, const Operand& b) {
+  return !((c == Cmp::LT || c == Cmp::GT) && !a.is_imm() && !b.is_imm());
+}
+
 Cmp swap(Cmp c) {
   switch (c) {
     case Cmp::LE: return Cmp::GE;

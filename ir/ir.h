@@ -65,6 +65,10 @@ struct Instr {
 enum class Cmp : std::uint8_t { LE, GE, NE, EQ, LT, GT };
 Cmp negate(Cmp c);
 Cmp swap(Cmp c);  // a c b  <=>  b swap(c) a
+// Whether one test-and-branch can branch when `a c b` holds: it compares
+// with <=, >=, == or !=, and a strict comparison works only against a
+// constant (c < x is c+1 <= x).
+bool branches_directly(Cmp c, const Operand& a, const Operand& b);
 // The comparison evaluated on 16-bit signed values.
 bool evaluate(Cmp c, int a, int b);
 

@@ -4,15 +4,6 @@
 #include <algorithm>
 
 namespace rcxc::ir {
-namespace {
-
-// Test-and-branch compares with <=, >=, == or !=; a strict comparison
-// works only against a constant (c < x is c+1 <= x).
-bool encodable(Cmp c, const Operand& a, const Operand& b) {
-  return !((c == Cmp::LT || c == Cmp::GT) && !a.is_imm() && !b.is_imm());
-}
-
-}  // namespace
 
 BlockOrder::BlockOrder(const Function& fn) : f(fn), order(fn.blocks.size()), pos(fn.blocks.size()) {
   for (std::size_t i = 0; i < order.size(); ++i) order[i] = pos[i] = static_cast<BlockId>(i);
@@ -28,7 +19,7 @@ int BlockOrder::bytes(BlockId b, BlockId next) const {
   const Terminator& t = f.blocks[static_cast<std::size_t>(b)].term;
   if (const auto* j = std::get_if<Jump>(&t)) return j->target != next ? kJump : 0;
   if (const auto* br = std::get_if<Branch>(&t)) {
-    bool direct = encodable(br->cmp, br->a, br->b), negated = encodable(negate(br->cmp), br->a, br->b);
+    bool direct = branches_directly(br->cmp, br->a, br->b), negated = branches_directly(negate(br->cmp), br->a, br->b);
     bool one_test = (br->otherwise == next && direct) || (br->then == next && negated);
     return kTest + (one_test ? 0 : kJump);
   }
@@ -73,7 +64,7 @@ void place_branch_targets(Function& f) {
     // when true: the false side must follow instead, or a jump is needed.
     BlockId here = o.order[static_cast<std::size_t>(p)], then = o.after(p), side = br->otherwise;
     int x = o.position(side);
-    if (br->then != then || encodable(negate(br->cmp), br->a, br->b) || x <= p + 1) continue;
+    if (br->then != then || branches_directly(negate(br->cmp), br->a, br->b) || x <= p + 1) continue;
     // Loop counters between would change direction: leave those alone.
     bool counter = std::holds_alternative<LoopTest>(f.blocks[static_cast<std::size_t>(side)].term);
     for (int q = p + 1; q < x && !counter; ++q) {

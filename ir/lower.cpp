@@ -478,21 +478,62 @@ struct Lowerer {
 
   // After a branch to `one` or `zero`: d = 1 on the first, 0 on the
   // second, both going on at `join`.
-  void one_or_zero(VarId d, BlockId one, BlockId zero, BlockId join) {
-    enter(one);
-    set(d, Operand::imm(1));
-    jump(join);
-    enter(zero);
-    set(d, Operand::imm(0));
-    jump(join);
+  // The side placed after the test falls in and then jumps over the other,
+  // so it runs one instruction more. For a truth value that is the zero
+  // side, as in nqc's code (the test branches to `one`); `one_falls_in`
+  // asks for the other (x >> 15: the sign's test branches on >= 0, as
+  // nqc's does). The last test decides when it can only branch one way
+  // (a < b of two variables).
+  void one_or_zero(VarId d, BlockId one, BlockId zero, BlockId join, bool one_falls_in = false) {
+    bool one_first = one_falls_in;
+    if (const auto* br = std::get_if<Branch>(&fn().blocks[static_cast<std::size_t>(cur)].term)) {
+      auto reaches = [&](BlockId side) {
+        return (br->then == side && branches_directly(br->cmp, br->a, br->b)) ||
+               (br->otherwise == side && branches_directly(negate(br->cmp), br->a, br->b));
+      };
+      one_first = one_falls_in ? reaches(zero) : !reaches(one);
+    }
+    auto side = [&](BlockId b, int value) {
+      enter(b);
+      set(d, Operand::imm(value));
+      jump(join);
+    };
+    if (one_first) {
+      side(one, 1);
+      side(zero, 0);
+    } else {
+      side(zero, 0);
+      side(one, 1);
+    }
     enter(join);
   }
 
-  // d = 0 or 1: the truth of e.
+  // d = 0 or 1: the truth of e, which does not read d. `d = 0` before the
+  // tests lets the false outcome fall through to the end without a jump,
+  // but when the only test cannot branch on false (x >= y of two
+  // variables) it needs a jump all the same: then the test branches to
+  // `d = 1` and the false side sets 0 and jumps, the same bytes and one
+  // instruction less when true.
   void truth(VarId d, const ast::Expr& e) {
     BlockId t = new_block(), join = new_block();
+    BlockId test = cur;
+    auto& instrs = fn().blocks[static_cast<std::size_t>(test)].instrs;
+    std::size_t zero_at = instrs.size();
     set(d, Operand::imm(0));
     cond(e, t, join);
+    const auto* br = std::get_if<Branch>(&fn().blocks[static_cast<std::size_t>(cur)].term);
+    bool false_needs_jump = br && cur == test &&
+                            ((br->then == t && !branches_directly(negate(br->cmp), br->a, br->b)) ||
+                             (br->otherwise == t && !branches_directly(br->cmp, br->a, br->b)));
+    if (false_needs_jump) {
+      auto& same = fn().blocks[static_cast<std::size_t>(test)].instrs;
+      same.erase(same.begin() + static_cast<std::ptrdiff_t>(zero_at));
+      BlockId zero = new_block();
+      Branch b = *br;
+      (b.then == join ? b.then : b.otherwise) = zero;
+      terminate(b);
+      return one_or_zero(d, t, zero, join);
+    }
     enter(t);
     set(d, Operand::imm(1));
     jump(join);
@@ -603,7 +644,7 @@ struct Lowerer {
       BlockId neg = new_block(), join = new_block();
       BlockId pos = new_block();
       terminate(Branch{Cmp::LT, Operand::var(d), Operand::imm(0), neg, pos});
-      return one_or_zero(d, neg, pos, join);
+      return one_or_zero(d, neg, pos, join, true);
     }
     shift_right_const(d, n);
   }

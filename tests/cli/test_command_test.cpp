@@ -4,6 +4,8 @@
 #include <filesystem>
 #include <fstream>
 
+#include <unistd.h>
+
 #include "tests/support/process.h"
 
 using rcxc::test::run_rcxc;
@@ -151,5 +153,41 @@ TEST(TestCommand, LinkLoopsAreReportedAndTheSearchGoesOn) {
   EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
   EXPECT_NE(r.err.find("rcxc test: cannot read " + d.path + "/sub/self.nqc: "), std::string::npos) << r.err;
   EXPECT_NE(r.out.find("PASS " + d.path + "/sub/good.nqc"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("1 passed, 0 failed"), std::string::npos) << r.out;
+}
+
+// A sub-folder that cannot be read is reported by name and the search goes
+// on: the readable test still runs and passes, and the exit code says that
+// not everything was checked. Root reads every folder whatever its mode, so
+// as root the command runs as `nobody` (setpriv); skipped without setpriv.
+TEST(TestCommand, UnreadableSubFolderIsReportedAndTheRestRuns) {
+  namespace fs = std::filesystem;
+  TempDir d;
+  fs::permissions(d.path, fs::perms::owner_all | fs::perms::group_read | fs::perms::group_exec |
+                              fs::perms::others_read | fs::perms::others_exec);
+  fs::create_directory(d.path + "/good");
+  std::ofstream(d.path + "/good/ok.nqc") << "// @for 100ms\n// @expect global v == 3\nint v;\ntask main() { v = 3; }\n";
+  fs::create_directory(d.path + "/locked");
+  std::ofstream(d.path + "/locked/hidden.nqc") << "task main() { }\n";
+  fs::permissions(d.path + "/locked", fs::perms::none);
+  std::vector<std::string> command{RCXC_BINARY, "test", d.path};
+  if (geteuid() == 0) {
+    auto setpriv = rcxc::test::run_process({"/bin/sh", "-c", "command -v setpriv"});
+    if (setpriv.exit_code != 0) GTEST_SKIP() << "running as root and setpriv is missing: root reads every folder";
+    command.insert(command.begin(), {setpriv.out.substr(0, setpriv.out.find('\n')), "--reuid=65534",
+                                     "--regid=65534", "--clear-groups"});
+    // A checkout under a folder only root may enter (/root) cannot be run
+    // as nobody at all: nothing to learn about folders there.
+    if (rcxc::test::run_process({command[0], command[1], command[2], command[3], RCXC_BINARY, "version"}).exit_code !=
+        0) {
+      fs::permissions(d.path + "/locked", fs::perms::owner_all);
+      GTEST_SKIP() << "nobody cannot run " << RCXC_BINARY;
+    }
+  }
+  auto r = rcxc::test::run_process(command);
+  fs::permissions(d.path + "/locked", fs::perms::owner_all);  // so TempDir can remove it
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("rcxc test: cannot read folder " + d.path + "/locked: Permission denied"), std::string::npos)
+      << r.err;
   EXPECT_NE(r.out.find("1 passed, 0 failed"), std::string::npos) << r.out;
 }
