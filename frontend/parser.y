@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <type_traits>
 #include <vector>
 
@@ -38,7 +39,7 @@ struct Feed {
   Diagnostics& diags;
   ast::Program program;
   std::size_t pos = 0;
-  std::string last_text;     // spelling of the token just handed out
+  std::string_view last_text;  // spelling of the token just handed out (in `tokens`)
   SourceLoc prev_end;        // end of the token before it
   // asm blocks: mnemonic lines start with an identifier at an item start.
   int asm_stage = 0;         // 0 none, 1 saw 'asm', 2 inside its braces
@@ -498,7 +499,7 @@ void yy::Parser::error(const location_type& loc, const std::string& msg) {
 void yy::Parser::report_syntax_error(const context& ctx) const {
   // The parse was cut where it nested too deeply; that is the error.
   if (feed.too_deep) return;
-  std::string found = ctx.token() == symbol_kind::S_YYEOF ? "end of file" : "'" + feed.last_text + "'";
+  std::string found = ctx.token() == symbol_kind::S_YYEOF ? "end of file" : "'" + std::string(feed.last_text) + "'";
   symbol_kind_type expected[64];
   int n = ctx.expected_tokens(expected, 64);
   auto expects = [&](symbol_kind_type k) { return std::find(expected, expected + n, k) != expected + n; };

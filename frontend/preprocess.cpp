@@ -307,6 +307,12 @@ class Preprocessor {
     OpenFile f;
     f.tokens = lex(sm_.text(file), file, diags_);
     input_tokens_ += f.tokens.size();
+    // An #included file's tokens will mostly be output too: room for them
+    // at once (read_all() makes room for the first files), so that a
+    // program in included parts does not move its output into a list
+    // growing one doubling at a time.
+    if (input_tokens_ + 1 > out_.tokens.capacity())
+      out_.tokens.reserve(std::max(input_tokens_ + 1, 2 * out_.tokens.capacity()));
     f.file = file;
     f.dir = dir;
     f.key = key;
@@ -354,7 +360,8 @@ class Preprocessor {
         ++files_.back().pos;
         continue;
       }
-      out = *t;
+      // A file's tokens are read once, front to back: each is moved out.
+      out = std::move(*t);
       ++files_.back().pos;
       return true;
     }
@@ -375,7 +382,7 @@ class Preprocessor {
     std::vector<Token> line;
     OpenFile& f = files_.back();
     while (f.tokens[f.pos].kind != TokenKind::End && !f.tokens[f.pos].line_start)
-      line.push_back(f.tokens[f.pos++]);
+      line.push_back(std::move(f.tokens[f.pos++]));
     return line;
   }
 
@@ -610,7 +617,7 @@ class Preprocessor {
 
   void directive() {
     OpenFile& f = files_.back();
-    Token hash = f.tokens[f.pos++];
+    Token hash = std::move(f.tokens[f.pos++]);
     std::vector<Token> line = line_tokens();
     if (line.empty()) return;  // the null directive
     const Token& name = line[0];
