@@ -9,8 +9,8 @@
 // brick, so a run may end in the size diagnostic, after every pass. They
 // compile at -Os, which runs every pass (rerolling and outlining too).
 //
-// Before the benchmarks, a table against nqc in the same run: programs of
-// 1 000 to 100 000 lines written as people write them (inline functions
+// Before the benchmarks, a table against nqc in the same run: a program of
+// one line, then programs of 100 to 100 000 lines written as people write them (inline functions
 // called from tasks, loops, tests, waits, motor commands), each compiled
 // by `rcxc compile` and by `nqc -Trcx` as processes, the median CPU time
 // of several runs of each (startup, standard library and writing the image
@@ -173,10 +173,13 @@ void print_against_nqc(const std::filesystem::path& rcxc) {
   std::cout << "CPU time of one compile as a process, median of the runs (ratio: rcxc / nqc)\n";
   std::cout << fmt::format("{:>8} {:>5} {:>12} {:>12} {:>7} {:>14}\n", "lines", "runs", "rcxc ms", "nqc ms", "ratio",
                            "rcxc us/line");
-  for (int lines : {1000, 3000, 10000, 30000, 100000}) {
+  // One line: start-up and the standard library, most of what a program of
+  // the corpus costs.
+  for (int lines : {1, 100, 1000, 3000, 10000, 30000, 100000}) {
     fs::path file = dir / fmt::format("typical{}.nqc", lines);
-    std::size_t real_lines = write_program(file, typical_program(lines));
-    int runs = lines <= 3000 ? 11 : lines <= 10000 ? 5 : lines <= 30000 ? 3 : 1;
+    std::size_t real_lines =
+        lines == 1 ? write_program(file, {"task main() { OnFwd(OUT_A); }\n"}) : write_program(file, typical_program(lines));
+    int runs = lines <= 100 ? 41 : lines <= 3000 ? 11 : lines <= 10000 ? 5 : lines <= 30000 ? 3 : 1;
     // rcxc refuses a program too big for the brick after every pass has
     // run (program memory, or a branch too far): that is still the whole
     // compile. Any other refusal would time nothing: the row says so.
