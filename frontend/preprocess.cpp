@@ -544,6 +544,18 @@ class Preprocessor {
     };
     std::vector<Segment> segs;
     const auto& body = m.body;
+    // Most bodies have no ##: their segments would only be joined in order,
+    // so they go straight to the output instead (a vector per body token
+    // was most of what expanding OUT_A cost).
+    bool pastes = false;
+    for (std::size_t i = 1; i + 1 < body.size() && !pastes; ++i) pastes = body[i].is("##");
+    std::vector<Token> out;
+    auto emit = [&](std::vector<Token> toks) {
+      if (pastes)
+        segs.push_back({std::move(toks), false});
+      else
+        out.insert(out.end(), std::make_move_iterator(toks.begin()), std::make_move_iterator(toks.end()));
+    };
     std::vector<bool> param_used(m.params.size(), false);
     // An argument the body names once, outside # and ##, is expanded in
     // place rather than copied first: nested calls then hold each token
@@ -565,7 +577,10 @@ class Preprocessor {
         Token str = stringize(args[static_cast<std::size_t>(param_index(m, body[i + 1]))], t);
         str.span.begin.expansion = str.span.end.expansion = exp;
         str.space_before = t.space_before;
-        segs.push_back({{str}, false});
+        if (pastes)
+          segs.push_back({{str}, false});
+        else
+          out.push_back(std::move(str));
         ++i;
         continue;
       }
@@ -573,26 +588,26 @@ class Preprocessor {
       if (p >= 0) {
         bool near_paste = (i > 0 && body[i - 1].is("##")) || (i + 1 < body.size() && body[i + 1].is("##"));
         auto& arg = args[static_cast<std::size_t>(p)];
-        if (near_paste)
-          segs.push_back({arg, false});
-        else
-          segs.push_back({expand_list(param_uses[static_cast<std::size_t>(p)] == 1 ? std::move(arg) : arg, depth),
-                          false});
+        std::vector<Token> toks =
+            near_paste ? arg : expand_list(param_uses[static_cast<std::size_t>(p)] == 1 ? std::move(arg) : arg, depth);
         // Growth is what the body adds: its own tokens, and an argument's
         // tokens each time it is used again (F(x) x x doubles its input).
-        if (param_used[static_cast<std::size_t>(p)]) expanded_tokens_ += segs.back().toks.size();
+        if (param_used[static_cast<std::size_t>(p)]) expanded_tokens_ += toks.size();
         param_used[static_cast<std::size_t>(p)] = true;
-        if (!segs.back().toks.empty()) segs.back().toks.front().space_before = t.space_before;
+        if (!toks.empty()) toks.front().space_before = t.space_before;
+        emit(std::move(toks));
         continue;
       }
       Token copy = t;
       ++expanded_tokens_;
       copy.span.begin.expansion = copy.span.end.expansion = exp;
-      segs.push_back({{copy}, false});
+      if (pastes)
+        segs.push_back({{copy}, false});
+      else
+        out.push_back(std::move(copy));
     }
     // Pass 2: apply ## between neighbouring segments (an empty side pastes
     // to nothing, like C's placemarkers).
-    std::vector<Token> out;
     bool paste_next = false;
     bool last_empty = true;
     for (auto& seg : segs) {
