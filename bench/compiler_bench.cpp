@@ -9,8 +9,8 @@
 // brick, so a run may end in the size diagnostic, after every pass. They
 // compile at -Os, which runs every pass (rerolling and outlining too).
 //
-// Before the benchmarks, a table against nqc in the same run: programs of
-// 1 000 to 100 000 lines written as people write them (inline functions
+// Before the benchmarks, a table against nqc in the same run: a program of
+// one line, then programs of 100 to 100 000 lines written as people write them (inline functions
 // called from tasks, loops, tests, waits, motor commands), each compiled
 // by `rcxc compile` and by `nqc -Trcx` as processes, the median CPU time
 // of several runs of each (startup, standard library and writing the image
@@ -26,6 +26,7 @@
 #include <iostream>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <fmt/format.h>
@@ -148,21 +149,44 @@ std::size_t write_program(const std::filesystem::path& main, const std::vector<s
   return lines;
 }
 
-// CPU seconds (user + system) of `command` run `runs` times as a process:
-// the median run, so that a run slowed by another process on the machine
-// does not move the figure; nullopt when a run fails and `must_succeed`
-// (nqc gives up on some long programs: that size has no comparison).
-std::optional<double> median_cpu(const std::string& command, int runs, bool must_succeed) {
-  std::vector<double> times;
-  for (int r = 0; r < runs; ++r) {
-    double before = children_cpu_seconds();
-    int status = std::system((command + " >/dev/null 2>&1").c_str());
-    if (status == -1 || (must_succeed && status != 0)) return std::nullopt;
-    times.push_back(children_cpu_seconds() - before);
-  }
+double median(std::vector<double> times) {
   std::sort(times.begin(), times.end());
   std::size_t mid = times.size() / 2;
   return times.size() % 2 ? times[mid] : (times[mid - 1] + times[mid]) / 2;
+}
+
+// CPU seconds (user + system) of `command` run once as a process; nullopt
+// when it cannot be started, or fails and `must_succeed`.
+std::optional<double> cpu_of(const std::string& command, bool must_succeed) {
+  double before = children_cpu_seconds();
+  int status = std::system((command + " >/dev/null 2>&1").c_str());
+  if (status == -1 || (must_succeed && status != 0)) return std::nullopt;
+  return children_cpu_seconds() - before;
+}
+
+// The median CPU seconds of `ours` and of `theirs`, each run `runs` times,
+// the two alternating so that a change in the machine's load falls on both
+// alike (one after the other, a millisecond-long compile moved by a tenth
+// or more between runs of the table); the median, so that a run slowed by
+// another process does not move the figure. `theirs` is nullopt when one of
+// its runs fails (nqc gives up on some long programs: that size has no
+// comparison); `ours` may fail (a program too big for the brick).
+std::pair<std::optional<double>, std::optional<double>> median_cpu(const std::string& ours, const std::string& theirs,
+                                                                   int runs) {
+  std::vector<double> our_times, their_times;
+  bool theirs_failed = false;
+  for (int r = 0; r < runs; ++r) {
+    auto o = cpu_of(ours, false);
+    if (!o) return {std::nullopt, std::nullopt};
+    our_times.push_back(*o);
+    if (theirs_failed) continue;
+    auto t = cpu_of(theirs, true);
+    if (t) their_times.push_back(*t);
+    theirs_failed = !t;
+  }
+  std::optional<double> their_median;
+  if (!theirs_failed) their_median = median(their_times);
+  return {median(our_times), their_median};
 }
 
 void print_against_nqc(const std::filesystem::path& rcxc) {
@@ -173,10 +197,13 @@ void print_against_nqc(const std::filesystem::path& rcxc) {
   std::cout << "CPU time of one compile as a process, median of the runs (ratio: rcxc / nqc)\n";
   std::cout << fmt::format("{:>8} {:>5} {:>12} {:>12} {:>7} {:>14}\n", "lines", "runs", "rcxc ms", "nqc ms", "ratio",
                            "rcxc us/line");
-  for (int lines : {1000, 3000, 10000, 30000, 100000}) {
+  // One line: start-up and the standard library, most of what a program of
+  // the corpus costs.
+  for (int lines : {1, 100, 1000, 3000, 10000, 30000, 100000}) {
     fs::path file = dir / fmt::format("typical{}.nqc", lines);
-    std::size_t real_lines = write_program(file, typical_program(lines));
-    int runs = lines <= 3000 ? 11 : lines <= 10000 ? 5 : lines <= 30000 ? 3 : 1;
+    std::size_t real_lines =
+        lines == 1 ? write_program(file, {"task main() { OnFwd(OUT_A); }\n"}) : write_program(file, typical_program(lines));
+    int runs = lines <= 100 ? 41 : lines <= 3000 ? 11 : lines <= 10000 ? 5 : lines <= 30000 ? 3 : 1;
     // rcxc refuses a program too big for the brick after every pass has
     // run (program memory, or a branch too far): that is still the whole
     // compile. Any other refusal would time nothing: the row says so.
@@ -191,9 +218,9 @@ void print_against_nqc(const std::filesystem::path& rcxc) {
       std::cout << fmt::format("{:>8} rcxc refuses it: {}\n", real_lines, first_error);
       continue;
     }
-    auto ours = median_cpu(command, runs, false);
     // nqc looks for quoted includes in its -I folders, not beside the file.
-    auto theirs = median_cpu("nqc -Trcx -I'" + dir.string() + "/' -O/dev/null '" + file.string() + "'", runs, true);
+    auto [ours, theirs] =
+        median_cpu(command, "nqc -Trcx -I'" + dir.string() + "/' -O/dev/null '" + file.string() + "'", runs);
     if (!ours) break;
     std::cout << fmt::format("{:>8} {:>5} {:>12.1f} {:>12} {:>7} {:>14.1f}\n", real_lines, runs, *ours * 1000,
                              theirs ? fmt::format("{:.1f}", *theirs * 1000) : "fails",

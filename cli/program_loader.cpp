@@ -120,12 +120,18 @@ CompileResult compile_file(const std::string& path, const CompileRequest& reques
   CompileResult r;
   r.diagnostics = std::move(diags);
   // backend::compile_file's steps, keeping the parsed program's globals.
-  auto program = frontend::parse_program(path, request.frontend, r.sources, r.diagnostics);
-  if (program) {
-    for (const auto& g : program->globals) r.globals.push_back(g.name);
-    if (auto lowered = ir::lower(*program, r.diagnostics))
-      r.output = backend::compile(std::move(*lowered), request.level, r.diagnostics, r.log, request.passes);
+  std::optional<ir::Program> lowered;
+  {
+    auto program = frontend::parse_program(path, request.frontend, r.sources, r.diagnostics);
+    if (program) {
+      for (const auto& g : program->globals) r.globals.push_back(g.name);
+      lowered = ir::lower(*program, r.diagnostics);
+    }
   }
+  // The tree is freed before the passes run: the IR they build reuses its
+  // memory instead of growing the heap past it (a long program's tree is
+  // about as large as its IR).
+  if (lowered) r.output = backend::compile(std::move(*lowered), request.level, r.diagnostics, r.log, request.passes);
   if (r.diagnostics.has_errors()) r.output.reset();
   return r;
 }

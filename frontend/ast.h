@@ -35,6 +35,8 @@ class Box {
  public:
   Box() : p_(std::make_unique<T>()) {}
   Box(T value) : p_(std::make_unique<T>(std::move(value))) {}  // NOLINT: implicit by design
+  // Adopts a node the parser built on the heap; `p` must not be null.
+  explicit Box(std::unique_ptr<T> p) : p_(std::move(p)) {}
   Box(const Box& o) : p_(std::make_unique<T>(*o.p_)) {}
   Box(Box&&) noexcept = default;
   Box& operator=(const Box& o) {

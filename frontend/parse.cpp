@@ -1,8 +1,9 @@
 #include "frontend/parse.h"
 
 #include <algorithm>
+#include <optional>
 #include <string>
-#include <unordered_map>
+#include <string_view>
 
 #include "frontend/nesting.h"
 #include "parser.hpp"
@@ -14,35 +15,46 @@ using TK = P::token::token_kind_type;
 
 namespace {
 
-const std::unordered_map<std::string_view, TK>& keywords() {
-  static const std::unordered_map<std::string_view, TK> map = {
-      {"task", P::token::TASK},     {"sub", P::token::SUB},           {"void", P::token::VOID},
-      {"int", P::token::INT},       {"const", P::token::CONST},       {"if", P::token::IF},
-      {"else", P::token::ELSE},     {"while", P::token::WHILE},       {"do", P::token::DO},
-      {"until", P::token::UNTIL},   {"for", P::token::FOR},           {"repeat", P::token::REPEAT},
-      {"switch", P::token::SWITCH}, {"case", P::token::CASE},         {"default", P::token::DEFAULT},
-      {"break", P::token::BREAK},   {"continue", P::token::CONTINUE}, {"return", P::token::RETURN},
-      {"goto", P::token::GOTO},     {"start", P::token::START},       {"stop", P::token::STOP},
-      {"asm", P::token::ASM},       {"true", P::token::TRUE},         {"false", P::token::FALSE},
-      {"inline", P::token::INLINE}, {"__source", P::token::SOURCE},   {"__source_arg", P::token::SOURCE_ARG},
-      {"abs", P::token::ABS},       {"sign", P::token::SIGN},         {"__nolist", P::token::NOLIST},
-      {"__sensor", P::token::SENSOR},
-  };
-  return map;
-}
+struct Spelling {
+  std::string_view text;
+  TK kind;
+};
 
-const std::unordered_map<std::string_view, TK>& operators() {
-  static const std::unordered_map<std::string_view, TK> map = {
-      {"||", P::token::OROR},         {"&&", P::token::ANDAND},       {"==", P::token::EQ},
-      {"!=", P::token::NE},           {"<=", P::token::LE},           {">=", P::token::GE},
-      {"<<", P::token::SHL},          {">>", P::token::SHR},          {"++", P::token::INC},
-      {"--", P::token::DEC},          {"+=", P::token::ADD_ASSIGN},   {"-=", P::token::SUB_ASSIGN},
-      {"*=", P::token::MUL_ASSIGN},   {"/=", P::token::DIV_ASSIGN},   {"%=", P::token::MOD_ASSIGN},
-      {"&=", P::token::AND_ASSIGN},   {"|=", P::token::OR_ASSIGN},    {"^=", P::token::XOR_ASSIGN},
-      {"<<=", P::token::SHL_ASSIGN},  {">>=", P::token::SHR_ASSIGN},  {"||=", P::token::ABS_ASSIGN},
-      {"+-=", P::token::SIGN_ASSIGN},
-  };
-  return map;
+constexpr Spelling kKeywords[] = {
+    {"task", P::token::TASK},     {"sub", P::token::SUB},           {"void", P::token::VOID},
+    {"int", P::token::INT},       {"const", P::token::CONST},       {"if", P::token::IF},
+    {"else", P::token::ELSE},     {"while", P::token::WHILE},       {"do", P::token::DO},
+    {"until", P::token::UNTIL},   {"for", P::token::FOR},           {"repeat", P::token::REPEAT},
+    {"switch", P::token::SWITCH}, {"case", P::token::CASE},         {"default", P::token::DEFAULT},
+    {"break", P::token::BREAK},   {"continue", P::token::CONTINUE}, {"return", P::token::RETURN},
+    {"goto", P::token::GOTO},     {"start", P::token::START},       {"stop", P::token::STOP},
+    {"asm", P::token::ASM},       {"true", P::token::TRUE},         {"false", P::token::FALSE},
+    {"inline", P::token::INLINE}, {"__source", P::token::SOURCE},   {"__source_arg", P::token::SOURCE_ARG},
+    {"abs", P::token::ABS},       {"sign", P::token::SIGN},         {"__nolist", P::token::NOLIST},
+    {"__sensor", P::token::SENSOR},
+};
+
+// Operators of more than one character; one character is its own token.
+constexpr Spelling kOperators[] = {
+    {"||", P::token::OROR},         {"&&", P::token::ANDAND},       {"==", P::token::EQ},
+    {"!=", P::token::NE},           {"<=", P::token::LE},           {">=", P::token::GE},
+    {"<<", P::token::SHL},          {">>", P::token::SHR},          {"++", P::token::INC},
+    {"--", P::token::DEC},          {"+=", P::token::ADD_ASSIGN},   {"-=", P::token::SUB_ASSIGN},
+    {"*=", P::token::MUL_ASSIGN},   {"/=", P::token::DIV_ASSIGN},   {"%=", P::token::MOD_ASSIGN},
+    {"&=", P::token::AND_ASSIGN},   {"|=", P::token::OR_ASSIGN},    {"^=", P::token::XOR_ASSIGN},
+    {"<<=", P::token::SHL_ASSIGN},  {">>=", P::token::SHR_ASSIGN},  {"||=", P::token::ABS_ASSIGN},
+    {"+-=", P::token::SIGN_ASSIGN},
+};
+
+// Every token's spelling is looked up here, so the tables are searched by
+// first character and length before any comparison (a hash of each
+// identifier cost more than the whole search).
+template <std::size_t N>
+std::optional<TK> find_spelling(const Spelling (&table)[N], std::string_view text) {
+  if (text.empty()) return std::nullopt;
+  for (const auto& s : table)
+    if (s.text[0] == text[0] && s.text.size() == text.size() && s.text == text) return s.kind;
+  return std::nullopt;
 }
 
 // Tracks `asm { ... }` so that an identifier starting an asm item (after the
@@ -137,7 +149,7 @@ yy::Parser::symbol_type next_token(Feed& feed, std::size_t stack_size) {
   for (;;) {
     const Token& t = feed.tokens[feed.pos];
     if (t.kind == TokenKind::End || feed.too_deep) {
-      feed.last_text.clear();
+      feed.last_text = {};
       return P::make_END(t.span);
     }
     ++feed.pos;
@@ -150,8 +162,7 @@ yy::Parser::symbol_type next_token(Feed& feed, std::size_t stack_size) {
     switch (t.kind) {
       case TokenKind::Identifier: {
         if (mnemonic) return P::make_MNEMONIC(t.text, t.span);
-        auto it = keywords().find(t.text);
-        if (it != keywords().end()) return P::symbol_type(it->second, t.span);
+        if (auto kind = find_spelling(kKeywords, t.text)) return P::symbol_type(*kind, t.span);
         return P::make_IDENT(t.text, t.span);
       }
       case TokenKind::Number:
@@ -163,9 +174,8 @@ yy::Parser::symbol_type next_token(Feed& feed, std::size_t stack_size) {
       case TokenKind::String:
         return P::make_STRING(t.span);
       case TokenKind::Punct: {
-        auto it = operators().find(t.text);
-        if (it != operators().end()) return P::symbol_type(it->second, t.span);
         if (t.text.size() == 1 && t.text != "#") return P::symbol_type(static_cast<TK>(t.text[0]), t.span);
+        if (auto kind = find_spelling(kOperators, t.text)) return P::symbol_type(*kind, t.span);
         feed.diags.error(t.span, "'" + t.text + "' is only meaningful in a preprocessor directive");
         continue;
       }

@@ -15,7 +15,9 @@
 %code requires {
 #include <algorithm>
 #include <cstdint>
+#include <memory>
 #include <string>
+#include <string_view>
 #include <type_traits>
 #include <vector>
 
@@ -26,6 +28,12 @@
 
 namespace rcxc::frontend {
 struct Feed;
+// Semantic values are owning pointers: bison's stack slot is as large as
+// its largest value type and is zeroed and moved on every shift and
+// reduction, and an expression built on the heap is adopted by the node
+// above it (an ast::Box) without another move.
+using ExprPtr = std::unique_ptr<ast::Expr>;
+using StmtPtr = std::unique_ptr<ast::Stmt>;
 }
 }
 
@@ -38,7 +46,7 @@ struct Feed {
   Diagnostics& diags;
   ast::Program program;
   std::size_t pos = 0;
-  std::string last_text;     // spelling of the token just handed out
+  std::string_view last_text;  // spelling of the token just handed out (in `tokens`)
   SourceLoc prev_end;        // end of the token before it
   // asm blocks: mnemonic lines start with an identifier at an item start.
   int asm_stage = 0;         // 0 none, 1 saw 'asm', 2 inside its braces
@@ -94,34 +102,43 @@ void each_operand(const ExprNode& n, F f) {
 // (x+x+...) reduces as it goes, so the parser's stack stays small while the
 // tree grows: the height is what stops it, at the operand that made it too
 // tall, and that tree is dropped at once.
-Expr mk(frontend::Feed& feed, ExprNode n, const SourceSpan& s) {
+using frontend::ExprPtr;
+using frontend::StmtPtr;
+ExprPtr mk(frontend::Feed& feed, ExprNode n, const SourceSpan& s) {
   std::uint32_t height = 0;
   SourceSpan last_operand = s;
   each_operand(n, [&](const Expr& e) {
     height = std::max(height, e.parsed_height);
     last_operand = e.span;
   });
-  Expr e{std::move(n), s, std::nullopt};
-  e.parsed_height = height + 1;
-  if (e.parsed_height <= static_cast<std::uint32_t>(frontend::kMaxNesting)) return e;
-  if (!feed.too_deep) feed.diags.error(last_operand, frontend::too_deep_message());
-  feed.too_deep = true;
-  return Expr{IntLit{0}, s, std::nullopt};
+  if (height + 1 > static_cast<std::uint32_t>(frontend::kMaxNesting)) {
+    if (!feed.too_deep) feed.diags.error(last_operand, frontend::too_deep_message());
+    feed.too_deep = true;
+    return std::make_unique<Expr>(Expr{IntLit{0}, s, std::nullopt});
+  }
+  auto e = std::make_unique<Expr>(Expr{std::move(n), s, std::nullopt});
+  e->parsed_height = height + 1;
+  return e;
 }
-Stmt mks(StmtNode n, const SourceSpan& s) { return Stmt{std::move(n), s}; }
-Expr bin(frontend::Feed& feed, BinaryOp op, Expr a, Expr b, const SourceSpan& s) {
-  return mk(feed, Binary{op, std::move(a), std::move(b)}, s);
+StmtPtr mks(StmtNode n, const SourceSpan& s) { return std::make_unique<Stmt>(Stmt{std::move(n), s}); }
+ExprBox box(ExprPtr e) { return ExprBox(std::move(e)); }
+StmtBox box(StmtPtr s) { return StmtBox(std::move(s)); }
+ExprPtr bin(frontend::Feed& feed, BinaryOp op, ExprPtr a, ExprPtr b, const SourceSpan& s) {
+  return mk(feed, Binary{op, box(std::move(a)), box(std::move(b))}, s);
 }
-Expr asg(frontend::Feed& feed, AssignOp op, Expr a, Expr b, const SourceSpan& s, const SourceSpan& op_span) {
-  return mk(feed, Assign{op, std::move(a), std::move(b), op_span}, s);
+ExprPtr asg(frontend::Feed& feed, AssignOp op, ExprPtr a, ExprPtr b, const SourceSpan& s, const SourceSpan& op_span) {
+  return mk(feed, Assign{op, box(std::move(a)), box(std::move(b)), op_span}, s);
 }
-Expr un(frontend::Feed& feed, UnaryOp op, Expr a, const SourceSpan& s) { return mk(feed, Unary{op, std::move(a)}, s); }
+ExprPtr un(frontend::Feed& feed, UnaryOp op, ExprPtr a, const SourceSpan& s) {
+  return mk(feed, Unary{op, box(std::move(a))}, s);
+}
+std::optional<Expr> opt(ExprPtr e) { return e ? std::optional<Expr>(std::move(*e)) : std::nullopt; }
 // nqc's `@E`: the source whose type is E's upper 16 bits and whose argument
 // its lower 16 (`@(0x10000 + n)` is Timer(n)). Constants fold in 16 bits, so
 // the literals of E's +/- chain are summed here, in full width; what is left
 // (n) joins the argument. Names hold 16-bit values, so they never carry a
 // type.
-void additive_terms(Expr e, bool negate, std::int64_t& literal, std::vector<std::pair<bool, Expr>>& rest) {
+void additive_terms(Expr e, bool negate, std::int64_t& literal, std::vector<std::pair<bool, ExprPtr>>& rest) {
   if (auto* lit = std::get_if<IntLit>(&e.node)) {
     literal += negate ? -lit->value : lit->value;
     return;
@@ -131,17 +148,17 @@ void additive_terms(Expr e, bool negate, std::int64_t& literal, std::vector<std:
     additive_terms(std::move(*b->rhs), b->op == BinaryOp::Sub ? !negate : negate, literal, rest);
     return;
   }
-  rest.emplace_back(negate, std::move(e));
+  rest.emplace_back(negate, std::make_unique<Expr>(std::move(e)));
 }
-Expr encoded_source(frontend::Feed& feed, Expr e, const SourceSpan& s) {
+ExprPtr encoded_source(frontend::Feed& feed, Expr e, const SourceSpan& s) {
   std::int64_t literal = 0;
-  std::vector<std::pair<bool, Expr>> rest;
+  std::vector<std::pair<bool, ExprPtr>> rest;
   const SourceSpan whole = e.span;
   additive_terms(std::move(e), false, literal, rest);
-  Expr arg = mk(feed, IntLit{literal & 0xffff}, whole);
+  ExprPtr arg = mk(feed, IntLit{literal & 0xffff}, whole);
   for (auto& [negate, term] : rest)
     arg = bin(feed, negate ? BinaryOp::Sub : BinaryOp::Add, std::move(arg), std::move(term), whole);
-  return mk(feed, Source{mk(feed, IntLit{literal >> 16}, whole), std::move(arg), 0, 0}, s);
+  return mk(feed, Source{box(mk(feed, IntLit{literal >> 16}, whole)), box(std::move(arg)), 0, 0}, s);
 }
 void note_order(Program& p, SymbolKind kind, std::size_t index) {
   p.order.push_back(TopLevelRef{kind, static_cast<std::uint32_t>(index)});
@@ -150,7 +167,9 @@ void note_order(Program& p, SymbolKind kind, std::size_t index) {
 }
 
 %token END 0 "end of file"
-%token <std::string> IDENT "identifier" MNEMONIC "asm mnemonic"
+// Names are views of the token's spelling in Feed::tokens, which outlives
+// the parse: a shift moves no string.
+%token <std::string_view> IDENT "identifier" MNEMONIC "asm mnemonic"
 %token <std::int64_t> NUMBER "number"
 %token STRING "string"
 %token TASK "task" SUB "sub" VOID "void" INT "int" CONST "const" IF "if" ELSE "else"
@@ -180,18 +199,17 @@ void note_order(Program& p, SymbolKind kind, std::size_t index) {
 %precedence LOWER_THAN_ELSE
 %precedence ELSE
 
-%type <ast::Expr> expr
-%type <std::optional<ast::Expr>> expr_opt
+%type <ExprPtr> expr expr_opt
 %type <std::vector<ast::Expr>> args args_opt asm_operands
-%type <ast::Stmt> stmt block for_init
+%type <StmtPtr> stmt block for_init
 %type <std::vector<ast::Stmt>> stmts
-%type <ast::VarDecl> declarator
+%type <std::unique_ptr<ast::VarDecl>> declarator
 %type <std::vector<ast::VarDecl>> declarators
-%type <ast::Param> param
+%type <std::unique_ptr<ast::Param>> param
 %type <std::vector<ast::Param>> params params_opt
 %type <std::vector<ast::AsmItem>> asm_body asm_bytes asm_lines
-%type <ast::AsmByte> asm_byte
-%type <ast::AsmInstr> asm_line
+%type <std::unique_ptr<ast::AsmByte>> asm_byte
+%type <std::unique_ptr<ast::AsmInstr>> asm_line
 
 %start program
 
@@ -213,39 +231,39 @@ top
   | TASK IDENT '(' ')' block
       {
         note_order(feed.program, SymbolKind::Task, feed.program.tasks.size());
-        feed.program.tasks.push_back(Task{$2, @2, std::move($5), kNoSymbol});
+        feed.program.tasks.push_back(Task{std::string($2), @2, std::move(*$5), kNoSymbol});
       }
   | SUB IDENT '(' ')' block
       {
         note_order(feed.program, SymbolKind::Sub, feed.program.subs.size());
-        feed.program.subs.push_back(Sub{$2, @2, std::move($5), kNoSymbol});
+        feed.program.subs.push_back(Sub{std::string($2), @2, std::move(*$5), kNoSymbol});
       }
   | SUB IDENT '(' params ')' block
       {
         // The firmware's subroutine call carries no values.
         feed.diags.error(@4, "subroutines take no parameters (the RCX's subroutine call carries no values): "
-                             "write 'void " + $2 + "(...)' for a function with parameters, or pass values in "
+                             "write 'void " + std::string($2) + "(...)' for a function with parameters, or pass values in "
                              "global variables").parsed_past = true;
         // Checked as that function, so its body and calls are still judged.
         note_order(feed.program, SymbolKind::Function, feed.program.functions.size());
-        feed.program.functions.push_back(Function{$2, @2, std::move($4), std::move($6), kNoSymbol});
+        feed.program.functions.push_back(Function{std::string($2), @2, std::move($4), std::move(*$6), kNoSymbol});
       }
   | VOID IDENT '(' params_opt ')' block
       {
         note_order(feed.program, SymbolKind::Function, feed.program.functions.size());
-        feed.program.functions.push_back(Function{$2, @2, std::move($4), std::move($6), kNoSymbol});
+        feed.program.functions.push_back(Function{std::string($2), @2, std::move($4), std::move(*$6), kNoSymbol});
       }
   | INLINE VOID IDENT '(' params_opt ')' block
       {
         note_order(feed.program, SymbolKind::Function, feed.program.functions.size());
-        feed.program.functions.push_back(Function{$3, @3, std::move($5), std::move($7), kNoSymbol});
+        feed.program.functions.push_back(Function{std::string($3), @3, std::move($5), std::move(*$7), kNoSymbol});
       }
   | NOLIST VOID IDENT '(' params_opt ')' block
       {
         // nqc's `__nolist` keeps a function out of its listings; rcxc's
         // listings show code by address, so it changes nothing here.
         note_order(feed.program, SymbolKind::Function, feed.program.functions.size());
-        feed.program.functions.push_back(Function{$3, @3, std::move($5), std::move($7), kNoSymbol});
+        feed.program.functions.push_back(Function{std::string($3), @3, std::move($5), std::move(*$7), kNoSymbol});
       }
   | ';'
   | error ';'
@@ -253,22 +271,22 @@ top
   ;
 
 declarators
-  : declarator                 { $$.push_back(std::move($1)); }
-  | declarators ',' declarator { $$ = std::move($1); $$.push_back(std::move($3)); }
+  : declarator                 { $$.push_back(std::move(*$1)); }
+  | declarators ',' declarator { $$ = std::move($1); $$.push_back(std::move(*$3)); }
   ;
 
 declarator
-  : IDENT           { $$ = VarDecl{$1, @1, std::nullopt, kNoSymbol}; }
-  | IDENT '=' expr  { $$ = VarDecl{$1, @1, std::move($3), kNoSymbol}; }
+  : IDENT           { $$ = std::make_unique<VarDecl>(VarDecl{std::string($1), @1, std::nullopt, kNoSymbol}); }
+  | IDENT '=' expr  { $$ = std::make_unique<VarDecl>(VarDecl{std::string($1), @1, std::move(*$3), kNoSymbol}); }
   | IDENT '[' expr ']'
       {
-        feed.diags.error(@$, "the RCX has no arrays: '" + $1 + "' must be a plain int");
-        $$ = VarDecl{$1, @1, std::nullopt, kNoSymbol};
+        feed.diags.error(@$, "the RCX has no arrays: '" + std::string($1) + "' must be a plain int");
+        $$ = std::make_unique<VarDecl>(VarDecl{std::string($1), @1, std::nullopt, kNoSymbol});
       }
   | '*' declarator
       {
         // The RCX firmware reads variables by fixed slot numbers only.
-        feed.diags.error(@$, "the RCX has no pointers: '" + $2.name + "' must be a plain int").parsed_past = true;
+        feed.diags.error(@$, "the RCX has no pointers: '" + $2->name + "' must be a plain int").parsed_past = true;
         $$ = std::move($2);
       }
   ;
@@ -280,20 +298,20 @@ params_opt
   ;
 
 params
-  : param             { $$.push_back(std::move($1)); }
-  | params ',' param  { $$ = std::move($1); $$.push_back(std::move($3)); }
+  : param             { $$.push_back(std::move(*$1)); }
+  | params ',' param  { $$ = std::move($1); $$.push_back(std::move(*$3)); }
   ;
 
 param
-  : INT IDENT              { $$ = Param{ParamKind::Value, $2, @2, kNoSymbol}; }
-  | CONST INT IDENT        { $$ = Param{ParamKind::Const, $3, @3, kNoSymbol}; }
-  | INT '&' IDENT          { $$ = Param{ParamKind::Reference, $3, @3, kNoSymbol}; }
-  | CONST INT '&' IDENT    { $$ = Param{ParamKind::ConstReference, $4, @4, kNoSymbol}; }
-  | SENSOR IDENT           { $$ = Param{ParamKind::ConstReference, $2, @2, kNoSymbol, true}; }
+  : INT IDENT              { $$ = std::make_unique<Param>(Param{ParamKind::Value, std::string($2), @2, kNoSymbol}); }
+  | CONST INT IDENT        { $$ = std::make_unique<Param>(Param{ParamKind::Const, std::string($3), @3, kNoSymbol}); }
+  | INT '&' IDENT          { $$ = std::make_unique<Param>(Param{ParamKind::Reference, std::string($3), @3, kNoSymbol}); }
+  | CONST INT '&' IDENT    { $$ = std::make_unique<Param>(Param{ParamKind::ConstReference, std::string($4), @4, kNoSymbol}); }
+  | SENSOR IDENT           { $$ = std::make_unique<Param>(Param{ParamKind::ConstReference, std::string($2), @2, kNoSymbol, true}); }
   | INT '*' IDENT
       {
-        feed.diags.error(@$, "the RCX has no pointers: write 'int &" + $3 + "' to pass a variable by reference").parsed_past = true;
-        $$ = Param{ParamKind::Reference, $3, @3, kNoSymbol};
+        feed.diags.error(@$, "the RCX has no pointers: write 'int &" + std::string($3) + "' to pass a variable by reference").parsed_past = true;
+        $$ = std::make_unique<Param>(Param{ParamKind::Reference, std::string($3), @3, kNoSymbol});
       }
   ;
 
@@ -304,52 +322,52 @@ block
 
 stmts
   : %empty      {}
-  | stmts stmt  { $$ = std::move($1); $$.push_back(std::move($2)); }
+  | stmts stmt  { $$ = std::move($1); $$.push_back(std::move(*$2)); }
   ;
 
 stmt
   : block                 { $$ = std::move($1); }
   | INT declarators ';'   { $$ = mks(DeclStmt{std::move($2)}, @$); }
-  | expr ';'              { $$ = mks(ExprStmt{std::move($1)}, @$); }
+  | expr ';'              { $$ = mks(ExprStmt{std::move(*$1)}, @$); }
   | ';'                   { $$ = mks(Empty{}, @$); }
   | IF '(' expr ')' stmt %prec LOWER_THAN_ELSE
-                          { $$ = mks(If{std::move($3), std::move($5), std::nullopt}, @$); }
+                          { $$ = mks(If{std::move(*$3), box(std::move($5)), std::nullopt}, @$); }
   | IF '(' expr ')' stmt ELSE stmt
-                          { $$ = mks(If{std::move($3), std::move($5), StmtBox(std::move($7))}, @$); }
+                          { $$ = mks(If{std::move(*$3), box(std::move($5)), box(std::move($7))}, @$); }
   | WHILE '(' expr ')' stmt
-                          { $$ = mks(While{std::move($3), std::move($5)}, @$); }
+                          { $$ = mks(While{std::move(*$3), box(std::move($5))}, @$); }
   | DO stmt WHILE '(' expr ')' ';'
-                          { $$ = mks(DoWhile{std::move($2), std::move($5), false}, @$); }
+                          { $$ = mks(DoWhile{box(std::move($2)), std::move(*$5), false}, @$); }
   | DO stmt UNTIL '(' expr ')' ';'
-                          { $$ = mks(DoWhile{std::move($2), std::move($5), true}, @$); }
+                          { $$ = mks(DoWhile{box(std::move($2)), std::move(*$5), true}, @$); }
   | UNTIL '(' expr ')' stmt
-                          { $$ = mks(Until{std::move($3), std::move($5)}, @$); }
+                          { $$ = mks(Until{std::move(*$3), box(std::move($5))}, @$); }
   | FOR '(' for_init ';' expr_opt ';' expr_opt ')' stmt
       {
         std::optional<StmtBox> init;
-        if (!std::holds_alternative<Empty>($3.node)) init = StmtBox(std::move($3));
-        $$ = mks(For{std::move(init), std::move($5), std::move($7), std::move($9)}, @$);
+        if (!std::holds_alternative<Empty>($3->node)) init = box(std::move($3));
+        $$ = mks(For{std::move(init), opt(std::move($5)), opt(std::move($7)), box(std::move($9))}, @$);
       }
   | REPEAT '(' expr ')' stmt
-                          { $$ = mks(Repeat{std::move($3), std::move($5)}, @$); }
+                          { $$ = mks(Repeat{std::move(*$3), box(std::move($5))}, @$); }
   | SWITCH '(' expr ')' stmt
-                          { $$ = mks(Switch{std::move($3), std::move($5), {}}, @$); }
-  | CASE expr ':' stmt    { $$ = mks(Case{std::move($2), std::move($4), 0}, @$); }
-  | DEFAULT ':' stmt      { $$ = mks(Default{std::move($3), 0}, @$); }
+                          { $$ = mks(Switch{std::move(*$3), box(std::move($5)), {}}, @$); }
+  | CASE expr ':' stmt    { $$ = mks(Case{std::move(*$2), box(std::move($4)), 0}, @$); }
+  | DEFAULT ':' stmt      { $$ = mks(Default{box(std::move($3)), 0}, @$); }
   | BREAK ';'             { $$ = mks(Break{}, @$); }
   | CONTINUE ';'          { $$ = mks(Continue{}, @$); }
   | RETURN ';'            { $$ = mks(Return{}, @$); }
-  | GOTO IDENT ';'        { $$ = mks(Goto{$2, kNoSymbol}, @$); }
-  | IDENT ':' stmt        { $$ = mks(Labeled{$1, @1, std::move($3), kNoSymbol}, @$); }
-  | START IDENT ';'       { $$ = mks(StartTask{$2, kNoSymbol}, @$); }
-  | STOP IDENT ';'        { $$ = mks(StopTask{$2, kNoSymbol}, @$); }
+  | GOTO IDENT ';'        { $$ = mks(Goto{std::string($2), kNoSymbol}, @$); }
+  | IDENT ':' stmt        { $$ = mks(Labeled{std::string($1), @1, box(std::move($3)), kNoSymbol}, @$); }
+  | START IDENT ';'       { $$ = mks(StartTask{std::string($2), kNoSymbol}, @$); }
+  | STOP IDENT ';'        { $$ = mks(StopTask{std::string($2), kNoSymbol}, @$); }
   | ASM '{' asm_body '}'  { $$ = mks(Asm{std::move($3)}, @$); }
   | error ';'             { $$ = mks(Empty{}, @$); }
   ;
 
 for_init
   : %empty                { $$ = mks(Empty{}, @$); }
-  | expr                  { $$ = mks(ExprStmt{std::move($1)}, @$); }
+  | expr                  { $$ = mks(ExprStmt{std::move(*$1)}, @$); }
   | INT declarators       { $$ = mks(DeclStmt{std::move($2)}, @$); }
   ;
 
@@ -366,57 +384,57 @@ asm_body
   ;
 
 asm_bytes
-  : asm_byte                { $$.push_back(std::move($1)); }
-  | asm_bytes ',' asm_byte  { $$ = std::move($1); $$.push_back(std::move($3)); }
+  : asm_byte                { $$.push_back(std::move(*$1)); }
+  | asm_bytes ',' asm_byte  { $$ = std::move($1); $$.push_back(std::move(*$3)); }
   ;
 
 asm_byte
-  : expr      { $$ = AsmByte{std::move($1), false, @$}; }
-  | '$' expr  { $$ = AsmByte{std::move($2), true, @$}; }
+  : expr      { $$ = std::make_unique<AsmByte>(AsmByte{std::move(*$1), false, @$}); }
+  | '$' expr  { $$ = std::make_unique<AsmByte>(AsmByte{std::move(*$2), true, @$}); }
   ;
 
 asm_lines
-  : asm_line            { $$.push_back(std::move($1)); }
-  | asm_lines asm_line  { $$ = std::move($1); $$.push_back(std::move($2)); }
+  : asm_line            { $$.push_back(std::move(*$1)); }
+  | asm_lines asm_line  { $$ = std::move($1); $$.push_back(std::move(*$2)); }
   ;
 
 asm_line
-  : MNEMONIC ';'               { $$ = AsmInstr{$1, @1, {}, std::nullopt, @$}; }
-  | MNEMONIC asm_operands ';'  { $$ = AsmInstr{$1, @1, std::move($2), std::nullopt, @$}; }
+  : MNEMONIC ';'               { $$ = std::make_unique<AsmInstr>(AsmInstr{std::string($1), @1, {}, std::nullopt, @$}); }
+  | MNEMONIC asm_operands ';'  { $$ = std::make_unique<AsmInstr>(AsmInstr{std::string($1), @1, std::move($2), std::nullopt, @$}); }
   ;
 
 asm_operands
-  : expr                   { $$.push_back(std::move($1)); }
-  | asm_operands ',' expr  { $$ = std::move($1); $$.push_back(std::move($3)); }
+  : expr                   { $$.push_back(std::move(*$1)); }
+  | asm_operands ',' expr  { $$ = std::move($1); $$.push_back(std::move(*$3)); }
   ;
 
 expr
   : NUMBER                  { $$ = mk(feed, IntLit{$1}, @$); }
   | TRUE                    { $$ = mk(feed, IntLit{1}, @$); }
   | FALSE                   { $$ = mk(feed, IntLit{0}, @$); }
-  | IDENT                   { $$ = mk(feed, Name{$1, kNoSymbol}, @$); }
-  | IDENT '(' args_opt ')'  { $$ = mk(feed, Call{$1, @1, std::move($3), kNoSymbol}, @$); }
+  | IDENT                   { $$ = mk(feed, Name{std::string($1), kNoSymbol}, @$); }
+  | IDENT '(' args_opt ')'  { $$ = mk(feed, Call{std::string($1), @1, std::move($3), kNoSymbol}, @$); }
   | SOURCE '(' expr ',' expr ')'
-                            { $$ = mk(feed, Source{std::move($3), std::move($5), 0, 0}, @$); }
-  | SOURCE_ARG '(' expr ')' { $$ = mk(feed, SourceArg{std::move($3), std::nullopt}, @$); }
+                            { $$ = mk(feed, Source{box(std::move($3)), box(std::move($5)), 0, 0}, @$); }
+  | SOURCE_ARG '(' expr ')' { $$ = mk(feed, SourceArg{box(std::move($3)), std::nullopt}, @$); }
   | SOURCE_ARG '(' expr ',' expr ')'
       {
         // The required type must be a literal-like constant; sema folds it.
         std::optional<std::int16_t> type;
-        if (const auto* lit = std::get_if<IntLit>(&$5.node)) type = static_cast<std::int16_t>(lit->value);
+        if (const auto* lit = std::get_if<IntLit>(&$5->node)) type = static_cast<std::int16_t>(lit->value);
         else feed.diags.error(@5, "the type in __source_arg(E, TYPE) must be a number");
-        $$ = mk(feed, SourceArg{std::move($3), type}, @$);
+        $$ = mk(feed, SourceArg{box(std::move($3)), type}, @$);
       }
-  | '(' expr ')'            { $$ = std::move($2); $$.span = @$; }
+  | '(' expr ')'            { $$ = std::move($2); $$->span = @$; }
   | ABS '(' expr ')'        { $$ = un(feed, UnaryOp::Abs, std::move($3), @$); }
   | SIGN '(' expr ')'       { $$ = un(feed, UnaryOp::Sign, std::move($3), @$); }
-  | '@' expr %prec UNARY    { $$ = encoded_source(feed, std::move($2), @$); }
+  | '@' expr %prec UNARY    { $$ = encoded_source(feed, std::move(*$2), @$); }
   | SENSOR '(' expr ')'
       {
         // nqc's __sensor(E): a sensor number as is, or the number of the
         // sensor E reads (SENSOR_2 gives 1); anything else is an error.
-        if (std::holds_alternative<IntLit>($3.node)) $$ = std::move($3);
-        else $$ = mk(feed, SourceArg{std::move($3), static_cast<std::int16_t>(9)}, @$);
+        if (std::holds_alternative<IntLit>($3->node)) $$ = std::move($3);
+        else $$ = mk(feed, SourceArg{box(std::move($3)), static_cast<std::int16_t>(9)}, @$);
       }
   | expr '[' expr ']'
       {
@@ -459,7 +477,7 @@ expr
   | expr '|' expr           { $$ = bin(feed, BinaryOp::BitOr, std::move($1), std::move($3), @$); }
   | expr ANDAND expr        { $$ = bin(feed, BinaryOp::LogAnd, std::move($1), std::move($3), @$); }
   | expr OROR expr          { $$ = bin(feed, BinaryOp::LogOr, std::move($1), std::move($3), @$); }
-  | expr '?' expr ':' expr  { $$ = mk(feed, Conditional{std::move($1), std::move($3), std::move($5)}, @$); }
+  | expr '?' expr ':' expr  { $$ = mk(feed, Conditional{box(std::move($1)), box(std::move($3)), box(std::move($5))}, @$); }
   | expr '=' expr           { $$ = asg(feed, AssignOp::Assign, std::move($1), std::move($3), @$, @2); }
   | expr ADD_ASSIGN expr    { $$ = asg(feed, AssignOp::Add, std::move($1), std::move($3), @$, @2); }
   | expr SUB_ASSIGN expr    { $$ = asg(feed, AssignOp::Sub, std::move($1), std::move($3), @$, @2); }
@@ -481,8 +499,8 @@ args_opt
   ;
 
 args
-  : expr           { $$.push_back(std::move($1)); }
-  | args ',' expr  { $$ = std::move($1); $$.push_back(std::move($3)); }
+  : expr           { $$.push_back(std::move(*$1)); }
+  | args ',' expr  { $$ = std::move($1); $$.push_back(std::move(*$3)); }
   ;
 
 %%
@@ -498,7 +516,7 @@ void yy::Parser::error(const location_type& loc, const std::string& msg) {
 void yy::Parser::report_syntax_error(const context& ctx) const {
   // The parse was cut where it nested too deeply; that is the error.
   if (feed.too_deep) return;
-  std::string found = ctx.token() == symbol_kind::S_YYEOF ? "end of file" : "'" + feed.last_text + "'";
+  std::string found = ctx.token() == symbol_kind::S_YYEOF ? "end of file" : "'" + std::string(feed.last_text) + "'";
   symbol_kind_type expected[64];
   int n = ctx.expected_tokens(expected, 64);
   auto expects = [&](symbol_kind_type k) { return std::find(expected, expected + n, k) != expected + n; };

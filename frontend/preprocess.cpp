@@ -307,6 +307,12 @@ class Preprocessor {
     OpenFile f;
     f.tokens = lex(sm_.text(file), file, diags_);
     input_tokens_ += f.tokens.size();
+    // An #included file's tokens will mostly be output too: room for them
+    // at once (read_all() makes room for the first files), so that a
+    // program in included parts does not move its output into a list
+    // growing one doubling at a time.
+    if (input_tokens_ + 1 > out_.tokens.capacity())
+      out_.tokens.reserve(std::max(input_tokens_ + 1, 2 * out_.tokens.capacity()));
     f.file = file;
     f.dir = dir;
     f.key = key;
@@ -354,7 +360,8 @@ class Preprocessor {
         ++files_.back().pos;
         continue;
       }
-      out = *t;
+      // A file's tokens are read once, front to back: each is moved out.
+      out = std::move(*t);
       ++files_.back().pos;
       return true;
     }
@@ -375,7 +382,7 @@ class Preprocessor {
     std::vector<Token> line;
     OpenFile& f = files_.back();
     while (f.tokens[f.pos].kind != TokenKind::End && !f.tokens[f.pos].line_start)
-      line.push_back(f.tokens[f.pos++]);
+      line.push_back(std::move(f.tokens[f.pos++]));
     return line;
   }
 
@@ -537,6 +544,18 @@ class Preprocessor {
     };
     std::vector<Segment> segs;
     const auto& body = m.body;
+    // Most bodies have no ##: their segments would only be joined in order,
+    // so they go straight to the output instead (a vector per body token
+    // was most of what expanding OUT_A cost).
+    bool pastes = false;
+    for (std::size_t i = 1; i + 1 < body.size() && !pastes; ++i) pastes = body[i].is("##");
+    std::vector<Token> out;
+    auto emit = [&](std::vector<Token> toks) {
+      if (pastes)
+        segs.push_back({std::move(toks), false});
+      else
+        out.insert(out.end(), std::make_move_iterator(toks.begin()), std::make_move_iterator(toks.end()));
+    };
     std::vector<bool> param_used(m.params.size(), false);
     // An argument the body names once, outside # and ##, is expanded in
     // place rather than copied first: nested calls then hold each token
@@ -558,7 +577,10 @@ class Preprocessor {
         Token str = stringize(args[static_cast<std::size_t>(param_index(m, body[i + 1]))], t);
         str.span.begin.expansion = str.span.end.expansion = exp;
         str.space_before = t.space_before;
-        segs.push_back({{str}, false});
+        if (pastes)
+          segs.push_back({{str}, false});
+        else
+          out.push_back(std::move(str));
         ++i;
         continue;
       }
@@ -566,26 +588,26 @@ class Preprocessor {
       if (p >= 0) {
         bool near_paste = (i > 0 && body[i - 1].is("##")) || (i + 1 < body.size() && body[i + 1].is("##"));
         auto& arg = args[static_cast<std::size_t>(p)];
-        if (near_paste)
-          segs.push_back({arg, false});
-        else
-          segs.push_back({expand_list(param_uses[static_cast<std::size_t>(p)] == 1 ? std::move(arg) : arg, depth),
-                          false});
+        std::vector<Token> toks =
+            near_paste ? arg : expand_list(param_uses[static_cast<std::size_t>(p)] == 1 ? std::move(arg) : arg, depth);
         // Growth is what the body adds: its own tokens, and an argument's
         // tokens each time it is used again (F(x) x x doubles its input).
-        if (param_used[static_cast<std::size_t>(p)]) expanded_tokens_ += segs.back().toks.size();
+        if (param_used[static_cast<std::size_t>(p)]) expanded_tokens_ += toks.size();
         param_used[static_cast<std::size_t>(p)] = true;
-        if (!segs.back().toks.empty()) segs.back().toks.front().space_before = t.space_before;
+        if (!toks.empty()) toks.front().space_before = t.space_before;
+        emit(std::move(toks));
         continue;
       }
       Token copy = t;
       ++expanded_tokens_;
       copy.span.begin.expansion = copy.span.end.expansion = exp;
-      segs.push_back({{copy}, false});
+      if (pastes)
+        segs.push_back({{copy}, false});
+      else
+        out.push_back(std::move(copy));
     }
     // Pass 2: apply ## between neighbouring segments (an empty side pastes
     // to nothing, like C's placemarkers).
-    std::vector<Token> out;
     bool paste_next = false;
     bool last_empty = true;
     for (auto& seg : segs) {
@@ -610,7 +632,7 @@ class Preprocessor {
 
   void directive() {
     OpenFile& f = files_.back();
-    Token hash = f.tokens[f.pos++];
+    Token hash = std::move(f.tokens[f.pos++]);
     std::vector<Token> line = line_tokens();
     if (line.empty()) return;  // the null directive
     const Token& name = line[0];

@@ -1,5 +1,6 @@
 #include "frontend/ranges.h"
 
+#include <algorithm>
 #include <map>
 #include <string>
 
@@ -115,6 +116,54 @@ class RangeCheck {
   }
 };
 
+bool has_ranged_operand(const AsmInstr& in) {
+  if (!in.op) return false;
+  std::size_t i = 0;
+  for (const auto& o : rcx::info(*in.op).operands) {
+    if (o.role == rcx::Role::Argument) continue;
+    if (i >= in.operands.size()) return false;
+    if (!in.operands[i++].constant && operand_range(in.mnemonic, o.name)) return true;
+  }
+  return false;
+}
+
+// Whether RangeCheck::stmt could warn anywhere under `s`, at any depth (it
+// follows the same statements and calls).
+bool may_warn(const Program& prog, const Stmt& s, RangeMemo& memo);
+
+bool function_may_warn(const Program& prog, std::size_t index, RangeMemo& memo) {
+  if (memo.may_warn.size() != prog.functions.size()) memo.may_warn.assign(prog.functions.size(), -1);
+  if (memo.may_warn[index] < 0) {
+    memo.may_warn[index] = 1;  // while it is being looked at: a call cycle may warn (the walk decides)
+    memo.may_warn[index] = may_warn(prog, prog.functions[index].body, memo) ? 1 : 0;
+  }
+  return memo.may_warn[index] == 1;
+}
+
+bool may_warn(const Program& prog, const Stmt& s, RangeMemo& memo) {
+  return std::visit(
+      [&](const auto& n) {
+        using N = std::decay_t<decltype(n)>;
+        if constexpr (std::is_same_v<N, Block>) {
+          return std::any_of(n.stmts.begin(), n.stmts.end(), [&](const Stmt& c) { return may_warn(prog, c, memo); });
+        } else if constexpr (std::is_same_v<N, If>) {
+          return may_warn(prog, *n.then_branch, memo) || (n.else_branch && may_warn(prog, **n.else_branch, memo));
+        } else if constexpr (std::is_same_v<N, ExprStmt>) {
+          const auto* c = as<Call>(n.expr);
+          return c && c->symbol != kNoSymbol && prog.symbol(c->symbol).kind == SymbolKind::Function &&
+                 function_may_warn(prog, prog.symbol(c->symbol).index, memo);
+        } else if constexpr (std::is_same_v<N, Asm>) {
+          return std::any_of(n.items.begin(), n.items.end(), [](const AsmItem& item) {
+            const auto* in = std::get_if<AsmInstr>(&item);
+            return in && has_ranged_operand(*in);
+          });
+        } else {
+          return false;
+        }
+      },
+      s.node);
+}
+
 }  // namespace
 
 std::optional<OperandRange> operand_range(std::string_view mnemonic, std::string_view operand) {
@@ -136,7 +185,9 @@ std::string outside_range(const OperandRange& range) {
 }
 
 void check_call_ranges(const Program& program, const Function& f, const std::vector<Expr>& args, SourceSpan call,
-                       Diagnostics& diags) {
+                       Diagnostics& diags, RangeMemo& memo) {
+  auto index = static_cast<std::size_t>(&f - program.functions.data());
+  if (index < program.functions.size() && !function_may_warn(program, index, memo)) return;
   RangeCheck(program, call, diags).function(f, args, {}, 0);
 }
 

@@ -3,6 +3,7 @@
 // once they reach an instruction, e.g. PlaySound(7).
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -29,10 +30,19 @@ std::string describe_operand(std::string_view mnemonic, std::string_view operand
 // ", outside the RCX's range 0..7; the RCX ignores the command", for messages.
 std::string outside_range(const OperandRange& range);
 
+// What check_call_ranges learnt about the functions of one program: for
+// each (by index), whether its body or an inline function it calls has an
+// instruction operand with a range that is not written as a constant. Only
+// such a function can warn; most have none, and then a call is not
+// followed through every body it inlines. Owned by whoever checks the calls.
+struct RangeMemo {
+  std::vector<std::int8_t> may_warn;  // -1 not known yet, 0 no, 1 yes
+};
+
 // Warns at `call` when a constant argument of the call of `f` (after sema
 // resolved `program`) ends up as an instruction operand outside its range,
 // following the argument through nested inline calls.
 void check_call_ranges(const ast::Program& program, const ast::Function& f, const std::vector<ast::Expr>& args,
-                       SourceSpan call, Diagnostics& diags);
+                       SourceSpan call, Diagnostics& diags, RangeMemo& memo);
 
 }  // namespace rcxc::frontend

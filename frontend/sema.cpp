@@ -87,6 +87,7 @@ class Checker {
   int breakable_depth_ = 0;
   std::vector<Switch*> switches_;
   std::map<SymbolId, std::set<SymbolId>> function_calls_;  // function -> functions it calls
+  RangeMemo range_memo_;
 
   // ------------------------------------------------------------ symbols --
 
@@ -695,7 +696,7 @@ class Checker {
     if (!args_ok) return;  // an argument that failed already has its error
     for (std::size_t i = 0; i < f.params.size(); ++i) check_argument(f, f.params[i], n.args[i]);
     // From tasks and subs only: by then every function body is resolved.
-    if (!in_function_) check_call_ranges(prog_, f, n.args, e.span, diags_);
+    if (!in_function_) check_call_ranges(prog_, f, n.args, e.span, diags_, range_memo_);
   }
 
   // The source type a `const int &` parameter must carry because the body

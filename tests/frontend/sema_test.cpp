@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "frontend/frontend.h"
+#include "frontend/ranges.h"
 #include "tests/frontend/frontend_test_util.h"
 
 using namespace rcxc;
@@ -139,6 +140,12 @@ const BadProgram kCases[] = {
     {"RangeFollowsArgumentsThroughNestedFunctions",
      "void Beep(const int n) { PlaySound(n + 1); }\nvoid Twice() { Beep(5); }\ntask main()\n{\n  Twice();\n}\n",
      {"5:3: warning: 'Twice' passes 6 as operand 'sound' of 'sound', outside the RCX's range 0..5"}, true},
+    // Quiet() can never warn, which the check remembers; Loud() calls it
+    // before the instruction that does.
+    {"RangeFollowsArgumentsPastFunctionsThatCannotWarn",
+     "void Quiet() { Off(OUT_A); }\nvoid Loud(const int n) { Quiet(); PlaySound(n); }\ntask main()\n{\n  Quiet();\n"
+     "  Loud(7);\n  Quiet();\n}\n",
+     {"6:3: warning: 'Loud' passes 7 as operand 'sound' of 'sound', outside the RCX's range 0..5"}, true},
     {"AsmOperandOutsideTheFirmwareRange", "task main()\n{\n  asm { timerclr 4; }\n}\n",
      {"3:18: warning: operand 'timer' of 'timerclr' is 4, outside the RCX's range 0..3"}},
     // The power operand is named for what it means and the seed's consequence.
@@ -366,4 +373,32 @@ TEST(Sema, StdlibValuesFollowTheFirmware) {
   ASSERT_TRUE(r2.program) << r2.text();
   for (std::size_t i = 0; i < std::size(wants); ++i)
     EXPECT_EQ(r2.program->globals[i].init->constant, std::optional<std::int16_t>(wants[i].value)) << wants[i].name;
+}
+
+// The range check follows a call through every body it inlines only where
+// some instruction there could be out of range: it remembers, per function,
+// whether one can.
+TEST(Sema, RangeCheckRemembersWhichFunctionsCanWarn) {
+  auto r = rcxc::test::run_frontend(
+      "void Quiet(int &x) { x = x + 1; Off(OUT_A); }\nvoid Loud(const int n) { PlaySound(n); }\n"
+      "int g;\ntask main() { Quiet(g); Loud(1); }\n");
+  ASSERT_TRUE(r.program) << r.text();
+  const auto& p = *r.program;
+  auto index = [&](const std::string& name) {
+    for (std::size_t i = 0; i < p.functions.size(); ++i)
+      if (p.functions[i].name == name) return i;
+    return p.functions.size();
+  };
+  rcxc::frontend::RangeMemo memo;
+  rcxc::Diagnostics diags;
+  std::vector<rcxc::ast::Expr> args{rcxc::ast::Expr{rcxc::ast::IntLit{9}, {}, std::int16_t{9}}};
+  rcxc::frontend::check_call_ranges(p, p.functions[index("Loud")], args, {}, diags, memo);
+  ASSERT_EQ(memo.may_warn.size(), p.functions.size());
+  EXPECT_EQ(memo.may_warn[index("Loud")], 1);
+  EXPECT_EQ(diags.all().size(), 1u);  // PlaySound(9)
+  std::vector<rcxc::ast::Expr> none;
+  std::vector<rcxc::ast::Expr> var{rcxc::ast::Expr{rcxc::ast::Name{"g", 0}, {}, std::nullopt}};
+  rcxc::frontend::check_call_ranges(p, p.functions[index("Quiet")], var, {}, diags, memo);
+  EXPECT_EQ(memo.may_warn[index("Quiet")], 0);
+  EXPECT_EQ(diags.all().size(), 1u);
 }
