@@ -20,20 +20,18 @@ bool arithmetic_op(Op op) {
   return commutes(op) || op == Op::SubtractFromVariable || op == Op::DivideVariable || op == Op::SetVariable;
 }
 
-// Whether some instruction writes a temporary or local that the next one
-// reads as its second operand only: every rewrite below ends so, and a
-// function without one needs no liveness.
-bool has_candidate(const Program& p, const Function& f) {
-  for (const auto& b : f.blocks)
-    for (std::size_t i = 0; i + 1 < b.instrs.size(); ++i) {
-      const Instr& a = b.instrs[i];
-      const Instr& n = b.instrs[i + 1];
-      if (a.raw || n.raw || a.args.empty() || !a.args[0].is_var() || n.args.size() != 2) continue;
-      VarId t = a.args[0].value;
-      if (p.vars[static_cast<std::size_t>(t)].kind != VarKind::Global && n.args[1].is_var(t) &&
-          !n.args[0].is_var(t))
-        return true;
-    }
+// Whether some instruction of `b` writes a temporary or local that the
+// next one reads as its second operand only: every rewrite below ends so,
+// and a block without one is left as it is.
+bool has_candidate(const Program& p, const Block& b) {
+  for (std::size_t i = 0; i + 1 < b.instrs.size(); ++i) {
+    const Instr& a = b.instrs[i];
+    const Instr& n = b.instrs[i + 1];
+    if (a.raw || n.raw || a.args.empty() || !a.args[0].is_var() || n.args.size() != 2) continue;
+    VarId t = a.args[0].value;
+    if (p.vars[static_cast<std::size_t>(t)].kind != VarKind::Global && n.args[1].is_var(t) && !n.args[0].is_var(t))
+      return true;
+  }
   return false;
 }
 
@@ -53,7 +51,11 @@ std::vector<bool> second_operand_dies(const Program& p, const Block& block, cons
 
 // One scan of a function; returns whether anything changed.
 bool coalesce_in(const Program& p, Function& f, const CallEffects& calls) {
-  if (!has_candidate(p, f)) return false;
+  // A function without a candidate block needs no liveness.
+  std::vector<bool> candidate(f.blocks.size());
+  bool any = false;
+  for (std::size_t b = 0; b < f.blocks.size(); ++b) any |= candidate[b] = has_candidate(p, f.blocks[b]);
+  if (!any) return false;
   Liveness L = compute_liveness(p, f, calls);
   bool changed = false;
   auto private_var = [&](const Operand& o) {
@@ -62,6 +64,7 @@ bool coalesce_in(const Program& p, Function& f, const CallEffects& calls) {
     return v.kind != VarKind::Global && !v.slot;
   };
   for (std::size_t b = 0; b < f.blocks.size(); ++b) {
+    if (!candidate[b]) continue;
     Block& block = f.blocks[b];
     const auto& code = block.instrs;
     std::vector<bool> dies = second_operand_dies(p, block, calls, L.live_out[b]);
