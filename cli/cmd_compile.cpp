@@ -128,10 +128,25 @@ int run_compile(const CompileArgs& a) {
 
 }  // namespace
 
+// --listing's value is optional, so `--listing prog.nqc` takes the program
+// as the listing's name; say so instead of only that FILE is missing.
+int missing_source(const CompileArgs& a) {
+  const std::string& l = a.listing;
+  bool looks_like_source = l.size() > 4 && (l.ends_with(".nqc") || l.ends_with(".nqh"));
+  if (looks_like_source)
+    std::cerr << "rcxc compile: no source file: --listing took " << l
+              << " as the name of the listing to write; write --listing=FILE, or --listing after the source file\n";
+  else
+    std::cerr << "rcxc compile: no source file: give the NQC program to compile (rcxc compile FILE)\n";
+  return kExitUsage;
+}
+
 void register_compile(CLI::App& app, int& exit_code) {
   auto* cmd = app.add_subcommand("compile", "Compile an NQC program to an .rcx image");
   auto args = std::make_shared<CompileArgs>();
-  cmd->add_option("FILE", args->file, "NQC source file")->required();
+  // Not required() for CLI11: a missing FILE is said in the callback, which
+  // can tell when `--listing prog.nqc` took the source as its value.
+  cmd->add_option("FILE", args->file, "NQC source file (required)");
   cmd->add_option("-o,--output", args->output, "Output .rcx image");
   add_compiler_options(cmd, args->compiler);
   cmd->add_flag("-E", args->preprocess_only, "Print the preprocessed source and stop (nqc's -E<file> writes errors; here they go to stderr)");
@@ -147,6 +162,10 @@ void register_compile(CLI::App& app, int& exit_code) {
   cmd->add_option("--max-errors", args->max_errors, "Stop printing after N errors (default 20, 0: print all)")
       ->check(CLI::Range(0, 1000000).description(""));
   cmd->callback([&exit_code, args] {
+    if (args->file.empty()) {
+      exit_code = missing_source(*args);
+      return;
+    }
     try {
       exit_code = run_compile(*args);
     } catch (const std::exception& e) {

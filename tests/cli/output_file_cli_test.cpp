@@ -9,6 +9,8 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 
 #include "tests/support/process.h"
 
@@ -103,6 +105,28 @@ TEST(OutputFileCli, ATraceOverTheInputImageIsRefused) {
   EXPECT_NE(r.err.find("refusing to write the trace to " + d.path + "/img.json: it is the input"), std::string::npos)
       << r.err;
   EXPECT_EQ(d.read("img.json"), before);
+}
+
+// --listing's value is optional: `--listing prog.nqc` takes the program as
+// the listing's name, and the message says so instead of only that the
+// source is missing; nothing is written.
+TEST(OutputFileCli, AListingThatTookTheSourceSaysSo) {
+  TempDir d;
+  std::string src = d.write("p.nqc", kProgram);
+  auto r = run_rcxc({"compile", "--listing", src});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--listing took " + src), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--listing=FILE"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(d.path + "/p.rcx"));
+  std::ifstream in(src);
+  EXPECT_EQ(std::string(std::istreambuf_iterator<char>(in), {}), kProgram);
+  auto none = run_rcxc({"compile"});
+  EXPECT_EQ(none.exit_code, 2);
+  EXPECT_NE(none.err.find("no source file"), std::string::npos) << none.err;
+  // The listing after the source works.
+  auto ok = run_rcxc({"compile", src, "-o", d.path + "/p.rcx", "--listing"});
+  EXPECT_EQ(ok.exit_code, 0) << ok.err;
+  EXPECT_NE(ok.out.find("task"), std::string::npos);
 }
 
 }  // namespace
