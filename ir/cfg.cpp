@@ -70,9 +70,7 @@ void remove_unreachable(Function& f) {
 // straight-line code (an inline function's body and what follows the
 // call) is one block for the passes that work inside blocks.
 void merge_straight_lines(Function& f) {
-  std::vector<int> preds(f.blocks.size(), 0);
-  for (const auto& b : f.blocks)
-    for (BlockId s : successors(b.term)) ++preds[static_cast<std::size_t>(s)];
+  std::vector<int> preds = predecessor_counts(f);
   std::vector<bool> keep(f.blocks.size(), true), head(f.blocks.size(), false);
   std::vector<std::vector<std::size_t>> setup_of(f.blocks.size());  // repeats whose setup each block is
   for (std::size_t r = 0; r < f.repeats.size(); ++r) {

@@ -79,6 +79,13 @@ BlockId add_block(Function& f) {
   return static_cast<BlockId>(f.blocks.size() - 1);
 }
 
+std::vector<int> predecessor_counts(const Function& f) {
+  std::vector<int> preds(f.blocks.size(), 0);
+  for (const auto& b : f.blocks)
+    for (BlockId s : successors(b.term)) ++preds[static_cast<std::size_t>(s)];
+  return preds;
+}
+
 Successors successors(const Terminator& t) {
   Successors s;
   auto add = [&](BlockId a, BlockId b) {

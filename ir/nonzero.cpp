@@ -12,9 +12,7 @@ bool sets_constant(const Instr& in, VarId d, int value) {
 }  // namespace
 
 void compute_nonzero_by_sign(Function& f) {
-  std::vector<int> preds(f.blocks.size(), 0);
-  for (const auto& b : f.blocks)
-    for (BlockId s : successors(b.term)) ++preds[static_cast<std::size_t>(s)];
+  std::vector<int> preds = predecessor_counts(f);
   const std::vector<bool> loop_blocks = repeat_blocks(f);
   for (std::size_t p = 0; p < f.blocks.size(); ++p) {
     Block& test = f.blocks[p];

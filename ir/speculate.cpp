@@ -26,9 +26,7 @@ std::optional<BlockId> jump_target(const Block& b) {
 }  // namespace
 
 void speculate_assignments(Function& f, const std::vector<Var>& vars) {
-  std::vector<int> preds(f.blocks.size(), 0);
-  for (const auto& b : f.blocks)
-    for (BlockId s : successors(b.term)) ++preds[static_cast<std::size_t>(s)];
+  std::vector<int> preds = predecessor_counts(f);
   const std::vector<bool> loop_blocks = repeat_blocks(f);
   for (std::size_t b = 0; b < f.blocks.size(); ++b) {
     auto* br = std::get_if<Branch>(&f.blocks[b].term);
