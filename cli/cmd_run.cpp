@@ -66,9 +66,10 @@ int run_on_nxt(rcx::Machine& machine, const rcx::Image& image, const std::string
   if (stop >= 0) ::close(stop);
   for (const auto& note : stats.notes) std::cerr << "rcxc run: note: " << note << "\n";
   std::cerr << fmt::format("rcxc run: tethered to {}: {} writes, {} sensor reads (inputs 1-3: {}), {} message reads, "
-                           "{} messages received\n",
+                           "{} messages received, polls up to {} ms behind the {} ms grid\n",
                            transport->describe(), stats.writes, stats.polls, fmt::join(stats.polls_per_input, "/"),
-                           stats.message_reads, stats.messages_received);
+                           stats.message_reads, stats.messages_received, stats.worst_poll_lag_us / 1000,
+                           kTetherPollUs / 1000);
   if (!error.empty()) {
     std::cerr << "rcxc run: " << error << "\n";
     return error == "interrupted" ? 130 : kExitNoReply;

@@ -323,17 +323,23 @@ std::string run_tethered(rcx::Machine& machine, nxt::Client& client, const Tethe
     }
     // The emulator's clock follows the wall clock from the first telegram.
     const std::int64_t wall_us = std::min(t.elapsed_us(), options.limit_us);
+    // More than a period behind (a link slower than the period, such as
+    // Bluetooth's ~60 ms a reply, or a host that did not get the CPU): poll
+    // at the present rather than at the grid points missed, since what the
+    // brick reads now must not reach the program before the brick saw it.
+    if (wall_us - next_poll_us > kTetherPollUs) {
+      stats.worst_poll_lag_us = std::max(stats.worst_poll_lag_us, wall_us - next_poll_us);
+      next_poll_us = wall_us;
+    }
     while (t.error.empty() && running) {
       const std::int64_t to_us = std::min(wall_us, next_poll_us);
       const auto& stop = machine.run_until(base_us + to_us);
       t.mirror_events(seen_events);
       t.follow_sensor_types();
       if (to_us == next_poll_us) {
+        stats.worst_poll_lag_us = std::max(stats.worst_poll_lag_us, wall_us - next_poll_us);
         poll_everything();
         next_poll_us += kTetherPollUs;
-        // More than a period behind (a link slower than the period, such as
-        // Bluetooth's ~60 ms a reply, or a stalled host): poll at the
-        // present next rather than for every grid point missed.
         if (next_poll_us < wall_us) next_poll_us = wall_us;
       }
       running = stop.kind == rcx::StopKind::Running && machine.any_task_active() && wall_us < options.limit_us;

@@ -31,6 +31,9 @@ struct TetherStats {
   std::array<int, 3> polls_per_input{};
   int message_reads = 0;           // MessageRead of the inbox
   int messages_received = 0;       // fed to the program's Message()
+  // How far behind the poll grid the host was at its worst poll: a busy
+  // machine delays readings by one poll period plus this.
+  std::int64_t worst_poll_lag_us = 0;
   std::vector<std::string> notes;  // what the user should know (no program on the NXT, ...)
 };
 

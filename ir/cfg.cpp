@@ -105,11 +105,11 @@ void merge_straight_lines(Function& f) {
 // if/else whose branches both end with Wait(t) keeps one Wait).
 void merge_tails(Function& f) {
   const std::vector<bool> loop_blocks = repeat_blocks(f);
-  std::vector<std::vector<BlockId>> preds(f.blocks.size());
-  for (std::size_t b = 0; b < f.blocks.size(); ++b)
-    for (BlockId s : successors(f.blocks[b].term)) preds[static_cast<std::size_t>(s)].push_back(static_cast<BlockId>(b));
+  // A branch with both sides to the join is no jump: listing it once
+  // changes nothing below.
+  const std::vector<std::vector<BlockId>> preds = predecessor_lists(f);
   for (std::size_t j = 1; j < f.blocks.size(); ++j) {
-    auto& from = preds[j];
+    const auto& from = preds[j];
     if (from.size() < 2 || loop_blocks[j]) continue;
     bool all_jumps = true;
     for (BlockId p : from) {

@@ -86,6 +86,18 @@ std::vector<int> predecessor_counts(const Function& f) {
   return preds;
 }
 
+std::vector<std::vector<BlockId>> predecessor_lists(const Function& f) {
+  std::vector<std::vector<BlockId>> preds(f.blocks.size());
+  for (std::size_t b = 0; b < f.blocks.size(); ++b)
+    for (BlockId s : successors(f.blocks[b].term)) {
+      auto& into = preds[static_cast<std::size_t>(s)];
+      // Successors of one block come together: a branch with both sides
+      // to one block is one predecessor.
+      if (into.empty() || into.back() != static_cast<BlockId>(b)) into.push_back(static_cast<BlockId>(b));
+    }
+  return preds;
+}
+
 Successors successors(const Terminator& t) {
   Successors s;
   auto add = [&](BlockId a, BlockId b) {

@@ -228,6 +228,8 @@ using Successors = InlineList<BlockId, 2>;
 Successors successors(const Terminator& t);
 // Edges into each block (a branch whose two sides are one block counts twice).
 std::vector<int> predecessor_counts(const Function& f);
+// The blocks with an edge into each block, each once, in block order.
+std::vector<std::vector<BlockId>> predecessor_lists(const Function& f);
 // For each block its index in reverse postorder from the entry (every
 // block before its successors, loops aside); -1 for blocks no path reaches.
 // Forward data-flow visiting blocks in this order meets each join once

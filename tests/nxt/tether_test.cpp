@@ -165,6 +165,37 @@ task main() {
   EXPECT_LE(on->t_us, 300'000 + rcxc::cli::kTetherPollUs + 10'000);
 }
 
+TEST(NxtTether, AHostThatStalledReadsAtThePresentNotAtTheGridPointsItMissed) {
+  // The host gets no CPU from 400 to 1000 ms; the sensor changes at 800.
+  // Polling for the missed grid point at 450 would hand the program at
+  // 450 ms what the brick only saw at 800.
+  auto image = compile(R"(
+task main() {
+  until (SENSOR_2 < 500);
+  OnFwd(OUT_A);
+  Wait(20);
+}
+)");
+  Rig rig(image, {raw_at(800, 1, 321)}, 2000);
+  bool stalled = false;
+  rig.at_each_step = [&](std::int64_t now) {
+    if (stalled || now < 400'000) return;
+    stalled = true;
+    rig.now_us = 1'000'000;
+    nxt::advance_to(rig.brick, rig.now_us);
+  };
+  ASSERT_EQ(rig.run(), "");
+  const auto& events = rig.machine.state().events;
+  auto on = std::find_if(events.begin(), events.end(), [](const rcx::Event& e) {
+    return e.kind == rcx::EventKind::Output && e.output.mode == rcx::OutputMode::On;
+  });
+  ASSERT_NE(on, events.end());
+  EXPECT_GE(on->t_us, 800'000);
+  EXPECT_LE(on->t_us, 1'000'000 + 10'000);
+  // How far behind the grid it fell is reported (cmd_run prints it).
+  EXPECT_GE(rig.stats.worst_poll_lag_us, 500'000);
+}
+
 TEST(NxtTether, AProgramThatReadsNoSensorPollsNone) {
   auto image = compile("task main() { SetSensor(SENSOR_1, SENSOR_TOUCH); OnFwd(OUT_B); Wait(30); }");
   Rig rig(image, {}, 1000);
