@@ -31,19 +31,33 @@ inline double children_cpu_seconds() {
          static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec) / 1e6;
 }
 
-// Every .nqc file of the corpus, sorted; empty without the corpus.
-inline std::vector<std::filesystem::path> corpus_files() {
+// Every .nqc file under `dir`, sorted; empty when there is no such folder.
+inline std::vector<std::filesystem::path> nqc_files_under(const std::filesystem::path& dir) {
   std::vector<std::filesystem::path> files;
-  if (!std::filesystem::exists(corpus_dir())) return files;
-  for (const auto& e : std::filesystem::recursive_directory_iterator(corpus_dir()))
+  if (!std::filesystem::is_directory(dir)) return files;
+  for (const auto& e : std::filesystem::recursive_directory_iterator(dir))
     if (e.path().extension() == ".nqc") files.push_back(e.path());
   std::sort(files.begin(), files.end());
   return files;
 }
 
+// Every .nqc file of the corpus, sorted; empty without the corpus.
+inline std::vector<std::filesystem::path> corpus_files() { return nqc_files_under(corpus_dir()); }
+
+// Programs from elsewhere that the passes were never tuned on, in a folder
+// outside the repository named by RCXC_OUTSIDE_DIR (their authors' files are
+// not ours to commit; docs/compiler.md lists where they come from); empty
+// when it is not set.
+inline std::vector<std::filesystem::path> outside_files() {
+  const char* env = std::getenv("RCXC_OUTSIDE_DIR");
+  return env ? nqc_files_under(env) : std::vector<std::filesystem::path>{};
+}
+
 // `nqc -Trcx -L FILE`'s listing, or nullopt when nqc fails or is missing.
 inline std::optional<std::string> nqc_listing(const std::filesystem::path& file) {
-  std::string cmd = "nqc -Trcx -L '" + file.string() + "' 2>/dev/null";
+  // nqc looks for #include files in the current folder and -I, not beside
+  // the file that includes them.
+  std::string cmd = "nqc -Trcx -I'" + file.parent_path().string() + "' -L '" + file.string() + "' 2>/dev/null";
   FILE* pipe = popen(cmd.c_str(), "r");
   if (pipe == nullptr) return std::nullopt;
   std::string text;

@@ -3,7 +3,8 @@
 // code bytes and variable slots against `nqc -Trcx` (when nqc is
 // installed), as a table with the totals; then the totals over 400 random
 // programs (tests/support/random_programs.h) at both levels, naming the
-// seeds of any program larger than nqc's; plus the compile time of each
+// seeds of any program larger than nqc's; the totals over programs from
+// elsewhere when RCXC_OUTSIDE_DIR names a folder of them; plus the compile time of each
 // corpus program at -Os as the benchmark proper. speed_bench gives the
 // sizes of the other generated kinds (motor sequences, two tasks, calls).
 //
@@ -134,6 +135,39 @@ void print_random_totals() {
   if (!os_larger.empty()) std::cout << fmt::format("larger at -Os: seeds {}\n", fmt::join(os_larger, ", "));
 }
 
+// Programs from elsewhere (RCXC_OUTSIDE_DIR): the figure for programs the
+// project has never seen. Those nqc refuses are left out, and named.
+void print_outside_totals() {
+  const auto files = rcxc::bench::outside_files();
+  if (files.empty()) return;
+  long o2_total = 0, os_total = 0, theirs_total = 0;
+  std::vector<std::string> o2_larger, os_larger, left_out;
+  for (const auto& f : files) {
+    auto o2 = ours(f, rcxc::ir::OptLevel::O2);
+    auto a = ours(f);
+    auto b = theirs(f);
+    if (!o2 || !a || !b) {
+      left_out.push_back(f.filename().string());
+      continue;
+    }
+    o2_total += o2->bytes;
+    os_total += a->bytes;
+    theirs_total += b->bytes;
+    if (o2->bytes > b->bytes) o2_larger.push_back(f.filename().string());
+    if (a->bytes > b->bytes) os_larger.push_back(f.filename().string());
+  }
+  if (theirs_total > 0)
+    std::cout << fmt::format("{:<24} {:>6} {:>6} {:>6} {:>7.3f} {:>7.3f}   ({} programs from elsewhere; larger than "
+                             "nqc's: {} at -O2, {} at -Os)\n",
+                             "from elsewhere", o2_total, os_total, theirs_total,
+                             static_cast<double>(o2_total) / theirs_total, static_cast<double>(os_total) / theirs_total,
+                             files.size() - left_out.size(), o2_larger.size(), os_larger.size());
+  if (!o2_larger.empty()) std::cout << fmt::format("larger at -O2: {}\n", fmt::join(o2_larger, ", "));
+  if (!os_larger.empty()) std::cout << fmt::format("larger at -Os: {}\n", fmt::join(os_larger, ", "));
+  if (!left_out.empty())
+    std::cout << fmt::format("left out (a compiler refuses them): {}\n", fmt::join(left_out, ", "));
+}
+
 void BM_Compile(benchmark::State& state, const fs::path& file) {
   std::optional<Size> size;
   for (auto _ : state) {
@@ -151,6 +185,7 @@ void BM_Compile(benchmark::State& state, const fs::path& file) {
 int main(int argc, char** argv) {
   print_table();
   print_random_totals();
+  print_outside_totals();
   for (const auto& f : corpus_files())
     benchmark::RegisterBenchmark(("compile/" + f.filename().string()).c_str(), BM_Compile, f);
   benchmark::Initialize(&argc, argv);
