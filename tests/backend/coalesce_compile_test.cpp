@@ -183,3 +183,61 @@ task main() {
 
 }  // namespace
 }  // namespace rcxc
+
+namespace rcxc {
+namespace {
+
+// Tests of values computed by one-to-one arithmetic (ir/negtest.cpp)
+// count what the 16-bit arithmetic gives, over the whole range in steps of
+// 257 and around zero, against counts worked out here on int16_t.
+TEST(NegatedTest, TestsThroughOneToOneArithmeticCountTheSame) {
+  const char* text = R"(
+int n, a, b, c, d, e;
+void count() {
+  if (n * 3 + 5 == 2) a += 1;
+  if (10 - n != 4) b += 1;
+  if (~n <= 5) c += 1;
+  if (n * 3 == -32768) d += 1;
+  if (n + 1 <= 0) e += 1;
+}
+task main() {
+  a = 0; b = 0; c = 0; d = 0; e = 0;
+  n = -32768;
+  repeat (256) { count(); n += 257; }
+  n = -40;
+  repeat (81) { count(); n += 1; }
+}
+)";
+  int a = 0, b = 0, c = 0, d = 0, e = 0;
+  auto count = [&](int n) {
+    auto w = [](long v) { return static_cast<int16_t>(static_cast<uint16_t>(v & 0xffff)); };
+    a += w(n * 3L + 5) == 2;
+    b += w(10L - n) != 4;
+    c += w(-1L - n) <= 5;
+    d += w(n * 3L) == -32768;
+    e += w(n + 1L) <= 0;
+  };
+  for (int k = 0; k < 256; ++k) count(-32768 + 257 * k);
+  for (int n = -40; n <= 40; ++n) count(n);
+  int o1_bytes = 0;
+  for (auto level : {ir::OptLevel::O1, ir::OptLevel::O2, ir::OptLevel::Os}) {
+    auto comp = test::compile_program(text, level);
+    ASSERT_TRUE(comp.out);
+    auto m = test::run_image(comp.out->image, 200'000);
+    EXPECT_EQ(test::global_value(m, comp.out->image, "a"), a);
+    EXPECT_EQ(test::global_value(m, comp.out->image, "b"), b);
+    EXPECT_EQ(test::global_value(m, comp.out->image, "c"), c);
+    EXPECT_EQ(test::global_value(m, comp.out->image, "d"), d);
+    EXPECT_EQ(test::global_value(m, comp.out->image, "e"), e);
+    if (level == ir::OptLevel::O1) o1_bytes = comp.out->code_bytes;
+    // Four of the five tests compare n itself: their temporary's copy and
+    // arithmetic go (15 + 10 + 10 + 10 bytes), in each of the two copies
+    // of count() (inlined: called twice).
+    if (level == ir::OptLevel::O2) {
+      EXPECT_EQ(comp.out->code_bytes, o1_bytes - 90);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace rcxc
