@@ -59,6 +59,7 @@ bool optimize(Program& p, OptLevel level, Diagnostics& diags, Log& log, const Pa
           push_constant_ops_into_predecessors(f, p.vars);
           compute_nonzero_by_sign(f);
         }
+        apply_constants_in_predecessors(p);
       }
       for (auto& f : p.functions) {
         shorten_complements(f);

@@ -240,6 +240,46 @@ TEST(JoinConstant, AGlobalOrAConstantSeenElsewhereStays) {
   EXPECT_EQ(b.at(f, 0).instrs[1].args[1], I(0));
 }
 
+TEST(JoinConstant, AComparisonAddedToAVariableIsAnAdditionOnOneSide) {
+  // t = 0; if (a < 5) t = 1; g += t;  ->  if (a < 5) g += 1;
+  Builder b;
+  VarId a = b.global("a"), g = b.global("g");
+  FuncId f = b.function("main");
+  VarId t = b.temp();
+  b.block(f, {set(t, I(0))}, Branch{Cmp::LT, V(a), I(5), 1, 2});
+  b.block(f, {set(t, I(1))}, Jump{2});
+  b.block(f, {add(g, V(t)), sound(1)});
+  apply_constants_in_predecessors(b.p);
+  ASSERT_EQ(b.at(f, 2).instrs.size(), 1u);  // the sound
+  ASSERT_EQ(b.at(f, 1).instrs.size(), 2u);
+  EXPECT_EQ(b.at(f, 1).instrs[1].op, Op::AddToVariable);
+  EXPECT_EQ(b.at(f, 1).instrs[1].args[0], V(g));
+  EXPECT_EQ(b.at(f, 1).instrs[1].args[1], I(1));
+  EXPECT_EQ(b.at(f, 0).instrs.size(), 1u);  // t = 0, left to the dead stores
+}
+
+TEST(JoinConstant, AProductNeedsEverySideToJumpOrToChangeNothing) {
+  // g *= t with t = 0 on the test's side (g = 0 there would also go to
+  // block 1): stays. g /= u with 0 or 1 changes nothing either way: goes.
+  // w read again after the join: stays.
+  Builder b;
+  VarId a = b.global("a"), g = b.global("g");
+  FuncId f = b.function("main");
+  VarId t = b.temp(), u = b.temp(), w = b.temp();
+  b.block(f, {set(t, I(0))}, Branch{Cmp::LT, V(a), I(5), 1, 2});
+  b.block(f, {set(t, I(1))}, Jump{2});
+  b.block(f, {mul(g, V(t)), set(u, I(0))}, Branch{Cmp::LT, V(a), I(7), 3, 4});
+  b.block(f, {set(u, I(1))}, Jump{4});
+  b.block(f, {div(g, V(u)), set(w, I(0))}, Branch{Cmp::LT, V(a), I(9), 5, 6});
+  b.block(f, {set(w, I(1))}, Jump{6});
+  b.block(f, {sub(g, V(w)), set(a, V(w))});
+  apply_constants_in_predecessors(b.p);
+  EXPECT_EQ(b.at(f, 2).instrs.size(), 2u);
+  ASSERT_EQ(b.at(f, 4).instrs.size(), 1u);
+  EXPECT_EQ(b.at(f, 4).instrs[0].op, Op::SetVariable);
+  EXPECT_EQ(b.at(f, 6).instrs.size(), 2u);
+}
+
 TEST(NonZero, AComparisonWithZeroIsTheSignOfTheAbsoluteValue) {
   // d = 0; if (v != 0) d = 1;  ->  d = abs(v); d = sign(d);
   Builder b;
