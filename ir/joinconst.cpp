@@ -1,5 +1,8 @@
 // Constant arithmetic at a join moved into the constants that reach it
 // (see passes.h).
+#include <optional>
+
+#include "ir/liveness.h"
 #include "ir/passes.h"
 
 namespace rcxc::ir {
@@ -45,6 +48,17 @@ bool overwrites_first(const Block& s, VarId v) {
   return false;
 }
 
+// The constant block p sets v to on its way into join j, when that
+// constant reaches only the join: every other way out of p sets v again
+// before reading it.
+Instr* constant_into(Function& f, const std::vector<bool>& loop_blocks, BlockId p, BlockId j, VarId v) {
+  Block& pred = f.blocks[static_cast<std::size_t>(p)];
+  if (p == j || loop_blocks[static_cast<std::size_t>(p)]) return nullptr;
+  for (BlockId s : successors(pred.term))
+    if (s != j && !overwrites_first(f.blocks[static_cast<std::size_t>(s)], v)) return nullptr;
+  return constant_set_at_end(pred, v);
+}
+
 }  // namespace
 
 void push_constant_ops_into_predecessors(Function& f, const std::vector<Var>& vars) {
@@ -66,15 +80,7 @@ void push_constant_ops_into_predecessors(Function& f, const std::vector<Var>& va
       std::vector<Instr*> sets;
       bool all = true;
       for (BlockId p : preds[j]) {
-        Block& pred = f.blocks[static_cast<std::size_t>(p)];
-        Instr* set = p == static_cast<BlockId>(j) || loop_blocks[static_cast<std::size_t>(p)]
-                         ? nullptr
-                         : constant_set_at_end(pred, v);
-        // The constant must reach only this join: every other way out of
-        // the block sets v again before reading it.
-        for (BlockId s : successors(pred.term))
-          if (s != static_cast<BlockId>(j) && !overwrites_first(f.blocks[static_cast<std::size_t>(s)], v))
-            set = nullptr;
+        Instr* set = constant_into(f, loop_blocks, p, static_cast<BlockId>(j), v);
         if (!set) {
           all = false;
           break;
@@ -83,6 +89,84 @@ void push_constant_ops_into_predecessors(Function& f, const std::vector<Var>& va
       }
       if (!all) break;
       for (Instr* set : sets) set->args[1] = Operand::imm(*arithmetic(first.op, set->args[1].value, first.args[1].value));
+      join.instrs.erase(join.instrs.begin());
+    }
+  }
+}
+
+namespace {
+
+// Whether `x op= k` leaves every x as it was: + - | of 0, * of 1, & of
+// -1, and / of 1 or 0 (the firmware leaves a variable divided by zero
+// unchanged).
+bool leaves_unchanged(rcx::Op op, int k) {
+  switch (op) {
+    case rcx::Op::AddToVariable:
+    case rcx::Op::SubtractFromVariable:
+    case rcx::Op::OrVariable: return k == 0;
+    case rcx::Op::MultiplyVariable: return k == 1;
+    case rcx::Op::AndVariable: return k == -1;
+    case rcx::Op::DivideVariable: return k == 0 || k == 1;
+    default: return false;
+  }
+}
+
+// Whether v is read after instruction `k` of block b before being set.
+bool read_after(const Block& b, std::size_t k, VarId v, const Liveness& L, std::size_t index) {
+  for (std::size_t i = k + 1; i < b.instrs.size(); ++i) {
+    const Instr& in = b.instrs[i];
+    if (!touches(in, v)) continue;
+    return !(!in.raw && in.op == rcx::Op::SetVariable && in.args[0].is_var(v) && !in.args[1].is_var(v));
+  }
+  return reads(b.term, v) || L.live_out[index].has(v);
+}
+
+}  // namespace
+
+void apply_constants_in_predecessors(Program& p) {
+  std::optional<CallEffects> calls;
+  for (auto& f : p.functions) {
+    const std::vector<std::vector<BlockId>> preds = predecessor_lists(f);
+    const std::vector<bool> loop_blocks = repeat_blocks(f);
+    std::optional<Liveness> L;
+    for (std::size_t j = 1; j < f.blocks.size(); ++j) {
+      Block& join = f.blocks[j];
+      if (loop_blocks[j] || preds[j].empty() || join.instrs.empty()) continue;
+      // `V op= t` first, t a temporary or local every way in has just set
+      // to a constant (a comparison's 0 or 1).
+      const Instr& first = join.instrs.front();
+      if (first.raw || first.args.size() != 2 || !first.args[0].is_var() || !first.args[1].is_var() ||
+          first.args[0] == first.args[1] || first.op == rcx::Op::SetVariable || first.op == rcx::Op::AbsoluteValue ||
+          first.op == rcx::Op::SignVariable || !arithmetic(first.op, 0, 0))
+        continue;
+      VarId t = first.args[1].value;
+      if (p.vars[static_cast<std::size_t>(t)].kind == VarKind::Global) continue;
+      std::vector<std::pair<BlockId, int>> constants;
+      for (BlockId b : preds[j]) {
+        const Block& pred = f.blocks[static_cast<std::size_t>(b)];
+        Instr* set = constant_into(f, loop_blocks, b, static_cast<BlockId>(j), t);
+        // A constant that changes V is applied at the end of its block,
+        // which must then go nowhere else.
+        if (set && !leaves_unchanged(first.op, set->args[1].value) && !std::holds_alternative<Jump>(pred.term))
+          set = nullptr;
+        if (!set) {
+          constants.clear();
+          break;
+        }
+        constants.emplace_back(b, set->args[1].value);
+      }
+      if (constants.empty()) continue;
+      if (!L) {
+        if (!calls) calls = call_effects(p);
+        L = compute_liveness(p, f, *calls);
+      }
+      if (read_after(join, 0, t, *L, j)) continue;
+      Instr applied = first;
+      for (auto [b, k] : constants) {
+        if (leaves_unchanged(first.op, k)) continue;
+        applied.args[1] = Operand::imm(k);
+        f.blocks[static_cast<std::size_t>(b)].instrs.push_back(applied);
+      }
       join.instrs.erase(join.instrs.begin());
     }
   }

@@ -68,11 +68,15 @@ void compute_into_targets(Program& p);
 // second wait no longer 2 ms late.
 void merge_consecutive_waits(Function& f);
 
-// negtest.cpp: a test for equality (== or != a constant) of a temporary or
-// local negated just before it (`t *= -1`, the end of `x % n`), with the
-// value read nowhere after, tests the value before the negation against
-// the negated constant: `x % 3 != 0` needs no negation.
-void test_before_negating(Program& p);
+// negtest.cpp: a test of a temporary or local against a constant, where
+// the value is computed just before by one-to-one arithmetic and read
+// nowhere after, tests what that arithmetic started from: `x % 3 != 0`
+// needs no negation (`t *= -1`), `x + 5 == 7` is `x == 2`, `x * 3 != 0` is
+// `x != 0` (3 has an inverse modulo 2^16), `10 - x == 4` is `x == 6`, and
+// `~x <= 5` (an order-reversing map that never wraps) is `x >= -6`. The
+// ordered tests only through `~` or a plain copy: `x + 1 <= 0` and `x <=
+// -1` differ at 32767.
+void test_before_one_to_one_arithmetic(Program& p);
 
 // joinconst.cpp: a block that begins with constant arithmetic on a
 // temporary or local (`t *= 3`) that every way in has just set to a
@@ -82,11 +86,30 @@ void test_before_negating(Program& p);
 // write it between).
 void push_constant_ops_into_predecessors(Function& f, const std::vector<Var>& vars);
 
+// joinconst.cpp: a join whose first instruction is `V op= t`, where t (a
+// temporary or local) was set to a constant on every way in (`t = 0;`
+// before a test, `t = 1;` on its other side: `V += (a < b)`), and read
+// nowhere after: each way in applies its constant to V instead (`V += 1`
+// on the side that set 1; nothing where the constant changes nothing:
+// + - | of 0, * of 1, & of -1, / of 0 or 1, as the firmware leaves a
+// division by zero). The sets of t and the join's instruction go: two
+// instructions fewer on the side that set 1, two on the other.
+void apply_constants_in_predecessors(Program& p);
+
 // nonzero.cpp: `d = (v != 0)` as lowered (`d = 0;`, a test of v against
 // 0, `d = 1;` on the nonzero side) becomes `d = abs(v); d = sign(d);`:
 // two instructions on every path instead of two or three, 10 bytes
 // instead of 17.
 void compute_nonzero_by_sign(Function& f);
+
+// shiftright.cpp: `d >>= 15` as lowered (a test of d's sign, `d = 1` on
+// one side and `d = 0` on the other) becomes `d &= -32768; d /= -32768`:
+// no branch, never an instruction more. With `constant_shifts` (-Os) also
+// `d >>= n` for n in 1..14 (the sign's test, `d &= 32767; d /= 2^n; d |=
+// 2^(15-n)` on the negative side, `d /= 2^n` on the other) becomes `d &=
+// -2^n; d /= 2^n; d &= 2^(16-n) - 1`: 15 bytes instead of 29, three
+// instructions on every path where a non-negative d ran two.
+void shift_right_without_branches(Function& f, bool constant_shifts);
 
 // tailstart.cpp: a task that main starts as the last thing it does before
 // ending (`start a; start b;` at main's end: either), that nothing else

@@ -43,6 +43,9 @@ bool optimize(Program& p, OptLevel level, Diagnostics& diags, Log& log, const Pa
   if (!resolve_calls(p, level, diags, log)) return false;
   if (shrinks_without_slowing(level) && passes.tail_starts) run_tail_started_tasks_in_main(p, log);
   if (level != OptLevel::O0) {
+    // Once: the shapes it rewrites come from the lowering alone.
+    if (shrinks_without_slowing(level))
+      for (auto& f : p.functions) shift_right_without_branches(f, trades_time_for_size(level));
     // Up to three rounds, each finding what the last one's removals
     // exposed; a round that changes nothing ends them.
     std::uint64_t before = code_hash(p);
@@ -51,11 +54,12 @@ bool optimize(Program& p, OptLevel level, Diagnostics& diags, Log& log, const Pa
       remove_dead_stores(p);
       if (shrinks_without_slowing(level)) {
         compute_into_targets(p);
-        test_before_negating(p);
+        test_before_one_to_one_arithmetic(p);
         for (auto& f : p.functions) {
           push_constant_ops_into_predecessors(f, p.vars);
           compute_nonzero_by_sign(f);
         }
+        apply_constants_in_predecessors(p);
       }
       for (auto& f : p.functions) {
         shorten_complements(f);

@@ -141,11 +141,55 @@ TEST(NegatedTest, AnEqualityTestNeedsNoNegation) {
   b.block(f, {set(t, V(g)), mul(t, I(-1))}, Branch{Cmp::NE, V(t), I(3), 1, 2});
   b.block(f, {sound(1)});
   b.block(f, {sound(2)});
-  test_before_negating(b.p);
-  ASSERT_EQ(b.at(f, 0).instrs.size(), 1u);
+  test_before_one_to_one_arithmetic(b.p);
+  // The copy goes too: g itself is tested.
+  ASSERT_EQ(b.at(f, 0).instrs.size(), 0u);
   const auto& br = std::get<Branch>(b.at(f, 0).term);
-  EXPECT_EQ(br.a, V(t));
+  EXPECT_EQ(br.a, V(g));
   EXPECT_EQ(br.b, I(-3));
+}
+
+TEST(NegatedTest, EqualityThroughAdditionsOddProductsAndReverseSubtraction) {
+  // (g * 3 + 5 == 2), (10 - g != 4), each value read nowhere after.
+  Builder b;
+  VarId g = b.global("g");
+  FuncId f = b.function("main");
+  VarId t = b.temp(), u = b.temp();
+  b.block(f, {set(t, V(g)), mul(t, I(3)), add(t, I(5))}, Branch{Cmp::EQ, I(2), V(t), 1, 1});
+  b.block(f, {set(u, I(10)), sub(u, V(g))}, Branch{Cmp::NE, V(u), I(4), 2, 2});
+  b.block(f, {sound(1)});
+  test_before_one_to_one_arithmetic(b.p);
+  ASSERT_EQ(b.at(f, 0).instrs.size(), 0u);
+  const auto& first = std::get<Branch>(b.at(f, 0).term);
+  EXPECT_EQ(first.a, V(g));
+  // g * 3 == -3 (mod 2^16): g == -1, since 3 * -1 == -3.
+  EXPECT_EQ(first.b, I(-1));
+  EXPECT_EQ(first.cmp, Cmp::EQ);
+  ASSERT_EQ(b.at(f, 1).instrs.size(), 0u);
+  const auto& second = std::get<Branch>(b.at(f, 1).term);
+  EXPECT_EQ(second.a, V(g));
+  EXPECT_EQ(second.b, I(6));
+}
+
+TEST(NegatedTest, AnOrderedTestGoesThroughAComplementOnly) {
+  // ~g <= 5 is g >= -6; g + 1 <= 0 stays (32767 + 1 wraps); an even
+  // product stays for equality too (g * 2 == 0 also at g == -32768).
+  Builder b;
+  VarId g = b.global("g");
+  FuncId f = b.function("main");
+  VarId t = b.temp(), u = b.temp(), w = b.temp();
+  b.block(f, {set(t, I(-1)), sub(t, V(g))}, Branch{Cmp::LE, V(t), I(5), 1, 1});
+  b.block(f, {set(u, V(g)), add(u, I(1))}, Branch{Cmp::LE, V(u), I(0), 2, 2});
+  b.block(f, {set(w, V(g)), mul(w, I(2))}, Branch{Cmp::EQ, V(w), I(0), 3, 3});
+  b.block(f, {sound(1)});
+  test_before_one_to_one_arithmetic(b.p);
+  ASSERT_EQ(b.at(f, 0).instrs.size(), 0u);
+  const auto& br = std::get<Branch>(b.at(f, 0).term);
+  EXPECT_EQ(br.a, V(g));
+  EXPECT_EQ(br.b, I(-6));
+  EXPECT_EQ(br.cmp, Cmp::GE);
+  EXPECT_EQ(b.at(f, 1).instrs.size(), 2u);
+  EXPECT_EQ(b.at(f, 2).instrs.size(), 2u);
 }
 
 TEST(NegatedTest, OrderedTestsAndValuesReadLaterKeepTheNegation) {
@@ -158,7 +202,7 @@ TEST(NegatedTest, OrderedTestsAndValuesReadLaterKeepTheNegation) {
   b.block(f, {set(t, V(g)), mul(t, I(-1))}, Branch{Cmp::LT, V(t), I(0), 1, 1});
   b.block(f, {set(u, V(g)), mul(u, I(-1))}, Branch{Cmp::EQ, I(0), V(u), 2, 2});
   b.block(f, {set(g, V(u))});
-  test_before_negating(b.p);
+  test_before_one_to_one_arithmetic(b.p);
   EXPECT_EQ(b.at(f, 0).instrs.size(), 2u);
   EXPECT_EQ(b.at(f, 1).instrs.size(), 2u);
 }
@@ -194,6 +238,46 @@ TEST(JoinConstant, AGlobalOrAConstantSeenElsewhereStays) {
   EXPECT_EQ(b.at(f, 2).instrs.size(), 3u);
   EXPECT_EQ(b.at(f, 0).instrs[0].args[1], I(0));
   EXPECT_EQ(b.at(f, 0).instrs[1].args[1], I(0));
+}
+
+TEST(JoinConstant, AComparisonAddedToAVariableIsAnAdditionOnOneSide) {
+  // t = 0; if (a < 5) t = 1; g += t;  ->  if (a < 5) g += 1;
+  Builder b;
+  VarId a = b.global("a"), g = b.global("g");
+  FuncId f = b.function("main");
+  VarId t = b.temp();
+  b.block(f, {set(t, I(0))}, Branch{Cmp::LT, V(a), I(5), 1, 2});
+  b.block(f, {set(t, I(1))}, Jump{2});
+  b.block(f, {add(g, V(t)), sound(1)});
+  apply_constants_in_predecessors(b.p);
+  ASSERT_EQ(b.at(f, 2).instrs.size(), 1u);  // the sound
+  ASSERT_EQ(b.at(f, 1).instrs.size(), 2u);
+  EXPECT_EQ(b.at(f, 1).instrs[1].op, Op::AddToVariable);
+  EXPECT_EQ(b.at(f, 1).instrs[1].args[0], V(g));
+  EXPECT_EQ(b.at(f, 1).instrs[1].args[1], I(1));
+  EXPECT_EQ(b.at(f, 0).instrs.size(), 1u);  // t = 0, left to the dead stores
+}
+
+TEST(JoinConstant, AProductNeedsEverySideToJumpOrToChangeNothing) {
+  // g *= t with t = 0 on the test's side (g = 0 there would also go to
+  // block 1): stays. g /= u with 0 or 1 changes nothing either way: goes.
+  // w read again after the join: stays.
+  Builder b;
+  VarId a = b.global("a"), g = b.global("g");
+  FuncId f = b.function("main");
+  VarId t = b.temp(), u = b.temp(), w = b.temp();
+  b.block(f, {set(t, I(0))}, Branch{Cmp::LT, V(a), I(5), 1, 2});
+  b.block(f, {set(t, I(1))}, Jump{2});
+  b.block(f, {mul(g, V(t)), set(u, I(0))}, Branch{Cmp::LT, V(a), I(7), 3, 4});
+  b.block(f, {set(u, I(1))}, Jump{4});
+  b.block(f, {div(g, V(u)), set(w, I(0))}, Branch{Cmp::LT, V(a), I(9), 5, 6});
+  b.block(f, {set(w, I(1))}, Jump{6});
+  b.block(f, {sub(g, V(w)), set(a, V(w))});
+  apply_constants_in_predecessors(b.p);
+  EXPECT_EQ(b.at(f, 2).instrs.size(), 2u);
+  ASSERT_EQ(b.at(f, 4).instrs.size(), 1u);
+  EXPECT_EQ(b.at(f, 4).instrs[0].op, Op::SetVariable);
+  EXPECT_EQ(b.at(f, 6).instrs.size(), 2u);
 }
 
 TEST(NonZero, AComparisonWithZeroIsTheSignOfTheAbsoluteValue) {
