@@ -48,7 +48,7 @@ Flow flow_of(const Selected& f) {
 
 namespace {
 
-constexpr std::size_t kMaxSequence = 24;  // instructions per outlined sequence
+constexpr std::size_t kMaxSequence = 24;  // instructions looked at from each start (grow() goes on)
 constexpr int kCallBytes = 2;
 constexpr int kReturnBytes = 1;  // appended by the firmware to every subroutine
 
