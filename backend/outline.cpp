@@ -48,7 +48,7 @@ Flow flow_of(const Selected& f) {
 
 namespace {
 
-constexpr std::size_t kMaxSequence = 24;  // instructions per outlined sequence
+constexpr std::size_t kMaxSequence = 24;  // instructions looked at from each start (grow() goes on)
 constexpr int kCallBytes = 2;
 constexpr int kReturnBytes = 1;  // appended by the firmware to every subroutine
 
@@ -149,6 +149,103 @@ Candidate best_candidate(const std::vector<Selected>& fragments) {
   return best;
 }
 
+// Whether instruction `k` of every place (at `offset` from its start) is
+// the same: equal bytes, or branches of one kind and values going equally
+// far from the place's start.
+bool same_at(const std::vector<Selected>& fragments, const std::vector<Flow>& flows,
+             const std::vector<Occurrence>& places, std::size_t offset) {
+  const Occurrence& first = places.front();
+  const MInstr& a = fragments[first.fragment].code[first.start + offset];
+  for (const Occurrence& o : places) {
+    const MInstr& b = fragments[o.fragment].code[o.start + offset];
+    if (is_branch(a) != is_branch(b)) return false;
+    if (!is_branch(a)) {
+      if (a.bytes != b.bytes) return false;
+      continue;
+    }
+    int ta = flows[first.fragment].target[first.start + offset] - static_cast<int>(first.start);
+    int tb = flows[o.fragment].target[o.start + offset] - static_cast<int>(o.start);
+    if (a.kind != b.kind || a.values != b.values || ta != tb) return false;
+  }
+  return true;
+}
+
+// Whether [start, end) of a fragment, already outlinable as [start + 1,
+// end) or [start, end - 1), stays so with instruction `added` (start or
+// end - 1) in it: movable, or a branch staying inside or going just past
+// the end, and the instruction it grew over (the old first one, or the
+// one just past the old end) entered only from inside.
+bool still_outlinable(const Selected& frag, const Flow& flow, std::size_t start, std::size_t end, std::size_t added) {
+  const MInstr& m = frag.code[added];
+  if (is_branch(m)) {
+    int t = flow.target[added];
+    if (t < static_cast<int>(start) || t > static_cast<int>(end)) return false;
+  } else if (!movable_into_subroutine(m)) {
+    return false;
+  }
+  std::size_t inner = added == start ? start + 1 : added;  // no longer the first instruction
+  if (inner == start || inner >= end) return true;
+  return std::all_of(flow.entered[inner].begin(), flow.entered[inner].end(), [&](int from) {
+    return from >= static_cast<int>(start) && from < static_cast<int>(end);
+  });
+}
+
+// Grows the chosen sequence over what all its places share before and
+// after it: best_candidate looks at most kMaxSequence instructions from a
+// start, but a song or routine written out twice may be longer, and the
+// longer it is, the more each copy saves. A place stops growing where it
+// would reach the next one.
+void grow(const std::vector<Selected>& fragments, Candidate& c) {
+  std::vector<Flow> flows(fragments.size());
+  for (const Occurrence& o : c.places)
+    if (flows[o.fragment].target.empty()) flows[o.fragment] = flow_of(fragments[o.fragment]);
+  // Places are in program order: a place may grow up to the next one in
+  // the same fragment (after) or the previous one (before).
+  auto room_after = [&](std::size_t p) {
+    const Occurrence& o = c.places[p];
+    std::size_t limit = fragments[o.fragment].code.size();
+    if (p + 1 < c.places.size() && c.places[p + 1].fragment == o.fragment) limit = c.places[p + 1].start;
+    return o.start + c.length < limit;
+  };
+  auto room_before = [&](std::size_t p) {
+    const Occurrence& o = c.places[p];
+    std::size_t limit = p > 0 && c.places[p - 1].fragment == o.fragment ? c.places[p - 1].start + c.length : 0;
+    return o.start > limit;
+  };
+  for (bool grew = true; grew;) {
+    grew = false;
+    bool forward = true;
+    for (std::size_t p = 0; p < c.places.size() && forward; ++p) {
+      const Occurrence& o = c.places[p];
+      forward = room_after(p) && still_outlinable(fragments[o.fragment], flows[o.fragment], o.start,
+                                                  o.start + c.length + 1, o.start + c.length);
+    }
+    if (forward && same_at(fragments, flows, c.places, c.length)) {
+      const Occurrence& o = c.places.front();
+      c.bytes += size_estimate(fragments[o.fragment].code[o.start + c.length]);
+      ++c.length;
+      grew = true;
+      continue;
+    }
+    bool backward = true;
+    for (std::size_t p = 0; p < c.places.size() && backward; ++p) {
+      const Occurrence& o = c.places[p];
+      backward = room_before(p) && still_outlinable(fragments[o.fragment], flows[o.fragment], o.start - 1,
+                                                    o.start + c.length, o.start - 1);
+    }
+    if (!backward) break;
+    for (auto& o : c.places) --o.start;
+    if (!same_at(fragments, flows, c.places, 0)) {
+      for (auto& o : c.places) ++o.start;
+      break;
+    }
+    const Occurrence& o = c.places.front();
+    c.bytes += size_estimate(fragments[o.fragment].code[o.start]);
+    ++c.length;
+    grew = true;
+  }
+}
+
 // Replaces the sequences of `length` instructions at `starts` (ascending,
 // not overlapping) by calls of subroutine `sub`, in one pass.
 void replace(Selected& frag, const std::vector<std::size_t>& starts, std::size_t length, int sub) {
@@ -185,6 +282,7 @@ void outline(std::vector<Selected>& fragments, std::vector<std::string>& log) {
   while (subs < kMaxSubroutines) {
     Candidate c = best_candidate(fragments);
     if (c.places.size() < 2 || c.saving() <= 0) break;
+    grow(fragments, c);
     Selected sub;
     sub.type = rcx::FragmentType::Subroutine;
     sub.index = next_index++;

@@ -146,3 +146,39 @@ TEST(Outline, AWholeRepeatLoopMovesWithItsCounter) {
   EXPECT_EQ(run_for_global(c.out->image, "n", 2000), 12);
   EXPECT_EQ(run_for_global(c.out->image, "m", 2000), 2);
 }
+
+TEST(Outline, ARepeatedPassageLongerThanTheSearchWindowMovesWhole) {
+  // A passage of 30 tones and 3 counts (135 bytes) played twice: the
+  // search looks 24 instructions from each start, then the chosen sequence
+  // grows over all the passage its two places share. One subroutine with
+  // the whole passage and two calls, not a 24-instruction piece and a
+  // second subroutine for the rest (one call, one return more per play).
+  std::string passage;
+  for (int k = 0; k < 30; ++k) {
+    passage += "PlayTone(" + std::to_string(200 + (k * k * 7) % 500) + ", 5);\n";
+    if (k % 10 == 9) passage += "n += 1;\n";
+  }
+  std::string src = "int n, x;\ntask main() {\nx = 1;\n" + passage + "x = 2;\nWait(20);\n" + passage + "x = 3;\n}\n";
+  auto c = compile(src);
+  ASSERT_TRUE(c.out);
+  ASSERT_EQ(subroutines(*c.out), 1u);
+  EXPECT_EQ(c.out->image.find(rcx::FragmentType::Subroutine, 0)->code.size(), 135u);
+  EXPECT_EQ(count_byte(c.out->image.find(rcx::FragmentType::Task, 0)->code, 0x17), 2u);
+  EXPECT_EQ(run_for_global(c.out->image, "n", 5000), 6);
+  EXPECT_EQ(run_for_global(c.out->image, "x", 5000), 3);
+}
+
+TEST(Outline, APassagePlayedTwiceInARowGrowsUpToItsSecondCopy) {
+  // The same 30 tones twice back to back: each place grows until it meets
+  // the other, never over it, so the task is two calls of one 120-byte
+  // subroutine.
+  std::string passage;
+  for (int k = 0; k < 30; ++k) passage += "PlayTone(" + std::to_string(300 + (k * k * 11) % 700) + ", 3);\n";
+  std::string src = "int x;\ntask main() {\nx = 1;\n" + passage + passage + "x = 2;\n}\n";
+  auto c = compile(src);
+  ASSERT_TRUE(c.out);
+  ASSERT_EQ(subroutines(*c.out), 1u);
+  EXPECT_EQ(c.out->image.find(rcx::FragmentType::Subroutine, 0)->code.size(), 120u);
+  EXPECT_EQ(count_byte(c.out->image.find(rcx::FragmentType::Task, 0)->code, 0x17), 2u);
+  EXPECT_EQ(run_for_global(c.out->image, "x", 5000), 2);
+}
