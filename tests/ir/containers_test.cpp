@@ -49,6 +49,25 @@ TEST(Operands, CopiesAndMovesKeepTheOperandsEitherWay) {
   }
 }
 
+// The spilled operands are one owned pointer: a move hands it over and
+// leaves an empty list that can be filled again.
+TEST(Operands, AMovedFromListIsEmptyAndTakesNewOperands) {
+  for (int n : {2, 5}) {
+    std::vector<Operand> list;
+    for (int i = 0; i < n; ++i) list.push_back(Operand::src(9, i));
+    Operands a = list;
+    Operands b = std::move(a);
+    EXPECT_TRUE(a.empty());  // NOLINT(bugprone-use-after-move): what a move leaves is the point
+    a.push_back(Operand::imm(7));
+    EXPECT_EQ(as_vector(a), std::vector<Operand>{Operand::imm(7)});
+    Operands c;
+    c = std::move(b);
+    EXPECT_EQ(as_vector(c), list);
+    EXPECT_TRUE(b.empty());  // NOLINT(bugprone-use-after-move)
+    EXPECT_EQ(c[static_cast<std::size_t>(n) - 1].source, 9);
+  }
+}
+
 TEST(Operands, EqualityComparesSizeAndEachOperand) {
   EXPECT_EQ((Operands{Operand::var(1), Operand::imm(2)}), (Operands{Operand::var(1), Operand::imm(2)}));
   EXPECT_FALSE((Operands{Operand::var(1)}) == (Operands{Operand::var(1), Operand::imm(2)}));
