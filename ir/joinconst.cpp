@@ -1,6 +1,7 @@
 // Constant arithmetic at a join moved into the constants that reach it
 // (see passes.h).
 #include "ir/passes.h"
+#include "ir/predecessors.h"
 
 namespace rcxc::ir {
 namespace {
@@ -48,12 +49,7 @@ bool overwrites_first(const Block& s, VarId v) {
 }  // namespace
 
 void push_constant_ops_into_predecessors(Function& f, const std::vector<Var>& vars) {
-  std::vector<std::vector<BlockId>> preds(f.blocks.size());
-  for (std::size_t b = 0; b < f.blocks.size(); ++b)
-    for (BlockId s : successors(f.blocks[b].term)) {
-      auto& p = preds[static_cast<std::size_t>(s)];
-      if (p.empty() || p.back() != static_cast<BlockId>(b)) p.push_back(static_cast<BlockId>(b));
-    }
+  const PredecessorLists preds(f, false);  // moving constants leaves the edges
   const std::vector<bool> loop_blocks = repeat_blocks(f);
   for (std::size_t j = 1; j < f.blocks.size(); ++j) {
     Block& join = f.blocks[j];
