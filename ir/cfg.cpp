@@ -2,6 +2,7 @@
 #include <algorithm>
 
 #include "ir/passes.h"
+#include "ir/predecessors.h"
 
 namespace rcxc::ir {
 namespace {
@@ -105,11 +106,9 @@ void merge_straight_lines(Function& f) {
 // if/else whose branches both end with Wait(t) keeps one Wait).
 void merge_tails(Function& f) {
   const std::vector<bool> loop_blocks = repeat_blocks(f);
-  // A branch with both sides to the join is no jump: listing it once
-  // changes nothing below.
-  const std::vector<std::vector<BlockId>> preds = predecessor_lists(f);
+  const PredecessorLists preds(f, true);  // moving instructions leaves the edges
   for (std::size_t j = 1; j < f.blocks.size(); ++j) {
-    const auto& from = preds[j];
+    auto from = preds[j];
     if (from.size() < 2 || loop_blocks[j]) continue;
     bool all_jumps = true;
     for (BlockId p : from) {

@@ -50,13 +50,13 @@ std::vector<bool> second_operand_dies(const Program& p, const Block& block, cons
 }
 
 // One scan of a function; returns whether anything changed.
-bool coalesce_in(const Program& p, Function& f, const CallEffects& calls) {
+bool coalesce_in(const Program& p, Function& f, const CallEffects& calls, LivenessCache& cache) {
   // A function without a candidate block needs no liveness.
   std::vector<bool> candidate(f.blocks.size());
   bool any = false;
   for (std::size_t b = 0; b < f.blocks.size(); ++b) any |= candidate[b] = has_candidate(p, f.blocks[b]);
   if (!any) return false;
-  Liveness L = compute_liveness(p, f, calls);
+  const Liveness& L = cache.of(p, f, calls);
   bool changed = false;
   auto private_var = [&](const Operand& o) {
     if (!o.is_var()) return false;
@@ -176,13 +176,14 @@ bool coalesce_in(const Program& p, Function& f, const CallEffects& calls) {
 
 }  // namespace
 
-void compute_into_targets(Program& p) {
+void compute_into_targets(Program& p, LivenessCache* cache) {
   auto calls = call_effects(p);
+  LivenessCache own;
   for (auto& f : p.functions) {
     if (f.blocks.empty()) continue;
     // Each rewrite can make the next one possible (`t = X; t += V; V = t`
     // becomes `t = X; V += t`, then `V += X`).
-    for (int round = 0; round < 4 && coalesce_in(p, f, calls); ++round) {
+    for (int round = 0; round < 4 && coalesce_in(p, f, calls, cache ? *cache : own); ++round) {
     }
   }
 }

@@ -29,8 +29,8 @@ bool pure_variable_write(const Instr& in) {
   }
 }
 
-bool remove_in(const Program& p, Function& f, const CallEffects& calls) {
-  Liveness L = compute_liveness(p, f, calls);
+bool remove_in(const Program& p, Function& f, const CallEffects& calls, LivenessCache& cache) {
+  const Liveness& L = cache.of(p, f, calls);
   bool removed = false;
   VarSet live;
   std::vector<bool> keep;
@@ -68,7 +68,9 @@ bool remove_in(const Program& p, Function& f, const CallEffects& calls) {
 
 }  // namespace
 
-void remove_dead_stores(Program& p) {
+void remove_dead_stores(Program& p, LivenessCache* cache) {
+  LivenessCache own;
+  LivenessCache& live = cache ? *cache : own;
   // Removing one store can make the stores feeding it dead: repeated, per
   // function, until nothing goes. Subroutines first: a call's effect on
   // its caller is what the subroutine reads and writes, so the callers
@@ -78,7 +80,7 @@ void remove_dead_stores(Program& p) {
     bool any = false;
     for (auto& f : p.functions)
       if (f.kind == kind && !f.blocks.empty())
-        for (int round = 0; round < kRounds && remove_in(p, f, calls); ++round) any = true;
+        for (int round = 0; round < kRounds && remove_in(p, f, calls, live); ++round) any = true;
     return any;
   };
   auto calls = call_effects(p);

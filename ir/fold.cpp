@@ -149,9 +149,9 @@ struct Folder {
   }
 };
 
-void fold_function(const Program& p, Function& f, const CallEffects& calls) {
+void fold_function(const Program& p, Function& f, const CallEffects& calls, LivenessCache& cache) {
   Folder folder{p, calls.touches};
-  Liveness live = compute_liveness(p, f, calls);
+  const Liveness& live = cache.of(p, f, calls);
   std::size_t n = f.blocks.size();
   std::vector<State> in(n);
   in[0].reached = true;
@@ -204,10 +204,11 @@ void fold_function(const Program& p, Function& f, const CallEffects& calls) {
 
 }  // namespace
 
-void fold_constants(Program& p) {
+void fold_constants(Program& p, LivenessCache* cache) {
   CallEffects calls = call_effects(p);
+  LivenessCache own;
   for (auto& f : p.functions)
-    if (!f.blocks.empty()) fold_function(p, f, calls);
+    if (!f.blocks.empty()) fold_function(p, f, calls, cache ? *cache : own);
 }
 
 }  // namespace rcxc::ir

@@ -1,4 +1,5 @@
 #include "ir/ir.h"
+#include "ir/predecessors.h"
 
 #include <fmt/format.h>
 
@@ -86,16 +87,25 @@ std::vector<int> predecessor_counts(const Function& f) {
   return preds;
 }
 
-std::vector<std::vector<BlockId>> predecessor_lists(const Function& f) {
-  std::vector<std::vector<BlockId>> preds(f.blocks.size());
-  for (std::size_t b = 0; b < f.blocks.size(); ++b)
-    for (BlockId s : successors(f.blocks[b].term)) {
-      auto& into = preds[static_cast<std::size_t>(s)];
-      // Successors of one block come together: a branch with both sides
-      // to one block is one predecessor.
-      if (into.empty() || into.back() != static_cast<BlockId>(b)) into.push_back(static_cast<BlockId>(b));
-    }
-  return preds;
+PredecessorLists::PredecessorLists(const Function& f, bool repeated_edges) : start_(f.blocks.size() + 1, 0) {
+  // Twice over the edges: counting, then filling; `last` drops an edge
+  // that repeats the one just listed for the same block.
+  std::vector<BlockId> last(f.blocks.size(), -1);
+  auto each_edge = [&](auto&& edge) {
+    std::fill(last.begin(), last.end(), -1);
+    for (std::size_t b = 0; b < f.blocks.size(); ++b)
+      for (BlockId s : successors(f.blocks[b].term)) {
+        auto to = static_cast<std::size_t>(s);
+        if (!repeated_edges && last[to] == static_cast<BlockId>(b)) continue;
+        last[to] = static_cast<BlockId>(b);
+        edge(to, static_cast<BlockId>(b));
+      }
+  };
+  each_edge([&](std::size_t to, BlockId) { ++start_[to + 1]; });
+  for (std::size_t b = 0; b < f.blocks.size(); ++b) start_[b + 1] += start_[b];
+  from_.resize(start_.back());
+  std::vector<std::uint32_t> next(start_.begin(), start_.end() - 1);
+  each_edge([&](std::size_t to, BlockId from) { from_[next[to]++] = from; });
 }
 
 Successors successors(const Terminator& t) {

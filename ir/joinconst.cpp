@@ -4,6 +4,7 @@
 
 #include "ir/liveness.h"
 #include "ir/passes.h"
+#include "ir/predecessors.h"
 
 namespace rcxc::ir {
 namespace {
@@ -62,7 +63,7 @@ Instr* constant_into(Function& f, const std::vector<bool>& loop_blocks, BlockId 
 }  // namespace
 
 void push_constant_ops_into_predecessors(Function& f, const std::vector<Var>& vars) {
-  const std::vector<std::vector<BlockId>> preds = predecessor_lists(f);
+  const PredecessorLists preds(f, false);  // moving constants leaves the edges
   const std::vector<bool> loop_blocks = repeat_blocks(f);
   for (std::size_t j = 1; j < f.blocks.size(); ++j) {
     Block& join = f.blocks[j];
@@ -126,7 +127,7 @@ bool read_after(const Block& b, std::size_t k, VarId v, const Liveness& L, std::
 void apply_constants_in_predecessors(Program& p) {
   std::optional<CallEffects> calls;
   for (auto& f : p.functions) {
-    const std::vector<std::vector<BlockId>> preds = predecessor_lists(f);
+    const PredecessorLists preds(f, false);  // applying constants leaves the edges
     const std::vector<bool> loop_blocks = repeat_blocks(f);
     std::optional<Liveness> L;
     for (std::size_t j = 1; j < f.blocks.size(); ++j) {

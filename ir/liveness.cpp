@@ -1,6 +1,7 @@
 #include "ir/liveness.h"
 
 #include <algorithm>
+#include <functional>
 #include <iterator>
 #include <utility>
 
@@ -254,6 +255,90 @@ CallEffects call_effects(const Program& p) {
     }
   }
   return calls;
+}
+
+namespace {
+
+// Walks everything compute_liveness reads of a function, as numbers, until
+// `put` returns false: equal sequences give equal answers (variable kinds,
+// the other input, never change once lowering made the variable). Only
+// which variables and functions an instruction names counts, not its
+// constants: folding rewrites constants without changing any liveness.
+template <class Put>
+bool each_code_word(const Function& f, Put&& put) {
+  auto operand = [](const Operand& o) -> std::int32_t {
+    if (o.is_var()) return o.value * 4 + 1;
+    if (o.kind == Operand::Kind::Func) return o.value * 4 + 2;
+    return 0;
+  };
+  if (!put(static_cast<std::int32_t>(f.blocks.size()))) return false;
+  for (const Block& b : f.blocks) {
+    if (!put(static_cast<std::int32_t>(b.instrs.size()))) return false;
+    for (const Instr& in : b.instrs) {
+      if (!put((static_cast<std::int32_t>(in.op) * 2 + (in.raw ? 1 : 0)) * 256 +
+               static_cast<std::int32_t>(in.args.size())))
+        return false;
+      for (const Operand& a : in.args)
+        if (!put(operand(a))) return false;
+    }
+    if (!put(static_cast<std::int32_t>(b.term.index()))) return false;
+    if (const auto* br = std::get_if<Branch>(&b.term))
+      if (!put(operand(br->a)) || !put(operand(br->b))) return false;
+    for (BlockId s : successors(b.term))
+      if (!put(s)) return false;
+  }
+  return true;
+}
+
+bool same_code(const Function& f, const std::vector<std::int32_t>& code) {
+  std::size_t i = 0;
+  return each_code_word(f, [&](std::int32_t w) { return i < code.size() && code[i++] == w; }) && i == code.size();
+}
+
+void encode_code(const Function& f, std::vector<std::int32_t>& out) {
+  out.clear();
+  each_code_word(f, [&](std::int32_t w) {
+    out.push_back(w);
+    return true;
+  });
+}
+
+void encode_effects(const CallEffects& calls, std::vector<std::int32_t>& out) {
+  out.clear();
+  for (const auto* sets : {&calls.touches, &calls.reads}) {
+    out.push_back(static_cast<std::int32_t>(sets->size()));
+    for (const VarSet& s : *sets) {
+      out.push_back(static_cast<std::int32_t>(s.items.size()));
+      out.insert(out.end(), s.items.begin(), s.items.end());
+    }
+  }
+}
+
+}  // namespace
+
+const Liveness& LivenessCache::of(const Program& p, const Function& f, const CallEffects& calls) {
+  const Function* first = p.functions.data();
+  std::less<const Function*> before;
+  if (before(&f, first) || !before(&f, first + p.functions.size())) {
+    ++computations_;
+    uncached_ = compute_liveness(p, f, calls);
+    return uncached_;
+  }
+  // Another program, or other call effects: nothing kept applies.
+  encode_effects(calls, scratch_);
+  if (&p != program_ || scratch_ != effects_) {
+    entries_.clear();
+    effects_.swap(scratch_);
+    program_ = &p;
+  }
+  if (entries_.size() < p.functions.size()) entries_.resize(p.functions.size());
+  auto& entry = entries_[static_cast<std::size_t>(&f - first)];
+  if (entry && same_code(f, entry->code)) return entry->live;
+  if (!entry) entry = std::make_unique<Entry>();
+  entry->live = compute_liveness(p, f, calls);
+  encode_code(f, entry->code);
+  ++computations_;
+  return entry->live;
 }
 
 }  // namespace rcxc::ir

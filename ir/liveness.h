@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -81,6 +82,38 @@ struct CallEffects {
 CallEffects call_effects(const Program& p);
 
 Liveness compute_liveness(const Program& p, const Function& f, const CallEffects& calls);
+
+// Each function's liveness, kept from one client pass to the next while
+// neither the function's code nor the call effects change: the clean-up
+// rounds ask for it in folding, dead-store removal and computing into
+// targets, one after the other, and most of those passes change nothing
+// in most functions (in the last round, nothing at all). Whether the code
+// is the same is decided by comparing a copy of everything liveness reads
+// (every opcode, the variables and functions operands name, every
+// terminator), not a hash, so a collision can never hand back a stale
+// answer.
+class LivenessCache {
+ public:
+  // The liveness of `f`, computed afresh or kept from the last call for
+  // the same function. The reference holds until the next call. A function
+  // that is not one of p.functions is computed every time. One cache
+  // serves one Program (another one clears it).
+  const Liveness& of(const Program& p, const Function& f, const CallEffects& calls);
+  // How many times `of` computed rather than reused (tests, -v).
+  std::size_t computations() const { return computations_; }
+
+ private:
+  struct Entry {
+    std::vector<std::int32_t> code;  // what the liveness was computed from
+    Liveness live;
+  };
+  std::vector<std::unique_ptr<Entry>> entries_;  // per FuncId; stable addresses
+  std::vector<std::int32_t> effects_;            // the CallEffects the entries assumed
+  const Program* program_ = nullptr;
+  std::vector<std::int32_t> scratch_;
+  Liveness uncached_;
+  std::size_t computations_ = 0;
+};
 
 // Steps backward through a block: `live` starts as the block's live-out and
 // after step(i) holds the set live before instruction i.

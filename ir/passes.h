@@ -10,6 +10,8 @@
 
 namespace rcxc::ir {
 
+class LivenessCache;
+
 // -O0 nothing; -O1 the clean-ups every compiler does; -O2 (the default)
 // the fastest code: on top of -O1 the size passes that never add an
 // instruction to any path the program runs; -Os also the size passes that
@@ -30,11 +32,13 @@ using Log = std::vector<std::string>;
 // and temporaries; never globals, which other tasks may change), folds
 // arithmetic and branches on constants, and drops instructions that do
 // nothing (x += 0, x = x, ...).
-void fold_constants(Program& p);
+// The passes that ask for liveness take it from `cache` when given, which
+// keeps it while a function does not change (the clean-up rounds share one).
+void fold_constants(Program& p, LivenessCache* cache = nullptr);
 
 // deadstore.cpp: removes writes to locals and temporaries whose value is
 // never read.
-void remove_dead_stores(Program& p);
+void remove_dead_stores(Program& p, LivenessCache* cache = nullptr);
 
 // motors.cpp: removes motor commands (direction, on/off, power) that set
 // what the output already has. Knowledge survives where other tasks cannot
@@ -61,7 +65,7 @@ void shorten_complements(Function& f);
 // t *= -1; V = t` becomes `V = X; V -= t`, `t = X; t -= V; V = t` becomes
 // `V -= X; V *= -1`, and `t = X; V op= t` becomes `V op= X`. Each is fewer
 // instructions on the same path.
-void compute_into_targets(Program& p);
+void compute_into_targets(Program& p, LivenessCache* cache = nullptr);
 
 // waits.cpp: consecutive constant waits in a block become one wait of
 // their sum (Wait(20); Wait(30); is Wait(50)): one instruction less, the

@@ -1,4 +1,5 @@
 // The order the passes run in (see passes.h).
+#include "ir/liveness.h"
 #include "ir/passes.h"
 
 namespace rcxc::ir {
@@ -49,11 +50,15 @@ bool optimize(Program& p, OptLevel level, Diagnostics& diags, Log& log, const Pa
     // Up to three rounds, each finding what the last one's removals
     // exposed; a round that changes nothing ends them.
     std::uint64_t before = code_hash(p);
+    // Most of these passes change nothing in most functions, and a round
+    // that changes nothing changes nothing anywhere: each function's
+    // liveness is kept until its code changes.
+    LivenessCache liveness;
     for (int round = 0; round < 3; ++round) {
-      fold_constants(p);
-      remove_dead_stores(p);
+      fold_constants(p, &liveness);
+      remove_dead_stores(p, &liveness);
       if (shrinks_without_slowing(level)) {
-        compute_into_targets(p);
+        compute_into_targets(p, &liveness);
         test_before_one_to_one_arithmetic(p);
         for (auto& f : p.functions) {
           push_constant_ops_into_predecessors(f, p.vars);

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "ir/ir.h"
+#include "ir/predecessors.h"
 #include "ir/liveness.h"
 
 namespace rcxc::ir {
@@ -47,6 +48,47 @@ TEST(Operands, CopiesAndMovesKeepTheOperandsEitherWay) {
     EXPECT_EQ(assigned, a);
     EXPECT_EQ(assigned, Operands(list));
   }
+}
+
+// The spilled operands are one owned pointer: a move hands it over and
+// leaves an empty list that can be filled again.
+TEST(Operands, AMovedFromListIsEmptyAndTakesNewOperands) {
+  for (int n : {2, 5}) {
+    std::vector<Operand> list;
+    for (int i = 0; i < n; ++i) list.push_back(Operand::src(9, i));
+    Operands a = list;
+    Operands b = std::move(a);
+    EXPECT_TRUE(a.empty());  // NOLINT(bugprone-use-after-move): what a move leaves is the point
+    a.push_back(Operand::imm(7));
+    EXPECT_EQ(as_vector(a), std::vector<Operand>{Operand::imm(7)});
+    Operands c;
+    c = std::move(b);
+    EXPECT_EQ(as_vector(c), list);
+    EXPECT_TRUE(b.empty());  // NOLINT(bugprone-use-after-move)
+    EXPECT_EQ(c[static_cast<std::size_t>(n) - 1].source, 9);
+  }
+}
+
+// Edges by hand: 0 branches to 1 both ways, 1 to 2 or 3, 2 jumps to 3,
+// 3 loops back to 1 or exits through 4 (which is listed once more as its
+// own loop's predecessor).
+TEST(PredecessorLists, EveryBlocksEdgesInBlockOrderRepeatedOrNot) {
+  Function f;
+  for (int i = 0; i < 5; ++i) add_block(f);
+  f.blocks[0].term = Branch{Cmp::EQ, Operand::imm(0), Operand::imm(0), 1, 1};
+  f.blocks[1].term = Branch{Cmp::EQ, Operand::imm(0), Operand::imm(1), 2, 3};
+  f.blocks[2].term = Jump{3};
+  f.blocks[3].term = Branch{Cmp::EQ, Operand::imm(0), Operand::imm(1), 1, 4};
+  f.blocks[4].term = Branch{Cmp::EQ, Operand::imm(0), Operand::imm(1), 4, 0};
+  auto list = [](std::span<const BlockId> s) { return std::vector<BlockId>(s.begin(), s.end()); };
+  const PredecessorLists repeated(f, true), once(f, false);
+  EXPECT_EQ(list(repeated[0]), (std::vector<BlockId>{4}));
+  EXPECT_EQ(list(repeated[1]), (std::vector<BlockId>{0, 0, 3}));
+  EXPECT_EQ(list(repeated[2]), (std::vector<BlockId>{1}));
+  EXPECT_EQ(list(repeated[3]), (std::vector<BlockId>{1, 2}));
+  EXPECT_EQ(list(repeated[4]), (std::vector<BlockId>{3, 4}));
+  EXPECT_EQ(list(once[1]), (std::vector<BlockId>{0, 3}));
+  for (std::size_t b : {0u, 2u, 3u, 4u}) EXPECT_EQ(list(once[b]), list(repeated[b])) << b;
 }
 
 TEST(Operands, EqualityComparesSizeAndEachOperand) {

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 
 #include "frontend/frontend.h"
@@ -68,6 +69,99 @@ TEST(Liveness, BlockSummariesMeetTheEquationsOnRandomPrograms) {
     expect_equations_hold("kept_locals.nqc", test::KeptLocalGenerator(seed).program());
     expect_equations_hold("neighbours.nqc", test::CallNeighbourGenerator(seed).program());
   }
+}
+
+std::optional<Program> lowered(const std::string& text) {
+  SourceManager sm;
+  Diagnostics diags;
+  auto ast = frontend::parse_source("cache.nqc", text, {}, sm, diags);
+  if (!ast) return std::nullopt;
+  return lower(*ast, diags);
+}
+
+// Whether two liveness results agree on every block.
+bool same_liveness(const Liveness& a, const Liveness& b, std::size_t blocks) {
+  for (std::size_t i = 0; i < blocks; ++i)
+    if (VarSet(a.live_in[i]) != VarSet(b.live_in[i]) || VarSet(a.live_out[i]) != VarSet(b.live_out[i])) return false;
+  return true;
+}
+
+// The cache must answer what computing afresh answers, after every kind of
+// change a pass makes: an instruction removed, an operand rewritten, a
+// branch retargeted. It must also compute nothing when nothing changed.
+TEST(LivenessCache, AnswersWhatComputingAnswersAfterEachChange) {
+  int stale_would_differ = 0;
+  for (unsigned seed = 1; seed <= 30; ++seed) {
+    for (const std::string& text : {test::Generator(seed).program(), test::KeptLocalGenerator(seed).program(),
+                                    test::CallNeighbourGenerator(seed).program()}) {
+      auto program = lowered(text);
+      ASSERT_TRUE(program);
+      Program& p = *program;
+      CallEffects calls = call_effects(p);
+      LivenessCache cache;
+      for (Function& f : p.functions) {
+        if (f.blocks.empty()) continue;
+        const std::size_t n = f.blocks.size();
+        ASSERT_TRUE(same_liveness(cache.of(p, f, calls), compute_liveness(p, f, calls), n));
+        std::size_t computed = cache.computations();
+        ASSERT_TRUE(same_liveness(cache.of(p, f, calls), compute_liveness(p, f, calls), n));
+        EXPECT_EQ(cache.computations(), computed) << "nothing changed, yet it computed again";
+        // A constant changes no liveness: folding rewrites them all the time.
+        for (Block& block : f.blocks)
+          for (Instr& in : block.instrs)
+            for (Operand& a : in.args)
+              if (a.is_imm()) a.value += 1;
+        ASSERT_TRUE(same_liveness(cache.of(p, f, calls), compute_liveness(p, f, calls), n));
+        EXPECT_EQ(cache.computations(), computed) << "only constants changed, yet it computed again";
+        // Each change in turn; after each the cache must agree with a
+        // fresh computation (and a stale answer must have been possible).
+        for (std::size_t b = 0; b < n; ++b) {
+          Block& block = f.blocks[b];
+          Liveness before = compute_liveness(p, f, calls);
+          if (!block.instrs.empty()) {
+            block.instrs.erase(block.instrs.begin());
+          } else if (auto* br = std::get_if<Branch>(&block.term)) {
+            std::swap(br->a, br->b);
+            br->then = 0;
+          } else {
+            continue;
+          }
+          Liveness after = compute_liveness(p, f, calls);
+          stale_would_differ += !same_liveness(before, after, n);
+          ASSERT_TRUE(same_liveness(cache.of(p, f, calls), after, n)) << "seed " << seed << " block " << b;
+        }
+      }
+    }
+  }
+  EXPECT_GT(stale_would_differ, 100);
+}
+
+// What a call does is part of the answer: other call effects for the same
+// code must not be answered from the cache.
+TEST(LivenessCache, OtherCallEffectsAreComputedAgain) {
+  auto program = lowered(
+      "int g;\n"
+      "sub s() { g = 1; }\n"
+      "task main() { int a = Random(5); int b = a + 1; if (Random(1) == 0) { s(); } g = a + b; }\n");
+  ASSERT_TRUE(program);
+  Program& p = *program;
+  FuncId main = p.find_function("main");
+  ASSERT_GE(main, 0);
+  const Function& f = p.functions[static_cast<std::size_t>(main)];
+  CallEffects calls = call_effects(p);
+  LivenessCache cache;
+  Liveness plain = cache.of(p, f, calls);
+  // Pretend the subroutine overwrote every local of main: none of them is
+  // then live across the call.
+  CallEffects clobbering = calls;
+  FuncId s = p.find_function("s");
+  ASSERT_GE(s, 0);
+  for (std::size_t v = 0; v < p.vars.size(); ++v)
+    if (p.vars[v].kind != VarKind::Global) clobbering.touches[static_cast<std::size_t>(s)].add(static_cast<VarId>(v));
+  Liveness fresh = compute_liveness(p, f, clobbering);
+  ASSERT_FALSE(same_liveness(plain, fresh, f.blocks.size()));
+  EXPECT_TRUE(same_liveness(cache.of(p, f, clobbering), fresh, f.blocks.size()));
+  EXPECT_EQ(cache.computations(), 2u);
 }
 
 }  // namespace
