@@ -9,15 +9,7 @@ using namespace rcxc;
 using namespace rcxc::ir;
 using namespace rcxc::ir::test;
 
-namespace {
-
 using rcx::Op;
-
-Instr sub(VarId v, Operand x) { return op(Op::SubtractFromVariable, {V(v), x}); }
-Instr mul(VarId v, Operand x) { return op(Op::MultiplyVariable, {V(v), x}); }
-Instr div(VarId v, Operand x) { return op(Op::DivideVariable, {V(v), x}); }
-
-}  // namespace
 
 TEST(Coalesce, ACommutingOperationOnTheTargetIsDoneInPlace) {
   // b = a * b lowered as t = a; t *= b; b = t.

@@ -15,6 +15,11 @@ inline Operand I(int v) { return Operand::imm(v); }
 inline Instr op(rcx::Op o, std::vector<Operand> args) { return Instr{o, std::move(args), false, {}}; }
 inline Instr set(VarId v, Operand x) { return op(rcx::Op::SetVariable, {V(v), x}); }
 inline Instr add(VarId v, Operand x) { return op(rcx::Op::AddToVariable, {V(v), x}); }
+inline Instr sub(VarId v, Operand x) { return op(rcx::Op::SubtractFromVariable, {V(v), x}); }
+inline Instr mul(VarId v, Operand x) { return op(rcx::Op::MultiplyVariable, {V(v), x}); }
+inline Instr div(VarId v, Operand x) { return op(rcx::Op::DivideVariable, {V(v), x}); }
+inline Instr band(VarId v, Operand x) { return op(rcx::Op::AndVariable, {V(v), x}); }
+inline Instr bor(VarId v, Operand x) { return op(rcx::Op::OrVariable, {V(v), x}); }
 inline Instr wait(Operand x) { return op(rcx::Op::Wait, {x}); }
 inline Instr call(FuncId f) { return op(rcx::Op::CallSubroutine, {Operand::func(f)}); }
 inline Instr start(FuncId f) { return op(rcx::Op::StartTask, {Operand::func(f)}); }

@@ -13,10 +13,6 @@ namespace {
 
 using rcx::Op;
 
-Instr div(VarId v, Operand x) { return op(Op::DivideVariable, {V(v), x}); }
-Instr band(VarId v, Operand x) { return op(Op::AndVariable, {V(v), x}); }
-Instr bor(VarId v, Operand x) { return op(Op::OrVariable, {V(v), x}); }
-
 // d >>= n as the lowering leaves it: entry tests d < 0; block 1 the
 // negative side, block 2 the other, block 3 the join.
 struct Lowered {
