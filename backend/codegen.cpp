@@ -1,5 +1,8 @@
 #include "backend/codegen.h"
 
+#include <array>
+#include <span>
+
 #include <fmt/format.h>
 
 #include "backend/branch.h"
@@ -66,29 +69,35 @@ struct Selector {
 
   // Table values (every field except branch offsets) of one instruction,
   // in table order: a Source operand fills its own field and its Argument's.
-  std::vector<int> values(const ir::Instr& in) const {
+  // Kept in place: this runs for every instruction of the program.
+  struct Values {
+    std::array<int, kMaxTableOperands> field{};
+    std::size_t size = 0;
+    std::span<const int> span() const { return {field.data(), size}; }
+  };
+  Values values(const ir::Instr& in) const {
     const auto& operands = rcx::info(in.op).operands;
-    std::vector<int> field(operands.size(), 0);
-    std::vector<bool> offset(operands.size(), false);
+    Values v;
     std::size_t next = 0;
     for (std::size_t i = 0; i < operands.size(); ++i) {
       const auto role = operands[i].role;
-      offset[i] = role == rcx::Role::Offset || role == rcx::Role::Extension;
-      if (offset[i] || role == rcx::Role::Argument) continue;
+      if (is_offset(role) || role == rcx::Role::Argument) continue;
       auto [source, argument] = resolve(in.args.at(next++));
       if (role != rcx::Role::Source && role != rcx::Role::OpSource) {
-        field[i] = argument;
+        v.field[i] = argument;
         continue;
       }
-      field[i] = source;
+      v.field[i] = source;
       for (std::size_t j = 0; j < operands.size(); ++j)
-        if (operands[j].role == rcx::Role::Argument && operands[j].pairs_with == static_cast<int>(i)) field[j] = argument;
+        if (operands[j].role == rcx::Role::Argument && operands[j].pairs_with == static_cast<int>(i))
+          v.field[j] = argument;
     }
-    std::vector<int> out;
+    // Leave out the offsets: the values only move towards the front.
     for (std::size_t i = 0; i < operands.size(); ++i)
-      if (!offset[i]) out.push_back(field[i]);
-    return out;
+      if (!is_offset(operands[i].role)) v.field[v.size++] = v.field[i];
+    return v;
   }
+  static bool is_offset(rcx::Role role) { return role == rcx::Role::Offset || role == rcx::Role::Extension; }
 
   // Machine instructions of one instruction.
   bool select(const ir::Instr& in, std::vector<MInstr>& out) const {
@@ -101,8 +110,12 @@ struct Selector {
       return true;
     }
     m.op = in.op;
-    auto vals = values(in);
-    std::string err = encode(rcx::info(in.op), vals, m.bytes);
+    if (rcx::info(in.op).operands.size() > kMaxTableOperands) {
+      diags.error(in.span, fmt::format("cannot encode instruction: {} has more than {} operands", rcx::info(in.op).mnemonic,
+                                       kMaxTableOperands));
+      return false;
+    }
+    std::string err = encode(rcx::info(in.op), values(in).span(), m.bytes);
     if (!err.empty()) {
       diags.error(in.span, fmt::format("cannot encode instruction: {}", err));
       return false;

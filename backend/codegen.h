@@ -29,6 +29,10 @@ inline constexpr int kMaxFragmentBytes = 32767;
 // the return the firmware appends.
 inline constexpr int kProgramMemoryBytes = rcx::kMemoryBytes;
 
+// The most operands a row of the opcode table has (a unit test checks every
+// row): code selection fills an instruction's fields in place.
+inline constexpr std::size_t kMaxTableOperands = 16;
+
 // One emitted instruction, for listings.
 struct Emitted {
   int address = 0;

@@ -16,28 +16,39 @@ bool fits(rcx::FieldType t, int v) {
 }  // namespace
 
 std::string encode(const rcx::OpcodeInfo& op, std::span<const int> values, std::vector<std::uint8_t>& out) {
-  std::vector<std::uint8_t> bytes{op.code};
+  // Written straight into `out`, grown once; on an error `out` is cut back
+  // to what it held.
+  const std::size_t start = out.size();
+  std::size_t size = 1;
+  for (const auto& operand : op.operands)
+    size += static_cast<std::size_t>(rcx::field_size(operand.type)) * operand.count;
+  out.reserve(start + size);
+  out.push_back(op.code);
+  auto fail = [&](std::string message) {
+    out.resize(start);
+    return message;
+  };
   std::size_t next = 0;
   for (const auto& operand : op.operands) {
     if (operand.role == rcx::Role::Data)
-      return fmt::format("{}: variable-length operands are not encoded here", op.mnemonic);
+      return fail(fmt::format("{}: variable-length operands are not encoded here", op.mnemonic));
     for (int i = 0; i < operand.count; ++i) {
-      if (next >= values.size()) return fmt::format("{}: missing operand '{}'", op.mnemonic, operand.name);
+      if (next >= values.size()) return fail(fmt::format("{}: missing operand '{}'", op.mnemonic, operand.name));
       int v = values[next++];
       if (!fits(operand.type, v))
-        return fmt::format("{}: operand '{}' value {} does not fit", op.mnemonic, operand.name, v);
+        return fail(fmt::format("{}: operand '{}' value {} does not fit", op.mnemonic, operand.name, v));
       int source = operand.role == rcx::Role::OpSource ? (v & 0x0f) : v;
       if ((operand.role == rcx::Role::Source || operand.role == rcx::Role::OpSource) &&
           !rcx::allows(operand.allowed, source))
-        return fmt::format("{}: source {} ({}) is not allowed for operand '{}'", op.mnemonic, source,
-                           rcx::source_name(source), operand.name);
-      std::size_t at = bytes.size();
-      bytes.resize(at + static_cast<std::size_t>(rcx::field_size(operand.type)));
-      rcx::write_field(operand.type, v, bytes.data() + at);
+        return fail(fmt::format("{}: source {} ({}) is not allowed for operand '{}'", op.mnemonic, source,
+                                rcx::source_name(source), operand.name));
+      std::size_t at = out.size();
+      out.resize(at + static_cast<std::size_t>(rcx::field_size(operand.type)));
+      rcx::write_field(operand.type, v, out.data() + at);
     }
   }
-  if (next != values.size()) return fmt::format("{}: {} operands given, {} expected", op.mnemonic, values.size(), next);
-  out.insert(out.end(), bytes.begin(), bytes.end());
+  if (next != values.size())
+    return fail(fmt::format("{}: {} operands given, {} expected", op.mnemonic, values.size(), next));
   return {};
 }
 

@@ -36,7 +36,7 @@ struct Frame {
 };
 
 struct Lowerer {
-  Lowerer(const ast::Program& program, Diagnostics& d) : ast(program), diags(d) {}
+  Lowerer(const ast::Program& program, Diagnostics& d) : ast(program), diags(d), env(program.symbols.size()) {}
 
   const ast::Program& ast;
   Diagnostics& diags;
@@ -44,7 +44,10 @@ struct Lowerer {
   FuncId fid = 0;
   BlockId cur = 0;
   std::vector<BlockId> entered;  // layout: blocks in the order code enters them
-  std::map<ast::SymbolId, Binding> env;
+  // What each symbol stands for now, indexed by SymbolId: every inline
+  // call binds its parameters and restores them, so a lookup and a rebind
+  // are an index, not a tree node allocated and freed per parameter.
+  std::vector<std::optional<Binding>> env;
   std::vector<VarId> globals;
   std::vector<LoopContext> loops;
   std::vector<std::vector<BlockId>> switches;
@@ -105,10 +108,9 @@ struct Lowerer {
   // ----------------------------------------------------------- constants --
 
   void bind(ast::SymbolId symbol, std::optional<Binding> b) {
-    if (b)
-      env[symbol] = *b;
-    else
-      env.erase(symbol);
+    // No expression names a symbol outside the table (ast.symbol() would
+    // throw first), so such a binding could never be read.
+    if (symbol < env.size()) env[symbol] = b;
     constants.clear();
     reads_memo.clear();
   }
@@ -117,9 +119,7 @@ struct Lowerer {
     if (n.symbol == ast::kNoSymbol) return std::nullopt;
     const ast::Symbol& s = ast.symbol(n.symbol);
     if (s.kind == ast::SymbolKind::Global && s.index < globals.size()) return Binding{globals[s.index], nullptr};
-    auto it = env.find(n.symbol);
-    if (it == env.end()) return std::nullopt;
-    return it->second;
+    return env[n.symbol];
   }
 
   // The source node an expression stands for, through substitutions.
@@ -844,8 +844,7 @@ struct Lowerer {
     }
     std::vector<std::pair<ast::SymbolId, std::optional<Binding>>> saved;
     for (const auto& [sym, b] : bound) {
-      auto it = env.find(sym);
-      saved.push_back({sym, it == env.end() ? std::nullopt : std::optional<Binding>(it->second)});
+      saved.push_back({sym, sym < env.size() ? env[sym] : std::nullopt});
       bind(sym, b);
     }
     expanding.push_back(f.symbol);

@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include "backend/codegen.h"
+
 using rcx::Op;
 using rcx::info;
 using Bytes = std::vector<std::uint8_t>;
@@ -52,4 +54,21 @@ TEST(Encode, RejectsValuesThatDoNotFitAndWrongCounts) {
   EXPECT_NE(rcxc::backend::encode(info(Op::PlaySound), std::vector<int>{}, out), "");
   EXPECT_NE(rcxc::backend::encode(info(Op::PlaySound), std::vector<int>{1, 2}, out), "");
   EXPECT_TRUE(out.empty());
+}
+
+TEST(Encode, AppendsToWhatIsThereAndAnErrorPartWayLeavesItAsItWas) {
+  Bytes out{0xaa, 0xbb};
+  EXPECT_EQ(rcxc::backend::encode(info(Op::PlaySound), std::vector<int>{1}, out), "");
+  const Bytes before{0xaa, 0xbb, 0x51, 0x01};
+  EXPECT_EQ(out, before);
+  // The first two fields fit and are written before the third is refused.
+  EXPECT_NE(rcxc::backend::encode(info(Op::SetVariable), std::vector<int>{1, 2, 70000}, out), "");
+  EXPECT_EQ(out, before);
+  EXPECT_NE(rcxc::backend::encode(info(Op::SetVariable), std::vector<int>{1, 2, 3, 4}, out), "");
+  EXPECT_EQ(out, before);
+}
+
+// Code selection fills an instruction's fields in an array of this size.
+TEST(Encode, EveryRowOfTheTableFitsTheSelectorsFields) {
+  for (const auto& row : rcx::opcodes()) EXPECT_LE(row.operands.size(), rcxc::backend::kMaxTableOperands) << row.name;
 }
