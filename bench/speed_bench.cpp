@@ -377,6 +377,46 @@ SizeTotals generated_sizes() {
   return t;
 }
 
+// Robot control loops from a generator (tests/support/random_programs.h,
+// ReactiveGenerator: programs never used to tune the passes), measured as
+// the corpus is: per pass and per reaction, at -O2, against nqc's code.
+struct ReactiveTotals {
+  double log_pass_ratio = 0;
+  int looping = 0, slower_passes = 0, programs = 0, unlike = 0;
+  std::int64_t ours_reaction = 0, theirs_reaction = 0;
+  int reactions = 0, slower_reactions = 0;
+};
+
+ReactiveTotals generated_reactive(int count) {
+  fs::path dir = fs::temp_directory_path() / fmt::format("rcxc-reactive-{}", getpid());
+  fs::create_directories(dir);
+  fs::path file = dir / "reactive.nqc";
+  ReactiveTotals t;
+  for (int seed = 1; seed <= count; ++seed) {
+    std::ofstream(file) << rcxc::test::ReactiveGenerator(static_cast<unsigned>(seed)).program();
+    auto theirs = rcx::semtest::compile_with_nqc("nqc", file.string());
+    auto o2 = ours(file, rcxc::ir::OptLevel::O2);
+    if (!theirs.image || !o2) continue;
+    Speed s = measure_speed(o2->image, *theirs.image);
+    ++t.programs;
+    t.unlike += !s.behaves_alike;
+    double ours_pass = per_pass(s.ours_pass_instructions, s.ours_passes);
+    double theirs_pass = per_pass(s.theirs_pass_instructions, s.theirs_passes);
+    if (ours_pass > 0 && theirs_pass > 0) {
+      double r = ours_pass / theirs_pass;
+      t.log_pass_ratio += std::log(r);
+      ++t.looping;
+      t.slower_passes += r > 1.001;
+    }
+    t.ours_reaction += s.ours_reaction;
+    t.theirs_reaction += s.theirs_reaction;
+    t.reactions += s.reactions;
+    t.slower_reactions += s.ours_reaction > s.theirs_reaction;
+  }
+  fs::remove_all(dir);
+  return t;
+}
+
 // CPU time of compiling every corpus program `rounds` times with `command`
 // (FILE replaced by the program), as processes.
 double compile_cpu(const std::string& command, const std::vector<fs::path>& files, int rounds) {
@@ -401,6 +441,7 @@ int main(int, char** argv) {
   Totals t;
   print_corpus(t);
   SizeTotals g = generated_sizes();
+  ReactiveTotals r = generated_reactive(200);
   const int rounds = 5;
   double rcxc_cpu = compile_cpu(rcxc_binary(argv[0]).string() + " compile FILE -o /dev/null", corpus_files(), rounds);
   double nqc_cpu = compile_cpu("nqc -Trcx -O/dev/null FILE", corpus_files(), rounds);
@@ -451,6 +492,12 @@ int main(int, char** argv) {
                            ratio(static_cast<double>(g.ours_work), static_cast<double>(g.theirs_work)), g.ours_work,
                            g.theirs_work, g.worked, g.more_work_names.size());
   for (const auto& l : g.more_work_names) std::cout << "    more than nqc's: " << l << "\n";
+  std::cout << fmt::format("  generated control loops     {:.3f} per pass (geometric mean over {} programs, {} slower "
+                           "per pass), reaction {:.3f} ({} vs {} instructions from {} input changes, {} programs "
+                           "slower); {} of {} behave differently at 2 ms\n",
+                           r.looping > 0 ? std::exp(r.log_pass_ratio / r.looping) : 1.0, r.looping, r.slower_passes,
+                           ratio(static_cast<double>(r.ours_reaction), static_cast<double>(r.theirs_reaction)),
+                           r.ours_reaction, r.theirs_reaction, r.reactions, r.slower_reactions, r.unlike, r.programs);
   std::cout << fmt::format("  compile time (CPU)      {:.3f}  ({:.1f} vs {:.1f} ms per corpus program, as processes)\n",
                            ratio(rcxc_cpu, nqc_cpu), rcxc_cpu * 1000 / compiles, nqc_cpu * 1000 / compiles);
   return 0;

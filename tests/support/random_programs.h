@@ -645,4 +645,182 @@ class ExpressionGenerator {
   int in_loop_ = 0;
 };
 
+// Robot control loops, the shape most NQC programs have and none of the
+// other generators makes: main configures sensors and runs forever,
+// reacting in each pass to the touch sensors, a light level, a timer, a
+// message or a count of presses with motor commands, sounds and short
+// waits; sometimes a second task watches the light sensor the same way.
+// What each does depends on the inputs, not on how fast a pass runs (no
+// count of passes, nothing but settings repeated while an input level
+// holds; the two tasks share no output, variable or timer), so both
+// compilers' code must behave alike under `rcxc compare`'s scenarios.
+// bench/speed_bench.cpp measures what a pass costs and how soon an input
+// change shows on these programs, never used to tune the passes.
+class ReactiveGenerator : public Generator {
+ public:
+  using Generator::Generator;
+
+  std::string program() {
+    std::ostringstream out;
+    out << "int state, count, level, speed, seen;\n";
+    if (pick(0, 2) == 0) {
+      out << "void turn(int t) {\n  OnRev(OUT_A+OUT_C); Wait(t); OnFwd(OUT_A+OUT_C);\n}\n";
+      helper_ = true;
+    }
+    bool watcher = pick(0, 2) == 0;
+    if (watcher) {
+      out << "task watch() {\n";
+      loop_head(out);
+      out << "  if (SENSOR_3 > " << pick(40, 60) << ") {\n";
+      watch_action(out);
+      out << "  } else {\n";
+      watch_action(out);
+      out << "  }\n";
+      loop_tail(out);
+      out << "}\n";
+    }
+    out << "task main() {\n  SetSensor(SENSOR_1, SENSOR_TOUCH); SetSensor(SENSOR_2, SENSOR_TOUCH);\n"
+        << "  SetSensor(SENSOR_3, SENSOR_LIGHT);\n  state = 0; count = 0;\n";
+    if (pick(0, 1) == 1) out << "  OnFwd(OUT_A+OUT_C);\n";
+    if (watcher) out << "  start watch;\n";
+    loop_head(out);
+    int n = pick(1, 4);
+    for (int i = 0; i < n; ++i) reaction(out, 2);
+    loop_tail(out);
+    out << "}\n";
+    return out.str();
+  }
+
+ private:
+  void loop_head(std::ostringstream& out) {
+    loop_ = pick(0, 3);
+    static const char* heads[] = {"  while (true) {\n", "  for (;;) {\n", "  do {\n", "  until (false) {\n"};
+    out << heads[loop_];
+  }
+  void loop_tail(std::ostringstream& out) { out << (loop_ == 2 ? "  } while (true);\n" : "  }\n"); }
+
+  // The watcher's outputs: B and its own variable.
+  void watch_action(std::ostringstream& out) {
+    static const char* calls[] = {"OnFwd(OUT_B)", "OnRev(OUT_B)", "Off(OUT_B)", "Float(OUT_B)", "seen = 1",
+                                  "seen = 0"};
+    out << "  " << calls[pick(0, 5)] << ";\n";
+    if (pick(0, 2) == 0) out << "  Wait(" << pick(1, 20) << ");\n";
+  }
+
+  // A condition that holds for a while (an input level, the state): what
+  // it does runs again on every pass while it holds, so it may only set
+  // what stays set (no toggles, sounds or turns, which would come as often
+  // as the loop goes round and make the two codes' speeds visible).
+  std::string level_test() {
+    switch (pick(0, 6)) {
+      case 0: return "SENSOR_1 == 1";
+      case 1: return "SENSOR_2 == 0";
+      case 2: return "SENSOR_1 == 1 && SENSOR_2 == 1";
+      case 3: return "SENSOR_1 == 1 || SENSOR_2 == 1";
+      case 4: return "SENSOR_3 < " + std::to_string(pick(35, 55));
+      case 5: return "SENSOR_3 > " + std::to_string(pick(45, 65));
+      default: return "state == " + std::to_string(pick(0, 2));
+    }
+  }
+
+  // main's outputs: A and C, its variables.
+  void level_action(std::ostringstream& out) {
+    static const char* outputs[] = {"OUT_A", "OUT_C", "OUT_A+OUT_C"};
+    static const char* calls[] = {"OnFwd", "OnRev", "Off", "Float", "Fwd", "Rev"};
+    switch (pick(0, 6)) {
+      case 0: case 1: case 2: out << "  " << calls[pick(0, 5)] << "(" << outputs[pick(0, 2)] << ");\n"; break;
+      case 3: out << "  SetPower(" << outputs[pick(0, 2)] << ", " << pick(1, 7) << ");\n"; break;
+      case 4: out << "  state = " << pick(0, 2) << ";\n"; break;
+      case 5: out << "  Wait(" << pick(1, 10) << ");\n"; break;
+      default: out << "  count = 0;\n";
+    }
+  }
+
+  void level_actions(std::ostringstream& out) {
+    int n = pick(1, 3);
+    for (int i = 0; i < n; ++i) level_action(out);
+  }
+
+  // Once per event (a message, a period of the timer, a press): anything.
+  void event_actions(std::ostringstream& out) {
+    int n = pick(1, 3);
+    for (int i = 0; i < n; ++i) {
+      switch (pick(0, 5)) {
+        case 0: out << "  PlaySound(" << pick(0, 5) << ");\n"; break;
+        case 1: out << "  Toggle(OUT_" << "AC"[pick(0, 1)] << ");\n"; break;
+        case 2:
+          if (helper_) out << "  turn(" << pick(5, 40) << ");\n";
+          else out << "  OnRev(OUT_A); Wait(" << pick(5, 40) << "); OnFwd(OUT_A);\n";
+          break;
+        case 3: out << "  count++;\n"; break;
+        default: level_action(out);
+      }
+    }
+  }
+
+  void reaction(std::ostringstream& out, int depth) {
+    switch (pick(0, 9)) {
+      case 0: case 1:
+        out << "  if (" << level_test() << ") {\n";
+        level_actions(out);
+        out << "  }\n";
+        break;
+      case 2: case 3:
+        out << "  if (" << level_test() << ") {\n";
+        if (depth > 0 && pick(0, 2) == 0) reaction(out, depth - 1);
+        else level_actions(out);
+        out << "  } else {\n";
+        level_actions(out);
+        out << "  }\n";
+        break;
+      case 4:
+        out << "  level = SENSOR_3;\n  speed = (level - " << pick(30, 50) << ") / " << pick(2, 8) << ";\n"
+            << "  if (speed < 0) speed = 0; else if (speed > 7) speed = 7;\n  SetPower(OUT_A, speed);\n";
+        break;
+      case 5:
+        out << "  switch (state) {\n";
+        for (int c = 0; c < 3; ++c) {
+          out << "  case " << c << ":\n";
+          level_actions(out);
+          if (pick(0, 3) > 0) out << "  break;\n";
+        }
+        out << "  }\n";
+        break;
+      case 6:
+        // Waiting in place for an input, or acting while it lasts.
+        if (pick(0, 1) == 1) {
+          out << "  until (" << level_test() << ");\n";
+        } else {
+          out << "  while (" << level_test() << ") {\n";
+          level_actions(out);
+          out << "  }\n";
+        }
+        break;
+      case 7:
+        out << "  if (Message() == " << pick(1, 7) << ") {\n  ClearMessage();\n";
+        event_actions(out);
+        out << "  }\n";
+        break;
+      case 8:
+        out << "  if (Timer(0) > " << pick(5, 40) << ") {\n  ClearTimer(0);\n";
+        event_actions(out);
+        out << "  }\n";
+        break;
+      default:
+        // Counting presses: one count per press, however long it lasts.
+        out << "  if (SENSOR_" << pick(1, 2) << " == 1) {\n";
+        event_actions(out);
+        out << "  until (SENSOR_1 == 0 && SENSOR_2 == 0);\n  }\n";
+        if (pick(0, 1) == 1) {
+          out << "  if (count > " << pick(1, 4) << ") {\n  count = 0;\n";
+          event_actions(out);
+          out << "  }\n";
+        }
+    }
+  }
+
+  bool helper_ = false;
+  int loop_ = 0;
+};
+
 }  // namespace rcxc::test
