@@ -7,6 +7,8 @@
 #include <cmath>
 #include <iostream>
 #include <optional>
+#include <string_view>
+#include <vector>
 
 #include "cli/commands.h"
 #include "verify/external_nqc.h"
@@ -31,7 +33,36 @@ struct CompareOptions {
   // tolerance while the programs' own waits are exact.
   std::int64_t instruction_us = kCompareInstructionUs;
   CompilerArgs compiler;  // given to both compilers (nqc: all but -O)
+  bool all_rows = false;  // the whole side by side, not the rows around the first difference
 };
+
+// Rows of the side by side shown before and after the first that differs:
+// a program that switches an output on every pass shows tens of thousands
+// of events, and the first difference is what explains the others.
+constexpr std::size_t kRowsBefore = 10, kRowsAfter = 30;
+
+// The header and the rows around event row `first` (the first that differs
+// but for the time), with how many rows were left out on each side.
+std::string rows_around(const std::string& side_by_side, std::size_t first_event_row) {
+  std::vector<std::string_view> rows;
+  for (std::size_t at = 0; at < side_by_side.size();) {
+    std::size_t end = side_by_side.find('\n', at);
+    if (end == std::string::npos) end = side_by_side.size();
+    rows.push_back(std::string_view(side_by_side).substr(at, end - at));
+    at = end + 1;
+  }
+  if (rows.size() <= 1 + kRowsBefore + kRowsAfter + 1) return side_by_side;
+  std::size_t first = std::min(first_event_row + 1, rows.size() - 1);
+  std::size_t from = first > 1 + kRowsBefore ? first - kRowsBefore : 1;
+  std::size_t to = std::min(rows.size(), first + kRowsAfter + 1);
+  std::string out = std::string(rows[0]) + "\n";
+  if (from > 1) out += fmt::format("  ... {} row{} before\n", from - 1, from - 1 == 1 ? "" : "s");
+  for (std::size_t i = from; i < to; ++i) out += std::string(rows[i]) + "\n";
+  if (to < rows.size())
+    out += fmt::format("  ... {} row{} after (--all-rows shows every row)\n", rows.size() - to,
+                       rows.size() - to == 1 ? "" : "s");
+  return out;
+}
 
 rcx::TimeTolerance compare_tolerance(std::int64_t instruction_us) {
   // 5 ms absolute covers 500 instructions of difference at 10 us each; a
@@ -63,6 +94,16 @@ std::string timing_note(const rcx::RunComparison& cmp, const CompareOptions& o) 
                                 std::abs(mean) * kBrickInstructionMs);
   if (d.worst_later_us > 0)
     out += fmt::format(", at worst {:.0f} later ({:.0f} ms)", worst, worst * kBrickInstructionMs);
+  return out;
+}
+
+// "rcxc's code up to 12 ms sooner" (and "... up to 3 ms later") for runs that
+// differ in timing only, in the run's own time.
+std::string timing_only_note(const rcx::RunComparison& cmp) {
+  std::string out;
+  auto ms = [](rcx::Micros us) { return fmt::format("{:.1f} ms", static_cast<double>(us) / rcx::kMicrosPerMs); };
+  if (cmp.most_sooner_us > 0) out = "rcxc's code up to " + ms(cmp.most_sooner_us) + " sooner";
+  if (cmp.most_later_us > 0) out += (out.empty() ? "rcxc's code up to " : " and up to ") + ms(cmp.most_later_us) + " later";
   return out;
 }
 
@@ -184,10 +225,19 @@ int run(const CompareOptions& o) {
                   << " instruction times for nqc's code (instruction timing)\n";
         continue;
       }
-      std::cout << "DIFFERENT " << o.file << " [" << s.name << "]\n";
       ++differing;
+      if (cmp.timing_only) {
+        // Every line of the side by side would differ in its time alone.
+        std::cout << "DIFFERENT " << o.file << " [" << s.name << "] in timing only: the same " << cmp.in_order
+                  << " events in the same order, " << timing_only_note(cmp)
+                  << "; what this program shows depends on how fast its code runs (an output switched or a "
+                     "sound played on every pass of a loop, a count of passes)\n";
+        for (const auto& d : cmp.differences) std::cout << "  first: " << d << "\n";
+        continue;
+      }
+      std::cout << "DIFFERENT " << o.file << " [" << s.name << "]\n";
       for (const auto& d : cmp.differences) std::cout << "  " << d << "\n";
-      std::cout << cmp.side_by_side;
+      std::cout << (o.all_rows ? cmp.side_by_side : rows_around(cmp.side_by_side, cmp.first_unlike_row));
     } catch (const std::exception& e) {
       std::cout << "DIFFERENT " << o.file << " [" << s.name << "]: cannot load: " << e.what() << "\n";
       ++differing;
@@ -210,6 +260,8 @@ void register_compare(CLI::App& app, int& exit_code) {
   cmd->add_option("--seed", o->seed, "Random seed for both runs");
   cmd->add_option("--instruction-us", o->instruction_us, "Virtual time per instruction (default 10)")
       ->check(CLI::Range(1, 100000));
+  cmd->add_flag("--all-rows", o->all_rows,
+                "Show both runs' events side by side in full (default: the rows around the first difference)");
   cmd->callback([&exit_code, o] { exit_code = run(*o); });
 }
 

@@ -184,6 +184,15 @@ std::map<std::string, int> globals(const Machine& m, const Image& image, const s
   return out;
 }
 
+// The first event row at which the two runs show something else, times
+// aside (the row count when they show the same events in the same order).
+std::size_t first_unlike_row(const RunView& a, const RunView& b) {
+  auto ea = visible_events(*a.machine), eb = visible_events(*b.machine);
+  std::size_t row = 0;
+  while (row < ea.size() && row < eb.size() && what(*ea[row]) == what(*eb[row])) ++row;
+  return row;
+}
+
 std::string side_by_side(const RunView& a, const RunView& b) {
   auto la = observable_lines(*a.machine), lb = observable_lines(*b.machine);
   std::size_t width = a.label.size();
@@ -227,7 +236,13 @@ RunComparison compare_runs(const RunView& a, const RunView& b, TimeTolerance tol
   for (const Machine* m : {a.machine, b.machine})
     if (m->stop().kind == StopKind::TimeLimit) end_us = std::min(end_us, m->now_us());
   auto sa = streams(*a.machine), sb = streams(*b.machine);
+  std::size_t timing_differences = 0;
   for (int s = 0; s <= static_cast<int>(Stream::Datalog); ++s) {
+    // Once this stream's times have parted beyond the tolerance, the walk
+    // goes on to see whether anything but time differs; `drift` is how far
+    // apart they have been, which also widens the cut-off below.
+    bool parted = false;
+    Micros drift = 0;
     // Outputs start floating; other streams start with nothing shown.
     std::string start = s <= static_cast<int>(Stream::OutputC) ? at_rest(static_cast<std::size_t>(s)) : "";
     StreamWalk wa{&sa[static_cast<Stream>(s)], tol.glitch_us, 0, start};
@@ -237,7 +252,8 @@ RunComparison compare_runs(const RunView& a, const RunView& b, TimeTolerance tol
         if (wa.done() ? wb.skip_glitch() : wa.skip_glitch()) continue;
         const Event& extra = wa.done() ? wb.here() : wa.here();
         // The other run may simply have been cut off just before it.
-        if (end_us != std::numeric_limits<Micros>::max() && extra.t_us >= end_us - allowance(tol, end_us)) break;
+        if (end_us != std::numeric_limits<Micros>::max() && extra.t_us >= end_us - allowance(tol, end_us) - drift)
+          break;
         r.differences.push_back(fmt::format("only {} has: {}", wa.done() ? b.label : a.label, line_of(extra)));
         break;
       }
@@ -249,13 +265,19 @@ RunComparison compare_runs(const RunView& a, const RunView& b, TimeTolerance tol
         break;
       }
       auto allowed = allowance(tol, std::max(ea.t_us, eb.t_us));
-      if (std::llabs(ea.t_us - eb.t_us) > allowed) {
+      Micros apart = std::llabs(ea.t_us - eb.t_us);
+      if (apart > allowed && !parted) {
         r.differences.push_back(fmt::format("{} at {}ms ({}) but {}ms ({}); allowed difference {}ms", what(ea),
                                             ea.t_us / kMicrosPerMs, a.label, eb.t_us / kMicrosPerMs, b.label,
                                             allowed / kMicrosPerMs));
-        break;
+        ++timing_differences;
+        parted = true;
       }
-      r.matched.push_back({ea.t_us, eb.t_us});
+      if (!parted) r.matched.push_back({ea.t_us, eb.t_us});
+      drift = std::max(drift, apart);
+      r.most_sooner_us = std::max(r.most_sooner_us, eb.t_us - ea.t_us);
+      r.most_later_us = std::max(r.most_later_us, ea.t_us - eb.t_us);
+      ++r.in_order;
       wa.take();
       wb.take();
     }
@@ -287,7 +309,11 @@ RunComparison compare_runs(const RunView& a, const RunView& b, TimeTolerance tol
     r.differences.push_back(fmt::format("{} stopped with '{}', {} with '{}'", a.label, to_string(a.machine->stop().kind),
                                         b.label, to_string(b.machine->stop().kind)));
   r.same = r.differences.empty();
-  if (!r.same) r.side_by_side = side_by_side(a, b);
+  r.timing_only = !r.same && timing_differences == r.differences.size();
+  if (!r.same) {
+    r.side_by_side = side_by_side(a, b);
+    r.first_unlike_row = first_unlike_row(a, b);
+  }
   return r;
 }
 

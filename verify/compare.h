@@ -43,6 +43,16 @@ struct RunComparison {
   std::vector<MatchedEvent> matched;     // the events both runs show, as paired
   std::vector<std::string> differences;  // one line each
   std::string side_by_side;              // both event lists, aligned, when they differ
+  std::size_t first_unlike_row = 0;      // its first event row that differs but for the time
+  // Every difference is one of time: both runs show the same events in the
+  // same order (`in_order` of them), only further apart than the tolerance,
+  // as a program shows when it switches an output or plays a sound on every
+  // pass of a loop and one code's loop is faster. The most that a acted
+  // before b, and after b, on any of those events.
+  bool timing_only = false;
+  int in_order = 0;
+  Micros most_sooner_us = 0;
+  Micros most_later_us = 0;
 };
 
 // `globals`: the program's file-scope variables. Given, only they are

@@ -5,6 +5,8 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
+
 #include "rcx/image.h"
 #include "tests/support/process.h"
 
@@ -171,4 +173,45 @@ TEST(CompareCli, LocalsInDifferentSlotsAreNoDifference) {
   r = run_rcxc({"compare", src, "--scenario", d.path + "/idle.toml", "--nqc-path", fake});
   EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
   EXPECT_NE(r.out.find("global 'total' = 30 (rcxc) but 31 (nqc)"), std::string::npos) << r.out;
+}
+
+// A loop that switches an output on every pass shows as many switches as
+// its code goes round: -O2's loop (two instructions; the local is dead) runs
+// twice as fast as -O0's, so the same switches come further and further
+// apart. Nothing but time differs, and compare says so in one line instead
+// of listing every switch.
+TEST(CompareCli, RunsThatDifferInTimingOnlySaySoInOneLine) {
+  TempDir d;
+  std::string src = d.write("p.nqc", "task main() { int x; On(OUT_A); while (true) { x = 1; x += 2; Toggle(OUT_A); } }\n");
+  auto r = run_rcxc({"compare", src, "--for", "2000", "--nqc-path", rcxc_o0_as_nqc(d)});
+  EXPECT_EQ(r.exit_code, 1) << r.out;
+  EXPECT_NE(r.out.find("[idle] in timing only: the same "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("events in the same order, rcxc's code up to "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("  first: output A on"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find(" | "), std::string::npos) << "no side by side:\n" << r.out;
+  EXPECT_LT(std::count(r.out.begin(), r.out.end(), '\n'), 20) << r.out;
+}
+
+// When the switches have drifted apart and then a press stops the output,
+// one run stops it after another number of switches than the other, so its
+// direction before the stop differs: more than time. The side by side shows the
+// rows around the first event that differs but for its time, and says how
+// many it left out; --all-rows shows them all.
+TEST(CompareCli, ALongSideBySideShowsTheRowsAroundTheFirstDifference) {
+  TempDir d;
+  std::string src = d.write("p.nqc",
+                            "task main() { int x; SetSensor(SENSOR_1, SENSOR_TOUCH); On(OUT_A);\n"
+                            "  while (true) { x = 1; x += 2; if (SENSOR_1 == 1) Off(OUT_A); else { On(OUT_A); Toggle(OUT_A); } } }\n");
+  auto r = run_rcxc({"compare", src, "--for", "2000", "--nqc-path", rcxc_o0_as_nqc(d)});
+  EXPECT_EQ(r.exit_code, 1) << r.out;
+  auto at = r.out.find("DIFFERENT " + src + " [touch and messages]\n");
+  ASSERT_NE(at, std::string::npos) << r.out.substr(0, 4000);
+  std::string touch = r.out.substr(at, r.out.find("DIFFERENT", at + 1) - at);
+  EXPECT_NE(touch.find(" rows before\n"), std::string::npos) << touch;
+  EXPECT_NE(touch.find(" rows after (--all-rows shows every row)\n"), std::string::npos) << touch;
+  EXPECT_NE(touch.find("output A off"), std::string::npos) << "the first difference is in the window:\n" << touch;
+  EXPECT_LT(std::count(touch.begin(), touch.end(), '\n'), 60) << touch;
+  auto all = run_rcxc({"compare", src, "--for", "2000", "--all-rows", "--nqc-path", rcxc_o0_as_nqc(d)});
+  EXPECT_GT(std::count(all.out.begin(), all.out.end(), '\n'), 1000);
+  EXPECT_EQ(all.out.find(" rows before\n"), std::string::npos);
 }

@@ -226,3 +226,52 @@ TEST(Compare, AGlobalIsTheFirstVariableOfItsName) {
                             std::vector<std::string>{"v"})
                    .same);
 }
+
+namespace {
+
+// A on, then forever: `extra` (instructions that show nothing), flip A's
+// direction, jump back. Every pass shows a switch, so a longer pass shows
+// the same switches later and later.
+RunResult run_flipping(Bytes extra, Micros limit_us) {
+  RunResult r;
+  Bytes code = {0x21, 0x81};  // out A on
+  code.insert(code.end(), extra.begin(), extra.end());
+  code.insert(code.end(), {0xe1, 0x41});  // dir A flip
+  auto back = static_cast<std::uint8_t>(0x80 | (code.size() + 1 - 2));
+  code.insert(code.end(), {0x27, back});  // jmp to the first instruction after `out`
+  r.image.fragments.push_back({FragmentType::Task, 0, code});
+  EXPECT_FALSE(r.machine.load(0, r.image).has_value());
+  r.machine.start_program();
+  r.machine.run(limit_us);
+  return r;
+}
+
+}  // namespace
+
+TEST(Compare, SameEventsDriftingApartDifferInTimingOnly) {
+  RunResult fast = run_flipping(kSetVar5, 1'000'000);
+  Bytes two = kSetVar5;
+  two.insert(two.end(), kSetVar6.begin(), kSetVar6.end());
+  RunResult slow = run_flipping(two, 1'000'000);
+  auto c = compare(fast, slow);
+  EXPECT_FALSE(c.same);
+  EXPECT_TRUE(c.timing_only) << (c.differences.empty() ? "" : c.differences[0]);
+  ASSERT_EQ(c.differences.size(), 1u);
+  EXPECT_NE(c.differences[0].find("allowed difference"), std::string::npos) << c.differences[0];
+  // The fast run's pass is 3 instructions, the slow one's 4 (6 and 8 ms):
+  // the slow run's 125th switch, at 1 s, is the fast run's at 0.75 s.
+  EXPECT_GT(c.in_order, 100);
+  EXPECT_GT(c.most_sooner_us, 200'000);
+  EXPECT_EQ(c.most_later_us, 0);
+  EXPECT_EQ(c.first_unlike_row, static_cast<std::size_t>(c.in_order)) << "every row both show is alike but for its time";
+}
+
+TEST(Compare, ADifferentEventAfterTheDriftIsMoreThanTiming) {
+  RunResult fast = run_flipping(kSetVar5, 1'000'000);
+  Bytes two = kSetVar5;
+  two.insert(two.end(), {0x51, 0x02});  // a sound on every pass, beside the switch
+  RunResult slow = run_flipping(two, 1'000'000);
+  auto c = compare(fast, slow);
+  EXPECT_FALSE(c.same);
+  EXPECT_FALSE(c.timing_only);
+}
