@@ -34,7 +34,7 @@ _rcxc() {
       options="--nqc --nqc-path -v --verbose -j --jobs -I -D -U -n -O0 -O1 -O2 -Os --help"
       files="!*.nqc" ;;
     compare)
-      options="--scenario --nqc-path --for --seed --instruction-us --help"
+      options="--scenario --nqc-path --for --seed --instruction-us --all-rows --help"
       files="!*.nqc" ;;
     brick)
       options="--pty --noise --seed --fast --no-echo -v --verbose --help" ;;
