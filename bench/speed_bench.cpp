@@ -209,13 +209,40 @@ Speed measure_speed(const rcx::Image& mine, const rcx::Image& theirs) {
 
 double ratio(double a, double b) { return b > 0 ? a / b : 1.0; }
 
+double per_pass(std::int64_t instructions, std::int64_t passes) {
+  return passes > 0 ? static_cast<double>(instructions) / static_cast<double>(passes) : 0;
+}
+
+// Per loop pass over a set of programs: the geometric mean of the programs'
+// ratios (each program counts once, whatever its pass count), the programs
+// slower per pass, and the one with the highest ratio.
+struct PassRatios {
+  double log_sum = 0;
+  int looping = 0, slower = 0;
+  std::string worst;
+  double worst_ratio = 0;
+
+  // One program's instructions per pass with each code (0: it never looped).
+  void add(const Speed& s, const std::string& name) {
+    double ours = per_pass(s.ours_pass_instructions, s.ours_passes);
+    double theirs = per_pass(s.theirs_pass_instructions, s.theirs_passes);
+    if (ours <= 0 || theirs <= 0) return;
+    double r = ours / theirs;
+    log_sum += std::log(r);
+    ++looping;
+    // Counted as slower only past rounding: a pass count that differs by
+    // one at the end of the 20 s is no slower code.
+    slower += r > 1.001;
+    if (r > worst_ratio) {
+      worst_ratio = r;
+      worst = name;
+    }
+  }
+  double geometric_mean() const { return looping > 0 ? std::exp(log_sum / looping) : 1.0; }
+};
+
 struct Totals {
-  // Per loop pass: the geometric mean of the programs' ratios (each program
-  // counts once, whatever its pass count), the programs slower per pass.
-  double log_pass_ratio = 0;
-  int looping = 0, slower_passes = 0;
-  std::string worst_pass;  // the program with the highest ratio
-  double worst_pass_ratio = 0;
+  PassRatios passes;
   std::int64_t ours_reaction = 0, theirs_reaction = 0;
   int reactions = 0, slower_reactions = 0;
   std::int64_t ours_instructions = 0, theirs_instructions = 0;
@@ -228,9 +255,6 @@ struct Totals {
   int o2_larger = 0, os_larger = 0, programs = 0;
 };
 
-double per_pass(std::int64_t instructions, std::int64_t passes) {
-  return passes > 0 ? static_cast<double>(instructions) / static_cast<double>(passes) : 0;
-}
 
 void print_corpus(Totals& t) {
   std::cout << "Corpus programs under the built-in scenarios, 2 ms per instruction, 20 s each\n";
@@ -249,18 +273,7 @@ void print_corpus(Totals& t) {
     ++t.programs;
     double ours_pass = per_pass(s.ours_pass_instructions, s.ours_passes);
     double theirs_pass = per_pass(s.theirs_pass_instructions, s.theirs_passes);
-    if (ours_pass > 0 && theirs_pass > 0) {
-      double r = ours_pass / theirs_pass;
-      t.log_pass_ratio += std::log(r);
-      ++t.looping;
-      // Counted as slower only past rounding: a pass count that differs by
-      // one at the end of the 20 s is no slower code.
-      t.slower_passes += r > 1.001;
-      if (r > t.worst_pass_ratio) {
-        t.worst_pass_ratio = r;
-        t.worst_pass = f.filename().string();
-      }
-    }
+    t.passes.add(s, f.filename().string());
     t.ours_reaction += s.ours_reaction;
     t.theirs_reaction += s.theirs_reaction;
     t.reactions += s.reactions;
@@ -381,8 +394,8 @@ SizeTotals generated_sizes() {
 // ReactiveGenerator: programs never used to tune the passes), measured as
 // the corpus is: per pass and per reaction, at -O2, against nqc's code.
 struct ReactiveTotals {
-  double log_pass_ratio = 0;
-  int looping = 0, slower_passes = 0, programs = 0, unlike = 0;
+  PassRatios passes;
+  int programs = 0, unlike = 0;
   std::int64_t ours_reaction = 0, theirs_reaction = 0;
   int reactions = 0, slower_reactions = 0;
 };
@@ -400,14 +413,7 @@ ReactiveTotals generated_reactive(int count) {
     Speed s = measure_speed(o2->image, *theirs.image);
     ++t.programs;
     t.unlike += !s.behaves_alike;
-    double ours_pass = per_pass(s.ours_pass_instructions, s.ours_passes);
-    double theirs_pass = per_pass(s.theirs_pass_instructions, s.theirs_passes);
-    if (ours_pass > 0 && theirs_pass > 0) {
-      double r = ours_pass / theirs_pass;
-      t.log_pass_ratio += std::log(r);
-      ++t.looping;
-      t.slower_passes += r > 1.001;
-    }
+    t.passes.add(s, fmt::format("reactive {}", seed));
     t.ours_reaction += s.ours_reaction;
     t.theirs_reaction += s.theirs_reaction;
     t.reactions += s.reactions;
@@ -450,8 +456,8 @@ int main(int, char** argv) {
   std::cout << "\nAgainst nqc (rcxc / nqc; lower is better), at the default level (-O2)\n";
   std::cout << fmt::format("  instructions per loop pass  {:.3f}  (geometric mean over {} programs that loop; {} slower "
                            "per pass; highest ratio {:.3f}, {})\n",
-                           t.looping > 0 ? std::exp(t.log_pass_ratio / t.looping) : 1.0, t.looping, t.slower_passes,
-                           t.worst_pass_ratio, t.worst_pass);
+                           t.passes.geometric_mean(), t.passes.looping, t.passes.slower, t.passes.worst_ratio,
+                           t.passes.worst);
   std::cout << fmt::format("  reaction, in instructions   {:.3f}  ({} vs {} instructions from {} input changes to the "
                            "first event after each; {} programs slower)\n",
                            ratio(static_cast<double>(t.ours_reaction), static_cast<double>(t.theirs_reaction)),
@@ -495,7 +501,7 @@ int main(int, char** argv) {
   std::cout << fmt::format("  generated control loops     {:.3f} per pass (geometric mean over {} programs, {} slower "
                            "per pass), reaction {:.3f} ({} vs {} instructions from {} input changes, {} programs "
                            "slower); {} of {} behave differently at 2 ms\n",
-                           r.looping > 0 ? std::exp(r.log_pass_ratio / r.looping) : 1.0, r.looping, r.slower_passes,
+                           r.passes.geometric_mean(), r.passes.looping, r.passes.slower,
                            ratio(static_cast<double>(r.ours_reaction), static_cast<double>(r.theirs_reaction)),
                            r.ours_reaction, r.theirs_reaction, r.reactions, r.slower_reactions, r.unlike, r.programs);
   std::cout << fmt::format("  compile time (CPU)      {:.3f}  ({:.1f} vs {:.1f} ms per corpus program, as processes)\n",
