@@ -360,6 +360,18 @@ struct Lowerer {
     return Operand::var(t);
   }
 
+  // test_value, except that ++x and --x step x now and stand for x itself,
+  // read by the test: as in nqc's code, `--c <= c++` with c at 5 compares
+  // 5 with 4 (c is 4 after `--c`, and `c++` makes it 5 before the test).
+  Operand stepped_test_value(const ast::Expr& whole) {
+    const ast::Expr& e = chosen(whole);
+    if (const auto* n = ast::as<ast::Name>(e))
+      if (auto b = binding(*n); b && b->expr) return stepped_test_value(*b->expr);
+    if (const auto* u = ast::as<ast::Unary>(e); u && (u->op == ast::UnaryOp::PreInc || u->op == ast::UnaryOp::PreDec))
+      if (auto v = step(*u, e.span)) return Operand::var(*v);
+    return test_value(e);
+  }
+
   void set(VarId d, Operand v) {
     if (!v.is_var(d)) emit(Op::SetVariable, {Operand::var(d), v});
   }
@@ -776,12 +788,12 @@ struct Lowerer {
         return cond(*b->rhs, t, f);
       }
       if (auto cmp = comparison(b->op)) {
-        Operand x = test_value(*b->lhs);
-        Operand y = test_value(*b->rhs);
+        Operand x = stepped_test_value(*b->lhs);
+        Operand y = stepped_test_value(*b->rhs);
         return terminate(Branch{*cmp, x, y, t, f});
       }
     }
-    terminate(Branch{Cmp::NE, test_value(e), Operand::imm(0), t, f});
+    terminate(Branch{Cmp::NE, stepped_test_value(e), Operand::imm(0), t, f});
   }
 
   // --------------------------------------------------------------- calls --
