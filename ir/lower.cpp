@@ -405,9 +405,11 @@ struct Lowerer {
       if (b->op == ast::BinaryOp::Shl || b->op == ast::BinaryOp::Shr)
         return shift(d, *b, b->op == ast::BinaryOp::Shl);
       auto op = direct_op(b->op);
-      if (op && !reads(*b->rhs, d) && !has_effects(*b->lhs)) {
+      // The left side may have side effects of its own (x = (x - y++) & 3):
+      // into() computes all of it, d included, before the right side runs.
+      if (op && !reads(*b->rhs, d)) {
         into(d, *b->lhs);  // x = x + e  ->  x += e; x = (x > 1) - y likewise
-        arith(*op, d, arith_value(*b->rhs));
+        arith(*op, d, stepped_value(*b->rhs));
         return;
       }
     }
@@ -600,7 +602,7 @@ struct Lowerer {
   void binary(VarId d, const ast::Binary& b, const ast::Expr& e) {
     if (auto op = direct_op(b.op)) {
       into(d, *b.lhs);
-      return arith(*op, d, arith_value(*b.rhs));
+      return arith(*op, d, stepped_value(*b.rhs));
     }
     switch (b.op) {
       case ast::BinaryOp::Mod: {
@@ -609,7 +611,7 @@ struct Lowerer {
         // side is computed, and ++x / --x stand for x itself: with b at 5,
         // --b % b++ is 5 % 4.
         Operand x = stepped_value(*b.lhs);
-        Operand y = arith_value(*b.rhs);
+        Operand y = stepped_value(*b.rhs);
         set(d, x);
         arith(Op::DivideVariable, d, y);
         arith(Op::MultiplyVariable, d, y);
@@ -714,11 +716,11 @@ struct Lowerer {
     }();
     switch (a.op) {
       case ast::AssignOp::Assign: into(*v, *a.value); break;
-      case ast::AssignOp::Abs: arith(Op::AbsoluteValue, *v, arith_value(*a.value)); break;
-      case ast::AssignOp::Sign: arith(Op::SignVariable, *v, arith_value(*a.value)); break;
+      case ast::AssignOp::Abs: arith(Op::AbsoluteValue, *v, stepped_value(*a.value)); break;
+      case ast::AssignOp::Sign: arith(Op::SignVariable, *v, stepped_value(*a.value)); break;
       default:
         if (auto op = direct_op(*binary_op)) {
-          arith(*op, *v, arith_value(*a.value));
+          arith(*op, *v, stepped_value(*a.value));
         } else {
           // Kept for the whole lowering: the memos are keyed by node
           // address, and a freed node's address comes back for the next.
