@@ -1158,7 +1158,18 @@ struct Lowerer {
   // ------------------------------------------------------------ functions --
 
   void startup() {
+    // nqc sets the globals' initial values first and then runs the startup
+    // code, so a `#pragma init` function may read them (`int speed = 3;`
+    // and `SetPower(OUT_A, speed)` in it). The default startup code reads
+    // no variable and stays first in the task, where the passes expect
+    // main's first `startup` instructions.
+    bool init_call = !ast.pragmas.noinit && ast.pragmas.init;
+    if (init_call) initialise_globals();
     default_startup();
+    if (!init_call) initialise_globals();
+  }
+
+  void initialise_globals() {
     for (std::size_t g = 0; g < ast.globals.size(); ++g)
       if (ast.globals[g].init) into(globals[g], *ast.globals[g].init);
   }
