@@ -415,6 +415,9 @@ struct Lowerer {
     }
     if (auto v = var_of(e); v && *v == d) return;
     if (const auto* u = ast::as<ast::Unary>(e);
+        u && (u->op == ast::UnaryOp::PostInc || u->op == ast::UnaryOp::PostDec))
+      if (auto v = var_of(*u->operand); v && *v == d) return;  // d = d++: the old value wins, as in nqc's code
+    if (const auto* u = ast::as<ast::Unary>(e);
         u && (u->op == ast::UnaryOp::Negate || u->op == ast::UnaryOp::BitNot))
       return unary(d, *u, e);  // x = -x, x = ~(x + 1): in place
     if (const auto* c = ast::as<ast::Conditional>(e)) return conditional(d, *c);
