@@ -892,9 +892,11 @@ class Preprocessor {
       extra_tokens(line, 2);
       return;
     }
+    // A pragma nqc cannot read is a warning ("illegal #pragma") there and
+    // changes nothing; so it is here, so that such a program still builds.
     if (what.is_identifier("init")) {
       if (line.size() < 3 || line[2].kind != TokenKind::Identifier) {
-        diags_.error(what.span, "#pragma init needs the name of a sub or function");
+        diags_.warning(what.span, "#pragma init needs the name of a sub or function; the #pragma is ignored");
         return;
       }
       out_.pragmas.init = line[2].text;
@@ -909,14 +911,21 @@ class Preprocessor {
         std::int64_t v = 0;
         if (t.is(",")) continue;
         if (!number_value(t, v)) {
-          diags_.error(t.span, "#pragma reserve expects numbers: #pragma reserve LO [HI]");
+          diags_.warning(t.span, "#pragma reserve expects numbers: #pragma reserve LO [HI]; the #pragma is ignored");
           return;
         }
         values.push_back(v);
       }
-      if (values.empty() || values.size() > 2) {
-        diags_.error(what.span, "#pragma reserve expects one or two slot numbers: #pragma reserve LO [HI]");
+      if (values.empty()) {
+        diags_.warning(what.span,
+                       "#pragma reserve expects one or two slot numbers: #pragma reserve LO [HI]; the #pragma is ignored");
         return;
+      }
+      if (values.size() > 2) {
+        // nqc reserves the first two and says nothing of the rest.
+        diags_.warning(what.span, "#pragma reserve takes at most two slot numbers: the ones after " +
+                                      std::to_string(values[1]) + " are ignored");
+        values.resize(2);
       }
       std::int64_t lo = values[0], hi = values.size() == 2 ? values[1] : values[0];
       if (lo < 0 || hi > 31 || lo > hi) {

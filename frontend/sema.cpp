@@ -2,6 +2,7 @@
 
 #include <functional>
 #include <map>
+#include <optional>
 #include <set>
 #include <string>
 #include <unordered_map>
@@ -81,6 +82,8 @@ class Checker {
   // come after, so the unused-variable report reads only those.
   SymbolId body_symbols_begin_ = 0;
   bool in_function_ = false;
+  // The global whose initial value is being checked (see check_global).
+  std::optional<std::uint32_t> initialising_global_;
   std::unordered_map<std::string, SymbolId> labels_;
   std::set<std::string> reported_undefined_;
   int loop_depth_ = 0;
@@ -186,13 +189,15 @@ class Checker {
 
   // ------------------------------------------------------ declarations --
 
+  // nqc computes the globals' initial values at the start of task main, in
+  // the order they are declared, from any expression: a sensor, a timer or
+  // a global declared before (`int limit = SENSOR_2 + 5;`, `int b = a * 2;`).
   void check_global(VarDecl& g) {
     if (!g.init) return;
     scopes_.clear();
-    std::size_t errors_before = diags_.error_count();
+    initialising_global_ = prog_.symbols[g.symbol].index;
     expr(*g.init, Use::Value);
-    if (!g.init->constant && diags_.error_count() == errors_before)
-      diags_.error(g.init->span, "the initial value of global '" + g.name + "' must be a constant expression");
+    initialising_global_.reset();
   }
 
   void begin_body(SymbolId owner) {
@@ -585,6 +590,12 @@ class Checker {
     const Symbol& s = prog_.symbols[*id];
     if (!is_variable(s)) {
       diags_.error(e.span, "'" + n.name + "' is a " + kind_name(s.kind) + ", not a variable");
+      return;
+    }
+    if (initialising_global_ && s.kind == SymbolKind::Global && s.index > *initialising_global_) {
+      // Its own initial value is set after this one (nqc: undefined variable).
+      diags_.error(e.span, "'" + n.name + "' is declared after this global, so its initial value is not set yet: "
+                                          "initial values are set in the order the globals are declared");
       return;
     }
     n.symbol = *id;

@@ -335,6 +335,12 @@ int instr_size(const Instr& in) {
   return in.raw ? static_cast<int>(in.args.size()) : rcx::command_size(rcx::info(in.op)).value_or(4);
 }
 
+namespace {
+bool overwrites_destination(rcx::Op op) {
+  return op == rcx::Op::SetVariable || op == rcx::Op::AbsoluteValue || op == rcx::Op::SignVariable;
+}
+}  // namespace
+
 VarUse uses_of(const Instr& in) {
   VarUse u;
   if (in.raw) {
@@ -355,7 +361,9 @@ VarUse uses_of(const Instr& in) {
     if (!a.is_var()) continue;
     if (operand.role == rcx::Role::Variable) {
       u.writes.push_back(a.value);
-      if (in.op != rcx::Op::SetVariable) u.reads.push_back(a.value);
+      // set, abs and sgn compute from their source alone; the other
+      // arithmetic instructions combine it with the old value.
+      if (!overwrites_destination(in.op)) u.reads.push_back(a.value);
     } else {
       u.reads.push_back(a.value);
     }

@@ -360,6 +360,18 @@ struct Lowerer {
     return Operand::var(t);
   }
 
+  // test_value, except that ++x and --x step x now and stand for x itself,
+  // read by the test: as in nqc's code, `--c <= c++` with c at 5 compares
+  // 5 with 4 (c is 4 after `--c`, and `c++` makes it 5 before the test).
+  Operand stepped_test_value(const ast::Expr& whole) {
+    const ast::Expr& e = chosen(whole);
+    if (const auto* n = ast::as<ast::Name>(e))
+      if (auto b = binding(*n); b && b->expr) return stepped_test_value(*b->expr);
+    if (const auto* u = ast::as<ast::Unary>(e); u && (u->op == ast::UnaryOp::PreInc || u->op == ast::UnaryOp::PreDec))
+      if (auto v = step(*u, e.span)) return Operand::var(*v);
+    return test_value(e);
+  }
+
   void set(VarId d, Operand v) {
     if (!v.is_var(d)) emit(Op::SetVariable, {Operand::var(d), v});
   }
@@ -393,13 +405,18 @@ struct Lowerer {
       if (b->op == ast::BinaryOp::Shl || b->op == ast::BinaryOp::Shr)
         return shift(d, *b, b->op == ast::BinaryOp::Shl);
       auto op = direct_op(b->op);
-      if (op && !reads(*b->rhs, d) && !has_effects(*b->lhs)) {
+      // The left side may have side effects of its own (x = (x - y++) & 3):
+      // into() computes all of it, d included, before the right side runs.
+      if (op && !reads(*b->rhs, d)) {
         into(d, *b->lhs);  // x = x + e  ->  x += e; x = (x > 1) - y likewise
-        arith(*op, d, arith_value(*b->rhs));
+        arith(*op, d, stepped_value(*b->rhs));
         return;
       }
     }
     if (auto v = var_of(e); v && *v == d) return;
+    if (const auto* u = ast::as<ast::Unary>(e);
+        u && (u->op == ast::UnaryOp::PostInc || u->op == ast::UnaryOp::PostDec))
+      if (auto v = var_of(*u->operand); v && *v == d) return;  // d = d++: the old value wins, as in nqc's code
     if (const auto* u = ast::as<ast::Unary>(e);
         u && (u->op == ast::UnaryOp::Negate || u->op == ast::UnaryOp::BitNot))
       return unary(d, *u, e);  // x = -x, x = ~(x + 1): in place
@@ -588,7 +605,7 @@ struct Lowerer {
   void binary(VarId d, const ast::Binary& b, const ast::Expr& e) {
     if (auto op = direct_op(b.op)) {
       into(d, *b.lhs);
-      return arith(*op, d, arith_value(*b.rhs));
+      return arith(*op, d, stepped_value(*b.rhs));
     }
     switch (b.op) {
       case ast::BinaryOp::Mod: {
@@ -597,7 +614,7 @@ struct Lowerer {
         // side is computed, and ++x / --x stand for x itself: with b at 5,
         // --b % b++ is 5 % 4.
         Operand x = stepped_value(*b.lhs);
-        Operand y = arith_value(*b.rhs);
+        Operand y = stepped_value(*b.rhs);
         set(d, x);
         arith(Op::DivideVariable, d, y);
         arith(Op::MultiplyVariable, d, y);
@@ -702,11 +719,11 @@ struct Lowerer {
     }();
     switch (a.op) {
       case ast::AssignOp::Assign: into(*v, *a.value); break;
-      case ast::AssignOp::Abs: arith(Op::AbsoluteValue, *v, arith_value(*a.value)); break;
-      case ast::AssignOp::Sign: arith(Op::SignVariable, *v, arith_value(*a.value)); break;
+      case ast::AssignOp::Abs: arith(Op::AbsoluteValue, *v, stepped_value(*a.value)); break;
+      case ast::AssignOp::Sign: arith(Op::SignVariable, *v, stepped_value(*a.value)); break;
       default:
         if (auto op = direct_op(*binary_op)) {
-          arith(*op, *v, arith_value(*a.value));
+          arith(*op, *v, stepped_value(*a.value));
         } else {
           // Kept for the whole lowering: the memos are keyed by node
           // address, and a freed node's address comes back for the next.
@@ -776,12 +793,12 @@ struct Lowerer {
         return cond(*b->rhs, t, f);
       }
       if (auto cmp = comparison(b->op)) {
-        Operand x = test_value(*b->lhs);
-        Operand y = test_value(*b->rhs);
+        Operand x = stepped_test_value(*b->lhs);
+        Operand y = stepped_test_value(*b->rhs);
         return terminate(Branch{*cmp, x, y, t, f});
       }
     }
-    terminate(Branch{Cmp::NE, test_value(e), Operand::imm(0), t, f});
+    terminate(Branch{Cmp::NE, stepped_test_value(e), Operand::imm(0), t, f});
   }
 
   // --------------------------------------------------------------- calls --
@@ -1144,7 +1161,18 @@ struct Lowerer {
   // ------------------------------------------------------------ functions --
 
   void startup() {
+    // nqc sets the globals' initial values first and then runs the startup
+    // code, so a `#pragma init` function may read them (`int speed = 3;`
+    // and `SetPower(OUT_A, speed)` in it). The default startup code reads
+    // no variable and stays first in the task, where the passes expect
+    // main's first `startup` instructions.
+    bool init_call = !ast.pragmas.noinit && ast.pragmas.init;
+    if (init_call) initialise_globals();
     default_startup();
+    if (!init_call) initialise_globals();
+  }
+
+  void initialise_globals() {
     for (std::size_t g = 0; g < ast.globals.size(); ++g)
       if (ast.globals[g].init) into(globals[g], *ast.globals[g].init);
   }

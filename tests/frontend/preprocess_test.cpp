@@ -190,6 +190,24 @@ TEST(Preprocessor, ReserveOutsideTheSlotsIsAnError) {
                                       "#pragma reserve range 5..2 is not within variable slots 0..31"}));
 }
 
+TEST(Preprocessor, APragmaNqcCannotReadIsAWarningAndChangesNothing) {
+  // nqc 3.1 says "illegal #pragma" (a warning) and compiles these; with
+  // three numbers it reserves the first two without a word.
+  auto p = run_pp("#pragma reserve\n#pragma reserve 5 x\n#pragma reserve -1 3\n#pragma init\n#pragma reserve 1 2 7\n");
+  EXPECT_EQ(p.diags.error_count(), 0u);
+  EXPECT_FALSE(p.out.pragmas.init.has_value());
+  ASSERT_EQ(p.out.pragmas.reserve.size(), 1u);
+  EXPECT_EQ(p.out.pragmas.reserve[0].lo, 1);
+  EXPECT_EQ(p.out.pragmas.reserve[0].hi, 2);
+  EXPECT_EQ(messages(p.diags),
+            (std::vector<std::string>{
+                "#pragma reserve expects one or two slot numbers: #pragma reserve LO [HI]; the #pragma is ignored",
+                "#pragma reserve expects numbers: #pragma reserve LO [HI]; the #pragma is ignored",
+                "#pragma reserve expects numbers: #pragma reserve LO [HI]; the #pragma is ignored",
+                "#pragma init needs the name of a sub or function; the #pragma is ignored",
+                "#pragma reserve takes at most two slot numbers: the ones after 2 are ignored"}));
+}
+
 TEST(Preprocessor, DiagnosticInsideAMacroNamesTheExpansion) {
   auto r = test::run_frontend("#define BAD (1 / 0)\n#define USE BAD + 1\nint g = USE;\ntask main() {}\n", true);
   EXPECT_EQ(r.text(),

@@ -96,8 +96,9 @@ const BadProgram kCases[] = {
      {"4:11: error: division by zero in a constant expression"}},
     {"ConstantModuloByZero", "int g = 5 % 0;\ntask main() { g++; }\n",
      {"1:13: error: division by zero in a constant expression"}},
-    {"GlobalInitialiserMustBeConstant", "int a;\nint b = a;\ntask main() { b++; }\n",
-     {"2:9: error: the initial value of global 'b' must be a constant expression"}},
+    {"GlobalInitialiserReadsOnlyEarlierGlobals", "int b = a + 1;\nint a = 2;\nint c = a * 2 + b;\ntask main() { b++; c++; }\n",
+     {"1:9: error: 'a' is declared after this global, so its initial value is not set yet: initial values are set in "
+      "the order the globals are declared"}},
     {"RuntimeDivisionByConstantZeroWarns", "int g;\ntask main()\n{\n  g /= 0;\n}\n",
      {"4:8: warning: division by zero (at run time the firmware leaves the value unchanged)"}},
     {"LiteralTooBigForSixteenBits", "int g;\ntask main()\n{\n  g = 70000;\n}\n",
