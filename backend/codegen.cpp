@@ -102,7 +102,7 @@ struct Selector {
   // Machine instructions of one instruction.
   bool select(const ir::Instr& in, std::vector<MInstr>& out) const {
     MInstr m;
-    m.span = in.span;
+    m.span = p.span(in.span);
     if (in.raw) {
       m.raw = true;
       for (const auto& a : in.args) m.bytes.push_back(static_cast<std::uint8_t>(resolve(a).second & 0xff));
@@ -111,13 +111,13 @@ struct Selector {
     }
     m.op = in.op;
     if (rcx::info(in.op).operands.size() > kMaxTableOperands) {
-      diags.error(in.span, fmt::format("cannot encode instruction: {} has more than {} operands", rcx::info(in.op).mnemonic,
+      diags.error(m.span, fmt::format("cannot encode instruction: {} has more than {} operands", rcx::info(in.op).mnemonic,
                                        kMaxTableOperands));
       return false;
     }
     std::string err = encode(rcx::info(in.op), values(in).span(), m.bytes);
     if (!err.empty()) {
-      diags.error(in.span, fmt::format("cannot encode instruction: {}", err));
+      diags.error(m.span, fmt::format("cannot encode instruction: {}", err));
       return false;
     }
     out.push_back(std::move(m));
@@ -188,7 +188,7 @@ struct Selector {
     const ir::Block& block = f.blocks[static_cast<std::size_t>(b)];
     ir::BlockId next = b + 1;
     bool last = next == static_cast<ir::BlockId>(f.blocks.size());
-    SourceSpan span = block.span;
+    SourceSpan span = p.span(block.span);
     auto to = [](ir::BlockId t) { return Target{t, -1}; };
     auto jump_unless_next = [&](ir::BlockId t) {
       if (t != next) out.push_back(jump(to(t), span));
@@ -229,16 +229,17 @@ struct Selector {
     } else if (const auto* br = std::get_if<ir::Branch>(&block.term)) {
       select_branch(*br, next, span, out);
     } else if (const auto* c = std::get_if<ir::CoinToss>(&block.term)) {
-      select_coin_toss(*c, b, span, out);
+      select_coin_toss(*c, b, block.span, out);
     }
   }
 
   // loopset random(1); the first loop test pops a 0 and goes to `zero`,
   // the second pops what a 1 has become (-1) and goes to `one`. A side
   // behind them (the counter branches forward only) gets a jump after.
-  void select_coin_toss(const ir::CoinToss& c, ir::BlockId b, SourceSpan span, std::vector<MInstr>& out) const {
-    select(ir::Instr{rcx::Op::SetLoopCounter, {ir::Operand::src(static_cast<int>(rcx::Source::Random), 1)}, false, span},
+  void select_coin_toss(const ir::CoinToss& c, ir::BlockId b, ir::SpanId span_id, std::vector<MInstr>& out) const {
+    select(ir::Instr{rcx::Op::SetLoopCounter, {ir::Operand::src(static_cast<int>(rcx::Source::Random), 1)}, false, span_id},
            out);
+    SourceSpan span = p.span(span_id);
     std::size_t first = out.size();
     int behind = 0;
     for (ir::BlockId side : {c.zero, c.one})

@@ -146,7 +146,7 @@ void inline_calls(Program& p, FuncId caller, Chosen&& chosen) {
       for (const auto& cb : callee.blocks) {
         Block copy = cb;
         for (auto& in : copy.instrs) {
-          if (in.span.begin.line == 0) in.span = call.span;
+          if (p.span(in.span).begin.line == 0) in.span = call.span;
           for (auto& a : in.args) own(a);
         }
         if (auto* br = std::get_if<Branch>(&copy.term)) {

@@ -64,6 +64,11 @@ std::optional<int> arithmetic(rcx::Op op, int dest, int src) {
   }
 }
 
+SpanId Program::add_span(const SourceSpan& span) {
+  spans.push_back(span);
+  return static_cast<SpanId>(spans.size() - 1);
+}
+
 VarId Program::add_var(std::string name, VarKind kind, SourceSpan span) {
   vars.push_back(Var{std::move(name), kind, std::nullopt, span});
   return static_cast<VarId>(vars.size() - 1);

@@ -127,15 +127,28 @@ class Operands {
   std::unique_ptr<std::vector<Operand>> spill_;  // all of them once there are more than kInline
 };
 
+// Where in the source an instruction or block comes from: an index into
+// the Program's `spans`. 0 is no place (an empty span). A SourceSpan is 32
+// bytes and an instruction without one 48: the passes walk every
+// instruction of the program many times, and on long programs the time
+// goes into fetching them, while only diagnostics and listings read where
+// one came from (most instructions share their statement's).
+using SpanId = std::uint32_t;
+
 // One instruction: an opcode of the table and one Operand per operand of
 // the table's layout, where a Source+Argument pair is ONE operand (the
 // pair's Argument entry takes no Operand of its own). A raw instruction
 // (asm byte lists) holds bytes as Imm operands and variable slots as Var.
+// The operands come first, so that the small fields share their last
+// eight bytes.
 struct Instr {
-  rcx::Op op = rcx::Op::SetVariable;
+  Instr() = default;
+  Instr(rcx::Op o, Operands a, bool r = false, SpanId s = 0) : args(std::move(a)), span(s), op(o), raw(r) {}
+
   Operands args;
+  SpanId span = 0;
+  rcx::Op op = rcx::Op::SetVariable;
   bool raw = false;
-  SourceSpan span{};
 };
 
 // Comparisons a branch can test. The firmware has <=, >=, != and ==; the
@@ -178,7 +191,7 @@ using Terminator = std::variant<Jump, Branch, LoopTest, CoinToss, Exit>;
 struct Block {
   std::vector<Instr> instrs;
   Terminator term = Exit{};
-  SourceSpan span{};
+  SpanId span = 0;
 };
 
 // A `repeat` loop in its firmware loop counter form: the block that pushes
@@ -219,9 +232,14 @@ struct Program {
   std::vector<Function> functions;
   std::vector<Var> vars;
   std::uint32_t reserved_slots = 0;  // bit n: #pragma reserve keeps slot n free
+  // What each SpanId stands for; spans[0] is the empty span.
+  std::vector<SourceSpan> spans{SourceSpan{}};
 
   VarId add_var(std::string name, VarKind kind, SourceSpan span = {});
   FuncId find_function(const std::string& name) const;  // -1 if absent
+  // A new SpanId for `span`.
+  SpanId add_span(const SourceSpan& span);
+  const SourceSpan& span(SpanId id) const { return spans[id]; }
 };
 
 // Up to N values kept inline: the few ids a terminator or an opcode has

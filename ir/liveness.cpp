@@ -1,6 +1,8 @@
 #include "ir/liveness.h"
 
 #include <algorithm>
+#include <array>
+#include <bit>
 #include <functional>
 #include <iterator>
 #include <utility>
@@ -45,6 +47,31 @@ BlockVarSets::BlockVarSets(std::size_t blocks, const std::vector<std::pair<std::
   for (std::size_t b = 0; b < blocks; ++b) start_[b + 1] += start_[b];
   std::vector<std::uint32_t> next(start_.begin(), start_.end() - 1);
   for (const auto& e : entries) vars_[next[e.first]++] = e.second;
+}
+
+void sort_keys(std::vector<std::uint64_t>& keys, unsigned bits) {
+  // Below this, a comparison sort is as quick and needs no second array.
+  constexpr std::size_t kComparisonUpTo = 1024;
+  // 2 048 counters: they stay in the first-level cache while the keys stream by.
+  constexpr unsigned kDigitBits = 11;
+  constexpr std::uint64_t kDigitMask = (std::uint64_t{1} << kDigitBits) - 1;
+  if (keys.size() <= kComparisonUpTo) {
+    std::sort(keys.begin(), keys.end());
+    return;
+  }
+  // Least significant digit first, each pass stable: after the pass of a
+  // digit the keys are in order of it and of every digit below it.
+  std::vector<std::uint64_t> moved(keys.size());
+  std::array<std::size_t, std::size_t{1} << kDigitBits> start{};
+  for (unsigned shift = 0; shift < bits; shift += kDigitBits) {
+    start.fill(0);
+    for (std::uint64_t k : keys) ++start[(k >> shift) & kDigitMask];
+    if (start[(keys[0] >> shift) & kDigitMask] == keys.size()) continue;  // one digit for all: no move
+    std::size_t sum = 0;
+    for (auto& s : start) sum += std::exchange(s, sum);
+    for (std::uint64_t k : keys) moved[start[(k >> shift) & kDigitMask]++] = k;
+    keys.swap(moved);
+  }
 }
 
 FuncId callee_of(const Instr& in) {
@@ -172,7 +199,12 @@ Liveness compute_liveness(const Program& p, const Function& f, const CallEffects
   if (n == 0) return L;
   // Each block's summary: what it reads first, as (variable, block) keys
   // to sort by variable, and what it overwrites, one sorted run per block.
+  // A key is the variable above the block's index, which takes
+  // `block_bits`: sorted, the keys list each variable's blocks in order.
+  const auto block_bits = static_cast<unsigned>(std::bit_width(n));
+  const std::uint64_t block_mask = (std::uint64_t{1} << block_bits) - 1;
   std::vector<std::uint64_t> first_reads;
+  VarId most = 0;
   std::vector<std::uint32_t> kill_start(n + 1, 0);
   std::vector<VarId> kills;
   GenKill e;
@@ -183,7 +215,8 @@ Liveness compute_liveness(const Program& p, const Function& f, const CallEffects
     for (VarId v : reads_of(b.term))
       if (tracked(p, v)) e.add(v);
     for (std::size_t k = b.instrs.size(); k-- > 0;) step_back_through(p, b.instrs[k], calls, e);
-    for (VarId v : e.gen.members()) first_reads.push_back(static_cast<std::uint64_t>(v) << 32 | i);
+    for (VarId v : e.gen.members()) first_reads.push_back(static_cast<std::uint64_t>(v) << block_bits | i);
+    if (!e.gen.items.empty()) most = std::max(most, e.gen.items.back());
     kills.insert(kills.end(), e.kill.items.begin(), e.kill.items.end());
     kill_start[i + 1] = static_cast<std::uint32_t>(kills.size());
   }
@@ -196,14 +229,14 @@ Liveness compute_liveness(const Program& p, const Function& f, const CallEffects
   // the entry.
   Predecessors preds = predecessors_of(f);
   // In order of variable, so each block's sets are listed already sorted.
-  std::sort(first_reads.begin(), first_reads.end());
+  sort_keys(first_reads, block_bits + static_cast<unsigned>(std::bit_width(static_cast<std::uint32_t>(most))));
   std::vector<std::pair<std::uint32_t, VarId>> ins, outs;  // (block, variable)
   std::vector<VarId> in_stamp(n, -1), out_stamp(n, -1);
   std::vector<std::uint32_t> work;
   for (std::size_t r = 0; r < first_reads.size();) {
-    const auto v = static_cast<VarId>(first_reads[r] >> 32);
-    for (; r < first_reads.size() && static_cast<VarId>(first_reads[r] >> 32) == v; ++r) {
-      auto b = static_cast<std::uint32_t>(first_reads[r]);
+    const auto v = static_cast<VarId>(first_reads[r] >> block_bits);
+    for (; r < first_reads.size() && static_cast<VarId>(first_reads[r] >> block_bits) == v; ++r) {
+      auto b = static_cast<std::uint32_t>(first_reads[r] & block_mask);
       in_stamp[b] = v;
       ins.emplace_back(b, v);
       work.push_back(b);

@@ -57,7 +57,22 @@ struct Lowerer {
   std::map<std::pair<ast::SymbolId, FuncId>, VarId> inline_locals;
   std::vector<SourceSpan> call_sites;  // where each expansion in `expanding` was called
   bool has_goto = false;
-  SourceSpan span{};
+  SourceSpan span{};  // of the statement being lowered
+  // `span` in out.spans, added when an instruction or block first needs
+  // it: a statement's instructions share one.
+  SourceSpan interned{};
+  SpanId interned_id = 0;  // out.spans[0] is the empty span
+
+  SpanId span_id() {
+    auto same = [](const SourceLoc& a, const SourceLoc& b) {
+      return a.file == b.file && a.line == b.line && a.column == b.column && a.expansion == b.expansion;
+    };
+    if (!same(span.begin, interned.begin) || !same(span.end, interned.end)) {
+      interned = span;
+      interned_id = out.add_span(span);
+    }
+    return interned_id;
+  }
 
   Function& fn() { return out.functions[static_cast<std::size_t>(fid)]; }
 
@@ -89,7 +104,7 @@ struct Lowerer {
 
   BlockId new_block() {
     BlockId b = add_block(fn());
-    fn().blocks[static_cast<std::size_t>(b)].span = span;
+    fn().blocks[static_cast<std::size_t>(b)].span = span_id();
     return b;
   }
   void enter(BlockId b) {
@@ -97,7 +112,7 @@ struct Lowerer {
     entered.push_back(b);
   }
   void emit(Op op, std::vector<Operand> args) {
-    fn().blocks[static_cast<std::size_t>(cur)].instrs.push_back(Instr{op, std::move(args), false, span});
+    fn().blocks[static_cast<std::size_t>(cur)].instrs.push_back(Instr{op, std::move(args), false, span_id()});
   }
   void terminate(Terminator t) { fn().blocks[static_cast<std::size_t>(cur)].term = t; }
   void jump(BlockId b) { terminate(Jump{b}); }
@@ -1089,7 +1104,7 @@ struct Lowerer {
     std::vector<Operand> bytes;
     auto flush = [&] {
       if (bytes.empty()) return;
-      fn().blocks[static_cast<std::size_t>(cur)].instrs.push_back(Instr{Op::SetVariable, bytes, true, span});
+      fn().blocks[static_cast<std::size_t>(cur)].instrs.push_back(Instr{Op::SetVariable, bytes, true, span_id()});
       bytes.clear();
     };
     for (const auto& item : a.items) {

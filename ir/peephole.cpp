@@ -147,7 +147,7 @@ std::optional<std::vector<Instr>> net_commands(const std::vector<const Instr*>& 
     return by_value;
   };
   std::vector<Instr> out;
-  SourceSpan span = window.back()->span;
+  SpanId span = window.back()->span;
   auto switches = [&](const std::map<int, int>& m) {
     for (auto [v, mask] : group(m)) out.push_back(Instr{Op::SetMotorOnOff, {Operand::imm(mask | v)}, false, span});
   };

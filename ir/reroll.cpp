@@ -126,7 +126,7 @@ std::vector<BlockId> split(Function& f, BlockId b, const std::vector<Run>& runs,
   BlockId cur = b;
   std::size_t pos = 0;
   for (const Run& r : runs) {
-    SourceSpan span = old[r.start].span;
+    SpanId span = old[r.start].span;
     for (; pos < r.start; ++pos) at(cur).instrs.push_back(std::move(old[pos]));
     at(cur).instrs.push_back(Instr{rcx::Op::SetVariable, {Operand::var(counter), Operand::imm(r.first)}, false, span});
     std::vector<Instr> body(old.begin() + static_cast<long>(r.start), old.begin() + static_cast<long>(r.start + r.group));

@@ -53,11 +53,11 @@ void warn_reads_before_writes(const Program& p, Diagnostics& diags) {
         auto use = uses_of(in);
         if (callee_of(in) < 0)
           for (VarId r : use.reads)
-            if (pending.has(r)) report(r, in.span.begin.valid() ? in.span : f.blocks[b].span);
+            if (pending.has(r)) report(r, p.span(in.span).begin.valid() ? p.span(in.span) : p.span(f.blocks[b].span));
         for (VarId w : use.writes) pending.remove(w);
       }
       for (VarId r : reads_of(f.blocks[b].term))
-        if (pending.has(r)) report(r, f.blocks[b].span);
+        if (pending.has(r)) report(r, p.span(f.blocks[b].span));
     }
   }
 }

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <optional>
+#include <random>
 #include <sstream>
 
 #include "frontend/frontend.h"
@@ -69,6 +70,43 @@ TEST(Liveness, BlockSummariesMeetTheEquationsOnRandomPrograms) {
     expect_equations_hold("kept_locals.nqc", test::KeptLocalGenerator(seed).program());
     expect_equations_hold("neighbours.nqc", test::CallNeighbourGenerator(seed).program());
   }
+}
+
+// A long function has more first reads than the comparison sort takes
+// (sort_keys): its keys go through the digit passes, whose order the
+// equations then depend on.
+TEST(Liveness, BlockSummariesMeetTheEquationsInALongFunction) {
+  std::string text = "int g;\nvoid step(int n, int &total) { int k = n * 2; if (k > 3) total += k; else total -= n; }\n"
+                     "task main() {\n  int local = 1, count = 0;\n";
+  for (int i = 0; i < 600; ++i)
+    text += "  step(local, count); if (count > " + std::to_string(i) + ") local++; else g = local;\n";
+  expect_equations_hold("long.nqc", text + "}\n");
+}
+
+// Checked against std::sort on random keys: lists of each size around the
+// switch from comparison to digits, of widths that leave a digit unused or
+// split one, with repeated keys and with keys sharing their high digits
+// (whose passes move nothing).
+TEST(SortKeys, SortsAsAComparisonSortDoes) {
+  std::mt19937_64 rng(7);
+  for (std::size_t size : {std::size_t{0}, std::size_t{1}, std::size_t{1024}, std::size_t{1025}, std::size_t{5000},
+                           std::size_t{70000}})
+    for (unsigned bits : {1u, 11u, 12u, 33u, 63u, 64u}) {
+      const std::uint64_t mask = bits == 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << bits) - 1;
+      std::vector<std::uint64_t> keys(size);
+      for (auto& k : keys) k = rng() & mask;
+      if (size > 2) keys[size / 2] = keys[1];
+      std::vector<std::uint64_t> expected = keys;
+      std::sort(expected.begin(), expected.end());
+      sort_keys(keys, bits);
+      EXPECT_EQ(keys, expected) << size << " keys of " << bits << " bits";
+      // Only the low digits vary: the high ones are all the same.
+      for (auto& k : keys) k = (mask & ~std::uint64_t{0x7ff}) | (rng() & 0x7ff & mask);
+      expected = keys;
+      std::sort(expected.begin(), expected.end());
+      sort_keys(keys, bits);
+      EXPECT_EQ(keys, expected) << size << " keys of " << bits << " bits, high digits shared";
+    }
 }
 
 std::optional<Program> lowered(const std::string& text) {

@@ -701,7 +701,7 @@ TEST(ReadBeforeWrite, WarnsOnceAtTheRead) {
   FuncId f = b.function("main");
   SourceSpan at{{1, 5, 3}, {1, 5, 12}};
   Instr read = set(seen, V(k));
-  read.span = at;
+  read.span = b.p.add_span(at);
   b.block(f, {set(j, I(1)), set(seen, V(j)), read, set(k, I(3)), set(seen, V(k))}, Branch{Cmp::NE, V(k), I(0), 1, 1});
   b.block(f, {set(seen, V(k))});
   Diagnostics d;
