@@ -99,7 +99,13 @@ struct Lowerer {
   void emit(Op op, std::vector<Operand> args) {
     fn().blocks[static_cast<std::size_t>(cur)].instrs.push_back(Instr{op, std::move(args), false, span});
   }
-  void terminate(Terminator t) { fn().blocks[static_cast<std::size_t>(cur)].term = t; }
+  // The statement ending the block owns its branch (listings put its line
+  // above it): the block itself may have been opened by an earlier one.
+  void terminate(Terminator t) {
+    auto& block = fn().blocks[static_cast<std::size_t>(cur)];
+    block.term = t;
+    if (std::holds_alternative<Branch>(t)) block.span = span;
+  }
   void jump(BlockId b) { terminate(Jump{b}); }
   // After break/return/goto: what follows is reached only through a label.
   void dead_code() { enter(new_block()); }
