@@ -215,6 +215,11 @@ struct AsmByte {
   Expr value;
   bool source_pair = false;  // written `$expr`
   SourceSpan span;
+  // nqc's `$expr : FLAGS` (its own header writes `$p : 0x01000015`): the
+  // source types allowed (bit n for type n; none set means any) in bits
+  // 0..23, 0x01000000 for a one-byte argument and 0x02000000 for no type
+  // byte. Summed from the literals in full width, as for `@`.
+  std::optional<std::int64_t> restriction;
 };
 
 // One mnemonic line `MNEMONIC operand, operand, ...;` (project extension).

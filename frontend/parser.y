@@ -389,8 +389,16 @@ asm_bytes
   ;
 
 asm_byte
-  : expr      { $$ = std::make_unique<AsmByte>(AsmByte{std::move(*$1), false, @$}); }
-  | '$' expr  { $$ = std::make_unique<AsmByte>(AsmByte{std::move(*$2), true, @$}); }
+  : expr      { $$ = std::make_unique<AsmByte>(AsmByte{std::move(*$1), false, @$, std::nullopt}); }
+  | '$' expr  { $$ = std::make_unique<AsmByte>(AsmByte{std::move(*$2), true, @$, std::nullopt}); }
+  | '$' expr ':' expr {
+      std::int64_t literal = 0;
+      std::vector<std::pair<bool, ExprPtr>> rest;
+      additive_terms(std::move(*$4), false, literal, rest);
+      if (!rest.empty())
+        feed.diags.error(@4, "the restriction after ':' in an asm byte list must be a number");
+      $$ = std::make_unique<AsmByte>(AsmByte{std::move(*$2), true, @$, literal});
+    }
   ;
 
 asm_lines

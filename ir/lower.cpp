@@ -114,7 +114,13 @@ struct Lowerer {
   void emit(Op op, std::vector<Operand> args) {
     fn().blocks[static_cast<std::size_t>(cur)].instrs.push_back(Instr{op, std::move(args), false, span_id()});
   }
-  void terminate(Terminator t) { fn().blocks[static_cast<std::size_t>(cur)].term = t; }
+  // The statement ending the block owns its branch (listings put its line
+  // above it): the block itself may have been opened by an earlier one.
+  void terminate(Terminator t) {
+    auto& block = fn().blocks[static_cast<std::size_t>(cur)];
+    block.term = t;
+    if (std::holds_alternative<Branch>(t)) block.span = span;
+  }
   void jump(BlockId b) { terminate(Jump{b}); }
   // After break/return/goto: what follows is reached only through a label.
   void dead_code() { enter(new_block()); }
@@ -1125,11 +1131,40 @@ struct Lowerer {
       return;
     }
     Operand v = value(b.value);
+    if (b.restriction) return restricted_asm_byte(b, v, bytes);
     if (v.is_var()) {
       bytes.insert(bytes.end(), {Operand::imm(0), v, Operand::imm(0)});
     } else {
       bytes.insert(bytes.end(), {Operand::imm(v.source), Operand::imm(v.value & 0xff), Operand::imm((v.value >> 8) & 0xff)});
     }
+  }
+  // nqc's `$expr : FLAGS`, as nqc 3.1 encodes it: a source whose type the
+  // low 24 bits do not allow goes through a temporary variable when they
+  // allow variables (else it is an error); 0x02000000 leaves out the type
+  // byte, 0x01000000 keeps only the low byte of the argument. So the
+  // `$sensor : 0x03000200` of nqc's ClearSensor is the sensor's number.
+  void restricted_asm_byte(const ast::AsmByte& b, Operand v, std::vector<Operand>& bytes) {
+    const std::int64_t flags = *b.restriction;
+    const std::int64_t allowed = flags & 0xffffff;
+    const bool one_byte = (flags & 0x01000000) != 0, no_type = (flags & 0x02000000) != 0;
+    int type = v.is_var() ? 0 : v.source;
+    if (allowed != 0 && (type < 0 || type > 23 || ((allowed >> type) & 1) == 0)) {
+      if ((allowed & 1) == 0)
+        return error(b.value.span, fmt::format("this source (type {}) is not one the restriction {:#x} allows", type,
+                                               static_cast<std::uint64_t>(flags)));
+      VarId t = temp();
+      emit(Op::SetVariable, {Operand::var(t), v});
+      v = Operand::var(t);
+      type = 0;
+    }
+    if (!no_type) bytes.push_back(Operand::imm(type));
+    if (v.is_var()) {
+      bytes.push_back(v);
+      if (!one_byte) bytes.push_back(Operand::imm(0));
+      return;
+    }
+    bytes.push_back(Operand::imm(v.value & 0xff));
+    if (!one_byte) bytes.push_back(Operand::imm((v.value >> 8) & 0xff));
   }
   void asm_instr(const ast::AsmInstr& in) {
     if (expanding.empty()) span = in.span;

@@ -49,6 +49,21 @@ TEST(CompileCli, OutputOptionAndListingToStdout) {
   EXPECT_NE(r.out.find("p.nqc:4:"), std::string::npos) << r.out;  // source lines
 }
 
+TEST(CompileCli, ATestIsListedUnderTheLineOfItsStatement) {
+  // The chk of the `if` ends the task's first block, which the task's own
+  // line opened: it was listed under `task main() {`.
+  TempDir d;
+  const char* program = "int a, b;\ntask main() {\n  a = 1;\n  if (a > 2) b = 1;\n  b = 2;\n}\n";
+  auto r = run_rcxc({"compile", "-O0", d.write("p.nqc", program), "-o", d.path + "/p.rcx", "--listing"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto at_if = r.out.find("p.nqc:4:");
+  auto chk = r.out.find("chk");
+  ASSERT_NE(at_if, std::string::npos) << r.out;
+  ASSERT_NE(chk, std::string::npos) << r.out;
+  EXPECT_LT(at_if, chk) << r.out;
+  EXPECT_EQ(r.out.find("p.nqc:2:", r.out.find("p.nqc:3:")), std::string::npos) << r.out;
+}
+
 TEST(CompileCli, ListingToAFile) {
   TempDir d;
   auto r = run_rcxc({"compile", d.write("p.nqc", kProgram), "--listing=" + d.path + "/p.lst"});
