@@ -119,7 +119,7 @@ struct Lowerer {
   void terminate(Terminator t) {
     auto& block = fn().blocks[static_cast<std::size_t>(cur)];
     block.term = t;
-    if (std::holds_alternative<Branch>(t)) block.span = span;
+    if (std::holds_alternative<Branch>(t)) block.span = span_id();
   }
   void jump(BlockId b) { terminate(Jump{b}); }
   // After break/return/goto: what follows is reached only through a label.
