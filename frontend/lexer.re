@@ -48,11 +48,12 @@ bool skip_block_comment(Cursor& c) {
 
 }  // namespace
 
-std::vector<Token> lex(std::string_view text, std::uint32_t file, Diagnostics& diags) {
+std::vector<Token> lex(std::string_view text, std::uint32_t file, Diagnostics& diags, std::vector<Token> room) {
   // re2c reads through a NUL sentinel, so work on a NUL-terminated copy.
   std::string buf(text);
   Cursor c{buf.c_str(), buf.c_str() + buf.size(), buf.c_str(), buf.c_str(), file};
-  std::vector<Token> out;
+  std::vector<Token> out = std::move(room);
+  out.clear();
   // Room for the most tokens the text can hold (each takes a byte at
   // least), so the list is never copied while it grows: for a file that is
   // nearly all tokens (x+x+...), a growing list would hold it one and a half

@@ -8,6 +8,7 @@
 #include <sstream>
 #include <unordered_map>
 #include <unordered_set>
+#include <utility>
 
 #include "rcx/file_read.h"
 #include "stdlib/stdlib.h"
@@ -254,6 +255,9 @@ class Preprocessor {
   std::vector<Macro> macros_;                          // by id; ids are never reused
   std::unordered_map<std::string, std::uint32_t> defined_;  // name -> id
   std::vector<OpenFile> files_;
+  // The largest token list of a file already read, kept for the next file
+  // to be lexed into (lex's `room`).
+  std::vector<Token> spare_;
   std::vector<Cond> conds_;
   std::unordered_set<std::string> reported_recursion_;
   HideSets hide_sets_;
@@ -305,7 +309,7 @@ class Preprocessor {
 
   void push_file(std::uint32_t file, const std::string& dir, const std::string& key) {
     OpenFile f;
-    f.tokens = lex(sm_.text(file), file, diags_);
+    f.tokens = lex(sm_.text(file), file, diags_, std::exchange(spare_, {}));
     input_tokens_ += f.tokens.size();
     // An #included file's tokens will mostly be output too: room for them
     // at once (read_all() makes room for the first files), so that a
@@ -332,6 +336,7 @@ class Preprocessor {
         diags_.error(conds_[i - 1].span, "unterminated conditional directive (#endif missing)");
       conds_.resize(f.conds_at_entry);
       last_span_ = f.tokens[f.pos].span;
+      if (f.tokens.capacity() > spare_.capacity()) spare_ = std::move(f.tokens);
       files_.pop_back();
     }
     return false;

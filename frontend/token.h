@@ -40,8 +40,11 @@ struct Token {
 
 // Splits `text` (file `file` of the SourceManager) into tokens, ending with
 // one End token. Lexical errors (unterminated comment, stray character) are
-// reported and lexing goes on.
-std::vector<Token> lex(std::string_view text, std::uint32_t file, Diagnostics& diags);
+// reported and lexing goes on. The tokens go into `room`'s storage (what
+// it held is dropped): a list of a file read before, so that the parts a
+// long program #includes, lexed one after another, fill memory the last
+// part already had instead of each faulting in pages of its own.
+std::vector<Token> lex(std::string_view text, std::uint32_t file, Diagnostics& diags, std::vector<Token> room = {});
 
 // The value of a Number or Char token, or nullopt-like false when malformed.
 bool number_value(const Token& t, std::int64_t& value);

@@ -37,28 +37,49 @@ struct State {
   friend bool operator==(const State&, const State&) = default;
 };
 
-// Merges into `target` what arrives along one more edge, `s` restricted to
-// the variables in `live` (a constant nobody reads again is no use, and
-// keeping them all would make the states of a long program, every inline
-// copy's parameters, grow with its length). Returns whether `target`
-// changed. Works in place: a reached target only loses entries.
-bool meet_into(State& target, const State& s, VarSpan live) {
-  if (!target.reached) {
-    target.reached = true;
-    target.consts.clear();
-    for (const auto& entry : s.consts)
-      if (live.has(entry.first)) target.consts.push_back(entry);
-    return true;
+// What is known on entry to each block, all in one array: a block's
+// constants are one run of `pool`, written when a path first reaches the
+// block and only shortened after (a meet only drops entries), so a long
+// function's states cost one allocation, not one per block.
+struct EntryStates {
+  std::vector<std::pair<VarId, int>> pool;
+  std::vector<std::uint32_t> start, size;  // per block: its run of `pool`
+  std::vector<bool> reached;
+
+  explicit EntryStates(std::size_t blocks) : start(blocks, 0), size(blocks, 0), reached(blocks, false) {}
+
+  void copy_to(std::size_t b, State& s) const {
+    s.reached = reached[b];
+    s.consts.assign(pool.begin() + start[b], pool.begin() + start[b] + size[b]);
   }
-  // `target` holds only variables of `live` already (it was built by this
-  // function): keep those `s` agrees with.
-  std::size_t before = target.consts.size();
-  std::erase_if(target.consts, [&](const std::pair<VarId, int>& entry) {
-    auto other = s.get(entry.first);
-    return !other || *other != entry.second;
-  });
-  return target.consts.size() != before;
-}
+
+  // Merges into block b's state what arrives along one more edge, `s`
+  // restricted to the variables in `live` (a constant nobody reads again is
+  // no use, and keeping them all would make the states of a long program,
+  // every inline copy's parameters, grow with its length). Returns whether
+  // b's state changed.
+  bool meet(std::size_t b, const State& s, VarSpan live) {
+    if (!reached[b]) {
+      reached[b] = true;
+      start[b] = static_cast<std::uint32_t>(pool.size());
+      for (const auto& entry : s.consts)
+        if (live.has(entry.first)) pool.push_back(entry);
+      size[b] = static_cast<std::uint32_t>(pool.size() - start[b]);
+      return true;
+    }
+    // The run holds only variables of `live` already (it was built here):
+    // keep those `s` agrees with, in order, in place.
+    auto first = pool.begin() + start[b];
+    auto last = std::remove_if(first, first + size[b], [&](const std::pair<VarId, int>& entry) {
+      auto other = s.get(entry.first);
+      return !other || *other != entry.second;
+    });
+    auto kept = static_cast<std::uint32_t>(last - first);
+    bool changed = kept != size[b];
+    size[b] = kept;
+    return changed;
+  }
+};
 
 struct Folder {
   const Program& p;
@@ -153,8 +174,8 @@ void fold_function(const Program& p, Function& f, const CallEffects& calls, Live
   Folder folder{p, calls.touches};
   const Liveness& live = cache.of(p, f, calls);
   std::size_t n = f.blocks.size();
-  std::vector<State> in(n);
-  in[0].reached = true;
+  EntryStates in(n);
+  in.reached[0] = true;
   // Blocks wait in reverse postorder, so a join is visited once all the
   // paths into it are (a sequence of if/else statements costs one visit
   // per block, not one per path through the ones before).
@@ -169,10 +190,10 @@ void fold_function(const Program& p, Function& f, const CallEffects& calls, Live
     BlockId b = work.top().second;
     work.pop();
     queued[static_cast<std::size_t>(b)] = false;
-    s = in[static_cast<std::size_t>(b)];
+    in.copy_to(static_cast<std::size_t>(b), s);
     for (const auto& instr : f.blocks[static_cast<std::size_t>(b)].instrs) folder.transfer(instr, s);
     for (BlockId succ : successors(f.blocks[static_cast<std::size_t>(b)].term)) {
-      if (meet_into(in[static_cast<std::size_t>(succ)], s, live.live_in[static_cast<std::size_t>(succ)])) {
+      if (in.meet(static_cast<std::size_t>(succ), s, live.live_in[static_cast<std::size_t>(succ)])) {
         if (!queued[static_cast<std::size_t>(succ)]) {
           queued[static_cast<std::size_t>(succ)] = true;
           work.emplace(order[static_cast<std::size_t>(succ)], succ);
@@ -182,7 +203,7 @@ void fold_function(const Program& p, Function& f, const CallEffects& calls, Live
   }
   for (std::size_t b = 0; b < n; ++b) {
     Block& block = f.blocks[b];
-    s = in[b];
+    in.copy_to(b, s);
     std::size_t kept = 0;
     for (std::size_t k = 0; k < block.instrs.size(); ++k) {
       Instr& instr = block.instrs[k];

@@ -344,6 +344,28 @@ namespace {
 bool overwrites_destination(rcx::Op op) {
   return op == rcx::Op::SetVariable || op == rcx::Op::AbsoluteValue || op == rcx::Op::SignVariable;
 }
+
+// Which of an opcode's operand slots (operand_slots) it writes: what
+// uses_of needs of the opcode table. The passes ask uses_of about every
+// instruction many times, and walking the table's operand list each time,
+// skipping the Argument halves and offsets, was most of its work. A
+// constant worked out once from the opcode table.
+struct SlotWrites {
+  std::uint8_t count = 0;
+  std::array<bool, kMaxOperandSlots> writes{};  // the slot is a Variable: written
+};
+
+const SlotWrites& slot_writes(rcx::Op op) {
+  static const auto table = [] {
+    std::array<SlotWrites, rcx::kOpcodeCount> t{};
+    for (std::size_t i = 0; i < rcx::kOpcodeCount; ++i)
+      for (const rcx::Operand* o : operand_slots(static_cast<rcx::Op>(i)))
+        t[i].writes[t[i].count++] = o->role == rcx::Role::Variable;
+    return t;
+  }();
+  return table[static_cast<std::size_t>(op)];
+}
+
 }  // namespace
 
 VarUse uses_of(const Instr& in) {
@@ -355,16 +377,12 @@ VarUse uses_of(const Instr& in) {
       if (a.is_var()) u.reads.push_back(a.value);
     return u;
   }
-  const auto& info = rcx::info(in.op);
-  std::size_t next = 0;
-  for (const auto& operand : info.operands) {
-    if (operand.role == rcx::Role::Argument || operand.role == rcx::Role::Offset ||
-        operand.role == rcx::Role::Extension)
-      continue;
-    if (next >= in.args.size()) break;
-    const Operand& a = in.args[next++];
+  const SlotWrites& slots = slot_writes(in.op);
+  const std::size_t n = std::min<std::size_t>(slots.count, in.args.size());
+  for (std::size_t i = 0; i < n; ++i) {
+    const Operand& a = in.args[i];
     if (!a.is_var()) continue;
-    if (operand.role == rcx::Role::Variable) {
+    if (slots.writes[i]) {
       u.writes.push_back(a.value);
       // set, abs and sgn compute from their source alone; the other
       // arithmetic instructions combine it with the old value.

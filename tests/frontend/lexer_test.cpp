@@ -158,3 +158,26 @@ TEST(Lexer, UnprintableStrayCharactersAreShownByCode) {
   ASSERT_EQ(d.error_count(), 1u);
   EXPECT_EQ(d.all()[0].message, "stray character '\\xfd' in program");
 }
+
+// A file's tokens can go into the list of a file read before (the
+// preprocessor hands each #included part the last part's list): the
+// storage is reused, with nothing of the old tokens left, and the tokens
+// are those a fresh list gets.
+TEST(Lexer, ReusesTheRoomItIsGivenAndDropsWhatItHeld) {
+  Diagnostics d;
+  std::vector<Token> room = lex("int first_file_with_a_long_name = 1; task main() { Wait(100); }", 3, d);
+  const Token* storage = room.data();
+  ASSERT_GE(room.capacity(), 12u);
+  auto fresh = lex("x = y;", 4, d);
+  auto reused = lex("x = y;", 4, d, std::move(room));
+  EXPECT_EQ(reused.data(), storage);
+  EXPECT_EQ(texts(reused), texts(fresh));
+  ASSERT_EQ(reused.size(), fresh.size());
+  for (std::size_t i = 0; i < fresh.size(); ++i) {
+    EXPECT_EQ(reused[i].kind, fresh[i].kind) << i;
+    EXPECT_EQ(reused[i].span.begin.column, fresh[i].span.begin.column) << i;
+    EXPECT_EQ(reused[i].span.begin.file, 4u) << i;
+    EXPECT_EQ(reused[i].line_start, fresh[i].line_start) << i;
+  }
+  EXPECT_FALSE(d.has_errors());
+}

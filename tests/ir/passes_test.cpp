@@ -59,6 +59,24 @@ TEST(Fold, AConstantIsKnownAfterAJoinOnlyWhereItIsStillRead) {
   EXPECT_EQ(b.at(f, 0).instrs[2].args[1], I(7));
 }
 
+TEST(Fold, AConstantALoopChangesIsNotKnownInTheLoopNorAfterIt) {
+  // t = 1; while (g != 0) { g2 = t; t += 1; } g = t: the loop's first pass
+  // reaches its head with t = 1, the back edge with t = 2, so neither the
+  // body's read nor the one after the loop is the constant. The head's
+  // state shrinking must send the blocks after it round again.
+  Builder b;
+  VarId g = b.global("g"), g2 = b.global("g2");
+  FuncId f = b.function("main");
+  VarId t = b.temp();
+  b.block(f, {set(t, I(1))}, Jump{1});
+  b.block(f, {}, Branch{Cmp::NE, V(g), I(0), 2, 3});
+  b.block(f, {set(g2, V(t)), add(t, I(1))}, Jump{1});
+  b.block(f, {set(g, V(t))});
+  fold_constants(b.p);
+  EXPECT_EQ(b.at(f, 2).instrs[0].args[1], V(t));
+  EXPECT_EQ(b.at(f, 3).instrs[0].args[1], V(t));
+}
+
 TEST(Fold, TemporaryConstantsReachTheirUse) {
   Builder b;
   VarId t = b.temp();
