@@ -190,15 +190,21 @@ bool number_value(const Token& t, std::int64_t& value) {
   if (from >= s.size()) return false;
   std::uint64_t v = 0;
   auto [end, ec] = std::from_chars(s.data() + from, s.data() + s.size(), v, base);
-  if (ec != std::errc() || end != s.data() + s.size()) {
-    // Too large for 64 bits still counts as a number: wrap like the target.
-    if (ec == std::errc::result_out_of_range) {
-      value = 0x10000;  // caller reports "does not fit"
-      return true;
-    }
-    return false;
+  if (end != s.data() + s.size() || (ec != std::errc() && ec != std::errc::result_out_of_range)) return false;
+  if (ec == std::errc() && v < static_cast<std::uint64_t>(kLiteralPastRange)) {
+    value = static_cast<std::int64_t>(v);
+    return true;
   }
-  value = static_cast<std::int64_t>(v & 0x7fffffffffffffffULL);
+  // Too large to keep whole still counts as a number: what the target gets
+  // is the value modulo 2^16, worked out digit by digit.
+  std::uint32_t low = 0;
+  for (std::size_t i = from; i < s.size(); ++i) {
+    char c = s[i];
+    std::uint32_t digit = c <= '9' ? static_cast<std::uint32_t>(c - '0')
+                                   : static_cast<std::uint32_t>((c | 0x20) - 'a' + 10);
+    low = (low * static_cast<std::uint32_t>(base) + digit) & 0xffffU;
+  }
+  value = kLiteralPastRange | low;
   return true;
 }
 

@@ -10,6 +10,7 @@
 #include "frontend/fold.h"
 #include "frontend/ranges.h"
 #include "frontend/spelling.h"
+#include "frontend/token.h"
 
 namespace rcxc::frontend {
 namespace {
@@ -575,9 +576,11 @@ class Checker {
   }
 
   void visit_expr(IntLit& n, Expr& e, Use) {
-    if (n.value > 0xFFFF || n.value < -0x8000)
-      diags_.warning(e.span, "integer constant " + std::to_string(n.value) + " does not fit in 16 bits; it becomes " +
+    if (n.value > 0xFFFF || n.value < -0x8000) {
+      std::string number = n.value >= kLiteralPastRange ? "" : std::to_string(n.value) + " ";
+      diags_.warning(e.span, "integer constant " + number + "does not fit in 16 bits; it becomes " +
                                  std::to_string(wrap16(n.value)));
+    }
     e.constant = wrap16(n.value);
   }
 

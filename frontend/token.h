@@ -48,6 +48,10 @@ std::vector<Token> lex(std::string_view text, std::uint32_t file, Diagnostics& d
 
 // The value of a Number or Char token, or nullopt-like false when malformed.
 bool number_value(const Token& t, std::int64_t& value);
+// A literal of 2^62 or more: number_value gives this bit with the literal's
+// value modulo 2^16 below it, all the target can hold of it, so the checks
+// can say it does not fit without naming a number they no longer have.
+constexpr std::int64_t kLiteralPastRange = std::int64_t{1} << 62;
 // The error for a Number token number_value() cannot read: 7.7 is named as a
 // floating-point number (the RCX computes with 16-bit integers only).
 std::string invalid_number_message(const std::string& text);

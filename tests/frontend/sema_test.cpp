@@ -103,6 +103,13 @@ const BadProgram kCases[] = {
      {"4:8: warning: division by zero (at run time the firmware leaves the value unchanged)"}},
     {"LiteralTooBigForSixteenBits", "int g;\ntask main()\n{\n  g = 70000;\n}\n",
      {"4:7: warning: integer constant 70000 does not fit in 16 bits; it becomes 4464"}},
+    // 2^64 + 1 and 2^70 + 0x1234 (hex) are 1 and 0x1234 modulo 2^16; past
+    // 2^62 the message names no number it would have to invent.
+    {"LiteralPastSixtyFourBitsKeepsItsLowSixteen", "int g;\ntask main()\n{\n  g = 18446744073709551617;\n  g = 0x400000000000001234;\n}\n",
+     {"4:7: warning: integer constant does not fit in 16 bits; it becomes 1",
+      "5:7: warning: integer constant does not fit in 16 bits; it becomes 4660"}},
+    {"LiteralJustUnderTwoToTheSixtyTwoIsNamed", "int g;\ntask main()\n{\n  g = 4611686018427387903;\n}\n",
+     {"4:7: warning: integer constant 4611686018427387903 does not fit in 16 bits; it becomes -1"}},
     {"UnusedLocal", "task main()\n{\n  int spare;\n}\n", {"3:7: warning: unused variable 'spare'"}},
     {"UnreachableAfterBreak", "task main()\n{\n  int x;\n  while (true)\n  {\n    break;\n    x++;\n  }\n}\n",
      {"7:5: warning: unreachable code"}},
