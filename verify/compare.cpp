@@ -184,17 +184,18 @@ std::map<std::string, int> globals(const Machine& m, const Image& image, const s
   return out;
 }
 
-// The first event row at which the two runs show something else, times
-// aside (the row count when they show the same events in the same order).
-std::size_t first_unlike_row(const RunView& a, const RunView& b) {
+// Both runs' visible events side by side (`*` where a row differs), and the
+// first row at which they show something else, times aside (the row count
+// when they show the same events in the same order), from one listing of
+// each run's events.
+void side_by_side(const RunView& a, const RunView& b, RunComparison& r) {
   auto ea = visible_events(*a.machine), eb = visible_events(*b.machine);
   std::size_t row = 0;
   while (row < ea.size() && row < eb.size() && what(*ea[row]) == what(*eb[row])) ++row;
-  return row;
-}
-
-std::string side_by_side(const RunView& a, const RunView& b) {
-  auto la = observable_lines(*a.machine), lb = observable_lines(*b.machine);
+  r.first_unlike_row = row;
+  std::vector<std::string> la, lb;
+  for (const Event* e : ea) la.push_back(line_of(*e));
+  for (const Event* e : eb) lb.push_back(line_of(*e));
   std::size_t width = a.label.size();
   for (const auto& l : la) width = std::max(width, l.size());
   std::string out = fmt::format("  {:<{}}  | {}\n", a.label, width, b.label);
@@ -203,7 +204,7 @@ std::string side_by_side(const RunView& a, const RunView& b) {
     const std::string& y = i < lb.size() ? lb[i] : "";
     out += fmt::format("{} {:<{}}  | {}\n", x == y ? ' ' : '*', x, width, y);
   }
-  return out;
+  r.side_by_side = std::move(out);
 }
 
 }  // namespace
@@ -310,10 +311,7 @@ RunComparison compare_runs(const RunView& a, const RunView& b, TimeTolerance tol
                                         b.label, to_string(b.machine->stop().kind)));
   r.same = r.differences.empty();
   r.timing_only = !r.same && timing_differences == r.differences.size();
-  if (!r.same) {
-    r.side_by_side = side_by_side(a, b);
-    r.first_unlike_row = first_unlike_row(a, b);
-  }
+  if (!r.same) side_by_side(a, b, r);
   return r;
 }
 
