@@ -205,7 +205,10 @@ std::pair<std::optional<double>, std::optional<double>> median_cpu(const std::st
 void print_against_nqc(const std::filesystem::path& rcxc) {
   namespace fs = std::filesystem;
   if (std::system("nqc -help >/dev/null 2>&1") == -1 || !fs::exists(rcxc)) return;
-  fs::path dir = fs::temp_directory_path() / fmt::format("rcxc-compiler-bench-{}", getpid());
+  // RCXC_BENCH_PROGRAMS names a folder to write the programs into and keep
+  // (to profile one compile by itself); otherwise a temporary one.
+  const char* keep = std::getenv("RCXC_BENCH_PROGRAMS");
+  fs::path dir = keep && *keep ? fs::path(keep) : fs::temp_directory_path() / fmt::format("rcxc-compiler-bench-{}", getpid());
   fs::create_directories(dir);
   std::cout << "CPU time of one compile as a process, median of the runs (ratio: rcxc / nqc)\n";
   std::cout << fmt::format("{:>8} {:>5} {:>12} {:>12} {:>7} {:>14}\n", "lines", "runs", "rcxc ms", "nqc ms", "ratio",
@@ -240,7 +243,7 @@ void print_against_nqc(const std::filesystem::path& rcxc) {
                              theirs ? fmt::format("{:.2f}", *ours / *theirs) : "-",
                              *ours * 1e6 / static_cast<double>(real_lines));
   }
-  fs::remove_all(dir);
+  if (!keep || !*keep) fs::remove_all(dir);
 }
 
 void compile(benchmark::State& state, const std::string& src) {
