@@ -4,6 +4,7 @@
 #include <iostream>
 #include <string_view>
 
+#include "cli/allocator.h"
 #include "cli/commands.h"
 #include "cli/large_stack.h"
 #include "cli/nqc_mode.h"
@@ -82,6 +83,7 @@ int run_main(int argc, char** argv) {
 
 int main(int argc, char** argv) {
   int exit_code = rcxc::cli::kExitFailure;
+  if (rcxc::cli::compiles_once(argc, argv)) rcxc::cli::tune_allocator_for_one_compile();
   rcxc::cli::run_with_stack(rcxc::cli::kWorkStackBytes, [&] { exit_code = run_main(argc, argv); });
   return exit_code;
 }
