@@ -495,9 +495,12 @@ class Checker {
         diags_.error(b.value.span, "an asm byte must be a constant (write $name for a variable)");
       return;
     }
+    // nqc keeps the low byte without a word; the byte written is likely not
+    // the one meant, so it is a warning, as for other byte operands.
     int v = *b.value.constant;
     if (v < -128 || v > 255)
-      diags_.error(b.value.span, "asm byte value " + std::to_string(v) + " does not fit in a byte");
+      diags_.warning(b.value.span, "asm byte value " + std::to_string(v) + " does not fit in a byte; its low byte " +
+                                       std::to_string(v & 0xff) + " is used, as nqc does");
   }
 
   void asm_item(AsmInstr& in) {

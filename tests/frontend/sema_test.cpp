@@ -138,7 +138,9 @@ const BadProgram kCases[] = {
      {"3:13: error: operand 'index' of 'set' must be a variable"}},
     {"AsmConstantOperand", "int v;\ntask main()\n{\n  asm { sound v; }\n}\n",
      {"4:15: error: operand 'sound' of 'sound' must be a constant"}},
-    {"AsmByteRange", "task main()\n{\n  asm { 0x51, 300 };\n}\n", {"3:15: error: asm byte value 300 does not fit in a byte"}},
+
+    {"AsmByteKeepsItsLowByte", "task main()\n{\n  asm { 0x51, 300 };\n}\n",
+     {"3:15: warning: asm byte value 300 does not fit in a byte; its low byte 44 is used, as nqc does"}},
     {"AsmByteNeedsConstant", "int v;\ntask main()\n{\n  asm { 0x14, v };\n}\n",
      {"4:15: error: an asm byte must be a constant (write $name for a variable)"}},
     {"ConstantOutsideTheFirmwareRangeWarnsAtTheCall", "task main()\n{\n  PlaySound(6);\n  SetWatch(12, 60);\n}\n",
