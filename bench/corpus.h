@@ -14,6 +14,7 @@
 #include <vector>
 
 #include <sys/resource.h>
+#include <unistd.h>
 
 namespace rcxc::bench {
 
@@ -30,6 +31,23 @@ inline double children_cpu_seconds() {
   return static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
          static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec) / 1e6;
 }
+
+// A folder of its own in the system's temporary folder, removed with
+// everything in it when the object goes: where a bench writes the programs
+// it generates for both compilers to read.
+struct ScratchDir {
+  std::filesystem::path path;
+  explicit ScratchDir(const std::string& name)
+      : path(std::filesystem::temp_directory_path() / (name + "-" + std::to_string(getpid()))) {
+    std::filesystem::create_directories(path);
+  }
+  ScratchDir(const ScratchDir&) = delete;
+  ScratchDir& operator=(const ScratchDir&) = delete;
+  ~ScratchDir() {
+    std::error_code ignored;
+    std::filesystem::remove_all(path, ignored);
+  }
+};
 
 // Every .nqc file under `dir`, sorted; empty when there is no such folder.
 inline std::vector<std::filesystem::path> nqc_files_under(const std::filesystem::path& dir) {

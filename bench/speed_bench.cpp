@@ -342,9 +342,8 @@ std::optional<std::int64_t> work(const rcx::Image& image) {
 
 // Generated programs of several kinds, the same seeds every run.
 SizeTotals generated_sizes() {
-  fs::path dir = fs::temp_directory_path() / fmt::format("rcxc-speed-{}", getpid());
-  fs::create_directories(dir);
-  fs::path file = dir / "generated.nqc";
+  rcxc::bench::ScratchDir dir("rcxc-speed");
+  fs::path file = dir.path / "generated.nqc";
   SizeTotals t;
   auto add = [&](const std::string& text, const std::string& name) {
     std::ofstream(file) << text;
@@ -386,7 +385,6 @@ SizeTotals generated_sizes() {
   for (unsigned seed = 1; seed <= 100; ++seed) add(TwoTaskGenerator(seed).program(), fmt::format("two tasks {}", seed));
   for (unsigned seed = 1; seed <= 100; ++seed)
     add(CallNeighbourGenerator(seed).program(), fmt::format("calls {}", seed));
-  fs::remove_all(dir);
   return t;
 }
 
@@ -401,9 +399,8 @@ struct ReactiveTotals {
 };
 
 ReactiveTotals generated_reactive(int count) {
-  fs::path dir = fs::temp_directory_path() / fmt::format("rcxc-reactive-{}", getpid());
-  fs::create_directories(dir);
-  fs::path file = dir / "reactive.nqc";
+  rcxc::bench::ScratchDir dir("rcxc-reactive");
+  fs::path file = dir.path / "reactive.nqc";
   ReactiveTotals t;
   for (int seed = 1; seed <= count; ++seed) {
     std::ofstream(file) << rcxc::test::ReactiveGenerator(static_cast<unsigned>(seed)).program();
@@ -419,7 +416,6 @@ ReactiveTotals generated_reactive(int count) {
     t.reactions += s.reactions;
     t.slower_reactions += s.ours_reaction > s.theirs_reaction;
   }
-  fs::remove_all(dir);
   return t;
 }
 
