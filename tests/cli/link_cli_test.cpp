@@ -25,20 +25,16 @@ struct BrickProcess : rcxc::test::PtyServer {
   explicit BrickProcess(const std::vector<std::string>& extra = {}) : PtyServer({"brick", "--pty", "--fast"}, extra) {}
 };
 
-std::string write_temp(const std::string& name, const std::vector<std::uint8_t>& bytes) {
-  std::string dir = rcxc::test::make_temp_dir();
-  std::string path = dir + "/" + name;
-  std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()),
-                                               static_cast<std::streamsize>(bytes.size()));
-  return path;
+std::string write_temp(const rcxc::test::TempDir& dir, const std::string& name, const std::vector<std::uint8_t>& bytes) {
+  return dir.write(name, bytes);
 }
 
 // task 0: var 0 = 7; var 0 *= 6 (the bytes nqc emits for `x = 7; x = x * 6;`).
-std::string sample_rcx() {
+std::string sample_rcx(const rcxc::test::TempDir& dir) {
   rcx::Image image;
   image.fragments.push_back({rcx::FragmentType::Task, 0, {0x14, 0x00, 0x02, 0x07, 0x00, 0x54, 0x00, 0x02, 0x06, 0x00}});
   image.symbols.push_back({rcx::SymbolType::Task, 0, "main"});
-  return write_temp("prog.rcx", rcx::write_image(image));
+  return write_temp(dir, "prog.rcx", rcx::write_image(image));
 }
 
 std::string get_var0(const std::string& port) {
@@ -62,9 +58,10 @@ TEST(LinkCli, BrickPrintsItsPtyAndStopsOnInterrupt) {
 }
 
 TEST(LinkCli, DownloadRunThenReadTheVariable) {
+  rcxc::test::TempDir dir;
   BrickProcess brick;
   ASSERT_FALSE(brick.path.empty());
-  auto r = run_rcxc({"download", "--port", brick.path, sample_rcx(), "--run"});
+  auto r = run_rcxc({"download", "--port", brick.path, sample_rcx(dir), "--run"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.err.find("downloaded 10 bytes to program 1"), std::string::npos) << r.err;
   EXPECT_EQ(r.out, "");
@@ -81,10 +78,11 @@ TEST(LinkCli, RcxPortEnvironmentSelectsThePort) {
 }
 
 TEST(LinkCli, NqcDownloadsAndRunsOnTheVirtualBrick) {
+  rcxc::test::TempDir dir;
   if (::access("/usr/bin/nqc", X_OK) != 0) GTEST_SKIP() << "nqc is not installed";
   BrickProcess brick;
   ASSERT_FALSE(brick.path.empty());
-  std::string src = write_temp("prog.nqc", {});
+  std::string src = write_temp(dir, "prog.nqc", {});
   std::ofstream(src) << "int x;\ntask main() {\n  x = 7;\n  x = x * 6;\n}\n";
   auto d = run_process({"/usr/bin/nqc", "-S" + brick.path, "-d", src});
   ASSERT_EQ(d.exit_code, 0) << d.out << d.err;
@@ -96,9 +94,10 @@ TEST(LinkCli, NqcDownloadsAndRunsOnTheVirtualBrick) {
 // rcxc's nqc mode speaks to the brick as nqc does: options, then the file
 // and actions in the order given.
 TEST(LinkCli, NqcModeDownloadsSelectsAndRuns) {
+  rcxc::test::TempDir dir;
   BrickProcess brick;
   ASSERT_FALSE(brick.path.empty());
-  std::string src = write_temp("prog.nqc", {});
+  std::string src = write_temp(dir, "prog.nqc", {});
   std::ofstream(src) << "int x;\ntask main() {\n  x = 7;\n  x = x * 6;\n}\n";
   auto d = run_rcxc({"nqc", "-S" + brick.path, "-d", "-pgm", "3", src, "-run"});
   ASSERT_EQ(d.exit_code, 0) << d.out << d.err;
@@ -116,9 +115,10 @@ TEST(LinkCli, NqcModeWithoutATowerExitsAsNqc) {
 }
 
 TEST(LinkCli, DownloadCompilesNqcSource) {
+  rcxc::test::TempDir dir;
   BrickProcess brick;
   ASSERT_FALSE(brick.path.empty());
-  std::string src = write_temp("prog.nqc", {});
+  std::string src = write_temp(dir, "prog.nqc", {});
   std::ofstream(src) << "int x;\ntask main() {\n  x = 7;\n  x = x * 6;\n}\n";
   auto r = run_rcxc({"download", "--port", brick.path, src, "--run"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -126,9 +126,10 @@ TEST(LinkCli, DownloadCompilesNqcSource) {
 }
 
 TEST(LinkCli, DownloadTakesTheCompilerOptionsAndAnUpperCaseName) {
+  rcxc::test::TempDir dir;
   BrickProcess brick;
   ASSERT_FALSE(brick.path.empty());
-  std::string src = write_temp("PROG.NQC", {});
+  std::string src = write_temp(dir, "PROG.NQC", {});
   std::ofstream(src) << "int x;\ntask main() {\n  x = VALUE;\n}\n";
   auto r = run_rcxc({"download", "--port", brick.path, "-DVALUE=42", "-O0", src, "--run"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -136,7 +137,8 @@ TEST(LinkCli, DownloadTakesTheCompilerOptionsAndAnUpperCaseName) {
 }
 
 TEST(LinkCli, CompileErrorsAreExit1BeforeTouchingThePort) {
-  std::string src = write_temp("bad.nqc", {});
+  rcxc::test::TempDir dir;
+  std::string src = write_temp(dir, "bad.nqc", {});
   std::ofstream(src) << "task main() { y = 1; }\n";
   auto r = run_rcxc({"download", "--port", "/dev/no-such-tower", src});
   EXPECT_EQ(r.exit_code, 1);
@@ -145,7 +147,8 @@ TEST(LinkCli, CompileErrorsAreExit1BeforeTouchingThePort) {
 }
 
 TEST(LinkCli, MissingPortIsExit3) {
-  auto d = run_rcxc({"download", "--port", "/dev/no-such-tower", sample_rcx()});
+  rcxc::test::TempDir dir;
+  auto d = run_rcxc({"download", "--port", "/dev/no-such-tower", sample_rcx(dir)});
   EXPECT_EQ(d.exit_code, 3) << d.err;
   EXPECT_NE(d.err.find("does not exist"), std::string::npos) << d.err;
   auto r = run_rcxc({"remote", "--port", "/dev/no-such-tower", "alive"});
@@ -153,10 +156,11 @@ TEST(LinkCli, MissingPortIsExit3) {
 }
 
 TEST(LinkCli, SilentBrickIsExit4) {
+  rcxc::test::TempDir dir;
   auto pty = rcx::open_pty();  // nobody answers on it
   ASSERT_TRUE(std::holds_alternative<rcx::Pty>(pty));
   auto& p = std::get<rcx::Pty>(pty);
-  auto d = run_rcxc({"download", "--port", p.slave_path, "--retries", "1", sample_rcx()});
+  auto d = run_rcxc({"download", "--port", p.slave_path, "--retries", "1", sample_rcx(dir)});
   EXPECT_EQ(d.exit_code, 4) << d.err;
   auto r = run_rcxc({"remote", "--port", p.slave_path, "--retries", "0", "battery"});
   EXPECT_EQ(r.exit_code, 4) << r.err;
@@ -202,7 +206,8 @@ TEST(LinkCli, ABadActionIsExit2EvenWithoutATower) {
 }
 
 TEST(LinkCli, BadImageIsExit1) {
-  std::string path = write_temp("bad.rcx", {'R', 'C', 'X', 'I', 0x09});
+  rcxc::test::TempDir dir;
+  std::string path = write_temp(dir, "bad.rcx", {'R', 'C', 'X', 'I', 0x09});
   auto r = run_rcxc({"download", "--port", "/dev/null", path});
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("bad.rcx"), std::string::npos) << r.err;
