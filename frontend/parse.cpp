@@ -176,7 +176,7 @@ yy::Parser::symbol_type next_token(Feed& feed, std::size_t stack_size) {
       case TokenKind::Punct: {
         if (t.text.size() == 1 && t.text != "#") return P::symbol_type(static_cast<TK>(t.text[0]), t.span);
         if (auto kind = find_spelling(kOperators, t.text)) return P::symbol_type(*kind, t.span);
-        feed.diags.error(t.span, "'" + t.text + "' is only meaningful in a preprocessor directive");
+        feed.diags.error(t.span, "'" + std::string(t.text) + "' is only meaningful in a preprocessor directive");
         continue;
       }
       case TokenKind::Unknown:
