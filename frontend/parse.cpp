@@ -142,6 +142,7 @@ void drop_rcx2_statements(std::vector<Token>& tokens, Diagnostics& diags) {
 }  // namespace
 
 yy::Parser::symbol_type next_token(Feed& feed, std::size_t stack_size) {
+  feed.deepest_stack = std::max(feed.deepest_stack, stack_size);
   if (stack_size > kMaxParserStack && !feed.too_deep) {
     feed.diags.error(feed.tokens[feed.pos].span, too_deep_message());
     feed.too_deep = true;
@@ -216,7 +217,16 @@ ast::Program parse_tokens(std::vector<Token> tokens, Diagnostics& diags) {
   Feed feed{tokens, diags, {}, 0, {}, {}, 0, false, 0, {}};
   P parser(feed);
   parser.parse();
-  limit_nesting(feed.program, diags);
+  // Walking the whole tree for its depth cost as much as checking it; the
+  // parse already bounds that depth. A statement inside others is read
+  // while each of them keeps at least one symbol (its `if (c)`, `{`, `do`)
+  // on the parser's stack, so statements nest at most as deep as the
+  // deepest stack a token was read with; an expression adds its height
+  // below its statement. Only when that sum could pass the limit is the
+  // tree walked (mixed nesting: tests/frontend/stress_test.cpp).
+  constexpr std::size_t kMargin = 8;  // the task/sub head, the body's root
+  if (feed.too_deep || feed.deepest_stack + feed.tallest_expr + kMargin > static_cast<std::size_t>(kMaxNesting))
+    limit_nesting(feed.program, diags);
   return std::move(feed.program);
 }
 

@@ -58,6 +58,10 @@ struct Feed {
   // need): reported once, and the parse ends there, before the tree or the
   // stack grows with the input.
   bool too_deep = false;
+  // The largest stack a token was read with and the tallest expression
+  // built: together a bound on how deep the tree nests (parse_tokens).
+  std::size_t deepest_stack = 0;
+  std::uint32_t tallest_expr = 0;
 };
 
 // `stack_size` is the parser's stack as this token is asked for.
@@ -118,6 +122,7 @@ ExprPtr mk(frontend::Feed& feed, ExprNode n, const SourceSpan& s) {
   }
   auto e = std::make_unique<Expr>(Expr{std::move(n), s, std::nullopt});
   e->parsed_height = height + 1;
+  feed.tallest_expr = std::max(feed.tallest_expr, height + 1);
   return e;
 }
 StmtPtr mks(StmtNode n, const SourceSpan& s) { return std::make_unique<Stmt>(Stmt{std::move(n), s}); }
