@@ -137,7 +137,6 @@ ExprPtr asg(frontend::Feed& feed, AssignOp op, ExprPtr a, ExprPtr b, const Sourc
 ExprPtr un(frontend::Feed& feed, UnaryOp op, ExprPtr a, const SourceSpan& s) {
   return mk(feed, Unary{op, box(std::move(a))}, s);
 }
-std::optional<Expr> opt(ExprPtr e) { return e ? std::optional<Expr>(std::move(*e)) : std::nullopt; }
 // nqc's `@E`: the source whose type is E's upper 16 bits and whose argument
 // its lower 16 (`@(0x10000 + n)` is Timer(n)). Constants fold in 16 bits, so
 // the literals of E's +/- chain are summed here, in full width; what is left
@@ -282,7 +281,7 @@ declarators
 
 declarator
   : IDENT           { $$ = std::make_unique<VarDecl>(VarDecl{std::string($1), @1, std::nullopt, kNoSymbol}); }
-  | IDENT '=' expr  { $$ = std::make_unique<VarDecl>(VarDecl{std::string($1), @1, std::move(*$3), kNoSymbol}); }
+  | IDENT '=' expr  { $$ = std::make_unique<VarDecl>(VarDecl{std::string($1), @1, OptionalBox<Expr>(std::move($3)), kNoSymbol}); }
   | IDENT '[' expr ']'
       {
         feed.diags.error(@$, "the RCX has no arrays: '" + std::string($1) + "' must be a plain int");
@@ -351,7 +350,7 @@ stmt
       {
         std::optional<StmtBox> init;
         if (!std::holds_alternative<Empty>($3->node)) init = box(std::move($3));
-        $$ = mks(For{std::move(init), opt(std::move($5)), opt(std::move($7)), box(std::move($9))}, @$);
+        $$ = mks(For{std::move(init), OptionalBox<Expr>(std::move($5)), OptionalBox<Expr>(std::move($7)), box(std::move($9))}, @$);
       }
   | REPEAT '(' expr ')' stmt
                           { $$ = mks(Repeat{std::move(*$3), box(std::move($5))}, @$); }
