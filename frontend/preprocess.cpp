@@ -96,12 +96,15 @@ class HideSets {
     const auto& v = sets_[set];
     return std::binary_search(v.begin(), v.end(), macro);
   }
+  // Every expansion adds its macro to a set: cached like the others, so
+  // the thousandth use of OUT_A copies and looks up no vector.
   std::uint32_t with(std::uint32_t set, std::uint32_t macro) {
-    std::vector<std::uint32_t> v = sets_[set];
-    auto at = std::lower_bound(v.begin(), v.end(), macro);
-    if (at != v.end() && *at == macro) return set;
-    v.insert(at, macro);
-    return intern(std::move(v));
+    return cached(with_cache_, set, macro, [&] {
+      std::vector<std::uint32_t> v = sets_[set];
+      auto at = std::lower_bound(v.begin(), v.end(), macro);
+      if (at == v.end() || *at != macro) v.insert(at, macro);
+      return v;
+    });
   }
   std::uint32_t unite(std::uint32_t a, std::uint32_t b) {
     if (a == b || b == 0) return a;
@@ -126,7 +129,7 @@ class HideSets {
  private:
   std::vector<std::vector<std::uint32_t>> sets_;
   std::map<std::vector<std::uint32_t>, std::uint32_t> index_;
-  std::unordered_map<std::uint64_t, std::uint32_t> union_cache_, intersect_cache_;
+  std::unordered_map<std::uint64_t, std::uint32_t> union_cache_, intersect_cache_, with_cache_;
 
   std::uint32_t intern(std::vector<std::uint32_t> v) {
     auto [it, fresh] = index_.emplace(std::move(v), static_cast<std::uint32_t>(sets_.size()));

@@ -95,6 +95,19 @@ TEST(Parser, CopiedForAndInitialiserAreTheirOwn) {
   EXPECT_FALSE(empty.cond || empty.step);
 }
 
+// Every keyword is one (the parser finds them by first character): none
+// can name a variable, and a name that only starts like one can.
+TEST(Parser, EveryKeywordIsReservedAndOnlyIt) {
+  for (const char* kw : {"task", "sub", "void", "int", "const", "if", "else", "while", "do", "until", "for",
+                         "repeat", "switch", "case", "default", "break", "continue", "return", "goto", "start",
+                         "stop", "asm", "true", "false", "inline", "__source", "__source_arg", "abs", "sign",
+                         "__nolist", "__sensor"}) {
+    EXPECT_FALSE(run_frontend(std::string("int ") + kw + ";\ntask main() { }\n", true).program) << kw;
+    auto r = run_frontend(std::string("int ") + kw + "x;\ntask main() { " + kw + "x = 1; }\n", true);
+    EXPECT_TRUE(r.program) << kw << ": " << r.text();
+  }
+}
+
 TEST(Parser, AbsAndSignAssignmentsAreOperators) {
   EXPECT_EQ(parse_expr("y ||= -4"), "(||= y (neg 4))");
   EXPECT_EQ(parse_expr("y +-= z"), "(+-= y z)");
