@@ -57,6 +57,40 @@ class Box {
   std::unique_ptr<T> p_;  // never null except after being moved from
 };
 
+// An optional node on the heap, with std::optional's reading interface
+// (`if (b)`, `*b`, `b->`): where a std::optional<Expr> would hold a whole
+// expression in every node of its kind, this holds a pointer. For's
+// condition and step made every statement (a variant as large as its
+// largest kind) 368 bytes; a program has a few statements per line.
+template <class T>
+class OptionalBox {
+ public:
+  OptionalBox() = default;
+  OptionalBox(std::nullopt_t) {}  // NOLINT: implicit, as std::optional's
+  OptionalBox(T value) : p_(std::make_unique<T>(std::move(value))) {}  // NOLINT: implicit by design
+  // Adopts a node the parser built on the heap; null for none.
+  explicit OptionalBox(std::unique_ptr<T> p) : p_(std::move(p)) {}
+  OptionalBox(const OptionalBox& o) : p_(o.p_ ? std::make_unique<T>(*o.p_) : nullptr) {}
+  OptionalBox(OptionalBox&&) noexcept = default;
+  OptionalBox& operator=(const OptionalBox& o) {
+    if (this != &o) p_ = o.p_ ? std::make_unique<T>(*o.p_) : nullptr;
+    return *this;
+  }
+  OptionalBox& operator=(OptionalBox&&) noexcept = default;
+  ~OptionalBox() = default;
+
+  bool has_value() const { return p_ != nullptr; }
+  explicit operator bool() const { return has_value(); }
+  void reset() { p_.reset(); }
+  T& operator*() { return *p_; }
+  const T& operator*() const { return *p_; }
+  T* operator->() { return p_.get(); }
+  const T* operator->() const { return p_.get(); }
+
+ private:
+  std::unique_ptr<T> p_;
+};
+
 // ---------------------------------------------------------------- symbols --
 
 // Index into Program::symbols. Filled by semantic analysis.
@@ -249,7 +283,7 @@ using StmtBox = Box<Stmt>;
 struct VarDecl {
   std::string name;
   SourceSpan span;  // the name
-  std::optional<Expr> init;
+  OptionalBox<Expr> init;
   SymbolId symbol = kNoSymbol;
 };
 
@@ -292,8 +326,8 @@ struct Until {
 // latter scoped to the loop, an extension over nqc), or absent.
 struct For {
   std::optional<StmtBox> init;
-  std::optional<Expr> cond;
-  std::optional<Expr> step;
+  OptionalBox<Expr> cond;
+  OptionalBox<Expr> step;
   StmtBox body;
 };
 

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <deque>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -46,12 +47,17 @@ struct MacroExpansion {
 };
 
 // Owns the text of every file read during one compilation, so diagnostics can
-// quote source lines long after the lexer is done with them.
+// quote source lines long after the lexer is done with them. The lexer's
+// tokens are views of these texts: a file's text stays where it is for as
+// long as the SourceManager lives (moving the SourceManager moves no text).
 class SourceManager {
  public:
   std::uint32_t add(std::string path, std::string text);
   const std::string& path(std::uint32_t file) const { return files_.at(file).path; }
   const std::string& text(std::uint32_t file) const { return files_.at(file).text; }
+  // Keeps text the preprocessor made (a pasted or stringized token, a -D
+  // value) for the tokens that view it; the view stays valid as a file's.
+  std::string_view keep(std::string text) { return made_.emplace_back(std::move(text)); }
   std::size_t size() const { return files_.size(); }
   // The text of line `line` of `file`, without its newline ("" if out of range).
   std::string_view line(std::uint32_t file, std::uint32_t line) const;
@@ -82,7 +88,11 @@ class SourceManager {
     SourceSpan included_from;  // invalid when not #included
     bool library = false;
   };
-  std::vector<File> files_;
+  // Deques: adding a file or a made text moves none already there, so the
+  // views tokens hold of them stay valid (a vector would move short,
+  // in-place strings when it grows).
+  std::deque<File> files_;
+  std::deque<std::string> made_;
   std::vector<MacroExpansion> expansions_;
 };
 

@@ -81,7 +81,8 @@ std::vector<Token> lex(std::string_view text, std::uint32_t file, Diagnostics& d
   auto emit = [&](TokenKind kind, const char* start) {
     Token t;
     t.kind = kind;
-    t.text.assign(start, c.p);
+    // A view of the caller's text, not of the NUL-terminated copy.
+    t.text = std::string_view(text.data() + (start - c.begin), static_cast<std::size_t>(c.p - start));
     t.span = {c.loc(start), c.loc(c.p)};
     t.line_start = line_start;
     t.space_before = space;
@@ -152,14 +153,14 @@ std::vector<Token> lex(std::string_view text, std::uint32_t file, Diagnostics& d
   }
 }
 
-std::string invalid_number_message(const std::string& text) {
-  if (text.find('.') != std::string::npos)
-    return "'" + text + "' is a floating-point number; the RCX computes with 16-bit integers only";
-  return "invalid number '" + text + "'";
+std::string invalid_number_message(std::string_view text) {
+  if (text.find('.') != std::string_view::npos)
+    return "'" + std::string(text) + "' is a floating-point number; the RCX computes with 16-bit integers only";
+  return "invalid number '" + std::string(text) + "'";
 }
 
 bool number_value(const Token& t, std::int64_t& value) {
-  const std::string& s = t.text;
+  std::string_view s = t.text;
   if (t.kind == TokenKind::Char) {
     // 'c' or an escape '\n', '\t', '\0', '\\', '\''.
     if (s.size() == 3) {

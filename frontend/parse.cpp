@@ -57,6 +57,33 @@ std::optional<TK> find_spelling(const Spelling (&table)[N], std::string_view tex
   return std::nullopt;
 }
 
+// The keywords by first character (their indexes in kKeywords): an
+// identifier is compared with the two or three keywords that start as it
+// does instead of a walk through the whole table.
+struct KeywordIndex {
+  std::uint8_t count[128] = {};
+  std::uint8_t keyword[128][6] = {};
+};
+constexpr KeywordIndex make_keyword_index() {
+  KeywordIndex index;
+  for (std::size_t k = 0; k < std::size(kKeywords); ++k) {
+    auto c = static_cast<unsigned char>(kKeywords[k].text[0]);
+    index.keyword[c][index.count[c]++] = static_cast<std::uint8_t>(k);
+  }
+  return index;
+}
+constexpr KeywordIndex kKeywordIndex = make_keyword_index();
+
+std::optional<TK> find_keyword(std::string_view text) {
+  auto c = static_cast<unsigned char>(text[0]);  // identifiers are never empty
+  if (c >= 128) return std::nullopt;
+  for (std::uint8_t i = 0; i < kKeywordIndex.count[c]; ++i) {
+    const Spelling& s = kKeywords[kKeywordIndex.keyword[c][i]];
+    if (s.text == text) return s.kind;
+  }
+  return std::nullopt;
+}
+
 // Tracks `asm { ... }` so that an identifier starting an asm item (after the
 // '{' or a ';') and not followed by ',' or '}' is a mnemonic.
 bool is_mnemonic_position(Feed& feed, const Token& t) {
@@ -111,9 +138,11 @@ void drop_rcx2_statements(std::vector<Token>& tokens, Diagnostics& diags) {
   for (std::size_t i = 0; i < tokens.size(); ++i) {
     const Token& t = tokens[i];
     const Token* last_kept = kept > 0 ? &tokens[kept - 1] : nullptr;
-    bool defined_here = last_kept && (last_kept->is_identifier("void") || last_kept->is_identifier("sub") ||
-                                      last_kept->is_identifier("task") || last_kept->is_identifier("inline"));
-    bool head = (t.is_identifier("monitor") || t.is_identifier("acquire")) && !defined_here;
+    // The token is looked at first: the one before it matters only for
+    // `monitor` and `acquire`, and this runs over every token.
+    bool head = (t.is_identifier("monitor") || t.is_identifier("acquire")) &&
+                !(last_kept && (last_kept->is_identifier("void") || last_kept->is_identifier("sub") ||
+                                last_kept->is_identifier("task") || last_kept->is_identifier("inline")));
     if (head && i + 1 < tokens.size() && tokens[i + 1].is("(")) {
       std::size_t after = past_parentheses(tokens, i + 1);
       if (after > i + 1 && after < tokens.size() && tokens[after].is("{")) {
@@ -142,6 +171,7 @@ void drop_rcx2_statements(std::vector<Token>& tokens, Diagnostics& diags) {
 }  // namespace
 
 yy::Parser::symbol_type next_token(Feed& feed, std::size_t stack_size) {
+  feed.deepest_stack = std::max(feed.deepest_stack, stack_size);
   if (stack_size > kMaxParserStack && !feed.too_deep) {
     feed.diags.error(feed.tokens[feed.pos].span, too_deep_message());
     feed.too_deep = true;
@@ -162,7 +192,7 @@ yy::Parser::symbol_type next_token(Feed& feed, std::size_t stack_size) {
     switch (t.kind) {
       case TokenKind::Identifier: {
         if (mnemonic) return P::make_MNEMONIC(t.text, t.span);
-        if (auto kind = find_spelling(kKeywords, t.text)) return P::symbol_type(*kind, t.span);
+        if (auto kind = find_keyword(t.text)) return P::symbol_type(*kind, t.span);
         return P::make_IDENT(t.text, t.span);
       }
       case TokenKind::Number:
@@ -176,7 +206,7 @@ yy::Parser::symbol_type next_token(Feed& feed, std::size_t stack_size) {
       case TokenKind::Punct: {
         if (t.text.size() == 1 && t.text != "#") return P::symbol_type(static_cast<TK>(t.text[0]), t.span);
         if (auto kind = find_spelling(kOperators, t.text)) return P::symbol_type(*kind, t.span);
-        feed.diags.error(t.span, "'" + t.text + "' is only meaningful in a preprocessor directive");
+        feed.diags.error(t.span, "'" + std::string(t.text) + "' is only meaningful in a preprocessor directive");
         continue;
       }
       case TokenKind::Unknown:
@@ -216,7 +246,16 @@ ast::Program parse_tokens(std::vector<Token> tokens, Diagnostics& diags) {
   Feed feed{tokens, diags, {}, 0, {}, {}, 0, false, 0, {}};
   P parser(feed);
   parser.parse();
-  limit_nesting(feed.program, diags);
+  // Walking the whole tree for its depth cost as much as checking it; the
+  // parse already bounds that depth. A statement inside others is read
+  // while each of them keeps at least one symbol (its `if (c)`, `{`, `do`)
+  // on the parser's stack, so statements nest at most as deep as the
+  // deepest stack a token was read with; an expression adds its height
+  // below its statement. Only when that sum could pass the limit is the
+  // tree walked (mixed nesting: tests/frontend/stress_test.cpp).
+  constexpr std::size_t kMargin = 8;  // the task/sub head, the body's root
+  if (feed.too_deep || feed.deepest_stack + feed.tallest_expr + kMargin > static_cast<std::size_t>(kMaxNesting))
+    limit_nesting(feed.program, diags);
   return std::move(feed.program);
 }
 

@@ -58,6 +58,10 @@ struct Feed {
   // need): reported once, and the parse ends there, before the tree or the
   // stack grows with the input.
   bool too_deep = false;
+  // The largest stack a token was read with and the tallest expression
+  // built: together a bound on how deep the tree nests (parse_tokens).
+  std::size_t deepest_stack = 0;
+  std::uint32_t tallest_expr = 0;
 };
 
 // `stack_size` is the parser's stack as this token is asked for.
@@ -118,6 +122,7 @@ ExprPtr mk(frontend::Feed& feed, ExprNode n, const SourceSpan& s) {
   }
   auto e = std::make_unique<Expr>(Expr{std::move(n), s, std::nullopt});
   e->parsed_height = height + 1;
+  feed.tallest_expr = std::max(feed.tallest_expr, height + 1);
   return e;
 }
 StmtPtr mks(StmtNode n, const SourceSpan& s) { return std::make_unique<Stmt>(Stmt{std::move(n), s}); }
@@ -132,7 +137,6 @@ ExprPtr asg(frontend::Feed& feed, AssignOp op, ExprPtr a, ExprPtr b, const Sourc
 ExprPtr un(frontend::Feed& feed, UnaryOp op, ExprPtr a, const SourceSpan& s) {
   return mk(feed, Unary{op, box(std::move(a))}, s);
 }
-std::optional<Expr> opt(ExprPtr e) { return e ? std::optional<Expr>(std::move(*e)) : std::nullopt; }
 // nqc's `@E`: the source whose type is E's upper 16 bits and whose argument
 // its lower 16 (`@(0x10000 + n)` is Timer(n)). Constants fold in 16 bits, so
 // the literals of E's +/- chain are summed here, in full width; what is left
@@ -277,7 +281,7 @@ declarators
 
 declarator
   : IDENT           { $$ = std::make_unique<VarDecl>(VarDecl{std::string($1), @1, std::nullopt, kNoSymbol}); }
-  | IDENT '=' expr  { $$ = std::make_unique<VarDecl>(VarDecl{std::string($1), @1, std::move(*$3), kNoSymbol}); }
+  | IDENT '=' expr  { $$ = std::make_unique<VarDecl>(VarDecl{std::string($1), @1, OptionalBox<Expr>(std::move($3)), kNoSymbol}); }
   | IDENT '[' expr ']'
       {
         feed.diags.error(@$, "the RCX has no arrays: '" + std::string($1) + "' must be a plain int");
@@ -346,7 +350,7 @@ stmt
       {
         std::optional<StmtBox> init;
         if (!std::holds_alternative<Empty>($3->node)) init = box(std::move($3));
-        $$ = mks(For{std::move(init), opt(std::move($5)), opt(std::move($7)), box(std::move($9))}, @$);
+        $$ = mks(For{std::move(init), OptionalBox<Expr>(std::move($5)), OptionalBox<Expr>(std::move($7)), box(std::move($9))}, @$);
       }
   | REPEAT '(' expr ')' stmt
                           { $$ = mks(Repeat{std::move(*$3), box(std::move($5))}, @$); }

@@ -43,6 +43,14 @@ constexpr std::size_t kLiveArgumentBase = 3'000'000;
 constexpr std::size_t kLiveArgumentPerInputToken = 4;
 constexpr const char* kStdlibName = "rcx.nqh";
 
+// Macro names, looked up by a token's spelling (a view) without making a
+// string of it.
+struct NameHash {
+  using is_transparent = void;
+  std::size_t operator()(std::string_view s) const { return std::hash<std::string_view>{}(s); }
+};
+using MacroIds = std::unordered_map<std::string, std::uint32_t, NameHash, std::equal_to<>>;
+
 struct Macro {
   std::string name;
   bool function_like = false;
@@ -88,12 +96,15 @@ class HideSets {
     const auto& v = sets_[set];
     return std::binary_search(v.begin(), v.end(), macro);
   }
+  // Every expansion adds its macro to a set: cached like the others, so
+  // the thousandth use of OUT_A copies and looks up no vector.
   std::uint32_t with(std::uint32_t set, std::uint32_t macro) {
-    std::vector<std::uint32_t> v = sets_[set];
-    auto at = std::lower_bound(v.begin(), v.end(), macro);
-    if (at != v.end() && *at == macro) return set;
-    v.insert(at, macro);
-    return intern(std::move(v));
+    return cached(with_cache_, set, macro, [&] {
+      std::vector<std::uint32_t> v = sets_[set];
+      auto at = std::lower_bound(v.begin(), v.end(), macro);
+      if (at == v.end() || *at != macro) v.insert(at, macro);
+      return v;
+    });
   }
   std::uint32_t unite(std::uint32_t a, std::uint32_t b) {
     if (a == b || b == 0) return a;
@@ -118,7 +129,7 @@ class HideSets {
  private:
   std::vector<std::vector<std::uint32_t>> sets_;
   std::map<std::vector<std::uint32_t>, std::uint32_t> index_;
-  std::unordered_map<std::uint64_t, std::uint32_t> union_cache_, intersect_cache_;
+  std::unordered_map<std::uint64_t, std::uint32_t> union_cache_, intersect_cache_, with_cache_;
 
   std::uint32_t intern(std::vector<std::uint32_t> v) {
     auto [it, fresh] = index_.emplace(std::move(v), static_cast<std::uint32_t>(sets_.size()));
@@ -167,13 +178,16 @@ struct StdlibState {
   std::vector<File> files;
   std::vector<MacroExpansion> expansions;
   std::vector<Macro> macros;
-  std::unordered_map<std::string, std::uint32_t> defined;
+  MacroIds defined;
   std::unordered_set<std::string> reported_recursion;
   HideSets hide_sets;
   std::size_t expanded_tokens = 0;
   std::size_t input_tokens = 0;
   ast::Pragmas pragmas;
   std::vector<Token> tokens;  // the stdlib's output, without End
+  // The SourceManager it was read with: the tokens above and the macros'
+  // bodies are views of the texts it keeps.
+  SourceManager texts;
 };
 
 namespace {
@@ -253,7 +267,7 @@ class Preprocessor {
   SourceManager& sm_;
   Diagnostics& diags_;
   std::vector<Macro> macros_;                          // by id; ids are never reused
-  std::unordered_map<std::string, std::uint32_t> defined_;  // name -> id
+  MacroIds defined_;  // name -> id
   std::vector<OpenFile> files_;
   // The largest token list of a file already read, kept for the next file
   // to be lexed into (lex's `room`).
@@ -277,7 +291,9 @@ class Preprocessor {
   void define_text(const std::string& name, const std::string& value, std::uint32_t file) {
     Macro m;
     m.name = name;
-    m.body = lex(value, file, diags_);
+    // The body's tokens view the value: kept here, as the options holding
+    // it may be gone when the macro is used (a cached stdlib state).
+    m.body = lex(sm_.keep(value), file, diags_);
     m.body.pop_back();  // End
     for (auto& t : m.body) t.line_start = false;
     set_macro(std::move(m));
@@ -300,7 +316,7 @@ class Preprocessor {
     defined_[name] = static_cast<std::uint32_t>(macros_.size() - 1);
   }
 
-  const Macro* find_macro(const std::string& name) const {
+  const Macro* find_macro(std::string_view name) const {
     auto it = defined_.find(name);
     return it == defined_.end() ? nullptr : &macros_[it->second];
   }
@@ -515,24 +531,25 @@ class Preprocessor {
     t.kind = TokenKind::String;
     t.span = hash.span;
     std::string raw = spell(arg);
-    t.text = "\"";
+    std::string text = "\"";
     for (char c : raw) {
-      if (c == '"' || c == '\\') t.text += '\\';
-      t.text += c;
+      if (c == '"' || c == '\\') text += '\\';
+      text += c;
     }
-    t.text += '"';
+    text += '"';
+    t.text = sm_.keep(std::move(text));
     return t;
   }
 
   // Joins two tokens with ##; the result must lex as exactly one token.
   Token paste(const Token& a, const Token& b) {
-    std::string text = a.text + b.text;
+    std::string_view text = sm_.keep(std::string(a.text) + std::string(b.text));
     Diagnostics scratch;
     auto toks = lex(text, a.span.begin.file, scratch);
     Token t = a;
     t.text = text;
     if (toks.size() != 2 || scratch.has_errors()) {
-      diags_.error(a.span, "pasting '" + a.text + "' and '" + b.text + "' does not give a valid token");
+      diags_.error(a.span, "pasting '" + std::string(a.text) + "' and '" + std::string(b.text) + "' does not give a valid token");
       return t;
     }
     t.kind = toks[0].kind;
@@ -641,7 +658,7 @@ class Preprocessor {
     std::vector<Token> line = line_tokens();
     if (line.empty()) return;  // the null directive
     const Token& name = line[0];
-    const std::string& d = name.text;
+    std::string_view d = name.text;
     if (d == "if" || d == "ifdef" || d == "ifndef") return begin_if(d, line, hash);  // may consume `line`
     if (d == "elif") return do_elif(line, hash);  // may consume `line`
     if (d == "else") return do_else(line, hash);
@@ -659,16 +676,16 @@ class Preprocessor {
       return;
     }
     if (d == "pragma") return do_pragma(line);
-    diags_.error(name.span, "unknown preprocessor directive '#" + d + "'");
+    diags_.error(name.span, "unknown preprocessor directive '#" + std::string(d) + "'");
   }
 
   void extra_tokens(const std::vector<Token>& line, std::size_t from) {
     if (line.size() > from)
       diags_.warning(span_of(line, from, line[0].span),
-                     "extra tokens after #" + line[0].text + " are ignored");
+                     "extra tokens after #" + std::string(line[0].text) + " are ignored");
   }
 
-  void begin_if(const std::string& d, std::vector<Token>& line, const Token& hash) {
+  void begin_if(std::string_view d, std::vector<Token>& line, const Token& hash) {
     Cond c;
     c.parent_active = active();
     c.span = {hash.span.begin, line[0].span.end};
@@ -677,7 +694,7 @@ class Preprocessor {
       if (d == "if") {
         value = eval_condition(line);
       } else if (line.size() < 2 || line[1].kind != TokenKind::Identifier) {
-        diags_.error(line.size() < 2 ? line[0].span : line[1].span, "#" + d + " needs a macro name");
+        diags_.error(line.size() < 2 ? line[0].span : line[1].span, "#" + std::string(d) + " needs a macro name");
       } else {
         value = (find_macro(line[1].text) != nullptr) == (d == "ifdef");
         extra_tokens(line, 2);
@@ -690,11 +707,11 @@ class Preprocessor {
 
   bool check_open_group(const std::vector<Token>& line) {
     if (conds_.size() <= files_.back().conds_at_entry) {
-      diags_.error(line[0].span, "#" + line[0].text + " without #if");
+      diags_.error(line[0].span, "#" + std::string(line[0].text) + " without #if");
       return false;
     }
     if (conds_.back().seen_else) {
-      auto& e = diags_.error(line[0].span, "#" + line[0].text + " after #else");
+      auto& e = diags_.error(line[0].span, "#" + std::string(line[0].text) + " after #else");
       e.notes.push_back({conds_.back().span, "the conditional started here"});
       return false;
     }
@@ -754,10 +771,10 @@ class Preprocessor {
       while (!ok && i < line.size()) {
         if (line[i].kind != TokenKind::Identifier) break;
         if (std::find(m.params.begin(), m.params.end(), line[i].text) != m.params.end()) {
-          diags_.error(line[i].span, "duplicate macro parameter '" + line[i].text + "'");
+          diags_.error(line[i].span, "duplicate macro parameter '" + std::string(line[i].text) + "'");
           return;
         }
-        m.params.push_back(line[i].text);
+        m.params.emplace_back(line[i].text);
         ++i;
         if (i < line.size() && line[i].is(")")) {
           ok = true;
@@ -808,7 +825,7 @@ class Preprocessor {
       diags_.error(line.size() < 2 ? line[0].span : line[1].span, "#undef needs a macro name");
       return;
     }
-    defined_.erase(line[1].text);
+    if (auto it = defined_.find(line[1].text); it != defined_.end()) defined_.erase(it);
     extra_tokens(line, 2);
   }
 
@@ -941,7 +958,7 @@ class Preprocessor {
       out_.pragmas.reserve.push_back({static_cast<int>(lo), static_cast<int>(hi), span_of(line, 0, what.span)});
       return;
     }
-    diags_.warning(what.span, "unknown #pragma '" + what.text + "' ignored");
+    diags_.warning(what.span, "unknown #pragma '" + std::string(what.text) + "' ignored");
   }
 
   // ------------------------------------------------------ #if evaluation --
@@ -976,12 +993,12 @@ class Preprocessor {
     toks = expand_list(std::move(toks), 0);
     if (diags_.error_count() != before) return false;
     if (toks.empty()) {
-      diags_.error(directive.span, "#" + directive.text + " needs an expression");
+      diags_.error(directive.span, "#" + std::string(directive.text) + " needs an expression");
       return false;
     }
     CondEval ev{toks, diags_, 0, false, 0};
     std::int64_t v = ev.ternary();
-    if (!ev.failed && ev.pos < toks.size()) ev.fail(toks[ev.pos], "unexpected '" + toks[ev.pos].text + "' in #if expression");
+    if (!ev.failed && ev.pos < toks.size()) ev.fail(toks[ev.pos], "unexpected '" + std::string(toks[ev.pos].text) + "' in #if expression");
     return !ev.failed && v != 0;
   }
 
@@ -1058,7 +1075,7 @@ class Preprocessor {
     }
 
     std::int64_t apply(const Token& op, std::int64_t a, std::int64_t b) {
-      const std::string& o = op.text;
+      std::string_view o = op.text;
       if ((o == "/" || o == "%") && b == 0) {
         fail(op, "division by zero in #if expression");
         return 0;
@@ -1109,7 +1126,7 @@ class Preprocessor {
         return v;
       }
       if (t.kind == TokenKind::Identifier) return t.text == "true" ? 1 : 0;  // C: unknown names are 0
-      fail(t, "unexpected '" + t.text + "' in #if expression");
+      fail(t, "unexpected '" + std::string(t.text) + "' in #if expression");
       return 0;
     }
   };
@@ -1142,6 +1159,7 @@ std::shared_ptr<const StdlibState> preprocess_stdlib(const Options& options) {
   state->pragmas = std::move(out.pragmas);
   out.tokens.pop_back();     // End
   state->tokens = std::move(out.tokens);
+  state->texts = std::move(sm);
   return state;
 }
 

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <vector>
 
 #include "frontend/diagnostics.h"
@@ -22,9 +23,12 @@ enum class TokenKind : std::uint8_t {
 };
 
 // The small fields come last, packed together: a file can hold hundreds of
-// thousands of tokens, and each byte here is that many.
+// thousands of tokens, and each byte here is that many. The spelling is a
+// view of the file's text in the SourceManager (or of text the preprocessor
+// made and keeps there, SourceManager::keep), so a token is a plain value:
+// copying or moving one copies 56 bytes and frees nothing.
 struct Token {
-  std::string text;
+  std::string_view text;
   SourceSpan span;
   // Macros that must not expand this token again (the "hide set" of the
   // classic expansion algorithm), as an id into the preprocessor's table of
@@ -37,9 +41,11 @@ struct Token {
   bool is(std::string_view punct) const { return kind == TokenKind::Punct && text == punct; }
   bool is_identifier(std::string_view name) const { return kind == TokenKind::Identifier && text == name; }
 };
+static_assert(std::is_trivially_copyable_v<Token>, "tokens are copied and moved in bulk");
 
 // Splits `text` (file `file` of the SourceManager) into tokens, ending with
-// one End token. Lexical errors (unterminated comment, stray character) are
+// one End token. The tokens' spellings are views of `text`, which must
+// outlive them. Lexical errors (unterminated comment, stray character) are
 // reported and lexing goes on. The tokens go into `room`'s storage (what
 // it held is dropped): a list of a file read before, so that the parts a
 // long program #includes, lexed one after another, fill memory the last
@@ -54,6 +60,6 @@ bool number_value(const Token& t, std::int64_t& value);
 constexpr std::int64_t kLiteralPastRange = std::int64_t{1} << 62;
 // The error for a Number token number_value() cannot read: 7.7 is named as a
 // floating-point number (the RCX computes with 16-bit integers only).
-std::string invalid_number_message(const std::string& text);
+std::string invalid_number_message(std::string_view text);
 
 }  // namespace rcxc::frontend

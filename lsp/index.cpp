@@ -171,7 +171,7 @@ void scan_file(Index& index, std::uint32_t file) {
   for (std::size_t i = 0; i < tokens.size(); ++i) {
     const auto& t = tokens[i];
     if (t.kind != frontend::TokenKind::Identifier) continue;
-    index.occurrences.push_back({t.text, range_of(t.span)});
+    index.occurrences.push_back({std::string(t.text), range_of(t.span)});
     bool directive = i >= 2 && tokens[i - 2].line_start && tokens[i - 2].is("#") &&
                      tokens[i - 1].is_identifier("define") && !t.line_start;
     if (!directive) continue;

@@ -11,7 +11,7 @@ namespace {
 std::vector<std::string> texts(const std::vector<Token>& toks) {
   std::vector<std::string> out;
   for (const auto& t : toks)
-    if (t.kind != TokenKind::End) out.push_back(t.text);
+    if (t.kind != TokenKind::End) out.emplace_back(t.text);
   return out;
 }
 

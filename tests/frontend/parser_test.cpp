@@ -71,6 +71,43 @@ TEST(Parser, PrecedenceAndAssociativityFollowC) {
   EXPECT_EQ(parse_expr("y % 3 ^ 4 << 1"), "(^ (% y 3) (<< 4 1))");
 }
 
+// For's condition and step and a declaration's initialiser are held on the
+// heap (ast::OptionalBox): a copied tree has its own, and an absent one
+// stays absent, as when they were std::optional values.
+TEST(Parser, CopiedForAndInitialiserAreTheirOwn) {
+  auto r = run_frontend("task main() { int a = 1, b; for (a = 0; a < 3; a++) b = a; for (;;) break; }\n", true);
+  ASSERT_TRUE(r.program) << r.text();
+  Program copy = *r.program;
+  auto& st = const_cast<Block&>(main_body(copy)).stmts;
+  auto& decl = std::get<DeclStmt>(st[0].node);
+  ASSERT_TRUE(decl.vars[0].init && !decl.vars[1].init);
+  std::get<IntLit>(decl.vars[0].init->node).value = 7;
+  auto& f = std::get<For>(st[1].node);
+  ASSERT_TRUE(f.cond && f.step);
+  f.cond->span = {};
+  f.step.reset();
+  const auto& original = main_body(*r.program).stmts;
+  EXPECT_EQ(std::get<IntLit>(std::get<DeclStmt>(original[0].node).vars[0].init->node).value, 1);
+  const auto& g = std::get<For>(original[1].node);
+  EXPECT_TRUE(g.step);
+  EXPECT_EQ(g.cond->span.begin.column, 41u);
+  const auto& empty = std::get<For>(st[2].node);
+  EXPECT_FALSE(empty.cond || empty.step);
+}
+
+// Every keyword is one (the parser finds them by first character): none
+// can name a variable, and a name that only starts like one can.
+TEST(Parser, EveryKeywordIsReservedAndOnlyIt) {
+  for (const char* kw : {"task", "sub", "void", "int", "const", "if", "else", "while", "do", "until", "for",
+                         "repeat", "switch", "case", "default", "break", "continue", "return", "goto", "start",
+                         "stop", "asm", "true", "false", "inline", "__source", "__source_arg", "abs", "sign",
+                         "__nolist", "__sensor"}) {
+    EXPECT_FALSE(run_frontend(std::string("int ") + kw + ";\ntask main() { }\n", true).program) << kw;
+    auto r = run_frontend(std::string("int ") + kw + "x;\ntask main() { " + kw + "x = 1; }\n", true);
+    EXPECT_TRUE(r.program) << kw << ": " << r.text();
+  }
+}
+
 TEST(Parser, AbsAndSignAssignmentsAreOperators) {
   EXPECT_EQ(parse_expr("y ||= -4"), "(||= y (neg 4))");
   EXPECT_EQ(parse_expr("y +-= z"), "(+-= y z)");

@@ -170,6 +170,21 @@ TEST(Preprocessor, CommandLineDefinesAndPredefinedMacros) {
   EXPECT_EQ(p.joined, "5 1 GONE 1");
 }
 
+// Tokens view their spelling; a -D value, a pasted and a stringized token
+// are texts the SourceManager keeps, so they read right after the options
+// and the preprocessor are gone (valgrind or ASan would see a view of
+// freed text here).
+TEST(Preprocessor, MadeTokensOutliveTheOptionsAndThePreprocessor) {
+  Options o;
+  o.defines = {{"SPEED", "5 + 70000"}};
+  auto p = run_pp("#define CAT(a, b) a ## b\n#define STR(a) #a\nSPEED CAT(left, right) STR(x \"y\")\n", o);
+  o = {};
+  std::string texts;
+  for (const auto& t : p.out.tokens)
+    if (t.kind != TokenKind::End) texts += std::string(t.text) + "|";
+  EXPECT_EQ(texts, "5|+|70000|leftright|\"x \\\"y\\\"\"|");
+}
+
 TEST(Preprocessor, PragmasBecomeProgramData) {
   auto p = run_pp("#pragma noinit\n#pragma init Setup\n#pragma reserve 3 5\n#pragma reserve 31\n#pragma frob\n");
   EXPECT_TRUE(p.out.pragmas.noinit);
