@@ -189,6 +189,10 @@ struct MotorPass {
   // Applies `in` to `s`; returns whether it changed nothing at all.
   bool apply(const Instr& in, State& s) {
     if (!s.reached) return false;
+    // Most instructions neither command an output, call, nor start a
+    // task: they change nothing here (asked of every instruction of the
+    // program several times).
+    if (!in.raw && !is_motor_op(in) && in.op != rcx::Op::CallSubroutine && in.op != rcx::Op::StartTask) return false;
     if (FuncId g = callee_of(in); g >= 0) {
       apply_call(g, s);
       return false;
@@ -269,12 +273,18 @@ struct MotorPass {
 
   void remove_redundant(Function& fn, FuncId f, const std::vector<State>& in) {
     current = f;
+    // In place, each kept instruction moved down over the removed ones (a
+    // new list per block was an allocation per block).
     for (std::size_t b = 0; b < fn.blocks.size(); ++b) {
       State s = in[b];
-      std::vector<Instr> kept;
-      for (auto& instr : fn.blocks[b].instrs)
-        if (!apply(instr, s)) kept.push_back(std::move(instr));
-      fn.blocks[b].instrs = std::move(kept);
+      std::vector<Instr>& code = fn.blocks[b].instrs;
+      std::size_t kept = 0;
+      for (std::size_t i = 0; i < code.size(); ++i) {
+        if (apply(code[i], s)) continue;
+        if (kept != i) code[kept] = std::move(code[i]);  // never onto itself: that empties it
+        ++kept;
+      }
+      code.erase(code.begin() + static_cast<std::ptrdiff_t>(kept), code.end());
     }
   }
 };
