@@ -1,5 +1,6 @@
 // Constant propagation and folding (see passes.h).
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <climits>
 #include <cstdint>
@@ -80,11 +81,23 @@ struct EntryStates {
   }
 };
 
+// Per opcode, whether any of its operand slots is a variable it writes:
+// an instruction of another opcode leaves every constant as it was, and
+// folding asks about every instruction twice.
+std::array<bool, rcx::kOpcodeCount> opcodes_writing() {
+  std::array<bool, rcx::kOpcodeCount> writes{};
+  for (std::size_t i = 0; i < rcx::kOpcodeCount; ++i)
+    for (const rcx::Operand* o : operand_slots(static_cast<rcx::Op>(i)))
+      writes[i] = writes[i] || o->role == rcx::Role::Variable;
+  return writes;
+}
+
 struct Folder {
   const Program& p;
   // What each function may write of the private variables (CallEffects's
   // touches): a call makes those unknown.
   const std::vector<VarSet>& footprints;
+  std::array<bool, rcx::kOpcodeCount> writing = opcodes_writing();
 
   bool private_var(VarId v) const { return p.vars[static_cast<std::size_t>(v)].kind != VarKind::Global; }
 
@@ -122,6 +135,7 @@ struct Folder {
         if (a.is_var()) vary(s, a.value);
       return;
     }
+    if (!writing[static_cast<std::size_t>(in.op)]) return;
     VarUse u = uses_of(in);
     if (u.writes.empty()) return;
     VarId dest = u.writes.front();
