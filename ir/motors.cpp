@@ -158,11 +158,16 @@ struct MotorPass {
   void forget_untracked(State& s) const {
     if (s.alone) return;
     const Writes& w = others[static_cast<std::size_t>(current)];
-    for (int o = 0; o < kOutputs; ++o)
-      for (int OutputState::*field : {&OutputState::dir, &OutputState::mode, &OutputState::power}) {
-        int other = w[o].*field;
-        if (other != kNoWrite && (other == kUnknown || s.out[o].*field != other)) s.out[o].*field = kUnknown;
-      }
+    // Field by field, written out: a loop over member pointers cost more
+    // than the test, and this runs after every motor command.
+    auto forget = [](int other, int& field) {
+      if (other != kNoWrite && (other == kUnknown || field != other)) field = kUnknown;
+    };
+    for (std::size_t o = 0; o < kOutputs; ++o) {
+      forget(w[o].dir, s.out[o].dir);
+      forget(w[o].mode, s.out[o].mode);
+      forget(w[o].power, s.out[o].power);
+    }
   }
 
   void apply_call(FuncId g, State& s) {
