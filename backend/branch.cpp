@@ -91,6 +91,9 @@ std::string assemble(std::vector<MInstr>& code, const std::vector<int>& block_st
       }
     }
   }
+  bytes.reserve(bytes.size() + static_cast<std::size_t>(end));
+  listing.reserve(listing.size() + code.size());
+  std::vector<int> values;  // a branch's fields, reused
   for (std::size_t i = 0; i < code.size(); ++i) {
     MInstr& m = code[i];
     if (m.kind != MInstr::Kind::Fixed) {
@@ -100,14 +103,15 @@ std::string assemble(std::vector<MInstr>& code, const std::vector<int>& block_st
       if (!reaches(op, origin, target))
         return fmt::format("a branch at byte {} cannot reach byte {} ({})", address[i], target,
                            m.kind == MInstr::Kind::Loop ? "loop counters only branch forward" : "too far");
-      std::vector<int> values = m.values;
+      values.assign(m.values.begin(), m.values.end());
       for (int v : offset_fields(op, origin, target)) values.push_back(v);
       m.bytes.clear();
       std::string err = encode(rcx::info(op), values, m.bytes);
       if (!err.empty()) return err;
     }
     bytes.insert(bytes.end(), m.bytes.begin(), m.bytes.end());
-    listing.push_back({address[i], m.bytes, m.span});
+    // Moved, not copied: an allocation per instruction of the program.
+    listing.push_back({address[i], std::move(m.bytes), m.span});
   }
   return {};
 }

@@ -44,7 +44,8 @@ std::vector<int> offset_fields(rcx::Op op, int origin, int target);
 
 // Lays out `code` (block b starts at instruction block_start[b]) choosing
 // near forms wherever they reach, and appends the bytes to `bytes` and one
-// Emitted per instruction to `listing`. Returns an error text if a branch
+// Emitted per instruction to `listing`, which takes each instruction's
+// bytes (they are moved out of `code`). Returns an error text if a branch
 // cannot reach even in its far form.
 std::string assemble(std::vector<MInstr>& code, const std::vector<int>& block_start, std::vector<std::uint8_t>& bytes,
                      std::vector<Emitted>& listing);

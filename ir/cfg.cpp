@@ -1,5 +1,7 @@
 // Control-flow clean-up (see passes.h).
 #include <algorithm>
+#include <cstdint>
+#include <span>
 
 #include "ir/passes.h"
 #include "ir/predecessors.h"
@@ -146,25 +148,40 @@ void merge_tails(Function& f) {
 // copies saved are worth more than the others' jumps growing long.
 void share_tails(Function& f) {
   const std::vector<bool> loop_blocks = repeat_blocks(f);  // of the blocks before any shared tail
-  std::vector<std::vector<BlockId>> jumpers(f.blocks.size());
-  for (std::size_t b = 1; b < f.blocks.size(); ++b)
-    if (const auto* j = std::get_if<Jump>(&f.blocks[b].term);
-        j && j->target != static_cast<BlockId>(b) && !f.blocks[b].instrs.empty() &&
-        !loop_blocks[b])
-      jumpers[static_cast<std::size_t>(j->target)].push_back(static_cast<BlockId>(b));
-  std::vector<BlockId> after(f.blocks.size(), -1);  // a shared tail to lay out after the block
+  const std::size_t n = f.blocks.size();
+  // The blocks jumping to each block, in block order, all in one array:
+  // block j's are jumpers[start[j], start[j + 1]) (a vector per block was
+  // an allocation per jump target, every clean-up round).
+  std::vector<std::uint32_t> start(n + 1, 0);
+  auto jump_target = [&](std::size_t b) -> BlockId {
+    const auto* j = std::get_if<Jump>(&f.blocks[b].term);
+    if (b == 0 || !j || j->target == static_cast<BlockId>(b) || f.blocks[b].instrs.empty() || loop_blocks[b]) return -1;
+    return j->target;
+  };
+  for (std::size_t b = 1; b < n; ++b)
+    if (BlockId t = jump_target(b); t >= 0) ++start[static_cast<std::size_t>(t) + 1];
+  for (std::size_t b = 0; b < n; ++b) start[b + 1] += start[b];
+  std::vector<BlockId> jumpers(start[n]);
+  {
+    std::vector<std::uint32_t> next(start.begin(), start.end() - 1);
+    for (std::size_t b = 1; b < n; ++b)
+      if (BlockId t = jump_target(b); t >= 0) jumpers[next[static_cast<std::size_t>(t)]++] = static_cast<BlockId>(b);
+  }
+  std::vector<BlockId> after(n, -1);  // a shared tail to lay out after the block
   auto last = [&](BlockId b, std::size_t back) -> const Instr& {
     const auto& instrs = f.blocks[static_cast<std::size_t>(b)].instrs;
     return instrs[instrs.size() - 1 - back];
   };
-  for (std::size_t j = 0; j < jumpers.size(); ++j) {
-    const auto& from = jumpers[j];
+  std::vector<bool> taken;
+  std::vector<BlockId> group;
+  for (std::size_t j = 0; j < n; ++j) {
+    const std::span<const BlockId> from(jumpers.data() + start[j], start[j + 1] - start[j]);
     if (from.size() < 2 || loop_blocks[j]) continue;
-    std::vector<bool> taken(from.size(), false);
+    taken.assign(from.size(), false);
     for (std::size_t a = 0; a < from.size(); ++a) {
       // Raw asm may branch by offset: it stays where it was written.
       if (taken[a] || last(from[a], 0).raw) continue;
-      std::vector<BlockId> group{from[a]};
+      group.assign(1, from[a]);
       for (std::size_t c = a + 1; c < from.size(); ++c)
         if (!taken[c] && same_instr(last(from[c], 0), last(from[a], 0))) {
           group.push_back(from[c]);
@@ -180,8 +197,8 @@ void share_tails(Function& f) {
       }
       int bytes = 0;
       for (std::size_t k = 0; k < length; ++k) bytes += instr_size(last(group[0], k));
-      auto n = static_cast<int>(group.size());
-      if ((n - 1) * bytes <= 2 + n) continue;
+      auto copies = static_cast<int>(group.size());
+      if ((copies - 1) * bytes <= 2 + copies) continue;
       BlockId shared = add_block(f);
       auto& first = f.blocks[static_cast<std::size_t>(group[0])].instrs;
       Block& tail = f.blocks[static_cast<std::size_t>(shared)];
@@ -196,7 +213,9 @@ void share_tails(Function& f) {
       after[static_cast<std::size_t>(*std::max_element(group.begin(), group.end()))] = shared;
     }
   }
+  if (f.blocks.size() == n) return;  // nothing shared
   std::vector<BlockId> order;
+  order.reserve(f.blocks.size());
   for (std::size_t b = 0; b < after.size(); ++b) {
     order.push_back(static_cast<BlockId>(b));
     if (after[b] >= 0) order.push_back(after[b]);

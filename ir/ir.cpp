@@ -113,19 +113,6 @@ PredecessorLists::PredecessorLists(const Function& f, bool repeated_edges) : sta
   each_edge([&](std::size_t to, BlockId from) { from_[next[to]++] = from; });
 }
 
-Successors successors(const Terminator& t) {
-  Successors s;
-  auto add = [&](BlockId a, BlockId b) {
-    s.push_back(a);
-    s.push_back(b);
-  };
-  if (const auto* j = std::get_if<Jump>(&t)) s.push_back(j->target);
-  if (const auto* b = std::get_if<Branch>(&t)) add(b->then, b->otherwise);
-  if (const auto* l = std::get_if<LoopTest>(&t)) add(l->body, l->exit);
-  if (const auto* c = std::get_if<CoinToss>(&t)) add(c->zero, c->one);
-  return s;
-}
-
 std::vector<int> reverse_postorder_index(const Function& f) {
   std::size_t n = f.blocks.size();
   std::vector<int> index(n, -1);

@@ -266,7 +266,23 @@ class InlineList {
 // Reading and writing a function's blocks.
 BlockId add_block(Function& f);
 using Successors = InlineList<BlockId, 2>;
-Successors successors(const Terminator& t);
+// Inline: the passes ask for the successors of every block many times.
+inline Successors successors(const Terminator& t) {
+  Successors s;
+  if (const auto* j = std::get_if<Jump>(&t)) {
+    s.push_back(j->target);
+  } else if (const auto* b = std::get_if<Branch>(&t)) {
+    s.push_back(b->then);
+    s.push_back(b->otherwise);
+  } else if (const auto* l = std::get_if<LoopTest>(&t)) {
+    s.push_back(l->body);
+    s.push_back(l->exit);
+  } else if (const auto* c = std::get_if<CoinToss>(&t)) {
+    s.push_back(c->zero);
+    s.push_back(c->one);
+  }
+  return s;
+}
 // Edges into each block (a branch whose two sides are one block counts twice).
 std::vector<int> predecessor_counts(const Function& f);
 // For each block its index in reverse postorder from the entry (every

@@ -74,11 +74,6 @@ void sort_keys(std::vector<std::uint64_t>& keys, unsigned bits) {
   }
 }
 
-FuncId callee_of(const Instr& in) {
-  if (in.raw || in.op != rcx::Op::CallSubroutine || in.args.empty()) return -1;
-  return in.args[0].kind == Operand::Kind::Func ? in.args[0].value : -1;
-}
-
 namespace {
 
 // The footprints of every function, or of the subroutines only (a call

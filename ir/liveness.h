@@ -127,7 +127,11 @@ class LivenessCache {
 // after step(i) holds the set live before instruction i.
 void step_back(const Program& p, const Instr& in, const CallEffects& calls, VarSet& live);
 
-// The function a call-like instruction enters in the same task (call), or -1.
-FuncId callee_of(const Instr& in);
+// The function a call-like instruction enters in the same task (call), or
+// -1. Inline: asked of every instruction by many passes.
+inline FuncId callee_of(const Instr& in) {
+  if (in.raw || in.op != rcx::Op::CallSubroutine || in.args.empty()) return -1;
+  return in.args[0].kind == Operand::Kind::Func ? in.args[0].value : -1;
+}
 
 }  // namespace rcxc::ir

@@ -111,7 +111,10 @@ struct Lowerer {
     cur = b;
     entered.push_back(b);
   }
-  void emit(Op op, std::vector<Operand> args) {
+  // Operands, not a vector: a braced list of up to three operands stays
+  // inside the instruction (a vector was an allocation and a free per
+  // instruction lowered).
+  void emit(Op op, Operands args) {
     fn().blocks[static_cast<std::size_t>(cur)].instrs.push_back(Instr{op, std::move(args), false, span_id()});
   }
   // The statement ending the block owns its branch (listings put its line
@@ -857,6 +860,7 @@ struct Lowerer {
       return error(at, fmt::format("{} takes {} arguments, {} given", f.name, f.params.size(), c.args.size()));
     // Arguments are evaluated in the caller's scope, before any binding.
     std::vector<std::pair<ast::SymbolId, Binding>> bound;
+    bound.reserve(f.params.size());
     for (std::size_t i = 0; i < f.params.size(); ++i) {
       const ast::Param& p = f.params[i];
       const ast::Expr& arg = c.args[i];
@@ -881,6 +885,7 @@ struct Lowerer {
       }
     }
     std::vector<std::pair<ast::SymbolId, std::optional<Binding>>> saved;
+    saved.reserve(bound.size());
     for (const auto& [sym, b] : bound) {
       saved.push_back({sym, sym < env.size() ? env[sym] : std::nullopt});
       bind(sym, b);
@@ -1172,7 +1177,7 @@ struct Lowerer {
     auto slots = operand_slots(*in.op);
     if (slots.size() != in.operands.size())
       return error(in.span, fmt::format("{} takes {} operands, {} given", in.mnemonic, slots.size(), in.operands.size()));
-    std::vector<Operand> args;
+    Operands args;
     for (std::size_t i = 0; i < slots.size(); ++i) {
       const ast::Expr& e = in.operands[i];
       switch (slots[i]->role) {

@@ -158,11 +158,16 @@ struct MotorPass {
   void forget_untracked(State& s) const {
     if (s.alone) return;
     const Writes& w = others[static_cast<std::size_t>(current)];
-    for (int o = 0; o < kOutputs; ++o)
-      for (int OutputState::*field : {&OutputState::dir, &OutputState::mode, &OutputState::power}) {
-        int other = w[o].*field;
-        if (other != kNoWrite && (other == kUnknown || s.out[o].*field != other)) s.out[o].*field = kUnknown;
-      }
+    // Field by field, written out: a loop over member pointers cost more
+    // than the test, and this runs after every motor command.
+    auto forget = [](int other, int& field) {
+      if (other != kNoWrite && (other == kUnknown || field != other)) field = kUnknown;
+    };
+    for (std::size_t o = 0; o < kOutputs; ++o) {
+      forget(w[o].dir, s.out[o].dir);
+      forget(w[o].mode, s.out[o].mode);
+      forget(w[o].power, s.out[o].power);
+    }
   }
 
   void apply_call(FuncId g, State& s) {
@@ -189,6 +194,10 @@ struct MotorPass {
   // Applies `in` to `s`; returns whether it changed nothing at all.
   bool apply(const Instr& in, State& s) {
     if (!s.reached) return false;
+    // Most instructions neither command an output, call, nor start a
+    // task: they change nothing here (asked of every instruction of the
+    // program several times).
+    if (!in.raw && !is_motor_op(in) && in.op != rcx::Op::CallSubroutine && in.op != rcx::Op::StartTask) return false;
     if (FuncId g = callee_of(in); g >= 0) {
       apply_call(g, s);
       return false;
@@ -269,28 +278,56 @@ struct MotorPass {
 
   void remove_redundant(Function& fn, FuncId f, const std::vector<State>& in) {
     current = f;
+    // In place, each kept instruction moved down over the removed ones (a
+    // new list per block was an allocation per block).
     for (std::size_t b = 0; b < fn.blocks.size(); ++b) {
       State s = in[b];
-      std::vector<Instr> kept;
-      for (auto& instr : fn.blocks[b].instrs)
-        if (!apply(instr, s)) kept.push_back(std::move(instr));
-      fn.blocks[b].instrs = std::move(kept);
+      std::vector<Instr>& code = fn.blocks[b].instrs;
+      std::size_t kept = 0;
+      for (std::size_t i = 0; i < code.size(); ++i) {
+        if (apply(code[i], s)) continue;
+        if (kept != i) code[kept] = std::move(code[i]);  // never onto itself: that empties it
+        ++kept;
+      }
+      code.erase(code.begin() + static_cast<std::ptrdiff_t>(kept), code.end());
     }
   }
 };
 
+// Whether some instruction starts each function (started_anywhere for all
+// of them in one walk of the program, not one walk per function).
+std::vector<bool> started_functions(const Program& p) {
+  std::vector<bool> started(p.functions.size(), false);
+  for (const auto& fn : p.functions)
+    for (const auto& b : fn.blocks)
+      for (const auto& in : b.instrs)
+        if (in.op == rcx::Op::StartTask)
+          if (FuncId t = task_named(in); t >= 0 && static_cast<std::size_t>(t) < started.size())
+            started[static_cast<std::size_t>(t)] = true;
+  return started;
+}
+
+// each_instr_beside_other_tasks (ir.h), given whether something starts fn.
+template <class Visit>
+void visit_beside_other_tasks(const Function& fn, bool started, Visit&& visit) {
+  int skip = started ? 0 : fn.startup;
+  for (std::size_t b = 0; b < fn.blocks.size(); ++b)
+    for (std::size_t i = 0; i < fn.blocks[b].instrs.size(); ++i)
+      if (!(b == 0 && static_cast<int>(i) < skip)) visit(fn.blocks[b].instrs[i]);
+}
+
 // What each function's own instructions may set (not its callees').
-std::vector<Writes> own_writes(const Program& p) {
+std::vector<Writes> own_writes(const Program& p, const std::vector<bool>& started) {
   std::vector<Writes> w(p.functions.size(), nothing_written());
   for (std::size_t f = 0; f < p.functions.size(); ++f)
-    each_instr_beside_other_tasks(p, f, [&](const Instr& in) { add_writes(in, w[f]); });
+    visit_beside_other_tasks(p.functions[f], started[f], [&](const Instr& in) { add_writes(in, w[f]); });
   return w;
 }
 
-std::vector<int> function_touches(const Program& p) {
+std::vector<int> function_touches(const Program& p, const std::vector<bool>& started) {
   std::vector<int> t(p.functions.size(), 0);
   for (std::size_t f = 0; f < p.functions.size(); ++f)
-    each_instr_beside_other_tasks(p, f, [&](const Instr& in) { t[f] |= touched(in); });
+    visit_beside_other_tasks(p.functions[f], started[f], [&](const Instr& in) { t[f] |= touched(in); });
   for (bool changed = true; changed;) {
     changed = false;
     for (std::size_t f = 0; f < p.functions.size(); ++f)
@@ -326,8 +363,9 @@ std::vector<bool> function_starts(const Program& p) {
 
 void remove_redundant_motor_commands(Program& p) {
   std::size_t n = p.functions.size();
+  const std::vector<bool> started = started_functions(p);
   MotorPass pass{p,
-                 function_touches(p),
+                 function_touches(p, started),
                  function_starts(p),
                  std::vector<Writes>(n, nothing_written()),
                  std::vector<bool>(n, false),
@@ -350,7 +388,7 @@ void remove_redundant_motor_commands(Program& p) {
     }
   }
   // What each task may set, with the subroutines it runs.
-  auto own = own_writes(p);
+  auto own = own_writes(p, started);
   std::vector<Writes> by_task(n, nothing_written());
   for (std::size_t f = 0; f < n; ++f)
     for (FuncId t : runners[f]) combine_into(by_task[static_cast<std::size_t>(t)], own[f]);
@@ -379,7 +417,7 @@ void remove_redundant_motor_commands(Program& p) {
   for (std::size_t f = 0; f < n; ++f)
     if (!start_seen[f]) pass.started[f] = unknown;
   FuncId main = p.find_function("main");
-  bool main_alone = main >= 0 && !started_anywhere(p, main);
+  bool main_alone = main >= 0 && !started[static_cast<std::size_t>(main)];
   // Subroutine summaries depend on their callers and callers on the
   // summaries: iterate until nothing changes (states only ever widen).
   pass.recording = true;

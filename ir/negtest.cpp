@@ -72,8 +72,9 @@ std::optional<Rewrite> peel(const Block& block, VarId t, Cmp cmp, int c) {
 
 }  // namespace
 
-void test_before_one_to_one_arithmetic(Program& p) {
+void test_before_one_to_one_arithmetic(Program& p, LivenessCache* cache) {
   std::optional<CallEffects> calls;
+  Liveness fresh;
   for (auto& f : p.functions) {
     // The temporary or local a block's test compares with a constant,
     // computed by the block's last instruction.
@@ -90,7 +91,8 @@ void test_before_one_to_one_arithmetic(Program& p) {
     for (const auto& b : f.blocks) any |= candidate(b).has_value();
     if (!any) continue;
     if (!calls) calls = call_effects(p);
-    Liveness L = compute_liveness(p, f, *calls);
+    // Usually what computing into targets, just before, left.
+    const Liveness& L = cache ? cache->of(p, f, *calls) : (fresh = compute_liveness(p, f, *calls));
     for (std::size_t b = 0; b < f.blocks.size(); ++b) {
       Block& block = f.blocks[b];
       auto t = candidate(block);

@@ -80,7 +80,7 @@ void merge_consecutive_waits(Function& f);
 // `~x <= 5` (an order-reversing map that never wraps) is `x >= -6`. The
 // ordered tests only through `~` or a plain copy: `x + 1 <= 0` and `x <=
 // -1` differ at 32767.
-void test_before_one_to_one_arithmetic(Program& p);
+void test_before_one_to_one_arithmetic(Program& p, LivenessCache* cache = nullptr);
 
 // joinconst.cpp: a block that begins with constant arithmetic on a
 // temporary or local (`t *= 3`) that every way in has just set to a
@@ -251,7 +251,7 @@ int estimate_size(const Function& f);
 // (once per variable, at the read). Such a local holds what the code left in
 // it last time: a subroutine's and an inline function's locals are one
 // variable for every call, as in nqc, at every optimisation level.
-void warn_reads_before_writes(const Program& p, Diagnostics& diags);
+void warn_reads_before_writes(const Program& p, Diagnostics& diags, LivenessCache* cache = nullptr);
 
 // slots.cpp: binds every variable to one of the 32 slots. Each global has
 // the slot nqc gives it (the lowest free one in declaration order, used or

@@ -1,7 +1,7 @@
 // Merging of motor commands and dropping of sensor modes the type already
 // set (see passes.h).
 #include <algorithm>
-#include <map>
+#include <array>
 #include <optional>
 
 #include "ir/passes.h"
@@ -71,21 +71,55 @@ FieldSet field_set(const Instr& in) {
 // one output to two values: `On(OUT_A); Off(OUT_A);` in a loop runs the
 // motor a third of the time (a slow motor, a common NQC idiom), and
 // merged it would never run.
+// A value per output, output bit 1, 2 and 4 at index 0, 1 and 2 (in that
+// order, as a map by bit would list them). Arrays, not maps: a window of a
+// few commands made a dozen maps, a node allocated per entry.
+template <class T>
+using PerOutput = std::array<std::optional<T>, 3>;
+constexpr int kOutputs = 3;
+
 struct Settings {
-  std::map<std::pair<Field, int>, int> value;  // (field, output bit) -> value
+  std::array<PerOutput<int>, 3> value;  // [field][output] -> value
 
   // Records `in`; false (recording nothing) if it sets a field to another
   // value than an earlier command did.
   bool add(const Instr& in) {
     FieldSet set = field_set(in);
-    for (int bit = 1; bit <= 4; bit <<= 1)
-      if (set.outputs & bit)
-        if (auto it = value.find({set.field, bit}); it != value.end() && it->second != set.value) return false;
-    for (int bit = 1; bit <= 4; bit <<= 1)
-      if (set.outputs & bit) value[{set.field, bit}] = set.value;
+    PerOutput<int>& field = value[static_cast<std::size_t>(set.field)];
+    for (int o = 0; o < kOutputs; ++o)
+      if (set.outputs & (1 << o))
+        if (const auto& old = field[static_cast<std::size_t>(o)]; old && *old != set.value) return false;
+    for (int o = 0; o < kOutputs; ++o)
+      if (set.outputs & (1 << o)) field[static_cast<std::size_t>(o)] = set.value;
     return true;
   }
 };
+
+// The outputs of each value in `m` as (value, output mask), in increasing
+// order of value.
+struct ValueMasks {
+  std::array<std::pair<int, int>, kOutputs> items{};
+  std::size_t size = 0;
+  const std::pair<int, int>* begin() const { return items.data(); }
+  const std::pair<int, int>* end() const { return items.data() + size; }
+};
+ValueMasks group(const PerOutput<int>& m) {
+  ValueMasks g;
+  for (int o = 0; o < kOutputs; ++o) {
+    const auto& v = m[static_cast<std::size_t>(o)];
+    if (!v) continue;
+    std::size_t k = 0;
+    while (k < g.size && g.items[k].first < *v) ++k;
+    if (k < g.size && g.items[k].first == *v) {
+      g.items[k].second |= 1 << o;
+      continue;
+    }
+    for (std::size_t j = g.size; j > k; --j) g.items[j] = g.items[j - 1];
+    g.items[k] = {*v, 1 << o};
+    ++g.size;
+  }
+  return g;
+}
 
 // The fewest commands giving every output the final direction, mode and
 // power the commands in `window` leave, or nothing when no such order
@@ -96,59 +130,56 @@ struct Settings {
 // does. The order is: switches that came first, power and direction (in
 // the order a running output saw them), switches that came last.
 std::optional<std::vector<Instr>> net_commands(const std::vector<const Instr*>& window) {
-  std::map<int, int> power, dir, mode;  // output bit -> value
-  std::map<int, std::size_t> mode_at, first_setting, last_setting;  // output bit -> first/last index in window
-  std::map<int, std::size_t> power_at, dir_at;                      // output bit -> index of that setting
+  PerOutput<int> power, dir, mode;
+  PerOutput<std::size_t> mode_at, first_setting, last_setting;  // first/last index in window
+  PerOutput<std::size_t> power_at, dir_at;                      // index of that setting
   for (std::size_t i = 0; i < window.size(); ++i) {
     FieldSet set = field_set(*window[i]);
-    for (int bit = 1; bit <= 4; bit <<= 1) {
-      if (!(set.outputs & bit)) continue;
+    for (std::size_t o = 0; o < kOutputs; ++o) {
+      if (!(set.outputs & (1 << o))) continue;
       if (set.field == Field::Switch) {
         // A window switches one output to one value only (Settings), so
         // its first switch says whether the output has that value while
         // its settings change: `Off(B); SetPower(B, 1); Off(B);` keeps B
         // stopped throughout.
-        mode[bit] = set.value;
-        if (!mode_at.contains(bit)) mode_at[bit] = i;
+        mode[o] = set.value;
+        if (!mode_at[o]) mode_at[o] = i;
         continue;
       }
-      (set.field == Field::Power ? power : dir)[bit] = set.value;
-      (set.field == Field::Power ? power_at : dir_at).try_emplace(bit, i);
-      if (!first_setting.contains(bit)) first_setting[bit] = i;
-      last_setting[bit] = i;
+      (set.field == Field::Power ? power : dir)[o] = set.value;
+      auto& at = (set.field == Field::Power ? power_at : dir_at)[o];
+      if (!at) at = i;
+      if (!first_setting[o]) first_setting[o] = i;
+      last_setting[o] = i;
     }
   }
-  std::map<int, int> early, late;  // switches before / after the settings
-  for (auto [bit, v] : mode) {
+  PerOutput<int> early, late;  // switches before / after the settings
+  for (std::size_t o = 0; o < kOutputs; ++o) {
+    if (!mode[o]) continue;
+    int v = *mode[o];
     bool first = v != 0x80;  // no settings of its own: stop early, start late
-    if (first_setting.contains(bit)) {
-      if (mode_at[bit] < first_setting[bit]) first = true;
-      else if (mode_at[bit] > last_setting[bit]) first = false;
+    if (first_setting[o]) {
+      if (*mode_at[o] < *first_setting[o]) first = true;
+      else if (*mode_at[o] > *last_setting[o]) first = false;
       else return std::nullopt;  // a switch between two settings of one output
     }
-    (first ? early : late)[bit] = v;
+    (first ? early : late)[o] = v;
   }
   // An output that may run while its power and direction both change shows
   // them in the order they came (`Rev(C); SetPower(C, 3)` runs C backwards
   // at full power, then at 3, never forwards at 3): the merged commands
   // keep that order, which all such outputs must share.
   bool direction_first = false, power_first = false;
-  for (auto [bit, at] : power_at) {
-    auto d = dir_at.find(bit);
-    auto e = early.find(bit);
-    bool stopped = e != early.end() && e->second != 0x80;  // off or floating while its settings change
-    if (d == dir_at.end() || stopped) continue;
-    (d->second < at ? direction_first : power_first) = true;
+  for (std::size_t o = 0; o < kOutputs; ++o) {
+    if (!power_at[o]) continue;
+    bool stopped = early[o] && *early[o] != 0x80;  // off or floating while its settings change
+    if (!dir_at[o] || stopped) continue;
+    (*dir_at[o] < *power_at[o] ? direction_first : power_first) = true;
   }
   if (direction_first && power_first) return std::nullopt;
-  auto group = [](const std::map<int, int>& m) {
-    std::map<int, int> by_value;  // value -> output mask
-    for (auto [bit, v] : m) by_value[v] |= bit;
-    return by_value;
-  };
   std::vector<Instr> out;
   SpanId span = window.back()->span;
-  auto switches = [&](const std::map<int, int>& m) {
+  auto switches = [&](const PerOutput<int>& m) {
     for (auto [v, mask] : group(m)) out.push_back(Instr{Op::SetMotorOnOff, {Operand::imm(mask | v)}, false, span});
   };
   auto powers = [&] {
@@ -171,38 +202,48 @@ std::optional<std::vector<Instr>> net_commands(const std::vector<const Instr*>& 
 }
 
 // `first`: instructions before it stay as they are (main's startup code).
+// The block is rewritten in place, each instruction kept moved down over
+// the commands merged away: merging never writes more instructions than
+// it has read (a new list per block was most of this pass's work).
 void merge_block(Block& b, std::size_t first, const std::vector<Var>& vars) {
-  std::vector<Instr> result;
-  std::size_t n = b.instrs.size();
-  for (std::size_t i = 0; i < std::min(first, n); ++i) result.push_back(std::move(b.instrs[i]));
-  for (std::size_t i = std::min(first, n); i < n;) {
-    if (!mergeable(b.instrs[i])) {
-      result.push_back(std::move(b.instrs[i++]));
+  std::vector<Instr>& code = b.instrs;
+  std::size_t n = code.size();
+  std::size_t kept = std::min(first, n);
+  auto keep = [&](std::size_t j) {
+    if (kept != j) code[kept] = std::move(code[j]);  // never onto itself: that empties it
+    ++kept;
+  };
+  std::vector<const Instr*> motors;
+  for (std::size_t i = kept; i < n;) {
+    if (!mergeable(code[i])) {
+      keep(i++);
       continue;
     }
     // The window: from i to the last motor command reachable across
     // neutral instructions, up to a command that would undo one before it.
+    // Nothing from i on has been moved yet.
     std::size_t last = i;
     Settings settings;
-    for (std::size_t j = i; j < n && (mergeable(b.instrs[j]) || neutral(b.instrs[j], vars)); ++j) {
-      if (!mergeable(b.instrs[j])) continue;
-      if (!settings.add(b.instrs[j])) break;
+    for (std::size_t j = i; j < n && (mergeable(code[j]) || neutral(code[j], vars)); ++j) {
+      if (!mergeable(code[j])) continue;
+      if (!settings.add(code[j])) break;
       last = j;
     }
-    std::vector<const Instr*> motors;
+    motors.clear();
     for (std::size_t j = i; j <= last; ++j)
-      if (mergeable(b.instrs[j])) motors.push_back(&b.instrs[j]);
+      if (mergeable(code[j])) motors.push_back(&code[j]);
     auto merged = net_commands(motors);
     if (merged && merged->size() < motors.size()) {
+      // Moving an instruction down only overwrites ones already read.
       for (std::size_t j = i; j <= last; ++j)
-        if (!mergeable(b.instrs[j])) result.push_back(std::move(b.instrs[j]));
-      for (auto& m : *merged) result.push_back(std::move(m));
+        if (!mergeable(code[j])) keep(j);
+      for (auto& m : *merged) code[kept++] = std::move(m);
     } else {
-      for (std::size_t j = i; j <= last; ++j) result.push_back(std::move(b.instrs[j]));
+      for (std::size_t j = i; j <= last; ++j) keep(j);
     }
     i = last + 1;
   }
-  b.instrs = std::move(result);
+  code.erase(code.begin() + static_cast<std::ptrdiff_t>(kept), code.end());
 }
 
 // The mode Set sensor type gives each type (seed: raw, boolean, celsius,
@@ -212,18 +253,23 @@ int default_mode_code(int type) {
   return (type >= 0 && type <= 4) ? kModes[type] << 5 : -1;
 }
 
+// Whether instruction i sets the mode the type set just before gives.
+bool default_mode_after_type(const std::vector<Instr>& code, std::size_t i) {
+  const Instr& in = code[i];
+  if (in.raw || in.op != Op::SetSensorMode || i == 0) return false;
+  const Instr& prev = code[i - 1];
+  return !prev.raw && prev.op == Op::SetSensorType && prev.args[0] == in.args[0] && in.args[1].is_imm() &&
+         prev.args[1].is_imm() && default_mode_code(prev.args[1].value) == in.args[1].value;
+}
+
 void drop_default_modes(Block& b) {
+  // Most blocks have none: those are left as they are, not copied.
+  std::size_t i = 0;
+  while (i < b.instrs.size() && !default_mode_after_type(b.instrs, i)) ++i;
+  if (i == b.instrs.size()) return;
   std::vector<Instr> kept;
-  for (std::size_t i = 0; i < b.instrs.size(); ++i) {
-    const Instr& in = b.instrs[i];
-    bool redundant = false;
-    if (!in.raw && in.op == Op::SetSensorMode && i > 0) {
-      const Instr& prev = b.instrs[i - 1];
-      redundant = !prev.raw && prev.op == Op::SetSensorType && prev.args[0] == in.args[0] &&
-                  in.args[1].is_imm() && prev.args[1].is_imm() && default_mode_code(prev.args[1].value) == in.args[1].value;
-    }
-    if (!redundant) kept.push_back(in);
-  }
+  for (i = 0; i < b.instrs.size(); ++i)
+    if (!default_mode_after_type(b.instrs, i)) kept.push_back(b.instrs[i]);
   b.instrs = std::move(kept);
 }
 

@@ -39,8 +39,15 @@ std::uint64_t code_hash(const Program& p) {
 }  // namespace
 
 bool optimize(Program& p, OptLevel level, Diagnostics& diags, Log& log, const PassOptions& passes) {
-  // Before any pass, so every level reports the same reads.
-  warn_reads_before_writes(p, diags);
+  // Most of the passes change nothing in most functions, and a round of
+  // them that changes nothing changes nothing anywhere: each function's
+  // liveness is kept until its code changes. The check for reads before
+  // writes computes it first, and calls (inlining) and tail starts leave
+  // most functions as they were for the first round to reuse it.
+  LivenessCache liveness;
+  // Before any pass, so every level reports the same reads (-O0 runs no
+  // pass that would reuse its liveness).
+  warn_reads_before_writes(p, diags, level != OptLevel::O0 ? &liveness : nullptr);
   if (!resolve_calls(p, level, diags, log)) return false;
   if (shrinks_without_slowing(level) && passes.tail_starts) run_tail_started_tasks_in_main(p, log);
   if (level != OptLevel::O0) {
@@ -50,16 +57,12 @@ bool optimize(Program& p, OptLevel level, Diagnostics& diags, Log& log, const Pa
     // Up to three rounds, each finding what the last one's removals
     // exposed; a round that changes nothing ends them.
     std::uint64_t before = code_hash(p);
-    // Most of these passes change nothing in most functions, and a round
-    // that changes nothing changes nothing anywhere: each function's
-    // liveness is kept until its code changes.
-    LivenessCache liveness;
     for (int round = 0; round < 3; ++round) {
       fold_constants(p, &liveness);
       remove_dead_stores(p, &liveness);
       if (shrinks_without_slowing(level)) {
         compute_into_targets(p, &liveness);
-        test_before_one_to_one_arithmetic(p);
+        test_before_one_to_one_arithmetic(p, &liveness);
         for (auto& f : p.functions) {
           push_constant_ops_into_predecessors(f, p.vars);
           compute_nonzero_by_sign(f);

@@ -50,9 +50,10 @@ void add_liveness_edges(const Program& p, const Function& f, const CallEffects& 
   auto entry = L.live_in[0].members();
   for (VarId a : entry)
     for (VarId b : entry) g.add(a, b);
+  VarSet live;  // reused: assigning keeps its room (a copy per block was an allocation per block)
   for (std::size_t b = 0; b < f.blocks.size(); ++b) {
     const Block& block = f.blocks[b];
-    VarSet live = L.live_out[b];
+    live.items.assign(L.live_out[b].items.begin(), L.live_out[b].items.end());
     for (VarId v : reads_of(block.term))
       if (p.vars[static_cast<std::size_t>(v)].kind != VarKind::Global) live.add(v);
     for (std::size_t k = block.instrs.size(); k-- > 0;) {

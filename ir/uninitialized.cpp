@@ -6,12 +6,14 @@
 
 namespace rcxc::ir {
 
-void warn_reads_before_writes(const Program& p, Diagnostics& diags) {
+void warn_reads_before_writes(const Program& p, Diagnostics& diags, LivenessCache* cache) {
   auto calls = call_effects(p);
+  Liveness fresh;
   std::vector<bool> reported(p.vars.size(), false);
   for (const auto& f : p.functions) {
     if (f.blocks.empty()) continue;
-    Liveness live = compute_liveness(p, f, calls);
+    // Kept for the first round of the clean-up passes when given a cache.
+    const Liveness& live = cache ? cache->of(p, f, calls) : (fresh = compute_liveness(p, f, calls));
     VarSet suspects;
     for (VarId v : live.live_in[0].members())
       if (p.vars[static_cast<std::size_t>(v)].kind == VarKind::Local && !reported[static_cast<std::size_t>(v)])

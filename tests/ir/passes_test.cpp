@@ -914,6 +914,38 @@ TEST(Motors, RunsOfCommandsMerge) {
   EXPECT_EQ(instrs[3].op, rcx::Op::Wait);
 }
 
+TEST(Motors, MergedBlocksKeepEveryOtherInstructionInOrder) {
+  // The block is rewritten in place: the startup code stays first as it
+  // is, a window's neutral instructions come before its merged commands,
+  // and the windows after a merge, merged or not, keep their places.
+  Builder b;
+  FuncId f = b.function("main");
+  VarId x = b.local("x");
+  b.fn(f).startup = 2;
+  b.block(f, {dir(0x01), out(0x81),                            // startup: never merged
+              dir(0x01), set(x, I(3)), out(0x81), dir(0x84), out(0x84),  // one window: neutral, then 1 command
+              wait(I(5)),                                           // ends it
+              out(0x81),                                            // alone: kept (the off undoes it)
+              out(0x41), sound(1), pwr(1, 3), pwr(4, 3), add(x, I(1))});  // A off first, one power
+  merge_motor_commands(b.fn(f), b.p.vars);
+  const auto& instrs = b.at(f, 0).instrs;
+  ASSERT_EQ(instrs.size(), 12u);
+  EXPECT_EQ(instrs[0].op, rcx::Op::SetMotorDirection);
+  EXPECT_EQ(instrs[1].args[0], I(0x81));
+  EXPECT_EQ(instrs[2].op, rcx::Op::SetVariable);
+  EXPECT_EQ(instrs[3].op, rcx::Op::SetMotorDirection);  // A reversed, C forward: two directions
+  EXPECT_EQ(instrs[4].op, rcx::Op::SetMotorDirection);
+  EXPECT_EQ(instrs[5].op, rcx::Op::SetMotorOnOff);
+  EXPECT_EQ(instrs[5].args[0], I(0x85));
+  EXPECT_EQ(instrs[6].op, rcx::Op::Wait);
+  EXPECT_EQ(instrs[7].args[0], I(0x81));
+  EXPECT_EQ(instrs[8].op, rcx::Op::PlaySound);
+  EXPECT_EQ(instrs[9].args[0], I(0x41));
+  EXPECT_EQ(instrs[10].op, rcx::Op::SetMotorPower);
+  EXPECT_EQ(instrs[10].args[0], I(5));
+  EXPECT_EQ(instrs[11].op, rcx::Op::AddToVariable);
+}
+
 TEST(Motors, OutputsThatStopDoSoBeforeTheirDirectionChanges) {
   // Float(OUT_B+OUT_C); OnRev(OUT_A); Rev(OUT_C); with C running: merged,
   // C must float before it is reversed, or it would run backwards for an
