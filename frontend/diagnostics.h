@@ -21,6 +21,7 @@ struct SourceLoc {
   std::uint32_t column = 0;
   std::uint32_t expansion = 0;
   bool valid() const { return line != 0; }
+  bool operator==(const SourceLoc&) const = default;
 };
 
 // Whether `a` comes before `b` in the text (both in the same file).
@@ -32,6 +33,7 @@ inline bool before(const SourceLoc& a, const SourceLoc& b) {
 struct SourceSpan {
   SourceLoc begin;
   SourceLoc end;
+  bool operator==(const SourceSpan&) const = default;
 };
 
 struct Note {

@@ -64,10 +64,7 @@ struct Lowerer {
   SpanId interned_id = 0;  // out.spans[0] is the empty span
 
   SpanId span_id() {
-    auto same = [](const SourceLoc& a, const SourceLoc& b) {
-      return a.file == b.file && a.line == b.line && a.column == b.column && a.expansion == b.expansion;
-    };
-    if (!same(span.begin, interned.begin) || !same(span.end, interned.end)) {
+    if (span != interned) {
       interned = span;
       interned_id = out.add_span(span);
     }
