@@ -32,9 +32,11 @@ int opposite_directions(const Instr& a, const Instr& b) {
 // other task unless something restarts main).
 bool turned_elsewhere(const Program& p, FuncId f, int outputs) {
   bool turned = false;
+  const std::vector<bool> started = started_functions(p);
   for (std::size_t g = 0; g < p.functions.size(); ++g)
     if (static_cast<FuncId>(g) != f)
-      each_instr_beside_other_tasks(p, g, [&](const Instr& in) { turned = turned || turns(in, outputs); });
+      each_instr_beside_other_tasks(p.functions[g], started[g],
+                                    [&](const Instr& in) { turned = turned || turns(in, outputs); });
   return turned;
 }
 

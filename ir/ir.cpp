@@ -212,12 +212,15 @@ FuncId task_named(const Instr& in) {
 
 bool starts_or_stops_unnamed_task(const Instr& in) { return in.raw || (is_task_op(in) && task_named(in) < 0); }
 
-bool started_anywhere(const Program& p, FuncId f) {
+std::vector<bool> started_functions(const Program& p) {
+  std::vector<bool> started(p.functions.size(), false);
   for (const auto& fn : p.functions)
     for (const auto& b : fn.blocks)
       for (const auto& in : b.instrs)
-        if (in.op == rcx::Op::StartTask && task_named(in) == f) return true;
-  return false;
+        if (in.op == rcx::Op::StartTask)
+          if (FuncId t = task_named(in); t >= 0 && static_cast<std::size_t>(t) < started.size())
+            started[static_cast<std::size_t>(t)] = true;
+  return started;
 }
 
 bool same_instr(const Instr& a, const Instr& b) { return a.op == b.op && a.raw == b.raw && a.args == b.args; }

@@ -328,16 +328,17 @@ FuncId task_named(const Instr& in);
 // Whether `in` may start or stop a task without naming it: raw asm bytes,
 // or a start or stop by number.
 bool starts_or_stops_unnamed_task(const Instr& in);
-// Whether some instruction starts task `f` (for main: restarts it, so its
-// startup code can run while other tasks run).
-bool started_anywhere(const Program& p, FuncId f);
+// For each function, whether some instruction starts it as a task (for
+// main: restarts it, so its startup code can run while other tasks run),
+// all found in one walk of the program.
+std::vector<bool> started_functions(const Program& p);
 
-// Visits the instructions of function `f` that can act while other tasks
-// run: all but main's startup code, unless something restarts main.
+// Visits the instructions of `fn` that can act while other tasks run: all
+// but main's startup code, unless something restarts main (`started`:
+// started_functions' entry for fn).
 template <class Visit>
-void each_instr_beside_other_tasks(const Program& p, std::size_t f, Visit&& visit) {
-  const Function& fn = p.functions[f];
-  int skip = started_anywhere(p, static_cast<FuncId>(f)) ? 0 : fn.startup;
+void each_instr_beside_other_tasks(const Function& fn, bool started, Visit&& visit) {
+  int skip = started ? 0 : fn.startup;
   for (std::size_t b = 0; b < fn.blocks.size(); ++b)
     for (std::size_t i = 0; i < fn.blocks[b].instrs.size(); ++i)
       if (!(b == 0 && static_cast<int>(i) < skip)) visit(fn.blocks[b].instrs[i]);

@@ -294,40 +294,18 @@ struct MotorPass {
   }
 };
 
-// Whether some instruction starts each function (started_anywhere for all
-// of them in one walk of the program, not one walk per function).
-std::vector<bool> started_functions(const Program& p) {
-  std::vector<bool> started(p.functions.size(), false);
-  for (const auto& fn : p.functions)
-    for (const auto& b : fn.blocks)
-      for (const auto& in : b.instrs)
-        if (in.op == rcx::Op::StartTask)
-          if (FuncId t = task_named(in); t >= 0 && static_cast<std::size_t>(t) < started.size())
-            started[static_cast<std::size_t>(t)] = true;
-  return started;
-}
-
-// each_instr_beside_other_tasks (ir.h), given whether something starts fn.
-template <class Visit>
-void visit_beside_other_tasks(const Function& fn, bool started, Visit&& visit) {
-  int skip = started ? 0 : fn.startup;
-  for (std::size_t b = 0; b < fn.blocks.size(); ++b)
-    for (std::size_t i = 0; i < fn.blocks[b].instrs.size(); ++i)
-      if (!(b == 0 && static_cast<int>(i) < skip)) visit(fn.blocks[b].instrs[i]);
-}
-
 // What each function's own instructions may set (not its callees').
 std::vector<Writes> own_writes(const Program& p, const std::vector<bool>& started) {
   std::vector<Writes> w(p.functions.size(), nothing_written());
   for (std::size_t f = 0; f < p.functions.size(); ++f)
-    visit_beside_other_tasks(p.functions[f], started[f], [&](const Instr& in) { add_writes(in, w[f]); });
+    each_instr_beside_other_tasks(p.functions[f], started[f], [&](const Instr& in) { add_writes(in, w[f]); });
   return w;
 }
 
 std::vector<int> function_touches(const Program& p, const std::vector<bool>& started) {
   std::vector<int> t(p.functions.size(), 0);
   for (std::size_t f = 0; f < p.functions.size(); ++f)
-    visit_beside_other_tasks(p.functions[f], started[f], [&](const Instr& in) { t[f] |= touched(in); });
+    each_instr_beside_other_tasks(p.functions[f], started[f], [&](const Instr& in) { t[f] |= touched(in); });
   for (bool changed = true; changed;) {
     changed = false;
     for (std::size_t f = 0; f < p.functions.size(); ++f)
