@@ -17,7 +17,6 @@
 // included). A long program is written as a main file that #includes
 // parts, since rcxc reads no source file over 1 MiB.
 #include <benchmark/benchmark.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cstdlib>
@@ -208,7 +207,8 @@ void print_against_nqc(const std::filesystem::path& rcxc) {
   // RCXC_BENCH_PROGRAMS names a folder to write the programs into and keep
   // (to profile one compile by itself); otherwise a temporary one.
   const char* keep = std::getenv("RCXC_BENCH_PROGRAMS");
-  fs::path dir = keep && *keep ? fs::path(keep) : fs::temp_directory_path() / fmt::format("rcxc-compiler-bench-{}", getpid());
+  std::optional<rcxc::bench::ScratchDir> scratch;
+  fs::path dir = keep && *keep ? fs::path(keep) : scratch.emplace("rcxc-compiler-bench").path;
   fs::create_directories(dir);
   std::cout << "CPU time of one compile as a process, median of the runs (ratio: rcxc / nqc)\n";
   std::cout << fmt::format("{:>8} {:>5} {:>12} {:>12} {:>7} {:>14}\n", "lines", "runs", "rcxc ms", "nqc ms", "ratio",
@@ -243,7 +243,6 @@ void print_against_nqc(const std::filesystem::path& rcxc) {
                              theirs ? fmt::format("{:.2f}", *ours / *theirs) : "-",
                              *ours * 1e6 / static_cast<double>(real_lines));
   }
-  if (!keep || !*keep) fs::remove_all(dir);
 }
 
 void compile(benchmark::State& state, const std::string& src) {
