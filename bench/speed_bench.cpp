@@ -396,6 +396,7 @@ struct ReactiveTotals {
   int programs = 0, unlike = 0;
   std::int64_t ours_reaction = 0, theirs_reaction = 0;
   int reactions = 0, slower_reactions = 0;
+  std::vector<std::string> slower_names;
 };
 
 ReactiveTotals generated_reactive(int count) {
@@ -414,7 +415,11 @@ ReactiveTotals generated_reactive(int count) {
     t.ours_reaction += s.ours_reaction;
     t.theirs_reaction += s.theirs_reaction;
     t.reactions += s.reactions;
-    t.slower_reactions += s.ours_reaction > s.theirs_reaction;
+    if (s.ours_reaction > s.theirs_reaction) {
+      ++t.slower_reactions;
+      t.slower_names.push_back(fmt::format("reactive {}: {} vs {} instructions{}", seed, s.ours_reaction,
+                                           s.theirs_reaction, s.behaves_alike ? "" : " (events differ at 2 ms)"));
+    }
   }
   return t;
 }
@@ -500,6 +505,7 @@ int main(int, char** argv) {
                            r.passes.geometric_mean(), r.passes.looping, r.passes.slower,
                            ratio(static_cast<double>(r.ours_reaction), static_cast<double>(r.theirs_reaction)),
                            r.ours_reaction, r.theirs_reaction, r.reactions, r.slower_reactions, r.unlike, r.programs);
+  for (const auto& l : r.slower_names) std::cout << "    reacts later than nqc's: " << l << "\n";
   std::cout << fmt::format("  compile time (CPU)      {:.3f}  ({:.1f} vs {:.1f} ms per corpus program, as processes)\n",
                            ratio(rcxc_cpu, nqc_cpu), rcxc_cpu * 1000 / compiles, nqc_cpu * 1000 / compiles);
   return 0;
