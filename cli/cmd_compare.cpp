@@ -177,6 +177,11 @@ int run(const CompareOptions& o) {
     std::cerr << "rcxc compare: " << *bad << "\n";
     return kExitUsage;
   }
+  if (o.file == frontend::kStandardInput) {
+    std::cerr << "rcxc compare: compare needs the program in a file, which nqc compiles too (not '-', the standard "
+                 "input)\n";
+    return kExitUsage;
+  }
   if (is_nqc_source(o.file) == false) {
     std::cerr << "rcxc compare: " << o.file << " is an .rcx image; compare needs the NQC source\n";
     return kExitFailure;

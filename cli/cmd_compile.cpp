@@ -58,8 +58,8 @@ std::optional<std::string> source_file_at(const std::string& path, const SourceM
 
 int write_outputs(const CompileArgs& a, const backend::Output& out, const SourceManager& sm) {
   auto image = rcx::write_image(out.image);
-  std::string path = image_path(a);
-  if (!a.listing.empty() && a.listing != "-" && same_file(path, a.listing)) {
+  std::string path = image_path(a);  // "-": the standard output
+  if (!a.listing.empty() && a.listing != "-" && path != "-" && same_file(path, a.listing)) {
     std::cerr << "rcxc compile: the image and the listing would both be written to " << a.listing
               << " (choose another name)\n";
     return kExitUsage;
@@ -72,7 +72,14 @@ int write_outputs(const CompileArgs& a, const backend::Output& out, const Source
       return kExitUsage;
     }
   }
-  if (!write_file_atomically(path, std::string(image.begin(), image.end()))) {
+  if (path == "-") {
+    // For a pipe; bad_arguments has made sure the listing goes elsewhere.
+    std::cout.write(reinterpret_cast<const char*>(image.data()), static_cast<std::streamsize>(image.size()));
+    if (!std::cout.flush()) {
+      std::cerr << "rcxc compile: cannot write the image to the standard output\n";
+      return kExitFailure;
+    }
+  } else if (!write_file_atomically(path, std::string(image.begin(), image.end()))) {
     std::cerr << "rcxc compile: cannot write " << path << "\n";
     return kExitFailure;
   }
@@ -92,6 +99,14 @@ int write_outputs(const CompileArgs& a, const backend::Output& out, const Source
 std::optional<std::string> bad_arguments(const CompileArgs& a) {
   if (auto bad = bad_compiler_arguments(a.compiler)) return bad;
   if (a.output && a.output->empty()) return "-o needs a file name";
+  if (a.preprocess_only) return std::nullopt;
+  // FILE.rcx is named after FILE; the standard input has no name to give.
+  if (a.file == "-" && !a.output)
+    return "the program comes from the standard input: name the image with -o FILE (-o - writes it to the standard "
+           "output)";
+  if (a.output == "-" && a.listing == "-")
+    return "the image (-o -) and the listing (--listing) would both go to the standard output: write one of them "
+           "to a file (--listing=FILE)";
   return std::nullopt;
 }
 
@@ -146,8 +161,8 @@ void register_compile(CLI::App& app, int& exit_code) {
   auto args = std::make_shared<CompileArgs>();
   // Not required() for CLI11: a missing FILE is said in the callback, which
   // can tell when `--listing prog.nqc` took the source as its value.
-  cmd->add_option("FILE", args->file, "NQC source file (required)");
-  cmd->add_option("-o,--output", args->output, "Output .rcx image");
+  cmd->add_option("FILE", args->file, "NQC source file (required; - reads the standard input)");
+  cmd->add_option("-o,--output", args->output, "Output .rcx image (default: FILE with .rcx; - writes the standard output)");
   add_compiler_options(cmd, args->compiler);
   cmd->add_flag("-E", args->preprocess_only, "Print the preprocessed source and stop (nqc's -E<file> writes errors; here they go to stderr)");
   add_repeatable(cmd, "-W", args->warning_flags, "-Werror: treat warnings as errors");

@@ -24,6 +24,7 @@
 #include "nxt/telegram.h"
 #include "nxt/transport.h"
 #include "nxt/virtual_nxt.h"
+#include "rcx/file_read.h"
 #include "verify/testspec.h"
 
 namespace rcxc::cli {
@@ -176,11 +177,21 @@ std::variant<Output, Failure> info(Client& c) {
   return o;
 }
 
+// No file larger than the NXT's whole flash (256 KB) can go onto it; the
+// cap also ends /dev/zero or an endless pipe with a message.
+constexpr rcx::FileKind kNxtUpload{"file for the NXT", std::size_t{256} << 10};
+
 std::string read_file_bytes(const std::string& path, nxt::Bytes& out) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return fmt::format("cannot read {}", path);
-  out.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-  if (in.bad()) return fmt::format("cannot read {}", path);
+  auto read = rcx::read_file(path, kNxtUpload);
+  if (auto* problem = std::get_if<rcx::FileProblem>(&read)) {
+    switch (*problem) {
+      case rcx::FileProblem::Directory: return fmt::format("{}: is a directory, not a file to upload", path);
+      case rcx::FileProblem::TooLarge: return rcx::too_large_message(path, kNxtUpload);
+      default: return fmt::format("cannot read {}", path);
+    }
+  }
+  const std::string& bytes = std::get<std::string>(read);
+  out.assign(bytes.begin(), bytes.end());
   return {};
 }
 

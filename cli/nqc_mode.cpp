@@ -21,9 +21,11 @@
 #include "backend/nqc_listing.h"
 #include "cli/output_file.h"
 #include "cli/version.h"
+#include "frontend/frontend.h"
 #include "link/download.h"
 #include "link/remote.h"
 #include "link/transport.h"
+#include "rcx/file_read.h"
 #include "rcx/image.h"
 #include "stdlib/stdlib.h"
 
@@ -279,22 +281,21 @@ class Session {
 
   int perform(const SourceStep& s) {
     if (o_.binary) return perform_binary(s.name);
-    std::string text;
-    if (s.name == "-") {
-      text.assign(std::istreambuf_iterator<char>(std::cin), std::istreambuf_iterator<char>());
-    } else {
-      std::ifstream in(s.name, std::ios::binary);
-      std::error_code ec;
-      if (!in || std::filesystem::is_directory(s.name, ec)) {
-        report_errors(fmt::format("# Error: cannot open file \"{}\"\n", s.name));
-        return kNqcExitCompile;
-      }
-      text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    // Read with the cap every source has: /dev/zero or an endless pipe
+    // ends with a message, not with the machine's memory.
+    const bool piped = s.name == frontend::kStandardInput;
+    const std::string name = piped ? std::string(frontend::kStandardInputName) : s.name;
+    auto read = piped ? rcx::read_stream(std::cin, rcx::kSourceFile) : rcx::read_file(s.name, rcx::kSourceFile);
+    if (auto* problem = std::get_if<rcx::FileProblem>(&read)) {
+      report_errors(*problem == rcx::FileProblem::TooLarge
+                        ? fmt::format("# Error: {}\n", rcx::too_large_message(name, rcx::kSourceFile))
+                        : fmt::format("# Error: cannot open file \"{}\"\n", s.name));
+      return kNqcExitCompile;
     }
+    std::string text = std::move(std::get<std::string>(read));
     SourceManager sm;
     Diagnostics diags;
     ir::Log log;
-    const std::string name = s.name == "-" ? "<stdin>" : s.name;
     auto out = backend::compile_source(name, std::move(text), o_.frontend, ir::OptLevel::Os, sm, diags, log);
     report_errors(render_nqc(diags, sm));
     if (!out || diags.has_errors()) return kNqcExitCompile;

@@ -11,6 +11,7 @@
 #include "backend/compile.h"
 #include "ir/lower.h"
 #include "cli/commands.h"
+#include "rcx/file_read.h"
 
 namespace rcxc::cli {
 namespace {
@@ -116,13 +117,17 @@ CompileRequest compile_request(const CompilerArgs& args) {
   return r;
 }
 
-CompileResult compile_file(const std::string& path, const CompileRequest& request, Diagnostics diags) {
+namespace {
+
+// backend::compile_file's steps after `parse`, keeping the parsed
+// program's globals.
+template <typename Parse>
+CompileResult compile_parsed(Parse parse, const CompileRequest& request, Diagnostics diags) {
   CompileResult r;
   r.diagnostics = std::move(diags);
-  // backend::compile_file's steps, keeping the parsed program's globals.
   std::optional<ir::Program> lowered;
   {
-    auto program = frontend::parse_program(path, request.frontend, r.sources, r.diagnostics);
+    std::optional<ast::Program> program = parse(r.sources, r.diagnostics);
     if (program) {
       for (const auto& g : program->globals) r.globals.push_back(g.name);
       lowered = ir::lower(*program, r.diagnostics);
@@ -134,6 +139,14 @@ CompileResult compile_file(const std::string& path, const CompileRequest& reques
   if (lowered) r.output = backend::compile(std::move(*lowered), request.level, r.diagnostics, r.log, request.passes);
   if (r.diagnostics.has_errors()) r.output.reset();
   return r;
+}
+
+}  // namespace
+
+CompileResult compile_file(const std::string& path, const CompileRequest& request, Diagnostics diags) {
+  return compile_parsed(
+      [&](SourceManager& sm, Diagnostics& d) { return frontend::parse_program(path, request.frontend, sm, d); },
+      request, std::move(diags));
 }
 
 CompiledForTest compile_nqc_file(const std::string& path, const CompileRequest& request) {
@@ -162,11 +175,39 @@ std::optional<bool> is_nqc_source(const std::string& path) {
   return head.find('\0') == std::string::npos;
 }
 
+namespace {
+
+// FILE "-": an image or NQC source on the standard input, told apart as
+// files are (the signature "RCXI"), after reading it once.
+std::variant<rcx::Image, std::string> load_standard_input(const CompileRequest& request) {
+  const std::string name(frontend::kStandardInputName);
+  auto read = rcx::read_stream(std::cin, rcx::kSourceFile);
+  if (auto* problem = std::get_if<rcx::FileProblem>(&read))
+    return *problem == rcx::FileProblem::TooLarge ? rcx::too_large_message(name, rcx::kSourceFile)
+                                                  : "cannot read the standard input";
+  std::string& bytes = std::get<std::string>(read);
+  if (bytes.rfind("RCXI", 0) == 0) {
+    auto image = rcx::read_image({reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()});
+    if (auto* e = std::get_if<rcx::ImageError>(&image)) return name + ": " + e->message;
+    return std::get<rcx::Image>(std::move(image));
+  }
+  CompileResult compiled = compile_parsed(
+      [&](SourceManager& sm, Diagnostics& d) {
+        return frontend::parse_source(name, std::move(bytes), request.frontend, sm, d);
+      },
+      request, {});
+  std::cerr << render_all(compiled.diagnostics, compiled.sources, {});
+  if (!compiled.output) return name + ": the program does not compile";
+  return std::move(compiled.output->image);
+}
+
+}  // namespace
+
 std::variant<rcx::Image, std::string> load_program(const std::string& path, const CompileRequest& request) {
   // A file that cannot be read (missing, a folder) is the image reader's to
   // explain: it names the file and the reason.
-  auto source = is_nqc_source(path);
-  if (source.value_or(false)) {
+  if (path == frontend::kStandardInput) return load_standard_input(request);
+  if (is_nqc_source(path).value_or(false)) {
     CompileResult compiled = compile_file(path, request);
     std::cerr << render_all(compiled.diagnostics, compiled.sources, {});
     if (!compiled.output) return fmt::format("{}: the program does not compile", path);

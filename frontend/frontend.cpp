@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <iostream>
 #include <iterator>
 #include <fstream>
 #include <sstream>
@@ -23,21 +24,24 @@ struct StdlibCache {
 namespace {
 
 std::optional<std::uint32_t> load(const std::string& path, SourceManager& sm, Diagnostics& diags) {
-  auto file = rcx::read_file(path, rcx::kSourceFile);
+  const bool piped = path == kStandardInput;
+  const std::string name = piped ? std::string(kStandardInputName) : path;
+  auto file = piped ? rcx::read_stream(std::cin, rcx::kSourceFile) : rcx::read_file(path, rcx::kSourceFile);
   if (const auto* problem = std::get_if<rcx::FileProblem>(&file)) {
     switch (*problem) {
-      case rcx::FileProblem::Directory: diags.error({}, "'" + path + "' is a directory, not a source file").file = path; break;
-      case rcx::FileProblem::TooLarge: diags.error({}, rcx::too_large_message(path, rcx::kSourceFile)).file = path; break;
-      case rcx::FileProblem::CannotOpen: case rcx::FileProblem::ReadError: diags.error({}, "cannot open '" + path + "'").file = path;
+      case rcx::FileProblem::Directory: diags.error({}, "'" + name + "' is a directory, not a source file").file = name; break;
+      case rcx::FileProblem::TooLarge: diags.error({}, rcx::too_large_message(name, rcx::kSourceFile)).file = name; break;
+      case rcx::FileProblem::CannotOpen: case rcx::FileProblem::ReadError:
+        diags.error({}, piped ? "cannot read the standard input" : "cannot open '" + name + "'").file = name;
     }
     return std::nullopt;
   }
   std::string& text = std::get<std::string>(file);
-  if (std::string why = not_source_reason(path, text); !why.empty()) {
-    diags.error({}, why).file = path;
+  if (std::string why = not_source_reason(name, text); !why.empty()) {
+    diags.error({}, why).file = name;
     return std::nullopt;
   }
-  return sm.add(path, std::move(text));
+  return sm.add(name, std::move(text));
 }
 
 std::string folder_of(const std::string& path) {

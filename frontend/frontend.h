@@ -4,6 +4,7 @@
 
 #include <optional>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -25,6 +26,12 @@ struct Options {
   // Adds `-D`'s argument: NAME or NAME=VALUE.
   void define(const std::string& option);
 };
+
+// A `path` of "-" is the standard input, as on nqc's command line: it is
+// named <stdin> in messages, and its relative #includes are searched from
+// the current folder.
+inline constexpr std::string_view kStandardInput = "-";
+inline constexpr std::string_view kStandardInputName = "<stdin>";
 
 // Preprocesses, parses and checks the file at `path`. Returns the annotated
 // program when no error was reported (warnings are allowed), else nullopt;

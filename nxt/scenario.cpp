@@ -1,6 +1,7 @@
 #include "nxt/scenario.h"
 
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -92,12 +93,20 @@ std::variant<std::vector<ScenarioInput>, ScenarioError> parse_scenario(std::stri
 }
 
 std::variant<std::vector<ScenarioInput>, ScenarioError> read_scenario_file(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    return ScenarioError{fmt::format("{}: is a directory, not a scenario file", path)};
   std::ifstream in(path, std::ios::binary);
   if (!in) return ScenarioError{fmt::format("{}: cannot read the scenario file", path)};
-  std::stringstream text;
-  text << in.rdbuf();
+  // One byte past the cap is enough to refuse: /dev/zero or an endless
+  // pipe ends with a message, not with the machine's memory.
+  std::string text(kMaxScenarioBytes + 1, '\0');
+  in.read(text.data(), static_cast<std::streamsize>(text.size()));
   if (in.bad()) return ScenarioError{fmt::format("{}: cannot read the scenario file", path)};
-  return parse_scenario(text.str(), path);
+  text.resize(static_cast<std::size_t>(in.gcount()));
+  if (text.size() > kMaxScenarioBytes)
+    return ScenarioError{fmt::format("{}: larger than a scenario file may be (1 MiB); is it the right file?", path)};
+  return parse_scenario(text, path);
 }
 
 }  // namespace nxt

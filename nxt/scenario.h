@@ -27,6 +27,7 @@
 //   battery_mv = 7200
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -53,6 +54,8 @@ struct ScenarioError {
 
 // Inputs in time order.
 std::variant<std::vector<ScenarioInput>, ScenarioError> parse_scenario(std::string_view text, std::string_view path);
+// A scenario file holds at most this many bytes (as the RCX's scenarios).
+inline constexpr std::size_t kMaxScenarioBytes = std::size_t{1} << 20;
 std::variant<std::vector<ScenarioInput>, ScenarioError> read_scenario_file(const std::string& path);
 
 }  // namespace nxt

@@ -12,6 +12,10 @@ std::variant<std::string, FileProblem> read_file(const std::string& path, FileKi
   if (std::filesystem::is_directory(path, ec)) return FileProblem::Directory;
   std::ifstream in(path, std::ios::binary);
   if (!in) return FileProblem::CannotOpen;
+  return read_stream(in, kind);
+}
+
+std::variant<std::string, FileProblem> read_stream(std::istream& in, FileKind kind) {
   std::string bytes;
   char chunk[65536];
   while (in) {

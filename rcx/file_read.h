@@ -8,6 +8,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <istream>
 #include <string>
 #include <variant>
 
@@ -31,6 +32,10 @@ inline constexpr FileKind kFirmwareFile{"firmware file", std::size_t{1} << 20};
 // in its own words ("P: is a directory, not a scenario file"); a file
 // larger than `kind.max_bytes` is TooLarge after reading one byte more.
 std::variant<std::string, FileProblem> read_file(const std::string& path, FileKind kind);
+
+// The same for a stream already open (standard input, for a FILE of "-"):
+// a pipe that never ends is TooLarge one byte past the cap.
+std::variant<std::string, FileProblem> read_stream(std::istream& in, FileKind kind);
 
 // "P: larger than a source file may be (1 MiB); is it the right file?"
 std::string too_large_message(const std::string& path, FileKind kind);

@@ -245,3 +245,54 @@ TEST(CompileCli, RepeatableOptionsBeforeTheFile) {
   // Without the define the program does not compile: the option reached it.
   EXPECT_EQ(run_rcxc({"compile", "-I", d.path + "/inc", src, "-o", d.path + "/q.rcx"}).exit_code, 1);
 }
+
+// "-" as the program: the standard input, as nqc takes it, for editors and
+// scripts that pipe a buffer through; `-o -` writes the image to the
+// standard output.
+TEST(CompileCli, TheStandardInputIsAProgramAndTheStandardOutputTakesTheImage) {
+  TempDir d;
+  ASSERT_EQ(run_rcxc({"compile", d.write("p.nqc", kProgram), "-o", d.path + "/file.rcx"}).exit_code, 0);
+  auto from_file = d.read("file.rcx");
+  ASSERT_FALSE(from_file.empty());
+
+  auto piped = run_rcxc({"compile", "-", "-o", d.path + "/piped.rcx"}, kProgram);
+  ASSERT_EQ(piped.exit_code, 0) << piped.err;
+  EXPECT_EQ(d.read("piped.rcx"), from_file);
+
+  auto to_stdout = run_rcxc({"compile", "-", "-o", "-"}, kProgram);
+  ASSERT_EQ(to_stdout.exit_code, 0) << to_stdout.err;
+  EXPECT_EQ(std::vector<std::uint8_t>(to_stdout.out.begin(), to_stdout.out.end()), from_file);
+  EXPECT_FALSE(std::filesystem::exists("-"));
+
+  auto broken = run_rcxc({"compile", "-", "-o", d.path + "/broken.rcx"}, "task main() { Wait(1) }\n");
+  EXPECT_EQ(broken.exit_code, 1);
+  EXPECT_NE(broken.err.find("<stdin>:1:22: error: expected ';'"), std::string::npos) << broken.err;
+
+  auto preprocessed = run_rcxc({"compile", "-E", "-", "-n"}, "#define N 3\nint x = N;\n");
+  EXPECT_EQ(preprocessed.exit_code, 0) << preprocessed.err;
+  EXPECT_NE(preprocessed.out.find("int x = 3;"), std::string::npos) << preprocessed.out;
+}
+
+TEST(CompileCli, TheStandardInputFindsIncludesInTheCurrentFolder) {
+  TempDir d;
+  d.write("count.nqh", "#define COUNT_TO 4\n");
+  auto r = rcxc::test::run_process(
+      {"/bin/sh", "-c", "cd '" + d.path + "' && '" RCXC_BINARY "' compile - -o p.rcx"},
+      "#include \"count.nqh\"\nint count;\ntask main() { repeat (COUNT_TO) count++; }\n");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(std::holds_alternative<rcx::Image>(rcx::read_image(d.read("p.rcx"))));
+}
+
+TEST(CompileCli, WhereTheStandardStreamsCannotServeItIsAUsageError) {
+  // No name to make FILE.rcx of; an image and a listing both on stdout.
+  auto unnamed = run_rcxc({"compile", "-"}, kProgram);
+  EXPECT_EQ(unnamed.exit_code, 2);
+  EXPECT_NE(unnamed.err.find("name the image with -o FILE (-o - writes it to the standard output)"),
+            std::string::npos)
+      << unnamed.err;
+  TempDir d;
+  auto both = run_rcxc({"compile", d.write("p.nqc", kProgram), "-o", "-", "--listing"});
+  EXPECT_EQ(both.exit_code, 2);
+  EXPECT_NE(both.err.find("would both go to the standard output"), std::string::npos) << both.err;
+  EXPECT_TRUE(both.out.empty());
+}

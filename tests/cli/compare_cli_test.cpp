@@ -89,6 +89,12 @@ TEST(CompareCli, MissingNqcIsNotComparable) {
   EXPECT_EQ(r.exit_code, 5) << r.out << r.err;
 }
 
+TEST(CompareCli, TheStandardInputIsRefusedSinceNqcReadsTheFileToo) {
+  auto r = run_rcxc({"compare", "-"}, kSource);
+  EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
+  EXPECT_NE(r.err.find("compare needs the program in a file"), std::string::npos) << r.err;
+}
+
 TEST(CompareCli, ProgramRcxcRejectsButNqcAcceptsFails) {
   TempDir d;
   auto r = run_rcxc({"compare", d.write("p.nqc", "task main() { nope(); }\n"), "--nqc-path",

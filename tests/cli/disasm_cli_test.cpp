@@ -78,3 +78,32 @@ TEST(DisasmCli, DirectoryIsAnErrorNotACrash) {
     EXPECT_NE(r.err.find(d.path + ": is a directory, not an .rcx image"), std::string::npos) << command << ": " << r.err;
   }
 }
+
+// "-": the standard input, an image (by its signature) or NQC source, for
+// disasm and run alike (both load programs the same way).
+TEST(DisasmCli, TheStandardInputIsAnImageOrSource) {
+  rcx::Image img;
+  img.fragments.push_back({rcx::FragmentType::Task, 0, {0x51, 0x03}});  // sound 3
+  img.symbols.push_back({rcx::SymbolType::Task, 0, "main"});
+  auto bytes = rcx::write_image(img);
+  auto image = run_rcxc({"disasm", "-"}, std::string(bytes.begin(), bytes.end()));
+  ASSERT_EQ(image.exit_code, 0) << image.err;
+  EXPECT_NE(image.out.find("0000  sound 3"), std::string::npos) << image.out;
+
+  auto source = run_rcxc({"disasm", "-", "-n"}, "task main() { asm { 0x51, 2 }; }\n");
+  ASSERT_EQ(source.exit_code, 0) << source.err;
+  EXPECT_NE(source.out.find("sound 2"), std::string::npos) << source.out;
+
+  auto ran = run_rcxc({"run", "-", "--for", "100"}, "task main() { PlaySound(SOUND_UP); }\n");
+  ASSERT_EQ(ran.exit_code, 0) << ran.err;
+  EXPECT_NE(ran.out.find("sound SOUND_UP"), std::string::npos) << ran.out;
+
+  auto truncated = run_rcxc({"run", "-"}, std::string(bytes.begin(), bytes.end() - 1));
+  EXPECT_EQ(truncated.exit_code, 1);
+  EXPECT_NE(truncated.err.find("rcxc run: <stdin>: "), std::string::npos) << truncated.err;
+
+  auto broken = run_rcxc({"run", "-"}, "task main() { Wait(1) }\n");
+  EXPECT_EQ(broken.exit_code, 1);
+  EXPECT_NE(broken.err.find("<stdin>:1:22: error"), std::string::npos) << broken.err;
+  EXPECT_NE(broken.err.find("rcxc run: <stdin>: the program does not compile"), std::string::npos) << broken.err;
+}

@@ -190,6 +190,22 @@ TEST(HostileInput, EndlessFilesStopAtTheirCap) {
                "larger than a scenario file may be");
   expect_error(limited({"remote", "--port", "/dev/no-such-tower", "firmware", "/dev/zero"}),
                "/dev/zero: larger than a firmware file may be (1 MiB)");
+  // nqc's command line and the NXT side read their files with the same caps.
+  auto as_nqc = limited({"nqc", "-Trcx", "-O" + d.path + "/p.rcx", "/dev/zero"});
+  EXPECT_FALSE(as_nqc.timed_out);
+  EXPECT_EQ(as_nqc.exit_code, 243);
+  EXPECT_NE(as_nqc.err.find("# Error: /dev/zero: larger than a source file may be (1 MiB)"), std::string::npos)
+      << as_nqc.err;
+  expect_error(limited({"nxt", "brick", "--pty", "--scenario", "/dev/zero"}),
+               "/dev/zero: larger than a scenario file may be (1 MiB)");
+}
+
+TEST(HostileInput, AnEndlessFileForTheNxtStopsAtTheFlashSize) {
+  TempDir d;
+  rcxc::test::PtyServer nxt({"nxt", "brick", "--pty"}, {});
+  ASSERT_FALSE(nxt.path.empty());
+  expect_error(limited({"nxt", "--port", nxt.path, "upload", "/dev/zero", "zero.txt"}),
+               "/dev/zero: larger than a file for the NXT may be (256 KiB)");
 }
 
 TEST(HostileInput, EndlessStdinPipe) {
@@ -197,6 +213,18 @@ TEST(HostileInput, EndlessStdinPipe) {
   auto r = run_process({"/bin/sh", "-c", fmt::format("yes | '{}' compile /dev/stdin -o '{}/p.rcx'", RCXC_BINARY, d.path)},
                        "", kHangMs, address_space());
   expect_error(r, "/dev/stdin: larger than a source file may be (1 MiB)");
+  // "-", the standard input, for every command that reads a program, and
+  // for nqc's command line (which used to read it until memory ran out).
+  for (const char* command : {"compile - -o /dev/null", "run -", "disasm -"}) {
+    r = run_process({"/bin/sh", "-c", fmt::format("yes | '{}' {}", RCXC_BINARY, command)}, "", kHangMs,
+                    address_space());
+    expect_error(r, "<stdin>: larger than a source file may be (1 MiB)");
+  }
+  r = run_process({"/bin/sh", "-c", fmt::format("yes | '{}' nqc -Trcx -O'{}/p.rcx' -", RCXC_BINARY, d.path)}, "",
+                  kHangMs, address_space());
+  EXPECT_FALSE(r.timed_out);
+  EXPECT_EQ(r.exit_code, 243);
+  EXPECT_NE(r.err.find("# Error: <stdin>: larger than a source file may be (1 MiB)"), std::string::npos) << r.err;
 }
 
 TEST(HostileInput, FirmwareAddressesFromTheFileAreChecked) {
