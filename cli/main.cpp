@@ -85,5 +85,13 @@ int main(int argc, char** argv) {
   int exit_code = rcxc::cli::kExitFailure;
   if (rcxc::cli::compiles_once(argc, argv)) rcxc::cli::tune_allocator_for_one_compile();
   rcxc::cli::run_with_stack(rcxc::cli::kWorkStackBytes, [&] { exit_code = run_main(argc, argv); });
+  // What a command printed must have arrived: a listing, a report or an
+  // image sent to a full disk is a failure, not a success with nothing in
+  // the file.
+  bool written = static_cast<bool>(std::cout.flush()) && std::fflush(stdout) == 0 && !std::ferror(stdout);
+  if (!written && exit_code == rcxc::cli::kExitOk) {
+    std::cerr << "rcxc: cannot write the standard output: what it printed is incomplete\n";
+    exit_code = rcxc::cli::kExitFailure;
+  }
   return exit_code;
 }

@@ -130,3 +130,26 @@ TEST(OutputFileCli, AListingThatTookTheSourceSaysSo) {
 }
 
 }  // namespace
+
+// A listing, a disassembly, a report or help printed to a full disk used to
+// end with exit 0 and nothing (or half) in the file.
+TEST(OutputFileCli, AStandardOutputThatCannotBeWrittenIsAFailure) {
+  if (!std::filesystem::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
+  TempDir d;
+  std::string src = d.write("p.nqc", kProgram);
+  const std::string quoted = "'" + src + "'";
+  const std::vector<std::string> commands = {"disasm " + quoted,
+                                             "run " + quoted + " --report json",
+                                             "compile " + quoted + " --listing -o '" + d.path + "/p.rcx'",
+                                             "compile -E " + quoted,
+                                             "nqc -Trcx -L " + quoted,
+                                             "help"};
+  for (const std::string& command : commands) {
+    auto r = rcxc::test::run_process({"/bin/sh", "-c", "'" RCXC_BINARY "' " + command + " > /dev/full"});
+    EXPECT_EQ(r.exit_code, 1) << command << ": " << r.err;
+    EXPECT_NE(r.err.find("rcxc: cannot write the standard output"), std::string::npos) << command << ": " << r.err;
+  }
+  // Written in full, the same commands succeed.
+  EXPECT_EQ(rcxc::test::run_process({"/bin/sh", "-c", "'" RCXC_BINARY "' disasm '" + src + "' > /dev/null"}).exit_code,
+            0);
+}
