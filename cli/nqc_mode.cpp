@@ -254,6 +254,10 @@ class Session {
   explicit Session(NqcOptions options) : o_(std::move(options)) {}
 
   int run() {
+    // As nqc, an -E file that cannot be written stops the call before
+    // anything is compiled or sent: the errors would have nowhere to go.
+    if (o_.errors && !o_.errors->file.empty() && !std::ofstream(o_.errors->file, std::ios::app))
+      return perform(UsageStep{"cannot write the error file '" + o_.errors->file + "' (-E)"});
     for (const Step& step : o_.steps) {
       int code = std::visit([this](const auto& s) { return perform(s); }, step);
       if (code != kNqcExitOk) return code;
@@ -269,14 +273,17 @@ class Session {
   }
 
   // Errors go where -E says; an -E file is written even when there are none.
-  void report_errors(const std::string& text) {
+  // Should it fail now (a full disk), they go to stderr, and the call fails.
+  bool report_errors(const std::string& text) {
     if (!o_.errors) {
       std::cerr << text;
     } else if (o_.errors->file.empty()) {
       std::cout << text;
     } else if (!write_file_atomically(o_.errors->file, text)) {
-      std::cerr << "rcxc (as nqc): cannot write " << o_.errors->file << "\n";
+      std::cerr << text << "rcxc (as nqc): cannot write the error file " << o_.errors->file << "\n";
+      return false;
     }
+    return true;
   }
 
   int perform(const SourceStep& s) {
@@ -297,8 +304,8 @@ class Session {
     Diagnostics diags;
     ir::Log log;
     auto out = backend::compile_source(name, std::move(text), o_.frontend, ir::OptLevel::Os, sm, diags, log);
-    report_errors(render_nqc(diags, sm));
-    if (!out || diags.has_errors()) return kNqcExitCompile;
+    bool reported = report_errors(render_nqc(diags, sm));
+    if (!out || diags.has_errors() || !reported) return kNqcExitCompile;
     if (int code = write_outputs(s.name, *out, sm); code != kNqcExitOk) return code;
     if (o_.download) return download(out->image);
     return kNqcExitOk;

@@ -167,6 +167,10 @@ TEST(NqcMode, BadCommandLinesBehaveAsNqc) {
            {{"-S/dev/no-such-tower", "-d", "ok.nqc"}},
            {{"-S/dev/no-such-tower", "-d", "undeclared.nqc"}},
            {{"-firmware", "no-such.srec"}},
+           // An error file that cannot be written stops the call before it
+           // compiles (rcxc compiled, wrote the image and lost the errors).
+           {{"-Eno-such-folder/err.log", "-Oout.rcx", "ok.nqc"}},
+           {{"-Eno-such-folder/err.log", "-Oout.rcx", "undeclared.nqc"}},
        })
     expect_same_as_nqc(c);
 }
