@@ -87,7 +87,7 @@ void register_brick(CLI::App& app, int& exit_code) {
   // as 0; run_brick refuses NaN, which a range check lets through.
   cmd->add_option("--noise", a->noise, "Lose or corrupt each byte with this probability (0..1)")
       ->check(CLI::Range(0.0, 1.0));
-  cmd->add_option("--seed", a->seed, "Seed of the noise");
+  cmd->add_option("--seed", a->seed, "Seed of the noise")->check(whole_number());
   cmd->add_flag("--fast", a->fast, "Answer at full speed instead of 2400 baud");
   cmd->add_flag("--no-echo", a->no_echo, "Do not echo (behave like a USB tower)");
   cmd->add_flag("-v,--verbose", a->verbose, "Log every request and reply, and why requests were rejected or not answered");

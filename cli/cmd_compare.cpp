@@ -258,11 +258,11 @@ void register_compare(CLI::App& app, int& exit_code) {
   auto o = std::make_shared<CompareOptions>();
   cmd->add_option("FILE", o->file, "NQC source file")->required();
   add_compiler_options(cmd, o->compiler);
-  add_repeatable(cmd, "--scenario", o->scenarios, "Scenario TOML file (repeatable); default: built-in scenarios");
-  cmd->add_option("--nqc-path", o->nqc, "The nqc to compare with (path or name; default: nqc on PATH)");
+  add_repeatable(cmd, "--scenario", o->scenarios, "Scenario TOML file (repeatable); default: built-in scenarios")->check(not_empty());
+  cmd->add_option("--nqc-path", o->nqc, "The nqc to compare with (path or name; default: nqc on PATH)")->check(not_empty());
   cmd->add_option("--for", o->for_ms, "Virtual milliseconds per run (default 20000)")
       ->check(CLI::Range(std::int64_t{1}, kMaxRunMs));
-  cmd->add_option("--seed", o->seed, "Random seed for both runs");
+  cmd->add_option("--seed", o->seed, "Random seed for both runs")->check(whole_number());
   cmd->add_option("--instruction-us", o->instruction_us, "Virtual time per instruction (default 10)")
       ->check(CLI::Range(1, 100000));
   cmd->add_flag("--all-rows", o->all_rows,

@@ -323,7 +323,7 @@ int serve_brick(bool on_pty, const std::string& scenario_path, const std::string
 void register_nxt(CLI::App& app, int& exit_code) {
   auto* nxt_cmd = app.add_subcommand("nxt", "Act on a LEGO NXT over USB or Bluetooth, or serve a virtual NXT");
   auto a = std::make_shared<NxtArgs>();
-  nxt_cmd->add_option("--port", a->port, "usb, usb:SERIAL, bt:AA:BB:CC:DD:EE:FF or a tty path (default: NXT_PORT, else usb)");
+  nxt_cmd->add_option("--port", a->port, "usb, usb:SERIAL, bt:AA:BB:CC:DD:EE:FF or a tty path (default: NXT_PORT, else usb)")->check(not_empty());
   nxt_cmd->add_flag("--json", a->json, "Print JSON for scripts");
   nxt_cmd->add_flag("-v,--verbose", a->verbose, "Log every telegram decoded on stderr");
   nxt_cmd->add_option("--timeout", a->timeout_ms, "Milliseconds to wait for a reply")->check(CLI::Range(1, 60000));
@@ -729,7 +729,8 @@ void register_nxt(CLI::App& app, int& exit_code) {
     cmd->add_flag("--pty", *pty, "Serve on a new pseudo-terminal");
     cmd->add_option("--scenario", *scenario,
                     "Inputs over time: TOML (docs/nxt.md), or a .nqc program whose // @input lines to replay; "
-                    "times count from the first telegram");
+                    "times count from the first telegram")
+        ->check(not_empty());
     cmd->add_option("--program", *program,
                     "Start with program NAME.rxe running (made empty if absent), as if started on the brick: "
                     "mailboxes need one");

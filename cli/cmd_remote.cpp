@@ -62,7 +62,7 @@ void register_remote(CLI::App& app, int& exit_code) {
   auto* cmd = app.add_subcommand("remote", "Act on an RCX over the IR tower (alive, run, get var 3, datalog, ...)");
   auto a = std::make_shared<RemoteArgs>();
   cmd->add_option("ACTION", a->words, "The action and its arguments")->required();
-  cmd->add_option("--port", a->port, "Tower device: usb, serial, a path (default: RCX_PORT, else usb)");
+  cmd->add_option("--port", a->port, "Tower device: usb, serial, a path (default: RCX_PORT, else usb)")->check(not_empty());
   cmd->add_flag("--csv", a->csv, "datalog: print CSV");
   cmd->add_option("--retries", a->retries, "Retries per request")->check(CLI::Range(0, 100));
   cmd->footer(rcx::remote_actions_help() +

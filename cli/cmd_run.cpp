@@ -238,16 +238,18 @@ void register_run(CLI::App& app, int& exit_code) {
   auto o = std::make_shared<RunOptions>();
   cmd->add_option("FILE", o->file, ".rcx image or NQC source (compiled in memory)")->required();
   add_compiler_options(cmd, o->compiler);
-  cmd->add_option("--scenario", o->scenario, "TOML file of timed inputs ([[input]] tables)");
+  cmd->add_option("--scenario", o->scenario, "TOML file of timed inputs ([[input]] tables)")->check(not_empty());
   cmd->add_option("--for", o->for_ms, "virtual time limit in ms (default 60000)")->check(CLI::Range(std::int64_t{1}, kMaxRunMs));
-  cmd->add_option("--seed", o->seed, "seed of the random source (default 1)");
+  cmd->add_option("--seed", o->seed, "seed of the random source (default 1)")->check(whole_number());
   cmd->add_option("--report", o->report, "print a report instead of the timeline: json")->check(CLI::IsMember({"json"}));
   cmd->add_option("--trace", o->trace,
-                  "write a trace: F.vcd (GTKWave), F.json (events), F.svg or F.html (the run drawn as a timeline)");
+                  "write a trace: F.vcd (GTKWave), F.json (events), F.svg or F.html (the run drawn as a timeline)")
+      ->check(not_empty());
   cmd->add_option("--instruction-us", o->instruction_us, "virtual cost of one instruction in microseconds (default 2000)")
       ->check(CLI::Range(int64_t{1}, int64_t{1'000'000}));
   cmd->add_option("--nxt", o->nxt_port,
-                  "run in real time with an NXT's motors, sensors and speaker (usb, bt:ADDR, a tty; docs/nxt.md)");
+                  "run in real time with an NXT's motors, sensors and speaker (usb, bt:ADDR, a tty; docs/nxt.md)")
+      ->check(not_empty());
   auto* for_option = cmd->get_option("--for");
   cmd->callback([&exit_code, o, for_option] {
     o->for_given = for_option->count() > 0;

@@ -242,7 +242,7 @@ void register_test(CLI::App& app, int& exit_code) {
   auto use_nqc = std::make_shared<bool>(false);
   auto nqc_path = std::make_shared<std::string>("nqc");
   cmd->add_flag("--nqc", *use_nqc, "compile with nqc instead of rcxc, for comparison");
-  cmd->add_option("--nqc-path", *nqc_path, "the nqc to use with --nqc (path or name; default: nqc on PATH)");
+  cmd->add_option("--nqc-path", *nqc_path, "the nqc to use with --nqc (path or name; default: nqc on PATH)")->check(not_empty());
   cmd->add_flag("-v,--verbose", o->verbose, "say how every run ended");
   cmd->add_option("-j,--jobs", o->jobs, "tests run at once (default: the number of cores); the output order is the same")
       ->check(CLI::Range(1u, 1024u).description(""));

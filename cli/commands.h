@@ -22,6 +22,24 @@ inline constexpr int kExitNotComparable = 5;  // compare: nqc is missing or refu
 // 1000 must still fit the emulator's 64-bit microsecond clock.
 inline constexpr std::int64_t kMaxRunMs = std::int64_t{1} << 40;
 
+// For options naming a file, port or program: an empty value ("--trace ''",
+// a variable that expanded to nothing) would read as the option not given,
+// and the command would go on silently without it.
+inline CLI::Validator not_empty() {
+  return CLI::Validator([](std::string& v) { return v.empty() ? std::string("needs a value, not ''") : std::string(); },
+                        "", "not empty");
+}
+
+// For unsigned options (seeds): CLI11 would take "-1" as 2^64 - 1.
+inline CLI::Validator whole_number() {
+  return CLI::Validator(
+      [](std::string& v) {
+        bool digits = !v.empty() && v.find_first_not_of("0123456789") == std::string::npos;
+        return digits ? std::string() : "'" + v + "' is not a whole number 0 or more";
+      },
+      "", "whole number");
+}
+
 // An option that may be given many times, one value each time (-I, -D,
 // --scenario). CLI11's default lets one occurrence swallow the words after
 // it, so `rcxc compile -DFOO prog.nqc` would take prog.nqc as a second

@@ -136,6 +136,7 @@ PortSpec resolve_port(const std::optional<std::string>& option, const std::optio
 }
 
 std::variant<std::unique_ptr<Transport>, TransportError> open_port(const PortSpec& spec) {
+  if (spec.path.empty()) return TransportError{"the port is empty (usb, serial, usb:PATH, serial:PATH or a path)"};
   int fd = ::open(spec.path.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK);
   if (fd < 0) return TransportError{open_advice(spec.path)};
   // A tower is a character device (USB driver, serial port, pty) or a

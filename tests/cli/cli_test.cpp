@@ -37,3 +37,29 @@ TEST(Cli, MissingSubcommandIsUsageError) {
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("Usage"), std::string::npos);
 }
+
+// An empty value read as the option not given: `run --trace ''` ran
+// without a trace and `--scenario ''` without inputs, both with exit 0;
+// `--nxt ''` printed a whole run before saying the port was empty. A
+// negative seed became 2^64 - 1.
+TEST(Cli, AnEmptyValueOrANegativeSeedIsAUsageError) {
+  rcxc::test::TempDir d;
+  std::string p = d.write("p.nqc", "task main() { On(OUT_A); }\n");
+  const std::vector<std::vector<std::string>> calls = {
+      {"run", p, "--trace", ""},         {"run", p, "--scenario", ""},    {"run", p, "--nxt", ""},
+      {"compare", p, "--scenario", ""},  {"compare", p, "--nqc-path", ""}, {"test", p, "--nqc-path", ""},
+      {"remote", "--port", "", "alive"}, {"download", p, "--port", ""},   {"nxt", "--port", "", "info"},
+      {"nxt", "brick", "--pty", "--scenario", ""},
+      {"run", p, "--seed", "-1"},        {"compare", p, "--seed", "-1"},   {"brick", "--pty", "--seed", "-2"}};
+  for (const auto& args : calls) {
+    auto r = run_rcxc(args, "", 10000);
+    std::string call;
+    for (const auto& a : args) call += " '" + a + "'";
+    EXPECT_EQ(r.exit_code, 2) << call << ": " << r.err;
+    EXPECT_TRUE(r.out.empty()) << call << ": " << r.out;
+    bool said = r.err.find("needs a value, not ''") != std::string::npos ||
+                r.err.find("is not a whole number 0 or more") != std::string::npos;
+    EXPECT_TRUE(said) << call << ": " << r.err;
+  }
+  EXPECT_EQ(run_rcxc({"run", p, "--seed", "0", "--for", "10"}).exit_code, 0);
+}
