@@ -24,6 +24,9 @@ namespace fs = std::filesystem;
 const std::map<std::string, std::string> kFiles = {
     {"ok.nqc", "task main()\n{\n  OnFwd(OUT_A);\n  Wait(100);\n}\n"},
     {"undeclared.nqc", "task main()\n{\n  OnFwd(OUT_A);\n  x = 1;\n}\n"},
+    // Lines ended by a lone CR, as classic Mac OS editors wrote them.
+    {"mac.nqc", "#define POWER 3\rtask main()\r{\r  SetPower(OUT_A, POWER);\r  OnFwd(OUT_A);\r}\r"},
+    {"mac_error.nqc", "task main()\r{\r  OnFwd(OUT_A);\r  x = 1;\r}\r"},
     {"nocall.nqc", "task main()\n{\n  Wait(10);\n\n  Launch(3);\n}\n"},
     {"inc.nqc", "#include \"lib.nqh\"\ntask main()\n{\n  Go();\n}\n"},
     {"badinc.nqc", "#include \"badlib.nqh\"\ntask main()\n{\n  Go();\n}\n"},
@@ -126,6 +129,8 @@ TEST(NqcMode, CompilingBehavesAsNqc) {
            {{"-E", "undeclared.nqc"}},
            {{"-Eerr.log", "undeclared.nqc"}},
            {{"-Eerr.log", "ok.nqc"}},
+           {{"-Omac.rcx", "mac.nqc"}},
+           {{"mac_error.nqc"}},
            {{"missing.nqc"}},
            {{"-n", "plain.nqc"}},
            {{"plain.nqc"}},

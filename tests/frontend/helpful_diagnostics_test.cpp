@@ -76,6 +76,17 @@ TEST(HelpfulDiagnostics, ByteOrderMarkIsSkipped) {
   EXPECT_TRUE(clean.diags.all().empty()) << clean.text();
 }
 
+// Classic Mac OS editors ended lines with a lone CR, and nqc reads such a
+// file line by line; rcxc saw one long line, so a `#define` swallowed the
+// whole program ("no 'task main()'").
+TEST(HelpfulDiagnostics, ALoneCarriageReturnEndsALine) {
+  auto r = run_frontend("#define SPEED 3\rtask main()\r{\r  SetPower(OUT_A, SPEED);\r  x = 1; // a comment\r}\r");
+  EXPECT_EQ(r.brief(), (std::vector<std::string>{"5:3: error: 'x' is not declared"}));
+  EXPECT_EQ(r.sm.line(r.diags.all().at(0).span.begin.file, 5), "  x = 1; // a comment");
+  auto mixed = run_frontend("task main()\r\n{\r  OnFwd(OUT_A);\n}\r\n");
+  EXPECT_TRUE(mixed.diags.all().empty()) << mixed.text();
+}
+
 TEST(HelpfulDiagnostics, ErrorInALibraryMacroIsShownAtTheUsersLine) {
   auto r = run_frontend("int v;\ntask main()\n{\n  v = Random();\n}\n");
   std::string text = render_all(r.diags, r.sm, {});
