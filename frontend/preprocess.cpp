@@ -770,10 +770,11 @@ class Preprocessor {
       }
       while (!ok && i < line.size()) {
         if (line[i].kind != TokenKind::Identifier) break;
-        if (std::find(m.params.begin(), m.params.end(), line[i].text) != m.params.end()) {
-          diags_.error(line[i].span, "duplicate macro parameter '" + std::string(line[i].text) + "'");
-          return;
-        }
+        // nqc takes such a macro and substitutes the first parameter of the
+        // name (param_index finds the first); so does rcxc, with a warning.
+        if (std::find(m.params.begin(), m.params.end(), line[i].text) != m.params.end())
+          diags_.warning(line[i].span, "duplicate macro parameter '" + std::string(line[i].text) +
+                                           "': its uses take the first one's argument, as in nqc");
         m.params.emplace_back(line[i].text);
         ++i;
         if (i < line.size() && line[i].is(")")) {

@@ -54,6 +54,16 @@ TEST(Preprocessor, ObjectAndFunctionMacros) {
   EXPECT_FALSE(p.diags.has_errors());
 }
 
+// nqc 3.1 compiles `#define F(a, a) a` and gives F(1, 2) the value 1: the
+// first parameter of the name; rcxc refused the macro.
+TEST(Preprocessor, ADuplicateParameterTakesTheFirstArgumentAsInNqc) {
+  auto p = run_pp("#define F(a, b, a) a * b\nx = F(1, 2, 3);\n");
+  EXPECT_EQ(p.joined, "x = 1 * 2 ;");
+  EXPECT_FALSE(p.diags.has_errors());
+  EXPECT_EQ(messages(p.diags),
+            (std::vector<std::string>{"duplicate macro parameter 'a': its uses take the first one's argument, as in nqc"}));
+}
+
 TEST(Preprocessor, FunctionMacroNameWithoutParenthesesIsLeftAlone) {
   auto p = run_pp("#define F(a) a\nF + F(1)\n");
   EXPECT_EQ(p.joined, "F + 1");
