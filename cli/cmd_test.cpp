@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <chrono>
 #include <condition_variable>
 #include <filesystem>
 #include <functional>
@@ -15,8 +16,10 @@
 
 #include "cli/commands.h"
 #include "cli/large_stack.h"
+#include "cli/output_file.h"
 #include "verify/external_nqc.h"
 #include "cli/program_loader.h"
+#include "verify/junit.h"
 #include "verify/testspec.h"
 #include "runtime/vm.h"
 
@@ -32,6 +35,7 @@ struct TestOptions {
   bool verbose = false;
   CompilerArgs compiler;  // for every file; a file's @options add to them
   unsigned jobs = 0;  // tests run at once; 0: one per core
+  std::string junit;  // non-empty: also write a JUnit XML report there
 };
 
 constexpr rcx::Micros kDefaultRunUs = 60'000'000;
@@ -160,10 +164,17 @@ std::vector<Failure> run_test(const TestOptions& o, const std::string& file, std
 struct TestResult {
   std::vector<Failure> failures;
   std::string log;
+  double seconds = 0;  // compiling and running it (a report's time)
 };
 
 TestResult run_one(const TestOptions& o, const std::string& file) {
   TestResult r;
+  auto start = std::chrono::steady_clock::now();
+  struct Timer {
+    TestResult& r;
+    std::chrono::steady_clock::time_point start;
+    ~Timer() { r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); }
+  } timer{r, start};
   try {
     r.failures = run_test(o, file, r.log);
   } catch (const std::exception& e) {
@@ -213,8 +224,17 @@ void run_all(const TestOptions& o, const std::vector<std::string>& files, unsign
 int run(const TestOptions& o) {
   std::vector<std::string> problems;
   auto files = collect(o.paths, problems);
+  if (!o.junit.empty())
+    for (const auto& file : files)
+      if (same_file(o.junit, file)) {
+        std::cerr << "rcxc test: refusing to write the report to " << o.junit << ": it is the test program " << file
+                  << " (choose another name)\n";
+        return kExitUsage;
+      }
   for (const auto& m : problems) std::cerr << "rcxc test: " << m << "\n";
   if (files.empty() && problems.empty()) std::cerr << "rcxc test: no .nqc files found\n";
+  std::vector<rcx::semtest::JUnitCase> report;
+  for (const auto& m : problems) report.push_back({m, {}, 0, m});
   int passed = 0, failed = 0;
   unsigned jobs = o.jobs > 0 ? o.jobs : std::max(1u, std::thread::hardware_concurrency());
   run_all(o, files, jobs, [&](std::size_t i, const TestResult& r) {
@@ -227,8 +247,13 @@ int run(const TestOptions& o) {
     }
     std::cout << r.log << std::flush;
     (r.failures.empty() ? passed : failed)++;
+    if (!o.junit.empty()) report.push_back({file, r.failures, r.seconds, {}});
   });
   std::cout << fmt::format("{} passed, {} failed\n", passed, failed);
+  if (!o.junit.empty() && !write_file_atomically(o.junit, rcx::semtest::junit_xml(report))) {
+    std::cerr << "rcxc test: cannot write the report " << o.junit << "\n";
+    return kExitFailure;
+  }
   return (failed == 0 && problems.empty() && !files.empty()) ? kExitOk : kExitFailure;
 }
 
@@ -244,6 +269,8 @@ void register_test(CLI::App& app, int& exit_code) {
   cmd->add_flag("--nqc", *use_nqc, "compile with nqc instead of rcxc, for comparison");
   cmd->add_option("--nqc-path", *nqc_path, "the nqc to use with --nqc (path or name; default: nqc on PATH)")->check(not_empty());
   cmd->add_flag("-v,--verbose", o->verbose, "say how every run ended");
+  cmd->add_option("--junit", o->junit, "also write the results to FILE as a JUnit XML report (for CI and grading)")
+      ->check(not_empty());
   cmd->add_option("-j,--jobs", o->jobs, "tests run at once (default: the number of cores); the output order is the same")
       ->check(CLI::Range(1u, 1024u).description(""));
   cmd->callback([&exit_code, o, use_nqc, nqc_path] {

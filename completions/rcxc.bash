@@ -31,7 +31,7 @@ _rcxc() {
       options="--help"
       files="!*.rcx" ;;
     test)
-      options="--nqc --nqc-path -v --verbose -j --jobs -I -D -U -n -O0 -O1 -O2 -Os --help"
+      options="--nqc --nqc-path -v --verbose -j --jobs --junit -I -D -U -n -O0 -O1 -O2 -Os --help"
       files="!*.nqc" ;;
     compare)
       options="--scenario --nqc-path --for --seed --instruction-us --all-rows --help"

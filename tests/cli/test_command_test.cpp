@@ -191,3 +191,30 @@ TEST(TestCommand, UnreadableSubFolderIsReportedAndTheRestRuns) {
       << r.err;
   EXPECT_NE(r.out.find("1 passed, 0 failed"), std::string::npos) << r.out;
 }
+
+// --junit: the same results as a JUnit XML report, for CI and grading; the
+// printed output stays as it was, and the report never replaces a test.
+TEST(TestCommand, JunitWritesTheResultsAsAReport) {
+  TempDir d;
+  auto ok = d.write("ok.nqc", std::string("// @expect global n == 6\n") + kCounter);
+  auto bad = d.write("bad.nqc", std::string("// @expect global n == 7\n") + kCounter);
+  std::string report = d.path + "/report.xml";
+  auto r = run_rcxc({"test", d.path, d.path + "/missing", "--junit", report});
+  EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+  EXPECT_NE(r.out.find("1 passed, 1 failed"), std::string::npos) << r.out;
+  std::string xml = rcxc::test::read_text_file(report);
+  EXPECT_NE(xml.find("<testsuite name=\"rcxc test\" tests=\"3\" failures=\"1\" errors=\"1\""), std::string::npos)
+      << xml;
+  EXPECT_NE(xml.find("<testcase name=\"" + ok + "\""), std::string::npos) << xml;
+  EXPECT_NE(xml.find(bad + ":1: expected global n == 7; got n = 6"), std::string::npos) << xml;
+  EXPECT_NE(xml.find("<error message=\"no such file or folder: " + d.path + "/missing\"/>"), std::string::npos) << xml;
+
+  auto over = run_rcxc({"test", ok, "--junit", ok});
+  EXPECT_EQ(over.exit_code, 2) << over.err;
+  EXPECT_NE(over.err.find("refusing to write the report to " + ok), std::string::npos) << over.err;
+  EXPECT_EQ(rcxc::test::read_text_file(ok), std::string("// @expect global n == 6\n") + kCounter);
+
+  auto nowhere = run_rcxc({"test", ok, "--junit", d.path + "/no/such/folder/r.xml"});
+  EXPECT_EQ(nowhere.exit_code, 1);
+  EXPECT_NE(nowhere.err.find("cannot write the report"), std::string::npos) << nowhere.err;
+}
