@@ -72,6 +72,32 @@ std::string operands_text(const rcx::Decoded& d) {
   return s;
 }
 
+// A LASM label: the fragment's kind and number, and the address.
+std::string lasm_label(rcx::FragmentType type, int index, int address) {
+  return fmt::format("{}{:03}{:04}", type == rcx::FragmentType::Task ? 't' : 's', index, address);
+}
+
+// The operand fields as LASM takes them: numbers, where the bytes pack two
+// fields in one (direction and outputs, mode and slope, comparison and
+// source) each on its own, and the test's operands in the SDK's order.
+std::string lasm_operands(const rcx::Decoded& d, const std::string& target) {
+  const auto& v = d.v;
+  using rcx::Op;
+  switch (d.op) {
+    case Op::SetMotorOnOff: return fmt::format("{}, {}", v[0] & 0x07, (v[0] >> 6) & 3);
+    case Op::SetMotorDirection: return fmt::format("{}, {}", (v[0] >> 6) & 3, v[0] & 0x07);
+    case Op::SetSensorMode: return fmt::format("{}, {}, {}", v[0], (v[1] >> 5) & 7, v[1] & 0x1f);
+    case Op::TestAndBranchNear: case Op::TestAndBranchFar:
+      return fmt::format("{}, {}, {}, {}, {}, {}", v[0] & 0x0f, v[2], (v[0] >> 6) & 3, v[1], v[3], target);
+    default: break;
+  }
+  if (rcx::is_branch(d.op)) return target;
+  const auto& info = rcx::info(d.op);
+  std::string s;
+  for (std::size_t i = 0; i < info.operands.size() && i < v.size(); ++i) s += (i ? ", " : "") + std::to_string(v[i]);
+  return s;
+}
+
 // Bytes nqc cannot name are listed one at a time as `?`.
 bool nameable(const rcx::Decoded& d) { return d.error == 0 && !rcx::info(d.op).nqc_mnemonic.empty(); }
 
@@ -94,17 +120,73 @@ std::string line_text(const std::vector<std::uint8_t>& code, int address, int& s
   return line;
 }
 
-}  // namespace
+// A fragment in LASM's layout: a label before every branch target.
+std::string lasm_fragment(const rcx::Fragment& frag, const SourceLineAt& source_line) {
+  const auto& code = frag.code;
+  std::vector<bool> targeted(code.size(), false);
+  for (int address = 0; address < static_cast<int>(code.size());) {
+    rcx::Decoded d = rcx::decode_command(code, address);
+    if (!nameable(d)) {
+      ++address;
+      continue;
+    }
+    if (rcx::is_branch(d.op) && d.target >= 0 && d.target < static_cast<int>(code.size()))
+      targeted[static_cast<std::size_t>(d.target)] = true;
+    address += d.size;
+  }
+  std::string text;
+  for (int address = 0; address < static_cast<int>(code.size());) {
+    if (source_line)
+      if (std::string line = source_line(frag.type, frag.index, address); !line.empty()) text += line + "\n";
+    if (targeted[static_cast<std::size_t>(address)])
+      text += lasm_label(frag.type, frag.index, address) + ":\n";
+    rcx::Decoded d = rcx::decode_command(code, address);
+    if (!nameable(d)) {
+      // nqc 3.1 stops listing here and never ends; a comment keeps the
+      // text an assembler can read.
+      text += fmt::format("\t; {:02x}: not an instruction\n", code[static_cast<std::size_t>(address)]);
+      ++address;
+      continue;
+    }
+    text += fmt::format("\t{}\t{} \n", rcx::info(d.op).nqc_mnemonic,
+                        lasm_operands(d, lasm_label(frag.type, frag.index, d.target)));
+    address += d.size;
+  }
+  return text;
+}
 
-std::string nqc_listing(const rcx::Image& image, const SourceLineAt& source_line) {
+std::string lasm_listing(const rcx::Image& image, const std::vector<const rcx::Fragment*>& order,
+                         const SourceLineAt& source_line) {
   std::string text;
   for (const auto& s : image.symbols)
-    if (s.type == rcx::SymbolType::Variable) text += fmt::format("*** Var {} = {}\n", s.index, rcx::printable_name(s.name));
+    if (s.type == rcx::SymbolType::Variable) text += fmt::format("; Var {} = {}\n", s.index, rcx::printable_name(s.name));
+  std::size_t total = 0;
+  for (const rcx::Fragment* frag : order) {
+    bool task = frag->type == rcx::FragmentType::Task;
+    std::string name = rcx::printable_name(image.name_of(task ? rcx::SymbolType::Task : rcx::SymbolType::Subroutine,
+                                                         frag->index));
+    text += fmt::format("\n; {} {} = {}, size: {} bytes\n;{}\n\t{}\t{}\n", task ? "Task" : "Sub", frag->index, name,
+                        frag->code.size(), name, task ? "task" : "sub", frag->index);
+    text += lasm_fragment(*frag, source_line);
+    text += task ? "\tendt\n" : "\tends\n";
+    total += frag->code.size();
+  }
+  text += fmt::format("\n;Total size: {} bytes\n", total);
+  return text;
+}
+
+}  // namespace
+
+std::string nqc_listing(const rcx::Image& image, const SourceLineAt& source_line, ListingStyle style) {
   std::vector<const rcx::Fragment*> order;
   for (const auto& f : image.fragments) order.push_back(&f);
   std::stable_sort(order.begin(), order.end(), [](const rcx::Fragment* a, const rcx::Fragment* b) {
     return std::pair(a->type != rcx::FragmentType::Task, a->index) < std::pair(b->type != rcx::FragmentType::Task, b->index);
   });
+  if (style == ListingStyle::Lasm) return lasm_listing(image, order, source_line);
+  std::string text;
+  for (const auto& s : image.symbols)
+    if (s.type == rcx::SymbolType::Variable) text += fmt::format("*** Var {} = {}\n", s.index, rcx::printable_name(s.name));
   std::size_t total = 0;
   for (const rcx::Fragment* frag : order) {
     bool task = frag->type == rcx::FragmentType::Task;
@@ -125,8 +207,8 @@ std::string nqc_listing(const rcx::Image& image, const SourceLineAt& source_line
   return text;
 }
 
-std::string nqc_listing(const Output& out, const SourceManager* sm) {
-  if (!sm) return nqc_listing(out.image);
+std::string nqc_listing(const Output& out, const SourceManager* sm, ListingStyle style) {
+  if (!sm) return nqc_listing(out.image, {}, style);
   // For each fragment, the line to print above an address: only where the
   // line changes, as nqc does.
   std::map<std::tuple<rcx::FragmentType, int, int>, std::string> lines;
@@ -140,10 +222,13 @@ std::string nqc_listing(const Output& out, const SourceManager* sm) {
       lines[{frag.type, frag.index, in.address}] = std::string(sm->line(at.file, at.line));
     }
   }
-  return nqc_listing(out.image, [&](rcx::FragmentType type, int index, int address) {
-    auto it = lines.find({type, index, address});
-    return it == lines.end() ? std::string() : it->second;
-  });
+  return nqc_listing(
+      out.image,
+      [&](rcx::FragmentType type, int index, int address) {
+        auto it = lines.find({type, index, address});
+        return it == lines.end() ? std::string() : it->second;
+      },
+      style);
 }
 
 }  // namespace rcxc::backend

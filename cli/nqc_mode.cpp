@@ -57,6 +57,7 @@ struct NqcOptions {
   bool binary = false;    // -b: the input is an .rcx image
   bool download = false;  // -d
   bool source_in_listing = false;
+  bool lasm_listing = false;  // -c: the listing in LASM's layout
   bool verbose = false;
   bool quiet = false;
   std::optional<TextTarget> errors;   // -E
@@ -121,7 +122,7 @@ std::string read_option(const std::string& word, NqcOptions& o) {
     case 's': return flag(o.source_in_listing);
     case 'v': return flag(o.verbose);
     case 'q': return flag(o.quiet);
-    case 'c':  // LASM-style listing: the listing stays in nqc's default layout (docs/nqc.md)
+    case 'c': return flag(o.lasm_listing);
     case 'x': {  // no packet header: the towers rcxc drives always use one
       bool ignored = false;
       return flag(ignored);
@@ -343,7 +344,8 @@ class Session {
       }
     }
     if (o_.listing) {
-      std::string text = backend::nqc_listing(out, o_.source_in_listing ? &sm : nullptr);
+      std::string text = backend::nqc_listing(out, o_.source_in_listing ? &sm : nullptr,
+                                              o_.lasm_listing ? backend::ListingStyle::Lasm : backend::ListingStyle::Nqc);
       if (o_.listing->file.empty()) {
         std::cout << text;
       } else if (!write_file_atomically(o_.listing->file, text)) {

@@ -795,10 +795,13 @@ class Checker {
   }
 
   void visit_expr(Source& n, Expr& e, Use) {
+    std::size_t errors_before = diags_.error_count();
     expr(*n.type, Use::Value);
     expr(*n.arg, Use::Value);
     if (!n.type->constant || !n.arg->constant) {
-      if (!depends_on_const_param(e))
+      // An operand already said what is wrong with it (SensorValueRaw(x):
+      // "argument must be a sensor"); a second message would only repeat it.
+      if (!depends_on_const_param(e) && diags_.error_count() == errors_before)
         diags_.error(e.span, "both operands of __source(TYPE, ARG) must be constant expressions");
       return;
     }

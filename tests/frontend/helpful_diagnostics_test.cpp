@@ -87,6 +87,17 @@ TEST(HelpfulDiagnostics, ALoneCarriageReturnEndsALine) {
   EXPECT_TRUE(mixed.diags.all().empty()) << mixed.text();
 }
 
+// SensorValueRaw(SENSOR_1) is nqc's usual spelling and compiles; a variable
+// as the sensor gets one message at the argument, not a second one about
+// __source's operands.
+TEST(HelpfulDiagnostics, ASensorValueFunctionTakesASensorNameAndSaysOnceWhatIsWrong) {
+  auto good = run_frontend("int x;\ntask main()\n{\n  x = SensorValueRaw(SENSOR_1) + SensorType(SENSOR_3);\n}\n");
+  EXPECT_TRUE(good.diags.all().empty()) << good.text();
+  auto bad = run_frontend("int x;\ntask main()\n{\n  x = SensorValueBool(x);\n}\n");
+  EXPECT_EQ(bad.brief(), (std::vector<std::string>{"4:23: error: argument must be a sensor (SENSOR_1, SENSOR_2 or "
+                                                   "SENSOR_3)"}));
+}
+
 TEST(HelpfulDiagnostics, ErrorInALibraryMacroIsShownAtTheUsersLine) {
   auto r = run_frontend("int v;\ntask main()\n{\n  v = Random();\n}\n");
   std::string text = render_all(r.diags, r.sm, {});
