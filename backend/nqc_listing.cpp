@@ -123,14 +123,15 @@ std::string line_text(const std::vector<std::uint8_t>& code, int address, int& s
 // A fragment in LASM's layout: a label before every branch target.
 std::string lasm_fragment(const rcx::Fragment& frag, const SourceLineAt& source_line) {
   const auto& code = frag.code;
-  std::vector<bool> targeted(code.size(), false);
+  // A branch may target the end: the task's or subroutine's own end.
+  std::vector<bool> targeted(code.size() + 1, false);
   for (int address = 0; address < static_cast<int>(code.size());) {
     rcx::Decoded d = rcx::decode_command(code, address);
     if (!nameable(d)) {
       ++address;
       continue;
     }
-    if (rcx::is_branch(d.op) && d.target >= 0 && d.target < static_cast<int>(code.size()))
+    if (rcx::is_branch(d.op) && d.target >= 0 && d.target <= static_cast<int>(code.size()))
       targeted[static_cast<std::size_t>(d.target)] = true;
     address += d.size;
   }
@@ -152,6 +153,7 @@ std::string lasm_fragment(const rcx::Fragment& frag, const SourceLineAt& source_
                         lasm_operands(d, lasm_label(frag.type, frag.index, d.target)));
     address += d.size;
   }
+  if (targeted.back()) text += lasm_label(frag.type, frag.index, static_cast<int>(code.size())) + ":\n";
   return text;
 }
 

@@ -29,19 +29,23 @@ std::string find_nqc() {
 struct Listings {
   std::string nqc, rcxc;
 };
-std::optional<Listings> both(const std::string& nqc, const fs::path& file, const std::string& dir) {
+std::optional<Listings> both(const std::string& nqc, const fs::path& file, const std::string& dir,
+                             backend::ListingStyle style = backend::ListingStyle::Nqc) {
   std::string image_path = dir + "/image.rcx";
   fs::remove(image_path);
   auto compiled = test::run_process({nqc, "-Trcx", "-O" + image_path, file.string()});
   if (compiled.exit_code != 0) return std::nullopt;
-  auto listed = test::run_process({nqc, "-Trcx", "-L", file.string()});
+  // nqc -c never ends on a byte it cannot name: such programs are left out.
+  std::vector<std::string> list = {nqc, "-Trcx", "-L", file.string()};
+  if (style == backend::ListingStyle::Lasm) list.insert(list.begin() + 2, "-c");
+  auto listed = test::run_process(list, "", 10000);
   if (listed.exit_code != 0) return std::nullopt;
   auto image = rcx::read_image_file(image_path);
   if (auto* e = std::get_if<rcx::ImageError>(&image)) {
     ADD_FAILURE() << file << ": " << e->message;
     return std::nullopt;
   }
-  return Listings{listed.out, backend::nqc_listing(std::get<rcx::Image>(image))};
+  return Listings{listed.out, backend::nqc_listing(std::get<rcx::Image>(image), {}, style)};
 }
 
 constexpr const char* kEveryInstruction = R"(
@@ -113,6 +117,51 @@ TEST(NqcListing, CorpusProgramsListAsNqcListsThem) {
     EXPECT_EQ(l->rcxc, l->nqc) << e.path();
   }
   EXPECT_GT(compared, 10);
+}
+
+// nqc's -c: the listing LASM reads (operand fields as numbers, labels for
+// branch targets in tasks and subroutines), equal to nqc's to the byte.
+TEST(NqcListing, EveryInstructionListsForLasmAsNqcListsIt) {
+  std::string nqc = find_nqc();
+  if (nqc.empty()) GTEST_SKIP() << "nqc is not installed";
+  test::TempDir dir;
+  fs::path file = fs::path(dir.path) / "every.nqc";
+  std::ofstream(file) << kEveryInstruction
+                      << "int z;\nsub looping() { while (z < 3) z++; repeat (2) z--; }\ntask third() { looping(); }\n";
+  auto l = both(nqc, file, dir.path, backend::ListingStyle::Lasm);
+  ASSERT_TRUE(l) << "nqc did not compile the program";
+  EXPECT_NE(l->nqc.find("\tchkl\t"), std::string::npos);
+  EXPECT_NE(l->nqc.find("\tends\n"), std::string::npos);
+  EXPECT_NE(l->nqc.find("\ns001"), std::string::npos);  // a label in sub 1
+  EXPECT_EQ(l->rcxc, l->nqc);
+}
+
+TEST(NqcListing, CorpusAndSemanticTestProgramsListForLasmAsNqcListsThem) {
+  std::string nqc = find_nqc();
+  if (nqc.empty()) GTEST_SKIP() << "nqc is not installed";
+  test::TempDir dir;
+  int compared = 0;
+  for (const fs::path& folder : {fs::path(RCXC_CORPUS_DIR), fs::path(RCXC_SOURCE_DIR) / "tests/semantic"}) {
+    if (!fs::exists(folder)) continue;
+    for (const auto& e : fs::recursive_directory_iterator(folder)) {
+      if (e.path().extension() != ".nqc") continue;
+      auto l = both(nqc, e.path(), dir.path, backend::ListingStyle::Lasm);
+      if (!l) continue;
+      ++compared;
+      EXPECT_EQ(l->rcxc, l->nqc) << e.path();
+    }
+  }
+  EXPECT_GT(compared, 100);
+}
+
+// Where nqc -c stops and never ends, rcxc writes a comment and goes on.
+TEST(NqcListing, ABytePastTheInstructionsIsACommentForLasm) {
+  rcx::Image image;
+  image.fragments.push_back({rcx::FragmentType::Task, 0, {0x01, 0x51, 0x02}});
+  image.symbols.push_back({rcx::SymbolType::Task, 0, "main"});
+  EXPECT_EQ(backend::nqc_listing(image, {}, backend::ListingStyle::Lasm),
+            "\n; Task 0 = main, size: 3 bytes\n;main\n\ttask\t0\n\t; 01: not an instruction\n\tplays\t2 \n\tendt\n"
+            "\n;Total size: 3 bytes\n");
 }
 
 }  // namespace

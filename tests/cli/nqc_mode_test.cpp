@@ -123,6 +123,7 @@ TEST(NqcMode, CompilingBehavesAsNqc) {
            {{"-TRCX", "-Oout.rcx", "ok.nqc"}},
            {{"-L", "ok.nqc"}},
            {{"-Lx.lst", "ok.nqc"}},
+           {{"-c", "-Llasm.lst", "ok.nqc"}},
            {{"-s", "-Lx.lst", "-Oy.rcx", "ok.nqc"}},
            {{"undeclared.nqc"}},
            {{"nocall.nqc"}},
