@@ -501,10 +501,13 @@ class Preprocessor {
   }
 
   // Fully expands a token list on its own (a macro argument, an #if line).
-  std::vector<Token> expand_list(std::vector<Token> in, std::size_t depth) {
+  // `condition`: an #if line, where `defined NAME` and `defined(NAME)` are
+  // 1 or 0 and NAME is not expanded, also where a macro's text brought the
+  // `defined` in (`#define HAS_X defined(X)`, which nqc and C compilers take).
+  std::vector<Token> expand_list(std::vector<Token> in, std::size_t depth, bool condition = false) {
     // Nothing to expand (a long #if line of numbers and operators): no copy.
     if (std::none_of(in.begin(), in.end(), [&](const Token& t) {
-          return t.kind == TokenKind::Identifier && defined_.count(t.text) != 0;
+          return t.kind == TokenKind::Identifier && (defined_.count(t.text) != 0 || (condition && t.text == "defined"));
         }))
       return in;
     Stream s;
@@ -513,10 +516,34 @@ class Preprocessor {
     std::vector<Token> out;
     Token t;
     while (!aborted_ && pull(s, t, false)) {
+      if (condition && t.is_identifier("defined")) {
+        if (!defined_operator(s, t)) return {};
+        out.push_back(std::move(t));
+        continue;
+      }
       if (t.kind == TokenKind::Identifier && try_expand(s, t, depth + 1)) continue;
       out.push_back(std::move(t));
     }
     return out;
+  }
+
+  // Turns `defined` (in `t`) and the operand it takes from `s` into the
+  // number 1 or 0; false after an error.
+  bool defined_operator(Stream& s, Token& t) {
+    Token name, close;
+    bool paren = false;
+    bool got = pull(s, name, false);
+    if (got && name.is("(")) {
+      paren = true;
+      got = pull(s, name, false);
+    }
+    if (!got || name.kind != TokenKind::Identifier || (paren && (!pull(s, close, false) || !close.is(")")))) {
+      diags_.error(t.span, "'defined' needs a macro name: defined(NAME)");
+      return false;
+    }
+    t.kind = TokenKind::Number;
+    t.text = find_macro(name.text) ? "1" : "0";
+    return true;
   }
 
   int param_index(const Macro& m, const Token& t) const {
@@ -968,30 +995,10 @@ class Preprocessor {
   // them in place, since a line can be most of a file's tokens.
   bool eval_condition(std::vector<Token>& line) {
     const Token directive = line[0];
-    // Replace `defined X` / `defined(X)` before expanding macros.
-    std::size_t kept = 0;
-    for (std::size_t i = 1; i < line.size(); ++i) {
-      if (!line[i].is_identifier("defined")) {
-        line[kept++] = std::move(line[i]);
-        continue;
-      }
-      std::size_t j = i + 1;
-      bool paren = j < line.size() && line[j].is("(");
-      if (paren) ++j;
-      if (j >= line.size() || line[j].kind != TokenKind::Identifier || (paren && (j + 1 >= line.size() || !line[j + 1].is(")")))) {
-        diags_.error(line[i].span, "'defined' needs a macro name: defined(NAME)");
-        return false;
-      }
-      Token v = line[i];
-      v.kind = TokenKind::Number;
-      v.text = find_macro(line[j].text) ? "1" : "0";
-      line[kept++] = std::move(v);
-      i = paren ? j + 1 : j;
-    }
-    line.resize(kept);
-    std::vector<Token> toks = std::move(line);
+    std::vector<Token> toks(std::make_move_iterator(line.begin() + 1), std::make_move_iterator(line.end()));
+    line.clear();
     std::size_t before = diags_.error_count();
-    toks = expand_list(std::move(toks), 0);
+    toks = expand_list(std::move(toks), 0, true);
     if (diags_.error_count() != before) return false;
     if (toks.empty()) {
       diags_.error(directive.span, "#" + std::string(directive.text) + " needs an expression");

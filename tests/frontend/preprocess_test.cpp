@@ -54,6 +54,19 @@ TEST(Preprocessor, ObjectAndFunctionMacros) {
   EXPECT_FALSE(p.diags.has_errors());
 }
 
+// `#define HAS_X defined(X)` then `#if HAS_X`: nqc (and C compilers) take
+// the `defined` the macro brings in, without expanding X, even where X is a
+// macro of its own; rcxc said "unexpected '(' in #if expression".
+TEST(Preprocessor, DefinedBroughtInByAMacroIsEvaluatedWithoutExpandingItsName) {
+  const std::string tail = "#define HAS_X defined(X)\n#define HAS_Y defined Y\n#if HAS_X\nyes\n#else\nno\n#endif\n"
+                           "#if !HAS_Y && !(HAS_X && 0)\nneither\n#endif\n";
+  EXPECT_EQ(run_pp(tail).joined, "no neither");
+  EXPECT_EQ(run_pp("#define X 0\n" + tail).joined, "yes neither");
+  EXPECT_EQ(run_pp("#define X 0\n#define Y\n" + tail).joined, "yes");
+  auto broken = run_pp("#define D defined(\n#if D\n#endif\n");
+  EXPECT_EQ(messages(broken.diags), (std::vector<std::string>{"'defined' needs a macro name: defined(NAME)"}));
+}
+
 // nqc 3.1 compiles `#define F(a, a) a` and gives F(1, 2) the value 1: the
 // first parameter of the name; rcxc refused the macro.
 TEST(Preprocessor, ADuplicateParameterTakesTheFirstArgumentAsInNqc) {
