@@ -625,6 +625,27 @@ TEST(LspHostile, ManyDiagnosticsArePublishedInLinearTime) {
   EXPECT_LT(seconds, test::built_with_asan() ? 40.0 : 15.0);
 }
 
+TEST(LspHostile, TooManyRangedChangesInOneMessageAreRefused) {
+  // 20,000 ranged changes on a 100,000-line document: each found its line
+  // from the text's start and moved the rest, two minutes in all.
+  std::string text;
+  for (int i = 0; i < 100000; ++i) text += "// line\n";
+  text += "task main() {}\n";
+  Session s(text);
+  json one = {{"range", {{"start", pos(99999, 0)}, {"end", pos(99999, 0)}}}, {"text", "x"}};
+  json changes = json::array();
+  for (int i = 0; i < 20000; ++i) changes.push_back(one);
+  auto start = std::chrono::steady_clock::now();
+  EXPECT_TRUE(handle(s.server, change_note(s.uri, 2, changes)).empty());  // dropped whole
+  double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_LT(seconds, test::built_with_asan() ? 40.0 : 15.0);
+  EXPECT_EQ(s.server.documents.at(s.uri).text, text);
+  // A few ranged changes are still applied.
+  auto out = handle(s.server, change_note(s.uri, 3, json::array({one, one})));
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(s.server.documents.at(s.uri).text.substr(99999 * 8, 10), "xx// line\n");
+}
+
 TEST(LspHostile, ANoteInTheDocumentNamesItByTheClientsUri) {
   // The URI was rebuilt from the path: "untitled:Untitled-1" became a
   // file: URI under the server's working folder.
