@@ -20,6 +20,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -99,6 +100,11 @@ extern "C" int LLVMFuzzerInitialize(int*, char***) {
   if (!mkdtemp(dir)) std::abort();
   g_stdlib_dir = dir;
   setenv("XDG_CACHE_HOME", dir, 1);
+  // Fork mode starts a process per job: each would leave a folder behind.
+  std::atexit([] {
+    std::error_code ec;
+    std::filesystem::remove_all(g_stdlib_dir, ec);
+  });
   return 0;
 }
 
