@@ -8,6 +8,7 @@
 
 #include "frontend/parse.h"
 #include "frontend/preprocess.h"
+#include "frontend/spelling.h"
 #include "frontend/token.h"
 #include "stdlib/stdlib.h"
 
@@ -260,6 +261,19 @@ std::string_view def_kind_name(DefKind k) {
 
 Index build_index(const std::string& path, const std::string& text, const frontend::Options& options) {
   Index index;
+  if (text.size() > kMaxDocument) {
+    // The compiler's work and memory grow with the text (a 1 MiB document
+    // took 6 s and 470 MB per change), and the protocol would allow 64 MiB.
+    index.main_file = index.sm.add(path, text);
+    index.is_stdlib.push_back(false);
+    DocDiagnostic d;
+    d.line = d.end_line = d.column = 1;
+    d.end_column = 2;
+    d.message = "the document is larger than a source file may be (" + std::to_string(kMaxDocument >> 20) +
+                " MiB); it is not compiled, as rcxc compile would refuse it";
+    index.diagnostics.push_back(std::move(d));
+    return index;
+  }
   index.diagnostics = compile_diagnostics(path, text, options);
 
   Diagnostics ignored;
@@ -357,6 +371,10 @@ std::vector<std::string> similar_names(const Index& index, const std::string& na
     for (auto& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
     return s;
   };
+  // Each distance costs the product of the lengths (and edit_distance holds
+  // the whole table): a long name is no typing slip, so it gets no fixes,
+  // as the compiler gives it no "did you mean".
+  if (name.size() > frontend::kMaxSpelledName) return {};
   const std::string key = lower(name);
   const std::size_t allowed = std::max<std::size_t>(1, name.size() / 3);
   // Ranked by the distance ignoring case (a slip of the shift key costs
@@ -364,6 +382,8 @@ std::vector<std::string> similar_names(const Index& index, const std::string& na
   std::vector<std::tuple<std::size_t, std::size_t, std::string>> scored;
   for (const Definition* d : visible_at(index, where)) {
     if (d->name == name || d->kind == DefKind::Label) continue;
+    // At least one edit per letter of difference in length.
+    if ((d->name.size() > name.size() ? d->name.size() - name.size() : name.size() - d->name.size()) > allowed) continue;
     std::size_t dist = edit_distance(key, lower(d->name));
     if (dist > allowed) continue;
     scored.emplace_back(dist, edit_distance(name, d->name), d->name);

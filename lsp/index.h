@@ -77,6 +77,10 @@ struct Index {
   std::vector<DocDiagnostic> diagnostics;
 };
 
+// The largest document compiled, as rcxc compile caps a source file
+// (rcx::kSourceFile); a larger one gets one diagnostic and no names.
+inline constexpr std::size_t kMaxDocument = std::size_t{1} << 20;
+
 // Compiles `text` as the file at `path` (includes are searched next to it
 // and in options.include_dirs) and indexes what it defines and uses.
 Index build_index(const std::string& path, const std::string& text, const frontend::Options& options);

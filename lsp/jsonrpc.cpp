@@ -1,6 +1,8 @@
 #include "lsp/jsonrpc.h"
 
+#include <algorithm>
 #include <cctype>
+#include <cstdint>
 
 namespace rcxc::lsp {
 namespace {
@@ -31,7 +33,7 @@ bool read_line(std::istream& in, std::string& line) {
 
 Frame read_frame(std::istream& in) {
   std::string line;
-  std::optional<std::size_t> length;
+  std::optional<std::uint64_t> length;
   std::string problem;
   bool any = false;
   while (true) {
@@ -43,18 +45,18 @@ Frame read_frame(std::istream& in) {
     any = true;
     if (iequals_prefix(line, "content-length:")) {
       std::string value = line.substr(15);
-      std::size_t n = 0;
+      std::uint64_t n = 0;
       bool digits = false, ok = true;
       for (char ch : value) {
         if (ch == ' ' || ch == '\t') continue;
-        if (!std::isdigit(static_cast<unsigned char>(ch)) || n > kMaxBody) {
+        if (!std::isdigit(static_cast<unsigned char>(ch)) || n > kMaxSkip) {
           ok = false;
           break;
         }
-        n = n * 10 + static_cast<std::size_t>(ch - '0');
+        n = n * 10 + static_cast<std::uint64_t>(ch - '0');
         digits = true;
       }
-      if (ok && digits && n <= kMaxBody)
+      if (ok && digits && n <= kMaxSkip)
         length = n;
       else
         problem = "bad Content-Length '" + value + "'";
@@ -63,6 +65,21 @@ Frame read_frame(std::istream& in) {
     }
   }
   if (!length) return {Frame::Kind::BadHeader, "", problem.empty() ? "no Content-Length header" : problem};
+  if (*length > kMaxBody) {
+    // Too large to hold, but the length is believable: reading past the
+    // body keeps the next message's header where it is looked for. Taking
+    // the body's first line for a header instead would lose the messages
+    // after it too.
+    for (std::uint64_t left = *length; left > 0 && in;) {
+      auto step = static_cast<std::streamsize>(std::min<std::uint64_t>(left, std::uint64_t{1} << 30));
+      in.ignore(step);
+      left -= static_cast<std::uint64_t>(in.gcount());
+      if (in.gcount() < step) return {Frame::Kind::End, "", ""};
+    }
+    return {Frame::Kind::BadHeader, "",
+            "a message of " + std::to_string(*length) + " bytes skipped (the limit is " + std::to_string(kMaxBody >> 20) +
+                " MiB)"};
+  }
   std::string body(*length, '\0');
   in.read(body.data(), static_cast<std::streamsize>(*length));
   if (static_cast<std::size_t>(in.gcount()) != *length) return {Frame::Kind::End, "", ""};

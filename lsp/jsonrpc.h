@@ -3,6 +3,7 @@
 // bytes of JSON.
 #pragma once
 
+#include <cstdint>
 #include <istream>
 #include <optional>
 #include <ostream>
@@ -22,6 +23,9 @@ inline constexpr int kServerNotInitialized = -32002;
 
 // The largest message body accepted; a longer one is read past unparsed.
 inline constexpr std::size_t kMaxBody = 64u << 20;
+// A Content-Length above this is not believed (nothing is skipped for it):
+// 10^18 bytes is no message.
+inline constexpr std::uint64_t kMaxSkip = 1'000'000'000'000'000'000u;
 
 struct Frame {
   enum class Kind { Message, BadHeader, End } kind = Kind::End;

@@ -1,9 +1,11 @@
 #include "lsp/server.h"
 
+#include <cctype>
+#include <cstdint>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <regex>
+#include <stdexcept>
 #include <sstream>
 
 #include "lsp/jsonrpc.h"
@@ -74,18 +76,44 @@ json range_json(const SourceManager& sm, const Range& r) {
           {"end", position(sm.line(r.end.file, r.end.line), r.end.line, r.end.column)}};
 }
 
+// Parameters that are not what LSP says they are (answered Invalid params).
+struct BadParams : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// The most bytes of text one didChange's ranged changes may go through:
+// as much as one message may carry (thousands of changes on a program of
+// a few kilobytes, 80 on a document at the 1 MiB compile cap).
+constexpr std::uint64_t kMaxChangeWork = kMaxBody;
+
+// A line, character or version: a JSON integer. get<std::int64_t>() would
+// convert a float too, and 1e300 has no int64 value (undefined behaviour);
+// integers past int64 are clamped, which every position check refuses.
+std::int64_t integer_field(const json& object, const char* key) {
+  const json& v = object.at(key);
+  if (v.is_number_unsigned())
+    return static_cast<std::int64_t>(std::min<std::uint64_t>(v.get<std::uint64_t>(), INT64_MAX));
+  if (!v.is_number_integer()) throw BadParams(std::string("'") + key + "' must be an integer");
+  return v.get<std::int64_t>();
+}
+
+// Line `line` (from 1) of the document, from the index's line table: the
+// index holds the same text. line_of scans from the start, which made
+// publishing 20,000 warnings take seconds.
+std::string_view doc_line(const Document& doc, std::uint32_t line) { return doc.index.sm.line(doc.index.main_file, line); }
+
 // A client position as a Place in the document (file main_file).
 std::optional<Place> place_of(const Document& doc, const json& pos) {
-  std::int64_t line = pos.at("line").get<std::int64_t>();
-  std::int64_t character = pos.at("character").get<std::int64_t>();
+  std::int64_t line = integer_field(pos, "line");
+  std::int64_t character = integer_field(pos, "character");
   if (line < 0 || character < 0 || line > 10'000'000) return std::nullopt;
   auto l = static_cast<std::uint32_t>(line + 1);
-  return Place{doc.index.main_file, l, byte_column_of_utf16(line_of(doc.text, l), character)};
+  return Place{doc.index.main_file, l, byte_column_of_utf16(doc_line(doc, l), character)};
 }
 
 // Byte offset in `text` of a client position (for incremental changes).
 std::size_t offset_of(std::string_view text, const json& pos) {
-  std::int64_t line = std::max<std::int64_t>(0, pos.at("line").get<std::int64_t>());
+  std::int64_t line = std::max<std::int64_t>(0, integer_field(pos, "line"));
   std::size_t start = 0;
   for (std::int64_t l = 0; l < line; ++l) {
     auto nl = text.find('\n', start);
@@ -93,7 +121,7 @@ std::size_t offset_of(std::string_view text, const json& pos) {
     start = nl + 1;
   }
   auto l = static_cast<std::uint32_t>(line + 1);
-  return std::min(text.size(), start + byte_column_of_utf16(line_of(text, l), pos.at("character").get<std::int64_t>()) - 1);
+  return std::min(text.size(), start + byte_column_of_utf16(line_of(text, l), integer_field(pos, "character")) - 1);
 }
 
 // ------------------------------------------------------------------ URIs --
@@ -151,8 +179,15 @@ json location(Server& server, const Document& doc, const std::string& uri, const
 
 // ----------------------------------------------------------- diagnostics --
 
-json diagnostic_json(Server& server, const Document& doc, const DocDiagnostic& d) {
-  auto text_line = [&](std::uint32_t l) { return line_of(doc.text, l); };
+// The standard library file `name` as the index read it, if it did.
+std::optional<std::uint32_t> stdlib_file(const Index& index, const std::string& name) {
+  for (std::uint32_t f = 0; f < index.sm.size(); ++f)
+    if (f < index.is_stdlib.size() && index.is_stdlib[f] && index.sm.path(f) == name) return f;
+  return std::nullopt;
+}
+
+json diagnostic_json(Server& server, const Document& doc, const std::string& doc_uri, const DocDiagnostic& d) {
+  auto text_line = [&](std::uint32_t l) { return doc_line(doc, l); };
   json j = {{"range",
              {{"start", position(text_line(d.line), d.line, d.column)},
               {"end", position(text_line(d.end_line), d.end_line, d.end_column)}}},
@@ -169,10 +204,13 @@ json diagnostic_json(Server& server, const Document& doc, const DocDiagnostic& d
       std::string copy = stdlib_copy(server, r.path);
       if (copy.empty()) continue;
       uri = path_to_uri(copy);
-      line_text = std::string(line_of(*stdlib::find(r.path), r.line));
+      auto file = stdlib_file(doc.index, r.path);
+      line_text = std::string(file ? doc.index.sm.line(*file, r.line) : line_of(*stdlib::find(r.path), r.line));
     } else if (r.path == doc.path) {
-      uri = path_to_uri(fs::absolute(r.path, ec).string());
-      line_text = std::string(line_of(doc.text, r.line));
+      // The client's own name for the document: a URI rebuilt from the
+      // path differs for untitled: documents and file://localhost/ URIs.
+      uri = doc_uri;
+      line_text = std::string(doc_line(doc, r.line));
     } else {
       uri = path_to_uri(fs::absolute(r.path, ec).string());
     }
@@ -187,7 +225,7 @@ json diagnostic_json(Server& server, const Document& doc, const DocDiagnostic& d
 json publish(Server& server, const std::string& uri, const Document* doc) {
   json list = json::array();
   if (doc)
-    for (const auto& d : doc->index.diagnostics) list.push_back(diagnostic_json(server, *doc, d));
+    for (const auto& d : doc->index.diagnostics) list.push_back(diagnostic_json(server, *doc, uri, d));
   json params = {{"uri", uri}, {"diagnostics", list}};
   if (doc) params["version"] = doc->version;
   return notification("textDocument/publishDiagnostics", params);
@@ -309,22 +347,50 @@ json document_symbols(Request& r) {
   return list;
 }
 
+bool is_identifier(std::string_view s) {
+  if (s.empty() || std::isdigit(static_cast<unsigned char>(s[0]))) return false;
+  for (char c : s)
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_') return false;
+  return true;
+}
+
+// NAME of "'NAME' is not declared...", else "". Read by hand, not by
+// std::regex: libstdc++'s matcher recurses once per character, and a
+// 300,000-letter name overflowed the stack (SIGSEGV).
+std::string undeclared_name(const std::string& message) {
+  const std::string_view tail = "' is not declared";
+  if (message.empty() || message[0] != '\'') return "";
+  auto end = message.find('\'', 1);
+  if (end == std::string::npos || message.compare(end, tail.size(), tail) != 0) return "";
+  std::string name = message.substr(1, end - 1);
+  return is_identifier(name) ? name : "";
+}
+
+// NAME of "... did you mean 'NAME'...", else "".
+std::string suggested_name(const std::string& message) {
+  const std::string_view lead = "did you mean '";
+  auto at = message.find(lead);
+  if (at == std::string::npos) return "";
+  at += lead.size();
+  auto end = message.find('\'', at);
+  if (end == std::string::npos) return "";
+  std::string name = message.substr(at, end - at);
+  return is_identifier(name) ? name : "";
+}
+
 // "did you mean" quick fixes for the names the compiler does not know.
 json code_actions(Request& r) {
   const Index& index = r.doc->index;
-  static const std::regex unknown("^'([A-Za-z_][A-Za-z0-9_]*)' is not declared");
-  static const std::regex suggested("did you mean '([A-Za-z_][A-Za-z0-9_]*)'");
   auto first = place_of(*r.doc, r.params.at("range").at("start"));
   auto last = place_of(*r.doc, r.params.at("range").at("end"));
   if (!first || !last) return nullptr;
   json actions = json::array();
   for (const auto& d : index.diagnostics) {
-    std::smatch m;
-    if (d.line == 0 || !std::regex_search(d.message, m, unknown)) continue;
+    std::string name = undeclared_name(d.message);
+    if (d.line == 0 || name.empty()) continue;
     // The request's range must touch the diagnostic's.
     if (d.end_line < first->line || (d.end_line == first->line && d.end_column < first->column)) continue;
     if (d.line > last->line || (d.line == last->line && d.column > last->column)) continue;
-    std::string name = m[1];
     const Occurrence* occ = nullptr;
     for (const auto& o : index.occurrences)
       if (o.name == name && o.at.begin.file == index.main_file && o.at.begin.line == d.line &&
@@ -334,8 +400,7 @@ json code_actions(Request& r) {
       }
     if (!occ) continue;
     std::vector<std::string> names;
-    std::smatch s;
-    if (std::regex_search(d.message, s, suggested)) names.push_back(s[1]);
+    if (std::string meant = suggested_name(d.message); !meant.empty()) names.push_back(meant);
     for (auto& n : similar_names(index, name, occ->at.begin))
       if (std::find(names.begin(), names.end(), n) == names.end()) names.push_back(n);
     for (std::size_t i = 0; i < names.size(); ++i) {
@@ -343,7 +408,7 @@ json code_actions(Request& r) {
       actions.push_back({{"title", "Change '" + name + "' to '" + names[i] + "'"},
                          {"kind", "quickfix"},
                          {"isPreferred", i == 0},
-                         {"diagnostics", json::array({diagnostic_json(r.server, *r.doc, d)})},
+                         {"diagnostics", json::array({diagnostic_json(r.server, *r.doc, r.uri, d)})},
                          {"edit", {{"changes", {{r.uri, json::array({edit})}}}}}});
     }
   }
@@ -380,10 +445,13 @@ std::vector<json> notify(Server& server, const std::string& method, const json& 
   if (method == "textDocument/didOpen") {
     const json& td = params.at("textDocument");
     std::string uri = td.at("uri").get<std::string>();
+    std::string text = td.at("text").get<std::string>();
+    // Read before the document is touched: a bad version drops the message.
+    std::int64_t version = td.contains("version") ? integer_field(td, "version") : 0;
     Document& doc = server.documents[uri];
     doc.path = uri_to_path(uri);
-    doc.text = td.at("text").get<std::string>();
-    doc.version = td.value("version", 0);
+    doc.text = std::move(text);
+    doc.version = version;
     reindex(server, doc);
     return {publish(server, uri, &doc)};
   }
@@ -392,18 +460,32 @@ std::vector<json> notify(Server& server, const std::string& method, const json& 
     auto it = server.documents.find(uri);
     if (it == server.documents.end()) return {};
     Document& doc = it->second;
+    // Every change is applied to a copy and kept only if the whole message
+    // is good: a bad version or a later malformed change used to leave the
+    // text changed but the index (and diagnostics) of the old text.
+    std::string updated = doc.text;
+    // Each ranged change costs the whole text (finding its line, moving
+    // the rest): 20,000 of them in one message on a 700 KB document took
+    // two minutes. The server asks for full-text changes; a client that
+    // sends more ranged work than this in one message is refused.
+    std::uint64_t work = 0;
     for (const auto& change : params.at("contentChanges")) {
       std::string text = change.at("text").get<std::string>();
       if (change.contains("range")) {
-        std::size_t a = offset_of(doc.text, change["range"].at("start"));
-        std::size_t b = offset_of(doc.text, change["range"].at("end"));
+        work += updated.size() + text.size();
+        if (work > kMaxChangeWork) throw BadParams("too many ranged changes in one didChange");
+        std::size_t a = offset_of(updated, change["range"].at("start"));
+        std::size_t b = offset_of(updated, change["range"].at("end"));
         if (b < a) std::swap(a, b);
-        doc.text.replace(a, b - a, text);
+        updated.replace(a, b - a, text);
       } else {
-        doc.text = std::move(text);
+        updated = std::move(text);
       }
     }
-    if (params.at("textDocument").contains("version")) doc.version = params["textDocument"].value("version", doc.version);
+    const json& td = params.at("textDocument");
+    std::int64_t version = td.contains("version") && !td["version"].is_null() ? integer_field(td, "version") : doc.version;
+    doc.text = std::move(updated);
+    doc.version = version;
     reindex(server, doc);
     return {publish(server, uri, &doc)};
   }
@@ -450,7 +532,10 @@ std::vector<json> handle(Server& server, const json& message) {
     if (message.is_object() && message.contains("id") && !message.contains("method") &&
         (message.contains("result") || message.contains("error")))
       return {};  // a reply to a request of ours (we send none): ignored
-    json id = message.is_object() && message.contains("id") ? message["id"] : json(nullptr);
+    // JSON-RPC: an id that is not a string or an integer is answered with null.
+    json id = nullptr;
+    if (message.is_object() && message.contains("id") && (message["id"].is_string() || message["id"].is_number_integer()))
+      id = message["id"];
     return {error_response(id, kInvalidRequest, "not a JSON-RPC request or notification")};
   }
   const std::string method = message["method"].get<std::string>();
@@ -480,6 +565,8 @@ std::vector<json> handle(Server& server, const json& message) {
   } catch (const UnknownMethod&) {
     return {error_response(id, kMethodNotFound, "unknown method '" + method + "'")};
   } catch (const nlohmann::json::exception& e) {
+    return {error_response(id, kInvalidParams, std::string("bad parameters for ") + method + ": " + e.what())};
+  } catch (const BadParams& e) {
     return {error_response(id, kInvalidParams, std::string("bad parameters for ") + method + ": " + e.what())};
   } catch (const std::exception& e) {
     return {error_response(id, kInternalError, e.what())};

@@ -35,6 +35,18 @@ TEST(Spelling, ClosestNameNeedsOneClearWinner) {
   EXPECT_EQ(closest_name("__internl", names), std::nullopt);  // the library's helpers are not offered
 }
 
+TEST(Spelling, AVeryLongNameGetsNoSuggestion) {
+  // The distance costs the product of the lengths: two 20,000-letter names
+  // one letter apart took 17 s to compile. No one misspells such a name.
+  using rcxc::frontend::closest_name;
+  using rcxc::frontend::kMaxSpelledName;
+  const std::string stem(kMaxSpelledName - 1, 'a');
+  EXPECT_EQ(closest_name(stem + "b", {stem + "c"}), stem + "c");
+  EXPECT_EQ(closest_name(stem + "bb", {stem + "bc"}), std::nullopt);
+  const std::string huge(20000, 'a');
+  EXPECT_EQ(closest_name(huge + "b", {huge + "c", "Wait"}), std::nullopt);
+}
+
 TEST(HelpfulDiagnostics, MisspeltApiNameSuggestsTheRightOne) {
   auto r = run_frontend("task main()\n{\n  Wiat(100);\n  OnFwd(OUT_A + SENSOR_TUOCH);\n}\n");
   EXPECT_EQ(r.brief(), (std::vector<std::string>{"3:3: error: 'Wiat' is not declared; did you mean 'Wait'?",
