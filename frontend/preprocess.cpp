@@ -878,10 +878,14 @@ class Preprocessor {
     std::vector<std::string> dirs;
     if (!files_.back().dir.empty()) dirs.push_back(files_.back().dir);
     dirs.insert(dirs.end(), opts_.include_dirs.begin(), opts_.include_dirs.end());
+    std::optional<fs::path> not_a_file;  // found, but a folder or a device
     for (const auto& d : dirs) {
       fs::path p = fs::path(d) / name;
       std::error_code ec;
-      if (!fs::is_regular_file(p, ec)) continue;
+      if (!fs::is_regular_file(p, ec)) {
+        if (!not_a_file && fs::exists(p, ec)) not_a_file = p;
+        continue;
+      }
       auto file = rcx::read_file(p.string(), rcx::kSourceFile);
       if (auto* problem = std::get_if<rcx::FileProblem>(&file)) {
         if (*problem != rcx::FileProblem::TooLarge) continue;
@@ -907,6 +911,13 @@ class Preprocessor {
       sm_.mark_library(id);
       sm_.set_include_site(id, where);
       push_file(id, "", key);
+      return;
+    }
+    if (not_a_file) {
+      std::error_code ec;
+      diags_.error(where, "cannot include '" + not_a_file->string() + "': it is " +
+                              (fs::is_directory(*not_a_file, ec) ? "a folder" : "a device or special file") +
+                              ", not a source file");
       return;
     }
     diags_.error(where, "cannot find include file '" + name + "'");

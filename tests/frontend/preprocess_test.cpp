@@ -54,6 +54,23 @@ TEST(Preprocessor, ObjectAndFunctionMacros) {
   EXPECT_FALSE(p.diags.has_errors());
 }
 
+// A folder or a device where the included file was looked for is named as
+// such ("cannot find" sent the user looking for a file that is there).
+TEST(Preprocessor, IncludingAFolderOrADeviceSaysWhatItIs) {
+  rcxc::test::TempDir d;
+  std::filesystem::create_directories(d.path + "/parts");
+  auto folder = run_pp("#include \"parts\"\n", {}, "t.nqc", d.path);
+  EXPECT_EQ(messages(folder.diags),
+            (std::vector<std::string>{"cannot include '" + d.path + "/parts': it is a folder, not a source file"}));
+  if (std::filesystem::exists("/dev/null")) {
+    auto device = run_pp("#include \"/dev/null\"\n", {}, "t.nqc", d.path);
+    EXPECT_EQ(messages(device.diags),
+              (std::vector<std::string>{"cannot include '/dev/null': it is a device or special file, not a source file"}));
+  }
+  auto missing = run_pp("#include \"nowhere.nqh\"\n", {}, "t.nqc", d.path);
+  EXPECT_EQ(messages(missing.diags), (std::vector<std::string>{"cannot find include file 'nowhere.nqh'"}));
+}
+
 // `#define HAS_X defined(X)` then `#if HAS_X`: nqc (and C compilers) take
 // the `defined` the macro brings in, without expanding X, even where X is a
 // macro of its own; rcxc said "unexpected '(' in #if expression".
