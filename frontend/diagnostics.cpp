@@ -8,15 +8,18 @@
 
 namespace rcxc {
 
+std::string with_lone_crs_as_lf(std::string text) {
+  for (std::size_t i = 0; i < text.size(); ++i)
+    if (text[i] == '\r' && (i + 1 == text.size() || text[i + 1] != '\n')) text[i] = '\n';
+  return text;
+}
+
 std::uint32_t SourceManager::add(std::string path, std::string text) {
   // A UTF-8 byte-order mark (Windows editors write one) is not program text;
   // dropping it also keeps columns as editors count them.
   if (text.rfind("\xEF\xBB\xBF", 0) == 0) text.erase(0, 3);
-  // A lone CR ends a line, as nqc reads it: classic Mac OS editors wrote
-  // such files. It becomes LF in place, so every offset stays the file's.
-  for (std::size_t i = 0; i < text.size(); ++i)
-    if (text[i] == '\r' && (i + 1 == text.size() || text[i + 1] != '\n')) text[i] = '\n';
-  File f{std::move(path), std::move(text), {0}, {}};
+  // Classic Mac OS editors ended lines with a lone CR.
+  File f{std::move(path), with_lone_crs_as_lf(std::move(text)), {0}, {}};
   for (std::size_t i = 0; i < f.text.size(); ++i)
     if (f.text[i] == '\n') f.line_starts.push_back(i + 1);
   files_.push_back(std::move(f));

@@ -48,6 +48,11 @@ struct MacroExpansion {
   SourceSpan site;
 };
 
+// `text` with each CR that no LF follows turned into LF: a lone CR ends a
+// line, as nqc reads classic Mac OS files and as LSP counts lines. In
+// place, so every offset stays the text's.
+std::string with_lone_crs_as_lf(std::string text);
+
 // Owns the text of every file read during one compilation, so diagnostics can
 // quote source lines long after the lexer is done with them. The lexer's
 // tokens are views of these texts: a file's text stays where it is for as

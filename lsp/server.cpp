@@ -450,7 +450,9 @@ std::vector<json> notify(Server& server, const std::string& method, const json& 
     std::int64_t version = td.contains("version") ? integer_field(td, "version") : 0;
     Document& doc = server.documents[uri];
     doc.path = uri_to_path(uri);
-    doc.text = std::move(text);
+    // LSP counts a lone CR as a line end, as the compiler does: the copy
+    // keeps LF there, so the position arithmetic looks for '\n' alone.
+    doc.text = with_lone_crs_as_lf(std::move(text));
     doc.version = version;
     reindex(server, doc);
     return {publish(server, uri, &doc)};
@@ -484,7 +486,7 @@ std::vector<json> notify(Server& server, const std::string& method, const json& 
     }
     const json& td = params.at("textDocument");
     std::int64_t version = td.contains("version") && !td["version"].is_null() ? integer_field(td, "version") : doc.version;
-    doc.text = std::move(updated);
+    doc.text = with_lone_crs_as_lf(std::move(updated));
     doc.version = version;
     reindex(server, doc);
     return {publish(server, uri, &doc)};

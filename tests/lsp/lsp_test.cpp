@@ -497,6 +497,22 @@ TEST(LspRobustness, RandomEditsAndRequestsAlwaysGetOneReply) {
   }
 }
 
+// LSP counts a lone CR as a line end, as the compiler does (classic Mac OS
+// files): diagnostics and ranged changes agree on where line 2 is.
+TEST(LspDiagnostics, ALoneCarriageReturnEndsALineForRangesToo) {
+  Session s("task main()\r{\r  y = 1;\r}\r");
+  ASSERT_EQ(s.diagnostics.size(), 1u) << s.diagnostics.dump();
+  EXPECT_EQ(s.diagnostics[0]["range"]["start"], pos(2, 2));
+  auto out = handle(s.server, note("textDocument/didChange",
+                                   {{"textDocument", {{"uri", s.uri}, {"version", 2}}},
+                                    {"contentChanges", json::array({{{"range", {{"start", pos(2, 2)}, {"end", pos(2, 3)}}},
+                                                                     {"text", "zz"}}})}}));
+  ASSERT_EQ(out.size(), 1u);
+  ASSERT_EQ(out[0]["params"]["diagnostics"].size(), 1u) << out[0].dump();
+  EXPECT_EQ(out[0]["params"]["diagnostics"][0]["message"], "'zz' is not declared");
+  EXPECT_EQ(out[0]["params"]["diagnostics"][0]["range"]["start"], pos(2, 2));
+}
+
 // ------------------------------------------------------ hostile clients --
 // Each of these was a bug found by fuzz/fuzz_lsp.cpp or the audit of the
 // server against a hostile client (docs/fuzzing.md, "The language server").
