@@ -1,5 +1,7 @@
 #include "frontend/sema.h"
 
+#include <fmt/format.h>
+
 #include <functional>
 #include <map>
 #include <optional>
@@ -817,6 +819,17 @@ class Checker {
                                        " is a CyberMaster source; on the RCX it reads 0");
     n.type_value = static_cast<std::int16_t>(type);
     n.arg_value = *n.arg->constant;
+    // SensorValueRaw(3) for the third sensor (whose number is 2) or Timer(4)
+    // for the fourth timer read what the brick has there, which is not that.
+    if (auto range = rcx::source_argument_range(type); range && (n.arg_value < range->lo || n.arg_value > range->hi)) {
+      if (range->lo == range->hi)
+        diags_.warning(n.arg->span, fmt::format("the {} source takes argument {}, not {}", rcx::source_name(type),
+                                                range->lo, n.arg_value));
+      else
+        diags_.warning(n.arg->span, fmt::format("{} {} does not exist: the RCX has {}s {} to {}{}", range->noun,
+                                                n.arg_value, range->noun, range->lo, range->hi,
+                                                range->noun == "sensor" ? " (SENSOR_1 to SENSOR_3)" : ""));
+    }
     if (type == static_cast<int>(rcx::Source::Immediate)) e.constant = n.arg_value;
   }
 

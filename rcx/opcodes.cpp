@@ -226,4 +226,16 @@ std::string_view source_name(int source) {
   return (source >= 0 && source < 16) ? kNames[source] : "?";
 }
 
+std::optional<ArgumentRange> source_argument_range(int source) {
+  switch (static_cast<Source>(source)) {
+    case Source::Variable: return ArgumentRange{0, 31, "variable"};
+    case Source::Timer: return ArgumentRange{0, 3, "timer"};
+    case Source::MotorState: return ArgumentRange{0, 2, "output"};
+    case Source::SensorValue: case Source::SensorType: case Source::SensorMode: case Source::SensorRaw:
+    case Source::SensorBool: return ArgumentRange{0, 2, "sensor"};
+    case Source::Clock: case Source::Message: return ArgumentRange{0, 0, ""};
+    default: return std::nullopt;
+  }
+}
+
 }  // namespace rcx

@@ -135,4 +135,14 @@ void write_field(FieldType t, int value, std::uint8_t* p);
 
 std::string_view source_name(int source);
 
+// The arguments the seed's table of sources gives source `source`: variable
+// 0..31, timer 0..3, motor 0..2, sensor value, type, mode, raw and boolean
+// 0..2, clock and message 0. nullopt where any value goes (an immediate, a
+// random maximum) or the argument is ignored (program, CyberMaster ones).
+struct ArgumentRange {
+  int lo = 0, hi = 0;
+  std::string_view noun;  // "timer", "sensor", ... ("" where only one value goes)
+};
+std::optional<ArgumentRange> source_argument_range(int source);
+
 }  // namespace rcx

@@ -110,6 +110,20 @@ TEST(HelpfulDiagnostics, ASensorValueFunctionTakesASensorNameAndSaysOnceWhatIsWr
                                                    "SENSOR_3)"}));
 }
 
+// A source's argument past what the brick has (SensorValue(3) meaning the
+// third sensor, Timer(4) the fourth timer) is a warning at the argument.
+TEST(HelpfulDiagnostics, ASourceArgumentPastTheBricksRangeIsAWarning) {
+  auto r = run_frontend("int x;\ntask main()\n{\n  x = SensorValue(3) + Timer(4) + @(0x30003) + @32 + Message();\n"
+                        "  x = __source(14, 2) + SensorValue(2) + Timer(3) + Random(500) + Program();\n}\n");
+  EXPECT_EQ(r.brief(),
+            (std::vector<std::string>{
+                "4:19: warning: sensor 3 does not exist: the RCX has sensors 0 to 2 (SENSOR_1 to SENSOR_3)",
+                "4:30: warning: timer 4 does not exist: the RCX has timers 0 to 3",
+                "4:36: warning: output 3 does not exist: the RCX has outputs 0 to 2",
+                "4:49: warning: variable 32 does not exist: the RCX has variables 0 to 31",
+                "5:20: warning: the clock source takes argument 0, not 2"}));
+}
+
 TEST(HelpfulDiagnostics, ErrorInALibraryMacroIsShownAtTheUsersLine) {
   auto r = run_frontend("int v;\ntask main()\n{\n  v = Random();\n}\n");
   std::string text = render_all(r.diags, r.sm, {});
