@@ -170,17 +170,13 @@ struct TestResult {
 TestResult run_one(const TestOptions& o, const std::string& file) {
   TestResult r;
   auto start = std::chrono::steady_clock::now();
-  struct Timer {
-    TestResult& r;
-    std::chrono::steady_clock::time_point start;
-    ~Timer() { r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); }
-  } timer{r, start};
   try {
     r.failures = run_test(o, file, r.log);
   } catch (const std::exception& e) {
     // A bug or an exhausted machine: this test fails, the others still run.
     r.failures = {{0, std::string("internal error: ") + e.what()}};
   }
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return r;
 }
 
