@@ -101,7 +101,7 @@ std::optional<std::string> bad_arguments(const CompileArgs& a) {
   if (a.output && a.output->empty()) return "-o needs a file name";
   if (a.preprocess_only) return std::nullopt;
   // FILE.rcx is named after FILE; the standard input has no name to give.
-  if (a.file == "-" && !a.output)
+  if (a.file == frontend::kStandardInput && !a.output)
     return "the program comes from the standard input: name the image with -o FILE (-o - writes it to the standard "
            "output)";
   if (a.output == "-" && a.listing == "-")

@@ -292,9 +292,7 @@ class Session {
     if (o_.binary) return perform_binary(s.name);
     // Read with the cap every source has: /dev/zero or an endless pipe
     // ends with a message, not with the machine's memory.
-    const bool piped = s.name == frontend::kStandardInput;
-    const std::string name = piped ? std::string(frontend::kStandardInputName) : s.name;
-    auto read = piped ? rcx::read_stream(std::cin, rcx::kSourceFile) : rcx::read_file(s.name, rcx::kSourceFile);
+    auto [name, read] = frontend::read_source(s.name);
     if (auto* problem = std::get_if<rcx::FileProblem>(&read)) {
       report_errors(*problem == rcx::FileProblem::TooLarge
                         ? fmt::format("# Error: {}\n", rcx::too_large_message(name, rcx::kSourceFile))

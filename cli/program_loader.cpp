@@ -180,8 +180,7 @@ namespace {
 // FILE "-": an image or NQC source on the standard input, told apart as
 // files are (the signature "RCXI"), after reading it once.
 std::variant<rcx::Image, std::string> load_standard_input(const CompileRequest& request) {
-  const std::string name(frontend::kStandardInputName);
-  auto read = rcx::read_stream(std::cin, rcx::kSourceFile);
+  auto [name, read] = frontend::read_source(std::string(frontend::kStandardInput));
   if (auto* problem = std::get_if<rcx::FileProblem>(&read))
     return *problem == rcx::FileProblem::TooLarge ? rcx::too_large_message(name, rcx::kSourceFile)
                                                   : "cannot read the standard input";

@@ -25,8 +25,7 @@ namespace {
 
 std::optional<std::uint32_t> load(const std::string& path, SourceManager& sm, Diagnostics& diags) {
   const bool piped = path == kStandardInput;
-  const std::string name = piped ? std::string(kStandardInputName) : path;
-  auto file = piped ? rcx::read_stream(std::cin, rcx::kSourceFile) : rcx::read_file(path, rcx::kSourceFile);
+  auto [name, file] = read_source(path);
   if (const auto* problem = std::get_if<rcx::FileProblem>(&file)) {
     switch (*problem) {
       case rcx::FileProblem::Directory: diags.error({}, "'" + name + "' is a directory, not a source file").file = name; break;
@@ -235,6 +234,11 @@ std::optional<ast::Program> run(std::uint32_t file, const std::string& dir, cons
 }
 
 }  // namespace
+
+SourceRead read_source(const std::string& path) {
+  if (path == kStandardInput) return {std::string(kStandardInputName), rcx::read_stream(std::cin, rcx::kSourceFile)};
+  return {path, rcx::read_file(path, rcx::kSourceFile)};
+}
 
 std::optional<ast::Program> parse_program(const std::string& path, const Options& options, SourceManager& sm,
                                           Diagnostics& diags) {

@@ -6,10 +6,12 @@
 #include <string>
 #include <string_view>
 #include <utility>
+#include <variant>
 #include <vector>
 
 #include "frontend/ast.h"
 #include "frontend/diagnostics.h"
+#include "rcx/file_read.h"
 
 namespace rcxc::frontend {
 
@@ -32,6 +34,14 @@ struct Options {
 // the current folder.
 inline constexpr std::string_view kStandardInput = "-";
 inline constexpr std::string_view kStandardInputName = "<stdin>";
+
+// The bytes of source `path` (the standard input for "-"), read up to the
+// cap every source file has, and the name it goes by in messages.
+struct SourceRead {
+  std::string name;
+  std::variant<std::string, rcx::FileProblem> bytes;
+};
+SourceRead read_source(const std::string& path);
 
 // Preprocesses, parses and checks the file at `path`. Returns the annotated
 // program when no error was reported (warnings are allowed), else nullopt;
