@@ -36,6 +36,16 @@ std::string named(int value, std::initializer_list<const char*> names) {
   return std::to_string(value);
 }
 
+// Each operand's value as a number, in table order: both layouts' form for
+// the instructions they spell no other way.
+std::string numbered_operands(const rcx::Decoded& d) {
+  const auto& info = rcx::info(d.op);
+  std::string s;
+  for (std::size_t i = 0; i < info.operands.size() && i < d.v.size(); ++i)
+    s += (i ? ", " : "") + std::to_string(d.v[i]);
+  return s;
+}
+
 // The operands as nqc writes them, from the decoded values (table order).
 std::string operands_text(const rcx::Decoded& d) {
   const auto& v = d.v;
@@ -66,10 +76,7 @@ std::string operands_text(const rcx::Decoded& d) {
       return std::to_string(d.target);
     default: break;
   }
-  const auto& info = rcx::info(d.op);
-  std::string s;
-  for (std::size_t i = 0; i < info.operands.size() && i < v.size(); ++i) s += (i ? ", " : "") + std::to_string(v[i]);
-  return s;
+  return numbered_operands(d);
 }
 
 // A LASM label: the fragment's kind and number, and the address.
@@ -92,10 +99,7 @@ std::string lasm_operands(const rcx::Decoded& d, const std::string& target) {
     default: break;
   }
   if (rcx::is_branch(d.op)) return target;
-  const auto& info = rcx::info(d.op);
-  std::string s;
-  for (std::size_t i = 0; i < info.operands.size() && i < v.size(); ++i) s += (i ? ", " : "") + std::to_string(v[i]);
-  return s;
+  return numbered_operands(d);
 }
 
 // Bytes nqc cannot name are listed one at a time as `?`.
