@@ -243,3 +243,25 @@ TEST(VmEdges, DatalogEntriesHoldTheSourceValues) {
   EXPECT_EQ(up[0].type, 0xff);
   EXPECT_EQ(up[0].value, 5);
 }
+
+// ---------------------------------------------------------------- out-of-range operands (docs: our choices)
+
+TEST(VmEdges, LoopCounterFromAVariableKeepsItsSixteenBits) {
+  // loops var1 (= 300): the body runs 300 times, not 300 & 0xff = 44.
+  auto m = run_task(code({set(1, 300), loops(VAR, 1), loopc(8), add(0, 1), jmp(136)}));
+  EXPECT_EQ(m.stop().kind, rcx::StopKind::Ended);
+  EXPECT_EQ(var(m, 0), 300);
+}
+
+TEST(VmEdges, IndicesOutsideTheReferenceRangesReadZeroAndWriteNothing) {
+  // var 40 is written to nothing and reads 0; timer 4, motor 3, sensor 3 read 0;
+  // Clear timer 4 and Clear sensor value 3 are ignored and the run goes on.
+  auto m = run_task(code({set(40, 123), set(0, 9), setv(0, VAR, 40), set(1, 9), setv(1, TIMER, 4), set(2, 9),
+                          setv(2, MOTOR, 3), set(3, 9), setv(3, SENSOR, 3), timerclr(4), sensclr(3), set(4, 1)}));
+  EXPECT_EQ(m.stop().kind, rcx::StopKind::Ended);
+  EXPECT_EQ(var(m, 0), 0);
+  EXPECT_EQ(var(m, 1), 0);
+  EXPECT_EQ(var(m, 2), 0);
+  EXPECT_EQ(var(m, 3), 0);
+  EXPECT_EQ(var(m, 4), 1);
+}
