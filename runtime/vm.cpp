@@ -732,6 +732,10 @@ bool Machine::step(int task) {
       t.pc += d.size;
       state_.message = 0;
       return true;
+    case Op::SetMessage:  // the program fills its own buffer: nothing arrived
+      t.pc += d.size;
+      state_.message = v[0] & 0xff;
+      return true;
     default: {
       // Advance first: the opcode may restart, stop or delete this very task.
       t.pc += d.size;

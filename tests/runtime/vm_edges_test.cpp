@@ -265,3 +265,18 @@ TEST(VmEdges, IndicesOutsideTheReferenceRangesReadZeroAndWriteNothing) {
   EXPECT_EQ(var(m, 3), 0);
   EXPECT_EQ(var(m, 4), 1);
 }
+
+TEST(VmEdges, SetMessageInAProgramIsNoArrival) {
+  // Set message (0xf7) run by the program fills the buffer, as the reference
+  // says, but nothing came in by infrared: no message_received event. One that
+  // does arrive (a scenario input at 0 ms) is logged.
+  rcx::Machine m(ms_config());
+  m.load(0, image({{0, code({wait(10), msgset(9), setv(0, MESSAGE, 0)})}}));
+  m.schedule({0, rcx::MessageInput{4}});
+  m.start_program();
+  m.run(1'000 * kMicrosPerMs);
+  EXPECT_EQ(var(m, 0), 9);
+  auto received = events_of(m, rcx::EventKind::MessageReceived);
+  ASSERT_EQ(received.size(), 1u);
+  EXPECT_EQ(received[0].value, 4);
+}
