@@ -201,19 +201,6 @@ Outcome raw(Link& link, const Words& words) {
   return hex(std::get<Bytes>(r)) + "\n";
 }
 
-// The largest argument a source takes (the seed's table of sources:
-// variables 0..31, timers 0..3, motors and sensors 0..2, clock and message
-// only 0), or -1 where any value goes.
-int largest_argument(int source) {
-  switch (source) {
-    case 0: return 31;
-    case 1: return 3;
-    case 3: case 9: case 10: case 11: case 12: case 13: return 2;
-    case 14: case 15: return 0;
-    default: return -1;
-  }
-}
-
 Outcome get_value(Link& link, const Words& w) {
   if (w.size() != 3) return usage("get wants SOURCE ARG, e.g. get var 3");
   auto source = parse_source(w[1]);
@@ -222,8 +209,8 @@ Outcome get_value(Link& link, const Words& w) {
   if (!arg) return usage(fmt::format("'{}' is not an argument 0..255", w[2]));
   if (!allows(info(Op::GetValue).operands[0].allowed, *source))
     return usage(fmt::format("source {} cannot be read with Get value", source_name(*source)));
-  if (int most = largest_argument(*source); most >= 0 && (*arg < 0 || *arg > most))
-    return usage(fmt::format("{} {}: the argument of {} is 0..{}", w[1], w[2], source_name(*source), most));
+  if (auto range = source_argument_range(*source); range && (*arg < range->lo || *arg > range->hi))
+    return usage(fmt::format("{} {}: the argument of {} is {}..{}", w[1], w[2], source_name(*source), range->lo, range->hi));
   auto r = call(link, Op::GetValue, {*source, *arg});
   if (auto* e = std::get_if<RemoteError>(&r)) return *e;
   return fmt::format("{}\n", reply_field(info(Op::GetValue), std::get<Bytes>(r), "value"));
