@@ -35,6 +35,40 @@ Stream stream_of(const Event& e) {
   }
 }
 
+// What an event shows, as a value: two events show the same exactly when
+// what() writes them alike. Comparing runs compares these, since writing
+// every event out (a program that switches an output on every pass has
+// thousands a second) was most of what `rcxc compare` spent.
+struct Look {
+  bool nothing = false;  // before the first event of a stream that has no rest state
+  EventKind kind = EventKind::Output;
+  int index = 0;
+  OutputMode mode = OutputMode::Float;
+  bool forward = false;
+  int value = 0;   // output power, sound, frequency, display device, message, datalog value
+  int duration = 0;
+  bool operator==(const Look&) const = default;
+};
+
+Look look_of(const Event& e) {
+  Look l{.kind = e.kind};
+  switch (e.kind) {
+    case EventKind::Output:
+      l.index = e.index % 3;
+      l.mode = e.output.mode;
+      if (l.mode == OutputMode::On) {
+        l.forward = e.output.dir == Direction::Forward;
+        l.value = e.output.power;
+      }
+      return l;
+    case EventKind::Tone: l.duration = e.duration; [[fallthrough]];
+    case EventKind::Sound: case EventKind::Display: case EventKind::MessageSent: case EventKind::Datalog:
+      l.value = e.value;
+      return l;
+    default: return l;
+  }
+}
+
 std::string what(const Event& e) {
   switch (e.kind) {
     case EventKind::Output:
@@ -61,19 +95,19 @@ std::string line_of(const Event& e) { return fmt::format("{}ms {}", e.t_us / kMi
 // nothing a robot does (the next "on" shows them), so such events are left
 // out, as are events that leave what shows unchanged.
 // What output `o` shows before any event: it floats.
-std::string at_rest(std::size_t o) { return fmt::format("output {} float", "ABC"[o % kOutputs]); }
+Look at_rest(std::size_t o) { return {.kind = EventKind::Output, .index = static_cast<int>(o % kOutputs)}; }
 
 std::vector<const Event*> visible_events(const Machine& m) {
-  std::array<std::string, kOutputs> shown;
+  std::array<Look, kOutputs> shown;
   for (std::size_t o = 0; o < kOutputs; ++o) shown[o] = at_rest(o);
   std::vector<const Event*> out;
   for (const auto& e : m.state().events) {
     if (!observable(e)) continue;
     if (e.kind == EventKind::Output) {
-      std::string now = what(e);
+      Look now = look_of(e);
       auto o = static_cast<std::size_t>(e.index) % kOutputs;
       if (now == shown[o]) continue;
-      shown[o] = std::move(now);
+      shown[o] = now;
     }
     out.push_back(&e);
   }
@@ -88,7 +122,7 @@ struct StreamWalk {
   const std::vector<const Event*>* list;
   Micros glitch_us;
   std::size_t at = 0;
-  std::string shown;  // what the last event taken shows
+  Look shown;  // what the last event taken shows
 
   const std::vector<const Event*>& events() const { return *list; }
   bool done() const { return at >= events().size(); }
@@ -100,10 +134,10 @@ struct StreamWalk {
     const Event& next = *events()[at + 1];
     if (!running(next) || next.t_us - here().t_us > glitch_us) return false;
     ++at;
-    while (!done() && what(here()) == shown) ++at;
+    while (!done() && look_of(here()) == shown) ++at;
     return true;
   }
-  void take() { shown = what(*events()[at++]); }
+  void take() { shown = look_of(*events()[at++]); }
 };
 
 // How many events two walks agree on from here (up to `limit`), taking
@@ -121,7 +155,7 @@ bool pass_over_glitches(StreamWalk& a, StreamWalk& b, bool shallow = false) {
   int best = 0;
   int choice = -1;
   auto consider = [&](int option, const StreamWalk& x, const StreamWalk& y) {
-    int n = shallow ? (x.done() || y.done() || what(x.here()) == what(y.here()) ? 1 : 0) : agreement(x, y, kLookahead);
+    int n = shallow ? (x.done() || y.done() || look_of(x.here()) == look_of(y.here()) ? 1 : 0) : agreement(x, y, kLookahead);
     if (n > best) {
       best = n;
       choice = option;
@@ -140,7 +174,7 @@ int agreement(StreamWalk a, StreamWalk b, int limit) {
   int n = 0;
   while (n < limit) {
     if (a.done() || b.done()) return n + 1;  // the rest is the caller's to judge
-    if (what(a.here()) != what(b.here())) {
+    if (look_of(a.here()) != look_of(b.here())) {
       if (!pass_over_glitches(a, b, true)) return n;
       continue;
     }
@@ -184,25 +218,32 @@ std::map<std::string, int> globals(const Machine& m, const Image& image, const s
   return out;
 }
 
-// Both runs' visible events side by side (`*` where a row differs), and the
-// first row at which they show something else, times aside (the row count
-// when they show the same events in the same order), from one listing of
-// each run's events.
-void side_by_side(const RunView& a, const RunView& b, RunComparison& r) {
+// The first row at which both runs' visible events show something else,
+// times aside (the row count when they show the same events in the same
+// order), and with Write both lists side by side (`*` where a row differs).
+void side_by_side(const RunView& a, const RunView& b, SideBySide write, RunComparison& r) {
   auto ea = visible_events(*a.machine), eb = visible_events(*b.machine);
   std::size_t row = 0;
-  while (row < ea.size() && row < eb.size() && what(*ea[row]) == what(*eb[row])) ++row;
+  while (row < ea.size() && row < eb.size() && look_of(*ea[row]) == look_of(*eb[row])) ++row;
   r.first_unlike_row = row;
+  if (write == SideBySide::Skip) return;
   std::vector<std::string> la, lb;
   for (const Event* e : ea) la.push_back(line_of(*e));
   for (const Event* e : eb) lb.push_back(line_of(*e));
   std::size_t width = a.label.size();
   for (const auto& l : la) width = std::max(width, l.size());
-  std::string out = fmt::format("  {:<{}}  | {}\n", a.label, width, b.label);
+  // Padded by hand: the lines are ASCII, and fmt's padding decodes UTF-8.
+  auto padded = [width](const std::string& x) { return x + std::string(width - std::min(width, x.size()), ' '); };
+  std::string out = "  " + padded(a.label) + "  | " + b.label + "\n";
   for (std::size_t i = 0; i < std::max(la.size(), lb.size()); ++i) {
     const std::string& x = i < la.size() ? la[i] : "";
     const std::string& y = i < lb.size() ? lb[i] : "";
-    out += fmt::format("{} {:<{}}  | {}\n", x == y ? ' ' : '*', x, width, y);
+    out += x == y ? ' ' : '*';
+    out += ' ';
+    out += padded(x);
+    out += "  | ";
+    out += y;
+    out += '\n';
   }
   r.side_by_side = std::move(out);
 }
@@ -228,7 +269,7 @@ TimingDifference timing_difference(const std::vector<MatchedEvent>& matched) {
 }
 
 RunComparison compare_runs(const RunView& a, const RunView& b, TimeTolerance tol,
-                           const std::optional<std::vector<std::string>>& global_names) {
+                           const std::optional<std::vector<std::string>>& global_names, SideBySide write) {
   RunComparison r;
   // Events are compared up to where a run was cut off by the time limit;
   // a run that ended has shown everything it would, so what the other shows
@@ -245,7 +286,7 @@ RunComparison compare_runs(const RunView& a, const RunView& b, TimeTolerance tol
     bool parted = false;
     Micros drift = 0;
     // Outputs start floating; other streams start with nothing shown.
-    std::string start = s <= static_cast<int>(Stream::OutputC) ? at_rest(static_cast<std::size_t>(s)) : "";
+    Look start = s <= static_cast<int>(Stream::OutputC) ? at_rest(static_cast<std::size_t>(s)) : Look{.nothing = true};
     StreamWalk wa{&sa[static_cast<Stream>(s)], tol.glitch_us, 0, start};
     StreamWalk wb{&sb[static_cast<Stream>(s)], tol.glitch_us, 0, start};
     while (!wa.done() || !wb.done()) {
@@ -260,7 +301,7 @@ RunComparison compare_runs(const RunView& a, const RunView& b, TimeTolerance tol
       }
       const Event& ea = wa.here();
       const Event& eb = wb.here();
-      if (what(ea) != what(eb)) {
+      if (look_of(ea) != look_of(eb)) {
         if (pass_over_glitches(wa, wb)) continue;
         r.differences.push_back(fmt::format("{}: {}  vs  {}: {}", a.label, line_of(ea), b.label, line_of(eb)));
         break;
@@ -311,7 +352,7 @@ RunComparison compare_runs(const RunView& a, const RunView& b, TimeTolerance tol
                                         b.label, to_string(b.machine->stop().kind)));
   r.same = r.differences.empty();
   r.timing_only = !r.same && timing_differences == r.differences.size();
-  if (!r.same) side_by_side(a, b, r);
+  if (!r.same) side_by_side(a, b, write, r);
   return r;
 }
 

@@ -4,6 +4,7 @@
 // behaves like nqc's for the same program under the same inputs.
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -61,8 +62,13 @@ struct RunComparison {
 // image a global is the first variable symbol of its name (both compilers
 // number globals before locals, in declaration order; a local that shadows a
 // global comes later). Not given, every name both images give once is.
+// `side_by_side`: Skip leaves RunComparison::side_by_side empty, for callers
+// that only want to know whether runs agree (writing every event of two long
+// runs out was most of what a search over many runs spent).
+enum class SideBySide : std::uint8_t { Write, Skip };
 RunComparison compare_runs(const RunView& a, const RunView& b, TimeTolerance tolerance = {},
-                           const std::optional<std::vector<std::string>>& globals = std::nullopt);
+                           const std::optional<std::vector<std::string>>& globals = std::nullopt,
+                           SideBySide side_by_side = SideBySide::Write);
 
 // The observable events of a run as text lines ("1020ms output A on rev 7",
 // "1500ms output A off"): an output's direction and power appear only
