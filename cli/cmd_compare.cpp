@@ -131,7 +131,8 @@ std::optional<int> align_inputs(const rcx::Image& ours, const rcx::Image& theirs
   auto agree_until = [&](rcx::Micros until) {
     rcx::Machine a = run_image(ours, original, o, until);
     rcx::Machine b = run_image(theirs, shifted, o, until);
-    return rcx::compare_runs({&a, &ours, "rcxc"}, {&b, &theirs, "nqc"}, tolerance, globals).same;
+    return rcx::compare_runs({&a, &ours, "rcxc"}, {&b, &theirs, "nqc"}, tolerance, globals, rcx::SideBySide::Skip)
+        .same;
   };
   // Moves inputs [first, last) by 0, then 1, -1, 2, -2, ... instruction
   // times until the runs agree up to `until`; false (inputs left moved by the
@@ -150,14 +151,17 @@ std::optional<int> align_inputs(const rcx::Image& ours, const rcx::Image& theirs
   int moved = 0;
   // Without inputs there is nothing to move, so nothing to explain.
   if (original.inputs.empty()) return std::nullopt;
-  for (std::size_t i = 0; i < original.inputs.size();) {
+  // Inputs from the end of the run on change nothing the runs show, and no
+  // run goes past that end (--for).
+  for (std::size_t i = 0; i < original.inputs.size() && original.inputs[i].at_us < end;) {
     std::size_t j = i;  // [i, j): inputs at the same time move together
     while (j < original.inputs.size() && original.inputs[j].at_us == original.inputs[i].at_us) ++j;
     std::size_t after_next = j;  // end of the next group
     while (after_next < original.inputs.size() && original.inputs[after_next].at_us == original.inputs[j].at_us)
       ++after_next;
-    rcx::Micros horizon = j < original.inputs.size() ? original.inputs[j].at_us : end;
-    rcx::Micros wide_horizon = after_next < original.inputs.size() ? original.inputs[after_next].at_us : end;
+    rcx::Micros horizon = std::min(end, j < original.inputs.size() ? original.inputs[j].at_us : end);
+    rcx::Micros wide_horizon =
+        std::min(end, after_next < original.inputs.size() ? original.inputs[after_next].at_us : end);
     // A reaction can outlast the next input (a half-second pulse begun just
     // before a sensor that program never reads changes), and a placement
     // that agrees only up to that input can leave the runs apart for good.
