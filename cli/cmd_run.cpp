@@ -228,6 +228,11 @@ int run(const RunOptions& o) {
     if (o.report == "json") std::cerr << "rcxc run: the program faulted: " << machine.stop().fault->message << "\n";
     return kExitFailure;
   }
+  if (machine.stop().kind == rcx::StopKind::EventLimit) {
+    std::cerr << "rcxc run: the run stopped at " << machine.now_us() / rcx::kMicrosPerMs
+              << " ms, before the time asked for: " << rcx::event_limit_reason(machine) << "; ask for less with --for\n";
+    return kExitFailure;
+  }
   return kExitOk;
 }
 

@@ -54,6 +54,7 @@ std::optional<TransportError> serve(Brick& brick, Transport& port, const ServeOp
     auto& heard = std::get<Bytes>(got);
     auto wall = std::chrono::duration_cast<std::chrono::microseconds>(Clock::now() - start).count();
     brick.vm.run_until(vm_start + wall);
+    brick.vm.forget_events();  // nobody reads them here; a brick serving for days must not grow
     if (heard.empty()) continue;
     if (options.echo)
       if (auto err = emit(port, heard, options.pace)) return err;

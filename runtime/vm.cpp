@@ -72,9 +72,14 @@ const char* to_string(StopKind kind) {
     case StopKind::TimeLimit: return "time_limit";
     case StopKind::PowerOff: return "power_off";
     case StopKind::Fault: return "fault";
+    case StopKind::EventLimit: return "event_limit";
   }
   return "?";
 }
+std::string event_limit_reason(const Machine& machine) {
+  return fmt::format("it recorded {} events, the most a run keeps", machine.state().events.size());
+}
+
 const char* to_string(OutputMode mode) {
   switch (mode) {
     case OutputMode::On: return "on";
@@ -454,7 +459,15 @@ void Machine::set_var(int index, int value) {
 
 // ------------------------------------------------------------ devices
 
-void Machine::emit(Event e) { state_.events.push_back(e); }
+void Machine::emit(Event e) {
+  if (state_.events.size() >= config_.event_limit) {
+    halt(StopKind::EventLimit);
+    return;
+  }
+  state_.events.push_back(e);
+}
+
+void Machine::forget_events() { state_.events = {}; }
 
 void Machine::note_reading(int sensor) {
   int reading = sensor_reading(state_.sensors[static_cast<std::size_t>(sensor)]);
@@ -789,7 +802,8 @@ void Machine::apply_due_inputs() {
 // instruction_cost_us; when every task waits, time jumps to the next wake-up,
 // input or sound start.
 void Machine::loop(Micros until_us, bool stop_when_idle) {
-  if (stop_.kind != StopKind::Fault && stop_.kind != StopKind::PowerOff) stop_.kind = StopKind::Running;
+  if (stop_.kind != StopKind::Fault && stop_.kind != StopKind::PowerOff && stop_.kind != StopKind::EventLimit)
+    stop_.kind = StopKind::Running;
   const Micros cost = config_.instruction_cost_us;
   while (stop_.kind == StopKind::Running) {
     Micros next_input = next_input_ < inputs_.size() ? inputs_[next_input_].at_us : INT64_MAX;

@@ -43,11 +43,18 @@ inline constexpr Micros kMicrosPerMs = 1000;
 // original firmware; see docs/emulator.md).
 inline constexpr Micros kDefaultInstructionCostUs = 2000;
 
+// The most events a run keeps (about 200 MB). A program that switches an
+// output on every pass makes over a hundred a second at the brick's speed,
+// so a run asked for days of virtual time would otherwise grow until the
+// host has no memory left; it stops here instead (StopKind::EventLimit).
+inline constexpr std::size_t kDefaultEventLimit = 5'000'000;
+
 struct Config {
   std::uint64_t seed = 1;                           // random source
   Micros instruction_cost_us = kDefaultInstructionCostUs;
   int battery_mv = 9300;                            // a fresh set of alkalines
   bool trace_variables = false;                     // record Variable events (for traces)
+  std::size_t event_limit = kDefaultEventLimit;
 };
 
 // ---------------------------------------------------------------- state
@@ -110,7 +117,7 @@ struct Event {
 };
 
 // Why a run stopped.
-enum class StopKind : std::uint8_t { Running, Ended, TimeLimit, PowerOff, Fault };
+enum class StopKind : std::uint8_t { Running, Ended, TimeLimit, PowerOff, Fault, EventLimit };
 
 struct Fault {
   int task = 0;             // the task that faulted
@@ -265,6 +272,9 @@ class Machine {
 
   // ---- state
   const State& state() const { return state_; }
+  // Drops the events recorded so far, for hosts that hand them on as they
+  // come (the virtual brick serving for days), so the log never fills.
+  void forget_events();
   const TaskState& task(int index) const { return tasks_[static_cast<std::size_t>(index)]; }
   const ProgramSlot& slot(int index) const { return slots_[static_cast<std::size_t>(index)]; }
   int timer_value(int timer) const;       // 1/10 s since cleared (the brick's reading)
@@ -327,6 +337,9 @@ class Machine {
 
 // Human-readable names used by reports and listings.
 const char* to_string(StopKind kind);
+// Why a run that stopped with StopKind::EventLimit stopped, for messages:
+// "it recorded 5000000 events, the most a run keeps".
+std::string event_limit_reason(const Machine& machine);
 const char* to_string(OutputMode mode);
 const char* to_string(Direction dir);
 const char* to_string(EventKind kind);

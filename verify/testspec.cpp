@@ -599,6 +599,10 @@ std::vector<Failure> check_run(const Spec& spec, const Machine& machine, const I
     const auto& f = *machine.stop().fault;
     failures.push_back({0, fmt::format("the program faulted in task {} at address {}: {}", f.task, f.address, f.message)});
   }
+  // What follows the cut would be unchecked: the test cannot pass.
+  if (machine.stop().kind == StopKind::EventLimit)
+    failures.push_back({0, fmt::format("the run stopped at {} ms: {}; ask for less time with @for",
+                                       machine.now_us() / kMicrosPerMs, event_limit_reason(machine))});
   for (const auto& e : spec.expectations) {
     if (auto why = check_one(e.check, machine, image))
       failures.push_back({e.line, fmt::format("expected {}; {}", e.text, *why)});

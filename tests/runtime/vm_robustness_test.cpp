@@ -137,3 +137,45 @@ TEST(VmRobustness, HostOperationsRejectOutOfRangeArguments) {
   EXPECT_TRUE(m.load(5, rcx::Image{}).has_value());
   EXPECT_FALSE(m.any_task_active());
 }
+
+// A program that switches output A on every pass: out A on, out A off, jmp.
+// Three instructions a pass make two output events.
+namespace {
+rcx::Image toggling_image() {
+  using namespace vmtest;
+  return image({{0, code({out(0x81), out(0x41), jmp(0x80 | 5)})}});
+}
+}  // namespace
+
+TEST(VmRobustness, ARunStopsWhenItsEventLogIsFull) {
+  rcx::Config config = vmtest::ms_config();
+  config.event_limit = 100;
+  rcx::Machine m = vmtest::run(toggling_image(), 10'000, config);
+  EXPECT_EQ(m.stop().kind, rcx::StopKind::EventLimit);
+  EXPECT_EQ(m.state().events.size(), 100u);
+  // The task's start is the first event, then two a pass: the 100th is the
+  // 'on' of pass 50 (its 148th instruction), and the 'off' after it, the
+  // 149th instruction at 1 ms each, found the log full.
+  EXPECT_EQ(m.now_us(), 149 * rcx::kMicrosPerMs);
+  EXPECT_STREQ(rcx::to_string(m.stop().kind), "event_limit");
+  EXPECT_EQ(rcx::event_limit_reason(m), "it recorded 100 events, the most a run keeps");
+  // A stopped run stays stopped: running on records nothing more.
+  m.run_until(20'000 * rcx::kMicrosPerMs);
+  EXPECT_EQ(m.stop().kind, rcx::StopKind::EventLimit);
+  EXPECT_EQ(m.state().events.size(), 100u);
+}
+
+TEST(VmRobustness, AHostThatForgetsEventsRunsOnPastTheLimit) {
+  rcx::Config config = vmtest::ms_config();
+  config.event_limit = 100;
+  rcx::Machine m(config);
+  ASSERT_FALSE(m.load(0, toggling_image()).has_value());
+  m.start_program();
+  for (int second = 1; second <= 10; ++second) {
+    m.run_until(second * 30 * rcx::kMicrosPerMs);  // 10 passes, 20 events each time
+    EXPECT_EQ(m.stop().kind, rcx::StopKind::Running) << second;
+    m.forget_events();
+  }
+  EXPECT_TRUE(m.state().events.empty());
+  EXPECT_EQ(m.now_us(), 300 * rcx::kMicrosPerMs);
+}

@@ -198,3 +198,21 @@ TEST(TestSpec, NanAndInfinityAreNotTimes) {
     EXPECT_NE(at[0].message.find("not a finite number"), std::string::npos) << at[0].message;
   }
 }
+
+TEST(TestSpec, ARunCutShortByItsEventLogFailsTheTest) {
+  Image img;
+  // out A on, out A off, jmp back to the start: two events a pass.
+  img.fragments.push_back({FragmentType::Task, 0, {0x21, 0x81, 0x21, 0x41, 0x27, 0x85}});
+  Config config;
+  config.event_limit = 10;
+  Machine m(config);
+  ASSERT_FALSE(m.load(0, img).has_value());
+  m.start_program();
+  m.run(1'000'000);
+  ASSERT_EQ(m.stop().kind, StopKind::EventLimit);
+  auto failures = check_run(parse_ok(""), m, img);
+  ASSERT_EQ(failures.size(), 1u);
+  EXPECT_NE(failures[0].message.find("it recorded 10 events, the most a run keeps; ask for less time with @for"),
+            std::string::npos)
+      << failures[0].message;
+}
