@@ -29,10 +29,17 @@ constexpr std::uint8_t kUltrasonicAddress = 0x02;
 struct Outcome {
   std::uint8_t status = status::kOk;
   std::vector<Value> values;  // empty with a non-zero status: the body is zero-filled
+  bool bare = false;          // the status alone, no body at all
 };
 
 Outcome ok(std::vector<Value> values = {}) { return {status::kOk, std::move(values)}; }
 Outcome fail(std::uint8_t code) { return {code, {}}; }
+// An error answered with a body that is not all zeros (the firmware echoes
+// or fills in some fields).
+Outcome fail_with(std::uint8_t code, std::vector<Value> values) { return {code, std::move(values)}; }
+// The LS commands' port check breaks out before any body byte is written
+// (c_cmd.c, RC_LS_GET_STATUS / RC_LS_READ): the reply is the status alone.
+Outcome fail_bare(std::uint8_t code) { return {code, {}, true}; }
 
 std::int64_t num(const Decoded& d, std::string_view f) { return d.number(f).value_or(0); }
 std::string txt(const Decoded& d, std::string_view f) { return d.text(f).value_or(""); }
@@ -153,10 +160,13 @@ Bytes ultrasonic_read(const Sensor& s, std::uint8_t reg, std::size_t count) {
 Outcome direct(VirtualNxt& n, const Decoded& d) {
   const std::uint8_t op = d.command->opcode;
   switch (op) {
-    case 0x00: {  // StartProgram: a file that does not exist answers 0xC0 (firmware, not the seed's 0xBD)
+    case 0x00: {  // StartProgram
+      // The firmware only looks the file up (a missing one answers 0xC0, not
+      // the seed's 0xBD) and hands the name to the UI, which then fails to run
+      // a file that is not a program: the reply is 0x00 either way.
       std::string name = txt(d, "name");
-      if (!n.files.count(name) || !is_executable(name)) return fail(status::kOutOfRange);
-      begin_program(n, name);
+      if (!n.files.count(name)) return fail(status::kOutOfRange);
+      if (is_executable(name)) begin_program(n, name);
       return ok();
     }
     case 0x01:  // StopProgram
@@ -230,12 +240,20 @@ Outcome direct(VirtualNxt& n, const Decoded& d) {
       s.rotation_base = s.rotation;
       return ok();
     }
-    case 0x09: {  // MessageWrite: needs a running program
-      if (!n.program) return fail(status::kNoProgram);
+    case 0x09: {  // MessageWrite
+      // The firmware's order (c_cmd.c RC_MESSAGE_WRITE, cCmdMessageWrite):
+      // the size byte and the NUL it points at (0xC0), the queue (0xEE), then
+      // the program (0xEC). It takes `size` bytes: anything after them is ignored.
+      auto size = static_cast<std::size_t>(num(d, "size"));
+      Bytes sent = raw_bytes(d, "data");
+      if (size == 0 || size > kMaxMessage) return fail(status::kOutOfRange);
+      // Model: the firmware would read bytes that were never sent.
+      if (size > sent.size()) return fail(status::kInsanePacket);
+      Bytes data(sent.begin(), sent.begin() + static_cast<std::ptrdiff_t>(size));
+      if (data.back() != 0) return fail(status::kOutOfRange);
       std::int64_t box = num(d, "inbox");
-      Bytes data = raw_bytes(d, "data");
       if (box >= static_cast<std::int64_t>(n.queues.size())) return fail(status::kIllegalQueue);
-      if (data.empty() || data.size() > kMaxMessage || data.back() != 0) return fail(status::kOutOfRange);
+      if (!n.program) return fail(status::kNoProgram);
       auto& q = n.queues[static_cast<std::size_t>(box)];
       if (q.size() == kQueueDepth) q.pop_front();  // the oldest is dropped
       q.push_back(std::move(data));
@@ -258,25 +276,43 @@ Outcome direct(VirtualNxt& n, const Decoded& d) {
     case 0x0E:    // LSGetStatus
     case 0x10: {  // LSRead
       std::int64_t port = num(d, "port");
+      if (port > 3) return fail_bare(status::kOutOfRange);
+      Sensor& s = n.sensors[static_cast<std::size_t>(port)];
+      // cCmdLSCheckStatus: a port that is not LOWSPEED(_9V) and valid is not
+      // ready (0xE0); the body (bytes ready, padded data) comes all the same.
+      std::uint8_t state = status::kOk;
+      if ((s.type != kLowSpeed && s.type != kLowSpeed9V) || n.now_us < s.valid_at) state = status::kChannelBusy;
+      else if (s.ls_ready_at >= 0 && n.now_us < s.ls_ready_at) state = status::kPending;
+      else if (s.ls_ready_at >= 0 && s.ls_failed) state = status::kBusError;
+      std::size_t ready = state == status::kOk && s.ls_ready_at >= 0 ? s.ls_answer.size() : 0;
+      if (op == 0x0E) return {state, {static_cast<std::int64_t>(ready)}};
+      Bytes data;
+      if (ready > 0) {
+        data = std::move(s.ls_answer);
+        s.ls_answer.clear();
+        s.ls_ready_at = -1;
+      }
+      return {state, {static_cast<std::int64_t>(data.size()), data}};
+    }
+    case 0x0F: {  // LSWrite
+      // LEGO's firmware refuses ports 4-255 (0xC0); the enhanced NBC/NXC
+      // firmware reads flags from bits 2-3 and the port from bits 0-1.
+      std::int64_t port = num(d, "port");
       if (port > 3) return fail(status::kOutOfRange);
       Sensor& s = n.sensors[static_cast<std::size_t>(port)];
-      if (s.ls_ready_at < 0) return op == 0x0E ? ok({std::int64_t{0}}) : ok({std::int64_t{0}, Bytes{}});
-      if (n.now_us < s.ls_ready_at) return fail(status::kPending);
-      if (s.ls_failed) return fail(status::kBusError);
-      if (op == 0x0E) return ok({static_cast<std::int64_t>(s.ls_answer.size())});
-      Bytes data = std::move(s.ls_answer);
-      s.ls_answer.clear();
-      s.ls_ready_at = -1;
-      return ok({static_cast<std::int64_t>(data.size()), data});
-    }
-    case 0x0F: {  // LSWrite: the firmware takes the port from the low two bits
-      std::size_t port = static_cast<std::size_t>(num(d, "port") & 0x03);
-      Sensor& s = n.sensors[port];
-      Bytes tx = raw_bytes(d, "tx_data");
+      // The firmware takes tx_length bytes, whatever the telegram carries after them.
+      auto tx_length = static_cast<std::size_t>(num(d, "tx_length"));
+      Bytes sent = raw_bytes(d, "tx_data");
       std::int64_t rx = num(d, "rx_length");
-      if (tx.size() > kLsMax || rx > static_cast<std::int64_t>(kLsMax)) return fail(status::kIllegalSize);
-      if ((s.type != kLowSpeed && s.type != kLowSpeed9V) || n.now_us < s.valid_at) return fail(status::kChannelBusy);
-      if (s.ls_ready_at >= 0 && n.now_us < s.ls_ready_at) return fail(status::kPending);
+      if (tx_length > kLsMax || rx > static_cast<std::int64_t>(kLsMax)) return fail(status::kIllegalSize);
+      // Model: the firmware would send bytes that never came.
+      if (tx_length > sent.size()) return fail(status::kInsanePacket);
+      Bytes tx(sent.begin(), sent.begin() + static_cast<std::ptrdiff_t>(tx_length));
+      // Not configured, not valid yet, or a transaction still on the bus: 0xE0
+      // (cCmdLSWrite has no 0x20 for a busy channel).
+      if ((s.type != kLowSpeed && s.type != kLowSpeed9V) || n.now_us < s.valid_at ||
+          (s.ls_ready_at >= 0 && n.now_us < s.ls_ready_at))
+        return fail(status::kChannelBusy);
       s.ls_ready_at = n.now_us + kLsByteUs * static_cast<Micros>(1 + tx.size() + static_cast<std::size_t>(rx));
       // Only an ultrasonic sensor (it needs the 9 V supply) answers, at 0x02.
       s.ls_failed = s.type != kLowSpeed9V || tx.empty() || tx[0] != kUltrasonicAddress;
@@ -291,14 +327,19 @@ Outcome direct(VirtualNxt& n, const Decoded& d) {
       if (!n.program) return fail(status::kNoProgram);
       return ok({*n.program});
     case 0x13: {  // MessageRead
-      if (!n.program) return fail(status::kNoProgram);
+      // Every reply echoes the local inbox and pads the data to 59 bytes,
+      // errors included (c_cmd.c RC_MESSAGE_READ, cCmdMessageGetSize: the
+      // program is checked before the queue).
+      std::int64_t local = num(d, "local_inbox");
+      auto refuse = [&](std::uint8_t code) { return fail_with(code, {local, std::int64_t{0}, Bytes{}}); };
+      if (!n.program) return refuse(status::kNoProgram);
       std::int64_t box = num(d, "remote_inbox");
-      if (box >= static_cast<std::int64_t>(n.queues.size())) return fail(status::kIllegalQueue);
+      if (box >= static_cast<std::int64_t>(n.queues.size())) return refuse(status::kIllegalQueue);
       auto& q = n.queues[static_cast<std::size_t>(box)];
-      if (q.empty()) return fail(status::kQueueEmpty);
+      if (q.empty()) return refuse(status::kQueueEmpty);
       Bytes data = q.front();
       if (num(d, "remove")) q.pop_front();
-      return ok({num(d, "local_inbox"), static_cast<std::int64_t>(data.size()), data});
+      return ok({local, static_cast<std::int64_t>(data.size()), data});
     }
     case 0x19: return ok({std::int64_t{0}, Bytes{}});  // DatalogRead: nothing logged
     case 0x1A: return ok();                             // DatalogSetTimes
@@ -516,6 +557,17 @@ Outcome system(VirtualNxt& n, const Decoded& d) {
   }
 }
 
+// The firmware's direct-command handler reads its fields at fixed offsets
+// and never looks at the telegram's length: bytes after a fixed layout are
+// ignored, not refused (c_cmd.c cCmdHandleRemoteCommands). A short telegram
+// stays short (the firmware would read stale buffer bytes; here it is 0xBF).
+std::span<const std::uint8_t> direct_command_as_read(std::span<const std::uint8_t> telegram) {
+  if (telegram.size() < 2 || (telegram[0] & ~kNoReplyBit) != kDirectWithReply) return telegram;
+  const Command* c = find_command(Group::Direct, telegram[1]);
+  if (!c || has_rest(c->request)) return telegram;
+  return telegram.first(std::min(telegram.size(), 2 + fixed_size(c->request)));
+}
+
 }  // namespace
 
 VirtualNxt make_virtual_nxt(std::vector<ScenarioInput> scenario) {
@@ -607,11 +659,12 @@ std::optional<Bytes> answer(VirtualNxt& n, std::span<const std::uint8_t> telegra
     return std::nullopt;
   }
   bool reply_wanted = (telegram[0] & kNoReplyBit) == 0;
-  auto decoded = decode_request(telegram);
+  auto decoded = decode_request(direct_command_as_read(telegram));
   Bytes reply;
   if (auto* d = std::get_if<Decoded>(&decoded)) {
     Outcome o = d->command->group == Group::Direct ? direct(n, *d) : system(n, *d);
-    auto encoded = encode_reply(*d->command, o.status, o.values);
+    auto encoded = o.bare ? std::variant<Bytes, TelegramError>(Bytes{kReply, d->command->opcode, o.status})
+                          : encode_reply(*d->command, o.status, o.values);
     // A value that does not fit its field would be a bug here: answer
     // "bad arguments" rather than a wrong telegram.
     if (auto* r = std::get_if<Bytes>(&encoded)) reply = std::move(*r);

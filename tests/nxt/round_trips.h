@@ -44,9 +44,10 @@ inline void every_command_round_trip(Client& client) {
       {"GetBatteryLevel", {{}, 0}},
       {"StopSoundPlayback", {{}, 0}},
       {"KeepAlive", {{}, 0}},
-      {"LSGetStatus", {{n(0)}, 0}},
+      // Port 1 is SWITCH (SetInputMode above): the firmware's LS status check says 0xE0.
+      {"LSGetStatus", {{n(0)}, status::kChannelBusy}},
       {"LSWrite", {{n(0), n(2), n(1), Bytes{2, 0x42}}, status::kChannelBusy}},  // port 1 is not LOWSPEED
-      {"LSRead", {{n(0)}, 0}},
+      {"LSRead", {{n(0)}, status::kChannelBusy}},
       {"GetCurrentProgramName", {{}, status::kNoProgram}},
       {"MessageRead", {{n(0), n(0), n(1)}, status::kNoProgram}},
       {"GetButtonState", {{}, status::kUnknownCommand}},

@@ -382,5 +382,85 @@ TEST(VirtualNxt, HostChecksFileNames) {
   EXPECT_EQ(rig.brick.counters.requests, 0u);  // nothing was sent
 }
 
+// What LEGO's firmware (c_cmd.c, cCmdHandleRemoteCommands and the functions
+// it calls) answers where the virtual NXT answered otherwise. Every expected
+// telegram below is written by hand from that handler's code.
+
+// A reply of `head` followed by `zeros` zero bytes.
+Bytes padded(Bytes head, std::size_t zeros) {
+  head.insert(head.end(), zeros, 0);
+  return head;
+}
+
+TEST(VirtualNxtFirmware, MessageWriteChecksTheSizeThenTheQueueThenTheProgram) {
+  Rig rig;
+  // No program runs, yet a bad size or a bad queue is what the brick reports.
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x00, 0x09, 0x00, 0x00}), (Bytes{0x02, 0x09, 0xC0}));              // size 0
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x00, 0x09, 0x00, 0x02, 'A', 'B'}), (Bytes{0x02, 0x09, 0xC0}));    // no NUL
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x00, 0x09, 0x14, 0x02, 'A', 0x00}), (Bytes{0x02, 0x09, 0xEE}));   // queue 20
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x00, 0x09, 0x00, 0x02, 'A', 0x00}), (Bytes{0x02, 0x09, 0xEC}));   // all fine but no program
+  rig.start_program();
+  // The size byte says how much of the data is the message: the rest is ignored.
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x00, 0x09, 0x00, 0x02, 'A', 0x00, 'B', 'C'}), (Bytes{0x02, 0x09, 0x00}));
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x00, 0x13, 0x00, 0x05, 0x01}),
+            padded({0x02, 0x13, 0x00, 0x05, 0x02, 'A', 0x00}, 57));
+}
+
+TEST(VirtualNxtFirmware, MessageReadErrorsEchoTheLocalInboxInAFullReply) {
+  Rig rig;
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x00, 0x13, 0x00, 0x07, 0x01}), padded({0x02, 0x13, 0xEC, 0x07, 0x00}, 59));
+  rig.start_program();
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x00, 0x13, 0x03, 0x09, 0x01}), padded({0x02, 0x13, 0x40, 0x09, 0x00}, 59));
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x00, 0x13, 0x14, 0x04, 0x01}), padded({0x02, 0x13, 0xEE, 0x04, 0x00}, 59));
+}
+
+TEST(VirtualNxtFirmware, LsCommandsOnABadPortAnswerTheStatusAlone) {
+  Rig rig;
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x00, 0x0E, 0x04}), (Bytes{0x02, 0x0E, 0xC0}));
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x00, 0x10, 0x04}), (Bytes{0x02, 0x10, 0xC0}));
+  // Port 1 made ready, so a port taken modulo 4 would be accepted.
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x00, 0x05, 0x00, 0x0B, 0x00}), (Bytes{0x02, 0x05, 0x00}));
+  rig.advance_ms(100);
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x00, 0x0F, 0x04, 0x02, 0x01, 0x02, 0x42}), (Bytes{0x02, 0x0F, 0xC0}));
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x00, 0x0F, 0x00, 0x02, 0x01, 0x02, 0x42}), (Bytes{0x02, 0x0F, 0x00}));
+}
+
+TEST(VirtualNxtFirmware, LsStatusAndReadOnAPortThatIsNotReadyAnswerE0WithTheirBody) {
+  Rig rig;
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x00, 0x0E, 0x00}), (Bytes{0x02, 0x0E, 0xE0, 0x00}));
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x00, 0x10, 0x00}), padded({0x02, 0x10, 0xE0, 0x00}, 16));
+  // LOWSPEED_9V but not valid yet (the first 20 ms): still not ready.
+  answer(rig.brick, Bytes{0x00, 0x05, 0x00, 0x0B, 0x00});
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x00, 0x0E, 0x00}), (Bytes{0x02, 0x0E, 0xE0, 0x00}));
+  rig.advance_ms(100);
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x00, 0x0E, 0x00}), (Bytes{0x02, 0x0E, 0x00, 0x00}));
+}
+
+TEST(VirtualNxtFirmware, LsWriteWhileATransactionIsOnTheBusIsE0AndItsSizeIsTheLengthByte) {
+  Rig rig;
+  answer(rig.brick, Bytes{0x00, 0x05, 0x02, 0x0B, 0x00});
+  rig.advance_ms(100);
+  // tx_length 17 with two bytes sent: the firmware checks the length byte.
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x00, 0x0F, 0x02, 0x11, 0x01, 0x02, 0x42}), (Bytes{0x02, 0x0F, 0xED}));
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x00, 0x0F, 0x02, 0x02, 0x08, 0x02, 0x00}), (Bytes{0x02, 0x0F, 0x00}));
+  // Ten bytes at 9600 bit/s are still on the bus: cCmdLSWrite has no 0x20.
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x00, 0x0F, 0x02, 0x02, 0x01, 0x02, 0x42}), (Bytes{0x02, 0x0F, 0xE0}));
+}
+
+TEST(VirtualNxtFirmware, BytesAfterADirectCommandsFieldsAreIgnored) {
+  Rig rig;
+  // 7800 mV = 0x1E78, as if the extra byte were not there.
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x00, 0x0B, 0x01}), (Bytes{0x02, 0x0B, 0x00, 0x78, 0x1E}));
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x00, 0x06, 0x05, 0xFF}), padded({0x02, 0x06, 0xC0}, 22));
+}
+
+TEST(VirtualNxtFirmware, StartProgramOfAFileThatIsNoProgramIsAcceptedAndRunsNothing) {
+  Rig rig;
+  rig.put_file("a.rso", Bytes(4, 0));
+  // The handler only looks the file up; the UI then fails to run it.
+  EXPECT_EQ(rig.status_of("StartProgram", {s("a.rso")}), 0);
+  EXPECT_EQ(rig.status_of("GetCurrentProgramName"), status::kNoProgram);
+}
+
 }  // namespace
 }  // namespace nxt
