@@ -576,7 +576,19 @@ void register_nxt(CLI::App& app, int& exit_code) {
       std::vector<Value> v;
       if (loop) v.emplace_back(std::int64_t{*looping ? 1 : 0});
       v.emplace_back(*name);
-      return Action([v, command](Client& c) { return simple(c, command, v, ""); });
+      return Action([v, command, name](Client& c) -> std::variant<Output, Failure> {
+        auto r = nxt::call(c, *nxt::find_command(command), v);
+        if (auto* e = std::get_if<CallError>(&r)) return failure(*e);
+        const auto& d = std::get<nxt::Decoded>(r);
+        if (d.status == nxt::status::kOk) return Output{"", json::object()};
+        // StartProgram and PlaySoundFile answer 0xC0 for a missing file (the
+        // seed's 0xBD is never sent): say what it means here.
+        std::string hint = d.status == nxt::status::kOutOfRange && command != "Delete"
+                               ? fmt::format(" (no file \"{}\" on the brick)", *name)
+                               : "";
+        return Failure{kExitFailure, fmt::format("{} refused: 0x{:02x} {}{}", command, d.status,
+                                                 nxt::status_message(d.status), hint)};
+      });
     });
   };
   name_arg("start", "Start the program NAME (.rxe)", "StartProgram");
@@ -684,12 +696,27 @@ void register_nxt(CLI::App& app, int& exit_code) {
       return Action([t = *bytes](Client& c) -> std::variant<Output, Failure> {
         if (auto e = c.transport.send(t)) return Failure{kExitNoReply, e->message};
         if (c.on_log) c.on_log("-> " + nxt::hex(t));
-        if (t[0] & nxt::kNoReplyBit) return Output{"(sent, no reply asked)\n", {{"sent", nxt::hex(t)}}};
+        if (t[0] & nxt::kNoReplyBit) {
+          bool known = t[0] == (nxt::kDirectWithReply | nxt::kNoReplyBit) || t[0] == (nxt::kSystemWithReply | nxt::kNoReplyBit);
+          std::string said = known ? "(sent, no reply asked)\n"
+                                   : fmt::format("(sent; 0x{:02x} is not a request type: the firmware ignores it)\n", t[0]);
+          return Output{said, {{"sent", nxt::hex(t)}}};
+        }
         auto got = c.transport.receive(c.timeout);
         if (auto* e = std::get_if<nxt::LinkError>(&got))
           return Failure{e->kind == nxt::LinkError::Kind::Interrupted ? kExitInterrupted : kExitNoReply, e->message};
         auto& reply = std::get<std::optional<nxt::Bytes>>(got);
-        if (!reply) return Failure{kExitNoReply, fmt::format("no reply within {} ms", c.timeout.count())};
+        if (!reply) {
+          std::uint8_t type = t[0];
+          std::string why;
+          if (type == nxt::kReply)
+            why = ": 0x02 is a reply, which the firmware takes (a MessageRead reply goes into a mailbox) but never answers";
+          else if (type != nxt::kDirectWithReply && type != nxt::kSystemWithReply)
+            why = fmt::format(": 0x{:02x} is not a request type (0x00, 0x01; 0x80, 0x81 without reply), and the "
+                              "firmware answers nothing to a type it does not know",
+                              type);
+          return Failure{kExitNoReply, fmt::format("no reply within {} ms{}", c.timeout.count(), why)};
+        }
         auto d = nxt::decode_reply(*reply);
         std::string what = std::holds_alternative<nxt::Decoded>(d) ? nxt::describe(std::get<nxt::Decoded>(d))
                                                                    : std::get<nxt::TelegramError>(d).message;
