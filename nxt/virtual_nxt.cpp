@@ -413,14 +413,10 @@ Outcome found(VirtualNxt& n, std::uint8_t index) {
   return ok({std::int64_t{index}, f->first, static_cast<std::int64_t>(f->second.data.size())});
 }
 
-Outcome found_module(VirtualNxt& n, std::uint8_t index) {
-  Handle& h = *n.handles[index];
-  auto* m = next_match(h, n.modules, [](const Module& m) { return m.name; });
-  if (!m) {
-    n.handles[index].reset();
-    return fail(status::kModuleNotFound);
-  }
-  return ok({std::int64_t{index}, m->name, std::int64_t{m->id}, std::int64_t{0},
+Outcome found_module(VirtualNxt& n) {
+  auto* m = next_match(n.module_search.cursor, n.modules, [](const Module& m) { return m.name; });
+  if (!m) return fail(status::kModuleNotFound);
+  return ok({std::int64_t{0}, m->name, std::int64_t{m->id}, std::int64_t{0},
              static_cast<std::int64_t>(m->iomap.size())});
 }
 
@@ -495,35 +491,35 @@ Outcome system(VirtualNxt& n, const Decoded& d) {
       return ok({index});
     }
     case 0x85: {  // Delete
+      // c_comm.c copies the name asked for into every reply, errors included.
       std::string name = txt(d, "name");
-      if (check_file_name(name)) return fail(status::kIllegalFileName);
-      if (!n.files.count(name)) return fail(status::kFileNotFound);
-      if (file_open(n, name)) return fail(status::kFileBusy);
+      auto refuse = [&](std::uint8_t code) { return fail_with(code, {name.substr(0, kNameField - 1)}); };
+      if (check_file_name(name)) return refuse(status::kIllegalFileName);
+      if (!n.files.count(name)) return refuse(status::kFileNotFound);
+      if (file_open(n, name)) return refuse(status::kFileBusy);
       n.files.erase(name);
       return ok({name});
     }
-    case 0x86:    // FindFirst
-    case 0x90: {  // FindFirstModule
+    case 0x86: {  // FindFirst
       auto h = free_handle(n);
       if (!h) return fail(status::kNoMoreHandles);
-      bool files = d.command->opcode == 0x86;
-      n.handles[*h] = Handle{files ? Handle::Kind::Find : Handle::Kind::Module, txt(d, "pattern"), 0};
-      return files ? found(n, *h) : found_module(n, *h);
+      n.handles[*h] = Handle{Handle::Kind::Find, txt(d, "pattern"), 0};
+      return found(n, *h);
     }
-    case 0x87:    // FindNext
-    case 0x91: {  // FindNextModule
-      bool files = d.command->opcode == 0x87;
-      auto h = handle_of(n, num(d, "handle"), files ? Handle::Kind::Find : Handle::Kind::Module);
+    case 0x87: {  // FindNext
+      auto h = handle_of(n, num(d, "handle"), Handle::Kind::Find);
       if (auto* code = std::get_if<std::uint8_t>(&h)) return fail(*code);
-      auto index = static_cast<std::uint8_t>(num(d, "handle"));
-      return files ? found(n, index) : found_module(n, index);
+      return found(n, static_cast<std::uint8_t>(num(d, "handle")));
     }
-    case 0x92: {  // CloseModuleHandle
-      auto h = handle_of(n, num(d, "handle"), Handle::Kind::Module);
-      if (auto* code = std::get_if<std::uint8_t>(&h)) return fail(*code);
-      n.handles[static_cast<std::size_t>(num(d, "handle"))].reset();
-      return ok({num(d, "handle")});
-    }
+    case 0x90:  // FindFirstModule
+      if (n.module_search.open) return fail(status::kNoMoreHandles);
+      n.module_search = {true, Handle{Handle::Kind::Find, txt(d, "pattern"), 0}};
+      return found_module(n);
+    case 0x91:  // FindNextModule: the handle byte is not looked at
+      return found_module(n);
+    case 0x92:  // CloseModuleHandle: always succeeds
+      n.module_search.open = false;
+      return ok({std::int64_t{0}});
     case 0x88: return ok({std::int64_t{124}, std::int64_t{1}, std::int64_t{31}, std::int64_t{1}});
     case 0x94:    // ReadIOMap
     case 0x95: {  // WriteIOMap
@@ -548,8 +544,7 @@ Outcome system(VirtualNxt& n, const Decoded& d) {
                  std::int64_t{free_flash(n)}});
     case 0xA0:
       n.files.clear();
-      for (auto& h : n.handles)
-        if (h && h->kind != Handle::Kind::Module) h.reset();
+      for (auto& h : n.handles) h.reset();
       return ok();
     case 0xA1: return ok({num(d, "buffer"), std::int64_t{0}});
     case 0xA2: return ok({num(d, "buffer"), std::int64_t{0}, Bytes{}});

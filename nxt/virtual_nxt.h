@@ -77,9 +77,18 @@ struct StoredFile {
 };
 
 struct Handle {
-  enum class Kind : std::uint8_t { Read, Write, Find, Module } kind = Kind::Read;
-  std::string name;     // the file (Read, Write) or the pattern (Find, Module)
+  enum class Kind : std::uint8_t { Read, Write, Find } kind = Kind::Read;
+  std::string name;     // the file (Read, Write) or the pattern (Find)
   std::size_t pos = 0;  // read offset, or the index of the next match
+};
+
+// The loader has one module search, apart from the file handles
+// (c_loader.c): its handle is 0 in every reply, a second FindFirstModule
+// before CloseModuleHandle answers 0x81, and running out of modules does not
+// end it.
+struct ModuleSearch {
+  bool open = false;
+  Handle cursor{Handle::Kind::Find, "", 0};
 };
 
 struct Module {
@@ -105,6 +114,7 @@ struct VirtualNxt {
   std::map<std::string, StoredFile> files;
   std::array<std::optional<Handle>, 16> handles{};
   std::vector<Module> modules;
+  ModuleSearch module_search;
   std::vector<SoundEvent> sounds;
   std::uint32_t flash_bytes = 128 * 1024;
   std::vector<ScenarioInput> scenario;

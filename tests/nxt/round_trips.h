@@ -73,8 +73,8 @@ inline void every_command_round_trip(Client& client) {
       {"OpenWriteData", {{s("d.dat"), n(8)}, 0}},
       {"OpenAppendData", {{s("a.txt")}, status::kAppendNotPossible}},
       {"FindFirstModule", {{s("*.mod")}, 0}},
-      {"FindNextModule", {{n(3)}, 0}},  // handles 0-2: a.txt, c.rxe, d.dat
-      {"CloseModuleHandle", {{n(3)}, 0}},
+      {"FindNextModule", {{n(0)}, 0}},  // the one module search, handle 0
+      {"CloseModuleHandle", {{n(0)}, 0}},
       {"ReadIOMap", {{n(0x000C0001), n(0), n(4)}, 0}},
       {"WriteIOMap", {{n(0x000C0001), n(0), n(2), Bytes{1, 2}}, 0}},
       {"Boot", {{s("Let's dance: SAMBA")}, status::kUnknownCommand}},

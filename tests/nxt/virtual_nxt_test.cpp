@@ -462,5 +462,39 @@ TEST(VirtualNxtFirmware, StartProgramOfAFileThatIsNoProgramIsAcceptedAndRunsNoth
   EXPECT_EQ(rig.status_of("GetCurrentProgramName"), status::kNoProgram);
 }
 
+// From LEGO's c_loader.c (one module search, apart from the file handles)
+// and the reply assembly of its c_comm.c.
+TEST(VirtualNxtFirmware, OneModuleSearchAtATimeWithHandleZero) {
+  Rig rig;
+  auto first = rig.reply("FindFirstModule", {s("*.mod")});
+  EXPECT_EQ(first.status, 0);
+  EXPECT_EQ(first.number("handle"), 0);
+  EXPECT_EQ(first.text("name"), "Command.mod");
+  // A second search before CloseModuleHandle: no more handles, zero body.
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x01, 0x90, '*', '.', '*', 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0}),
+            padded({0x02, 0x90, 0x81}, 31));
+  // FindNextModule goes on with the one search whatever handle it names.
+  auto next = rig.reply("FindNextModule", {n(9)});
+  EXPECT_EQ(next.status, 0);
+  EXPECT_EQ(next.number("handle"), 0);
+  EXPECT_EQ(next.text("name"), "Output.mod");
+  // File handles are untouched by module searches: the first file gets 0.
+  rig.put_file("a.txt", Bytes{1});
+  EXPECT_EQ(rig.reply("OpenRead", {s("a.txt")}).number("handle"), 0);
+  // Running out of modules does not end the search; CloseModuleHandle does, always with 0x00.
+  for (int i = 0; i < 10; ++i) rig.reply("FindNextModule", {n(0)});
+  EXPECT_EQ(rig.status_of("FindNextModule", {n(0)}), status::kModuleNotFound);
+  EXPECT_EQ(rig.status_of("FindFirstModule", {s("*.mod")}), status::kNoMoreHandles);
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x01, 0x92, 0x07}), (Bytes{0x02, 0x92, 0x00, 0x00}));
+  EXPECT_EQ(rig.reply("FindFirstModule", {s("Ui.*")}).number("module_id"), 0x000C0001);
+}
+
+TEST(VirtualNxtFirmware, DeleteEchoesTheNameEvenWhenItFails) {
+  Rig rig;
+  Bytes request{0x01, 0x85, 'n', 'o', '.', 't', 'x', 't'};
+  request.resize(22, 0);
+  EXPECT_EQ(*answer(rig.brick, request), padded({0x02, 0x85, 0x87, 'n', 'o', '.', 't', 'x', 't'}, 14));
+}
+
 }  // namespace
 }  // namespace nxt
