@@ -140,14 +140,28 @@ std::variant<std::vector<FileEntry>, CallError> list_files(Client& client, const
   auto r = call(client, named("FindFirst"), first);
   if (auto* e = std::get_if<CallError>(&r)) return *e;
   auto d = std::get<Decoded>(r);
-  // No match answers 0x87 "file not found": an empty list, not an error.
+  // No match answers 0x87 "file not found": an empty list, not an error
+  // (and FindFirst's handle is closed by then).
+  if (d.status != status::kOk) {
+    if (d.status != status::kFileNotFound && d.status != status::kNoMoreFiles) return refused(d);
+    return out;
+  }
+  const std::int64_t handle = field_or<int>(d, "handle", 0);
   while (d.status == status::kOk) {
     out.push_back({d.text("name").value_or(""), field_or<std::uint32_t>(d, "size", 0)});
-    std::vector<Value> next{static_cast<std::int64_t>(field_or<int>(d, "handle", 0))};
+    std::vector<Value> next{handle};
     auto n = call(client, named("FindNext"), next);
     if (auto* e = std::get_if<CallError>(&n)) return *e;
     d = std::get<Decoded>(n);
   }
+  // FindNext's handle stays open after its last match (LEGO's loader closes
+  // only after a FindFirst error): close it, or every listing costs one of
+  // the brick's 16 handles. A firmware that closed it answers 0x88.
+  std::vector<Value> close{handle};
+  auto c = call(client, named("Close"), close);
+  if (auto* e = std::get_if<CallError>(&c)) return *e;
+  auto closed = std::get<Decoded>(c).status;
+  if (closed != status::kOk && closed != status::kHandleClosed) return refused(std::get<Decoded>(c));
   if (d.status != status::kFileNotFound && d.status != status::kNoMoreFiles) return refused(d);
   return out;
 }

@@ -403,11 +403,14 @@ Outcome open_for_write(VirtualNxt& n, const Decoded& d, bool linear, bool data_f
   return ok({std::int64_t{*h}});
 }
 
-Outcome found(VirtualNxt& n, std::uint8_t index) {
+// A search that finds nothing more: FindFirst's handle is closed at once,
+// FindNext's stays open until Close (c_loader.c closes after a FINDFIRST
+// error only).
+Outcome found(VirtualNxt& n, std::uint8_t index, bool first) {
   Handle& h = *n.handles[index];
   auto* f = next_match(h, n.files, [](const auto& kv) { return kv.first; });
   if (!f) {
-    n.handles[index].reset();
+    if (first) n.handles[index].reset();
     return fail(status::kFileNotFound);
   }
   return ok({std::int64_t{index}, f->first, static_cast<std::int64_t>(f->second.data.size())});
@@ -504,12 +507,12 @@ Outcome system(VirtualNxt& n, const Decoded& d) {
       auto h = free_handle(n);
       if (!h) return fail(status::kNoMoreHandles);
       n.handles[*h] = Handle{Handle::Kind::Find, txt(d, "pattern"), 0};
-      return found(n, *h);
+      return found(n, *h, true);
     }
     case 0x87: {  // FindNext
       auto h = handle_of(n, num(d, "handle"), Handle::Kind::Find);
       if (auto* code = std::get_if<std::uint8_t>(&h)) return fail(*code);
-      return found(n, static_cast<std::uint8_t>(num(d, "handle")));
+      return found(n, static_cast<std::uint8_t>(num(d, "handle")), false);
     }
     case 0x90:  // FindFirstModule
       if (n.module_search.open) return fail(status::kNoMoreHandles);

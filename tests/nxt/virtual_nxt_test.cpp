@@ -496,5 +496,26 @@ TEST(VirtualNxtFirmware, DeleteEchoesTheNameEvenWhenItFails) {
   EXPECT_EQ(*answer(rig.brick, request), padded({0x02, 0x85, 0x87, 'n', 'o', '.', 't', 'x', 't'}, 14));
 }
 
+TEST(VirtualNxtFirmware, FindNextsLastAnswerLeavesTheHandleOpenAndListingClosesIt) {
+  Rig rig;
+  rig.put_file("a.txt", Bytes{1});
+  rig.put_file("b.txt", Bytes{2});
+  auto first = rig.reply("FindFirst", {s("*.txt")});
+  ASSERT_EQ(first.status, 0);
+  EXPECT_EQ(rig.status_of("FindNext", {first.number("handle").value_or(0)}), 0);
+  EXPECT_EQ(rig.status_of("FindNext", {first.number("handle").value_or(0)}), status::kFileNotFound);
+  EXPECT_EQ(rig.status_of("Close", {first.number("handle").value_or(0)}), 0);  // it was still open
+  // FindFirst without a match closes its own handle.
+  EXPECT_EQ(rig.status_of("FindFirst", {s("*.rso")}), status::kFileNotFound);
+  EXPECT_TRUE(std::none_of(rig.brick.handles.begin(), rig.brick.handles.end(), [](const auto& h) { return h.has_value(); }));
+  // Twenty listings on a brick of 16 handles: each gives its handle back.
+  for (int i = 0; i < 20; ++i) {
+    auto listed = list_files(rig.client, "*.*");
+    ASSERT_TRUE(std::holds_alternative<std::vector<FileEntry>>(listed)) << i << ": " << std::get<CallError>(listed).message;
+    EXPECT_EQ(std::get<std::vector<FileEntry>>(listed).size(), 2u);
+  }
+  EXPECT_TRUE(std::none_of(rig.brick.handles.begin(), rig.brick.handles.end(), [](const auto& h) { return h.has_value(); }));
+}
+
 }  // namespace
 }  // namespace nxt
