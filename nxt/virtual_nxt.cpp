@@ -1,6 +1,7 @@
 #include "nxt/virtual_nxt.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 
 #include <fmt/format.h>
@@ -67,10 +68,17 @@ void begin_program(VirtualNxt& n, const std::string& name) {
   reset_io(n);
 }
 
+std::string upper(std::string s) {
+  for (auto& c : s) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  return s;
+}
+
+bool same_file_name(const std::string& a, const std::string& b) { return upper(a) == upper(b); }
+
 bool is_executable(const std::string& name) {
   auto dot = name.rfind('.');
-  std::string ext = dot == std::string::npos ? "" : name.substr(dot + 1);
-  return ext == "rxe" || ext == "sys" || ext == "rtm";
+  std::string ext = upper(dot == std::string::npos ? "" : name.substr(dot + 1));
+  return ext == "RXE" || ext == "SYS" || ext == "RTM";
 }
 
 bool matches(const std::string& pattern, const std::string& name) {
@@ -78,8 +86,8 @@ bool matches(const std::string& pattern, const std::string& name) {
     auto dot = s.rfind('.');
     return dot == std::string::npos ? std::pair{s, std::string()} : std::pair{s.substr(0, dot), s.substr(dot + 1)};
   };
-  auto [ps, pe] = split(pattern);
-  auto [ns, ne] = split(name);
+  auto [ps, pe] = split(upper(pattern));
+  auto [ns, ne] = split(upper(name));
   return (ps == "*" || ps == ns) && (pe == "*" || pe == ne);
 }
 
@@ -91,7 +99,7 @@ std::optional<std::uint8_t> free_handle(const VirtualNxt& n) {
 
 bool file_open(const VirtualNxt& n, const std::string& name) {
   return std::any_of(n.handles.begin(), n.handles.end(), [&](const auto& h) {
-    return h && (h->kind == Handle::Kind::Read || h->kind == Handle::Kind::Write) && h->name == name;
+    return h && (h->kind == Handle::Kind::Read || h->kind == Handle::Kind::Write) && same_file_name(h->name, name);
   });
 }
 
@@ -567,6 +575,8 @@ std::span<const std::uint8_t> direct_command_as_read(std::span<const std::uint8_
 }
 
 }  // namespace
+
+bool FileNameLess::operator()(const std::string& a, const std::string& b) const { return upper(a) < upper(b); }
 
 VirtualNxt make_virtual_nxt(std::vector<ScenarioInput> scenario) {
   VirtualNxt n;

@@ -97,6 +97,12 @@ struct Module {
   Bytes iomap;
 };
 
+// The loader matches names without regard to case (it upper-cases both
+// sides): "PROG.RXE" is the file "prog.rxe", and cannot be made beside it.
+struct FileNameLess {
+  bool operator()(const std::string& a, const std::string& b) const;
+};
+
 struct VirtualNxt {
   Micros now_us = 0;
   std::string name = "NXT";
@@ -111,7 +117,7 @@ struct VirtualNxt {
   std::array<Motor, 3> motors{};
   std::array<Sensor, 4> sensors{};
   std::array<std::deque<Bytes>, 20> queues{};
-  std::map<std::string, StoredFile> files;
+  std::map<std::string, StoredFile, FileNameLess> files;
   std::array<std::optional<Handle>, 16> handles{};
   std::vector<Module> modules;
   ModuleSearch module_search;

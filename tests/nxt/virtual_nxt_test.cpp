@@ -517,5 +517,22 @@ TEST(VirtualNxtFirmware, FindNextsLastAnswerLeavesTheHandleOpenAndListingClosesI
   EXPECT_TRUE(std::none_of(rig.brick.handles.begin(), rig.brick.handles.end(), [](const auto& h) { return h.has_value(); }));
 }
 
+TEST(VirtualNxtFirmware, FileNamesMatchWithoutRegardToCase) {
+  Rig rig;
+  rig.put_file("prog.rxe", Bytes(10, 1));
+  // The same name in capitals is the same file: it exists, it can be opened and started.
+  EXPECT_EQ(rig.status_of("OpenWrite", {s("PROG.RXE"), n(4)}), status::kFileExists);
+  auto opened = rig.reply("OpenRead", {s("Prog.Rxe")});
+  EXPECT_EQ(opened.status, 0);
+  EXPECT_EQ(opened.number("size"), 10);
+  EXPECT_EQ(rig.status_of("Close", {opened.number("handle").value_or(0)}), 0);
+  EXPECT_EQ(rig.status_of("StartProgram", {s("PROG.RXE")}), 0);
+  EXPECT_EQ(rig.reply("FindFirst", {s("*.RXE")}).text("name"), "prog.rxe");
+  // OpenWriteData refuses an executable whatever the case of its extension.
+  EXPECT_EQ(rig.status_of("OpenWriteData", {s("X.RXE"), n(4)}), status::kIllegalFileName);
+  EXPECT_EQ(rig.status_of("Delete", {s("PROG.RXE")}), 0);
+  EXPECT_TRUE(rig.brick.files.empty());
+}
+
 }  // namespace
 }  // namespace nxt
