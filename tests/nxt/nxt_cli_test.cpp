@@ -184,6 +184,9 @@ TEST(NxtCli, PortsThatCannotBeOpenedOrDoNotAnswer) {
   auto missing = nxt("/dev/no-such-nxt", {"battery"});
   EXPECT_EQ(missing.exit_code, 3);
   EXPECT_NE(missing.err.find("does not exist"), std::string::npos);
+  auto null = nxt("/dev/null", {"battery"});
+  EXPECT_EQ(null.exit_code, 3);
+  EXPECT_NE(null.err.find("/dev/null is not a tty"), std::string::npos) << null.err;
   auto badbt = nxt("bt:12:34", {"battery"});
   EXPECT_EQ(badbt.exit_code, 2);
   // A pty nobody serves: the brick does not answer.

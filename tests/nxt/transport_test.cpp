@@ -70,6 +70,17 @@ TEST(NxtPort, AMissingTtySaysWhatToCheck) {
   EXPECT_NE(std::get<LinkError>(r).message.find("rfcomm bind"), std::string::npos);
 }
 
+TEST(NxtPort, APathThatIsNoTtyIsRefusedWhenOpened) {
+  // /dev/null would read as a hang-up, a plain file as garbage frames.
+  for (const char* path : {"/dev/null", "/etc/hostname"}) {
+    auto r = open_port({PortKind::Path, path}, -1);
+    ASSERT_TRUE(std::holds_alternative<LinkError>(r)) << path;
+    EXPECT_EQ(std::get<LinkError>(r).kind, LinkError::Kind::Open) << path;
+    EXPECT_NE(std::get<LinkError>(r).message.find(std::string(path) + " is not a tty"), std::string::npos)
+        << std::get<LinkError>(r).message;
+  }
+}
+
 // The virtual NXT served on a pty in a thread, the host on the slave.
 struct PtyNxt : ::testing::Test {
   VirtualNxt brick = make_virtual_nxt();
