@@ -150,6 +150,41 @@ TEST_F(PtyNxt, FramesWrittenByteByByteAreReassembled) {
   EXPECT_EQ(*reply, (Bytes{0x02, 0x0B, 0x00, 0x78, 0x1E}));
 }
 
+TEST_F(PtyNxt, RepliesLongerThan64BytesComeWholeOverBluetoothFraming) {
+  // spec/nxt.md: Bluetooth replies may exceed 64 bytes; their size is the
+  // prefix's. ReadIOMap of 60 bytes: 0x02, op, status, id (4), count (2),
+  // 60 data bytes (the virtual IO map is zeros) = 69 bytes, prefix 0x45 0x00.
+  // (The brick belongs to the server thread: it is not touched here.)
+  int fd = ::open(pty.slave_path.c_str(), O_RDWR | O_NOCTTY);
+  ASSERT_GE(fd, 0);
+  Bytes req = frame(Bytes{0x01, 0x94, 0x01, 0x00, 0x01, 0x00, 0x00, 0x00, 0x3C, 0x00});
+  ASSERT_EQ(::write(fd, req.data(), req.size()), static_cast<ssize_t>(req.size()));
+  Bytes raw;
+  auto deadline = std::chrono::steady_clock::now() + 2s;
+  while (raw.size() < 71 && std::chrono::steady_clock::now() < deadline) {
+    std::uint8_t buf[128];
+    ssize_t n = ::read(fd, buf, sizeof buf);
+    if (n > 0) raw.insert(raw.end(), buf, buf + n);
+    else std::this_thread::sleep_for(1ms);
+  }
+  ::close(fd);
+  ASSERT_EQ(raw.size(), 71u);
+  EXPECT_EQ(raw[0], 0x45);
+  EXPECT_EQ(raw[1], 0x00);
+  EXPECT_EQ(Bytes(raw.begin() + 2, raw.begin() + 11), (Bytes{0x02, 0x94, 0x00, 0x01, 0x00, 0x01, 0x00, 0x3C, 0x00}));
+  EXPECT_EQ(Bytes(raw.begin() + 11, raw.end()), Bytes(60, 0));
+  // The same reply, fed to the host's reader in pieces that split the prefix.
+  FrameReader r;
+  r.feed(Bytes(raw.begin(), raw.begin() + 1));
+  EXPECT_FALSE(r.next());
+  r.feed(Bytes(raw.begin() + 1, raw.begin() + 40));
+  EXPECT_FALSE(r.next());
+  r.feed(Bytes(raw.begin() + 40, raw.end()));
+  auto t = r.next();
+  ASSERT_TRUE(t);
+  EXPECT_EQ(t->size(), 69u);
+}
+
 TEST_F(PtyNxt, ASilentBrickTimesOut) {
   auto port = host();
   Client client(*port);
