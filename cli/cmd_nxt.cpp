@@ -219,6 +219,11 @@ std::optional<nxt::Bytes> parse_hex_words(const std::vector<std::string>& words,
   }
   if (out.empty()) error = "raw needs the telegram's bytes";
   if (out.size() > 256) error = "a telegram this long cannot be framed for the brick";
+  // The seed's Maximum Command Length: a direct command is at most 64 bytes
+  // with its type byte (the brick's buffer); more would reach it cut.
+  else if (!out.empty() && (out[0] & ~nxt::kNoReplyBit) == nxt::kDirectWithReply && out.size() > nxt::kMaxTelegram)
+    error = fmt::format("a direct command is at most {} bytes with its type byte; this one is {}", nxt::kMaxTelegram,
+                        out.size());
   return error.empty() ? std::optional(out) : std::nullopt;
 }
 
