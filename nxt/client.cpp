@@ -207,7 +207,8 @@ std::variant<Bytes, CallError> download_file(Client& client, const std::string& 
     std::vector<Value> read{handle, want};
     auto got = call_ok(client, "Read", read);
     if (auto* e = std::get_if<CallError>(&got)) return *e;
-    // Over USB the count echoes what was asked: trust the telegram's length.
+    // The count echoes what was asked and data past the end of the file is
+    // zero padding: only the size from OpenRead tells, so never ask past it.
     auto data = std::get<Decoded>(got).bytes("data").value_or(Bytes{});
     if (data.empty() || data.size() > static_cast<std::size_t>(want))
       return CallError{CallError::Kind::BadReply,

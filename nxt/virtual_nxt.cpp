@@ -25,6 +25,8 @@ constexpr Micros kLsByteUs = 1'000;
 constexpr int kBooleanTrueBelow = 1023 * 45 / 100;
 constexpr int kBooleanFalseAbove = 1023 * 55 / 100;
 constexpr std::size_t kQueueDepth = 5;
+// A Read's data over USB: a 64-byte packet less 0x02, opcode, status, handle, count.
+constexpr std::size_t kUsbReadMax = 58;
 constexpr std::uint8_t kUltrasonicAddress = 0x02;
 
 struct Outcome {
@@ -465,20 +467,28 @@ Outcome system(VirtualNxt& n, const Decoded& d) {
       return ok({std::int64_t{*h}, static_cast<std::int64_t>(f->second.size - f->second.data.size())});
     }
     case 0x82: {  // Read
-      auto h = handle_of(n, num(d, "handle"), Handle::Kind::Read);
+      auto index = num(d, "handle");
+      auto h = handle_of(n, index, Handle::Kind::Read);
       if (auto* code = std::get_if<std::uint8_t>(&h)) return fail(*code);
       Handle& handle = *std::get<Handle*>(h);
       const Bytes& data = n.files[handle.name].data;
-      if (handle.pos >= data.size()) {
-        n.handles[static_cast<std::size_t>(num(d, "handle"))].reset();  // closed after an error
-        return fail(status::kEndOfFile);
-      }
-      // At most 58 data bytes a telegram, as over USB.
-      std::size_t count = std::min({static_cast<std::size_t>(num(d, "count")), data.size() - handle.pos, std::size_t{58}});
+      // As over USB (c_comm.c): the count field echoes the count asked for,
+      // at most 58 data bytes come, and where the file ends first the rest
+      // of them are zeros: only the file's size tells real bytes from padding.
+      auto asked = num(d, "count");
+      std::size_t sent = std::min(static_cast<std::size_t>(asked), kUsbReadMax);
+      std::size_t left = data.size() > handle.pos ? data.size() - handle.pos : 0;
+      std::size_t real = std::min(sent, left);
       Bytes out(data.begin() + static_cast<std::ptrdiff_t>(handle.pos),
-                data.begin() + static_cast<std::ptrdiff_t>(handle.pos + count));
-      handle.pos += count;
-      return ok({num(d, "handle"), static_cast<std::int64_t>(count), out});
+                data.begin() + static_cast<std::ptrdiff_t>(handle.pos + real));
+      out.resize(sent, 0);
+      handle.pos += real;
+      if (real == 0 && sent > 0) {
+        // Model: reading with nothing left is an error, after which the handle is closed.
+        n.handles[static_cast<std::size_t>(index)].reset();
+        return fail_with(status::kEndOfFile, {index, asked, out});
+      }
+      return ok({index, asked, out});
     }
     case 0x83: {  // Write
       auto index = num(d, "handle");

@@ -534,5 +534,26 @@ TEST(VirtualNxtFirmware, FileNamesMatchWithoutRegardToCase) {
   EXPECT_TRUE(rig.brick.files.empty());
 }
 
+TEST(VirtualNxtFirmware, ReadEchoesTheCountAskedAndSendsAtMost58BytesPaddedWithZeros) {
+  Rig rig;
+  Bytes content(70);
+  for (std::size_t i = 0; i < content.size(); ++i) content[i] = static_cast<std::uint8_t>(i + 1);
+  rig.put_file("d.bin", content);
+  auto h = static_cast<std::uint8_t>(rig.reply("OpenRead", {s("d.bin")}).number("handle").value_or(0));
+  // 100 asked: the count says 100 (0x64), 58 bytes come (bytes 1..58).
+  Bytes head{0x02, 0x82, 0x00, h, 0x64, 0x00};
+  for (std::uint8_t i = 1; i <= 58; ++i) head.push_back(i);
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x01, 0x82, h, 0x64, 0x00}), head);
+  // 20 asked with 12 left: the count says 20, 12 real bytes and 8 zeros.
+  Bytes tail{0x02, 0x82, 0x00, h, 0x14, 0x00};
+  for (std::uint8_t i = 59; i <= 70; ++i) tail.push_back(i);
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x01, 0x82, h, 0x14, 0x00}), padded(tail, 8));
+  EXPECT_EQ(rig.status_of("Close", {n(h)}), 0);
+  // The host reads by the file's size, not the telegram's length, and gets the file.
+  auto back = download_file(rig.client, "d.bin");
+  ASSERT_TRUE(std::holds_alternative<Bytes>(back)) << std::get<CallError>(back).message;
+  EXPECT_EQ(std::get<Bytes>(back), content);
+}
+
 }  // namespace
 }  // namespace nxt
