@@ -584,6 +584,21 @@ std::span<const std::uint8_t> direct_command_as_read(std::span<const std::uint8_
   return telegram.first(std::min(telegram.size(), 2 + fixed_size(c->request)));
 }
 
+// c_cmd.c, its reply-telegram branch: a MessageRead reply whose status is
+// not an error (below 0x80) and whose message is 1-59 bytes ending in its
+// NUL goes into the local inbox it names, as MessageWrite would put it
+// (queue and program checked there, silently: replies get no answer).
+void take_message_read_reply(VirtualNxt& n, std::span<const std::uint8_t> t) {
+  if (t.size() < 5 || t[1] != 0x13 || t[2] >= 0x80) return;
+  std::size_t size = t[4];
+  // Model: a reply shorter than its size byte says is dropped.
+  if (size == 0 || size > kMaxMessage || t.size() < 5 + size || t[4 + size] != 0) return;
+  if (t[3] >= n.queues.size() || !n.program) return;
+  auto& q = n.queues[t[3]];
+  if (q.size() == kQueueDepth) q.pop_front();
+  q.emplace_back(t.begin() + 5, t.begin() + 5 + static_cast<std::ptrdiff_t>(size));
+}
+
 }  // namespace
 
 bool FileNameLess::operator()(const std::string& a, const std::string& b) const { return upper(a) < upper(b); }
@@ -668,6 +683,13 @@ std::optional<Bytes> answer(VirtualNxt& n, std::span<const std::uint8_t> telegra
   ++n.counters.requests;
   if (n.asleep || telegram.empty()) {
     ++n.counters.ignored;
+    return std::nullopt;
+  }
+  // A reply sent to the brick is never answered; a MessageRead reply is
+  // taken as a slave's answer to a master's read and put into the local
+  // mailbox it names.
+  if (telegram[0] == kReply) {
+    take_message_read_reply(n, telegram);
     return std::nullopt;
   }
   std::uint8_t type = telegram[0] & static_cast<std::uint8_t>(~kNoReplyBit);

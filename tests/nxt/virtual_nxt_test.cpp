@@ -555,5 +555,20 @@ TEST(VirtualNxtFirmware, ReadEchoesTheCountAskedAndSendsAtMost58BytesPaddedWithZ
   EXPECT_EQ(std::get<Bytes>(back), content);
 }
 
+TEST(VirtualNxtFirmware, AMessageReadReplySentToTheBrickLandsInItsMailboxUnanswered) {
+  Rig rig;
+  // Without a program the reply is dropped (as MessageWrite would refuse it).
+  EXPECT_FALSE(answer(rig.brick, padded({0x02, 0x13, 0x00, 0x02, 0x03, 'h', 'i', 0x00}, 56)));
+  EXPECT_TRUE(rig.brick.queues[2].empty());
+  rig.start_program();
+  EXPECT_FALSE(answer(rig.brick, padded({0x02, 0x13, 0x00, 0x02, 0x03, 'h', 'i', 0x00}, 56)));
+  // An error status, a message without its NUL and another opcode are not taken.
+  EXPECT_FALSE(answer(rig.brick, padded({0x02, 0x13, 0xEC, 0x02, 0x03, 'n', 'o', 0x00}, 56)));
+  EXPECT_FALSE(answer(rig.brick, padded({0x02, 0x13, 0x00, 0x02, 0x02, 'n', 'o'}, 57)));
+  EXPECT_FALSE(answer(rig.brick, Bytes{0x02, 0x0B, 0x00, 0x78, 0x1E}));
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x00, 0x13, 0x02, 0x00, 0x01}), padded({0x02, 0x13, 0x00, 0x00, 0x03, 'h', 'i', 0x00}, 56));
+  EXPECT_EQ(rig.status_of("MessageRead", {n(2), n(0), n(1)}), status::kQueueEmpty);
+}
+
 }  // namespace
 }  // namespace nxt
