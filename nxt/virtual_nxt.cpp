@@ -27,6 +27,8 @@ constexpr int kBooleanFalseAbove = 1023 * 55 / 100;
 constexpr std::size_t kQueueDepth = 5;
 // A Read's data over USB: a 64-byte packet less 0x02, opcode, status, handle, count.
 constexpr std::size_t kUsbReadMax = 58;
+// PollCommand's data over USB: a 64-byte packet less 0x02, opcode, status, buffer, count.
+constexpr std::size_t kUsbPollMax = 59;
 constexpr std::uint8_t kUltrasonicAddress = 0x02;
 
 struct Outcome {
@@ -568,8 +570,18 @@ Outcome system(VirtualNxt& n, const Decoded& d) {
       for (auto& h : n.handles) h.reset();
       return ok();
     case 0xA1: return ok({num(d, "buffer"), std::int64_t{0}});
-    case 0xA2: return ok({num(d, "buffer"), std::int64_t{0}, Bytes{}});
-    default: return fail(status::kUnknownCommand);  // Boot: this brick never erases itself
+    case 0xA2: {  // PollCommand: the poll buffers are empty
+      // c_comm.c: the data field is as long as the count asked, zeros where
+      // the buffer ran dry; more than a USB packet holds (59) is 0x8A with
+      // no data.
+      auto asked = static_cast<std::size_t>(num(d, "count"));
+      if (asked > kUsbPollMax) return fail_with(status::kUndefined, {num(d, "buffer"), std::int64_t{0}, Bytes{}});
+      return ok({num(d, "buffer"), std::int64_t{0}, Bytes(asked, 0)});
+    }
+    // Boot: c_comm.c answers 0x8A and four zero bytes on any link but USB;
+    // this brick answers so everywhere, as it never erases itself.
+    case 0x97: return fail(status::kUndefined);
+    default: return fail(status::kUnknownCommand);  // model: the firmware's reply here is stale bytes
   }
 }
 

@@ -77,7 +77,7 @@ inline void every_command_round_trip(Client& client) {
       {"CloseModuleHandle", {{n(0)}, 0}},
       {"ReadIOMap", {{n(0x000C0001), n(0), n(4)}, 0}},
       {"WriteIOMap", {{n(0x000C0001), n(0), n(2), Bytes{1, 2}}, 0}},
-      {"Boot", {{s("Let's dance: SAMBA")}, status::kUnknownCommand}},
+      {"Boot", {{s("Let's dance: SAMBA")}, status::kUndefined}},  // as on any link but USB
       {"SetBrickName", {{s("Robo")}, 0}},
       {"GetDeviceInfo", {{}, 0}},
       {"PollCommandLength", {{n(0)}, 0}},

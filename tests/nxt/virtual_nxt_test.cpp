@@ -570,5 +570,18 @@ TEST(VirtualNxtFirmware, AMessageReadReplySentToTheBrickLandsInItsMailboxUnanswe
   EXPECT_EQ(rig.status_of("MessageRead", {n(2), n(0), n(1)}), status::kQueueEmpty);
 }
 
+// The reply assembly of c_comm.c for Boot and PollCommand.
+TEST(VirtualNxtFirmware, BootIsRefusedWith8AAndPollCommandPadsToTheCountAsked) {
+  Rig rig;
+  Bytes boot{0x01, 0x97};
+  for (char c : std::string("Let's dance: SAMBA")) boot.push_back(static_cast<std::uint8_t>(c));
+  boot.push_back(0);
+  EXPECT_EQ(*answer(rig.brick, boot), (Bytes{0x02, 0x97, 0x8A, 0x00, 0x00, 0x00, 0x00}));
+  // Ten asked from an empty buffer: count 0, ten zero bytes.
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x01, 0xA2, 0x00, 0x0A}), padded({0x02, 0xA2, 0x00, 0x00, 0x00}, 10));
+  // More than a USB packet holds: 0x8A, buffer, count 0 and nothing else.
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x01, 0xA2, 0x01, 0x3C}), (Bytes{0x02, 0xA2, 0x8A, 0x01, 0x00}));
+}
+
 }  // namespace
 }  // namespace nxt
