@@ -29,6 +29,8 @@ constexpr std::size_t kQueueDepth = 5;
 constexpr std::size_t kUsbReadMax = 58;
 // PollCommand's data over USB: a 64-byte packet less 0x02, opcode, status, buffer, count.
 constexpr std::size_t kUsbPollMax = 59;
+// ReadIOMap's data over USB: a 64-byte packet less 0x02, opcode, status, ID, count.
+constexpr std::size_t kUsbIoMapMax = 55;
 constexpr std::uint8_t kUltrasonicAddress = 0x02;
 
 struct Outcome {
@@ -544,20 +546,35 @@ Outcome system(VirtualNxt& n, const Decoded& d) {
       n.module_search.open = false;
       return ok({std::int64_t{0}});
     case 0x88: return ok({std::int64_t{124}, std::int64_t{1}, std::int64_t{31}, std::int64_t{1}});
-    case 0x94:    // ReadIOMap
+    case 0x94: {  // ReadIOMap
+      // c_comm.c: the module ID is echoed, at most 55 data bytes come (a USB
+      // packet), and after an error the count is 0 and the data zeros.
+      auto id = num(d, "module_id");
+      auto offset = static_cast<std::size_t>(num(d, "offset"));
+      auto count = std::min(static_cast<std::size_t>(num(d, "count")), kUsbIoMapMax);
+      Module* m = module_of(n, id);
+      std::uint8_t code = !m ? status::kModuleNotFound
+                          : offset + count > m->iomap.size() ? status::kOutOfBoundary
+                                                             : status::kOk;
+      if (code != status::kOk) return fail_with(code, {id, std::int64_t{0}, Bytes(count, 0)});
+      auto at = m->iomap.begin() + static_cast<std::ptrdiff_t>(offset);
+      return ok({id, static_cast<std::int64_t>(count), Bytes(at, at + static_cast<std::ptrdiff_t>(count))});
+    }
     case 0x95: {  // WriteIOMap
-      Module* m = module_of(n, num(d, "module_id"));
-      if (!m) return fail(status::kModuleNotFound);
+      // The count field says how many bytes to write (more sent are ignored);
+      // the ID is echoed, the count is 0 after an error.
+      auto id = num(d, "module_id");
       auto offset = static_cast<std::size_t>(num(d, "offset"));
       auto count = static_cast<std::size_t>(num(d, "count"));
-      if (offset + count > m->iomap.size()) return fail(status::kOutOfBoundary);
-      auto at = m->iomap.begin() + static_cast<std::ptrdiff_t>(offset);
-      if (d.command->opcode == 0x94)
-        return ok({std::int64_t{m->id}, static_cast<std::int64_t>(count), Bytes(at, at + static_cast<std::ptrdiff_t>(count))});
       Bytes data = raw_bytes(d, "data");
-      if (data.size() != count) return fail(status::kInsanePacket);
-      std::copy(data.begin(), data.end(), at);
-      return ok({std::int64_t{m->id}, static_cast<std::int64_t>(count)});
+      // Model: the firmware would write bytes that never came.
+      if (count > data.size()) return fail_with(status::kInsanePacket, {id, std::int64_t{0}});
+      Module* m = module_of(n, id);
+      if (!m) return fail_with(status::kModuleNotFound, {id, std::int64_t{0}});
+      if (offset + count > m->iomap.size()) return fail_with(status::kOutOfBoundary, {id, std::int64_t{0}});
+      std::copy(data.begin(), data.begin() + static_cast<std::ptrdiff_t>(count),
+                m->iomap.begin() + static_cast<std::ptrdiff_t>(offset));
+      return ok({id, static_cast<std::int64_t>(count)});
     }
     case 0x98:
       n.name = txt(d, "name").substr(0, 15);
