@@ -218,6 +218,7 @@ std::optional<nxt::Bytes> parse_hex_words(const std::vector<std::string>& words,
       out.push_back(static_cast<std::uint8_t>(std::stoi(s.substr(i, 2), nullptr, 16)));
   }
   if (out.empty()) error = "raw needs the telegram's bytes";
+  else if (out.size() < 2) error = "a telegram needs at least its type byte and an opcode (00 0b: GetBatteryLevel)";
   if (out.size() > 256) error = "a telegram this long cannot be framed for the brick";
   // The seed's Maximum Command Length: a direct command is at most 64 bytes
   // with its type byte (the brick's buffer); more would reach it cut.
