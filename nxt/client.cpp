@@ -249,6 +249,12 @@ std::variant<int, CallError> read_ultrasonic(Client& client, int port) {
     if (auto* e = std::get_if<CallError>(&s)) return *e;
     const auto& d = std::get<Decoded>(s);
     if (d.status == status::kOk && d.number("bytes_ready").value_or(0) >= 1) break;
+    if (d.status == status::kBusError) {
+      CallError e = refused(d);
+      e.message += fmt::format(": no I2C device answered at address 0x02 (is the ultrasonic sensor on input port {}?)",
+                               port + 1);
+      return e;
+    }
     if (d.status != status::kOk && d.status != status::kPending) return refused(d);
     if (i == kPollTries) return CallError{CallError::Kind::NoReply, "the ultrasonic sensor never answered"};
     wait(client, kPollEvery);

@@ -605,5 +605,25 @@ TEST(VirtualNxtFirmware, IoMapRepliesEchoTheModuleIdAndReadsPadToTheCountAsked) 
             (Bytes{0x02, 0x95, 0x91, 0x01, 0x00, 0x0C, 0x00, 0x00, 0x00}));
 }
 
+TEST(VirtualNxtFirmware, AnUltrasonicReadWithNoSensorSaysWhereItLooked) {
+  // A real port with nothing plugged in: the bus transaction fails (0xDD).
+  VirtualNxt brick = make_virtual_nxt();
+  InProcessTransport link([&brick](std::span<const std::uint8_t> t) -> std::optional<Bytes> {
+    if (t.size() >= 2 && t[1] == 0x0E) return Bytes{0x02, 0x0E, 0xDD, 0x00};
+    return answer(brick, t);
+  });
+  Client client(link);
+  client.pause = [&brick](Millis m) { advance_to(brick, brick.now_us + m.count() * 1000); };
+  auto r = read_ultrasonic(client, 2);
+  ASSERT_TRUE(std::holds_alternative<CallError>(r));
+  const auto& e = std::get<CallError>(r);
+  EXPECT_EQ(e.kind, CallError::Kind::Refused);
+  EXPECT_EQ(e.status, status::kBusError);
+  EXPECT_NE(e.message.find("LSGetStatus refused: 0xdd communication bus error: no I2C device answered at address 0x02 "
+                           "(is the ultrasonic sensor on input port 3?)"),
+            std::string::npos)
+      << e.message;
+}
+
 }  // namespace
 }  // namespace nxt
