@@ -578,6 +578,17 @@ void register_nxt(CLI::App& app, int& exit_code) {
     if (loop) cmd->add_flag("--loop", *looping, "Repeat until stopped");
     run(cmd, [=]() -> std::variant<Action, std::string> {
       if (auto bad = nxt::check_file_name(*name)) return *bad;
+      // The brick answers 0x00 to StartProgram of any file that exists and
+      // then fails to run one that is no program: refuse it here, where the
+      // user can still be told.
+      if (command == "StartProgram") {
+        std::string ext = name->substr(name->rfind('.') == std::string::npos ? name->size() : name->rfind('.') + 1);
+        std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+        if (ext != "rxe" && ext != "rtm")
+          return fmt::format("\"{}\" is not a program (.rxe, or .rtm for Try Me): the brick would accept it and run "
+                             "nothing",
+                             *name);
+      }
       // PlaySoundFile has its loop flag before the name.
       std::vector<Value> v;
       if (loop) v.emplace_back(std::int64_t{*looping ? 1 : 0});

@@ -179,6 +179,8 @@ TEST(NxtCli, BadValuesAreRefusedBeforeAnythingIsSent) {
   check({"ls", "a*b.*"}, "is not a pattern the brick takes");
   check({"raw", "0g"}, "\"0g\" is not hex bytes");
   check({"raw", "00"}, "a telegram needs at least its type byte and an opcode");
+  check({"start", "tune.rso"}, "\"tune.rso\" is not a program (.rxe, or .rtm for Try Me): the brick would accept it");
+  check({"start", "noext"}, "\"noext\" is not a program");
   check({"raw", "0009003d" + std::string(61 * 2, '1')}, "a direct command is at most 64 bytes with its type byte; this one is 65");
   check({"raw", "8009003d" + std::string(61 * 2, '1')}, "this one is 65");
 }
