@@ -218,7 +218,13 @@ std::optional<nxt::Bytes> parse_hex_words(const std::vector<std::string>& words,
       out.push_back(static_cast<std::uint8_t>(std::stoi(s.substr(i, 2), nullptr, 16)));
   }
   if (out.empty()) error = "raw needs the telegram's bytes";
+  else if (out.size() < 2) error = "a telegram needs at least its type byte and an opcode (00 0b: GetBatteryLevel)";
   if (out.size() > 256) error = "a telegram this long cannot be framed for the brick";
+  // The seed's Maximum Command Length: a direct command is at most 64 bytes
+  // with its type byte (the brick's buffer); more would reach it cut.
+  else if (!out.empty() && (out[0] & ~nxt::kNoReplyBit) == nxt::kDirectWithReply && out.size() > nxt::kMaxTelegram)
+    error = fmt::format("a direct command is at most {} bytes with its type byte; this one is {}", nxt::kMaxTelegram,
+                        out.size());
   return error.empty() ? std::optional(out) : std::nullopt;
 }
 
@@ -572,11 +578,34 @@ void register_nxt(CLI::App& app, int& exit_code) {
     if (loop) cmd->add_flag("--loop", *looping, "Repeat until stopped");
     run(cmd, [=]() -> std::variant<Action, std::string> {
       if (auto bad = nxt::check_file_name(*name)) return *bad;
+      // The brick answers 0x00 to StartProgram of any file that exists and
+      // then fails to run one that is no program: refuse it here, where the
+      // user can still be told.
+      if (command == "StartProgram") {
+        std::string ext = name->substr(name->rfind('.') == std::string::npos ? name->size() : name->rfind('.') + 1);
+        std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+        if (ext != "rxe" && ext != "rtm")
+          return fmt::format("\"{}\" is not a program (.rxe, or .rtm for Try Me): the brick would accept it and run "
+                             "nothing",
+                             *name);
+      }
       // PlaySoundFile has its loop flag before the name.
       std::vector<Value> v;
       if (loop) v.emplace_back(std::int64_t{*looping ? 1 : 0});
       v.emplace_back(*name);
-      return Action([v, command](Client& c) { return simple(c, command, v, ""); });
+      return Action([v, command, name](Client& c) -> std::variant<Output, Failure> {
+        auto r = nxt::call(c, *nxt::find_command(command), v);
+        if (auto* e = std::get_if<CallError>(&r)) return failure(*e);
+        const auto& d = std::get<nxt::Decoded>(r);
+        if (d.status == nxt::status::kOk) return Output{"", json::object()};
+        // StartProgram and PlaySoundFile answer 0xC0 for a missing file (the
+        // seed's 0xBD is never sent): say what it means here.
+        std::string hint = d.status == nxt::status::kOutOfRange && command != "Delete"
+                               ? fmt::format(" (no file \"{}\" on the brick)", *name)
+                               : "";
+        return Failure{kExitFailure, fmt::format("{} refused: 0x{:02x} {}{}", command, d.status,
+                                                 nxt::status_message(d.status), hint)};
+      });
     });
   };
   name_arg("start", "Start the program NAME (.rxe)", "StartProgram");
@@ -684,12 +713,27 @@ void register_nxt(CLI::App& app, int& exit_code) {
       return Action([t = *bytes](Client& c) -> std::variant<Output, Failure> {
         if (auto e = c.transport.send(t)) return Failure{kExitNoReply, e->message};
         if (c.on_log) c.on_log("-> " + nxt::hex(t));
-        if (t[0] & nxt::kNoReplyBit) return Output{"(sent, no reply asked)\n", {{"sent", nxt::hex(t)}}};
+        if (t[0] & nxt::kNoReplyBit) {
+          bool known = t[0] == (nxt::kDirectWithReply | nxt::kNoReplyBit) || t[0] == (nxt::kSystemWithReply | nxt::kNoReplyBit);
+          std::string said = known ? "(sent, no reply asked)\n"
+                                   : fmt::format("(sent; 0x{:02x} is not a request type: the firmware ignores it)\n", t[0]);
+          return Output{said, {{"sent", nxt::hex(t)}}};
+        }
         auto got = c.transport.receive(c.timeout);
         if (auto* e = std::get_if<nxt::LinkError>(&got))
           return Failure{e->kind == nxt::LinkError::Kind::Interrupted ? kExitInterrupted : kExitNoReply, e->message};
         auto& reply = std::get<std::optional<nxt::Bytes>>(got);
-        if (!reply) return Failure{kExitNoReply, fmt::format("no reply within {} ms", c.timeout.count())};
+        if (!reply) {
+          std::uint8_t type = t[0];
+          std::string why;
+          if (type == nxt::kReply)
+            why = ": 0x02 is a reply, which the firmware takes (a MessageRead reply goes into a mailbox) but never answers";
+          else if (type != nxt::kDirectWithReply && type != nxt::kSystemWithReply)
+            why = fmt::format(": 0x{:02x} is not a request type (0x00, 0x01; 0x80, 0x81 without reply), and the "
+                              "firmware answers nothing to a type it does not know",
+                              type);
+          return Failure{kExitNoReply, fmt::format("no reply within {} ms{}", c.timeout.count(), why)};
+        }
         auto d = nxt::decode_reply(*reply);
         std::string what = std::holds_alternative<nxt::Decoded>(d) ? nxt::describe(std::get<nxt::Decoded>(d))
                                                                    : std::get<nxt::TelegramError>(d).message;

@@ -140,14 +140,28 @@ std::variant<std::vector<FileEntry>, CallError> list_files(Client& client, const
   auto r = call(client, named("FindFirst"), first);
   if (auto* e = std::get_if<CallError>(&r)) return *e;
   auto d = std::get<Decoded>(r);
-  // No match answers 0x87 "file not found": an empty list, not an error.
+  // No match answers 0x87 "file not found": an empty list, not an error
+  // (and FindFirst's handle is closed by then).
+  if (d.status != status::kOk) {
+    if (d.status != status::kFileNotFound && d.status != status::kNoMoreFiles) return refused(d);
+    return out;
+  }
+  const std::int64_t handle = field_or<int>(d, "handle", 0);
   while (d.status == status::kOk) {
     out.push_back({d.text("name").value_or(""), field_or<std::uint32_t>(d, "size", 0)});
-    std::vector<Value> next{static_cast<std::int64_t>(field_or<int>(d, "handle", 0))};
+    std::vector<Value> next{handle};
     auto n = call(client, named("FindNext"), next);
     if (auto* e = std::get_if<CallError>(&n)) return *e;
     d = std::get<Decoded>(n);
   }
+  // FindNext's handle stays open after its last match (LEGO's loader closes
+  // only after a FindFirst error): close it, or every listing costs one of
+  // the brick's 16 handles. A firmware that closed it answers 0x88.
+  std::vector<Value> close{handle};
+  auto c = call(client, named("Close"), close);
+  if (auto* e = std::get_if<CallError>(&c)) return *e;
+  auto closed = std::get<Decoded>(c).status;
+  if (closed != status::kOk && closed != status::kHandleClosed) return refused(std::get<Decoded>(c));
   if (d.status != status::kFileNotFound && d.status != status::kNoMoreFiles) return refused(d);
   return out;
 }
@@ -193,7 +207,8 @@ std::variant<Bytes, CallError> download_file(Client& client, const std::string& 
     std::vector<Value> read{handle, want};
     auto got = call_ok(client, "Read", read);
     if (auto* e = std::get_if<CallError>(&got)) return *e;
-    // Over USB the count echoes what was asked: trust the telegram's length.
+    // The count echoes what was asked and data past the end of the file is
+    // zero padding: only the size from OpenRead tells, so never ask past it.
     auto data = std::get<Decoded>(got).bytes("data").value_or(Bytes{});
     if (data.empty() || data.size() > static_cast<std::size_t>(want))
       return CallError{CallError::Kind::BadReply,
@@ -234,6 +249,12 @@ std::variant<int, CallError> read_ultrasonic(Client& client, int port) {
     if (auto* e = std::get_if<CallError>(&s)) return *e;
     const auto& d = std::get<Decoded>(s);
     if (d.status == status::kOk && d.number("bytes_ready").value_or(0) >= 1) break;
+    if (d.status == status::kBusError) {
+      CallError e = refused(d);
+      e.message += fmt::format(": no I2C device answered at address 0x02 (is the ultrasonic sensor on input port {}?)",
+                               port + 1);
+      return e;
+    }
     if (d.status != status::kOk && d.status != status::kPending) return refused(d);
     if (i == kPollTries) return CallError{CallError::Kind::NoReply, "the ultrasonic sensor never answered"};
     wait(client, kPollEvery);

@@ -57,7 +57,8 @@ constexpr Field kLsRead[] = {{"bytes_read", K::U8}, {"rx_data", K::Bytes, 16, Sh
 constexpr Field kMessageRead[] = {{"remote_inbox", K::U8}, {"local_inbox", K::U8}, {"remove", K::Bool}};
 constexpr Field kMessageReadReply[] = {{"local_inbox", K::U8}, {"size", K::U8}, {"data", K::Bytes, 59}};
 constexpr Field kRemove[] = {{"remove", K::Bool}};
-constexpr Field kDatalogReply[] = {{"size", K::U8}, {"data", K::Bytes, 32, Show::Hex}};
+// MAX_DATALOG_SIZE is 60: with its size byte the reply is 64 bytes, as MessageRead's.
+constexpr Field kDatalogReply[] = {{"size", K::U8}, {"data", K::Bytes, 60, Show::Hex}};
 constexpr Field kSyncTime[] = {{"sync_time", K::U32}};
 constexpr Field kCount[] = {{"count", K::U8}};
 constexpr Field kIndex[] = {{"index", K::U8}};

@@ -139,6 +139,7 @@ inline constexpr std::uint8_t kModuleNotFound = 0x90;
 inline constexpr std::uint8_t kOutOfBoundary = 0x91;
 inline constexpr std::uint8_t kIllegalFileName = 0x92;
 inline constexpr std::uint8_t kIllegalHandle = 0x93;
+inline constexpr std::uint8_t kUndefined = 0x8A;
 inline constexpr std::uint8_t kUnknownCommand = 0xBE;
 inline constexpr std::uint8_t kInsanePacket = 0xBF;
 inline constexpr std::uint8_t kOutOfRange = 0xC0;

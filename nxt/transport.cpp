@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <poll.h>
 #include <sys/socket.h>
+#include <sys/stat.h>
 #include <termios.h>
 #include <unistd.h>
 
@@ -291,6 +292,15 @@ std::variant<std::unique_ptr<Transport>, LinkError> open_path(const std::string&
       why = fmt::format("no permission to open {} (join the dialout group)", path);
     else why = fmt::format("cannot open {}: {}", path, errno_text());
     return LinkError{LinkError::Kind::Open, why};
+  }
+  // Only a tty (rfcomm, a pseudo-terminal, a serial adapter) or a socket
+  // carries telegrams: /dev/null or a plain file would read as a hang-up or
+  // as garbage frames.
+  struct stat st {};
+  if (::fstat(fd, &st) == 0 && !S_ISSOCK(st.st_mode) && !::isatty(fd)) {
+    ::close(fd);
+    return LinkError{LinkError::Kind::Open,
+                     fmt::format("{} is not a tty (a /dev/rfcommN bound with `rfcomm bind`, or a pseudo-terminal)", path)};
   }
   termios t{};
   if (::tcgetattr(fd, &t) == 0) {

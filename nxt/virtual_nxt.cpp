@@ -1,6 +1,7 @@
 #include "nxt/virtual_nxt.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 
 #include <fmt/format.h>
@@ -24,15 +25,28 @@ constexpr Micros kLsByteUs = 1'000;
 constexpr int kBooleanTrueBelow = 1023 * 45 / 100;
 constexpr int kBooleanFalseAbove = 1023 * 55 / 100;
 constexpr std::size_t kQueueDepth = 5;
+// A Read's data over USB: a 64-byte packet less 0x02, opcode, status, handle, count.
+constexpr std::size_t kUsbReadMax = 58;
+// PollCommand's data over USB: a 64-byte packet less 0x02, opcode, status, buffer, count.
+constexpr std::size_t kUsbPollMax = 59;
+// ReadIOMap's data over USB: a 64-byte packet less 0x02, opcode, status, ID, count.
+constexpr std::size_t kUsbIoMapMax = 55;
 constexpr std::uint8_t kUltrasonicAddress = 0x02;
 
 struct Outcome {
   std::uint8_t status = status::kOk;
   std::vector<Value> values;  // empty with a non-zero status: the body is zero-filled
+  bool bare = false;          // the status alone, no body at all
 };
 
 Outcome ok(std::vector<Value> values = {}) { return {status::kOk, std::move(values)}; }
 Outcome fail(std::uint8_t code) { return {code, {}}; }
+// An error answered with a body that is not all zeros (the firmware echoes
+// or fills in some fields).
+Outcome fail_with(std::uint8_t code, std::vector<Value> values) { return {code, std::move(values)}; }
+// The LS commands' port check breaks out before any body byte is written
+// (c_cmd.c, RC_LS_GET_STATUS / RC_LS_READ): the reply is the status alone.
+Outcome fail_bare(std::uint8_t code) { return {code, {}, true}; }
 
 std::int64_t num(const Decoded& d, std::string_view f) { return d.number(f).value_or(0); }
 std::string txt(const Decoded& d, std::string_view f) { return d.text(f).value_or(""); }
@@ -60,10 +74,17 @@ void begin_program(VirtualNxt& n, const std::string& name) {
   reset_io(n);
 }
 
+std::string upper(std::string s) {
+  for (auto& c : s) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  return s;
+}
+
+bool same_file_name(const std::string& a, const std::string& b) { return upper(a) == upper(b); }
+
 bool is_executable(const std::string& name) {
   auto dot = name.rfind('.');
-  std::string ext = dot == std::string::npos ? "" : name.substr(dot + 1);
-  return ext == "rxe" || ext == "sys" || ext == "rtm";
+  std::string ext = upper(dot == std::string::npos ? "" : name.substr(dot + 1));
+  return ext == "RXE" || ext == "SYS" || ext == "RTM";
 }
 
 bool matches(const std::string& pattern, const std::string& name) {
@@ -71,8 +92,8 @@ bool matches(const std::string& pattern, const std::string& name) {
     auto dot = s.rfind('.');
     return dot == std::string::npos ? std::pair{s, std::string()} : std::pair{s.substr(0, dot), s.substr(dot + 1)};
   };
-  auto [ps, pe] = split(pattern);
-  auto [ns, ne] = split(name);
+  auto [ps, pe] = split(upper(pattern));
+  auto [ns, ne] = split(upper(name));
   return (ps == "*" || ps == ns) && (pe == "*" || pe == ne);
 }
 
@@ -84,7 +105,7 @@ std::optional<std::uint8_t> free_handle(const VirtualNxt& n) {
 
 bool file_open(const VirtualNxt& n, const std::string& name) {
   return std::any_of(n.handles.begin(), n.handles.end(), [&](const auto& h) {
-    return h && (h->kind == Handle::Kind::Read || h->kind == Handle::Kind::Write) && h->name == name;
+    return h && (h->kind == Handle::Kind::Read || h->kind == Handle::Kind::Write) && same_file_name(h->name, name);
   });
 }
 
@@ -153,10 +174,13 @@ Bytes ultrasonic_read(const Sensor& s, std::uint8_t reg, std::size_t count) {
 Outcome direct(VirtualNxt& n, const Decoded& d) {
   const std::uint8_t op = d.command->opcode;
   switch (op) {
-    case 0x00: {  // StartProgram: a file that does not exist answers 0xC0 (firmware, not the seed's 0xBD)
+    case 0x00: {  // StartProgram
+      // The firmware only looks the file up (a missing one answers 0xC0, not
+      // the seed's 0xBD) and hands the name to the UI, which then fails to run
+      // a file that is not a program: the reply is 0x00 either way.
       std::string name = txt(d, "name");
-      if (!n.files.count(name) || !is_executable(name)) return fail(status::kOutOfRange);
-      begin_program(n, name);
+      if (!n.files.count(name)) return fail(status::kOutOfRange);
+      if (is_executable(name)) begin_program(n, name);
       return ok();
     }
     case 0x01:  // StopProgram
@@ -230,12 +254,20 @@ Outcome direct(VirtualNxt& n, const Decoded& d) {
       s.rotation_base = s.rotation;
       return ok();
     }
-    case 0x09: {  // MessageWrite: needs a running program
-      if (!n.program) return fail(status::kNoProgram);
+    case 0x09: {  // MessageWrite
+      // The firmware's order (c_cmd.c RC_MESSAGE_WRITE, cCmdMessageWrite):
+      // the size byte and the NUL it points at (0xC0), the queue (0xEE), then
+      // the program (0xEC). It takes `size` bytes: anything after them is ignored.
+      auto size = static_cast<std::size_t>(num(d, "size"));
+      Bytes sent = raw_bytes(d, "data");
+      if (size == 0 || size > kMaxMessage) return fail(status::kOutOfRange);
+      // Model: the firmware would read bytes that were never sent.
+      if (size > sent.size()) return fail(status::kInsanePacket);
+      Bytes data(sent.begin(), sent.begin() + static_cast<std::ptrdiff_t>(size));
+      if (data.back() != 0) return fail(status::kOutOfRange);
       std::int64_t box = num(d, "inbox");
-      Bytes data = raw_bytes(d, "data");
       if (box >= static_cast<std::int64_t>(n.queues.size())) return fail(status::kIllegalQueue);
-      if (data.empty() || data.size() > kMaxMessage || data.back() != 0) return fail(status::kOutOfRange);
+      if (!n.program) return fail(status::kNoProgram);
       auto& q = n.queues[static_cast<std::size_t>(box)];
       if (q.size() == kQueueDepth) q.pop_front();  // the oldest is dropped
       q.push_back(std::move(data));
@@ -258,25 +290,43 @@ Outcome direct(VirtualNxt& n, const Decoded& d) {
     case 0x0E:    // LSGetStatus
     case 0x10: {  // LSRead
       std::int64_t port = num(d, "port");
+      if (port > 3) return fail_bare(status::kOutOfRange);
+      Sensor& s = n.sensors[static_cast<std::size_t>(port)];
+      // cCmdLSCheckStatus: a port that is not LOWSPEED(_9V) and valid is not
+      // ready (0xE0); the body (bytes ready, padded data) comes all the same.
+      std::uint8_t state = status::kOk;
+      if ((s.type != kLowSpeed && s.type != kLowSpeed9V) || n.now_us < s.valid_at) state = status::kChannelBusy;
+      else if (s.ls_ready_at >= 0 && n.now_us < s.ls_ready_at) state = status::kPending;
+      else if (s.ls_ready_at >= 0 && s.ls_failed) state = status::kBusError;
+      std::size_t ready = state == status::kOk && s.ls_ready_at >= 0 ? s.ls_answer.size() : 0;
+      if (op == 0x0E) return {state, {static_cast<std::int64_t>(ready)}};
+      Bytes data;
+      if (ready > 0) {
+        data = std::move(s.ls_answer);
+        s.ls_answer.clear();
+        s.ls_ready_at = -1;
+      }
+      return {state, {static_cast<std::int64_t>(data.size()), data}};
+    }
+    case 0x0F: {  // LSWrite
+      // LEGO's firmware refuses ports 4-255 (0xC0); the enhanced NBC/NXC
+      // firmware reads flags from bits 2-3 and the port from bits 0-1.
+      std::int64_t port = num(d, "port");
       if (port > 3) return fail(status::kOutOfRange);
       Sensor& s = n.sensors[static_cast<std::size_t>(port)];
-      if (s.ls_ready_at < 0) return op == 0x0E ? ok({std::int64_t{0}}) : ok({std::int64_t{0}, Bytes{}});
-      if (n.now_us < s.ls_ready_at) return fail(status::kPending);
-      if (s.ls_failed) return fail(status::kBusError);
-      if (op == 0x0E) return ok({static_cast<std::int64_t>(s.ls_answer.size())});
-      Bytes data = std::move(s.ls_answer);
-      s.ls_answer.clear();
-      s.ls_ready_at = -1;
-      return ok({static_cast<std::int64_t>(data.size()), data});
-    }
-    case 0x0F: {  // LSWrite: the firmware takes the port from the low two bits
-      std::size_t port = static_cast<std::size_t>(num(d, "port") & 0x03);
-      Sensor& s = n.sensors[port];
-      Bytes tx = raw_bytes(d, "tx_data");
+      // The firmware takes tx_length bytes, whatever the telegram carries after them.
+      auto tx_length = static_cast<std::size_t>(num(d, "tx_length"));
+      Bytes sent = raw_bytes(d, "tx_data");
       std::int64_t rx = num(d, "rx_length");
-      if (tx.size() > kLsMax || rx > static_cast<std::int64_t>(kLsMax)) return fail(status::kIllegalSize);
-      if ((s.type != kLowSpeed && s.type != kLowSpeed9V) || n.now_us < s.valid_at) return fail(status::kChannelBusy);
-      if (s.ls_ready_at >= 0 && n.now_us < s.ls_ready_at) return fail(status::kPending);
+      if (tx_length > kLsMax || rx > static_cast<std::int64_t>(kLsMax)) return fail(status::kIllegalSize);
+      // Model: the firmware would send bytes that never came.
+      if (tx_length > sent.size()) return fail(status::kInsanePacket);
+      Bytes tx(sent.begin(), sent.begin() + static_cast<std::ptrdiff_t>(tx_length));
+      // Not configured, not valid yet, or a transaction still on the bus: 0xE0
+      // (cCmdLSWrite has no 0x20 for a busy channel).
+      if ((s.type != kLowSpeed && s.type != kLowSpeed9V) || n.now_us < s.valid_at ||
+          (s.ls_ready_at >= 0 && n.now_us < s.ls_ready_at))
+        return fail(status::kChannelBusy);
       s.ls_ready_at = n.now_us + kLsByteUs * static_cast<Micros>(1 + tx.size() + static_cast<std::size_t>(rx));
       // Only an ultrasonic sensor (it needs the 9 V supply) answers, at 0x02.
       s.ls_failed = s.type != kLowSpeed9V || tx.empty() || tx[0] != kUltrasonicAddress;
@@ -291,14 +341,19 @@ Outcome direct(VirtualNxt& n, const Decoded& d) {
       if (!n.program) return fail(status::kNoProgram);
       return ok({*n.program});
     case 0x13: {  // MessageRead
-      if (!n.program) return fail(status::kNoProgram);
+      // Every reply echoes the local inbox and pads the data to 59 bytes,
+      // errors included (c_cmd.c RC_MESSAGE_READ, cCmdMessageGetSize: the
+      // program is checked before the queue).
+      std::int64_t local = num(d, "local_inbox");
+      auto refuse = [&](std::uint8_t code) { return fail_with(code, {local, std::int64_t{0}, Bytes{}}); };
+      if (!n.program) return refuse(status::kNoProgram);
       std::int64_t box = num(d, "remote_inbox");
-      if (box >= static_cast<std::int64_t>(n.queues.size())) return fail(status::kIllegalQueue);
+      if (box >= static_cast<std::int64_t>(n.queues.size())) return refuse(status::kIllegalQueue);
       auto& q = n.queues[static_cast<std::size_t>(box)];
-      if (q.empty()) return fail(status::kQueueEmpty);
+      if (q.empty()) return refuse(status::kQueueEmpty);
       Bytes data = q.front();
       if (num(d, "remove")) q.pop_front();
-      return ok({num(d, "local_inbox"), static_cast<std::int64_t>(data.size()), data});
+      return ok({local, static_cast<std::int64_t>(data.size()), data});
     }
     case 0x19: return ok({std::int64_t{0}, Bytes{}});  // DatalogRead: nothing logged
     case 0x1A: return ok();                             // DatalogSetTimes
@@ -362,24 +417,23 @@ Outcome open_for_write(VirtualNxt& n, const Decoded& d, bool linear, bool data_f
   return ok({std::int64_t{*h}});
 }
 
-Outcome found(VirtualNxt& n, std::uint8_t index) {
+// A search that finds nothing more: FindFirst's handle is closed at once,
+// FindNext's stays open until Close (c_loader.c closes after a FINDFIRST
+// error only).
+Outcome found(VirtualNxt& n, std::uint8_t index, bool first) {
   Handle& h = *n.handles[index];
   auto* f = next_match(h, n.files, [](const auto& kv) { return kv.first; });
   if (!f) {
-    n.handles[index].reset();
+    if (first) n.handles[index].reset();
     return fail(status::kFileNotFound);
   }
   return ok({std::int64_t{index}, f->first, static_cast<std::int64_t>(f->second.data.size())});
 }
 
-Outcome found_module(VirtualNxt& n, std::uint8_t index) {
-  Handle& h = *n.handles[index];
-  auto* m = next_match(h, n.modules, [](const Module& m) { return m.name; });
-  if (!m) {
-    n.handles[index].reset();
-    return fail(status::kModuleNotFound);
-  }
-  return ok({std::int64_t{index}, m->name, std::int64_t{m->id}, std::int64_t{0},
+Outcome found_module(VirtualNxt& n) {
+  auto* m = next_match(n.module_search.cursor, n.modules, [](const Module& m) { return m.name; });
+  if (!m) return fail(status::kModuleNotFound);
+  return ok({std::int64_t{0}, m->name, std::int64_t{m->id}, std::int64_t{0},
              static_cast<std::int64_t>(m->iomap.size())});
 }
 
@@ -417,20 +471,28 @@ Outcome system(VirtualNxt& n, const Decoded& d) {
       return ok({std::int64_t{*h}, static_cast<std::int64_t>(f->second.size - f->second.data.size())});
     }
     case 0x82: {  // Read
-      auto h = handle_of(n, num(d, "handle"), Handle::Kind::Read);
+      auto index = num(d, "handle");
+      auto h = handle_of(n, index, Handle::Kind::Read);
       if (auto* code = std::get_if<std::uint8_t>(&h)) return fail(*code);
       Handle& handle = *std::get<Handle*>(h);
       const Bytes& data = n.files[handle.name].data;
-      if (handle.pos >= data.size()) {
-        n.handles[static_cast<std::size_t>(num(d, "handle"))].reset();  // closed after an error
-        return fail(status::kEndOfFile);
-      }
-      // At most 58 data bytes a telegram, as over USB.
-      std::size_t count = std::min({static_cast<std::size_t>(num(d, "count")), data.size() - handle.pos, std::size_t{58}});
+      // As over USB (c_comm.c): the count field echoes the count asked for,
+      // at most 58 data bytes come, and where the file ends first the rest
+      // of them are zeros: only the file's size tells real bytes from padding.
+      auto asked = num(d, "count");
+      std::size_t sent = std::min(static_cast<std::size_t>(asked), kUsbReadMax);
+      std::size_t left = data.size() > handle.pos ? data.size() - handle.pos : 0;
+      std::size_t real = std::min(sent, left);
       Bytes out(data.begin() + static_cast<std::ptrdiff_t>(handle.pos),
-                data.begin() + static_cast<std::ptrdiff_t>(handle.pos + count));
-      handle.pos += count;
-      return ok({num(d, "handle"), static_cast<std::int64_t>(count), out});
+                data.begin() + static_cast<std::ptrdiff_t>(handle.pos + real));
+      out.resize(sent, 0);
+      handle.pos += real;
+      if (real == 0 && sent > 0) {
+        // Model: reading with nothing left is an error, after which the handle is closed.
+        n.handles[static_cast<std::size_t>(index)].reset();
+        return fail_with(status::kEndOfFile, {index, asked, out});
+      }
+      return ok({index, asked, out});
     }
     case 0x83: {  // Write
       auto index = num(d, "handle");
@@ -454,50 +516,65 @@ Outcome system(VirtualNxt& n, const Decoded& d) {
       return ok({index});
     }
     case 0x85: {  // Delete
+      // c_comm.c copies the name asked for into every reply, errors included.
       std::string name = txt(d, "name");
-      if (check_file_name(name)) return fail(status::kIllegalFileName);
-      if (!n.files.count(name)) return fail(status::kFileNotFound);
-      if (file_open(n, name)) return fail(status::kFileBusy);
+      auto refuse = [&](std::uint8_t code) { return fail_with(code, {name.substr(0, kNameField - 1)}); };
+      if (check_file_name(name)) return refuse(status::kIllegalFileName);
+      if (!n.files.count(name)) return refuse(status::kFileNotFound);
+      if (file_open(n, name)) return refuse(status::kFileBusy);
       n.files.erase(name);
       return ok({name});
     }
-    case 0x86:    // FindFirst
-    case 0x90: {  // FindFirstModule
+    case 0x86: {  // FindFirst
       auto h = free_handle(n);
       if (!h) return fail(status::kNoMoreHandles);
-      bool files = d.command->opcode == 0x86;
-      n.handles[*h] = Handle{files ? Handle::Kind::Find : Handle::Kind::Module, txt(d, "pattern"), 0};
-      return files ? found(n, *h) : found_module(n, *h);
+      n.handles[*h] = Handle{Handle::Kind::Find, txt(d, "pattern"), 0};
+      return found(n, *h, true);
     }
-    case 0x87:    // FindNext
-    case 0x91: {  // FindNextModule
-      bool files = d.command->opcode == 0x87;
-      auto h = handle_of(n, num(d, "handle"), files ? Handle::Kind::Find : Handle::Kind::Module);
+    case 0x87: {  // FindNext
+      auto h = handle_of(n, num(d, "handle"), Handle::Kind::Find);
       if (auto* code = std::get_if<std::uint8_t>(&h)) return fail(*code);
-      auto index = static_cast<std::uint8_t>(num(d, "handle"));
-      return files ? found(n, index) : found_module(n, index);
+      return found(n, static_cast<std::uint8_t>(num(d, "handle")), false);
     }
-    case 0x92: {  // CloseModuleHandle
-      auto h = handle_of(n, num(d, "handle"), Handle::Kind::Module);
-      if (auto* code = std::get_if<std::uint8_t>(&h)) return fail(*code);
-      n.handles[static_cast<std::size_t>(num(d, "handle"))].reset();
-      return ok({num(d, "handle")});
-    }
+    case 0x90:  // FindFirstModule
+      if (n.module_search.open) return fail(status::kNoMoreHandles);
+      n.module_search = {true, Handle{Handle::Kind::Find, txt(d, "pattern"), 0}};
+      return found_module(n);
+    case 0x91:  // FindNextModule: the handle byte is not looked at
+      return found_module(n);
+    case 0x92:  // CloseModuleHandle: always succeeds
+      n.module_search.open = false;
+      return ok({std::int64_t{0}});
     case 0x88: return ok({std::int64_t{124}, std::int64_t{1}, std::int64_t{31}, std::int64_t{1}});
-    case 0x94:    // ReadIOMap
+    case 0x94: {  // ReadIOMap
+      // c_comm.c: the module ID is echoed, at most 55 data bytes come (a USB
+      // packet), and after an error the count is 0 and the data zeros.
+      auto id = num(d, "module_id");
+      auto offset = static_cast<std::size_t>(num(d, "offset"));
+      auto count = std::min(static_cast<std::size_t>(num(d, "count")), kUsbIoMapMax);
+      Module* m = module_of(n, id);
+      std::uint8_t code = !m ? status::kModuleNotFound
+                          : offset + count > m->iomap.size() ? status::kOutOfBoundary
+                                                             : status::kOk;
+      if (code != status::kOk) return fail_with(code, {id, std::int64_t{0}, Bytes(count, 0)});
+      auto at = m->iomap.begin() + static_cast<std::ptrdiff_t>(offset);
+      return ok({id, static_cast<std::int64_t>(count), Bytes(at, at + static_cast<std::ptrdiff_t>(count))});
+    }
     case 0x95: {  // WriteIOMap
-      Module* m = module_of(n, num(d, "module_id"));
-      if (!m) return fail(status::kModuleNotFound);
+      // The count field says how many bytes to write (more sent are ignored);
+      // the ID is echoed, the count is 0 after an error.
+      auto id = num(d, "module_id");
       auto offset = static_cast<std::size_t>(num(d, "offset"));
       auto count = static_cast<std::size_t>(num(d, "count"));
-      if (offset + count > m->iomap.size()) return fail(status::kOutOfBoundary);
-      auto at = m->iomap.begin() + static_cast<std::ptrdiff_t>(offset);
-      if (d.command->opcode == 0x94)
-        return ok({std::int64_t{m->id}, static_cast<std::int64_t>(count), Bytes(at, at + static_cast<std::ptrdiff_t>(count))});
       Bytes data = raw_bytes(d, "data");
-      if (data.size() != count) return fail(status::kInsanePacket);
-      std::copy(data.begin(), data.end(), at);
-      return ok({std::int64_t{m->id}, static_cast<std::int64_t>(count)});
+      // Model: the firmware would write bytes that never came.
+      if (count > data.size()) return fail_with(status::kInsanePacket, {id, std::int64_t{0}});
+      Module* m = module_of(n, id);
+      if (!m) return fail_with(status::kModuleNotFound, {id, std::int64_t{0}});
+      if (offset + count > m->iomap.size()) return fail_with(status::kOutOfBoundary, {id, std::int64_t{0}});
+      std::copy(data.begin(), data.begin() + static_cast<std::ptrdiff_t>(count),
+                m->iomap.begin() + static_cast<std::ptrdiff_t>(offset));
+      return ok({id, static_cast<std::int64_t>(count)});
     }
     case 0x98:
       n.name = txt(d, "name").substr(0, 15);
@@ -507,16 +584,53 @@ Outcome system(VirtualNxt& n, const Decoded& d) {
                  std::int64_t{free_flash(n)}});
     case 0xA0:
       n.files.clear();
-      for (auto& h : n.handles)
-        if (h && h->kind != Handle::Kind::Module) h.reset();
+      for (auto& h : n.handles) h.reset();
       return ok();
     case 0xA1: return ok({num(d, "buffer"), std::int64_t{0}});
-    case 0xA2: return ok({num(d, "buffer"), std::int64_t{0}, Bytes{}});
-    default: return fail(status::kUnknownCommand);  // Boot: this brick never erases itself
+    case 0xA2: {  // PollCommand: the poll buffers are empty
+      // c_comm.c: the data field is as long as the count asked, zeros where
+      // the buffer ran dry; more than a USB packet holds (59) is 0x8A with
+      // no data.
+      auto asked = static_cast<std::size_t>(num(d, "count"));
+      if (asked > kUsbPollMax) return fail_with(status::kUndefined, {num(d, "buffer"), std::int64_t{0}, Bytes{}});
+      return ok({num(d, "buffer"), std::int64_t{0}, Bytes(asked, 0)});
+    }
+    // Boot: c_comm.c answers 0x8A and four zero bytes on any link but USB;
+    // this brick answers so everywhere, as it never erases itself.
+    case 0x97: return fail(status::kUndefined);
+    default: return fail(status::kUnknownCommand);  // model: the firmware's reply here is stale bytes
   }
 }
 
+// The firmware's direct-command handler reads its fields at fixed offsets
+// and never looks at the telegram's length: bytes after a fixed layout are
+// ignored, not refused (c_cmd.c cCmdHandleRemoteCommands). A short telegram
+// stays short (the firmware would read stale buffer bytes; here it is 0xBF).
+std::span<const std::uint8_t> direct_command_as_read(std::span<const std::uint8_t> telegram) {
+  if (telegram.size() < 2 || (telegram[0] & ~kNoReplyBit) != kDirectWithReply) return telegram;
+  const Command* c = find_command(Group::Direct, telegram[1]);
+  if (!c || has_rest(c->request)) return telegram;
+  return telegram.first(std::min(telegram.size(), 2 + fixed_size(c->request)));
+}
+
+// c_cmd.c, its reply-telegram branch: a MessageRead reply whose status is
+// not an error (below 0x80) and whose message is 1-59 bytes ending in its
+// NUL goes into the local inbox it names, as MessageWrite would put it
+// (queue and program checked there, silently: replies get no answer).
+void take_message_read_reply(VirtualNxt& n, std::span<const std::uint8_t> t) {
+  if (t.size() < 5 || t[1] != 0x13 || t[2] >= 0x80) return;
+  std::size_t size = t[4];
+  // Model: a reply shorter than its size byte says is dropped.
+  if (size == 0 || size > kMaxMessage || t.size() < 5 + size || t[4 + size] != 0) return;
+  if (t[3] >= n.queues.size() || !n.program) return;
+  auto& q = n.queues[t[3]];
+  if (q.size() == kQueueDepth) q.pop_front();
+  q.emplace_back(t.begin() + 5, t.begin() + 5 + static_cast<std::ptrdiff_t>(size));
+}
+
 }  // namespace
+
+bool FileNameLess::operator()(const std::string& a, const std::string& b) const { return upper(a) < upper(b); }
 
 VirtualNxt make_virtual_nxt(std::vector<ScenarioInput> scenario) {
   VirtualNxt n;
@@ -600,6 +714,13 @@ std::optional<Bytes> answer(VirtualNxt& n, std::span<const std::uint8_t> telegra
     ++n.counters.ignored;
     return std::nullopt;
   }
+  // A reply sent to the brick is never answered; a MessageRead reply is
+  // taken as a slave's answer to a master's read and put into the local
+  // mailbox it names.
+  if (telegram[0] == kReply) {
+    take_message_read_reply(n, telegram);
+    return std::nullopt;
+  }
   std::uint8_t type = telegram[0] & static_cast<std::uint8_t>(~kNoReplyBit);
   // The firmware says nothing at all to a telegram type it does not know.
   if (type != kDirectWithReply && type != kSystemWithReply) {
@@ -607,11 +728,12 @@ std::optional<Bytes> answer(VirtualNxt& n, std::span<const std::uint8_t> telegra
     return std::nullopt;
   }
   bool reply_wanted = (telegram[0] & kNoReplyBit) == 0;
-  auto decoded = decode_request(telegram);
+  auto decoded = decode_request(direct_command_as_read(telegram));
   Bytes reply;
   if (auto* d = std::get_if<Decoded>(&decoded)) {
     Outcome o = d->command->group == Group::Direct ? direct(n, *d) : system(n, *d);
-    auto encoded = encode_reply(*d->command, o.status, o.values);
+    auto encoded = o.bare ? std::variant<Bytes, TelegramError>(Bytes{kReply, d->command->opcode, o.status})
+                          : encode_reply(*d->command, o.status, o.values);
     // A value that does not fit its field would be a bug here: answer
     // "bad arguments" rather than a wrong telegram.
     if (auto* r = std::get_if<Bytes>(&encoded)) reply = std::move(*r);

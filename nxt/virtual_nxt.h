@@ -77,15 +77,30 @@ struct StoredFile {
 };
 
 struct Handle {
-  enum class Kind : std::uint8_t { Read, Write, Find, Module } kind = Kind::Read;
-  std::string name;     // the file (Read, Write) or the pattern (Find, Module)
+  enum class Kind : std::uint8_t { Read, Write, Find } kind = Kind::Read;
+  std::string name;     // the file (Read, Write) or the pattern (Find)
   std::size_t pos = 0;  // read offset, or the index of the next match
+};
+
+// The loader has one module search, apart from the file handles
+// (c_loader.c): its handle is 0 in every reply, a second FindFirstModule
+// before CloseModuleHandle answers 0x81, and running out of modules does not
+// end it.
+struct ModuleSearch {
+  bool open = false;
+  Handle cursor{Handle::Kind::Find, "", 0};
 };
 
 struct Module {
   std::string name;
   std::uint32_t id;
   Bytes iomap;
+};
+
+// The loader matches names without regard to case (it upper-cases both
+// sides): "PROG.RXE" is the file "prog.rxe", and cannot be made beside it.
+struct FileNameLess {
+  bool operator()(const std::string& a, const std::string& b) const;
 };
 
 struct VirtualNxt {
@@ -102,9 +117,10 @@ struct VirtualNxt {
   std::array<Motor, 3> motors{};
   std::array<Sensor, 4> sensors{};
   std::array<std::deque<Bytes>, 20> queues{};
-  std::map<std::string, StoredFile> files;
+  std::map<std::string, StoredFile, FileNameLess> files;
   std::array<std::optional<Handle>, 16> handles{};
   std::vector<Module> modules;
+  ModuleSearch module_search;
   std::vector<SoundEvent> sounds;
   std::uint32_t flash_bytes = 128 * 1024;
   std::vector<ScenarioInput> scenario;

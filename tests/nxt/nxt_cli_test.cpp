@@ -88,6 +88,12 @@ TEST(NxtCli, FilesProgramsAndMailboxes) {
   auto early = nxt(brick.path, {"mailbox", "write", "1", "hi"});
   EXPECT_EQ(early.exit_code, 1);
   EXPECT_NE(early.err.find("0xec no active program"), std::string::npos) << early.err;
+  // The firmware's 0xC0 for a program that is not there is explained.
+  auto missing = nxt(brick.path, {"start", "none.rxe"});
+  EXPECT_EQ(missing.exit_code, 1);
+  EXPECT_NE(missing.err.find("StartProgram refused: 0xc0 data contains out-of-range values (no file \"none.rxe\" on the brick)"),
+            std::string::npos)
+      << missing.err;
   EXPECT_EQ(nxt(brick.path, {"start", "hello.rxe"}).exit_code, 0);
   EXPECT_EQ(nxt(brick.path, {"current"}).out, "hello.rxe\n");
   EXPECT_EQ(nxt(brick.path, {"mailbox", "write", "3", "hello there"}).exit_code, 0);
@@ -135,7 +141,14 @@ TEST(NxtCli, RawAndBench) {
   // An unknown telegram type: the firmware is silent, so is the virtual NXT.
   auto silent = nxt(brick.path, {"--timeout", "100", "raw", "050b"});
   EXPECT_EQ(silent.exit_code, 4);
-  EXPECT_NE(silent.err.find("no reply within 100 ms"), std::string::npos);
+  EXPECT_NE(silent.err.find("no reply within 100 ms: 0x05 is not a request type"), std::string::npos) << silent.err;
+  EXPECT_NE(silent.err.find("the firmware answers nothing to a type it does not know"), std::string::npos);
+  EXPECT_EQ(nxt(brick.path, {"raw", "85", "0b"}).out, "(sent; 0x85 is not a request type: the firmware ignores it)\n");
+  EXPECT_EQ(nxt(brick.path, {"raw", "80", "0b"}).out, "(sent, no reply asked)\n");
+  // A reply sent to the brick: the firmware takes it and answers nothing.
+  auto reply = nxt(brick.path, {"--timeout", "100", "raw", "02", "13", "00", "00", "02", "41", "00"});
+  EXPECT_EQ(reply.exit_code, 4);
+  EXPECT_NE(reply.err.find("0x02 is a reply"), std::string::npos) << reply.err;
   auto b = nxt(brick.path, {"--json", "bench", "--count", "20"});
   ASSERT_EQ(b.exit_code, 0) << b.err;
   EXPECT_EQ(json_of(b)["count"], 20);
@@ -165,12 +178,20 @@ TEST(NxtCli, BadValuesAreRefusedBeforeAnythingIsSent) {
   check({"upload", "/etc/hostname", "name.toolong"}, "is not an NXT file name");
   check({"ls", "a*b.*"}, "is not a pattern the brick takes");
   check({"raw", "0g"}, "\"0g\" is not hex bytes");
+  check({"raw", "00"}, "a telegram needs at least its type byte and an opcode");
+  check({"start", "tune.rso"}, "\"tune.rso\" is not a program (.rxe, or .rtm for Try Me): the brick would accept it");
+  check({"start", "noext"}, "\"noext\" is not a program");
+  check({"raw", "0009003d" + std::string(61 * 2, '1')}, "a direct command is at most 64 bytes with its type byte; this one is 65");
+  check({"raw", "8009003d" + std::string(61 * 2, '1')}, "this one is 65");
 }
 
 TEST(NxtCli, PortsThatCannotBeOpenedOrDoNotAnswer) {
   auto missing = nxt("/dev/no-such-nxt", {"battery"});
   EXPECT_EQ(missing.exit_code, 3);
   EXPECT_NE(missing.err.find("does not exist"), std::string::npos);
+  auto null = nxt("/dev/null", {"battery"});
+  EXPECT_EQ(null.exit_code, 3);
+  EXPECT_NE(null.err.find("/dev/null is not a tty"), std::string::npos) << null.err;
   auto badbt = nxt("bt:12:34", {"battery"});
   EXPECT_EQ(badbt.exit_code, 2);
   // A pty nobody serves: the brick does not answer.

@@ -44,9 +44,10 @@ inline void every_command_round_trip(Client& client) {
       {"GetBatteryLevel", {{}, 0}},
       {"StopSoundPlayback", {{}, 0}},
       {"KeepAlive", {{}, 0}},
-      {"LSGetStatus", {{n(0)}, 0}},
+      // Port 1 is SWITCH (SetInputMode above): the firmware's LS status check says 0xE0.
+      {"LSGetStatus", {{n(0)}, status::kChannelBusy}},
       {"LSWrite", {{n(0), n(2), n(1), Bytes{2, 0x42}}, status::kChannelBusy}},  // port 1 is not LOWSPEED
-      {"LSRead", {{n(0)}, 0}},
+      {"LSRead", {{n(0)}, status::kChannelBusy}},
       {"GetCurrentProgramName", {{}, status::kNoProgram}},
       {"MessageRead", {{n(0), n(0), n(1)}, status::kNoProgram}},
       {"GetButtonState", {{}, status::kUnknownCommand}},
@@ -72,11 +73,11 @@ inline void every_command_round_trip(Client& client) {
       {"OpenWriteData", {{s("d.dat"), n(8)}, 0}},
       {"OpenAppendData", {{s("a.txt")}, status::kAppendNotPossible}},
       {"FindFirstModule", {{s("*.mod")}, 0}},
-      {"FindNextModule", {{n(3)}, 0}},  // handles 0-2: a.txt, c.rxe, d.dat
-      {"CloseModuleHandle", {{n(3)}, 0}},
+      {"FindNextModule", {{n(0)}, 0}},  // the one module search, handle 0
+      {"CloseModuleHandle", {{n(0)}, 0}},
       {"ReadIOMap", {{n(0x000C0001), n(0), n(4)}, 0}},
       {"WriteIOMap", {{n(0x000C0001), n(0), n(2), Bytes{1, 2}}, 0}},
-      {"Boot", {{s("Let's dance: SAMBA")}, status::kUnknownCommand}},
+      {"Boot", {{s("Let's dance: SAMBA")}, status::kUndefined}},  // as on any link but USB
       {"SetBrickName", {{s("Robo")}, 0}},
       {"GetDeviceInfo", {{}, 0}},
       {"PollCommandLength", {{n(0)}, 0}},

@@ -94,7 +94,7 @@ std::vector<Golden> goldens() {
        "02 13 00 00 03 68 69 " + zeros(57)},
       // Firmware direct commands.
       {"GetButtonState", {}, "00 12", {}, "02 12 00"},
-      {"DatalogRead", {n(1)}, "00 19 01", {n(0), b({})}, "02 19 00 00 " + zeros(32)},
+      {"DatalogRead", {n(1)}, "00 19 01", {n(0), b({})}, "02 19 00 00 " + zeros(60)},  // 64 bytes in all
       {"DatalogSetTimes", {n(0x01020304)}, "00 1a 04 03 02 01", {}, "02 1a 00"},
       {"BTGetContactCount", {}, "00 1b", {n(30)}, "02 1b 00 1e"},
       {"BTGetContactName", {n(0)}, "00 1c 00", {n(0), s("")}, "02 1c 00 00 " + zeros(17)},

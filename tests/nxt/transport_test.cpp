@@ -70,6 +70,17 @@ TEST(NxtPort, AMissingTtySaysWhatToCheck) {
   EXPECT_NE(std::get<LinkError>(r).message.find("rfcomm bind"), std::string::npos);
 }
 
+TEST(NxtPort, APathThatIsNoTtyIsRefusedWhenOpened) {
+  // /dev/null would read as a hang-up, a plain file as garbage frames.
+  for (const char* path : {"/dev/null", "/etc/hostname"}) {
+    auto r = open_port({PortKind::Path, path}, -1);
+    ASSERT_TRUE(std::holds_alternative<LinkError>(r)) << path;
+    EXPECT_EQ(std::get<LinkError>(r).kind, LinkError::Kind::Open) << path;
+    EXPECT_NE(std::get<LinkError>(r).message.find(std::string(path) + " is not a tty"), std::string::npos)
+        << std::get<LinkError>(r).message;
+  }
+}
+
 // The virtual NXT served on a pty in a thread, the host on the slave.
 struct PtyNxt : ::testing::Test {
   VirtualNxt brick = make_virtual_nxt();
@@ -137,6 +148,35 @@ TEST_F(PtyNxt, FramesWrittenByteByByteAreReassembled) {
   auto& reply = std::get<std::optional<Bytes>>(got);
   ASSERT_TRUE(reply);
   EXPECT_EQ(*reply, (Bytes{0x02, 0x0B, 0x00, 0x78, 0x1E}));
+}
+
+TEST(NxtFraming, RepliesLongerThan64BytesComeWholeOverAPty) {
+  // spec/nxt.md: Bluetooth replies may exceed 64 bytes (a Read over
+  // Bluetooth brings up to 122 data bytes); their size is the prefix's.
+  // A 106-byte Read reply (100 data bytes), prefix 0x6A 0x00, written to the
+  // brick's end of a pty in pieces that split the prefix.
+  auto opened = open_pty_pair();
+  ASSERT_TRUE(std::holds_alternative<PtyPair>(opened)) << std::get<LinkError>(opened).message;
+  auto pty = std::get<PtyPair>(opened);
+  auto port = open_port({PortKind::Path, pty.slave_path}, -1);
+  ASSERT_TRUE(std::holds_alternative<std::unique_ptr<Transport>>(port));
+  auto& host = std::get<std::unique_ptr<Transport>>(port);
+  Bytes reply{0x02, 0x82, 0x00, 0x00, 0x64, 0x00};
+  for (int i = 0; i < 100; ++i) reply.push_back(static_cast<std::uint8_t>(i));
+  Bytes framed = frame(reply);
+  ASSERT_EQ(framed[0], 0x6A);
+  ASSERT_EQ(framed.size(), 108u);
+  for (auto [from, to] : {std::pair{0, 1}, std::pair{1, 50}, std::pair{50, 108}}) {
+    ASSERT_EQ(::write(pty.master_fd, framed.data() + from, static_cast<std::size_t>(to - from)), to - from);
+    std::this_thread::sleep_for(5ms);
+  }
+  auto got = host->receive(2000ms);
+  ASSERT_TRUE(std::holds_alternative<std::optional<Bytes>>(got));
+  auto& t = std::get<std::optional<Bytes>>(got);
+  ASSERT_TRUE(t);
+  EXPECT_EQ(*t, reply);
+  host.reset();
+  close_pty_pair(pty);
 }
 
 TEST_F(PtyNxt, ASilentBrickTimesOut) {

@@ -382,5 +382,248 @@ TEST(VirtualNxt, HostChecksFileNames) {
   EXPECT_EQ(rig.brick.counters.requests, 0u);  // nothing was sent
 }
 
+// What LEGO's firmware (c_cmd.c, cCmdHandleRemoteCommands and the functions
+// it calls) answers where the virtual NXT answered otherwise. Every expected
+// telegram below is written by hand from that handler's code.
+
+// A reply of `head` followed by `zeros` zero bytes.
+Bytes padded(Bytes head, std::size_t zeros) {
+  head.insert(head.end(), zeros, 0);
+  return head;
+}
+
+TEST(VirtualNxtFirmware, MessageWriteChecksTheSizeThenTheQueueThenTheProgram) {
+  Rig rig;
+  // No program runs, yet a bad size or a bad queue is what the brick reports.
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x00, 0x09, 0x00, 0x00}), (Bytes{0x02, 0x09, 0xC0}));              // size 0
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x00, 0x09, 0x00, 0x02, 'A', 'B'}), (Bytes{0x02, 0x09, 0xC0}));    // no NUL
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x00, 0x09, 0x14, 0x02, 'A', 0x00}), (Bytes{0x02, 0x09, 0xEE}));   // queue 20
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x00, 0x09, 0x00, 0x02, 'A', 0x00}), (Bytes{0x02, 0x09, 0xEC}));   // all fine but no program
+  rig.start_program();
+  // The size byte says how much of the data is the message: the rest is ignored.
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x00, 0x09, 0x00, 0x02, 'A', 0x00, 'B', 'C'}), (Bytes{0x02, 0x09, 0x00}));
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x00, 0x13, 0x00, 0x05, 0x01}),
+            padded({0x02, 0x13, 0x00, 0x05, 0x02, 'A', 0x00}, 57));
+}
+
+TEST(VirtualNxtFirmware, MessageReadErrorsEchoTheLocalInboxInAFullReply) {
+  Rig rig;
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x00, 0x13, 0x00, 0x07, 0x01}), padded({0x02, 0x13, 0xEC, 0x07, 0x00}, 59));
+  rig.start_program();
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x00, 0x13, 0x03, 0x09, 0x01}), padded({0x02, 0x13, 0x40, 0x09, 0x00}, 59));
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x00, 0x13, 0x14, 0x04, 0x01}), padded({0x02, 0x13, 0xEE, 0x04, 0x00}, 59));
+}
+
+TEST(VirtualNxtFirmware, LsCommandsOnABadPortAnswerTheStatusAlone) {
+  Rig rig;
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x00, 0x0E, 0x04}), (Bytes{0x02, 0x0E, 0xC0}));
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x00, 0x10, 0x04}), (Bytes{0x02, 0x10, 0xC0}));
+  // Port 1 made ready, so a port taken modulo 4 would be accepted.
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x00, 0x05, 0x00, 0x0B, 0x00}), (Bytes{0x02, 0x05, 0x00}));
+  rig.advance_ms(100);
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x00, 0x0F, 0x04, 0x02, 0x01, 0x02, 0x42}), (Bytes{0x02, 0x0F, 0xC0}));
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x00, 0x0F, 0x00, 0x02, 0x01, 0x02, 0x42}), (Bytes{0x02, 0x0F, 0x00}));
+}
+
+TEST(VirtualNxtFirmware, LsStatusAndReadOnAPortThatIsNotReadyAnswerE0WithTheirBody) {
+  Rig rig;
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x00, 0x0E, 0x00}), (Bytes{0x02, 0x0E, 0xE0, 0x00}));
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x00, 0x10, 0x00}), padded({0x02, 0x10, 0xE0, 0x00}, 16));
+  // LOWSPEED_9V but not valid yet (the first 20 ms): still not ready.
+  answer(rig.brick, Bytes{0x00, 0x05, 0x00, 0x0B, 0x00});
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x00, 0x0E, 0x00}), (Bytes{0x02, 0x0E, 0xE0, 0x00}));
+  rig.advance_ms(100);
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x00, 0x0E, 0x00}), (Bytes{0x02, 0x0E, 0x00, 0x00}));
+}
+
+TEST(VirtualNxtFirmware, LsWriteWhileATransactionIsOnTheBusIsE0AndItsSizeIsTheLengthByte) {
+  Rig rig;
+  answer(rig.brick, Bytes{0x00, 0x05, 0x02, 0x0B, 0x00});
+  rig.advance_ms(100);
+  // tx_length 17 with two bytes sent: the firmware checks the length byte.
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x00, 0x0F, 0x02, 0x11, 0x01, 0x02, 0x42}), (Bytes{0x02, 0x0F, 0xED}));
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x00, 0x0F, 0x02, 0x02, 0x08, 0x02, 0x00}), (Bytes{0x02, 0x0F, 0x00}));
+  // Ten bytes at 9600 bit/s are still on the bus: cCmdLSWrite has no 0x20.
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x00, 0x0F, 0x02, 0x02, 0x01, 0x02, 0x42}), (Bytes{0x02, 0x0F, 0xE0}));
+}
+
+TEST(VirtualNxtFirmware, BytesAfterADirectCommandsFieldsAreIgnored) {
+  Rig rig;
+  // 7800 mV = 0x1E78, as if the extra byte were not there.
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x00, 0x0B, 0x01}), (Bytes{0x02, 0x0B, 0x00, 0x78, 0x1E}));
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x00, 0x06, 0x05, 0xFF}), padded({0x02, 0x06, 0xC0}, 22));
+}
+
+TEST(VirtualNxtFirmware, StartProgramOfAFileThatIsNoProgramIsAcceptedAndRunsNothing) {
+  Rig rig;
+  rig.put_file("a.rso", Bytes(4, 0));
+  // The handler only looks the file up; the UI then fails to run it.
+  EXPECT_EQ(rig.status_of("StartProgram", {s("a.rso")}), 0);
+  EXPECT_EQ(rig.status_of("GetCurrentProgramName"), status::kNoProgram);
+}
+
+// From LEGO's c_loader.c (one module search, apart from the file handles)
+// and the reply assembly of its c_comm.c.
+TEST(VirtualNxtFirmware, OneModuleSearchAtATimeWithHandleZero) {
+  Rig rig;
+  auto first = rig.reply("FindFirstModule", {s("*.mod")});
+  EXPECT_EQ(first.status, 0);
+  EXPECT_EQ(first.number("handle"), 0);
+  EXPECT_EQ(first.text("name"), "Command.mod");
+  // A second search before CloseModuleHandle: no more handles, zero body.
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x01, 0x90, '*', '.', '*', 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0}),
+            padded({0x02, 0x90, 0x81}, 31));
+  // FindNextModule goes on with the one search whatever handle it names.
+  auto next = rig.reply("FindNextModule", {n(9)});
+  EXPECT_EQ(next.status, 0);
+  EXPECT_EQ(next.number("handle"), 0);
+  EXPECT_EQ(next.text("name"), "Output.mod");
+  // File handles are untouched by module searches: the first file gets 0.
+  rig.put_file("a.txt", Bytes{1});
+  EXPECT_EQ(rig.reply("OpenRead", {s("a.txt")}).number("handle"), 0);
+  // Running out of modules does not end the search; CloseModuleHandle does, always with 0x00.
+  for (int i = 0; i < 10; ++i) rig.reply("FindNextModule", {n(0)});
+  EXPECT_EQ(rig.status_of("FindNextModule", {n(0)}), status::kModuleNotFound);
+  EXPECT_EQ(rig.status_of("FindFirstModule", {s("*.mod")}), status::kNoMoreHandles);
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x01, 0x92, 0x07}), (Bytes{0x02, 0x92, 0x00, 0x00}));
+  EXPECT_EQ(rig.reply("FindFirstModule", {s("Ui.*")}).number("module_id"), 0x000C0001);
+}
+
+TEST(VirtualNxtFirmware, DeleteEchoesTheNameEvenWhenItFails) {
+  Rig rig;
+  Bytes request{0x01, 0x85, 'n', 'o', '.', 't', 'x', 't'};
+  request.resize(22, 0);
+  EXPECT_EQ(*answer(rig.brick, request), padded({0x02, 0x85, 0x87, 'n', 'o', '.', 't', 'x', 't'}, 14));
+}
+
+TEST(VirtualNxtFirmware, FindNextsLastAnswerLeavesTheHandleOpenAndListingClosesIt) {
+  Rig rig;
+  rig.put_file("a.txt", Bytes{1});
+  rig.put_file("b.txt", Bytes{2});
+  auto first = rig.reply("FindFirst", {s("*.txt")});
+  ASSERT_EQ(first.status, 0);
+  EXPECT_EQ(rig.status_of("FindNext", {first.number("handle").value_or(0)}), 0);
+  EXPECT_EQ(rig.status_of("FindNext", {first.number("handle").value_or(0)}), status::kFileNotFound);
+  EXPECT_EQ(rig.status_of("Close", {first.number("handle").value_or(0)}), 0);  // it was still open
+  // FindFirst without a match closes its own handle.
+  EXPECT_EQ(rig.status_of("FindFirst", {s("*.rso")}), status::kFileNotFound);
+  EXPECT_TRUE(std::none_of(rig.brick.handles.begin(), rig.brick.handles.end(), [](const auto& h) { return h.has_value(); }));
+  // Twenty listings on a brick of 16 handles: each gives its handle back.
+  for (int i = 0; i < 20; ++i) {
+    auto listed = list_files(rig.client, "*.*");
+    ASSERT_TRUE(std::holds_alternative<std::vector<FileEntry>>(listed)) << i << ": " << std::get<CallError>(listed).message;
+    EXPECT_EQ(std::get<std::vector<FileEntry>>(listed).size(), 2u);
+  }
+  EXPECT_TRUE(std::none_of(rig.brick.handles.begin(), rig.brick.handles.end(), [](const auto& h) { return h.has_value(); }));
+}
+
+TEST(VirtualNxtFirmware, FileNamesMatchWithoutRegardToCase) {
+  Rig rig;
+  rig.put_file("prog.rxe", Bytes(10, 1));
+  // The same name in capitals is the same file: it exists, it can be opened and started.
+  EXPECT_EQ(rig.status_of("OpenWrite", {s("PROG.RXE"), n(4)}), status::kFileExists);
+  auto opened = rig.reply("OpenRead", {s("Prog.Rxe")});
+  EXPECT_EQ(opened.status, 0);
+  EXPECT_EQ(opened.number("size"), 10);
+  EXPECT_EQ(rig.status_of("Close", {opened.number("handle").value_or(0)}), 0);
+  EXPECT_EQ(rig.status_of("StartProgram", {s("PROG.RXE")}), 0);
+  EXPECT_EQ(rig.reply("FindFirst", {s("*.RXE")}).text("name"), "prog.rxe");
+  // OpenWriteData refuses an executable whatever the case of its extension.
+  EXPECT_EQ(rig.status_of("OpenWriteData", {s("X.RXE"), n(4)}), status::kIllegalFileName);
+  EXPECT_EQ(rig.status_of("Delete", {s("PROG.RXE")}), 0);
+  EXPECT_TRUE(rig.brick.files.empty());
+}
+
+TEST(VirtualNxtFirmware, ReadEchoesTheCountAskedAndSendsAtMost58BytesPaddedWithZeros) {
+  Rig rig;
+  Bytes content(70);
+  for (std::size_t i = 0; i < content.size(); ++i) content[i] = static_cast<std::uint8_t>(i + 1);
+  rig.put_file("d.bin", content);
+  auto h = static_cast<std::uint8_t>(rig.reply("OpenRead", {s("d.bin")}).number("handle").value_or(0));
+  // 100 asked: the count says 100 (0x64), 58 bytes come (bytes 1..58).
+  Bytes head{0x02, 0x82, 0x00, h, 0x64, 0x00};
+  for (std::uint8_t i = 1; i <= 58; ++i) head.push_back(i);
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x01, 0x82, h, 0x64, 0x00}), head);
+  // 20 asked with 12 left: the count says 20, 12 real bytes and 8 zeros.
+  Bytes tail{0x02, 0x82, 0x00, h, 0x14, 0x00};
+  for (std::uint8_t i = 59; i <= 70; ++i) tail.push_back(i);
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x01, 0x82, h, 0x14, 0x00}), padded(tail, 8));
+  EXPECT_EQ(rig.status_of("Close", {n(h)}), 0);
+  // The host reads by the file's size, not the telegram's length, and gets the file.
+  auto back = download_file(rig.client, "d.bin");
+  ASSERT_TRUE(std::holds_alternative<Bytes>(back)) << std::get<CallError>(back).message;
+  EXPECT_EQ(std::get<Bytes>(back), content);
+}
+
+TEST(VirtualNxtFirmware, AMessageReadReplySentToTheBrickLandsInItsMailboxUnanswered) {
+  Rig rig;
+  // Without a program the reply is dropped (as MessageWrite would refuse it).
+  EXPECT_FALSE(answer(rig.brick, padded({0x02, 0x13, 0x00, 0x02, 0x03, 'h', 'i', 0x00}, 56)));
+  EXPECT_TRUE(rig.brick.queues[2].empty());
+  rig.start_program();
+  EXPECT_FALSE(answer(rig.brick, padded({0x02, 0x13, 0x00, 0x02, 0x03, 'h', 'i', 0x00}, 56)));
+  // An error status, a message without its NUL and another opcode are not taken.
+  EXPECT_FALSE(answer(rig.brick, padded({0x02, 0x13, 0xEC, 0x02, 0x03, 'n', 'o', 0x00}, 56)));
+  EXPECT_FALSE(answer(rig.brick, padded({0x02, 0x13, 0x00, 0x02, 0x02, 'n', 'o'}, 57)));
+  EXPECT_FALSE(answer(rig.brick, Bytes{0x02, 0x0B, 0x00, 0x78, 0x1E}));
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x00, 0x13, 0x02, 0x00, 0x01}), padded({0x02, 0x13, 0x00, 0x00, 0x03, 'h', 'i', 0x00}, 56));
+  EXPECT_EQ(rig.status_of("MessageRead", {n(2), n(0), n(1)}), status::kQueueEmpty);
+}
+
+// The reply assembly of c_comm.c for Boot and PollCommand.
+TEST(VirtualNxtFirmware, BootIsRefusedWith8AAndPollCommandPadsToTheCountAsked) {
+  Rig rig;
+  Bytes boot{0x01, 0x97};
+  for (char c : std::string("Let's dance: SAMBA")) boot.push_back(static_cast<std::uint8_t>(c));
+  boot.push_back(0);
+  EXPECT_EQ(*answer(rig.brick, boot), (Bytes{0x02, 0x97, 0x8A, 0x00, 0x00, 0x00, 0x00}));
+  // Ten asked from an empty buffer: count 0, ten zero bytes.
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x01, 0xA2, 0x00, 0x0A}), padded({0x02, 0xA2, 0x00, 0x00, 0x00}, 10));
+  // More than a USB packet holds: 0x8A, buffer, count 0 and nothing else.
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x01, 0xA2, 0x01, 0x3C}), (Bytes{0x02, 0xA2, 0x8A, 0x01, 0x00}));
+}
+
+TEST(VirtualNxtFirmware, IoMapRepliesEchoTheModuleIdAndReadsPadToTheCountAsked) {
+  Rig rig;
+  // Ui.mod (0x000C0001), 4 bytes from offset 62 of its 64: out of boundary,
+  // the ID echoed, count 0, four zero bytes.
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x01, 0x94, 0x01, 0x00, 0x0C, 0x00, 0x3E, 0x00, 0x04, 0x00}),
+            (Bytes{0x02, 0x94, 0x91, 0x01, 0x00, 0x0C, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00}));
+  // No module 0x00990001: 0x90, the ID echoed.
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x01, 0x94, 0x01, 0x00, 0x99, 0x00, 0x00, 0x00, 0x02, 0x00}),
+            (Bytes{0x02, 0x94, 0x90, 0x01, 0x00, 0x99, 0x00, 0x00, 0x00, 0x00, 0x00}));
+  // 60 asked: 55 come (count 0x37).
+  auto r = *answer(rig.brick, Bytes{0x01, 0x94, 0x01, 0x00, 0x0C, 0x00, 0x00, 0x00, 0x3C, 0x00});
+  EXPECT_EQ(Bytes(r.begin(), r.begin() + 9), (Bytes{0x02, 0x94, 0x00, 0x01, 0x00, 0x0C, 0x00, 0x37, 0x00}));
+  EXPECT_EQ(r.size(), 9u + 55u);
+  // WriteIOMap writes as many bytes as its count says; an error echoes the ID.
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x01, 0x95, 0x01, 0x00, 0x0C, 0x00, 0x00, 0x00, 0x01, 0x00, 0xAA, 0xBB}),
+            (Bytes{0x02, 0x95, 0x00, 0x01, 0x00, 0x0C, 0x00, 0x01, 0x00}));
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x01, 0x94, 0x01, 0x00, 0x0C, 0x00, 0x00, 0x00, 0x02, 0x00}),
+            (Bytes{0x02, 0x94, 0x00, 0x01, 0x00, 0x0C, 0x00, 0x02, 0x00, 0xAA, 0x00}));
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x01, 0x95, 0x01, 0x00, 0x0C, 0x00, 0x40, 0x00, 0x01, 0x00, 0xAA}),
+            (Bytes{0x02, 0x95, 0x91, 0x01, 0x00, 0x0C, 0x00, 0x00, 0x00}));
+}
+
+TEST(VirtualNxtFirmware, AnUltrasonicReadWithNoSensorSaysWhereItLooked) {
+  // A real port with nothing plugged in: the bus transaction fails (0xDD).
+  VirtualNxt brick = make_virtual_nxt();
+  InProcessTransport link([&brick](std::span<const std::uint8_t> t) -> std::optional<Bytes> {
+    if (t.size() >= 2 && t[1] == 0x0E) return Bytes{0x02, 0x0E, 0xDD, 0x00};
+    return answer(brick, t);
+  });
+  Client client(link);
+  client.pause = [&brick](Millis m) { advance_to(brick, brick.now_us + m.count() * 1000); };
+  auto r = read_ultrasonic(client, 2);
+  ASSERT_TRUE(std::holds_alternative<CallError>(r));
+  const auto& e = std::get<CallError>(r);
+  EXPECT_EQ(e.kind, CallError::Kind::Refused);
+  EXPECT_EQ(e.status, status::kBusError);
+  EXPECT_NE(e.message.find("LSGetStatus refused: 0xdd communication bus error: no I2C device answered at address 0x02 "
+                           "(is the ultrasonic sensor on input port 3?)"),
+            std::string::npos)
+      << e.message;
+}
+
 }  // namespace
 }  // namespace nxt
