@@ -268,6 +268,12 @@ TimingDifference timing_difference(const std::vector<MatchedEvent>& matched) {
   return d;
 }
 
+// A run cut short, by the time limit or by its event log filling, stopped
+// at an arbitrary point of whatever it was doing.
+bool cut_off(const Machine& m) {
+  return m.stop().kind == StopKind::TimeLimit || m.stop().kind == StopKind::EventLimit;
+}
+
 RunComparison compare_runs(const RunView& a, const RunView& b, TimeTolerance tol,
                            const std::optional<std::vector<std::string>>& global_names, SideBySide write) {
   RunComparison r;
@@ -276,7 +282,7 @@ RunComparison compare_runs(const RunView& a, const RunView& b, TimeTolerance tol
   // after that end is a difference.
   Micros end_us = std::numeric_limits<Micros>::max();
   for (const Machine* m : {a.machine, b.machine})
-    if (m->stop().kind == StopKind::TimeLimit) end_us = std::min(end_us, m->now_us());
+    if (cut_off(*m)) end_us = std::min(end_us, m->now_us());
   auto sa = streams(*a.machine), sb = streams(*b.machine);
   std::size_t timing_differences = 0;
   for (int s = 0; s <= static_cast<int>(Stream::Datalog); ++s) {
@@ -328,7 +334,7 @@ RunComparison compare_runs(const RunView& a, const RunView& b, TimeTolerance tol
   // looping at the time limit was cut at an arbitrary point of its loop.
   // Names in one image only (a parameter nqc keeps as a variable, a global
   // rcxc removed as unused) are not compared.
-  bool both_ended = a.machine->stop().kind != StopKind::TimeLimit && b.machine->stop().kind != StopKind::TimeLimit;
+  bool both_ended = !cut_off(*a.machine) && !cut_off(*b.machine);
   if (both_ended) {
     auto values = [&](const RunView& v) {
       return global_names ? globals(*v.machine, *v.image, *global_names) : globals(*v.machine, *v.image);
@@ -340,13 +346,14 @@ RunComparison compare_runs(const RunView& a, const RunView& b, TimeTolerance tol
         r.differences.push_back(fmt::format("global '{}' = {} ({}) but {} ({})", name, va, a.label, it->second, b.label));
     }
   }
-  // One run ending just after the other was cut off by the time limit is
-  // the same boundary effect as an event just after the cut-off.
+  // One run ending just after the other was cut off is the same boundary
+  // effect as an event just after the cut-off.
   auto cut_before_end = [&](const Machine& cut, const Machine& ended) {
-    return cut.stop().kind == StopKind::TimeLimit && ended.stop().kind == StopKind::Ended &&
+    return cut_off(cut) && ended.stop().kind == StopKind::Ended &&
            ended.now_us() >= cut.now_us() - allowance(tol, cut.now_us());
   };
-  if (a.machine->stop().kind != b.machine->stop().kind && !cut_before_end(*a.machine, *b.machine) &&
+  bool both_cut = cut_off(*a.machine) && cut_off(*b.machine);
+  if (a.machine->stop().kind != b.machine->stop().kind && !both_cut && !cut_before_end(*a.machine, *b.machine) &&
       !cut_before_end(*b.machine, *a.machine))
     r.differences.push_back(fmt::format("{} stopped with '{}', {} with '{}'", a.label, to_string(a.machine->stop().kind),
                                         b.label, to_string(b.machine->stop().kind)));

@@ -275,3 +275,35 @@ TEST(Compare, ADifferentEventAfterTheDriftIsMoreThanTiming) {
   EXPECT_FALSE(c.same);
   EXPECT_FALSE(c.timing_only);
 }
+
+// A run whose event log filled was cut off there, as one at its time limit
+// is: what the other run shows after that point, its values and its stop
+// are no difference. Both switch A on and off every pass (on, off, jmp).
+TEST(Compare, ARunCutByItsEventLogIsComparedUpToTheCut) {
+  auto toggling = [](std::size_t event_limit) {
+    RunResult r;
+    r.image.fragments.push_back({FragmentType::Task, 0, {0x21, 0x81, 0x21, 0x41, 0x27, 0x85}});
+    Config config;
+    config.event_limit = event_limit;
+    r.machine = Machine(config);
+    EXPECT_FALSE(r.machine.load(0, r.image).has_value());
+    r.machine.start_program();
+    r.machine.run(1'000'000);
+    return r;
+  };
+  RunResult cut = toggling(40), whole = toggling(kDefaultEventLimit);
+  ASSERT_EQ(cut.machine.stop().kind, StopKind::EventLimit);
+  ASSERT_EQ(whole.machine.stop().kind, StopKind::TimeLimit);
+  auto c = compare(cut, whole);
+  EXPECT_TRUE(c.same) << (c.differences.empty() ? "" : c.differences[0]);
+  EXPECT_TRUE(compare(whole, cut).same);
+  EXPECT_GT(c.in_order, 30);
+  // Cut at the same point, a real difference before it still shows.
+  RunResult other = toggling(40);
+  other.image.fragments[0].code[1] = 0x82;  // B on, not A
+  other.machine = Machine(Config{.event_limit = 40});
+  ASSERT_FALSE(other.machine.load(0, other.image).has_value());
+  other.machine.start_program();
+  other.machine.run(1'000'000);
+  EXPECT_FALSE(compare(cut, other).same);
+}
