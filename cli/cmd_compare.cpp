@@ -223,7 +223,15 @@ int run(const CompareOptions& o) {
     try {
       rcx::Machine a = run_image(our_image, s, o, o.for_ms * rcx::kMicrosPerMs);
       rcx::Machine b = run_image(*theirs.image, s, o, o.for_ms * rcx::kMicrosPerMs);
-      auto cmp = rcx::compare_runs({&a, &our_image, "rcxc"}, {&b, &*theirs.image, "nqc"}, tolerance, ours.globals);
+      const rcx::RunView ours_run{&a, &our_image, "rcxc"}, theirs_run{&b, &*theirs.image, "nqc"};
+      // The side by side is written only where it is shown, below: a run of
+      // millions of events written twice over took gigabytes.
+      auto cmp = rcx::compare_runs(ours_run, theirs_run, tolerance, ours.globals, rcx::SideBySide::Skip);
+      for (const auto& [run, who] : {std::pair{&a, "rcxc"}, std::pair{&b, "nqc"}})
+        if (run->stop().kind == rcx::StopKind::EventLimit)
+          std::cerr << "rcxc compare: [" << s.name << "] " << who << "'s run stopped at "
+                    << run->now_us() / rcx::kMicrosPerMs << " ms: " << rcx::event_limit_reason(*run)
+                    << "; the runs are compared up to there (ask for less with --for)\n";
       if (cmp.same) {
         std::cout << "same      " << o.file << " [" << s.name << "]" << timing_note(cmp, o) << "\n";
         continue;
@@ -246,6 +254,7 @@ int run(const CompareOptions& o) {
       }
       std::cout << "DIFFERENT " << o.file << " [" << s.name << "]\n";
       for (const auto& d : cmp.differences) std::cout << "  " << d << "\n";
+      cmp = rcx::compare_runs(ours_run, theirs_run, tolerance, ours.globals, rcx::SideBySide::Write);
       std::cout << (o.all_rows ? cmp.side_by_side : rows_around(cmp.side_by_side, cmp.first_unlike_row));
     } catch (const std::exception& e) {
       std::cout << "DIFFERENT " << o.file << " [" << s.name << "]: cannot load: " << e.what() << "\n";
