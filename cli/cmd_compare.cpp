@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iostream>
+#include <map>
 #include <optional>
 #include <string_view>
 #include <vector>
@@ -128,11 +129,45 @@ std::optional<int> align_inputs(const rcx::Image& ours, const rcx::Image& theirs
   std::stable_sort(shifted.inputs.begin(), shifted.inputs.end(),
                    [](const rcx::TimedInput& x, const rcx::TimedInput& y) { return x.at_us < y.at_us; });
   const Scenario original = shifted;
+  // rcxc's run never changes (its inputs stay where they are): one per
+  // horizon, and a group's wide horizon is the next group's narrow one.
+  std::map<rcx::Micros, rcx::Machine> ours_to;
+  auto ours_until = [&](rcx::Micros until) -> const rcx::Machine& {
+    auto it = ours_to.find(until);
+    if (it == ours_to.end()) it = ours_to.emplace(until, run_image(ours, original, o, until)).first;
+    return it->second;
+  };
+  // nqc's run is the same in every trial up to the earliest time a trial
+  // moves the group being placed to: it runs there once (`theirs_before`,
+  // with the inputs before the group) and each trial goes on from a copy,
+  // with the group and the inputs after it.
+  std::optional<rcx::Machine> theirs_before;
+  std::size_t group_first = 0;
+  auto theirs_until = [&](rcx::Micros until) {
+    if (!theirs_before) return run_image(theirs, shifted, o, until);
+    rcx::Machine b = *theirs_before;
+    for (std::size_t n = group_first; n < shifted.inputs.size(); ++n) b.schedule(shifted.inputs[n]);
+    b.run(until);
+    return b;
+  };
   auto agree_until = [&](rcx::Micros until) {
-    rcx::Machine a = run_image(ours, original, o, until);
-    rcx::Machine b = run_image(theirs, shifted, o, until);
+    const rcx::Machine& a = ours_until(until);
+    rcx::Machine b = theirs_until(until);
     return rcx::compare_runs({&a, &ours, "rcxc"}, {&b, &theirs, "nqc"}, tolerance, globals, rcx::SideBySide::Skip)
         .same;
+  };
+  // The run nqc's code makes before group [first, ...) can move, when it is
+  // still running then and every input before the group lies before it.
+  auto run_before_group = [&](std::size_t first) -> std::optional<rcx::Machine> {
+    const rcx::Micros at = original.inputs[first].at_us - (kMaxShiftInstructions + 2) * o.instruction_us;
+    auto before = shifted.inputs.begin() + static_cast<std::ptrdiff_t>(first);
+    if (at <= 0 || std::any_of(shifted.inputs.begin(), before, [&](const auto& in) { return in.at_us >= at; }))
+      return std::nullopt;
+    rcx::Machine m = rcx::start_scenario(theirs, {shifted.inputs.begin(), before}, o.instruction_us, o.seed);
+    m.run_until(at);
+    // Ended, faulted or off: whole runs say where and when, as they did.
+    if (m.stop().kind != rcx::StopKind::Running) return std::nullopt;
+    return m;
   };
   // Moves inputs [first, last) by 0, then 1, -1, 2, -2, ... instruction
   // times until the runs agree up to `until`; false (inputs left moved by the
@@ -154,6 +189,9 @@ std::optional<int> align_inputs(const rcx::Image& ours, const rcx::Image& theirs
   // Inputs from the end of the run on change nothing the runs show, and no
   // run goes past that end (--for).
   for (std::size_t i = 0; i < original.inputs.size() && original.inputs[i].at_us < end;) {
+    std::erase_if(ours_to, [&](const auto& kept) { return kept.first < original.inputs[i].at_us; });
+    group_first = i;
+    theirs_before = run_before_group(i);
     std::size_t j = i;  // [i, j): inputs at the same time move together
     while (j < original.inputs.size() && original.inputs[j].at_us == original.inputs[i].at_us) ++j;
     std::size_t after_next = j;  // end of the next group

@@ -30,15 +30,21 @@ std::vector<NamedScenario> builtin_scenarios() {
   return {idle, touch, light};
 }
 
-Machine run_scenario(const Image& image, const NamedScenario& scenario, Micros instruction_us, std::uint64_t seed,
-                     Micros until_us) {
+Machine start_scenario(const Image& image, const std::vector<TimedInput>& inputs, Micros instruction_us,
+                       std::uint64_t seed) {
   Config config;
   config.seed = seed;
   config.instruction_cost_us = instruction_us;
   Machine m(config);
   if (auto error = m.load(0, image)) throw std::runtime_error(*error);
-  for (const auto& in : scenario.inputs) m.schedule(in);
+  for (const auto& in : inputs) m.schedule(in);
   m.start_program();
+  return m;
+}
+
+Machine run_scenario(const Image& image, const NamedScenario& scenario, Micros instruction_us, std::uint64_t seed,
+                     Micros until_us) {
+  Machine m = start_scenario(image, scenario.inputs, instruction_us, seed);
   m.run(until_us);
   return m;
 }

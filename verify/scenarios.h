@@ -25,5 +25,9 @@ std::vector<NamedScenario> builtin_scenarios();
 // std::runtime_error when the image does not load.
 Machine run_scenario(const Image& image, const NamedScenario& scenario, Micros instruction_us, std::uint64_t seed,
                      Micros until_us);
+// The same machine before it runs: loaded, `inputs` scheduled, program
+// started. Running it (Machine::run) is run_scenario.
+Machine start_scenario(const Image& image, const std::vector<TimedInput>& inputs, Micros instruction_us,
+                       std::uint64_t seed);
 
 }  // namespace rcx
