@@ -351,6 +351,90 @@ std::vector<const Definition*> visible_at(const Index& index, const Place& where
   return out;
 }
 
+namespace {
+
+bool is_keyword_token(const frontend::Token& t) { return t.kind == frontend::TokenKind::Identifier && !is_plain_name(t.text); }
+
+// Walks back from the last token before the cursor; a ';' or a brace ends
+// the search, as no argument list spans a statement.
+std::optional<CallSite> open_call(const std::vector<frontend::Token>& tokens, std::size_t end) {
+  std::size_t depth = 0, commas = 0;
+  for (std::size_t i = end; i-- > 0;) {
+    const auto& t = tokens[i];
+    if (t.is(";") || t.is("{") || t.is("}")) return std::nullopt;
+    if (t.is(")")) {
+      ++depth;
+    } else if (t.is("(") && depth > 0) {
+      --depth;
+    } else if (t.is("(")) {
+      if (i > 0 && tokens[i - 1].kind == frontend::TokenKind::Identifier && !is_keyword_token(tokens[i - 1]))
+        return CallSite{std::string(tokens[i - 1].text), place_of(tokens[i - 1].span.begin), commas};
+      commas = 0;  // a parenthesised expression inside an argument: look further out
+    } else if (t.is(",") && depth == 0) {
+      ++commas;
+    }
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
+std::optional<CallSite> call_at(const Index& index, const Place& where) {
+  if (where.file != index.main_file) return std::nullopt;
+  Diagnostics ignored;
+  // The lexer skips comments and reads strings and characters whole, so
+  // commas in them are no separators.
+  std::vector<frontend::Token> tokens = frontend::lex(index.sm.text(where.file), where.file, ignored);
+  auto first_after = std::partition_point(tokens.begin(), tokens.end(), [&](const frontend::Token& t) {
+    return t.kind != frontend::TokenKind::End && before(place_of(t.span.begin), where);
+  });
+  return open_call(tokens, static_cast<std::size_t>(first_after - tokens.begin()));
+}
+
+std::optional<ParameterList> parameter_list(const Definition& def) {
+  if (def.kind != DefKind::Function && def.kind != DefKind::Sub && def.kind != DefKind::Macro) return std::nullopt;
+  // A function-like macro has its '(' right after the name; "#define X (1)" is no list.
+  auto open = def.signature.find(def.name + "(");
+  if (open == std::string::npos) return std::nullopt;
+  ParameterList list;
+  std::size_t start = open + def.name.size() + 1, depth = 0;
+  for (std::size_t i = start; i < def.signature.size(); ++i) {
+    char c = def.signature[i];
+    if (c == '(') ++depth;
+    if (c == ')' && depth > 0) --depth;
+    else if ((c == ')' || c == ',') && depth == 0) {
+      std::string_view piece = std::string_view(def.signature).substr(start, i - start);
+      auto b = piece.find_first_not_of(" \t");
+      if (b != std::string_view::npos)
+        list.params.emplace_back(start + b, start + piece.find_last_not_of(" \t") + 1);
+      start = i + 1;
+      if (c == ')') {
+        list.close = i;
+        return list;
+      }
+    }
+  }
+  return std::nullopt;  // unbalanced: a #define cut short
+}
+
+bool is_plain_name(std::string_view name) {
+  if (name.empty() || std::isdigit(static_cast<unsigned char>(name[0]))) return false;
+  for (char c : name)
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_') return false;
+  // The parser's own keyword table decides: a keyword makes "int NAME;" no
+  // declaration of NAME.
+  std::string text = "int " + std::string(name) + ";";
+  Diagnostics diags;
+  ast::Program p = frontend::parse_tokens(frontend::lex(text, 0, diags), diags);
+  return !diags.has_errors() && p.globals.size() == 1 && p.globals[0].name == name;
+}
+
+const Definition* rename_clash(const Index& index, const Definition& def, const std::string& new_name) {
+  for (const Range& r : references(index, def, true))
+    if (const Definition* other = resolve(index, new_name, r.begin)) return other;
+  return nullptr;
+}
+
 std::size_t edit_distance(const std::string& a, const std::string& b) {
   const std::size_t n = a.size(), m = b.size();
   std::vector<std::vector<std::size_t>> d(n + 1, std::vector<std::size_t>(m + 1));
