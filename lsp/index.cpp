@@ -299,12 +299,15 @@ const Occurrence* occurrence_at(const Index& index, std::uint32_t file, std::uin
   return nullptr;
 }
 
-const Definition* resolve(const Index& index, const std::string& name, const Place& where) {
+namespace {
+
+// resolve among `named`, the definitions of one name.
+const Definition* resolve_among(const std::vector<const Definition*>& named, const Place& where) {
   const Definition* macro = nullptr;
   const Definition* local = nullptr;
   const Definition* top = nullptr;
-  for (const auto& d : index.defs) {
-    if (d.name != name) continue;
+  for (const Definition* p : named) {
+    const Definition& d = *p;
     if (contains(d.at, where)) return &d;
     if (d.kind == DefKind::Macro) {
       if (!macro) macro = &d;
@@ -322,12 +325,28 @@ const Definition* resolve(const Index& index, const std::string& name, const Pla
   return local ? local : top;
 }
 
+std::vector<const Definition*> named(const Index& index, const std::string& name) {
+  std::vector<const Definition*> out;
+  for (const auto& d : index.defs)
+    if (d.name == name) out.push_back(&d);
+  return out;
+}
+
+}  // namespace
+
+const Definition* resolve(const Index& index, const std::string& name, const Place& where) {
+  return resolve_among(named(index, name), where);
+}
+
 std::vector<Range> references(const Index& index, const Definition& def, bool with_declaration) {
   std::vector<Range> out;
   std::set<std::tuple<std::string, std::uint32_t, std::uint32_t>> seen;  // a file read twice counts once
+  // The definitions of the name are found once, not again for each use:
+  // a name used 12,000 times among 8,000 definitions took 0.3 s.
+  const std::vector<const Definition*> candidates = named(index, def.name);
   for (const auto& o : index.occurrences) {
     if (o.name != def.name) continue;
-    if (resolve(index, o.name, o.at.begin) != &def) continue;
+    if (resolve_among(candidates, o.at.begin) != &def) continue;
     if (!with_declaration && o.at.begin.file == def.at.begin.file && o.at.begin.line == def.at.begin.line &&
         o.at.begin.column == def.at.begin.column)
       continue;
@@ -429,9 +448,10 @@ bool is_plain_name(std::string_view name) {
   return !diags.has_errors() && p.globals.size() == 1 && p.globals[0].name == name;
 }
 
-const Definition* rename_clash(const Index& index, const Definition& def, const std::string& new_name) {
-  for (const Range& r : references(index, def, true))
-    if (const Definition* other = resolve(index, new_name, r.begin)) return other;
+const Definition* rename_clash(const Index& index, const std::vector<Range>& uses, const std::string& new_name) {
+  const std::vector<const Definition*> candidates = named(index, new_name);
+  for (const Range& r : uses)
+    if (const Definition* other = resolve_among(candidates, r.begin)) return other;
   return nullptr;
 }
 

@@ -123,10 +123,10 @@ std::optional<ParameterList> parameter_list(const Definition& def);
 // keyword).
 bool is_plain_name(std::string_view name);
 
-// A definition that renaming `def` to `new_name` would collide with: one
-// that `new_name` already means at a place that refers to `def` (so the
-// renamed uses would mean it, or stop meaning it).
-const Definition* rename_clash(const Index& index, const Definition& def, const std::string& new_name);
+// A definition that renaming the name at `uses` (a definition's references,
+// its declaration included) to `new_name` would collide with: one that
+// `new_name` already means at one of them (the renamed uses would mean it).
+const Definition* rename_clash(const Index& index, const std::vector<Range>& uses, const std::string& new_name);
 
 // Names close to `name` (edit distance, case differences counting less), best
 // first, at most `limit`: the "did you mean" candidates for an unknown name.

@@ -462,53 +462,59 @@ std::string where_defined(const Index& index, const Definition& d) {
   return "at " + (d.at.begin.file == index.main_file ? "" : file + ":") + "line " + std::to_string(d.at.begin.line);
 }
 
-// The definition a rename at the request's position would change, or a
-// refusal saying why there is none (nullptr: no name at the position).
-const Definition* renamable_at(Request& r, const Place& at, const Occurrence*& occ) {
-  const Definition* def = definition_at(r, at, &occ);
-  if (!occ) return nullptr;
-  if (!is_plain_name(occ->name)) throw Refused("'" + occ->name + "' is a keyword and cannot be renamed");
-  if (!def) throw Refused("'" + occ->name + "' is not declared, so there is nothing to rename");
+// What a rename at the request's position would change: the definition and
+// every reference to it, its declaration included.
+struct Renamed {
+  const Occurrence* occurrence = nullptr;  // nullptr: no name at the position
+  const Definition* def = nullptr;
+  std::vector<Range> uses;
+};
+
+// The rename at `at`, or a refusal saying why the name there cannot be renamed.
+Renamed renamable_at(Request& r, const Place& at) {
+  Renamed what;
+  what.def = definition_at(r, at, &what.occurrence);
+  if (!what.occurrence) return what;
+  const std::string& name = what.occurrence->name;
+  if (!is_plain_name(name)) throw Refused("'" + name + "' is a keyword and cannot be renamed");
+  if (!what.def) throw Refused("'" + name + "' is not declared, so there is nothing to rename");
   const Index& index = r.doc->index;
-  if (in_stdlib(index, def->at.begin.file))
-    throw Refused("'" + def->name + "' is part of the RCX API (rcx.nqh) and cannot be renamed");
-  for (const Range& use : references(index, *def, true))
-    if (in_stdlib(index, use.begin.file))
-      throw Refused("'" + def->name + "' is used in the RCX API (rcx.nqh) and cannot be renamed");
-  return def;
+  if (in_stdlib(index, what.def->at.begin.file))
+    throw Refused("'" + name + "' is part of the RCX API (rcx.nqh) and cannot be renamed");
+  what.uses = references(index, *what.def, true);
+  for (const Range& use : what.uses)
+    if (in_stdlib(index, use.begin.file)) throw Refused("'" + name + "' is used in the RCX API (rcx.nqh) and cannot be renamed");
+  return what;
 }
 
-void check_new_name(const Index& index, const Definition& def, const std::string& name) {
+void check_new_name(const Index& index, const Renamed& what, const std::string& name) {
   if (name.size() > kMaxNewName)
     throw Refused("the new name is " + std::to_string(name.size()) + " characters long; at most " +
                   std::to_string(kMaxNewName) + " are accepted");
   if (!is_identifier(name)) throw Refused("'" + name + "' is not a valid name (letters, digits and _, not starting with a digit)");
   if (!is_plain_name(name)) throw Refused("'" + name + "' is a keyword");
-  if (const Definition* other = rename_clash(index, def, name))
-    throw Refused("renaming '" + def.name + "' to '" + name + "' would clash with the " +
+  if (const Definition* other = rename_clash(index, what.uses, name))
+    throw Refused("renaming '" + what.def->name + "' to '" + name + "' would clash with the " +
                   std::string(def_kind_name(other->kind)) + " '" + name + "' " + where_defined(index, *other));
 }
 
 json prepare_rename(Request& r) {
   auto at = place_of(*r.doc, r.params.at("position"));
   if (!at) return nullptr;
-  const Occurrence* occ = nullptr;
-  const Definition* def = renamable_at(r, *at, occ);
-  if (!def) return nullptr;
-  return {{"range", range_json(r.doc->index.sm, occ->at)}, {"placeholder", occ->name}};
+  Renamed what = renamable_at(r, *at);
+  if (!what.def) return nullptr;
+  return {{"range", range_json(r.doc->index.sm, what.occurrence->at)}, {"placeholder", what.occurrence->name}};
 }
 
 json rename(Request& r) {
   std::string new_name = r.params.at("newName").get<std::string>();
   auto at = place_of(*r.doc, r.params.at("position"));
-  if (!at) throw Refused("there is no name at this position to rename");
-  const Occurrence* occ = nullptr;
-  const Definition* def = renamable_at(r, *at, occ);
-  if (!def) throw Refused("there is no name at this position to rename");
-  if (new_name == def->name) return {{"changes", json::object()}};
-  check_new_name(r.doc->index, *def, new_name);
+  Renamed what = at ? renamable_at(r, *at) : Renamed{};
+  if (!what.def) throw Refused("there is no name at this position to rename");
+  if (new_name == what.def->name) return {{"changes", json::object()}};
+  check_new_name(r.doc->index, what, new_name);
   json changes = json::object();
-  for (const Range& use : references(r.doc->index, *def, true)) {
+  for (const Range& use : what.uses) {
     std::string target = file_uri(r.server, *r.doc, r.uri, use.begin.file);
     if (target.empty()) continue;
     changes[target].push_back({{"range", range_json(r.doc->index.sm, use)}, {"newText", new_name}});
