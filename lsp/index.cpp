@@ -404,6 +404,9 @@ std::optional<CallSite> call_at(const Index& index, const Place& where) {
   // The lexer skips comments and reads strings and characters whole, so
   // commas in them are no separators.
   std::vector<frontend::Token> tokens = frontend::lex(index.sm.text(where.file), where.file, ignored);
+  // A position past the end of the document is nowhere, not in a call
+  // left open on its last line.
+  if (before(place_of(tokens.back().span.begin), where)) return std::nullopt;
   auto first_after = std::partition_point(tokens.begin(), tokens.end(), [&](const frontend::Token& t) {
     return t.kind != frontend::TokenKind::End && before(place_of(t.span.begin), where);
   });

@@ -811,6 +811,11 @@ TEST(LspSignatureHelp, NothingOutsideACall) {
   EXPECT_TRUE(s.at("textDocument/signatureHelp", 8, 5).is_null());   // int n
   Session keyword("task main()\n{\n  int n;\n  if (n == 1, \n}\n");
   EXPECT_TRUE(keyword.at("textDocument/signatureHelp", 3, 14).is_null());
+  // A call left open at the end of the document: only up to the end.
+  Session open_call("task main()\n{\n  Wait(");
+  EXPECT_EQ(signature_at(open_call, 2, 7).label, "void Wait(const int &ticks)");
+  EXPECT_TRUE(open_call.at("textDocument/signatureHelp", 3, 0).is_null());
+  EXPECT_TRUE(open_call.at("textDocument/signatureHelp", 99999, 0).is_null());
 }
 
 // ---------------------------------------------------------------- rename --
