@@ -396,6 +396,19 @@ std::optional<CallSite> open_call(const std::vector<frontend::Token>& tokens, st
   return std::nullopt;
 }
 
+// The offset of the '(' that opens the parameter list in the signature.
+// A function-like macro has it right after the name ("#define X (1)" has
+// none), and the name is looked for after "define" ("#define def(x)").
+std::optional<std::size_t> list_opening(const Definition& def) {
+  std::size_t from = def.kind == DefKind::Macro ? def.signature.find("define") : 0;
+  if (from == std::string::npos) return std::nullopt;
+  if (def.kind == DefKind::Macro) from += 6;
+  auto at = def.signature.find(def.name + "(", from);
+  if (at == std::string::npos) return std::nullopt;
+  if (def.kind == DefKind::Macro && !trim(std::string_view(def.signature).substr(from, at - from)).empty()) return std::nullopt;
+  return at + def.name.size();
+}
+
 }  // namespace
 
 std::optional<CallSite> call_at(const Index& index, const Place& where) {
@@ -415,25 +428,24 @@ std::optional<CallSite> call_at(const Index& index, const Place& where) {
 
 std::optional<ParameterList> parameter_list(const Definition& def) {
   if (def.kind != DefKind::Function && def.kind != DefKind::Sub && def.kind != DefKind::Macro) return std::nullopt;
-  // A function-like macro has its '(' right after the name; "#define X (1)" is no list.
-  auto open = def.signature.find(def.name + "(");
-  if (open == std::string::npos) return std::nullopt;
+  auto open = list_opening(def);
+  if (!open) return std::nullopt;
   ParameterList list;
-  std::size_t start = open + def.name.size() + 1, depth = 0;
-  for (std::size_t i = start; i < def.signature.size(); ++i) {
-    char c = def.signature[i];
-    if (c == '(') ++depth;
-    if (c == ')' && depth > 0) --depth;
-    else if ((c == ')' || c == ',') && depth == 0) {
-      std::string_view piece = std::string_view(def.signature).substr(start, i - start);
-      auto b = piece.find_first_not_of(" \t");
-      if (b != std::string_view::npos)
-        list.params.emplace_back(start + b, start + piece.find_last_not_of(" \t") + 1);
-      start = i + 1;
-      if (c == ')') {
-        list.close = i;
-        return list;
-      }
+  const std::string_view sig = def.signature;
+  std::size_t start = *open + 1, depth = 0;
+  for (std::size_t i = start; i < sig.size(); ++i) {
+    if (sig[i] == '(') ++depth;
+    if (depth > 0) {
+      if (sig[i] == ')') --depth;
+      continue;
+    }
+    if (sig[i] != ',' && sig[i] != ')') continue;
+    auto first = sig.find_first_not_of(" \t", start);
+    if (first < i) list.params.emplace_back(first, sig.find_last_not_of(" \t", i - 1) + 1);
+    start = i + 1;
+    if (sig[i] == ')') {
+      list.close = i;
+      return list;
     }
   }
   return std::nullopt;  // unbalanced: a #define cut short

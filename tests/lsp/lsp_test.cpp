@@ -789,6 +789,19 @@ TEST(LspSignatureHelp, TheInnermostCallAndMacrosWithParameters) {
   EXPECT_EQ(shown.parameter, "y");
 }
 
+TEST(LspSignatureHelp, MacroNamesAndSubs) {
+  // A macro named like a part of "#define", a sub (no parameters), and a
+  // macro whose body starts with '(' (no parameter list: no signature).
+  Session s("#define def(a) (a)\n#define ONE (1)\nsub go() { }\ntask main()\n{\n  def(1);\n  go();\n  ONE(;\n}\n");
+  Shown shown = signature_at(s, 5, 6);
+  EXPECT_EQ(shown.label, "#define def(a)");
+  EXPECT_EQ(shown.parameter, "a");
+  json help = s.at("textDocument/signatureHelp", 6, 5);
+  EXPECT_EQ(help["signatures"][0]["label"], "sub go()");
+  EXPECT_TRUE(help["signatures"][0]["parameters"].empty());
+  EXPECT_TRUE(s.at("textDocument/signatureHelp", 7, 6).is_null());
+}
+
 TEST(LspSignatureHelp, ApiFunctions) {
   Session s(kCalls);
   Shown shown = signature_at(s, 11, 18);  // SetPower(OUT_A, |
