@@ -469,8 +469,11 @@ TEST(LspRobustness, RandomEditsAndRequestsAlwaysGetOneReply) {
   Session s(kProgram);
   std::mt19937 rng(20);
   auto below = [&](int n) { return static_cast<int>(rng() % static_cast<unsigned>(n)); };
-  const char* methods[] = {"textDocument/hover",      "textDocument/completion",     "textDocument/definition",
-                           "textDocument/references", "textDocument/documentSymbol", "textDocument/codeAction"};
+  const char* methods[] = {"textDocument/hover",         "textDocument/completion",     "textDocument/definition",
+                           "textDocument/references",    "textDocument/documentSymbol", "textDocument/codeAction",
+                           "textDocument/signatureHelp", "textDocument/prepareRename",  "textDocument/rename",
+                           "textDocument/documentHighlight"};
+  const char* new_names[] = {"fresh", "main", "while", "2x", "OnFwd", ""};
   const std::string alphabet = "abcXYZ_09 ;{}()#/*\"\n\t=+-<>&|!~'\xc3\xa9\xff";
   std::string text = kProgram;
   for (int round = 0; round < 400; ++round) {
@@ -490,10 +493,12 @@ TEST(LspRobustness, RandomEditsAndRequestsAlwaysGetOneReply) {
                    {"context", {{"includeDeclaration", below(2) == 0}, {"diagnostics", json::array()}}}};
     if (below(5) == 0) params.erase(params.begin());
     if (below(7) == 0) params["position"] = "nowhere";
-    auto out = handle(s.server, request(1000 + round, methods[below(6)], params));
+    params["newName"] = new_names[below(6)];
+    auto out = handle(s.server, request(1000 + round, methods[below(10)], params));
     ASSERT_EQ(out.size(), 1u);
     EXPECT_EQ(out[0]["id"], 1000 + round);
     EXPECT_TRUE(out[0].contains("result") || out[0].contains("error"));
+    EXPECT_NE(out[0].value("error", json::object()).value("code", 0), kInternalError) << out[0].dump();
   }
 }
 
