@@ -516,7 +516,9 @@ json rename(Request& r) {
   json changes = json::object();
   for (const Range& use : what.uses) {
     std::string target = file_uri(r.server, *r.doc, r.uri, use.begin.file);
-    if (target.empty()) continue;
+    // Only a standard library copy has no URI, and its uses were refused;
+    // a rename that left some uses out would change what the program means.
+    if (target.empty()) throw Refused("'" + what.def->name + "' is used in a file that has no URI");
     changes[target].push_back({{"range", range_json(r.doc->index.sm, use)}, {"newText", new_name}});
   }
   return {{"changes", changes}};
