@@ -299,12 +299,15 @@ const Occurrence* occurrence_at(const Index& index, std::uint32_t file, std::uin
   return nullptr;
 }
 
-const Definition* resolve(const Index& index, const std::string& name, const Place& where) {
+namespace {
+
+// resolve among `named`, the definitions of one name.
+const Definition* resolve_among(const std::vector<const Definition*>& named, const Place& where) {
   const Definition* macro = nullptr;
   const Definition* local = nullptr;
   const Definition* top = nullptr;
-  for (const auto& d : index.defs) {
-    if (d.name != name) continue;
+  for (const Definition* p : named) {
+    const Definition& d = *p;
     if (contains(d.at, where)) return &d;
     if (d.kind == DefKind::Macro) {
       if (!macro) macro = &d;
@@ -322,12 +325,28 @@ const Definition* resolve(const Index& index, const std::string& name, const Pla
   return local ? local : top;
 }
 
+std::vector<const Definition*> named(const Index& index, const std::string& name) {
+  std::vector<const Definition*> out;
+  for (const auto& d : index.defs)
+    if (d.name == name) out.push_back(&d);
+  return out;
+}
+
+}  // namespace
+
+const Definition* resolve(const Index& index, const std::string& name, const Place& where) {
+  return resolve_among(named(index, name), where);
+}
+
 std::vector<Range> references(const Index& index, const Definition& def, bool with_declaration) {
   std::vector<Range> out;
   std::set<std::tuple<std::string, std::uint32_t, std::uint32_t>> seen;  // a file read twice counts once
+  // The definitions of the name are found once, not again for each use:
+  // a name used 12,000 times among 8,000 definitions took 0.3 s.
+  const std::vector<const Definition*> candidates = named(index, def.name);
   for (const auto& o : index.occurrences) {
     if (o.name != def.name) continue;
-    if (resolve(index, o.name, o.at.begin) != &def) continue;
+    if (resolve_among(candidates, o.at.begin) != &def) continue;
     if (!with_declaration && o.at.begin.file == def.at.begin.file && o.at.begin.line == def.at.begin.line &&
         o.at.begin.column == def.at.begin.column)
       continue;
@@ -349,6 +368,106 @@ std::vector<const Definition*> visible_at(const Index& index, const Place& where
   for (const auto& d : index.defs)
     if (!d.scope) take(d);
   return out;
+}
+
+namespace {
+
+bool is_keyword_token(const frontend::Token& t) { return t.kind == frontend::TokenKind::Identifier && !is_plain_name(t.text); }
+
+// Walks back from the last token before the cursor; a ';' or a brace ends
+// the search, as no argument list spans a statement.
+std::optional<CallSite> open_call(const std::vector<frontend::Token>& tokens, std::size_t end) {
+  std::size_t depth = 0, commas = 0;
+  for (std::size_t i = end; i-- > 0;) {
+    const auto& t = tokens[i];
+    if (t.is(";") || t.is("{") || t.is("}")) return std::nullopt;
+    if (t.is(")")) {
+      ++depth;
+    } else if (t.is("(") && depth > 0) {
+      --depth;
+    } else if (t.is("(")) {
+      if (i > 0 && tokens[i - 1].kind == frontend::TokenKind::Identifier && !is_keyword_token(tokens[i - 1]))
+        return CallSite{std::string(tokens[i - 1].text), place_of(tokens[i - 1].span.begin), commas};
+      commas = 0;  // a parenthesised expression inside an argument: look further out
+    } else if (t.is(",") && depth == 0) {
+      ++commas;
+    }
+  }
+  return std::nullopt;
+}
+
+// The offset of the '(' that opens the parameter list in the signature.
+// A function-like macro has it right after the name ("#define X (1)" has
+// none), and the name is looked for after "define" ("#define def(x)").
+std::optional<std::size_t> list_opening(const Definition& def) {
+  std::size_t from = def.kind == DefKind::Macro ? def.signature.find("define") : 0;
+  if (from == std::string::npos) return std::nullopt;
+  if (def.kind == DefKind::Macro) from += 6;
+  auto at = def.signature.find(def.name + "(", from);
+  if (at == std::string::npos) return std::nullopt;
+  if (def.kind == DefKind::Macro && !trim(std::string_view(def.signature).substr(from, at - from)).empty()) return std::nullopt;
+  return at + def.name.size();
+}
+
+}  // namespace
+
+std::optional<CallSite> call_at(const Index& index, const Place& where) {
+  if (where.file != index.main_file) return std::nullopt;
+  Diagnostics ignored;
+  // The lexer skips comments and reads strings and characters whole, so
+  // commas in them are no separators.
+  std::vector<frontend::Token> tokens = frontend::lex(index.sm.text(where.file), where.file, ignored);
+  // A position past the end of the document is nowhere, not in a call
+  // left open on its last line.
+  if (before(place_of(tokens.back().span.begin), where)) return std::nullopt;
+  auto first_after = std::partition_point(tokens.begin(), tokens.end(), [&](const frontend::Token& t) {
+    return t.kind != frontend::TokenKind::End && before(place_of(t.span.begin), where);
+  });
+  return open_call(tokens, static_cast<std::size_t>(first_after - tokens.begin()));
+}
+
+std::optional<ParameterList> parameter_list(const Definition& def) {
+  if (def.kind != DefKind::Function && def.kind != DefKind::Sub && def.kind != DefKind::Macro) return std::nullopt;
+  auto open = list_opening(def);
+  if (!open) return std::nullopt;
+  ParameterList list;
+  const std::string_view sig = def.signature;
+  std::size_t start = *open + 1, depth = 0;
+  for (std::size_t i = start; i < sig.size(); ++i) {
+    if (sig[i] == '(') ++depth;
+    if (depth > 0) {
+      if (sig[i] == ')') --depth;
+      continue;
+    }
+    if (sig[i] != ',' && sig[i] != ')') continue;
+    auto first = sig.find_first_not_of(" \t", start);
+    if (first < i) list.params.emplace_back(first, sig.find_last_not_of(" \t", i - 1) + 1);
+    start = i + 1;
+    if (sig[i] == ')') {
+      list.close = i;
+      return list;
+    }
+  }
+  return std::nullopt;  // unbalanced: a #define cut short
+}
+
+bool is_plain_name(std::string_view name) {
+  if (name.empty() || std::isdigit(static_cast<unsigned char>(name[0]))) return false;
+  for (char c : name)
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_') return false;
+  // The parser's own keyword table decides: a keyword makes "int NAME;" no
+  // declaration of NAME.
+  std::string text = "int " + std::string(name) + ";";
+  Diagnostics diags;
+  ast::Program p = frontend::parse_tokens(frontend::lex(text, 0, diags), diags);
+  return !diags.has_errors() && p.globals.size() == 1 && p.globals[0].name == name;
+}
+
+const Definition* rename_clash(const Index& index, const std::vector<Range>& uses, const std::string& new_name) {
+  const std::vector<const Definition*> candidates = named(index, new_name);
+  for (const Range& r : uses)
+    if (const Definition* other = resolve_among(candidates, r.begin)) return other;
+  return nullptr;
 }
 
 std::size_t edit_distance(const std::string& a, const std::string& b) {

@@ -100,6 +100,34 @@ std::vector<Range> references(const Index& index, const Definition& def, bool wi
 // every macro and top-level name), one per name, for completion.
 std::vector<const Definition*> visible_at(const Index& index, const Place& where);
 
+// The call whose argument list holds `where` in the document: the innermost
+// '(' still open there that follows a name (a '(' after a keyword or an
+// operator only groups), and how many of its commas come before `where`.
+struct CallSite {
+  std::string callee;
+  Place callee_at;
+  std::size_t argument = 0;  // from 0
+};
+std::optional<CallSite> call_at(const Index& index, const Place& where);
+
+// The parameter list of a function's, sub's or function-like macro's
+// signature: each parameter as a byte range [begin, end) of `signature`,
+// and the offset of the ')' that closes the list. None for other names.
+struct ParameterList {
+  std::vector<std::pair<std::size_t, std::size_t>> params;
+  std::size_t close = 0;
+};
+std::optional<ParameterList> parameter_list(const Definition& def);
+
+// Whether the parser reads `name` as a name (it is an identifier and no
+// keyword).
+bool is_plain_name(std::string_view name);
+
+// A definition that renaming the name at `uses` (a definition's references,
+// its declaration included) to `new_name` would collide with: one that
+// `new_name` already means at one of them (the renamed uses would mean it).
+const Definition* rename_clash(const Index& index, const std::vector<Range>& uses, const std::string& new_name);
+
 // Names close to `name` (edit distance, case differences counting less), best
 // first, at most `limit`: the "did you mean" candidates for an unknown name.
 std::vector<std::string> similar_names(const Index& index, const std::string& name, const Place& where,

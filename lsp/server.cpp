@@ -81,6 +81,12 @@ struct BadParams : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// A request that is well formed but cannot be done, such as renaming a
+// name of the RCX API (answered Request failed, with the reason).
+struct Refused : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
 // The most bytes of text one didChange's ranged changes may go through:
 // as much as one message may carry (thousands of changes on a program of
 // a few kilobytes, 80 on a document at the 1 MiB compile cap).
@@ -415,6 +421,165 @@ json code_actions(Request& r) {
   return actions;
 }
 
+// ------------------------------------------------------- signature help --
+
+json signature_information(const Definition& def, const ParameterList& list, std::size_t argument) {
+  std::string label = def.signature.substr(0, list.close + 1);
+  auto units = [&](std::size_t byte) { return utf16_of_byte_column(label, static_cast<std::uint32_t>(byte + 1)); };
+  json params = json::array();
+  for (const auto& [begin, end] : list.params) params.push_back({{"label", {units(begin), units(end)}}});
+  json info = {{"label", label}, {"parameters", params}, {"activeParameter", argument}};
+  if (!def.doc.empty()) info["documentation"] = {{"kind", "markdown"}, {"value", def.doc}};
+  return info;
+}
+
+json signature_help(Request& r) {
+  auto at = place_of(*r.doc, r.params.at("position"));
+  if (!at) return nullptr;
+  auto call = call_at(r.doc->index, *at);
+  if (!call) return nullptr;
+  const Definition* def = resolve(r.doc->index, call->callee, call->callee_at);
+  auto list = def ? parameter_list(*def) : std::nullopt;
+  if (!list) return nullptr;
+  // An argument past the last parameter stays past it: LSP would read a
+  // missing activeParameter as the first one.
+  return {{"signatures", json::array({signature_information(*def, *list, call->argument)})},
+          {"activeSignature", 0},
+          {"activeParameter", call->argument}};
+}
+
+// ---------------------------------------------------------------- rename --
+
+// Longer new names are refused: each edit carries the name, and no one
+// types a thousand-letter name.
+constexpr std::size_t kMaxNewName = 255;
+
+bool in_stdlib(const Index& index, std::uint32_t file) { return file < index.is_stdlib.size() && index.is_stdlib[file]; }
+
+std::string where_defined(const Index& index, const Definition& d) {
+  if (in_stdlib(index, d.at.begin.file)) return "in the RCX API (rcx.nqh)";
+  std::string file = fs::path(index.sm.path(d.at.begin.file)).filename().string();
+  return "at " + (d.at.begin.file == index.main_file ? "" : file + ":") + "line " + std::to_string(d.at.begin.line);
+}
+
+// What a rename at the request's position would change: the definition and
+// every reference to it, its declaration included.
+struct Renamed {
+  const Occurrence* occurrence = nullptr;  // nullptr: no name at the position
+  const Definition* def = nullptr;
+  std::vector<Range> uses;
+};
+
+// The rename at `at`, or a refusal saying why the name there cannot be renamed.
+Renamed renamable_at(Request& r, const Place& at) {
+  Renamed what;
+  what.def = definition_at(r, at, &what.occurrence);
+  if (!what.occurrence) return what;
+  const std::string& name = what.occurrence->name;
+  if (!is_plain_name(name)) throw Refused("'" + name + "' is a keyword and cannot be renamed");
+  if (!what.def) throw Refused("'" + name + "' is not declared, so there is nothing to rename");
+  const Index& index = r.doc->index;
+  if (in_stdlib(index, what.def->at.begin.file))
+    throw Refused("'" + name + "' is part of the RCX API (rcx.nqh) and cannot be renamed");
+  what.uses = references(index, *what.def, true);
+  for (const Range& use : what.uses)
+    if (in_stdlib(index, use.begin.file)) throw Refused("'" + name + "' is used in the RCX API (rcx.nqh) and cannot be renamed");
+  return what;
+}
+
+void check_new_name(const Index& index, const Renamed& what, const std::string& name) {
+  if (name.size() > kMaxNewName)
+    throw Refused("the new name is " + std::to_string(name.size()) + " characters long; at most " +
+                  std::to_string(kMaxNewName) + " are accepted");
+  if (!is_identifier(name)) throw Refused("'" + name + "' is not a valid name (letters, digits and _, not starting with a digit)");
+  if (!is_plain_name(name)) throw Refused("'" + name + "' is a keyword");
+  if (const Definition* other = rename_clash(index, what.uses, name))
+    throw Refused("renaming '" + what.def->name + "' to '" + name + "' would clash with the " +
+                  std::string(def_kind_name(other->kind)) + " '" + name + "' " + where_defined(index, *other));
+}
+
+json prepare_rename(Request& r) {
+  auto at = place_of(*r.doc, r.params.at("position"));
+  if (!at) return nullptr;
+  Renamed what = renamable_at(r, *at);
+  if (!what.def) return nullptr;
+  return {{"range", range_json(r.doc->index.sm, what.occurrence->at)}, {"placeholder", what.occurrence->name}};
+}
+
+json rename(Request& r) {
+  std::string new_name = r.params.at("newName").get<std::string>();
+  auto at = place_of(*r.doc, r.params.at("position"));
+  Renamed what = at ? renamable_at(r, *at) : Renamed{};
+  if (!what.def) throw Refused("there is no name at this position to rename");
+  if (new_name == what.def->name) return {{"changes", json::object()}};
+  check_new_name(r.doc->index, what, new_name);
+  json changes = json::object();
+  for (const Range& use : what.uses) {
+    std::string target = file_uri(r.server, *r.doc, r.uri, use.begin.file);
+    // Only a standard library copy has no URI, and its uses were refused;
+    // a rename that left some uses out would change what the program means.
+    if (target.empty()) throw Refused("'" + what.def->name + "' is used in a file that has no URI");
+    changes[target].push_back({{"range", range_json(r.doc->index.sm, use)}, {"newText", new_name}});
+  }
+  return {{"changes", changes}};
+}
+
+// --------------------------------------------------------- highlighting --
+
+std::string_view without_blanks_before(std::string_view s) {
+  auto b = s.find_first_not_of(" \t");
+  return b == std::string_view::npos ? std::string_view() : s.substr(b);
+}
+
+std::string_view without_blanks_after(std::string_view s) {
+  auto e = s.find_last_not_of(" \t");
+  return e == std::string_view::npos ? std::string_view() : s.substr(0, e + 1);
+}
+
+// Whether `text` ends with a call's "NAME(" (not "if (" or "x * (").
+bool opens_call(std::string_view text) {
+  if (!text.ends_with("(")) return false;
+  std::string_view head = without_blanks_after(text.substr(0, text.size() - 1));
+  std::size_t start = head.size();
+  while (start > 0 && (std::isalnum(static_cast<unsigned char>(head[start - 1])) || head[start - 1] == '_')) --start;
+  return start < head.size() && is_plain_name(head.substr(start));
+}
+
+// How the variable at `r` is used, from the text around it on its line:
+// Write when assigned (an assignment operator after it, ++ or -- before or
+// after it), Text when it is a whole argument of a call (a function may take
+// it by reference and write it), else Read.
+int access_kind(const Index& index, const Range& r) {
+  std::string_view line = index.sm.line(r.begin.file, r.begin.line);
+  std::string_view before = without_blanks_after(line.substr(0, std::min<std::size_t>(line.size(), r.begin.column - 1)));
+  std::string_view after = without_blanks_before(line.substr(std::min<std::size_t>(line.size(), r.end.column - 1)));
+  const int text = 1, read = 2, write = 3;
+  if (before.ends_with("++") || before.ends_with("--")) return write;
+  for (std::string_view op : {"++", "--", "||=", "+-=", "<<=", ">>=", "+=", "-=", "*=", "/=", "%=", "&=", "|=", "^="})
+    if (after.starts_with(op)) return write;
+  if (after.starts_with("=") && !after.starts_with("==")) return write;
+  bool argument = (opens_call(before) || before.ends_with(",")) && (after.starts_with(")") || after.starts_with(","));
+  return argument ? text : read;
+}
+
+json document_highlight(Request& r) {
+  auto at = place_of(*r.doc, r.params.at("position"));
+  if (!at) return nullptr;
+  const Definition* def = definition_at(r, *at);
+  if (!def) return nullptr;
+  const Index& index = r.doc->index;
+  bool variable = def->kind == DefKind::Global || def->kind == DefKind::Local || def->kind == DefKind::Param;
+  json list = json::array();
+  for (const Range& use : references(index, *def, true)) {
+    if (use.begin.file != index.main_file) continue;
+    bool declaration = use.begin.line == def->at.begin.line && use.begin.column == def->at.begin.column &&
+                       use.begin.file == def->at.begin.file;
+    int kind = !variable ? 1 : declaration ? 3 : access_kind(index, use);  // 1 Text, 3 Write
+    list.push_back({{"range", range_json(index.sm, use)}, {"kind", kind}});
+  }
+  return list;
+}
+
 json initialize_result(Server& server, const json& params) {
   if (params.is_object() && params.contains("initializationOptions")) {
     const json& init = params["initializationOptions"];
@@ -430,6 +595,9 @@ json initialize_result(Server& server, const json& params) {
       {"referencesProvider", true},
       {"documentSymbolProvider", true},
       {"codeActionProvider", {{"codeActionKinds", json::array({"quickfix"})}}},
+      {"signatureHelpProvider", {{"triggerCharacters", json::array({"(", ","})}}},
+      {"renameProvider", {{"prepareProvider", true}}},
+      {"documentHighlightProvider", true},
   };
   return {{"capabilities", capabilities}, {"serverInfo", {{"name", "rcxc"}, {"version", server.version}}}};
 }
@@ -517,6 +685,10 @@ json answer(Server& server, const std::string& method, const json& params) {
       {"textDocument/references", find_references},
       {"textDocument/documentSymbol", document_symbols},
       {"textDocument/codeAction", code_actions},
+      {"textDocument/signatureHelp", signature_help},
+      {"textDocument/prepareRename", prepare_rename},
+      {"textDocument/rename", rename},
+      {"textDocument/documentHighlight", document_highlight},
   };
   auto h = handlers.find(method);
   if (h == handlers.end()) throw UnknownMethod{};
@@ -570,6 +742,8 @@ std::vector<json> handle(Server& server, const json& message) {
     return {error_response(id, kInvalidParams, std::string("bad parameters for ") + method + ": " + e.what())};
   } catch (const BadParams& e) {
     return {error_response(id, kInvalidParams, std::string("bad parameters for ") + method + ": " + e.what())};
+  } catch (const Refused& e) {
+    return {error_response(id, kRequestFailed, e.what())};
   } catch (const std::exception& e) {
     return {error_response(id, kInternalError, e.what())};
   }

@@ -1,7 +1,8 @@
 -- Drives `rcxc lsp` from Neovim's own LSP client (headless), for
 -- tests/lsp/nvim_test.cpp. g:rcxc_config names a JSON file with: rcxc (the
 -- binary), file (the program to open), stdlib_dir, out (where the findings
--- go as JSON), and the 0-based positions to ask about. Written for the
+-- go as JSON), the 0-based positions to ask about and rename_to, the new
+-- name for the rename at `rename`. Written for the
 -- vim.lsp API of Neovim 0.7 (Debian 12) and later.
 local result = {}
 local function run()
@@ -44,6 +45,18 @@ local function run()
   local def = ask('textDocument/definition', at(cfg.definition))
   if def and def[1] then def = def[1] end
   result.definition = def and { uri = def.uri, line = def.range.start.line, character = def.range.start.character } or vim.NIL
+
+  local help = ask('textDocument/signatureHelp', at(cfg.signature))
+  result.signature = help and help.signatures[1] and help.signatures[1].label or vim.NIL
+
+  -- Rename as a user does it: the client asks prepareRename, then rename,
+  -- and applies the edit to the buffer.
+  vim.o.hidden = true  -- the jump below leaves the renamed buffer unsaved
+  vim.api.nvim_win_set_cursor(0, { cfg.rename[1] + 1, cfg.rename[2] })
+  local before = table.concat(vim.api.nvim_buf_get_lines(0, 0, -1, false), '\n')
+  vim.lsp.buf.rename(cfg.rename_to)
+  vim.wait(10000, function() return table.concat(vim.api.nvim_buf_get_lines(0, 0, -1, false), '\n') ~= before end, 20)
+  result.renamed = vim.api.nvim_buf_get_lines(0, 0, -1, false)
 
   -- Go to definition as a user does it: the client's own handler jumps.
   vim.api.nvim_win_set_cursor(0, { cfg.jump[1] + 1, cfg.jump[2] })

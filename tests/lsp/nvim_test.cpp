@@ -1,6 +1,7 @@
 // `rcxc lsp` under a real LSP client: headless Neovim opens a program,
-// attaches the server and asks for diagnostics, hover, completion and
-// definition (tests/lsp/nvim_client.lua). Skipped when nvim is absent.
+// attaches the server and asks for diagnostics, hover, completion,
+// definition and signature help, and renames a sub with vim.lsp.buf.rename
+// (tests/lsp/nvim_client.lua). Skipped when nvim is absent.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -37,7 +38,7 @@ json run_nvim_client(const TempDir& dir, const std::string& nvim, json config) {
   return result;
 }
 
-TEST(NvimClient, DiagnosticsHoverCompletionAndDefinition) {
+TEST(NvimClient, DiagnosticsHoverCompletionDefinitionSignatureAndRename) {
   std::string nvim = find_nvim();
   if (nvim.empty()) GTEST_SKIP() << "nvim is not installed (apt-get install neovim)";
   TempDir dir;
@@ -59,6 +60,9 @@ TEST(NvimClient, DiagnosticsHoverCompletionAndDefinition) {
                                  {"hover", {4, 3}},        // Wait
                                  {"completion", {10, 2}},  // the empty line in main
                                  {"definition", {8, 4}},   // back_off
+                                 {"signature", {4, 7}},    // Wait(|
+                                 {"rename", {8, 4}},       // back_off
+                                 {"rename_to", "retreat"},
                                  {"jump", {3, 4}}});       // OnRev, into the library
   ASSERT_FALSE(result.is_discarded());
   ASSERT_FALSE(result.contains("error")) << result["error"];
@@ -83,6 +87,13 @@ TEST(NvimClient, DiagnosticsHoverCompletionAndDefinition) {
   EXPECT_EQ(result["definition"]["uri"], "file://" + file);
   EXPECT_EQ(result["definition"]["line"], 1);
   EXPECT_EQ(result["definition"]["character"], 4);
+
+  EXPECT_EQ(result["signature"], "void Wait(const int &ticks)");
+
+  ASSERT_EQ(result["renamed"].size(), 12u) << result["renamed"].dump();
+  EXPECT_EQ(result["renamed"][1], "sub retreat()");
+  EXPECT_EQ(result["renamed"][8], "  retreat();");
+  EXPECT_EQ(result["renamed"][0], "int hits;");
 
   EXPECT_EQ(result["jump"]["file"], dir.path + "/stdlib/rcx.nqh");
   EXPECT_NE(result["jump"]["text"].get<std::string>().find("void OnRev("), std::string::npos) << result["jump"];
