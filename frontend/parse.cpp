@@ -259,4 +259,12 @@ ast::Program parse_tokens(std::vector<Token> tokens, Diagnostics& diags) {
   return std::move(feed.program);
 }
 
+std::vector<std::string_view> keywords() {
+  std::vector<std::string_view> out;
+  for (const auto& k : kKeywords) out.push_back(k.text);
+  return out;
+}
+
+bool is_keyword(std::string_view word) { return !word.empty() && find_keyword(word).has_value(); }
+
 }  // namespace rcxc::frontend

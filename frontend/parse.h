@@ -1,6 +1,7 @@
 // The parser (bison, frontend/parser.y): preprocessed tokens in, AST out.
 #pragma once
 
+#include <string_view>
 #include <vector>
 
 #include "frontend/ast.h"
@@ -12,5 +13,12 @@ namespace rcxc::frontend {
 // reported to `diags`; parsing recovers at ';' and '}' so that one run
 // reports many. The result holds what could be parsed, without symbols.
 ast::Program parse_tokens(std::vector<Token> tokens, Diagnostics& diags);
+
+// The words the parser reads as keywords, from the table it looks
+// identifiers up in: for tools that offer or check names (the language
+// server's completion and rename). Words starting "__" are the standard
+// library's, not the user's.
+std::vector<std::string_view> keywords();
+bool is_keyword(std::string_view word);
 
 }  // namespace rcxc::frontend

@@ -455,12 +455,7 @@ bool is_plain_name(std::string_view name) {
   if (name.empty() || std::isdigit(static_cast<unsigned char>(name[0]))) return false;
   for (char c : name)
     if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_') return false;
-  // The parser's own keyword table decides: a keyword makes "int NAME;" no
-  // declaration of NAME.
-  std::string text = "int " + std::string(name) + ";";
-  Diagnostics diags;
-  ast::Program p = frontend::parse_tokens(frontend::lex(text, 0, diags), diags);
-  return !diags.has_errors() && p.globals.size() == 1 && p.globals[0].name == name;
+  return !frontend::is_keyword(name);
 }
 
 const Definition* rename_clash(const Index& index, const std::vector<Range>& uses, const std::string& new_name) {

@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <sstream>
 
+#include "frontend/parse.h"
 #include "lsp/jsonrpc.h"
 #include "stdlib/stdlib.h"
 
@@ -241,10 +242,6 @@ void reindex(const Server& server, Document& doc) { doc.index = build_index(doc.
 
 // --------------------------------------------------------------- requests --
 
-const char* const kKeywords[] = {"task",  "sub",    "void",    "int",   "const",   "if",       "else",
-                                 "while", "do",     "until",   "for",   "repeat",  "switch",   "case",
-                                 "default", "break", "continue", "return", "goto", "start",    "stop",
-                                 "asm",   "true",   "false",   "inline"};
 
 int completion_kind(const Definition& d) {
   switch (d.kind) {
@@ -312,7 +309,8 @@ json completion(Request& r) {
     if (!d->doc.empty()) item["documentation"] = {{"kind", "markdown"}, {"value", d->doc}};
     items.push_back(item);
   }
-  for (const char* k : kKeywords) items.push_back({{"label", k}, {"kind", 14}});
+  for (std::string_view k : frontend::keywords())
+    if (!k.starts_with("__")) items.push_back({{"label", k}, {"kind", 14}});
   return {{"isIncomplete", false}, {"items", items}};
 }
 

@@ -2,6 +2,10 @@
 // construct of the language, and syntax error messages with recovery.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <string_view>
+
+#include "frontend/parse.h"
 #include "tests/frontend/frontend_test_util.h"
 
 using namespace rcxc;
@@ -98,14 +102,26 @@ TEST(Parser, CopiedForAndInitialiserAreTheirOwn) {
 // Every keyword is one (the parser finds them by first character): none
 // can name a variable, and a name that only starts like one can.
 TEST(Parser, EveryKeywordIsReservedAndOnlyIt) {
-  for (const char* kw : {"task", "sub", "void", "int", "const", "if", "else", "while", "do", "until", "for",
-                         "repeat", "switch", "case", "default", "break", "continue", "return", "goto", "start",
-                         "stop", "asm", "true", "false", "inline", "__source", "__source_arg", "abs", "sign",
-                         "__nolist", "__sensor"}) {
-    EXPECT_FALSE(run_frontend(std::string("int ") + kw + ";\ntask main() { }\n", true).program) << kw;
-    auto r = run_frontend(std::string("int ") + kw + "x;\ntask main() { " + kw + "x = 1; }\n", true);
+  const std::vector<std::string_view> all = {
+      "task",   "sub",  "void",   "int",      "const", "if",    "else",    "while",   "do",           "until",
+      "for",    "repeat", "switch", "case",   "default", "break", "continue", "return", "goto",       "start",
+      "stop",   "asm",  "true",   "false",    "inline", "__source", "__source_arg", "abs", "sign", "__nolist",
+      "__sensor"};
+  for (std::string_view kw : all) {
+    EXPECT_FALSE(run_frontend("int " + std::string(kw) + ";\ntask main() { }\n", true).program) << kw;
+    auto r = run_frontend("int " + std::string(kw) + "x;\ntask main() { " + std::string(kw) + "x = 1; }\n", true);
     EXPECT_TRUE(r.program) << kw << ": " << r.text();
+    EXPECT_TRUE(frontend::is_keyword(kw)) << kw;
+    EXPECT_FALSE(frontend::is_keyword(std::string(kw) + "x")) << kw;
   }
+  // The list tools are given is the parser's, no word more or less.
+  auto listed = frontend::keywords();
+  std::sort(listed.begin(), listed.end());
+  auto expected = all;
+  std::sort(expected.begin(), expected.end());
+  EXPECT_EQ(listed, expected);
+  EXPECT_FALSE(frontend::is_keyword(""));
+  EXPECT_FALSE(frontend::is_keyword("While"));
 }
 
 TEST(Parser, AbsAndSignAssignmentsAreOperators) {

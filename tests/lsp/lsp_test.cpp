@@ -318,10 +318,12 @@ TEST(LspCompletion, ApiNamesConstantsAndTheProgramsNamesInScope) {
   Session s(kProgram);
   auto in_main = labels(s.at("textDocument/completion", 21, 4));
   for (const char* name : {"OnFwd", "Wait", "SetSensor", "OUT_A", "SENSOR_TOUCH", "SOUND_UP", "Timer", "bumps",
-                           "back_off", "blink", "main", "speed", "while", "repeat"})
+                           "back_off", "blink", "main", "speed", "while", "repeat", "abs", "sign", "goto"})
     EXPECT_TRUE(has(in_main, name)) << name;
   EXPECT_FALSE(has(in_main, "times"));     // blink's parameter is not in scope in main
   EXPECT_FALSE(has(in_main, "__source"));  // compiler internals are not offered
+  EXPECT_FALSE(has(in_main, "__sensor"));
+  EXPECT_EQ(std::count(in_main.begin(), in_main.end(), "while"), 1);
   auto in_blink = labels(s.at("textDocument/completion", 12, 4));
   EXPECT_TRUE(has(in_blink, "times"));
   EXPECT_FALSE(has(in_blink, "speed"));
