@@ -1,6 +1,7 @@
 #include "lsp/index.h"
 
 #include <algorithm>
+#include <cctype>
 #include <filesystem>
 #include <map>
 #include <set>
@@ -372,8 +373,6 @@ std::vector<const Definition*> visible_at(const Index& index, const Place& where
 
 namespace {
 
-bool is_keyword_token(const frontend::Token& t) { return t.kind == frontend::TokenKind::Identifier && !is_plain_name(t.text); }
-
 // Walks back from the last token before the cursor; a ';' or a brace ends
 // the search, as no argument list spans a statement.
 std::optional<CallSite> open_call(const std::vector<frontend::Token>& tokens, std::size_t end) {
@@ -386,7 +385,7 @@ std::optional<CallSite> open_call(const std::vector<frontend::Token>& tokens, st
     } else if (t.is("(") && depth > 0) {
       --depth;
     } else if (t.is("(")) {
-      if (i > 0 && tokens[i - 1].kind == frontend::TokenKind::Identifier && !is_keyword_token(tokens[i - 1]))
+      if (i > 0 && tokens[i - 1].kind == frontend::TokenKind::Identifier && !frontend::is_keyword(tokens[i - 1].text))
         return CallSite{std::string(tokens[i - 1].text), place_of(tokens[i - 1].span.begin), commas};
       commas = 0;  // a parenthesised expression inside an argument: look further out
     } else if (t.is(",") && depth == 0) {
@@ -451,12 +450,14 @@ std::optional<ParameterList> parameter_list(const Definition& def) {
   return std::nullopt;  // unbalanced: a #define cut short
 }
 
-bool is_plain_name(std::string_view name) {
-  if (name.empty() || std::isdigit(static_cast<unsigned char>(name[0]))) return false;
-  for (char c : name)
+bool is_identifier(std::string_view s) {
+  if (s.empty() || std::isdigit(static_cast<unsigned char>(s[0]))) return false;
+  for (char c : s)
     if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_') return false;
-  return !frontend::is_keyword(name);
+  return true;
 }
+
+bool is_plain_name(std::string_view name) { return is_identifier(name) && !frontend::is_keyword(name); }
 
 const Definition* rename_clash(const Index& index, const std::vector<Range>& uses, const std::string& new_name) {
   const std::vector<const Definition*> candidates = named(index, new_name);

@@ -119,8 +119,10 @@ struct ParameterList {
 };
 std::optional<ParameterList> parameter_list(const Definition& def);
 
-// Whether the parser reads `name` as a name (it is an identifier and no
-// keyword).
+// Whether `s` is spelled as an identifier (letters, digits and _, not
+// starting with a digit), and whether the parser reads `name` as a name (an
+// identifier and no keyword).
+bool is_identifier(std::string_view s);
 bool is_plain_name(std::string_view name);
 
 // A definition that renaming the name at `uses` (a definition's references,

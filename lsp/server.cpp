@@ -242,7 +242,6 @@ void reindex(const Server& server, Document& doc) { doc.index = build_index(doc.
 
 // --------------------------------------------------------------- requests --
 
-
 int completion_kind(const Definition& d) {
   switch (d.kind) {
     case DefKind::Task: return 23;  // Event: it runs by itself
@@ -349,13 +348,6 @@ json document_symbols(Request& r) {
     list.push_back({{"name", d->name}, {"detail", d->signature}, {"kind", symbol_kind(*d)},
                     {"range", range_json(index.sm, d->extent)}, {"selectionRange", range_json(index.sm, d->at)}});
   return list;
-}
-
-bool is_identifier(std::string_view s) {
-  if (s.empty() || std::isdigit(static_cast<unsigned char>(s[0]))) return false;
-  for (char c : s)
-    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_') return false;
-  return true;
 }
 
 // NAME of "'NAME' is not declared...", else "". Read by hand, not by
@@ -490,7 +482,7 @@ void check_new_name(const Index& index, const Renamed& what, const std::string& 
     throw Refused("the new name is " + std::to_string(name.size()) + " characters long; at most " +
                   std::to_string(kMaxNewName) + " are accepted");
   if (!is_identifier(name)) throw Refused("'" + name + "' is not a valid name (letters, digits and _, not starting with a digit)");
-  if (!is_plain_name(name)) throw Refused("'" + name + "' is a keyword");
+  if (frontend::is_keyword(name)) throw Refused("'" + name + "' is a keyword");
   if (const Definition* other = rename_clash(index, what.uses, name))
     throw Refused("renaming '" + what.def->name + "' to '" + name + "' would clash with the " +
                   std::string(def_kind_name(other->kind)) + " '" + name + "' " + where_defined(index, *other));
