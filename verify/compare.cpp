@@ -35,10 +35,10 @@ Stream stream_of(const Event& e) {
   }
 }
 
-// What an event shows, as a value: two events show the same exactly when
-// what() writes them alike. Comparing runs compares these, since writing
-// every event out (a program that switches an output on every pass has
-// thousands a second) was most of what `rcxc compare` spent.
+// What an event shows, as a value: runs are compared on these, and what()
+// writes one out only for messages and the side by side (writing every
+// event out, where a program that switches an output on every pass has
+// thousands a second, was most of what `rcxc compare` spent).
 struct Look {
   bool nothing = false;  // before the first event of a stream that has no rest state
   EventKind kind = EventKind::Output;
@@ -70,17 +70,17 @@ Look look_of(const Event& e) {
 }
 
 std::string what(const Event& e) {
-  switch (e.kind) {
+  const Look l = look_of(e);
+  switch (l.kind) {
     case EventKind::Output:
-      if (e.output.mode != OutputMode::On) return fmt::format("output {} {}", "ABC"[e.index % 3], to_string(e.output.mode));
-      return fmt::format("output {} on {} {}", "ABC"[e.index % 3], e.output.dir == Direction::Forward ? "fwd" : "rev",
-                         e.output.power);
-    case EventKind::Sound: return fmt::format("sound {}", e.value);
-    case EventKind::Tone: return fmt::format("tone {} {}", e.value, e.duration);
-    case EventKind::Display: return fmt::format("display {}", e.value);
-    case EventKind::MessageSent: return fmt::format("send {}", e.value);
-    case EventKind::Datalog: return fmt::format("datalog {}", e.value);
-    default: return to_string(e.kind);
+      if (l.mode != OutputMode::On) return fmt::format("output {} {}", "ABC"[l.index], to_string(l.mode));
+      return fmt::format("output {} on {} {}", "ABC"[l.index], l.forward ? "fwd" : "rev", l.value);
+    case EventKind::Sound: return fmt::format("sound {}", l.value);
+    case EventKind::Tone: return fmt::format("tone {} {}", l.value, l.duration);
+    case EventKind::Display: return fmt::format("display {}", l.value);
+    case EventKind::MessageSent: return fmt::format("send {}", l.value);
+    case EventKind::Datalog: return fmt::format("datalog {}", l.value);
+    default: return to_string(l.kind);
   }
 }
 
