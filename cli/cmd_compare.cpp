@@ -138,23 +138,15 @@ std::optional<int> align_inputs(const rcx::Image& ours, const rcx::Image& theirs
     return it->second;
   };
   // nqc's run is the same in every trial up to the earliest time a trial
-  // moves the group being placed to: it runs there once (`theirs_before`,
-  // with the inputs before the group) and each trial goes on from a copy,
-  // with the group and the inputs after it.
-  std::optional<rcx::Machine> theirs_before;
-  std::size_t group_first = 0;
-  auto theirs_until = [&](rcx::Micros until) {
-    if (!theirs_before) return run_image(theirs, shifted, o, until);
-    rcx::Machine b = *theirs_before;
-    for (std::size_t n = group_first; n < shifted.inputs.size(); ++n) b.schedule(shifted.inputs[n]);
+  // moves the group being placed to: it runs there once (`before`, with the
+  // inputs before the group, from run_before_group) and each trial goes on
+  // from a copy, with the group that starts at `first` and the inputs after it.
+  auto theirs_until = [&](std::size_t first, const std::optional<rcx::Machine>& before, rcx::Micros until) {
+    if (!before) return run_image(theirs, shifted, o, until);
+    rcx::Machine b = *before;
+    for (std::size_t n = first; n < shifted.inputs.size(); ++n) b.schedule(shifted.inputs[n]);
     b.run(until);
     return b;
-  };
-  auto agree_until = [&](rcx::Micros until) {
-    const rcx::Machine& a = ours_until(until);
-    rcx::Machine b = theirs_until(until);
-    return rcx::compare_runs({&a, &ours, "rcxc"}, {&b, &theirs, "nqc"}, tolerance, globals, rcx::SideBySide::Skip)
-        .same;
   };
   // The run nqc's code makes before group [first, ...) can move, when it is
   // still running then and every input before the group lies before it.
@@ -172,14 +164,19 @@ std::optional<int> align_inputs(const rcx::Image& ours, const rcx::Image& theirs
   // Moves inputs [first, last) by 0, then 1, -1, 2, -2, ... instruction
   // times until the runs agree up to `until`; false (inputs left moved by the
   // last try) when no such shift exists.
-  auto place_group = [&](std::size_t first, std::size_t last, rcx::Micros until) {
+  auto place_group = [&](std::size_t first, std::size_t last, const std::optional<rcx::Machine>& before,
+                         rcx::Micros until) {
+    const rcx::Machine& a = ours_until(until);
     for (int k = 0; k <= kMaxShiftInstructions; ++k)
       for (int sign : {1, -1}) {
         if (k == 0 && sign < 0) continue;
         rcx::Micros shift = sign * k * o.instruction_us;
         for (std::size_t n = first; n < last; ++n)
           shifted.inputs[n].at_us = std::max<rcx::Micros>(0, original.inputs[n].at_us + shift);
-        if (agree_until(until)) return true;
+        rcx::Machine b = theirs_until(first, before, until);
+        if (rcx::compare_runs({&a, &ours, "rcxc"}, {&b, &theirs, "nqc"}, tolerance, globals, rcx::SideBySide::Skip)
+                .same)
+          return true;
       }
     return false;
   };
@@ -190,8 +187,7 @@ std::optional<int> align_inputs(const rcx::Image& ours, const rcx::Image& theirs
   // run goes past that end (--for).
   for (std::size_t i = 0; i < original.inputs.size() && original.inputs[i].at_us < end;) {
     std::erase_if(ours_to, [&](const auto& kept) { return kept.first < original.inputs[i].at_us; });
-    group_first = i;
-    theirs_before = run_before_group(i);
+    const std::optional<rcx::Machine> before = run_before_group(i);
     std::size_t j = i;  // [i, j): inputs at the same time move together
     while (j < original.inputs.size() && original.inputs[j].at_us == original.inputs[i].at_us) ++j;
     std::size_t after_next = j;  // end of the next group
@@ -204,7 +200,7 @@ std::optional<int> align_inputs(const rcx::Image& ours, const rcx::Image& theirs
     // before a sensor that program never reads changes), and a placement
     // that agrees only up to that input can leave the runs apart for good.
     // So a placement that agrees past the next group too is preferred.
-    bool placed = place_group(i, j, wide_horizon) || place_group(i, j, horizon);
+    bool placed = place_group(i, j, before, wide_horizon) || place_group(i, j, before, horizon);
     if (!placed) return std::nullopt;
     moved += shifted.inputs[i].at_us != original.inputs[i].at_us;
     i = j;
