@@ -76,6 +76,7 @@ const char* to_string(StopKind kind) {
   }
   return "?";
 }
+
 std::string event_limit_reason(const Machine& machine) {
   return fmt::format("it recorded {} events, the most a run keeps", machine.state().events.size());
 }
