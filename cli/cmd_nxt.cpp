@@ -594,17 +594,15 @@ void register_nxt(CLI::App& app, int& exit_code) {
       if (loop) v.emplace_back(std::int64_t{*looping ? 1 : 0});
       v.emplace_back(*name);
       return Action([v, command, name](Client& c) -> std::variant<Output, Failure> {
-        auto r = nxt::call(c, *nxt::find_command(command), v);
-        if (auto* e = std::get_if<CallError>(&r)) return failure(*e);
-        const auto& d = std::get<nxt::Decoded>(r);
-        if (d.status == nxt::status::kOk) return Output{"", json::object()};
+        auto r = nxt::call_ok(c, command, v);
+        auto* e = std::get_if<CallError>(&r);
+        if (!e) return Output{"", json::object()};
+        Failure f = failure(*e);
         // StartProgram and PlaySoundFile answer 0xC0 for a missing file (the
         // seed's 0xBD is never sent): say what it means here.
-        std::string hint = d.status == nxt::status::kOutOfRange && command != "Delete"
-                               ? fmt::format(" (no file \"{}\" on the brick)", *name)
-                               : "";
-        return Failure{kExitFailure, fmt::format("{} refused: 0x{:02x} {}{}", command, d.status,
-                                                 nxt::status_message(d.status), hint)};
+        if (e->kind == CallError::Kind::Refused && e->status == nxt::status::kOutOfRange && command != "Delete")
+          f.message += fmt::format(" (no file \"{}\" on the brick)", *name);
+        return f;
       });
     });
   };
