@@ -50,6 +50,13 @@ Outcome fail_bare(std::uint8_t code) { return {code, {}, true}; }
 
 std::int64_t num(const Decoded& d, std::string_view f) { return d.number(f).value_or(0); }
 std::string txt(const Decoded& d, std::string_view f) { return d.text(f).value_or(""); }
+
+// A message into a mailbox queue: when it holds kQueueDepth, the oldest is
+// dropped (whether MessageWrite, a MessageRead reply or a scenario put it there).
+void enqueue(std::deque<Bytes>& q, Bytes message) {
+  if (q.size() == kQueueDepth) q.pop_front();
+  q.push_back(std::move(message));
+}
 Bytes raw_bytes(const Decoded& d, std::string_view f) { return d.bytes(f).value_or(Bytes{}); }
 
 std::int64_t whole(double degrees) { return static_cast<std::int64_t>(std::trunc(degrees)); }
@@ -268,9 +275,7 @@ Outcome direct(VirtualNxt& n, const Decoded& d) {
       std::int64_t box = num(d, "inbox");
       if (box >= static_cast<std::int64_t>(n.queues.size())) return fail(status::kIllegalQueue);
       if (!n.program) return fail(status::kNoProgram);
-      auto& q = n.queues[static_cast<std::size_t>(box)];
-      if (q.size() == kQueueDepth) q.pop_front();  // the oldest is dropped
-      q.push_back(std::move(data));
+      enqueue(n.queues[static_cast<std::size_t>(box)], std::move(data));
       return ok();
     }
     case 0x0A: {  // ResetMotorPosition
@@ -623,9 +628,7 @@ void take_message_read_reply(VirtualNxt& n, std::span<const std::uint8_t> t) {
   // Model: a reply shorter than its size byte says is dropped.
   if (size == 0 || size > kMaxMessage || t.size() < 5 + size || t[4 + size] != 0) return;
   if (t[3] >= n.queues.size() || !n.program) return;
-  auto& q = n.queues[t[3]];
-  if (q.size() == kQueueDepth) q.pop_front();
-  q.emplace_back(t.begin() + 5, t.begin() + 5 + static_cast<std::ptrdiff_t>(size));
+  enqueue(n.queues[t[3]], Bytes(t.begin() + 5, t.begin() + 5 + static_cast<std::ptrdiff_t>(size)));
 }
 
 }  // namespace
@@ -680,9 +683,7 @@ void advance_to(VirtualNxt& n, Micros now_us) {
         ++n.counters.messages_dropped;
         continue;
       }
-      auto& q = n.queues[static_cast<std::size_t>(in.queue)];
-      if (q.size() == kQueueDepth) q.pop_front();
-      q.push_back(message_int(*in.message));
+      enqueue(n.queues[static_cast<std::size_t>(in.queue)], message_int(*in.message));
     }
   }
   if (now_us <= n.now_us) return;
