@@ -220,9 +220,15 @@ int run(const CompareOptions& o) {
                  "input)\n";
     return kExitUsage;
   }
-  if (is_nqc_source(o.file) == false) {
-    std::cerr << "rcxc compare: " << o.file << " is an .rcx image; compare needs the NQC source\n";
-    return kExitFailure;
+  // A file that is not source (missing, a folder, an image, binary bytes)
+  // is refused in rcxc compile's words before nqc is asked: nqc's refusal
+  // would read as "nothing to compare" (exit 5) for what is a bad input.
+  if (is_nqc_source(o.file) != true) {
+    CompileResult refused = compile_file(o.file, compile_request(o.compiler));
+    if (!refused.output) {
+      std::cerr << render_all(refused.diagnostics, refused.sources, {});
+      return kExitFailure;
+    }
   }
   std::vector<Scenario> scenarios;
   for (const auto& path : o.scenarios) {

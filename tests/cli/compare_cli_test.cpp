@@ -6,6 +6,8 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <string>
+#include <utility>
 
 #include "rcx/image.h"
 #include "tests/support/process.h"
@@ -93,6 +95,26 @@ TEST(CompareCli, TheStandardInputIsRefusedSinceNqcReadsTheFileToo) {
   auto r = run_rcxc({"compare", "-"}, kSource);
   EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
   EXPECT_NE(r.err.find("compare needs the program in a file"), std::string::npos) << r.err;
+}
+
+// A missing file, a folder or binary bytes went to nqc first, whose refusal
+// read "nqc does not compile this program; nothing to compare" (exit 5), or
+// as a binary file "is an .rcx image". They are bad inputs, said as rcxc
+// compile says them, before any nqc runs (the fake one would accept all).
+TEST(CompareCli, AFileThatIsNoSourceIsABadInputNotNothingToCompare) {
+  TempDir d;
+  std::string nqc = fake_nqc(d, image_playing(d, 3));
+  const std::pair<std::string, std::string> cases[] = {
+      {d.path + "/missing.nqc", "cannot open"},
+      {d.path, "is a directory, not a source file"},
+      {d.write("bin.nqc", std::string("\x01\x00\xff\x00", 4)), "is not NQC source: it holds binary data"},
+  };
+  for (const auto& [file, message] : cases) {
+    auto r = run_rcxc({"compare", file, "--nqc-path", nqc});
+    EXPECT_EQ(r.exit_code, 1) << file << ": " << r.out << r.err;
+    EXPECT_NE(r.err.find(message), std::string::npos) << file << ": " << r.err;
+    EXPECT_EQ(r.out.find("nothing to compare"), std::string::npos) << file << ": " << r.out;
+  }
 }
 
 TEST(CompareCli, ProgramRcxcRejectsButNqcAcceptsFails) {
