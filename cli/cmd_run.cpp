@@ -207,8 +207,13 @@ int run(const RunOptions& o) {
   for (const auto& in : inputs) machine.schedule(in);
   machine.start_program();
   int tether_code = kExitOk;
-  if (o.nxt_port) tether_code = run_on_nxt(machine, image, *o.nxt_port, run_ms);
-  else machine.run(run_ms * rcx::kMicrosPerMs);
+  if (o.nxt_port) {
+    tether_code = run_on_nxt(machine, image, *o.nxt_port, run_ms);
+    // Without a port nothing ran: a timeline of time 0 would read as a run.
+    if (tether_code == kExitNoPort || tether_code == kExitUsage) return tether_code;
+  } else {
+    machine.run(run_ms * rcx::kMicrosPerMs);
+  }
 
   rcx::EventNames names = event_names();
   if (o.report == "json")
