@@ -44,12 +44,16 @@ void add_compiler_options(CLI::App* cmd, CompilerArgs& args) {
   cmd->add_option("-O", args.optimize,
                   "Optimisation: -O0 none; -O1 clean-ups only, every motor command kept; -O2 (default) the "
                   "fastest code, shrunk only where no instruction more runs; -Os the smallest code, trading "
-                  "time for bytes (outlined code runs a call and a return more). Unlike nqc's -O<file>, -o "
-                  "names the output")
+                  "time for bytes (outlined code runs a call and a return more). Not nqc's -O<file>: rcxc "
+                  "compile's -o names the output")
       ->check(CLI::Validator(
           [](std::string& level) {
             if (level == "0" || level == "1" || level == "2" || level == "s") return std::string();
-            // nqc's -O<file>: say what to write instead.
+            // gcc's -O3 or -Ofast: a level that does not exist. A name with a
+            // dot or a slash is nqc's -O<file>: say what to write instead.
+            if (level.find_first_of("./") == std::string::npos)
+              return "-O" + level + ": there is no such optimisation level: -O0, -O1, -O2 (the default, the fastest " +
+                     "code) or -Os (the smallest); the output file is -o FILE";
             return "-O" + level + ": -O is the optimisation level here (-O0, -O1, -O2, -Os); the output file is -o " +
                    level + " (nqc's -O<file>; 'rcxc nqc' takes nqc's options)";
           },
