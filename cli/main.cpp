@@ -8,6 +8,7 @@
 #include "cli/commands.h"
 #include "cli/large_stack.h"
 #include "cli/nqc_mode.h"
+#include "cli/usage_hint.h"
 #include "cli/version.h"
 
 namespace {
@@ -65,6 +66,7 @@ int run_main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     // Bad command line: say what was wrong, then how to call us, on stderr.
     std::cerr << "rcxc: " << e.what() << "\n";
+    if (auto hint = rcxc::cli::misspelling_hint(app, {argv + 1, argv + argc})) std::cerr << "rcxc: " << *hint << "\n";
     if (auto hint = rcxc::cli::nqc_habit_hint({argv + 1, argv + argc})) std::cerr << "rcxc: " << *hint << "\n";
     std::cerr << "\n";
     const CLI::App* where = &app;
