@@ -153,3 +153,21 @@ TEST(OutputFileCli, AStandardOutputThatCannotBeWrittenIsAFailure) {
   EXPECT_EQ(rcxc::test::run_process({"/bin/sh", "-c", "'" RCXC_BINARY "' disasm '" + src + "' > /dev/null"}).exit_code,
             0);
 }
+
+// -E printed to the standard output whatever -o said, and took --listing
+// without a word: `rcxc compile -E p.nqc -o p.i` left no p.i. It writes to
+// -o as gcc -E does, refuses the source file there, and refuses a listing.
+TEST(OutputFileCli, PreprocessedTextGoesToTheOutputFile) {
+  TempDir d;
+  std::string src = d.write("p.nqc", "#define POWER 5\ntask main() { SetPower(OUT_A, POWER); }\n");
+  auto r = run_rcxc({"compile", "-E", "-n", src, "-o", d.path + "/p.i"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.out, "");
+  EXPECT_NE(rcxc::test::read_text_file(d.path + "/p.i").find("SetPower(OUT_A, 5);"), std::string::npos);
+  auto over_source = run_rcxc({"compile", "-E", src, "-o", src});
+  EXPECT_EQ(over_source.exit_code, 2) << over_source.err;
+  EXPECT_NE(rcxc::test::read_text_file(src).find("#define POWER 5"), std::string::npos);
+  auto listing = run_rcxc({"compile", "-E", src, "--listing=" + d.path + "/p.lst"});
+  EXPECT_EQ(listing.exit_code, 2) << listing.err;
+  EXPECT_NE(listing.err.find("leave out --listing"), std::string::npos) << listing.err;
+}
