@@ -262,8 +262,11 @@ void register_test(CLI::App& app, int& exit_code) {
   add_compiler_options(cmd, o->compiler);
   auto use_nqc = std::make_shared<bool>(false);
   auto nqc_path = std::make_shared<std::string>("nqc");
-  cmd->add_flag("--nqc", *use_nqc, "compile with nqc instead of rcxc, for comparison");
-  cmd->add_option("--nqc-path", *nqc_path, "the nqc to use with --nqc (path or name; default: nqc on PATH)")->check(not_empty());
+  auto* nqc_flag = cmd->add_flag("--nqc", *use_nqc, "compile with nqc instead of rcxc, for comparison");
+  // Alone it would be taken and ignored: the tests would run on rcxc's code.
+  cmd->add_option("--nqc-path", *nqc_path, "the nqc to use with --nqc (path or name; default: nqc on PATH)")
+      ->check(not_empty())
+      ->needs(nqc_flag);
   cmd->add_flag("-v,--verbose", o->verbose, "say how every run ended");
   cmd->add_option("--junit", o->junit, "also write the results to FILE as a JUnit XML report (for CI and grading)")
       ->check(not_empty());

@@ -218,3 +218,14 @@ TEST(TestCommand, JunitWritesTheResultsAsAReport) {
   EXPECT_EQ(nowhere.exit_code, 1);
   EXPECT_NE(nowhere.err.find("cannot write the report"), std::string::npos) << nowhere.err;
 }
+
+// --nqc-path without --nqc was taken and ignored: the tests ran on rcxc's
+// code and passed, whatever nqc the user meant to try.
+TEST(TestCommand, AnNqcPathWithoutNqcIsAUsageError) {
+  TempDir d;
+  std::string test = d.write("t.nqc", "// @expect stop ended\ntask main() {}\n");
+  auto r = run_rcxc({"test", "--nqc-path", "/no/such/nqc", test});
+  EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
+  EXPECT_NE(r.err.find("--nqc-path requires --nqc"), std::string::npos) << r.err;
+  EXPECT_EQ(r.out.find("PASS"), std::string::npos) << r.out;
+}
