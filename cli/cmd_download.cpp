@@ -61,6 +61,7 @@ int run_download(const DownloadArgs& a) {
     std::cerr << "rcxc download: " << *e << "\n";
     return kExitFailure;
   }
+  if (auto note = unused_compiler_options(a.file, a.compiler)) std::cerr << "rcxc download: " << *note << "\n";
   auto tower = open_tower("download", a.port);
   if (!tower) return kExitNoPort;
   auto& port = *tower;

@@ -180,6 +180,7 @@ int run(const RunOptions& o) {
     std::cerr << "rcxc run: " << *e << "\n";
     return kExitFailure;
   }
+  if (auto note = unused_compiler_options(o.file, compiler)) std::cerr << "rcxc run: " << *note << "\n";
   const rcx::Image& image = std::get<rcx::Image>(loaded);
   std::vector<rcx::TimedInput> inputs;
   if (!o.scenario.empty()) {

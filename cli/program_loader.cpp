@@ -206,6 +206,13 @@ std::variant<rcx::Image, std::string> load_standard_input(const CompileRequest& 
 
 }  // namespace
 
+std::optional<std::string> unused_compiler_options(const std::string& path, const CompilerArgs& args) {
+  bool given = !args.include_dirs.empty() || !args.defines.empty() || !args.undefines.empty() || args.no_stdlib ||
+               args.optimize != CompilerArgs{}.optimize;
+  if (!given || path == frontend::kStandardInput || is_nqc_source(path) != false) return std::nullopt;
+  return "note: " + path + " is an .rcx image: -I, -D, -U, -n and -O apply to NQC source and were not used";
+}
+
 std::variant<rcx::Image, std::string> load_program(const std::string& path, const CompileRequest& request) {
   // A file that cannot be read (missing, a folder) is the image reader's to
   // explain: it names the file and the reason.

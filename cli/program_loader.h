@@ -82,6 +82,11 @@ CompiledForTest compile_nqc_file(const std::string& path, const CompileRequest& 
 // anything else is source. nullopt when the file cannot be read.
 std::optional<bool> is_nqc_source(const std::string& path);
 
+// For `run`, `disasm` and `download` given an image with -I, -D, -U, -n or
+// -O: a note that they were not used (there is nothing to compile), or
+// nullopt. Without it they would be taken and ignored without a word.
+std::optional<std::string> unused_compiler_options(const std::string& path, const CompilerArgs& args);
+
 // FILE as a program image: source is compiled in memory (diagnostics go to
 // stderr), an image is read. The error names the file.
 std::variant<rcx::Image, std::string> load_program(const std::string& path, const CompileRequest& request);
