@@ -84,16 +84,16 @@ int write_outputs(const CompileArgs& a, const backend::Output& out, const Source
       std::cerr << "rcxc compile: cannot write the image to the standard output\n";
       return kExitFailure;
     }
-  } else if (!write_file_atomically(path, std::string(image.begin(), image.end()))) {
-    std::cerr << "rcxc compile: cannot write " << path << "\n";
+  } else if (auto unwritten = write_file_atomically(path, std::string(image.begin(), image.end()))) {
+    std::cerr << "rcxc compile: cannot write " << path << ": " << *unwritten << "\n";
     return kExitFailure;
   }
   if (a.listing.empty()) return kExitOk;
   std::string text = backend::listing(out, &sm);
   if (a.listing == "-") {
     std::cout << text;
-  } else if (!write_file_atomically(a.listing, text)) {
-    std::cerr << "rcxc compile: cannot write " << a.listing << "\n";
+  } else if (auto unwritten = write_file_atomically(a.listing, text)) {
+    std::cerr << "rcxc compile: cannot write " << a.listing << ": " << *unwritten << "\n";
     return kExitFailure;
   }
   return kExitOk;
@@ -106,8 +106,8 @@ int write_preprocessed(const CompileArgs& a, const std::string& text, const Sour
     return kExitOk;
   }
   if (overwrites_source(*a.output, sm)) return kExitUsage;
-  if (!write_file_atomically(*a.output, text)) {
-    std::cerr << "rcxc compile: cannot write " << *a.output << "\n";
+  if (auto unwritten = write_file_atomically(*a.output, text)) {
+    std::cerr << "rcxc compile: cannot write " << *a.output << ": " << *unwritten << "\n";
     return kExitFailure;
   }
   return kExitOk;

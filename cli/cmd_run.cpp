@@ -224,8 +224,8 @@ int run(const RunOptions& o) {
   if (!o.trace.empty()) {
     std::string program = std::filesystem::path(o.file).filename().string();
     std::string text = trace_text(o.trace, machine, image, names, program);
-    if (!write_file_atomically(o.trace, text)) {
-      std::cerr << "rcxc run: cannot write trace file " << o.trace << "\n";
+    if (auto unwritten = write_file_atomically(o.trace, text)) {
+      std::cerr << "rcxc run: cannot write trace file " << o.trace << ": " << *unwritten << "\n";
       return kExitFailure;
     }
   }

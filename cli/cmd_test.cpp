@@ -246,8 +246,9 @@ int run(const TestOptions& o) {
     if (!o.junit.empty()) report.push_back({file, r.failures, r.seconds, {}});
   });
   std::cout << fmt::format("{} passed, {} failed\n", passed, failed);
-  if (!o.junit.empty() && !write_file_atomically(o.junit, rcx::semtest::junit_xml(report))) {
-    std::cerr << "rcxc test: cannot write the report " << o.junit << "\n";
+  auto unwritten = o.junit.empty() ? std::nullopt : write_file_atomically(o.junit, rcx::semtest::junit_xml(report));
+  if (unwritten) {
+    std::cerr << "rcxc test: cannot write the report " << o.junit << ": " << *unwritten << "\n";
     return kExitFailure;
   }
   return (failed == 0 && problems.empty() && !files.empty()) ? kExitOk : kExitFailure;

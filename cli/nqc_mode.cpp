@@ -281,8 +281,9 @@ class Session {
       std::cerr << text;
     } else if (o_.errors->file.empty()) {
       std::cout << text;
-    } else if (!write_file_atomically(o_.errors->file, text)) {
-      std::cerr << text << "rcxc (as nqc): cannot write the error file " << o_.errors->file << "\n";
+    } else if (auto unwritten = write_file_atomically(o_.errors->file, text)) {
+      std::cerr << text << "rcxc (as nqc): cannot write the error file " << o_.errors->file << ": " << *unwritten
+                << "\n";
       return false;
     }
     return true;
@@ -337,8 +338,8 @@ class Session {
     }
     if (image_file) {
       auto bytes = rcx::write_image(out.image);
-      if (!write_file_atomically(*image_file, std::string(bytes.begin(), bytes.end()))) {
-        std::cerr << "rcxc (as nqc): cannot write " << *image_file << "\n";
+      if (auto unwritten = write_file_atomically(*image_file, std::string(bytes.begin(), bytes.end()))) {
+        std::cerr << "rcxc (as nqc): cannot write " << *image_file << ": " << *unwritten << "\n";
         return kNqcExitCompile;
       }
     }
@@ -347,8 +348,8 @@ class Session {
                                               o_.lasm_listing ? backend::ListingStyle::Lasm : backend::ListingStyle::Nqc);
       if (o_.listing->file.empty()) {
         std::cout << text;
-      } else if (!write_file_atomically(o_.listing->file, text)) {
-        std::cerr << "rcxc (as nqc): cannot write " << o_.listing->file << "\n";
+      } else if (auto unwritten = write_file_atomically(o_.listing->file, text)) {
+        std::cerr << "rcxc (as nqc): cannot write " << o_.listing->file << ": " << *unwritten << "\n";
         return kNqcExitCompile;
       }
     }

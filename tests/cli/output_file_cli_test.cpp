@@ -11,6 +11,9 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "tests/support/process.h"
 
@@ -66,6 +69,28 @@ TEST(OutputFileCli, ADirectoryIsNotWritable) {
   auto r = run_rcxc({"compile", d.write("p.nqc", kProgram), "-o", d.path + "/out"});
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("cannot write " + d.path + "/out"), std::string::npos) << r.err;
+}
+
+// "cannot write X" said no more: a missing folder, a folder named as the
+// file and a full disk read alike. The reason now follows, for every output.
+TEST(OutputFileCli, AFailedWriteSaysWhy) {
+  TempDir d;
+  std::string src = d.write("p.nqc", kProgram);
+  std::filesystem::create_directory(d.path + "/out");
+  const std::pair<std::vector<std::string>, std::string> cases[] = {
+      {{"compile", src, "-o", d.path + "/out"}, d.path + "/out: Is a directory"},
+      {{"compile", src, "-o", d.path + "/no/p.rcx"}, d.path + "/no/p.rcx: No such file or directory"},
+      {{"compile", src, "--listing=" + d.path + "/no/p.lst"}, "p.lst: No such file or directory"},
+      {{"compile", "-E", src, "-o", d.path + "/out"}, "/out: Is a directory"},
+      {{"run", src, "--trace", d.path + "/no/t.vcd"}, "t.vcd: No such file or directory"},
+      {{"nqc", "-Trcx", "-O" + d.path + "/out", src}, "/out: Is a directory"},
+  };
+  for (const auto& [args, reason] : cases) {
+    auto r = run_rcxc(args);
+    EXPECT_NE(r.exit_code, 0) << args[0];
+    EXPECT_NE(r.err.find("cannot write"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(reason), std::string::npos) << r.err;
+  }
 }
 
 TEST(OutputFileCli, NoPredictableTemporaryALinkCouldRedirect) {
