@@ -89,6 +89,9 @@ std::vector<std::string> collect(const std::vector<std::string>& paths, std::vec
       files.insert(files.end(), found.begin(), found.end());
     } else if (fs::is_regular_file(p, ec)) {
       files.push_back(p);
+    } else if (p == frontend::kStandardInput) {
+      // A test names its @scenario and @options folders relative to itself.
+      problems.push_back("'-': rcxc test reads test files, not the standard input (save the program to a file)");
     } else {
       problems.push_back("no such file or folder: " + p);
     }

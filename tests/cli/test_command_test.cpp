@@ -229,3 +229,11 @@ TEST(TestCommand, AnNqcPathWithoutNqcIsAUsageError) {
   EXPECT_NE(r.err.find("--nqc-path requires --nqc"), std::string::npos) << r.err;
   EXPECT_EQ(r.out.find("PASS"), std::string::npos) << r.out;
 }
+
+// README said '-' reads the program from the standard input for "any command
+// but compare"; `rcxc test -` answered "no such file or folder: -".
+TEST(TestCommand, TheStandardInputIsRefusedWithItsReason) {
+  auto r = run_rcxc({"test", "-"}, "// @expect stop ended\ntask main() {}\n");
+  EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+  EXPECT_NE(r.err.find("rcxc test reads test files, not the standard input"), std::string::npos) << r.err;
+}
