@@ -246,11 +246,16 @@ int run(const CompareOptions& o) {
     std::cerr << "rcxc compare: " << theirs.failure << "\n";
     return kExitNotComparable;
   }
+  CompileResult ours = compile_file(o.file, compile_request(o.compiler));
   if (!theirs.image) {
-    std::cout << o.file << ": nqc does not compile this program; nothing to compare\n";
+    // Why neither compiles, or why nqc does not: the refusal alone says nothing.
+    if (!ours.output) std::cerr << render_all(ours.diagnostics, ours.sources, {});
+    for (const auto& m : theirs.messages)
+      std::cerr << "nqc: " << (m.line > 0 ? fmt::format("line {}: ", m.line) : "") << m.message << "\n";
+    std::cout << o.file << (ours.output ? ": nqc does not compile this program" : ": neither nqc nor rcxc compiles this program")
+              << "; nothing to compare\n";
     return kExitNotComparable;
   }
-  CompileResult ours = compile_file(o.file, compile_request(o.compiler));
   if (!ours.output) {
     std::cerr << render_all(ours.diagnostics, ours.sources, {});
     std::cout << o.file << ": nqc compiles this program but rcxc does not\n";

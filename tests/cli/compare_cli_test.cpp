@@ -117,6 +117,25 @@ TEST(CompareCli, AFileThatIsNoSourceIsABadInputNotNothingToCompare) {
   }
 }
 
+// A program nqc refuses got one line, "nqc does not compile this program",
+// and nothing about why, even when rcxc refused it too. Both compilers'
+// messages are shown now, and the line says which refused.
+TEST(CompareCli, AProgramNqcRefusesShowsWhy) {
+  TempDir d;
+  std::string refusing = d.write("refusing-nqc", "#!/bin/sh\necho '# Error: no such thing'\n"
+                                                 "echo 'File \"p.nqc\" ; line 1'\nexit 1\n");
+  chmod(refusing.c_str(), 0755);
+  auto both = run_rcxc({"compare", d.write("p.nqc", "task main() { nope(); }\n"), "--nqc-path", refusing});
+  EXPECT_EQ(both.exit_code, 5) << both.out << both.err;
+  EXPECT_NE(both.out.find("neither nqc nor rcxc compiles this program"), std::string::npos) << both.out;
+  EXPECT_NE(both.err.find("error: 'nope' is not declared"), std::string::npos) << both.err;
+  EXPECT_NE(both.err.find("nqc: line 1: no such thing"), std::string::npos) << both.err;
+  auto only_nqc = run_rcxc({"compare", d.write("q.nqc", kSource), "--nqc-path", refusing});
+  EXPECT_EQ(only_nqc.exit_code, 5) << only_nqc.out << only_nqc.err;
+  EXPECT_NE(only_nqc.out.find("nqc does not compile this program"), std::string::npos) << only_nqc.out;
+  EXPECT_NE(only_nqc.err.find("nqc: line 1: no such thing"), std::string::npos) << only_nqc.err;
+}
+
 TEST(CompareCli, ProgramRcxcRejectsButNqcAcceptsFails) {
   TempDir d;
   auto r = run_rcxc({"compare", d.write("p.nqc", "task main() { nope(); }\n"), "--nqc-path",
