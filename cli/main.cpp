@@ -71,7 +71,8 @@ int run_main(int argc, char** argv) {
     std::cerr << "\n";
     const CLI::App* where = &app;
     for (const CLI::App* sub : app.get_subcommands()) where = sub;
-    std::cerr << where->help();
+    // "Usage: rcxc run ...", as `rcxc help run` shows it, not "Usage: run".
+    std::cerr << where->help(where == &app ? "" : app.get_name());
     return rcxc::cli::kExitUsage;
   }
   if (app.get_subcommands().empty()) {

@@ -33,7 +33,11 @@ TEST(Cli, UnknownOptionIsUsageErrorOnStderr) {
 TEST(Cli, UnknownSubcommandOptionShowsThatSubcommandsUsage) {
   auto r = run_rcxc({"run", "--bogus", "x.rcx"});
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_NE(r.err.find("run"), std::string::npos) << r.err;
+  // As `rcxc help run` shows it (it was "Usage: run [OPTIONS] FILE").
+  EXPECT_NE(r.err.find("Usage: rcxc run [OPTIONS] FILE"), std::string::npos) << r.err;
+  auto nested = run_rcxc({"nxt", "tone"});
+  EXPECT_EQ(nested.exit_code, 2);
+  EXPECT_NE(nested.err.find("Usage: rcxc nxt tone [OPTIONS] HZ MS"), std::string::npos) << nested.err;
 }
 
 // A misspelt command, action or option got only "The following arguments
