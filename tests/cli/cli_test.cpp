@@ -95,3 +95,13 @@ TEST(Cli, AnEmptyValueOrANegativeSeedIsAUsageError) {
   }
   EXPECT_EQ(run_rcxc({"run", p, "--seed", "0", "--for", "10"}).exit_code, 0);
 }
+
+// `rcxc lsp --stdlib-dir FILE` started, and every go to definition into the
+// standard library then answered null with nothing said anywhere.
+TEST(Cli, AnLspStdlibDirThatIsAFileIsAUsageError) {
+  rcxc::test::TempDir d;
+  std::string file = d.write("not-a-folder", "x");
+  auto r = run_rcxc({"lsp", "--stdlib-dir", file});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find(file + " is a file, not a folder"), std::string::npos) << r.err;
+}
