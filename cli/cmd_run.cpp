@@ -250,7 +250,9 @@ void register_run(CLI::App& app, int& exit_code) {
   cmd->add_option("FILE", o->file, ".rcx image or NQC source (compiled in memory)")->required();
   add_compiler_options(cmd, o->compiler);
   cmd->add_option("--scenario", o->scenario, "TOML file of timed inputs ([[input]] tables)")->check(not_empty());
-  cmd->add_option("--for", o->for_ms, "virtual time limit in ms (default 60000)")->check(CLI::Range(std::int64_t{1}, kMaxRunMs));
+  cmd->add_option("--for", o->for_ms, "virtual time limit in ms (default 60000, or the source's // @for)")
+      ->check(whole_number())
+      ->check(CLI::Range(std::int64_t{1}, kMaxRunMs));
   cmd->add_option("--seed", o->seed, "seed of the random source (default 1)")->check(whole_number());
   cmd->add_option("--report", o->report, "print a report instead of the timeline: json")->check(CLI::IsMember({"json"}));
   cmd->add_option("--trace", o->trace,

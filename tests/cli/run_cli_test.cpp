@@ -256,3 +256,16 @@ TEST(RunCli, AnNxtPortThatCannotBeOpenedPrintsNoTimeline) {
   EXPECT_NE(r.err.find("no-such-nxt does not exist"), std::string::npos) << r.err;
   EXPECT_EQ(r.out, "");
 }
+
+// `--for abc` (or 1e3, 1.5) was "Value abc not in range 1 to ...", as if
+// abc were a number too large; it is no number at all.
+TEST(RunCli, AForThatIsNoWholeNumberSaysSo) {
+  TempDir d;
+  std::string image = d.write("p.rcx", program_bytes());
+  for (const std::string value : {"abc", "1e3", "1.5"})
+    for (const std::string command : {"run", "compare"}) {
+      auto r = run_rcxc({command, image, "--for", value});
+      EXPECT_EQ(r.exit_code, 2) << command << " " << value << ": " << r.err;
+      EXPECT_NE(r.err.find("--for: '" + value + "' is not a whole number"), std::string::npos) << r.err;
+    }
+}
