@@ -52,6 +52,13 @@ struct UsageStep {
 };
 using Step = std::variant<SourceStep, ActionStep, UsageStep>;
 
+// nqc reads a FILE named *.rcx (any case) as an image, as if -b were given.
+bool names_an_image(const std::string& file) {
+  std::string ext = std::filesystem::path(file).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  return ext == ".rcx";
+}
+
 struct NqcOptions {
   frontend::Options frontend;
   bool binary = false;    // -b: the input is an .rcx image
@@ -290,7 +297,7 @@ class Session {
   }
 
   int perform(const SourceStep& s) {
-    if (o_.binary) return perform_binary(s.name);
+    if (o_.binary || names_an_image(s.name)) return perform_binary(s.name);
     // Read with the cap every source has: /dev/zero or an endless pipe
     // ends with a message, not with the machine's memory.
     auto [name, read] = frontend::read_source(s.name);
@@ -318,7 +325,23 @@ class Session {
       report_errors(fmt::format("# Error: '{}' is not a valid RCX image: {}\n", file, e->message));
       return kNqcExitCompile;
     }
-    if (o_.download) return download(std::get<rcx::Image>(image));
+    const auto& read = std::get<rcx::Image>(image);
+    // nqc lists an image it was given as it lists one it compiled.
+    if (o_.listing) {
+      auto style = o_.lasm_listing ? backend::ListingStyle::Lasm : backend::ListingStyle::Nqc;
+      if (int code = write_listing(backend::nqc_listing(read, {}, style)); code != kNqcExitOk) return code;
+    }
+    if (o_.download) return download(read);
+    return kNqcExitOk;
+  }
+
+  int write_listing(const std::string& text) {
+    if (o_.listing->file.empty()) {
+      std::cout << text;
+    } else if (auto unwritten = write_file_atomically(o_.listing->file, text)) {
+      std::cerr << "rcxc (as nqc): cannot write " << o_.listing->file << ": " << *unwritten << "\n";
+      return kNqcExitCompile;
+    }
     return kNqcExitOk;
   }
 
@@ -343,16 +366,9 @@ class Session {
         return kNqcExitCompile;
       }
     }
-    if (o_.listing) {
-      std::string text = backend::nqc_listing(out, o_.source_in_listing ? &sm : nullptr,
-                                              o_.lasm_listing ? backend::ListingStyle::Lasm : backend::ListingStyle::Nqc);
-      if (o_.listing->file.empty()) {
-        std::cout << text;
-      } else if (auto unwritten = write_file_atomically(o_.listing->file, text)) {
-        std::cerr << "rcxc (as nqc): cannot write " << o_.listing->file << ": " << *unwritten << "\n";
-        return kNqcExitCompile;
-      }
-    }
+    if (o_.listing)
+      return write_listing(backend::nqc_listing(out, o_.source_in_listing ? &sm : nullptr,
+                                                o_.lasm_listing ? backend::ListingStyle::Lasm : backend::ListingStyle::Nqc));
     return kNqcExitOk;
   }
 

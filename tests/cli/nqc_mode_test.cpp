@@ -12,6 +12,7 @@
 #include <set>
 #include <sstream>
 
+#include "rcx/image.h"
 #include "tests/support/process.h"
 
 namespace {
@@ -21,7 +22,18 @@ using rcxc::test::run_rcxc;
 using rcxc::test::TempDir;
 namespace fs = std::filesystem;
 
+// An image of task main (pwr ABC, 7), for nqc's reading of FILE.rcx.
+std::string image_bytes() {
+  rcx::Image img;
+  img.fragments.push_back({rcx::FragmentType::Task, 0, {0x13, 0x07, 0x02, 0x07}});
+  img.symbols.push_back({rcx::SymbolType::Task, 0, "main"});
+  auto bytes = rcx::write_image(img);
+  return std::string(bytes.begin(), bytes.end());
+}
+
 const std::map<std::string, std::string> kFiles = {
+    {"img.rcx", image_bytes()},
+    {"text.RCX", "task main()\n{\n}\n"},  // named as an image, holding source
     {"ok.nqc", "task main()\n{\n  OnFwd(OUT_A);\n  Wait(100);\n}\n"},
     {"undeclared.nqc", "task main()\n{\n  OnFwd(OUT_A);\n  x = 1;\n}\n"},
     // Lines ended by a lone CR, as classic Mac OS editors wrote them.
@@ -137,6 +149,11 @@ TEST(NqcMode, CompilingBehavesAsNqc) {
            {{"plain.nqc"}},
            {{"defs.nqc"}},
            {{"-b", "ok.nqc"}},
+           // nqc reads FILE.rcx (any case) as an image, -b or not, and lists it.
+           {{"img.rcx"}},
+           {{"-L", "img.rcx"}},
+           {{"-b", "-Limg.lst", "img.rcx"}},
+           {{"text.RCX"}},
            {{"-"}, "", kFiles.at("undeclared.nqc")},
            {{"-"}, "", kFiles.at("ok.nqc")},
            {{"-DLEVEL=2", "defs.nqc"}},
