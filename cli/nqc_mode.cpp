@@ -22,6 +22,7 @@
 #include "cli/output_file.h"
 #include "cli/version.h"
 #include "frontend/frontend.h"
+#include "frontend/preprocess.h"
 #include "link/download.h"
 #include "link/remote.h"
 #include "link/transport.h"
@@ -308,6 +309,11 @@ class Session {
       return kNqcExitCompile;
     }
     std::string text = std::move(std::get<std::string>(read));
+    // nqc prints a screen of the binary bytes; one line says what is wrong.
+    if (std::string why = frontend::not_source_reason(name, text); !why.empty()) {
+      report_errors("# Error: " + why + "\n");
+      return kNqcExitCompile;
+    }
     SourceManager sm;
     Diagnostics diags;
     ir::Log log;

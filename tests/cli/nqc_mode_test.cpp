@@ -287,3 +287,18 @@ TEST(NqcMode, ActionsAfterAFailureDoNotRun) {
 }
 
 }  // namespace
+
+namespace {
+
+// Binary bytes given as source: nqc (and this mode before) printed them back
+// as the "source line" of a syntax error, a screen of control characters.
+TEST(NqcMode, ABinaryFileIsOneErrorNotAScreenOfItsBytes) {
+  TempDir d;
+  std::string file = d.write("bin.nqc", std::string("\x7f\x01\x00\x02\x1b[2J", 8));
+  auto r = run_rcxc({"nqc", file});
+  EXPECT_EQ(r.exit_code, 243) << r.err;
+  EXPECT_NE(r.err.find("# Error: '" + file + "' is not NQC source: it holds binary data"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find('\x1b'), std::string::npos) << r.err;
+}
+
+}  // namespace
