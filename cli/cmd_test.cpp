@@ -121,7 +121,7 @@ Compiled compile(const TestOptions& o, const std::string& file, const CompilerAr
 
 // Runs one test file; returns its failures (empty = pass).
 std::vector<Failure> run_test(const TestOptions& o, const std::string& file, std::string& log) {
-  if (is_nqc_source(file) == false) return {{0, "an .rcx image, not an NQC test program"}};
+  if (is_nqc_source(file) == false) return {{0, non_source_kind(file) + ", not an NQC test program"}};
   auto parsed = rcx::semtest::parse_spec_file(file);
   if (auto* errors = std::get_if<std::vector<rcx::semtest::SpecError>>(&parsed)) {
     std::vector<Failure> out;

@@ -166,7 +166,10 @@ CompiledForTest compile_nqc_file(const std::string& path, const CompileRequest& 
   return t;
 }
 
-std::optional<bool> is_nqc_source(const std::string& path) {
+namespace {
+
+// The first 4 KiB of FILE, or nullopt when it is no regular file one can read.
+std::optional<std::string> file_head(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) return std::nullopt;
   std::ifstream in(path, std::ios::binary);
@@ -174,6 +177,21 @@ std::optional<bool> is_nqc_source(const std::string& path) {
   std::string head(4096, '\0');
   in.read(head.data(), static_cast<std::streamsize>(head.size()));
   head.resize(static_cast<std::size_t>(in.gcount()));
+  return head;
+}
+
+}  // namespace
+
+std::string non_source_kind(const std::string& path) {
+  auto head = file_head(path);
+  bool image = has_extension(path, ".rcx") || (head && head->rfind("RCXI", 0) == 0);
+  return image ? "an .rcx image" : "binary data";
+}
+
+std::optional<bool> is_nqc_source(const std::string& path) {
+  auto read = file_head(path);
+  if (!read) return std::nullopt;
+  const std::string& head = *read;
   if (head.rfind("RCXI", 0) == 0) return false;
   if (has_extension(path, ".rcx")) return false;
   return head.find('\0') == std::string::npos;

@@ -81,6 +81,9 @@ CompiledForTest compile_nqc_file(const std::string& path, const CompileRequest& 
 // NUL) make it an image, which the image reader then refuses with a reason;
 // anything else is source. nullopt when the file cannot be read.
 std::optional<bool> is_nqc_source(const std::string& path);
+// What a FILE that is_nqc_source calls no source holds: "an .rcx image"
+// (its signature or its name says so) or "binary data".
+std::string non_source_kind(const std::string& path);
 
 // For `run`, `disasm` and `download` given an image with -I, -D, -U, -n or
 // -O: a note that they were not used (there is nothing to compile), or

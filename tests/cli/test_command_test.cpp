@@ -237,3 +237,13 @@ TEST(TestCommand, TheStandardInputIsRefusedWithItsReason) {
   EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
   EXPECT_NE(r.err.find("rcxc test reads test files, not the standard input"), std::string::npos) << r.err;
 }
+
+// A binary file found among the tests was "an .rcx image, not an NQC test
+// program": it is binary data, and an image is still called an image.
+TEST(TestCommand, ABinaryFileIsNotCalledAnImage) {
+  TempDir d;
+  std::string binary = d.write("junk.nqc", std::string("\x01\x00\xff\x02", 4));
+  auto r = run_rcxc({"test", binary});
+  EXPECT_EQ(r.exit_code, 1) << r.out;
+  EXPECT_NE(r.out.find("junk.nqc: error: binary data, not an NQC test program"), std::string::npos) << r.out;
+}
