@@ -20,6 +20,7 @@
 #include "backend/compile.h"
 #include "backend/nqc_listing.h"
 #include "cli/output_file.h"
+#include "cli/program_loader.h"
 #include "cli/version.h"
 #include "frontend/frontend.h"
 #include "frontend/preprocess.h"
@@ -52,13 +53,6 @@ struct UsageStep {
   std::string message;
 };
 using Step = std::variant<SourceStep, ActionStep, UsageStep>;
-
-// nqc reads a FILE named *.rcx (any case) as an image, as if -b were given.
-bool names_an_image(const std::string& file) {
-  std::string ext = std::filesystem::path(file).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-  return ext == ".rcx";
-}
 
 struct NqcOptions {
   frontend::Options frontend;
@@ -298,7 +292,8 @@ class Session {
   }
 
   int perform(const SourceStep& s) {
-    if (o_.binary || names_an_image(s.name)) return perform_binary(s.name);
+    // nqc reads a FILE named *.rcx (any case) as an image, as if -b were given.
+    if (o_.binary || named_as_image(s.name)) return perform_binary(s.name);
     // Read with the cap every source has: /dev/zero or an endless pipe
     // ends with a message, not with the machine's memory.
     auto [name, read] = frontend::read_source(s.name);

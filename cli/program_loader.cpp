@@ -21,11 +21,6 @@ bool is_identifier(const std::string& name) {
   return std::all_of(name.begin(), name.end(), [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; });
 }
 
-bool has_extension(const std::string& path, std::string_view extension) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  return std::equal(ext.begin(), ext.end(), extension.begin(), extension.end(),
-                    [](char a, char b) { return std::tolower(static_cast<unsigned char>(a)) == b; });
-}
 
 ir::OptLevel level_of(const std::string& optimize) {
   return optimize == "0"   ? ir::OptLevel::O0
@@ -182,9 +177,16 @@ std::optional<std::string> file_head(const std::string& path) {
 
 }  // namespace
 
+bool named_as_image(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::string_view rcx = ".rcx";
+  return std::equal(ext.begin(), ext.end(), rcx.begin(), rcx.end(),
+                    [](char a, char b) { return std::tolower(static_cast<unsigned char>(a)) == b; });
+}
+
 std::string non_source_kind(const std::string& path) {
   auto head = file_head(path);
-  bool image = has_extension(path, ".rcx") || (head && head->rfind("RCXI", 0) == 0);
+  bool image = named_as_image(path) || (head && head->rfind("RCXI", 0) == 0);
   return image ? "an .rcx image" : "binary data";
 }
 
@@ -193,7 +195,7 @@ std::optional<bool> is_nqc_source(const std::string& path) {
   if (!read) return std::nullopt;
   const std::string& head = *read;
   if (head.rfind("RCXI", 0) == 0) return false;
-  if (has_extension(path, ".rcx")) return false;
+  if (named_as_image(path)) return false;
   return head.find('\0') == std::string::npos;
 }
 
