@@ -223,3 +223,13 @@ TEST(LinkCli, DownloadingADirectoryIsExit1) {
 }
 
 }  // namespace
+
+// `rcxc remote --csv alive` (or get, battery, ...) took --csv and ignored
+// it; it shapes the datalog alone. Refused before the port is opened.
+TEST(LinkCli, CsvWithAnActionButDatalogIsAUsageError) {
+  auto r = run_rcxc({"remote", "--port", "/dev/no-such-tower", "--csv", "alive"});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("--csv is for datalog, not alive"), std::string::npos) << r.err;
+  auto datalog = run_rcxc({"remote", "--port", "/dev/no-such-tower", "--csv", "datalog"});
+  EXPECT_EQ(datalog.exit_code, 3) << datalog.err;
+}
