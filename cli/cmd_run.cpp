@@ -160,11 +160,16 @@ int run(const RunOptions& o) {
   }
   // A test program's own directives: its @options compile it as `rcxc test`
   // does; its inputs drive the run unless --scenario is given. Bad
-  // directives are `rcxc test`'s to report; a run ignores them.
+  // directives are `rcxc test`'s to report; a run goes on without them,
+  // saying so (a misspelt @for would otherwise leave a minute-long run).
   std::optional<rcx::semtest::Spec> spec;
-  if (is_nqc_source(o.file).value_or(false))
-    if (auto parsed = rcx::semtest::parse_spec_file(o.file); auto* good = std::get_if<rcx::semtest::Spec>(&parsed))
-      spec = std::move(*good);
+  if (is_nqc_source(o.file).value_or(false)) {
+    auto parsed = rcx::semtest::parse_spec_file(o.file);
+    if (auto* good = std::get_if<rcx::semtest::Spec>(&parsed)) spec = std::move(*good);
+    else
+      std::cerr << "rcxc run: note: the // @ directives in " << o.file
+                << " have errors and are not used (rcxc test " << o.file << " names them)\n";
+  }
   CompilerArgs compiler = o.compiler;
   if (spec && !spec->options.empty()) {
     auto merged = with_file_options(o.compiler, spec->options, o.file);
