@@ -1,0 +1,110 @@
+// The formatter's guarantee on real programs: every program of the corpus,
+// the semantic tests, the examples and the random program generators
+// compiles to the same bytes after formatting, and formatting the result
+// again changes nothing.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "backend/compile.h"
+#include "format/format.h"
+#include "rcx/image.h"
+#include "tests/support/process.h"
+#include "tests/support/random_programs.h"
+
+namespace rcxc {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string formatted(const std::string& text) {
+  auto out = format::format_source(text);
+  if (auto* r = std::get_if<format::Refusal>(&out)) {
+    ADD_FAILURE() << "refused: " << r->message;
+    return text;
+  }
+  return std::get<std::string>(out);
+}
+
+// The image bytes, or nullopt when the program does not compile. `path`
+// names the text so its #includes are found beside it.
+std::optional<std::vector<std::uint8_t>> image_of(const std::string& path, const std::string& text) {
+  SourceManager sm;
+  Diagnostics diags;
+  ir::Log log;
+  auto out = backend::compile_source(path, text, frontend::Options{}, ir::OptLevel::Os, sm, diags, log);
+  if (!out) return std::nullopt;
+  return rcx::write_image(out->image);
+}
+
+// Formatting keeps the image and is idempotent; returns whether it changed the text.
+bool check_program(const std::string& path, const std::string& text) {
+  std::string once = formatted(text);
+  EXPECT_EQ(formatted(once), once) << path << ": formatting twice differs from once";
+  auto before = image_of(path, text);
+  auto after = image_of(path, once);
+  EXPECT_EQ(before.has_value(), after.has_value()) << path << ": compiles before or after formatting only";
+  if (before && after) {
+    EXPECT_TRUE(*before == *after) << path << ": the image changed";
+  }
+  return once != text;
+}
+
+std::vector<fs::path> nqc_files(const fs::path& dir) {
+  std::vector<fs::path> files;
+  if (!fs::is_directory(dir)) return files;
+  for (const auto& e : fs::recursive_directory_iterator(dir))
+    if (e.is_regular_file() && e.path().extension() == ".nqc") files.push_back(e.path());
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+void check_folder(const fs::path& dir) {
+  int changed = 0;
+  auto files = nqc_files(dir);
+  for (const auto& f : files) changed += check_program(f.string(), test::read_text_file(f.string())) ? 1 : 0;
+  std::cout << dir.string() << ": " << files.size() << " programs, " << changed << " changed by formatting\n";
+}
+
+TEST(FormatPrograms, CorpusKeepsItsImages) {
+  if (!fs::is_directory(RCXC_CORPUS_DIR)) GTEST_SKIP() << "no corpus at " << RCXC_CORPUS_DIR;
+  check_folder(RCXC_CORPUS_DIR);
+}
+
+TEST(FormatPrograms, SemanticTestsKeepTheirImages) { check_folder(fs::path(RCXC_SOURCE_DIR) / "tests" / "semantic"); }
+
+TEST(FormatPrograms, ExamplesKeepTheirImages) { check_folder(fs::path(RCXC_SOURCE_DIR) / "examples"); }
+
+TEST(FormatPrograms, GeneratedProgramsKeepTheirImages) {
+  for (unsigned seed = 1; seed <= 40; ++seed) {
+    check_program("gen.nqc", test::Generator(seed).program());
+    check_program("coin.nqc", test::CoinGenerator(seed).program());
+    check_program("two.nqc", test::TwoTaskGenerator(seed).program());
+    check_program("expr.nqc", test::ExpressionGenerator(seed).program());
+  }
+}
+
+// A large program (the examples over and over, to about 900 KB) formats in
+// well under the time a compile of it takes.
+TEST(FormatPrograms, LargeFileFormatsQuickly) {
+  std::string unit;
+  for (const auto& f : nqc_files(fs::path(RCXC_SOURCE_DIR) / "tests" / "semantic" / "statements"))
+    unit += test::read_text_file(f.string()) + "\n";
+  ASSERT_FALSE(unit.empty());
+  std::string big;
+  while (big.size() + unit.size() < format::kMaxSource - 100 * 1024) big += unit;
+  auto start = std::chrono::steady_clock::now();
+  auto out = format::format_source(big);
+  auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - start).count();
+  ASSERT_TRUE(std::holds_alternative<std::string>(out)) << std::get<format::Refusal>(out).message;
+  std::cout << big.size() << " bytes formatted in " << ms << " ms\n";
+  EXPECT_LT(ms, 5000);
+}
+
+}  // namespace
+}  // namespace rcxc
