@@ -60,7 +60,9 @@ Lexed lex_pieces(std::string_view text) {
   std::size_t c = 0;
   auto take_comment = [&] {
     const auto& k = comments[c++];
-    out.pieces.push_back({k.text, k.span, TokenKind::End, true, k.line_start, true});
+    std::size_t at = static_cast<std::size_t>(k.text.data() - text.data());
+    bool space = at > 0 && std::string_view(" \t\n\r\v\f").find(text[at - 1]) != std::string_view::npos;
+    out.pieces.push_back({k.text, k.span, TokenKind::End, true, k.line_start, space});
   };
   for (const Token& t : tokens) {
     if (t.kind == TokenKind::End) break;
@@ -328,7 +330,7 @@ bool space_between(const Printer& pr, const Piece& t, Role role) {
   if (p.is(",") || p.is(";")) return true;
   if (t.is("(")) return p.kind == TokenKind::Identifier ? is_keyword(p.text) : !p.is(")") && !p.is("]") && !p.is("{");
   if (t.is("[")) return false;
-  if (t.is("}")) return !p.is("{");
+  if (t.is("}")) return false;
   if (p.is("{")) return false;
   if (role == Role::Prefix || t.is("{")) return true;
   bool word_before = p.kind != TokenKind::Punct && p.kind != TokenKind::Unknown;
@@ -382,7 +384,7 @@ void end_header(Printer& pr, std::size_t i, Owner owner) {
 FrameKind brace_kind(const Printer& pr) {
   const Piece* p = pr.prev_code;
   if (p != nullptr && p->is_word("asm")) return FrameKind::Asm;
-  if (pr.n.parens > 0 || (p != nullptr && p->is("="))) return FrameKind::Init;
+  if (p != nullptr && p->is("=")) return FrameKind::Init;
   if (!pr.n.frames.empty() && (pr.n.frames.back().kind == FrameKind::Init || pr.n.frames.back().kind == FrameKind::Asm))
     return FrameKind::Init;
   return pr.n.brace_owner == Owner::Switch ? FrameKind::Switch : FrameKind::Block;
@@ -410,18 +412,25 @@ void place_token(Printer& pr, std::size_t i) {
   bool joins_else_if = pr.prev != nullptr && pr.prev->is_word("else") && t.is_word("if");
   bool source_break = on_new_source_line(pr, t) && !joins_else_if;
   bool asm_line = in_asm(pr) || (closing && closing->kind == FrameKind::Asm);
-  if (pr.prev == nullptr || pr.pending_break || block_brace) {
+  bool first_code = pr.prev_code == nullptr && (pr.prev == nullptr || source_break);
+  if (first_code || pr.pending_break || block_brace) {
     int level = level_for(pr, &t);
     new_line(pr, level, blank_before(pr, t));
     pr.statement_level = level;
   } else if (source_break) {
     new_line(pr, asm_line ? level_for(pr, &t) : pr.statement_level + 2, blank_before(pr, t));
-  } else if (space_between(pr, t, role)) {
+  } else if (closing && closing->kind == FrameKind::Asm ? t.space_before : space_between(pr, t, role)) {
     pr.out += ' ';
   }
   pr.pending_break = false;
   pr.header_ended = false;
   write(pr, t, role);
+  if (opening && block(*opening)) {
+    // A block cannot be inside parentheses: what is still open was left
+    // open by a syntax error, and the statements inside start afresh.
+    pr.n.parens = 0;
+    pr.n.header.reset();
+  }
   if (opening) {
     push_frame(pr, *opening, block(*opening) ? pr.n.brace_owner : Owner::None);
     pr.n.brace_owner = Owner::None;
@@ -497,7 +506,7 @@ void place_comment(Printer& pr, std::size_t i) {
     // lined up in a column stay lined up.
     std::uint32_t gap = c.span.begin.column > pr.prev->span.end.column ? c.span.begin.column - pr.prev->span.end.column : 0;
     if (pr.prev->span.end.line != c.span.begin.line) gap = 1;
-    pr.out.append(std::max<std::uint32_t>(gap, c.space_before ? 1 : 0), ' ');
+    pr.out.append(gap, ' ');
   }
   write(pr, c, Role::Other);
 }
@@ -580,16 +589,16 @@ std::string lay_out(std::string_view source, const std::vector<Piece>& pieces, c
 
 std::variant<std::string, Refusal> format_source(std::string_view input, const Style& style) {
   if (input.size() > kMaxSource)
-    return Refusal{"larger than a source file may be (" + std::to_string(kMaxSource >> 20) + " MiB); not formatted"};
+    return Refusal{"cannot format: larger than a source file may be (" + std::to_string(kMaxSource >> 20) + " MiB)"};
   if (style.indent < kMinIndent || style.indent > kMaxIndent)
-    return Refusal{"the indent must be " + std::to_string(kMinIndent) + " to " + std::to_string(kMaxIndent) + " spaces"};
+    return Refusal{"cannot format: the indent must be " + std::to_string(kMinIndent) + " to " + std::to_string(kMaxIndent) + " spaces"};
   std::string text = with_lone_crs_as_lf(std::string(input));
   Lexed before = lex_pieces(text);
-  if (!before.error.empty()) return Refusal{"not formatted: " + before.error};
+  if (!before.error.empty()) return Refusal{"cannot format: " + before.error};
   bool too_large = false;
   std::string out = lay_out(text, before.pieces, style, too_large);
   if (too_large)
-    return Refusal{"not formatted: the formatted text would be larger than " + std::to_string(kMaxOutput >> 20) + " MiB"};
+    return Refusal{"cannot format: the formatted text would be larger than " + std::to_string(kMaxOutput >> 20) + " MiB"};
   Lexed after = lex_pieces(out);
   std::vector<SigItem> want = signature(before.pieces);
   std::vector<SigItem> got = signature(after.pieces);
@@ -604,7 +613,7 @@ std::variant<std::string, Refusal> format_source(std::string_view input, const S
         break;
       }
     }
-    return Refusal{"not formatted: the layout would change the program's tokens" + place +
+    return Refusal{"cannot format: the layout would change the program's tokens" + place +
                    " (a formatter bug; please report it with the file)"};
   }
   return out;
