@@ -83,5 +83,26 @@ TEST(FormatCli, TooLargeIsRefused) {
   EXPECT_NE(r.err.find("larger than a source file may be (1 MiB)"), std::string::npos) << r.err;
 }
 
+// editors/vim's :RcxcFormat replaces the buffer with rcxc's output, and
+// leaves a buffer rcxc refuses as it was (a :%! filter would not).
+TEST(FormatCli, VimCommandFormatsTheBufferOrLeavesIt) {
+  auto nvim = run_process({"/bin/sh", "-c", "command -v nvim"});
+  if (nvim.exit_code != 0) GTEST_SKIP() << "nvim is not installed";
+  TempDir dir;
+  std::string messy = dir.write("messy.nqc", kMessy);
+  std::string broken = dir.write("broken.nqc", "task main() {\n/* open\n");
+  std::string bin = RCXC_BINARY;
+  for (const std::string& file : {messy, broken}) {
+    auto r = run_process({"/bin/sh", "-c",
+                          "PATH=\"$0:$PATH\" exec nvim --headless -n -i NONE -u NONE --cmd \"set rtp^=$1\" "
+                          "-c 'filetype plugin on' -c \"edit $2\" -c RcxcFormat -c 'write' -c 'qall!'",
+                          bin.substr(0, bin.rfind('/')), RCXC_SOURCE_DIR "/editors/vim", file},
+                         "", 60000);
+    EXPECT_FALSE(r.timed_out);
+  }
+  EXPECT_EQ(read_text_file(messy), kTidy);
+  EXPECT_EQ(read_text_file(broken), "task main() {\n/* open\n");
+}
+
 }  // namespace
 }  // namespace rcxc::test
