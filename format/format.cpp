@@ -413,7 +413,11 @@ void place_token(Printer& pr, std::size_t i) {
   bool source_break = on_new_source_line(pr, t) && !joins_else_if;
   bool asm_line = in_asm(pr) || (closing && closing->kind == FrameKind::Asm);
   bool first_code = pr.prev_code == nullptr && (pr.prev == nullptr || source_break);
-  if (first_code || pr.pending_break || block_brace) {
+  // A '#' that is not a directive's would start one at the start of a line.
+  bool stays_on_line = t.is("#") && pr.prev != nullptr && !pr.prev->line_comment();
+  if (stays_on_line) {
+    if (space_between(pr, t, role)) pr.out += ' ';
+  } else if (first_code || pr.pending_break || block_brace) {
     int level = level_for(pr, &t);
     new_line(pr, level, blank_before(pr, t));
     pr.statement_level = level;
@@ -518,10 +522,12 @@ std::string_view directive_text(const Printer& pr, const Piece& first, const Pie
   std::size_t begin = static_cast<std::size_t>(first.text.data() - s.data());
   std::size_t end = static_cast<std::size_t>(last.text.data() - s.data()) + last.text.size();
   for (;;) {
+    // After the last token only blanks, and the '\\' that continues the
+    // directive onto a line with no token (one inside a // comment does not).
     std::size_t eol = s.find('\n', end);
     if (eol == std::string_view::npos) eol = s.size();
-    std::string_view line = trim_right(s.substr(begin, eol - begin));
-    if (line.empty() || line.back() != '\\' || eol == s.size()) return trim_right(s.substr(begin, eol - begin));
+    std::string_view rest = trim_right(s.substr(end, eol - end));
+    if (rest.empty() || rest.back() != '\\' || eol == s.size()) return trim_right(s.substr(begin, eol - begin));
     end = eol + 1;
   }
 }

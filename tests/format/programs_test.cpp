@@ -7,6 +7,7 @@
 #include <chrono>
 #include <filesystem>
 #include <optional>
+#include <random>
 #include <string>
 #include <variant>
 #include <vector>
@@ -87,6 +88,47 @@ TEST(FormatPrograms, GeneratedProgramsKeepTheirImages) {
     check_program("two.nqc", test::TwoTaskGenerator(seed).program());
     check_program("expr.nqc", test::ExpressionGenerator(seed).program());
   }
+}
+
+// Random edits of real programs (text that lexes, mostly with syntax
+// errors): every result is a lexical refusal or a text that formats to
+// itself; the layout never trips the re-lex check.
+TEST(FormatPrograms, RandomlyEditedProgramsFormatOrAreRefusedForTheirLexing) {
+  std::vector<std::string> seeds;
+  for (const auto& f : nqc_files(fs::path(RCXC_SOURCE_DIR) / "tests/semantic")) seeds.push_back(test::read_text_file(f.string()));
+  ASSERT_FALSE(seeds.empty());
+  std::mt19937 rng(7);
+  auto below = [&](std::size_t n) { return static_cast<std::size_t>(rng() % n); };
+  const std::string alphabet = "abX_09 ;{}()[]#/*\"'\n\t=+-<>&|!~?:,$@\\\r";
+  const std::vector<std::string> words = {
+      "#",      "\\\n",  "\n",    " else ", "if",   " do ",   "case 1", "default", "asm",   "while",      "switch",
+      "for",    "repeat", "until",  "monitor", "catch", "/*c*/", "//c\n", "'a'",     "\"s\"", "#define Q 1\n",
+      "#if 1\n", "#else\n", "#endif\n", "- -",   "++",   "x",      "1",      "return", "&",     "int &"};
+  int formatted_count = 0;
+  for (int round = 0; round < 10000; ++round) {
+    std::string text = seeds[below(seeds.size())];
+    for (std::size_t e = 0, n = 1 + below(12); e < n; ++e) {
+      std::size_t at = below(text.size() + 1);
+      if (below(3) == 0 && at < text.size())
+        text.erase(at, 1 + below(6));
+      else if (below(2) == 0)
+        text.insert(at, 1, alphabet[below(alphabet.size())]);
+      else
+        text.insert(at, words[below(words.size())]);
+    }
+    auto out = format::format_source(text);
+    if (auto* r = std::get_if<format::Refusal>(&out)) {
+      EXPECT_EQ(r->message.rfind("cannot format: line ", 0), 0u) << r->message << "\n" << text;
+      continue;
+    }
+    ++formatted_count;
+    const std::string& once = std::get<std::string>(out);
+    auto twice = format::format_source(once);
+    ASSERT_TRUE(std::holds_alternative<std::string>(twice)) << once;
+    EXPECT_EQ(std::get<std::string>(twice), once) << "input:\n" << text;
+    if (HasFailure()) break;
+  }
+  EXPECT_GT(formatted_count, 3000);
 }
 
 // A large program (the examples over and over, to about 900 KB) formats in

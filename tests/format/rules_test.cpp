@@ -194,6 +194,15 @@ TEST(FormatRules, DirectivesVerbatimAtColumnOne) {
             "#ifdef FAST\n  turn(7, 75);\n#endif\n}\n");
 }
 
+TEST(FormatRules, DirectiveBoundsStayWhereTheLexerPutsThem) {
+  // A '\\' ending a // comment continues nothing; one after the last token
+  // continues the directive onto the blank line, which must stay.
+  EXPECT_EQ(fmt("#define A 1 // note\\\n#define B 2\n"), "#define A 1 // note\\\n#define B 2\n");
+  EXPECT_EQ(fmt("#define A 1 \\\n\nint x;\n"), "#define A 1 \\\n\nint x;\n");
+  // A '#' inside code is no directive and must not start a line.
+  EXPECT_EQ(fmt("task main()\n{#\n}\n"), "task main()\n{#\n}\n");
+}
+
 TEST(FormatRules, EachConditionalBranchStartsFromTheSameNesting) {
   EXPECT_EQ(fmt("#ifdef A\ntask main() {\n#else\ntask main() { Wait(2);\n#endif\nWait(1);\n}\n"),
             "#ifdef A\ntask main()\n{\n#else\ntask main()\n{\n  Wait(2);\n#endif\n  Wait(1);\n}\n");
