@@ -56,19 +56,10 @@ bool check_program(const std::string& path, const std::string& text) {
   return once != text;
 }
 
-std::vector<fs::path> nqc_files(const fs::path& dir) {
-  std::vector<fs::path> files;
-  if (!fs::is_directory(dir)) return files;
-  for (const auto& e : fs::recursive_directory_iterator(dir))
-    if (e.is_regular_file() && e.path().extension() == ".nqc") files.push_back(e.path());
-  std::sort(files.begin(), files.end());
-  return files;
-}
-
 void check_folder(const fs::path& dir) {
   int changed = 0;
-  auto files = nqc_files(dir);
-  for (const auto& f : files) changed += check_program(f.string(), test::read_text_file(f.string())) ? 1 : 0;
+  auto files = test::nqc_programs_under(dir.string());
+  for (const auto& f : files) changed += check_program(f, test::read_text_file(f)) ? 1 : 0;
   std::cout << dir.string() << ": " << files.size() << " programs, " << changed << " changed by formatting\n";
 }
 
@@ -95,7 +86,7 @@ TEST(FormatPrograms, GeneratedProgramsKeepTheirImages) {
 // itself; the layout never trips the re-lex check.
 TEST(FormatPrograms, RandomlyEditedProgramsFormatOrAreRefusedForTheirLexing) {
   std::vector<std::string> seeds;
-  for (const auto& f : nqc_files(fs::path(RCXC_SOURCE_DIR) / "tests/semantic")) seeds.push_back(test::read_text_file(f.string()));
+  for (const auto& f : test::nqc_programs_under(RCXC_SOURCE_DIR "/tests/semantic")) seeds.push_back(test::read_text_file(f));
   ASSERT_FALSE(seeds.empty());
   std::mt19937 rng(7);
   auto below = [&](std::size_t n) { return static_cast<std::size_t>(rng() % n); };
@@ -135,8 +126,8 @@ TEST(FormatPrograms, RandomlyEditedProgramsFormatOrAreRefusedForTheirLexing) {
 // well under the time a compile of it takes.
 TEST(FormatPrograms, LargeFileFormatsQuickly) {
   std::string unit;
-  for (const auto& f : nqc_files(fs::path(RCXC_SOURCE_DIR) / "tests" / "semantic" / "statements"))
-    unit += test::read_text_file(f.string()) + "\n";
+  for (const auto& f : test::nqc_programs_under(RCXC_SOURCE_DIR "/tests/semantic/statements"))
+    unit += test::read_text_file(f) + "\n";
   ASSERT_FALSE(unit.empty());
   std::string big;
   while (big.size() + unit.size() < format::kMaxSource - 100 * 1024) big += unit;
