@@ -116,11 +116,13 @@ std::vector<SigItem> signature(const std::vector<Piece>& pieces) {
   return sig;
 }
 
-// The first place the two signatures differ, for the refusal message.
-std::size_t first_difference(const std::vector<SigItem>& a, const std::vector<SigItem>& b) {
-  std::size_t i = 0;
-  while (i < a.size() && i < b.size() && a[i] == b[i]) ++i;
-  return i;
+// How many pieces come before the first difference of the two signatures
+// (the directive marks stand for no piece), for the refusal message.
+std::size_t first_changed_piece(const std::vector<SigItem>& want, const std::vector<SigItem>& got) {
+  std::size_t pieces = 0;
+  for (std::size_t k = 0; k < want.size() && k < got.size() && want[k] == got[k]; ++k)
+    pieces += want[k].mark == Mark::Token || want[k].mark == Mark::Comment ? 1 : 0;
+  return pieces;
 }
 
 // ---------------------------------------------------------------------------
@@ -398,88 +400,80 @@ Frame close_brace(Printer& pr) {
   return pop_frame(pr);
 }
 
+// What a brace token does to the nesting; popped before the token is
+// placed, so a '}' goes at the level of what it closes.
+struct Brace {
+  std::optional<FrameKind> opening;
+  std::optional<Frame> closing;
+  bool block = false;  // it opens or closes a block or switch body: a line of its own
+};
+
+bool is_block(FrameKind k) { return k == FrameKind::Block || k == FrameKind::Switch; }
+
+Brace brace_of(Printer& pr, const Piece& t) {
+  Brace b;
+  if (t.is("{")) b.opening = brace_kind(pr);
+  if (t.is("}")) b.closing = close_brace(pr);
+  b.block = (b.opening && is_block(*b.opening)) || (b.closing && is_block(b.closing->kind));
+  return b;
+}
+
+// Starts a new line for `t` or puts the space before it, if any.
+void lead_in(Printer& pr, const Piece& t, Role role, const Brace& b) {
+  bool joins_else_if = pr.prev != nullptr && pr.prev->is_word("else") && t.is_word("if");
+  bool source_break = on_new_source_line(pr, t) && !joins_else_if;
+  bool asm_line = in_asm(pr) || (b.closing && b.closing->kind == FrameKind::Asm);
+  bool first_code = pr.prev_code == nullptr && (pr.prev == nullptr || source_break);
+  // A '#' that is not a directive's would start one at the start of a line.
+  bool stays_on_line = t.is("#") && pr.prev != nullptr && !pr.prev->line_comment();
+  if (!stays_on_line && (first_code || pr.pending_break || b.block)) {
+    int level = level_for(pr, &t);
+    new_line(pr, level, blank_before(pr, t));
+    pr.statement_level = level;
+  } else if (!stays_on_line && source_break) {
+    new_line(pr, asm_line ? level_for(pr, &t) : pr.statement_level + 2, blank_before(pr, t));
+  } else if (b.closing && b.closing->kind == FrameKind::Asm ? t.space_before : space_between(pr, t, role)) {
+    pr.out += ' ';
+  }
+}
+
+void after_brace(Printer& pr, std::size_t i, const Brace& b) {
+  if (b.opening) {
+    if (is_block(*b.opening)) {
+      // A block cannot be inside parentheses: what is still open was left
+      // open by a syntax error, and the statements inside start afresh.
+      pr.n.parens = 0;
+      pr.n.header.reset();
+    }
+    push_frame(pr, *b.opening, is_block(*b.opening) ? pr.n.brace_owner : Owner::None);
+    pr.n.brace_owner = Owner::None;
+    pr.pending_break = is_block(*b.opening);
+  }
+  if (b.closing && b.closing->kind != FrameKind::Init) {
+    const Piece* next = code_after(pr, i);
+    bool attached = next != nullptr && (next->is(";") || next->is(",") || next->is(")"));
+    if (!attached) end_statement(pr, i, b.closing->owner);
+  }
+}
+
 void after_token(Printer& pr, std::size_t i, const Piece& t, Role role);
 
 void place_token(Printer& pr, std::size_t i) {
   const Piece& t = pr.pieces[i];
   Role role = role_of(pr, t);  // before the break: a statement's first '-' is a sign
-  std::optional<FrameKind> opening;
-  std::optional<Frame> closing;
-  if (t.is("{")) opening = brace_kind(pr);
-  if (t.is("}")) closing = close_brace(pr);
-  auto block = [](FrameKind k) { return k == FrameKind::Block || k == FrameKind::Switch; };
-  bool block_brace = (opening && block(*opening)) || (closing && block(closing->kind));
-  bool joins_else_if = pr.prev != nullptr && pr.prev->is_word("else") && t.is_word("if");
-  bool source_break = on_new_source_line(pr, t) && !joins_else_if;
-  bool asm_line = in_asm(pr) || (closing && closing->kind == FrameKind::Asm);
-  bool first_code = pr.prev_code == nullptr && (pr.prev == nullptr || source_break);
-  // A '#' that is not a directive's would start one at the start of a line.
-  bool stays_on_line = t.is("#") && pr.prev != nullptr && !pr.prev->line_comment();
-  if (stays_on_line) {
-    if (space_between(pr, t, role)) pr.out += ' ';
-  } else if (first_code || pr.pending_break || block_brace) {
-    int level = level_for(pr, &t);
-    new_line(pr, level, blank_before(pr, t));
-    pr.statement_level = level;
-  } else if (source_break) {
-    new_line(pr, asm_line ? level_for(pr, &t) : pr.statement_level + 2, blank_before(pr, t));
-  } else if (closing && closing->kind == FrameKind::Asm ? t.space_before : space_between(pr, t, role)) {
-    pr.out += ' ';
-  }
+  Brace b = brace_of(pr, t);
+  lead_in(pr, t, role, b);
   pr.pending_break = false;
   pr.header_ended = false;
   write(pr, t, role);
-  if (opening && block(*opening)) {
-    // A block cannot be inside parentheses: what is still open was left
-    // open by a syntax error, and the statements inside start afresh.
-    pr.n.parens = 0;
-    pr.n.header.reset();
-  }
-  if (opening) {
-    push_frame(pr, *opening, block(*opening) ? pr.n.brace_owner : Owner::None);
-    pr.n.brace_owner = Owner::None;
-    pr.pending_break = block(*opening);
-  }
-  if (closing && closing->kind != FrameKind::Init) {
-    const Piece* next = code_after(pr, i);
-    bool attached = next != nullptr && (next->is(";") || next->is(",") || next->is(")"));
-    if (!attached) end_statement(pr, i, closing->owner);
-  }
+  after_brace(pr, i, b);
   after_token(pr, i, t, role);
 }
 
-void after_token(Printer& pr, std::size_t i, const Piece& t, Role role) {
+// A statement keyword: a header to follow (if, while, ... and their
+// parenthesis), or one complete already (else, do, catch without one).
+void after_keyword(Printer& pr, std::size_t i, const Piece& t) {
   Nesting& n = pr.n;
-  if (t.is("(") || t.is("[")) {
-    ++n.parens;
-    if (n.header && t.is("(") && n.parens == n.header_parens + 1) n.header_saw_paren = true;
-    return;
-  }
-  if (t.is(")") || t.is("]")) {
-    n.parens = std::max(0, n.parens - 1);
-    if (n.header && n.header_saw_paren && t.is(")") && n.parens == n.header_parens) end_header(pr, i, *n.header);
-    return;
-  }
-  if (t.is(";")) {
-    if (in_asm(pr)) return;
-    bool in_for = n.header && n.header_saw_paren && n.parens > 0;
-    if (in_for) return;
-    n.parens = 0;
-    n.header.reset();
-    end_statement(pr, i, Owner::None);
-    return;
-  }
-  if (t.is("?")) ++n.ternaries;
-  if (t.is(":")) {
-    if (role == Role::Binary) {
-      --n.ternaries;
-    } else if (n.case_label && !in_asm(pr)) {
-      n.case_label = false;
-      pr.pending_break = true;
-    }
-    return;
-  }
-  if (in_asm(pr) || n.parens > 0 || t.kind != TokenKind::Identifier) return;
   if (t.is_word("case") || t.is_word("default")) n.case_label = true;
   std::optional<Owner> owner = header_owner(t);
   if (!owner) return;
@@ -496,6 +490,32 @@ void after_token(Printer& pr, std::size_t i, const Piece& t, Role role) {
   n.header = *owner;
   n.header_parens = n.parens;
   n.header_saw_paren = false;
+}
+
+void after_token(Printer& pr, std::size_t i, const Piece& t, Role role) {
+  Nesting& n = pr.n;
+  if (t.is("(") || t.is("[")) {
+    ++n.parens;
+    if (n.header && t.is("(") && n.parens == n.header_parens + 1) n.header_saw_paren = true;
+  } else if (t.is(")") || t.is("]")) {
+    n.parens = std::max(0, n.parens - 1);
+    if (n.header && n.header_saw_paren && t.is(")") && n.parens == n.header_parens) end_header(pr, i, *n.header);
+  } else if (t.is(";")) {
+    bool in_for = n.header && n.header_saw_paren && n.parens > 0;
+    if (in_asm(pr) || in_for) return;
+    n.parens = 0;  // what a syntax error left open ends with the statement
+    n.header.reset();
+    end_statement(pr, i, Owner::None);
+  } else if (t.is("?")) {
+    ++n.ternaries;
+  } else if (t.is(":") && role == Role::Binary) {
+    --n.ternaries;
+  } else if (t.is(":") && n.case_label && !in_asm(pr)) {
+    n.case_label = false;
+    pr.pending_break = true;
+  } else if (!in_asm(pr) && n.parens == 0 && t.kind == TokenKind::Identifier) {
+    after_keyword(pr, i, t);
+  }
 }
 
 void place_comment(Printer& pr, std::size_t i) {
@@ -608,18 +628,10 @@ std::variant<std::string, Refusal> format_source(std::string_view input, const S
   Lexed after = lex_pieces(out);
   std::vector<SigItem> want = signature(before.pieces);
   std::vector<SigItem> got = signature(after.pieces);
-  if (!after.error.empty() || want != got) {
-    std::size_t at = first_difference(want, got);
-    std::string place;
-    for (std::size_t k = 0, seen = 0; k < before.pieces.size(); ++k) {
-      // The signature has a mark for each piece plus the directive bounds;
-      // the piece reached at `at` is near enough for a report.
-      if (++seen > at) {
-        place = " near " + where(before.pieces[k].span.begin);
-        break;
-      }
-    }
-    return Refusal{"cannot format: the layout would change the program's tokens" + place +
+  if (!after.error.empty() || got != want) {
+    std::size_t k = first_changed_piece(want, got);
+    std::string place = before.pieces.empty() ? "line 1" : where(before.pieces[std::min(k, before.pieces.size() - 1)].span.begin);
+    return Refusal{"cannot format: the layout would change the program's tokens near " + place +
                    " (a formatter bug; please report it with the file)"};
   }
   return out;
