@@ -28,10 +28,15 @@ TEST(FormatCli, ReadsStandardInputForDashOrNoFile) {
   EXPECT_EQ(dash.out, "task main()\n{\n    Wait(1);\n}\n");
 }
 
-TEST(FormatCli, CheckNamesTheFilesThatWouldChange) {
+// A folder with one file to format and one already formatted.
+struct MessyAndTidy {
   TempDir dir;
   std::string messy = dir.write("messy.nqc", kMessy);
   std::string tidy = dir.write("tidy.nqc", kTidy);
+};
+
+TEST(FormatCli, CheckNamesTheFilesThatWouldChange) {
+  auto [dir, messy, tidy] = MessyAndTidy{};
   auto r = run_rcxc({"format", "--check", tidy, messy});
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_EQ(r.out, messy + "\n");
@@ -42,9 +47,7 @@ TEST(FormatCli, CheckNamesTheFilesThatWouldChange) {
 }
 
 TEST(FormatCli, InPlaceRewritesOnlyWhatChanges) {
-  TempDir dir;
-  std::string messy = dir.write("messy.nqc", kMessy);
-  std::string tidy = dir.write("tidy.nqc", kTidy);
+  auto [dir, messy, tidy] = MessyAndTidy{};
   auto r = run_rcxc({"format", "-i", messy, tidy});
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(r.out, "");
