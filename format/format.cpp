@@ -208,7 +208,6 @@ struct Nesting {
 enum class Role : std::uint8_t { Other, Prefix, Postfix, Binary, Label };
 
 constexpr int kMaxIndentLevels = 40;  // deeper code is indented no further
-constexpr std::size_t kMaxOutput = std::size_t{32} << 20;
 constexpr std::size_t kMaxSnapshotFrames = 256;
 
 struct Printer {
@@ -257,7 +256,9 @@ void new_line(Printer& pr, int level, bool blank) {
   }
   level = std::clamp(level, 0, kMaxIndentLevels);
   pr.out.append(static_cast<std::size_t>(level * pr.style.indent), ' ');
-  if (pr.out.size() > kMaxOutput) pr.too_large = true;
+  // The result must still be a source the compiler reads (and the check
+  // lexes it again), so it has the input's cap.
+  if (pr.out.size() > kMaxSource) pr.too_large = true;
 }
 
 bool blank_before(const Printer& pr, const Piece& p) {
@@ -624,7 +625,8 @@ std::variant<std::string, Refusal> format_source(std::string_view input, const S
   bool too_large = false;
   std::string out = lay_out(text, before.pieces, style, too_large);
   if (too_large)
-    return Refusal{"cannot format: the formatted text would be larger than " + std::to_string(kMaxOutput >> 20) + " MiB"};
+    return Refusal{"cannot format: the formatted text would be larger than a source file may be (" +
+                   std::to_string(kMaxSource >> 20) + " MiB)"};
   Lexed after = lex_pieces(out);
   std::vector<SigItem> want = signature(before.pieces);
   std::vector<SigItem> got = signature(after.pieces);

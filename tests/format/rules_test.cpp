@@ -280,12 +280,16 @@ TEST(FormatRefusals, TooLargeAndBadIndent) {
 }
 
 TEST(FormatRefusals, HostileShapesGiveAnAnswer) {
-  std::string deep = "task main()\n" + std::string(100000, '{') + std::string(100001, '}');
+  std::string deep = "task main()\n" + std::string(2000, '{') + std::string(2001, '}');
   auto out = format::format_source(deep);
   ASSERT_TRUE(std::holds_alternative<std::string>(out));
-  // Indentation stops growing 40 levels in: the 100,000th brace is indented like the 40th.
-  EXPECT_NE(std::get<std::string>(out).find("\n" + std::string(80, ' ') + "{\n" + std::string(80, ' ') + "{\n"),
-            std::string::npos);
+  // Indentation stops growing 40 levels in: the 2,000th brace is indented like the 40th.
+  const std::string& text = std::get<std::string>(out);
+  EXPECT_NE(text.find("\n" + std::string(80, ' ') + "{\n" + std::string(80, ' ') + "{\n"), std::string::npos);
+  EXPECT_EQ(text.find(std::string(81, ' ')), std::string::npos);
+  // 100,000 of them, one a line, would be 16 MB: more than the compiler reads.
+  std::string deeper = "task main()\n" + std::string(100000, '{') + std::string(100000, '}');
+  EXPECT_EQ(refusal(deeper), "cannot format: the formatted text would be larger than a source file may be (1 MiB)");
   std::string wide = "int x = " + std::string(300000, '(') + "1" + std::string(300000, ')') + ";";
   EXPECT_EQ(fmt(wide), wide + "\n");
   std::string garbage;
