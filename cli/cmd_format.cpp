@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <variant>
 
 #include "cli/commands.h"
@@ -47,8 +48,9 @@ Outcome format_one(const std::string& path, const FormatArgs& args) {
   if (args.check) {
     if (changed) std::cout << name << "\n";
   } else if (args.in_place) {
-    if (changed && !write_file_atomically(path, out)) {
-      std::cerr << "rcxc format: " << name << ": cannot write it; it is left as it was\n";
+    auto unwritten = changed ? write_file_atomically(path, out) : std::nullopt;
+    if (unwritten) {
+      std::cerr << "rcxc format: cannot write " << name << ": " << *unwritten << "; it is left as it was\n";
       return Outcome::Failed;
     }
   } else {
