@@ -122,6 +122,11 @@ std::string read_text_file(const std::string& path) {
   return ss.str();
 }
 
+std::string find_nqc() {
+  auto r = run_process({"/bin/sh", "-c", "command -v nqc"});
+  return r.exit_code == 0 ? r.out.substr(0, r.out.find('\n')) : std::string();
+}
+
 std::string make_temp_dir() {
   const char* base = std::getenv("TMPDIR");
   std::string tmpl = std::string(base ? base : "/tmp") + "/rcxc-test-XXXXXX";
