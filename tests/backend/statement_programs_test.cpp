@@ -7,6 +7,7 @@
 // K+1.. instead (docs/testing.md).
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <optional>
 #include <string>
 #include <vector>
@@ -129,32 +130,41 @@ struct Tally {
 
 // One program: every level must compile and behave as -O0; when nqc
 // compiles it (and its branches are right), -O2 must behave as nqc's code.
+// -O0's code may be too large for the brick or need more variable slots
+// than it has where optimised code is not: then the first level that
+// compiles is the reference. A level refusing what a lower one compiles,
+// or -O2 refusing what nqc compiles, is a failure.
 void check(const std::string& text, unsigned seed, const std::string& nqc, const test::TempDir& dir, Tally& tally) {
   static const auto scenarios = phase_scenarios();
   ++tally.programs;
-  auto o0 = compile_rcxc(text, ir::OptLevel::O0);
   std::optional<rcx::Image> theirs;
   if (!nqc.empty()) {
     std::string file = dir.write(fmt::format("s{}.nqc", seed), text);
     theirs = rcx::semtest::compile_with_nqc(nqc, file).image;
   }
-  if (!o0.image) {
-    // Too large unoptimised is rcxc's limit, not the language's; out of
-    // variables too when nqc is also.
-    if (o0.error.find("bytes of program memory") != std::string::npos) return;
-    if (!nqc.empty() && !theirs && o0.error.find("no variable slot left") != std::string::npos) return;
-    ADD_FAILURE() << "seed " << seed << ": rcxc refuses" << (theirs ? " (nqc compiles it)" : "") << ":\n"
-                  << o0.error << text;
-    return;
-  }
-  for (auto [level, name] : {std::pair{ir::OptLevel::O1, "-O1"}, {ir::OptLevel::O2, "-O2"}, {ir::OptLevel::Os, "-Os"}}) {
+  std::optional<rcx::Image> reference;
+  const char* reference_name = "";
+  const std::pair<ir::OptLevel, const char*> levels[] = {
+      {ir::OptLevel::O0, "-O0"}, {ir::OptLevel::O1, "-O1"}, {ir::OptLevel::O2, "-O2"}, {ir::OptLevel::Os, "-Os"}};
+  for (auto [level, name] : levels) {
     auto c = compile_rcxc(text, level);
     if (!c.image) {
-      ADD_FAILURE() << "seed " << seed << ": rcxc " << name << " refuses:\n" << c.error << text;
-      return;
+      bool limit = c.error.find("bytes of program memory") != std::string::npos ||
+                   c.error.find("no variable slot left") != std::string::npos;
+      bool nqc_does = level == ir::OptLevel::O2 && theirs;
+      if (!limit || reference || nqc_does) {
+        ADD_FAILURE() << "seed " << seed << ": rcxc " << name << " refuses"
+                      << (reference ? fmt::format(" (compiled at {})", reference_name) : "")
+                      << (nqc_does ? " (nqc compiles it)" : "") << ":\n"
+                      << c.error << text;
+        return;
+      }
+      continue;
     }
-    auto diff = first_difference(*o0.image, "-O0", *c.image, name, scenarios);
-    if (!diff.empty()) {
+    if (!reference) {
+      reference = c.image;
+      reference_name = name;
+    } else if (auto diff = first_difference(*reference, reference_name, *c.image, name, scenarios); !diff.empty()) {
       ADD_FAILURE() << "seed " << seed << ": " << diff << "\n" << text;
       return;
     }
@@ -165,8 +175,8 @@ void check(const std::string& text, unsigned seed, const std::string& nqc, const
       continue;
     }
     ++tally.compared_with_nqc;
-    diff = first_difference(*c.image, "rcxc", *theirs, "nqc", scenarios);
-    if (!diff.empty()) ADD_FAILURE() << "seed " << seed << ": " << diff << "\n" << text;
+    if (auto diff = first_difference(*c.image, "rcxc", *theirs, "nqc", scenarios); !diff.empty())
+      ADD_FAILURE() << "seed " << seed << ": " << diff << "\n" << text;
   }
 }
 
@@ -179,6 +189,8 @@ TEST(StatementPrograms, EveryLevelAndNqcsCodeBehaveAlike) {
   constexpr unsigned kPrograms = 300;
   for (unsigned seed = test::seed_offset() + 1; seed <= test::seed_offset() + kPrograms; ++seed)
     check(StatementGenerator(seed).program(), seed, nqc, dir, tally);
+  std::printf("%d programs, nqc compiled %d, compared with nqc %d (nqc's branches wrong in %d)\n", tally.programs,
+              tally.nqc_compiled, tally.compared_with_nqc, tally.wrapped);
   // About a tenth run nqc out of temporaries; half of the rest have a test
   // nqc gets wrong (more than 127 bytes forward).
   if (!nqc.empty()) {
