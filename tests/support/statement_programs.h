@@ -351,24 +351,13 @@ class StatementGenerator {
   // One statement that is one statement (statement() sometimes writes a
   // loop's counter set-up before it), for a body without braces.
   void single_statement(std::ostringstream& out, Context& ctx, int depth) {
+    indent(out, ctx);
     switch (depth > 0 ? pick(0, 4) : pick(0, 2)) {
-      case 0:
-        indent(out, ctx);
-        out << var(ctx) << " = " << expr(ctx, 3) << ";\n";
-        return;
-      case 1:
-        indent(out, ctx);
-        return motor(out, ctx);
-      case 2:
-        indent(out, ctx);
-        out << var(ctx) << " -= " << expr(ctx, 2) << ";\n";
-        return;
-      case 3:
-        indent(out, ctx);
-        return if_chain(out, ctx, depth);
-      default:
-        indent(out, ctx);
-        return switch_statement(out, ctx, depth);
+      case 0: out << var(ctx) << " = " << expr(ctx, 3) << ";\n"; return;
+      case 1: return motor(out, ctx);
+      case 2: out << var(ctx) << " -= " << expr(ctx, 2) << ";\n"; return;
+      case 3: return if_chain(out, ctx, depth);
+      default: return switch_statement(out, ctx, depth);
     }
   }
 
@@ -425,6 +414,22 @@ class StatementGenerator {
     return ctx.counter + std::to_string(ctx.loops + 1);
   }
 
+  // A loop counting its passes in g: set to 0 before it, one more at the
+  // top of each pass (where `continue` cannot skip it). `tail` is written
+  // after the body, so a condition in it is drawn after the body's.
+  template <class Tail>
+  void counted_loop(std::ostringstream& out, const Context& ctx, const Context& inner, int depth,
+                    const std::string& g, const std::string& head, Tail tail) {
+    out << g << " = 0;\n";
+    indent(out, ctx);
+    out << head << "\n";
+    indent(out, inner);
+    out << g << "++;\n";
+    block(out, inner, depth - 1, statements());
+    indent(out, ctx);
+    out << tail() << "\n";
+  }
+
   void loop(std::ostringstream& out, Context& ctx, int depth) {
     Context inner = ctx;
     ++inner.loops;
@@ -439,24 +444,12 @@ class StatementGenerator {
     std::string g = counter(ctx), limit = std::to_string(pick(1, 4));
     switch (kind) {
       case 0:
-        out << g << " = 0;\n";
-        indent(out, ctx);
-        out << "while (" << g << " < " << limit << " && (" << condition(ctx) << ")) {\n";
-        indent(out, inner);
-        out << g << "++;\n";
-        block(out, inner, depth - 1, statements());
-        indent(out, ctx);
-        out << "}\n";
+        counted_loop(out, ctx, inner, depth, g, "while (" + g + " < " + limit + " && (" + condition(ctx) + ")) {",
+                     [] { return std::string("}"); });
         break;
       case 1:
-        out << g << " = 0;\n";
-        indent(out, ctx);
-        out << "do {\n";
-        indent(out, inner);
-        out << g << "++;\n";
-        block(out, inner, depth - 1, statements());
-        indent(out, ctx);
-        out << "} while (" << g << " < " << limit << " && (" << condition(ctx) << "));\n";
+        counted_loop(out, ctx, inner, depth, g, "do {",
+                     [&] { return "} while (" + g + " < " + limit + " && (" + condition(ctx) + "));"; });
         break;
       case 2:
         out << "for (" << g << " = 0; " << g << " < " << limit << " && (" << condition(ctx) << "); " << g
@@ -465,24 +458,12 @@ class StatementGenerator {
         out << "\n";
         break;
       case 6:
-        out << g << " = 0;\n";
-        indent(out, ctx);
-        out << "do {\n";
-        indent(out, inner);
-        out << g << "++;\n";
-        block(out, inner, depth - 1, statements());
-        indent(out, ctx);
-        out << "} until (" << g << " >= " << limit << " || (" << condition(ctx) << "));\n";
+        counted_loop(out, ctx, inner, depth, g, "do {",
+                     [&] { return "} until (" + g + " >= " + limit + " || (" + condition(ctx) + "));"; });
         break;
       case 3:
-        out << g << " = 0;\n";
-        indent(out, ctx);
-        out << "until (" << g << " >= " << limit << " || (" << condition(ctx) << ")) {\n";
-        indent(out, inner);
-        out << g << "++;\n";
-        block(out, inner, depth - 1, statements());
-        indent(out, ctx);
-        out << "}\n";
+        counted_loop(out, ctx, inner, depth, g, "until (" + g + " >= " + limit + " || (" + condition(ctx) + ")) {",
+                     [] { return std::string("}"); });
         break;
       default:
         // A constant count, or a variable one kept small (a negative count
