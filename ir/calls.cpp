@@ -323,19 +323,23 @@ bool report_explosion(const Program& p, Diagnostics& diags) {
 
 }  // namespace
 
+void drop_uncalled_subs(Program& p, Log& log) {
+  CallCounts counts = count_calls(p);
+  for (FuncId s : live_subs(p))
+    if (counts.calls[static_cast<std::size_t>(s)] == 0) {
+      log.push_back(fmt::format("sub {} is not called: dropped", p.functions[static_cast<std::size_t>(s)].name));
+      p.functions[static_cast<std::size_t>(s)].blocks.clear();
+    }
+}
+
 bool resolve_calls(Program& p, OptLevel level, Diagnostics& diags, Log& log) {
   if (report_recursion(p, diags)) return false;
   if (report_explosion(p, diags)) return false;
   std::vector<bool> done(p.functions.size(), false);
   for (FuncId s : live_subs(p)) flatten(p, s, done, log);
-  // Subroutines no task calls any more are dropped.
+  drop_uncalled_subs(p, log);
   CallCounts counts = count_calls(p);
   auto calls = [&](FuncId s) { return counts.calls[static_cast<std::size_t>(s)]; };
-  for (FuncId s : live_subs(p))
-    if (calls(s) == 0) {
-      log.push_back(fmt::format("sub {} is not called: dropped", p.functions[static_cast<std::size_t>(s)].name));
-      p.functions[static_cast<std::size_t>(s)].blocks.clear();
-    }
   // A subroutine run by several tasks keeps its locals and temporaries in
   // one slot for all of them; inlined, every task has its own.
   // After flattening no subroutine calls another, so inlining one into the

@@ -33,6 +33,10 @@ struct Frame {
   BlockId return_to = -1;  // -1: leave the task/sub
   std::map<ast::SymbolId, BlockId> labels;
   std::size_t loop_base = 0;
+  // The counter loops (Function::repeats indexes) around each label and
+  // around each goto, to find the loops a goto leaves or enters.
+  std::map<ast::SymbolId, std::vector<int>> repeats_at_label{};
+  std::vector<std::pair<ast::SymbolId, std::vector<int>>> gotos{};
 };
 
 struct Lowerer {
@@ -56,7 +60,6 @@ struct Lowerer {
   // Inline functions' locals declared without a value, per task or sub.
   std::map<std::pair<ast::SymbolId, FuncId>, VarId> inline_locals;
   std::vector<SourceSpan> call_sites;  // where each expansion in `expanding` was called
-  bool has_goto = false;
   SourceSpan span{};  // of the statement being lowered
   // `span` in out.spans, added when an instruction or block first needs
   // it: a statement's instructions share one.
@@ -892,6 +895,7 @@ struct Lowerer {
     BlockId done = new_block();
     frames.push_back(Frame{done, {}, loops.size()});
     statement(f.body);
+    escape_repeats_crossed_by_gotos(frames.back());
     frames.pop_back();
     expanding.pop_back();
     call_sites.pop_back();
@@ -901,6 +905,33 @@ struct Lowerer {
   }
 
   // ---------------------------------------------------------- statements --
+
+  // The counter loops of this frame around the statement being lowered.
+  std::vector<int> repeats_around() const {
+    std::vector<int> out;
+    for (std::size_t i = frames.back().loop_base; i < loops.size(); ++i)
+      if (loops[i].repeat >= 0) out.push_back(loops[i].repeat);
+    return out;
+  }
+
+  // A goto leaves the counter loops around it but not around its label, and
+  // enters those around the label but not around it: each would leave a
+  // counter pushed or pop one never pushed. Called as the frame ends, when
+  // every label of it is placed.
+  void escape_repeats_crossed_by_gotos(const Frame& frame) {
+    for (const auto& [label, around_goto] : frame.gotos) {
+      auto it = frame.repeats_at_label.find(label);
+      if (it == frame.repeats_at_label.end()) continue;
+      const std::vector<int>& around_label = it->second;
+      auto escape_unshared = [&](const std::vector<int>& from, const std::vector<int>& other) {
+        for (int r : from)
+          if (std::find(other.begin(), other.end(), r) == other.end())
+            fn().repeats[static_cast<std::size_t>(r)].escapes = true;
+      };
+      escape_unshared(around_goto, around_label);
+      escape_unshared(around_label, around_goto);
+    }
+  }
 
   void escape_repeats(std::size_t from) {
     for (std::size_t i = from; i < loops.size(); ++i)
@@ -1090,12 +1121,13 @@ struct Lowerer {
   }
   void lower_stmt(const ast::Goto& g, const ast::Stmt& s) {
     if (g.symbol == ast::kNoSymbol) return error(s.span, fmt::format("label '{}' is not defined", g.label));
-    has_goto = true;
+    frames.back().gotos.emplace_back(g.symbol, repeats_around());
     jump(label_block(g.symbol));
     dead_code();
   }
   void lower_stmt(const ast::Labeled& l, const ast::Stmt&) {
     BlockId b = label_block(l.symbol);
+    frames.back().repeats_at_label[l.symbol] = repeats_around();
     jump(b);
     enter(b);
     statement(*l.body);
@@ -1249,15 +1281,13 @@ struct Lowerer {
   void body(FuncId f, const ast::Stmt& stmt, bool is_main) {
     fid = f;
     entered.clear();
-    has_goto = false;
     span = stmt.span;
     enter(new_block());
     frames.push_back(Frame{-1, {}, loops.size()});
     if (is_main) startup();
     statement(stmt);
+    escape_repeats_crossed_by_gotos(frames.back());
     frames.pop_back();
-    if (has_goto)
-      for (auto& r : fn().repeats) r.escapes = true;
     // Lay blocks out in the order code entered them; blocks never entered
     // hold no code and go last.
     std::vector<BlockId> order;

@@ -242,6 +242,12 @@ void toss_coins_on_loop_counter(Program& p, Log& log);
 // subroutines while there are more than 8 (cheapest first) and, from -O2,
 // wherever inlining is not larger than calling. Returns false on error.
 bool resolve_calls(Program& p, OptLevel level, Diagnostics& diags, Log& log);
+
+// calls.cpp: subroutines no task calls are dropped (their code would take
+// bytes, and their variables slots no other code could share): after
+// resolve_calls, and again once the clean-up passes have removed the
+// calls in code that never runs.
+void drop_uncalled_subs(Program& p, Log& log);
 // Replaces the call at (block, index) of `caller` by a copy of `callee`.
 void inline_call(Program& p, FuncId caller, BlockId block, std::size_t index);
 // Bytes a function's code takes when every branch is near (an estimate).

@@ -77,6 +77,7 @@ bool optimize(Program& p, OptLevel level, Diagnostics& diags, Log& log, const Pa
       if (after == before) break;
       before = after;  // the next round starts from this code
     }
+    drop_uncalled_subs(p, log);
     for (auto& f : p.functions) merge_nested_repeats(f, log);
     // The flip adds a jump per pass (each half loops back on its own) and
     // speculation an assignment when the condition holds: -Os only.

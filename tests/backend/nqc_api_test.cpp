@@ -22,12 +22,6 @@
 namespace rcxc {
 namespace {
 
-std::string find_nqc() {
-  auto r = test::run_process({"/bin/sh", "-c", "command -v nqc"});
-  std::string path = r.out.substr(0, r.out.find('\n'));
-  return r.exit_code == 0 ? path : std::string();
-}
-
 // One way of using a name; a name may have several (value, then statement).
 struct Use {
   std::string name;
@@ -116,7 +110,7 @@ rcx::Machine run(const rcx::Image& image) {
 }
 
 TEST(NqcApi, EveryNameOfNqcsRcxApiCompilesAndRunsAsNqcsCodeDoes) {
-  std::string nqc = find_nqc();
+  std::string nqc = test::find_nqc();
   if (nqc.empty()) GTEST_SKIP() << "nqc is not installed";
   auto api = test::run_process({nqc, "-Trcx", "-api"});
   ASSERT_EQ(api.exit_code, 0);

@@ -19,11 +19,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string find_nqc() {
-  auto r = test::run_process({"/bin/sh", "-c", "command -v nqc"});
-  return r.exit_code == 0 ? r.out.substr(0, r.out.find('\n')) : std::string();
-}
-
 // nqc's listing of `file` and rcxc's listing of nqc's image of it; nullopt
 // when nqc does not compile the file.
 struct Listings {
@@ -89,7 +84,7 @@ task main() {
 )";
 
 TEST(NqcListing, EveryInstructionListsAsNqcListsIt) {
-  std::string nqc = find_nqc();
+  std::string nqc = test::find_nqc();
   if (nqc.empty()) GTEST_SKIP() << "nqc is not installed";
   test::TempDir dir;
   fs::path file = fs::path(dir.path) / "every.nqc";
@@ -103,7 +98,7 @@ TEST(NqcListing, EveryInstructionListsAsNqcListsIt) {
 }
 
 TEST(NqcListing, CorpusProgramsListAsNqcListsThem) {
-  std::string nqc = find_nqc();
+  std::string nqc = test::find_nqc();
   if (nqc.empty()) GTEST_SKIP() << "nqc is not installed";
   const fs::path corpus = RCXC_CORPUS_DIR;
   if (!fs::exists(corpus)) GTEST_SKIP() << "no corpus at " << corpus;
@@ -122,7 +117,7 @@ TEST(NqcListing, CorpusProgramsListAsNqcListsThem) {
 // nqc's -c: the listing LASM reads (operand fields as numbers, labels for
 // branch targets in tasks and subroutines), equal to nqc's to the byte.
 TEST(NqcListing, EveryInstructionListsForLasmAsNqcListsIt) {
-  std::string nqc = find_nqc();
+  std::string nqc = test::find_nqc();
   if (nqc.empty()) GTEST_SKIP() << "nqc is not installed";
   test::TempDir dir;
   fs::path file = fs::path(dir.path) / "every.nqc";
@@ -137,7 +132,7 @@ TEST(NqcListing, EveryInstructionListsForLasmAsNqcListsIt) {
 }
 
 TEST(NqcListing, CorpusAndSemanticTestProgramsListForLasmAsNqcListsThem) {
-  std::string nqc = find_nqc();
+  std::string nqc = test::find_nqc();
   if (nqc.empty()) GTEST_SKIP() << "nqc is not installed";
   test::TempDir dir;
   int compared = 0;

@@ -31,13 +31,6 @@ using rcxc::test::TwoTaskGenerator;
 
 namespace {
 
-// CI runs the fixed seeds 1..N. RCXC_SEED_OFFSET=K runs K+1..K+N instead,
-// for wider runs by hand (docs/testing.md); a failure names its seed.
-unsigned seed_offset() {
-  const char* k = std::getenv("RCXC_SEED_OFFSET");
-  return k ? static_cast<unsigned>(std::strtoul(k, nullptr, 10)) : 0u;
-}
-
 struct Observed {
   std::vector<std::string> at_markers;  // output states when each marker showed
   // Per output, each mode it went through (on, off, float; a repeat of
@@ -158,7 +151,7 @@ namespace {
 
 TEST(RandomPrograms, EveryOptimisationLevelBehavesAsUnoptimised) {
   int ended = 0;
-  for (unsigned seed = seed_offset() + 1; seed <= seed_offset() + 300; ++seed) {
+  for (unsigned seed = test::seed_offset() + 1; seed <= test::seed_offset() + 300; ++seed) {
     std::string text = Generator(seed).program();
     std::string error;
     auto reference = observe(text, ir::OptLevel::O0, error);
@@ -172,7 +165,7 @@ TEST(RandomPrograms, EveryOptimisationLevelBehavesAsUnoptimised) {
 }
 
 TEST(RandomPrograms, LocalsKeptFromCallToCallComputeTheSameAtEveryLevel) {
-  for (unsigned seed = seed_offset() + 1; seed <= seed_offset() + 300; ++seed) {
+  for (unsigned seed = test::seed_offset() + 1; seed <= test::seed_offset() + 300; ++seed) {
     std::string text = test::KeptLocalGenerator(seed).program();
     std::string error;
     auto reference = observe(text, ir::OptLevel::O0, error);
@@ -183,7 +176,7 @@ TEST(RandomPrograms, LocalsKeptFromCallToCallComputeTheSameAtEveryLevel) {
 }
 
 TEST(RandomPrograms, TwoTasksInTurnsBehaveAsUnoptimised) {
-  for (unsigned seed = seed_offset() + 1; seed <= seed_offset() + 300; ++seed) {
+  for (unsigned seed = test::seed_offset() + 1; seed <= test::seed_offset() + 300; ++seed) {
     std::string text = TwoTaskGenerator(seed).program();
     std::string error;
     auto reference = observe(text, ir::OptLevel::O0, error);
@@ -194,7 +187,7 @@ TEST(RandomPrograms, TwoTasksInTurnsBehaveAsUnoptimised) {
 
 TEST(RandomPrograms, ExpressionsComputeTheSameAtEveryLevel) {
   int compared = 0;
-  for (unsigned seed = seed_offset() + 1; seed <= seed_offset() + 400; ++seed) {
+  for (unsigned seed = test::seed_offset() + 1; seed <= test::seed_offset() + 400; ++seed) {
     std::string text = ExpressionGenerator(seed).program();
     std::string error;
     auto reference = observe(text, ir::OptLevel::O0, error);
@@ -210,13 +203,6 @@ TEST(RandomPrograms, ExpressionsComputeTheSameAtEveryLevel) {
 }
 
 namespace {
-
-// The nqc on the PATH, or "" when it is not installed.
-std::string find_nqc() {
-  auto r = test::run_process({"/bin/sh", "-c", "command -v nqc"});
-  std::string path = r.out.substr(0, r.out.find('\n'));
-  return r.exit_code == 0 ? path : std::string();
-}
 
 // The image nqc makes of `text`; nullopt when nqc refuses it, or when a
 // fragment is over 127 bytes: nqc wraps test-and-branch offsets beyond
@@ -255,11 +241,11 @@ std::optional<Observed> observe_nqc(const std::string& nqc, const test::TempDir&
 }  // namespace
 
 TEST(RandomPrograms, ExpressionsComputeWhatNqcsCodeComputes) {
-  std::string nqc = find_nqc();
+  std::string nqc = test::find_nqc();
   if (nqc.empty()) GTEST_SKIP() << "nqc is not installed";
   test::TempDir dir;
   int compared = 0;
-  for (unsigned seed = seed_offset() + 1; seed <= seed_offset() + 1200; ++seed) {
+  for (unsigned seed = test::seed_offset() + 1; seed <= test::seed_offset() + 1200; ++seed) {
     std::string text = ExpressionGenerator(seed, true).program();
     std::string error;
     auto ours = observe(text, ir::OptLevel::Os, error);
@@ -292,7 +278,7 @@ TEST(RandomPrograms, InstructionsMovedIntoSubroutinesDoWhatTheyDidBesideTheCalls
   // -O1 moves nothing. Both must show the same, as `rcxc compare` judges
   // it, and the generator must give the pass enough to move.
   int moved = 0;
-  for (unsigned seed = seed_offset() + 1; seed <= seed_offset() + 300; ++seed) {
+  for (unsigned seed = test::seed_offset() + 1; seed <= test::seed_offset() + 300; ++seed) {
     std::string text = test::CallNeighbourGenerator(seed).program();
     std::optional<backend::Output> out[2];
     ir::Log log;
@@ -351,7 +337,7 @@ bool os_agrees_with_o1(const std::string& text, unsigned seed, const char* logge
 template <class Generator>
 int agreeing_programs_logging(const char* logged, rcx::TimeTolerance tolerance = kOsAgainstO1) {
   int n = 0;
-  for (unsigned seed = seed_offset() + 1; seed <= seed_offset() + 300; ++seed)
+  for (unsigned seed = test::seed_offset() + 1; seed <= test::seed_offset() + 300; ++seed)
     n += os_agrees_with_o1(Generator(seed).program(), seed, logged, tolerance);
   return n;
 }
@@ -383,11 +369,11 @@ TEST(RandomPrograms, MotorProgramsShowWhatNqcsCodeShows) {
   // What `rcxc compare` checks, on random motor programs nqc compiles: the
   // same outputs switched the same way with the same settings while they
   // run, within compare's tolerances, and the same final globals.
-  std::string nqc = find_nqc();
+  std::string nqc = test::find_nqc();
   if (nqc.empty()) GTEST_SKIP() << "nqc is not installed";
   test::TempDir dir;
   int compared = 0;
-  for (unsigned seed = seed_offset() + 1; seed <= seed_offset() + 300; ++seed) {
+  for (unsigned seed = test::seed_offset() + 1; seed <= test::seed_offset() + 300; ++seed) {
     std::string text = Generator(seed).program();
     auto theirs = nqc_image(nqc, dir, text);
     if (!theirs) continue;  // nqc refuses it (subroutines calling subroutines) or its branches are too long
@@ -489,7 +475,7 @@ TEST(RandomPrograms, ExpressionsComputeWhatTheCppReferenceComputes) {
   test::TempDir dir;
   std::string cpp = kCppPrelude;
   std::vector<std::pair<unsigned, std::string>> programs;
-  for (unsigned seed = seed_offset() + 1; seed <= seed_offset() + 200; ++seed) {
+  for (unsigned seed = test::seed_offset() + 1; seed <= test::seed_offset() + 200; ++seed) {
     std::string text = ExpressionGenerator(seed, test::Audience::Cpp).program();
     programs.emplace_back(seed, text);
     cpp += as_cpp(text, seed);

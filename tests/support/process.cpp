@@ -133,6 +133,11 @@ std::vector<std::string> nqc_programs_under(const std::string& dir) {
   return files;
 }
 
+std::string find_nqc() {
+  auto r = run_process({"/bin/sh", "-c", "command -v nqc"});
+  return r.exit_code == 0 ? r.out.substr(0, r.out.find('\n')) : std::string();
+}
+
 std::string make_temp_dir() {
   const char* base = std::getenv("TMPDIR");
   std::string tmpl = std::string(base ? base : "/tmp") + "/rcxc-test-XXXXXX";

@@ -33,6 +33,9 @@ ProcessResult run_rcxc(const std::vector<std::string>& args, const std::string& 
 // limits cannot be measured there.
 bool built_with_asan();
 
+// The nqc on the PATH, or "" when it is not installed.
+std::string find_nqc();
+
 // The whole content of the file at `path` ("" when it cannot be read).
 std::string read_text_file(const std::string& path);
 

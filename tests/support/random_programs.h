@@ -4,12 +4,20 @@
 #pragma once
 
 #include <cstdint>
+#include <cstdlib>
 #include <random>
 #include <sstream>
 #include <string>
 #include <vector>
 
 namespace rcxc::test {
+
+// CI runs the fixed seeds 1..N. RCXC_SEED_OFFSET=K runs K+1..K+N instead,
+// for wider runs by hand (docs/testing.md); a failure names its seed.
+inline unsigned seed_offset() {
+  const char* k = std::getenv("RCXC_SEED_OFFSET");
+  return k ? static_cast<unsigned>(std::strtoul(k, nullptr, 10)) : 0u;
+}
 
 class Generator {
  public:
