@@ -1,0 +1,74 @@
+// A language server driven in-process for the tests of tests/lsp/: the
+// messages a client sends, and a session with one open document.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "lsp/server.h"
+#include "tests/support/process.h"
+
+namespace rcxc::lsp {
+
+using nlohmann::json;
+
+inline std::string framed(const json& j) {
+  std::string body = j.dump();
+  return "Content-Length: " + std::to_string(body.size()) + "\r\n\r\n" + body;
+}
+
+inline json request(int id, const std::string& method, json params = json::object()) {
+  return {{"jsonrpc", "2.0"}, {"id", id}, {"method", method}, {"params", params}};
+}
+
+inline json note(const std::string& method, json params = json::object()) {
+  return {{"jsonrpc", "2.0"}, {"method", method}, {"params", params}};
+}
+
+inline json pos(int line, int character) { return {{"line", line}, {"character", character}}; }
+
+// A server with one open document; `diagnostics` is what didOpen published.
+struct Session {
+  test::TempDir dir;
+  Server server;
+  std::string uri;
+  json diagnostics;
+
+  explicit Session(const std::string& text, const std::string& name = "prog.nqc", frontend::Options options = {}) {
+    server.stdlib_dir = dir.path + "/stdlib-copy";
+    server.options = std::move(options);
+    EXPECT_EQ(handle(server, request(1, "initialize", {{"capabilities", json::object()}})).size(), 1u);
+    EXPECT_TRUE(handle(server, note("initialized")).empty());
+    std::string path = dir.write(name, text);
+    uri = path_to_uri(path);
+    auto out = handle(server, note("textDocument/didOpen", {{"textDocument",
+                                                             {{"uri", uri}, {"languageId", "nqc"}, {"version", 1}, {"text", text}}}}));
+    EXPECT_EQ(out.size(), 1u);
+    if (!out.empty()) diagnostics = out[0]["params"]["diagnostics"];
+  }
+
+  json ask(const std::string& method, json params) {
+    params["textDocument"] = {{"uri", uri}};
+    auto out = handle(server, request(7, method, params));
+    EXPECT_EQ(out.size(), 1u);
+    if (out.empty()) return nullptr;
+    EXPECT_FALSE(out[0].contains("error")) << out[0].dump();
+    return out[0]["result"];
+  }
+  json at(const std::string& method, int line, int character) { return ask(method, {{"position", pos(line, character)}}); }
+};
+
+inline json range_at(int line, int begin, int end) { return {{"start", pos(line, begin)}, {"end", pos(line, end)}}; }
+
+// The request's error reply (code and message), or null when it succeeded.
+inline json error_of(Session& s, const std::string& method, json params) {
+  params["textDocument"] = {{"uri", s.uri}};
+  auto out = handle(s.server, request(9, method, params));
+  EXPECT_EQ(out.size(), 1u);
+  return out.empty() || !out[0].contains("error") ? json(nullptr) : out[0]["error"];
+}
+
+}  // namespace rcxc::lsp
