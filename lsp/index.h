@@ -9,8 +9,10 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "frontend/diagnostics.h"
@@ -68,13 +70,24 @@ struct DocDiagnostic {
   std::vector<Related> related;
 };
 
+// How the program uses a variable at one place, as the syntax tree says:
+// assigned (`=`, `+=` and the other assignment operators, `++`, `--`),
+// passed whole to a call (the callee may take it by reference), or read.
+enum class Access : std::uint8_t { Read, Argument, Write };
+
 struct Index {
   SourceManager sm;                 // every file read, the document is file `main_file`
   std::uint32_t main_file = 0;
   std::vector<bool> is_stdlib;      // by file: the embedded standard library
+  // The `-D` options, one `-D NAME=VALUE` a line, as a file of their own:
+  // the macros they define are placed there (nothing an editor can open).
+  std::optional<std::uint32_t> command_line;
   std::vector<Definition> defs;
   std::vector<Occurrence> occurrences;
   std::vector<DocDiagnostic> diagnostics;
+  // The places (file, line, column) where a name is assigned or passed to
+  // a call; a name in a macro's body counts where the body spells it.
+  std::map<std::tuple<std::uint32_t, std::uint32_t, std::uint32_t>, Access> accesses;
 };
 
 // The largest document compiled, as rcxc compile caps a source file
@@ -91,6 +104,19 @@ const Occurrence* occurrence_at(const Index& index, std::uint32_t file, std::uin
 // What the identifier `name` at `where` refers to: a macro, else the
 // innermost local, parameter or label in scope, else a top-level name.
 const Definition* resolve(const Index& index, const std::string& name, const Place& where);
+
+// What the identifier at `at` does with its variable (Read when the tree
+// has nothing there, e.g. in a line the parser could not read).
+Access access_at(const Index& index, const Place& at);
+
+// Each identifier of `file` with what it refers to (nullptr: nothing
+// known), in source order; the names are looked up in one table, so a
+// whole document costs about as much as its identifiers.
+std::vector<std::pair<const Occurrence*, const Definition*>> resolve_file(const Index& index, std::uint32_t file);
+
+// Whether `file` is the standard library, or the `-D` options.
+bool in_stdlib(const Index& index, std::uint32_t file);
+bool on_command_line(const Index& index, std::uint32_t file);
 
 // Every occurrence that refers to `def` (its own declaration included when
 // `with_declaration`), in file then source order.

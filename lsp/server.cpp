@@ -5,11 +5,13 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <stdexcept>
 #include <sstream>
 
 #include "frontend/parse.h"
 #include "lsp/jsonrpc.h"
+#include "lsp/outline.h"
 #include "stdlib/stdlib.h"
 
 namespace rcxc::lsp {
@@ -169,6 +171,7 @@ std::string stdlib_copy(Server& server, const std::string& name) {
 
 std::string file_uri(Server& server, const Document& doc, const std::string& uri, std::uint32_t file) {
   if (file == doc.index.main_file) return uri;
+  if (on_command_line(doc.index, file)) return "";  // a -D option: no file to show
   const std::string& path = doc.index.sm.path(file);
   if (file < doc.index.is_stdlib.size() && doc.index.is_stdlib[file]) {
     std::string copy = stdlib_copy(server, path);
@@ -266,9 +269,11 @@ int symbol_kind(const Definition& d) {
   }
 }
 
-std::string hover_text(const Definition& d, bool in_stdlib) {
+std::string hover_text(const Index& index, const Definition& d) {
   std::string text = "```nqc\n" + d.signature + "\n```";
-  std::string where = std::string(def_kind_name(d.kind)) + (in_stdlib ? " of the RCX API (rcx.nqh)" : "");
+  std::string where = std::string(def_kind_name(d.kind));
+  if (in_stdlib(index, d.at.begin.file)) where += " of the RCX API (rcx.nqh)";
+  if (on_command_line(index, d.at.begin.file)) where += " defined on the command line";
   text += "\n" + where;
   if (!d.doc.empty()) text += "\n\n" + d.doc;
   return text;
@@ -293,8 +298,7 @@ json hover(Request& r) {
   const Occurrence* occ = nullptr;
   const Definition* def = definition_at(r, *at, &occ);
   if (!def) return nullptr;
-  bool in_stdlib = r.doc->index.is_stdlib[def->at.begin.file];
-  return {{"contents", {{"kind", "markdown"}, {"value", hover_text(*def, in_stdlib)}}},
+  return {{"contents", {{"kind", "markdown"}, {"value", hover_text(r.doc->index, *def)}}},
           {"range", range_json(r.doc->index.sm, occ->at)}};
 }
 
@@ -444,10 +448,9 @@ json signature_help(Request& r) {
 // types a thousand-letter name.
 constexpr std::size_t kMaxNewName = 255;
 
-bool in_stdlib(const Index& index, std::uint32_t file) { return file < index.is_stdlib.size() && index.is_stdlib[file]; }
-
 std::string where_defined(const Index& index, const Definition& d) {
   if (in_stdlib(index, d.at.begin.file)) return "in the RCX API (rcx.nqh)";
+  if (on_command_line(index, d.at.begin.file)) return "on the command line (" + d.signature + ")";
   std::string file = fs::path(index.sm.path(d.at.begin.file)).filename().string();
   return "at " + (d.at.begin.file == index.main_file ? "" : file + ":") + "line " + std::to_string(d.at.begin.line);
 }
@@ -471,6 +474,8 @@ Renamed renamable_at(Request& r, const Place& at) {
   const Index& index = r.doc->index;
   if (in_stdlib(index, what.def->at.begin.file))
     throw Refused("'" + name + "' is part of the RCX API (rcx.nqh) and cannot be renamed");
+  if (on_command_line(index, what.def->at.begin.file))
+    throw Refused("'" + name + "' is defined on the command line (" + what.def->signature + ") and cannot be renamed");
   what.uses = references(index, *what.def, true);
   for (const Range& use : what.uses)
     if (in_stdlib(index, use.begin.file)) throw Refused("'" + name + "' is used in the RCX API (rcx.nqh) and cannot be renamed");
@@ -516,40 +521,16 @@ json rename(Request& r) {
 
 // --------------------------------------------------------- highlighting --
 
-std::string_view without_blanks_before(std::string_view s) {
-  auto b = s.find_first_not_of(" \t");
-  return b == std::string_view::npos ? std::string_view() : s.substr(b);
-}
-
-std::string_view without_blanks_after(std::string_view s) {
-  auto e = s.find_last_not_of(" \t");
-  return e == std::string_view::npos ? std::string_view() : s.substr(0, e + 1);
-}
-
-// Whether `text` ends with a call's "NAME(" (not "if (" or "x * (").
-bool opens_call(std::string_view text) {
-  if (!text.ends_with("(")) return false;
-  std::string_view head = without_blanks_after(text.substr(0, text.size() - 1));
-  std::size_t start = head.size();
-  while (start > 0 && (std::isalnum(static_cast<unsigned char>(head[start - 1])) || head[start - 1] == '_')) --start;
-  return start < head.size() && is_plain_name(head.substr(start));
-}
-
-// How the variable at `r` is used, from the text around it on its line:
-// Write when assigned (an assignment operator after it, ++ or -- before or
-// after it), Text when it is a whole argument of a call (a function may take
+// The highlight kind of a variable's use at `r`: Write where it is
+// assigned, Text where it is a whole argument of a call (a function may take
 // it by reference and write it), else Read.
 int access_kind(const Index& index, const Range& r) {
-  std::string_view line = index.sm.line(r.begin.file, r.begin.line);
-  std::string_view before = without_blanks_after(line.substr(0, std::min<std::size_t>(line.size(), r.begin.column - 1)));
-  std::string_view after = without_blanks_before(line.substr(std::min<std::size_t>(line.size(), r.end.column - 1)));
-  const int text = 1, read = 2, write = 3;
-  if (before.ends_with("++") || before.ends_with("--")) return write;
-  for (std::string_view op : {"++", "--", "||=", "+-=", "<<=", ">>=", "+=", "-=", "*=", "/=", "%=", "&=", "|=", "^="})
-    if (after.starts_with(op)) return write;
-  if (after.starts_with("=") && !after.starts_with("==")) return write;
-  bool argument = (opens_call(before) || before.ends_with(",")) && (after.starts_with(")") || after.starts_with(","));
-  return argument ? text : read;
+  switch (access_at(index, r.begin)) {
+    case Access::Write: return 3;
+    case Access::Argument: return 1;
+    case Access::Read: return 2;
+  }
+  return 2;
 }
 
 json document_highlight(Request& r) {
@@ -570,6 +551,139 @@ json document_highlight(Request& r) {
   return list;
 }
 
+// -------------------------------------------------------------- folding --
+
+json folding_ranges(Request& r) {
+  json list = json::array();
+  // As large a document as the compiler reads (the protocol allows 64 MiB).
+  if (r.doc->text.size() > kMaxDocument) return list;
+  for (const Fold& f : folds(r.doc->text)) {
+    json range = {{"startLine", f.first - 1}, {"endLine", f.last - 1}};
+    if (f.kind == FoldKind::Comment) range["kind"] = "comment";
+    if (f.kind == FoldKind::Imports) range["kind"] = "imports";
+    list.push_back(range);
+  }
+  return list;
+}
+
+// ------------------------------------------------------ workspace symbols --
+
+// The tasks, subs, functions, globals and macros of every open document
+// and of the files they include (an included file that is open itself
+// counts as open: its own text, not the one on disk), matching the query.
+json workspace_symbols(Server& server, const json& params) {
+  const std::string query = params.at("query").get<std::string>();
+  std::set<std::string> open;
+  for (const auto& [uri, doc] : server.documents) open.insert(fs::path(doc.path).lexically_normal().string());
+  struct Found {
+    int rank;
+    const Definition* def;
+    Document* doc;
+    const std::string* uri;
+  };
+  std::vector<Found> found;
+  std::set<std::tuple<std::string, std::uint32_t, std::uint32_t>> seen;  // a file included twice counts once
+  for (auto& [uri, doc] : server.documents) {
+    const Index& index = doc.index;
+    for (const auto& d : index.defs) {
+      std::uint32_t file = d.at.begin.file;
+      if (d.scope || in_stdlib(index, file) || on_command_line(index, file)) continue;
+      std::error_code ec;
+      std::string path = file == index.main_file ? doc.path : fs::absolute(index.sm.path(file), ec).string();
+      path = fs::path(path).lexically_normal().string();
+      if (file != index.main_file && open.contains(path)) continue;
+      auto rank = symbol_match(d.name, query);
+      if (!rank || !seen.insert({path, d.at.begin.line, d.at.begin.column}).second) continue;
+      found.push_back({*rank, &d, &doc, &uri});
+    }
+  }
+  std::sort(found.begin(), found.end(), [](const Found& a, const Found& b) {
+    return std::tie(a.rank, a.def->name, *a.uri, a.def->at.begin.line) <
+           std::tie(b.rank, b.def->name, *b.uri, b.def->at.begin.line);
+  });
+  json list = json::array();
+  for (const Found& f : found) {
+    json loc = location(server, *f.doc, *f.uri, f.def->at);
+    if (loc.is_null()) continue;
+    list.push_back({{"name", f.def->name}, {"kind", symbol_kind(*f.def)}, {"location", loc}});
+  }
+  return list;
+}
+
+// -------------------------------------------------------- semantic tokens --
+
+// The legend: a token's type is an index into the first list, its
+// modifiers a bit set over the second.
+const std::vector<std::string> kTokenTypes = {"function", "parameter", "variable", "macro", "label"};
+const std::vector<std::string> kTokenModifiers = {"declaration", "defaultLibrary", "globalScope", "functionScope",
+                                                  "task"};
+
+std::pair<std::uint32_t, std::uint32_t> token_type(const Index& index, const Definition& d, const Occurrence& o) {
+  enum : std::uint32_t { function, parameter, variable, macro, label };
+  enum : std::uint32_t { declaration = 1, library = 2, global_scope = 4, function_scope = 8, task = 16 };
+  std::uint32_t type = function, mods = 0;
+  switch (d.kind) {
+    case DefKind::Task: mods = task; break;
+    case DefKind::Sub:
+    case DefKind::Function: break;
+    case DefKind::Global: type = variable, mods = global_scope; break;
+    case DefKind::Local: type = variable, mods = function_scope; break;
+    case DefKind::Param: type = parameter; break;
+    case DefKind::Label: type = label; break;
+    case DefKind::Macro: type = macro; break;
+  }
+  if (in_stdlib(index, d.at.begin.file)) mods |= library;
+  if (o.at.begin.file == d.at.begin.file && o.at.begin.line == d.at.begin.line && o.at.begin.column == d.at.begin.column)
+    mods |= declaration;
+  return {type, mods};
+}
+
+// UTF-16 columns of byte columns met left to right on one line, counted
+// from the last one, so a line of many names is read once.
+struct Utf16Columns {
+  std::string_view line;
+  std::size_t byte = 0;
+  std::uint32_t units = 0;
+
+  std::uint32_t at(std::uint32_t column) {
+    for (std::size_t to = column - 1; byte < to && byte < line.size();) {
+      std::size_t n = utf8_length(static_cast<unsigned char>(line[byte]));
+      units += n == 4 ? 2 : 1;
+      byte += n;
+    }
+    return units;
+  }
+};
+
+// The name after a directive's '#' (`#define`, `#include`) is no name of the program.
+bool directive_word(std::string_view line, std::uint32_t column) {
+  std::string_view before = line.substr(0, std::min<std::size_t>(line.size(), column - 1));
+  auto b = before.find_first_not_of(" \t");
+  return b != std::string_view::npos && before[b] == '#' && before.find_first_not_of(" \t", b + 1) == std::string_view::npos;
+}
+
+json semantic_tokens(Request& r) {
+  const Index& index = r.doc->index;
+  std::vector<std::uint32_t> data;
+  std::uint32_t last_line = 1, last_start = 0;
+  Utf16Columns columns;
+  std::uint32_t columns_line = 0;
+  for (const auto& [occ, def] : resolve_file(index, index.main_file)) {
+    const Place& b = occ->at.begin;
+    if (!def || occ->at.end.line != b.line) continue;
+    std::string_view line = doc_line(*r.doc, b.line);
+    if (directive_word(line, b.column)) continue;
+    if (columns_line != b.line) columns = {line}, columns_line = b.line;
+    std::uint32_t start = columns.at(b.column);
+    std::uint32_t length = columns.at(occ->at.end.column) - start;
+    auto [type, mods] = token_type(index, *def, *occ);
+    data.insert(data.end(), {b.line - last_line, b.line == last_line ? start - last_start : start, length, type, mods});
+    last_line = b.line;
+    last_start = start;
+  }
+  return {{"data", data}};
+}
+
 json initialize_result(Server& server, const json& params) {
   if (params.is_object() && params.contains("initializationOptions")) {
     const json& init = params["initializationOptions"];
@@ -588,6 +702,9 @@ json initialize_result(Server& server, const json& params) {
       {"signatureHelpProvider", {{"triggerCharacters", json::array({"(", ","})}}},
       {"renameProvider", {{"prepareProvider", true}}},
       {"documentHighlightProvider", true},
+      {"foldingRangeProvider", true},
+      {"workspaceSymbolProvider", true},
+      {"semanticTokensProvider", {{"legend", {{"tokenTypes", kTokenTypes}, {"tokenModifiers", kTokenModifiers}}}, {"full", true}}},
   };
   return {{"capabilities", capabilities}, {"serverInfo", {{"name", "rcxc"}, {"version", server.version}}}};
 }
@@ -679,7 +796,10 @@ json answer(Server& server, const std::string& method, const json& params) {
       {"textDocument/prepareRename", prepare_rename},
       {"textDocument/rename", rename},
       {"textDocument/documentHighlight", document_highlight},
+      {"textDocument/foldingRange", folding_ranges},
+      {"textDocument/semanticTokens/full", semantic_tokens},
   };
+  if (method == "workspace/symbol") return workspace_symbols(server, params);
   auto h = handlers.find(method);
   if (h == handlers.end()) throw UnknownMethod{};
   Request r{server, params, text_document_uri(params)};
