@@ -258,14 +258,6 @@ TEST(LspSemanticTokens, EveryNameByWhatItIs) {
 
 // ------------------------------------------------------ highlight kinds --
 
-std::vector<std::tuple<int, int, int>> highlights(Session& s, int line, int character) {
-  std::vector<std::tuple<int, int, int>> out;
-  for (const auto& h : s.at("textDocument/documentHighlight", line, character))
-    out.emplace_back(h["range"]["start"]["line"], h["range"]["start"]["character"], h["kind"]);
-  std::sort(out.begin(), out.end());
-  return out;
-}
-
 TEST(LspDocumentHighlight, ReadAndWriteComeFromTheSyntaxTree) {
   Session s(
       "int count;\n"                              // 0

@@ -923,15 +923,6 @@ TEST(LspRename, UsesInAnIncludedFileAreRenamedThere) {
 
 // -------------------------------------------------------- highlighting --
 
-// (line, character, kind) of each highlight of the name at the position.
-std::vector<std::tuple<int, int, int>> highlights(Session& s, int line, int character) {
-  std::vector<std::tuple<int, int, int>> out;
-  for (const auto& h : s.at("textDocument/documentHighlight", line, character))
-    out.emplace_back(h["range"]["start"]["line"], h["range"]["start"]["character"], h["kind"]);
-  std::sort(out.begin(), out.end());
-  return out;
-}
-
 TEST(LspDocumentHighlight, EveryUseInTheDocumentWithReadAndWrite) {
   Session s(kNames);
   using H = std::vector<std::tuple<int, int, int>>;

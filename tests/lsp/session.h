@@ -4,7 +4,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <string>
+#include <tuple>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -69,6 +72,15 @@ inline json error_of(Session& s, const std::string& method, json params) {
   auto out = handle(s.server, request(9, method, params));
   EXPECT_EQ(out.size(), 1u);
   return out.empty() || !out[0].contains("error") ? json(nullptr) : out[0]["error"];
+}
+
+// (line, character, kind) of each highlight of the name at the position.
+inline std::vector<std::tuple<int, int, int>> highlights(Session& s, int line, int character) {
+  std::vector<std::tuple<int, int, int>> out;
+  for (const auto& h : s.at("textDocument/documentHighlight", line, character))
+    out.emplace_back(h["range"]["start"]["line"], h["range"]["start"]["character"], h["kind"]);
+  std::sort(out.begin(), out.end());
+  return out;
 }
 
 }  // namespace rcxc::lsp
