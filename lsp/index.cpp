@@ -170,12 +170,15 @@ struct Collector {
 // Where the program assigns a name or passes it whole to a call, from the
 // lenient parse's tree. Names a macro spells are placed in its body.
 struct AccessCollector {
-  std::map<std::tuple<std::uint32_t, std::uint32_t, std::uint32_t>, Access>& out;
+  std::map<std::tuple<std::uint32_t, std::uint32_t, std::uint32_t>, Index::Accessed>& out;
 
   void mark(const ast::Expr& e, Access a) {
-    if (!std::holds_alternative<ast::Name>(e.node) || !e.span.begin.valid()) return;
+    if (!std::holds_alternative<ast::Name>(e.node) || !e.span.begin.valid() || e.span.end.file != e.span.begin.file)
+      return;
     auto& slot = out[{e.span.begin.file, e.span.begin.line, e.span.begin.column}];
-    slot = std::max(slot, a);  // a name a macro uses twice is written if either use writes it
+    slot.end_line = e.span.end.line;
+    slot.end_column = e.span.end.column;
+    slot.access = std::max(slot.access, a);  // a name a macro uses twice is written if either use writes it
   }
 
   void expr(const ast::Expr& e) {
@@ -463,8 +466,14 @@ const Definition* resolve(const Index& index, const std::string& name, const Pla
 }
 
 Access access_at(const Index& index, const Place& at) {
-  auto it = index.accesses.find({at.file, at.line, at.column});
-  return it == index.accesses.end() ? Access::Read : it->second;
+  // The last marked expression beginning at or before `at`, if it reaches past it.
+  auto it = index.accesses.upper_bound({at.file, at.line, at.column});
+  if (it == index.accesses.begin()) return Access::Read;
+  --it;
+  const std::uint32_t file = std::get<0>(it->first);
+  const Index::Accessed& a = it->second;
+  bool reaches = file == at.file && before(at, Place{file, a.end_line, a.end_column});
+  return reaches ? a.access : Access::Read;
 }
 
 namespace {

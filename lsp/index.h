@@ -85,9 +85,15 @@ struct Index {
   std::vector<Definition> defs;
   std::vector<Occurrence> occurrences;
   std::vector<DocDiagnostic> diagnostics;
-  // The places (file, line, column) where a name is assigned or passed to
-  // a call; a name in a macro's body counts where the body spells it.
-  std::map<std::tuple<std::uint32_t, std::uint32_t, std::uint32_t>, Access> accesses;
+  // Where a name is assigned or passed to a call: from the place (file,
+  // line, column) its expression begins, to the line and column it ends
+  // (a name in parentheses begins at the '('); a name in a macro's body
+  // counts where the body spells it.
+  struct Accessed {
+    std::uint32_t end_line = 0, end_column = 0;
+    Access access = Access::Read;
+  };
+  std::map<std::tuple<std::uint32_t, std::uint32_t, std::uint32_t>, Accessed> accesses;
 };
 
 // The largest document compiled, as rcxc compile caps a source file

@@ -274,12 +274,14 @@ TEST(LspDocumentHighlight, ReadAndWriteComeFromTheSyntaxTree) {
       "  );\n"                                    // 11
       "  if (count == 1) add(count + 1);\n"       // 12
       "  RESET;\n"                                // 13
-      "}\n");                                     // 14
+      "  (count) = 7; add((count));\n"            // 14
+      "}\n");                                     // 15
   using H = std::vector<std::tuple<int, int, int>>;
   const int text = 1, read = 2, write = 3;
   // An assignment split over lines or with a comment before '=' is still
   // one; BUMP's expansion writes its argument; RESET's body assigns where
-  // the #define spells it; a whole call argument is Text, a part of one Read.
+  // the #define spells it; a whole call argument is Text, a part of one
+  // Read; parentheses around a name change nothing.
   EXPECT_EQ(highlights(s, 0, 4), (H{{0, 4, write},
                                     {2, 14, write},
                                     {6, 2, write},
@@ -287,7 +289,9 @@ TEST(LspDocumentHighlight, ReadAndWriteComeFromTheSyntaxTree) {
                                     {9, 7, write},
                                     {10, 6, text},
                                     {12, 6, read},
-                                    {12, 22, read}}));
+                                    {12, 22, read},
+                                    {14, 3, write},
+                                    {14, 20, text}}));
 }
 
 // ------------------------------------------------------ -D on the command line --
