@@ -89,12 +89,12 @@ struct Folder {
   }
 
   // The line a block's fold starts on: its header's when the '{' follows
-  // `NAME(...)`, `while (...)`, `else` or `do`.
+  // `NAME(...)`, `while (...)` or a word (`else`, `do`, `asm`).
   std::uint32_t block_start(std::size_t brace) const {
     std::uint32_t own = tokens[brace].span.begin.line;
     if (brace == 0) return own;
     const Token& before = tokens[brace - 1];
-    if (before.is_identifier("else") || before.is_identifier("do")) return before.span.begin.line;
+    if (before.kind == frontend::TokenKind::Identifier) return before.span.begin.line;
     if (!before.is(")") || paren_match[brace - 1] == SIZE_MAX) return own;
     std::size_t open = paren_match[brace - 1];
     if (open > 0 && tokens[open - 1].kind == frontend::TokenKind::Identifier) --open;

@@ -28,7 +28,7 @@ struct Fold {
 
 // The folds of `text` by first line (the larger first), each region once.
 // A block starts on the line of its header (`task main()`, `while (x)`,
-// `else`) when the '{' is on a later line. Regions of one line are left out.
+// `else`, `do`, `asm`) when the '{' is on a later line. Regions of one line are left out.
 std::vector<Fold> folds(std::string_view text);
 
 // How `name` matches a workspace symbol query, ignoring case: 0 when it

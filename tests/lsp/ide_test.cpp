@@ -87,6 +87,27 @@ TEST(LspFolding, BracesAndCommentMarksInLiteralsDoNotCount) {
   EXPECT_EQ(folding(s), (Folds{{0, 5, ""}}));
 }
 
+TEST(LspFolding, BlocksAfterAWordStartOnItsLine) {
+  Session s(
+      "task main()\n"    // 0
+      "{\n"              // 1
+      "  do\n"           // 2
+      "  {\n"            // 3
+      "    x++;\n"       // 4
+      "  }\n"            // 5
+      "  while (x < 3);\n"  // 6
+      "  asm\n"          // 7
+      "  {\n"            // 8
+      "    0x13, 1\n"    // 9
+      "  }\n"            // 10
+      "  x = 1;\n"       // 11
+      "  {\n"            // 12: a block of its own starts on its own line
+      "    x = 2;\n"     // 13
+      "  }\n"            // 14
+      "}\n");            // 15
+  EXPECT_EQ(folding(s), (Folds{{0, 14, ""}, {2, 4, ""}, {7, 9, ""}, {12, 13, ""}}));
+}
+
 TEST(LspFolding, ConditionalsNestAndElifSplits) {
   Session s(
       "#if A\n"            // 0
