@@ -646,10 +646,10 @@ struct Utf16Columns {
   std::uint32_t units = 0;
 
   std::uint32_t at(std::uint32_t column) {
-    for (std::size_t to = column - 1; byte < to && byte < line.size();) {
-      std::size_t n = utf8_length(static_cast<unsigned char>(line[byte]));
-      units += n == 4 ? 2 : 1;
-      byte += n;
+    std::size_t to = std::min<std::size_t>(column - 1, line.size());
+    if (to > byte) {
+      units += utf16_of_byte_column(line.substr(byte), static_cast<std::uint32_t>(to - byte + 1));
+      byte = to;
     }
     return units;
   }

@@ -471,10 +471,15 @@ TEST(LspRobustness, RandomEditsAndTheNewRequestsAlwaysGetOneGoodReply) {
           EXPECT_LT(f["startLine"].get<int>(), f["endLine"].get<int>()) << text;
         }
     if (result.is_object() && result.contains("data")) {
-      // Deltas never go backwards: each is an unsigned number, and a
-      // token on the same line starts after the previous one.
-      for (const auto& n : result["data"]) EXPECT_GE(n.get<std::int64_t>(), 0);
-      EXPECT_EQ(result["data"].size() % 5, 0u);
+      // Tokens never go backwards nor overlap: every number is unsigned,
+      // and a token on the line of the one before starts after its end.
+      const json& data = result["data"];
+      ASSERT_EQ(data.size() % 5, 0u);
+      for (const auto& n : data) EXPECT_GE(n.get<std::int64_t>(), 0);
+      for (std::size_t i = 5; i < data.size(); i += 5)
+        if (data[i] == 0) {
+          EXPECT_GE(data[i + 1].get<std::int64_t>(), data[i - 3].get<std::int64_t>()) << text;
+        }
     }
   }
 }
