@@ -408,9 +408,13 @@ TEST(LspHostile, UnbalancedAndDeepBracesFoldWithoutRecursion) {
 }
 
 // 10,000 lines: 2,000 globals, 2,000 functions of three lines using them,
-// a task of 2,000 lines, comments and a #if. Measured on the loaded 2-core build machine
-// (Release): see the report printed below; 20,000 lines take about twice
-// as long (the answers are linear in the document).
+// a task of 2,000 lines, comments and a #if, and the same at twice the
+// size. Measured (Release, the 2-core build machine at load 10, three
+// runs): foldingRange 6-18 ms at 10,000 lines and 15-34 ms at 20,000;
+// semanticTokens/full 25-41 ms and 36-43 ms. Before resolve_file kept the
+// scoped definitions in order of their bodies, semanticTokens took 60 ms
+// and 230 ms: each of the 4,000 uses of `a` was checked against the
+// 4,000 parameters named `a`.
 TEST(LspHostile, FoldingAndTokensStayFastOnALargeDocument) {
   auto program = [](int scale) {
     std::string text = "// A generated program\n// of many lines.\n#if 1\nint hits;\n#endif\n";
