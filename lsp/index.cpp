@@ -290,6 +290,27 @@ void add_command_line(Index& index, const frontend::Options& options) {
   }
 }
 
+// The characters of more than one byte in `text`, line by line, each
+// decoded from its lead byte as utf16_column counts them.
+std::vector<WideChar> wide_chars_of(std::string_view text) {
+  std::vector<WideChar> out;
+  std::uint32_t line = 1;
+  for (std::size_t line_start = 0; line_start <= text.size(); ++line) {
+    std::size_t end = std::min(text.find('\n', line_start), text.size());
+    std::uint32_t units = 0;
+    for (std::size_t i = line_start; i < end;) {
+      std::size_t n = utf8_length(static_cast<unsigned char>(text[i]));
+      units += n == 4 ? 2 : 1;
+      if (n > 1)
+        out.push_back({line, static_cast<std::uint32_t>(i - line_start), static_cast<std::uint32_t>(i - line_start + n),
+                       units});
+      i += n;
+    }
+    line_start = end + 1;
+  }
+  return out;
+}
+
 // Macros and identifier occurrences, read from each file's own tokens.
 void scan_file(Index& index, std::uint32_t file) {
   Diagnostics ignored;
@@ -415,6 +436,7 @@ Index build_index(const std::string& path, const std::string& text, const fronte
     scan_file(index, f);
   }
   add_command_line(index, options);
+  for (std::uint32_t f = 0; f < index.sm.size(); ++f) index.wide_chars.push_back(wide_chars_of(index.sm.text(f)));
   return index;
 }
 
@@ -517,6 +539,30 @@ std::vector<std::pair<const Occurrence*, const Definition*>> resolve_file(const 
     out.emplace_back(&o, it == by_name.end() ? nullptr : resolve_among(it->second.candidates(o.at.begin), o.at.begin));
   }
   return out;
+}
+
+std::size_t utf8_length(unsigned char lead) {
+  if (lead < 0x80) return 1;
+  if ((lead >> 5) == 0x6) return 2;
+  if ((lead >> 4) == 0xe) return 3;
+  if ((lead >> 3) == 0x1e) return 4;
+  return 1;  // a stray continuation byte counts as one
+}
+
+std::uint32_t utf16_column(const Index& index, const Place& at) {
+  const std::uint32_t size = static_cast<std::uint32_t>(index.sm.line(at.file, at.line).size());
+  const std::uint32_t bytes = at.column > 0 ? at.column - 1 : 0;
+  const std::uint32_t within = std::min(bytes, size);
+  const std::uint32_t past_end = bytes - within;
+  if (at.file >= index.wide_chars.size()) return bytes;
+  const auto& wide = index.wide_chars[at.file];
+  // The last wide character of the line that starts before the column.
+  auto after = std::partition_point(wide.begin(), wide.end(), [&](const WideChar& w) {
+    return w.line < at.line || (w.line == at.line && w.start < within);
+  });
+  if (after == wide.begin() || (after - 1)->line != at.line) return bytes;
+  const WideChar& w = *(after - 1);
+  return (within >= w.end ? w.units + (within - w.end) : w.units) + past_end;
 }
 
 bool in_stdlib(const Index& index, std::uint32_t file) { return file < index.is_stdlib.size() && index.is_stdlib[file]; }

@@ -24,14 +24,6 @@ namespace fs = std::filesystem;
 // LSP counts characters in UTF-16 code units from 0; the compiler counts
 // bytes from 1.
 
-std::size_t utf8_length(unsigned char lead) {
-  if (lead < 0x80) return 1;
-  if ((lead >> 5) == 0x6) return 2;
-  if ((lead >> 4) == 0xe) return 3;
-  if ((lead >> 3) == 0x1e) return 4;
-  return 1;  // a stray continuation byte counts as one
-}
-
 std::uint32_t utf16_of_byte_column(std::string_view line, std::uint32_t column) {
   std::size_t bytes = column > 0 ? column - 1 : 0;
   std::uint32_t units = 0;
@@ -74,9 +66,12 @@ json position(std::string_view line_text, std::uint32_t line, std::uint32_t colu
   return {{"line", line - 1}, {"character", utf16_of_byte_column(line_text, column)}};
 }
 
-json range_json(const SourceManager& sm, const Range& r) {
-  return {{"start", position(sm.line(r.begin.file, r.begin.line), r.begin.line, r.begin.column)},
-          {"end", position(sm.line(r.end.file, r.end.line), r.end.line, r.end.column)}};
+json range_json(const Index& index, const Range& r) {
+  auto at = [&](const Place& p) {
+    if (p.line == 0) return json{{"line", 0}, {"character", 0}};
+    return json{{"line", p.line - 1}, {"character", utf16_column(index, p)}};
+  };
+  return {{"start", at(r.begin)}, {"end", at(r.end)}};
 }
 
 // Parameters that are not what LSP says they are (answered Invalid params).
@@ -184,7 +179,7 @@ std::string file_uri(Server& server, const Document& doc, const std::string& uri
 json location(Server& server, const Document& doc, const std::string& uri, const Range& r) {
   std::string target = file_uri(server, doc, uri, r.begin.file);
   if (target.empty()) return nullptr;
-  return {{"uri", target}, {"range", range_json(doc.index.sm, r)}};
+  return {{"uri", target}, {"range", range_json(doc.index, r)}};
 }
 
 // ----------------------------------------------------------- diagnostics --
@@ -299,7 +294,7 @@ json hover(Request& r) {
   const Definition* def = definition_at(r, *at, &occ);
   if (!def) return nullptr;
   return {{"contents", {{"kind", "markdown"}, {"value", hover_text(r.doc->index, *def)}}},
-          {"range", range_json(r.doc->index.sm, occ->at)}};
+          {"range", range_json(r.doc->index, occ->at)}};
 }
 
 json completion(Request& r) {
@@ -350,7 +345,7 @@ json document_symbols(Request& r) {
   json list = json::array();
   for (const Definition* d : defs)
     list.push_back({{"name", d->name}, {"detail", d->signature}, {"kind", symbol_kind(*d)},
-                    {"range", range_json(index.sm, d->extent)}, {"selectionRange", range_json(index.sm, d->at)}});
+                    {"range", range_json(index, d->extent)}, {"selectionRange", range_json(index, d->at)}});
   return list;
 }
 
@@ -404,7 +399,7 @@ json code_actions(Request& r) {
     for (auto& n : similar_names(index, name, occ->at.begin))
       if (std::find(names.begin(), names.end(), n) == names.end()) names.push_back(n);
     for (std::size_t i = 0; i < names.size(); ++i) {
-      json edit = {{"range", range_json(index.sm, occ->at)}, {"newText", names[i]}};
+      json edit = {{"range", range_json(index, occ->at)}, {"newText", names[i]}};
       actions.push_back({{"title", "Change '" + name + "' to '" + names[i] + "'"},
                          {"kind", "quickfix"},
                          {"isPreferred", i == 0},
@@ -498,7 +493,7 @@ json prepare_rename(Request& r) {
   if (!at) return nullptr;
   Renamed what = renamable_at(r, *at);
   if (!what.def) return nullptr;
-  return {{"range", range_json(r.doc->index.sm, what.occurrence->at)}, {"placeholder", what.occurrence->name}};
+  return {{"range", range_json(r.doc->index, what.occurrence->at)}, {"placeholder", what.occurrence->name}};
 }
 
 json rename(Request& r) {
@@ -514,7 +509,7 @@ json rename(Request& r) {
     // Only a standard library copy has no URI, and its uses were refused;
     // a rename that left some uses out would change what the program means.
     if (target.empty()) throw Refused("'" + what.def->name + "' is used in a file that has no URI");
-    changes[target].push_back({{"range", range_json(r.doc->index.sm, use)}, {"newText", new_name}});
+    changes[target].push_back({{"range", range_json(r.doc->index, use)}, {"newText", new_name}});
   }
   return {{"changes", changes}};
 }
@@ -546,7 +541,7 @@ json document_highlight(Request& r) {
     bool declaration = use.begin.line == def->at.begin.line && use.begin.column == def->at.begin.column &&
                        use.begin.file == def->at.begin.file;
     int kind = !variable ? 1 : declaration ? 3 : access_kind(index, use);  // 1 Text, 3 Write
-    list.push_back({{"range", range_json(index.sm, use)}, {"kind", kind}});
+    list.push_back({{"range", range_json(index, use)}, {"kind", kind}});
   }
   return list;
 }
@@ -638,23 +633,6 @@ std::pair<std::uint32_t, std::uint32_t> token_type(const Index& index, const Def
   return {type, mods};
 }
 
-// UTF-16 columns of byte columns met left to right on one line, counted
-// from the last one, so a line of many names is read once.
-struct Utf16Columns {
-  std::string_view line;
-  std::size_t byte = 0;
-  std::uint32_t units = 0;
-
-  std::uint32_t at(std::uint32_t column) {
-    std::size_t to = std::min<std::size_t>(column - 1, line.size());
-    if (to > byte) {
-      units += utf16_of_byte_column(line.substr(byte), static_cast<std::uint32_t>(to - byte + 1));
-      byte = to;
-    }
-    return units;
-  }
-};
-
 // The name after a directive's '#' (`#define`, `#include`) is no name of the program.
 bool directive_word(std::string_view line, std::uint32_t column) {
   std::string_view before = line.substr(0, std::min<std::size_t>(line.size(), column - 1));
@@ -666,16 +644,12 @@ json semantic_tokens(Request& r) {
   const Index& index = r.doc->index;
   std::vector<std::uint32_t> data;
   std::uint32_t last_line = 1, last_start = 0;
-  Utf16Columns columns;
-  std::uint32_t columns_line = 0;
   for (const auto& [occ, def] : resolve_file(index, index.main_file)) {
     const Place& b = occ->at.begin;
     if (!def || occ->at.end.line != b.line) continue;
-    std::string_view line = doc_line(*r.doc, b.line);
-    if (directive_word(line, b.column)) continue;
-    if (columns_line != b.line) columns = {line}, columns_line = b.line;
-    std::uint32_t start = columns.at(b.column);
-    std::uint32_t length = columns.at(occ->at.end.column) - start;
+    if (directive_word(doc_line(*r.doc, b.line), b.column)) continue;
+    std::uint32_t start = utf16_column(index, b);
+    std::uint32_t length = utf16_column(index, occ->at.end) - start;
     auto [type, mods] = token_type(index, *def, *occ);
     data.insert(data.end(), {b.line - last_line, b.line == last_line ? start - last_start : start, length, type, mods});
     last_line = b.line;
