@@ -499,13 +499,7 @@ TEST(LspRobustness, RandomEditsAndTheNewRequestsAlwaysGetOneGoodReply) {
   const char* methods[] = {"textDocument/foldingRange", "textDocument/semanticTokens/full", "workspace/symbol",
                            "textDocument/documentHighlight"};
   for (int round = 0; round < 300; ++round) {
-    for (int e = below(4); e >= 0; --e) {
-      std::size_t at = text.empty() ? 0 : static_cast<std::size_t>(below(static_cast<int>(text.size())));
-      if (below(2) == 0 && !text.empty())
-        text.erase(at, static_cast<std::size_t>(1 + below(6)));
-      else
-        text.insert(at, 1, alphabet[static_cast<std::size_t>(below(static_cast<int>(alphabet.size())))]);
-    }
+    random_edits(text, rng, alphabet, 6);
     handle(s.server, note("textDocument/didChange", {{"textDocument", {{"uri", s.uri}, {"version", round}}},
                                                     {"contentChanges", json::array({{{"text", text}}})}}));
     json params = {{"textDocument", {{"uri", s.uri}}}, {"query", text.substr(0, 2)}, {"position", pos(below(12), below(20))}};

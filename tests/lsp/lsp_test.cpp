@@ -435,13 +435,7 @@ TEST(LspRobustness, RandomEditsAndRequestsAlwaysGetOneReply) {
   const std::string alphabet = "abcXYZ_09 ;{}()#/*\"\n\t=+-<>&|!~'\xc3\xa9\xff";
   std::string text = kProgram;
   for (int round = 0; round < 400; ++round) {
-    for (int e = below(4); e >= 0; --e) {
-      std::size_t at = text.empty() ? 0 : static_cast<std::size_t>(below(static_cast<int>(text.size())));
-      if (below(2) == 0 && !text.empty())
-        text.erase(at, static_cast<std::size_t>(1 + below(8)));
-      else
-        text.insert(at, 1, alphabet[static_cast<std::size_t>(below(static_cast<int>(alphabet.size())))]);
-    }
+    random_edits(text, rng, alphabet, 8);
     auto change = handle(s.server, note("textDocument/didChange", {{"textDocument", {{"uri", s.uri}, {"version", round}}},
                                                                    {"contentChanges", json::array({{{"text", text}}})}}));
     ASSERT_EQ(change.size(), 1u);

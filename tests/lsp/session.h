@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <random>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -72,6 +73,19 @@ inline json error_of(Session& s, const std::string& method, json params) {
   auto out = handle(s.server, request(9, method, params));
   EXPECT_EQ(out.size(), 1u);
   return out.empty() || !out[0].contains("error") ? json(nullptr) : out[0]["error"];
+}
+
+// One to four random edits of `text`, each at a random place: a cut of up
+// to `longest_cut` bytes, or one byte of `alphabet` put in.
+inline void random_edits(std::string& text, std::mt19937& rng, const std::string& alphabet, int longest_cut) {
+  auto below = [&](int n) { return static_cast<int>(rng() % static_cast<unsigned>(n)); };
+  for (int e = below(4); e >= 0; --e) {
+    std::size_t at = text.empty() ? 0 : static_cast<std::size_t>(below(static_cast<int>(text.size())));
+    if (below(2) == 0 && !text.empty())
+      text.erase(at, static_cast<std::size_t>(1 + below(longest_cut)));
+    else
+      text.insert(at, 1, alphabet[static_cast<std::size_t>(below(static_cast<int>(alphabet.size())))]);
+  }
 }
 
 // (line, character, kind) of each highlight of the name at the position.
