@@ -278,6 +278,16 @@ TEST(LspSemanticTokens, EveryNameByWhatItIs) {
                                  {11, 17, 5, label, 0}}));
 }
 
+TEST(LspSemanticTokens, ALocalThatShadowsAGlobalIsALocal) {
+  Session s("int count;\ntask main() { int count; count = 1; }\n");
+  const int function = 0, variable = 2;
+  const int decl = 1, global = 4, local = 8, task = 16;
+  EXPECT_EQ(semantic(s), (Tokens{{0, 4, 5, variable, global | decl},
+                                 {1, 5, 4, function, task | decl},
+                                 {1, 18, 5, variable, local | decl},
+                                 {1, 25, 5, variable, local}}));
+}
+
 // ------------------------------------------------------- UTF-16 columns --
 
 TEST(LspUtf16, ColumnsFromTheTableOfWideCharacters) {
