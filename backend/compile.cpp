@@ -50,7 +50,8 @@ std::optional<Output> compile(ir::Program program, ir::OptLevel level, Diagnosti
   }
   diags = std::move(chosen_diags);
   log.insert(log.end(), chosen_log.begin(), chosen_log.end());
-  if (out) log.push_back(fmt::format("{} bytes of code, {} variable slots", out->code_bytes, out->slots_used));
+  if (out) log.push_back(fmt::format("{} bytes of code, {} variable slot{}", out->code_bytes, out->slots_used,
+                                     out->slots_used == 1 ? "" : "s"));
   return out;
 }
 

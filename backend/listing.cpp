@@ -27,7 +27,8 @@ std::string listing(const Output& out, const SourceManager* sm) {
     }
     text += "\n";
   }
-  text += fmt::format("total: {} bytes of code, {} variable slots\n", out.code_bytes, out.slots_used);
+  text += fmt::format("total: {} bytes of code, {} variable slot{}\n", out.code_bytes, out.slots_used,
+                      out.slots_used == 1 ? "" : "s");
   return text;
 }
 

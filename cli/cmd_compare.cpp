@@ -220,9 +220,15 @@ int run(const CompareOptions& o) {
                  "input)\n";
     return kExitUsage;
   }
-  if (is_nqc_source(o.file) == false) {
-    std::cerr << "rcxc compare: " << o.file << " is an .rcx image; compare needs the NQC source\n";
-    return kExitFailure;
+  // A file that is not source (missing, a folder, an image, binary bytes)
+  // is refused in rcxc compile's words before nqc is asked: nqc's refusal
+  // would read as "nothing to compare" (exit 5) for what is a bad input.
+  if (is_nqc_source(o.file) != true) {
+    CompileResult refused = compile_file(o.file, compile_request(o.compiler));
+    if (!refused.output) {
+      std::cerr << render_all(refused.diagnostics, refused.sources, {});
+      return kExitFailure;
+    }
   }
   std::vector<Scenario> scenarios;
   for (const auto& path : o.scenarios) {
@@ -240,11 +246,16 @@ int run(const CompareOptions& o) {
     std::cerr << "rcxc compare: " << theirs.failure << "\n";
     return kExitNotComparable;
   }
+  CompileResult ours = compile_file(o.file, compile_request(o.compiler));
   if (!theirs.image) {
-    std::cout << o.file << ": nqc does not compile this program; nothing to compare\n";
+    // Why neither compiles, or why nqc does not: the refusal alone says nothing.
+    if (!ours.output) std::cerr << render_all(ours.diagnostics, ours.sources, {});
+    for (const auto& m : theirs.messages)
+      std::cerr << "nqc: " << (m.line > 0 ? fmt::format("line {}: ", m.line) : "") << m.message << "\n";
+    std::cout << o.file << (ours.output ? ": nqc does not compile this program" : ": neither nqc nor rcxc compiles this program")
+              << "; nothing to compare\n";
     return kExitNotComparable;
   }
-  CompileResult ours = compile_file(o.file, compile_request(o.compiler));
   if (!ours.output) {
     std::cerr << render_all(ours.diagnostics, ours.sources, {});
     std::cout << o.file << ": nqc compiles this program but rcxc does not\n";
@@ -308,6 +319,7 @@ void register_compare(CLI::App& app, int& exit_code) {
   add_repeatable(cmd, "--scenario", o->scenarios, "Scenario TOML file (repeatable); default: built-in scenarios")->check(not_empty());
   cmd->add_option("--nqc-path", o->nqc, "The nqc to compare with (path or name; default: nqc on PATH)")->check(not_empty());
   cmd->add_option("--for", o->for_ms, "Virtual milliseconds per run (default 20000)")
+      ->check(whole_number())
       ->check(CLI::Range(std::int64_t{1}, kMaxRunMs));
   cmd->add_option("--seed", o->seed, "Random seed for both runs")->check(whole_number());
   cmd->add_option("--instruction-us", o->instruction_us, "Virtual time per instruction (default 10)")

@@ -56,6 +56,15 @@ std::optional<std::string> source_file_at(const std::string& path, const SourceM
   return std::nullopt;
 }
 
+// Says so when `target` is the program or a file it includes.
+bool overwrites_source(const std::string& target, const SourceManager& sm) {
+  auto source = source_file_at(target, sm);
+  if (source)
+    std::cerr << "rcxc compile: refusing to write " << target << ": it is the source file " << *source
+              << " (choose another name)\n";
+  return source.has_value();
+}
+
 int write_outputs(const CompileArgs& a, const backend::Output& out, const SourceManager& sm) {
   auto image = rcx::write_image(out.image);
   std::string path = image_path(a);  // "-": the standard output
@@ -66,11 +75,7 @@ int write_outputs(const CompileArgs& a, const backend::Output& out, const Source
   }
   for (const std::string* target : {static_cast<const std::string*>(&path), &a.listing}) {
     if (target->empty() || *target == "-") continue;
-    if (auto source = source_file_at(*target, sm)) {
-      std::cerr << "rcxc compile: refusing to write " << *target << ": it is the source file " << *source
-                << " (choose another name)\n";
-      return kExitUsage;
-    }
+    if (overwrites_source(*target, sm)) return kExitUsage;
   }
   if (path == "-") {
     // For a pipe; bad_arguments has made sure the listing goes elsewhere.
@@ -79,16 +84,30 @@ int write_outputs(const CompileArgs& a, const backend::Output& out, const Source
       std::cerr << "rcxc compile: cannot write the image to the standard output\n";
       return kExitFailure;
     }
-  } else if (!write_file_atomically(path, std::string(image.begin(), image.end()))) {
-    std::cerr << "rcxc compile: cannot write " << path << "\n";
+  } else if (auto unwritten = write_file_atomically(path, std::string(image.begin(), image.end()))) {
+    std::cerr << "rcxc compile: cannot write " << path << ": " << *unwritten << "\n";
     return kExitFailure;
   }
   if (a.listing.empty()) return kExitOk;
   std::string text = backend::listing(out, &sm);
   if (a.listing == "-") {
     std::cout << text;
-  } else if (!write_file_atomically(a.listing, text)) {
-    std::cerr << "rcxc compile: cannot write " << a.listing << "\n";
+  } else if (auto unwritten = write_file_atomically(a.listing, text)) {
+    std::cerr << "rcxc compile: cannot write " << a.listing << ": " << *unwritten << "\n";
+    return kExitFailure;
+  }
+  return kExitOk;
+}
+
+// -E's text goes where -o says, as gcc's does; the standard output without it.
+int write_preprocessed(const CompileArgs& a, const std::string& text, const SourceManager& sm) {
+  if (!a.output || *a.output == "-") {
+    std::cout << text;
+    return kExitOk;
+  }
+  if (overwrites_source(*a.output, sm)) return kExitUsage;
+  if (auto unwritten = write_file_atomically(*a.output, text)) {
+    std::cerr << "rcxc compile: cannot write " << *a.output << ": " << *unwritten << "\n";
     return kExitFailure;
   }
   return kExitOk;
@@ -99,6 +118,8 @@ int write_outputs(const CompileArgs& a, const backend::Output& out, const Source
 std::optional<std::string> bad_arguments(const CompileArgs& a) {
   if (auto bad = bad_compiler_arguments(a.compiler)) return bad;
   if (a.output && a.output->empty()) return "-o needs a file name";
+  if (a.preprocess_only && !a.listing.empty())
+    return "-E prints the preprocessed source and stops: there is no code to list (leave out --listing)";
   if (a.preprocess_only) return std::nullopt;
   // FILE.rcx is named after FILE; the standard input has no name to give.
   if (a.file == frontend::kStandardInput && !a.output)
@@ -130,8 +151,7 @@ int run_compile(const CompileArgs& a) {
     auto text = frontend::preprocess_file(a.file, request.frontend, sm, diags);
     print_diagnostics(diags, sm, a);
     if (!text) return kExitFailure;
-    std::cout << *text;
-    return kExitOk;
+    return write_preprocessed(a, *text, sm);
   }
   CompileResult compiled = compile_file(a.file, request, std::move(diags));
   print_diagnostics(compiled.diagnostics, compiled.sources, a);
@@ -164,7 +184,7 @@ void register_compile(CLI::App& app, int& exit_code) {
   cmd->add_option("FILE", args->file, "NQC source file (required; - reads the standard input)");
   cmd->add_option("-o,--output", args->output, "Output .rcx image (default: FILE with .rcx; - writes the standard output)");
   add_compiler_options(cmd, args->compiler);
-  cmd->add_flag("-E", args->preprocess_only, "Print the preprocessed source and stop (nqc's -E<file> writes errors; here they go to stderr)");
+  cmd->add_flag("-E", args->preprocess_only, "Print the preprocessed source (to -o FILE if given) and stop (nqc's -E<file> writes errors; here they go to stderr)");
   add_repeatable(cmd, "-W", args->warning_flags, "-Werror: treat warnings as errors");
   cmd->add_flag("-w", args->no_warnings, "Do not report warnings");
   cmd->add_option("--listing", args->listing, "Write a listing to FILE (or standard output without =FILE)")

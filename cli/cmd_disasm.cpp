@@ -28,6 +28,7 @@ void register_disasm(CLI::App& app, int& exit_code) {
       exit_code = kExitFailure;
       return;
     }
+    if (auto note = unused_compiler_options(*file, *compiler)) std::cerr << "rcxc disasm: " << *note << "\n";
     std::cout << backend::disassemble(std::get<rcx::Image>(image));
     exit_code = kExitOk;
   });

@@ -61,6 +61,7 @@ int run_download(const DownloadArgs& a) {
     std::cerr << "rcxc download: " << *e << "\n";
     return kExitFailure;
   }
+  if (auto note = unused_compiler_options(a.file, a.compiler)) std::cerr << "rcxc download: " << *note << "\n";
   auto tower = open_tower("download", a.port);
   if (!tower) return kExitNoPort;
   auto& port = *tower;
@@ -84,9 +85,10 @@ int run_download(const DownloadArgs& a) {
   }
   const auto& report = std::get<rcx::DownloadReport>(result);
   double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  std::cerr << fmt::format("downloaded {} bytes to program {} in {:.1f} s ({} blocks, {} retransmissions){}\n",
-                           report.bytes, a.program, seconds, report.blocks,
-                           report.link.attempts - report.link.requests, a.run ? ", running" : "");
+  int retransmissions = report.link.attempts - report.link.requests;
+  std::cerr << fmt::format("downloaded {} bytes to program {} in {:.1f} s ({} block{}, {} retransmission{}){}\n",
+                           report.bytes, a.program, seconds, report.blocks, report.blocks == 1 ? "" : "s",
+                           retransmissions, retransmissions == 1 ? "" : "s", a.run ? ", running" : "");
   return kExitOk;
 }
 

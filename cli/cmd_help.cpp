@@ -3,6 +3,7 @@
 #include <iostream>
 
 #include "cli/commands.h"
+#include "cli/nqc_mode.h"
 #include "cli/version.h"
 
 namespace rcxc::cli {
@@ -18,15 +19,20 @@ void register_help(CLI::App& app, int& exit_code) {
       exit_code = kExitOk;
       return;
     }
+    // `rcxc nqc` is read by hand (nqc's grammar), not registered with CLI11.
+    if (*command == "nqc") {
+      exit_code = run_nqc_mode({"-help"});
+      return;
+    }
     for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; }))
       if (sub->get_name() == *command) {
         std::cout << sub->help(app.get_name());
         exit_code = kExitOk;
         return;
       }
-    std::string names;
+    std::string names = "nqc";
     for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; }))
-      names += (names.empty() ? "" : ", ") + sub->get_name();
+      names += ", " + sub->get_name();
     std::cerr << "rcxc help: there is no command '" << *command << "' (commands: " << names << ")\n";
     exit_code = kExitUsage;
   });

@@ -1,5 +1,6 @@
 // `rcxc lsp`: the language server on standard input and output
 // (docs/editors.md). Everything but the process set-up is in lsp/.
+#include <filesystem>
 #include <iostream>
 
 #include "cli/commands.h"
@@ -28,8 +29,19 @@ void register_lsp(CLI::App& app, int& exit_code) {
   cmd->add_flag("-n", args->no_stdlib, "Do not read the standard library rcx.nqh");
   // Language clients (VS Code's among them) pass --stdio; it is the only transport.
   cmd->add_flag("--stdio", args->stdio, "Talk over standard input and output (the default and only transport)");
+  // A file there would make every go to definition into the library answer
+  // nothing, with no word on why.
+  auto folder_or_new = CLI::Validator(
+      [](std::string& dir) {
+        std::error_code ec;
+        bool file = std::filesystem::exists(dir, ec) && !std::filesystem::is_directory(dir, ec);
+        return file ? dir + " is a file, not a folder" : std::string();
+      },
+      "", "folder");
   cmd->add_option("--stdlib-dir", args->stdlib_dir,
-                  "Where to write the copy of rcx.nqh that go to definition opens (default: a cache folder)");
+                  "Where to write the copy of rcx.nqh that go to definition opens (default: a cache folder)")
+      ->check(not_empty())
+      ->check(folder_or_new);
   cmd->callback([&exit_code, args] {
     lsp::Server server;
     server.options.include_dirs = args->include_dirs;

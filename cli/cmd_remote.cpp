@@ -35,6 +35,10 @@ int run_remote(const RemoteArgs& a) {
     std::cerr << "rcxc remote: " << bad->message << "\n";
     return exit_code_for(bad->kind);
   }
+  if (a.csv && a.words.front() != "datalog") {
+    std::cerr << "rcxc remote: --csv is for datalog, not " << a.words.front() << "\n";
+    return kExitUsage;
+  }
   auto tower = open_tower("remote", a.port);
   if (!tower) return kExitNoPort;
   auto& port = *tower;

@@ -160,11 +160,16 @@ int run(const RunOptions& o) {
   }
   // A test program's own directives: its @options compile it as `rcxc test`
   // does; its inputs drive the run unless --scenario is given. Bad
-  // directives are `rcxc test`'s to report; a run ignores them.
+  // directives are `rcxc test`'s to report; a run goes on without them,
+  // saying so (a misspelt @for would otherwise leave a minute-long run).
   std::optional<rcx::semtest::Spec> spec;
-  if (is_nqc_source(o.file).value_or(false))
-    if (auto parsed = rcx::semtest::parse_spec_file(o.file); auto* good = std::get_if<rcx::semtest::Spec>(&parsed))
-      spec = std::move(*good);
+  if (is_nqc_source(o.file).value_or(false)) {
+    auto parsed = rcx::semtest::parse_spec_file(o.file);
+    if (auto* good = std::get_if<rcx::semtest::Spec>(&parsed)) spec = std::move(*good);
+    else
+      std::cerr << "rcxc run: note: the // @ directives in " << o.file
+                << " have errors and are not used (rcxc test " << o.file << " names them)\n";
+  }
   CompilerArgs compiler = o.compiler;
   if (spec && !spec->options.empty()) {
     auto merged = with_file_options(o.compiler, spec->options, o.file);
@@ -180,6 +185,7 @@ int run(const RunOptions& o) {
     std::cerr << "rcxc run: " << *e << "\n";
     return kExitFailure;
   }
+  if (auto note = unused_compiler_options(o.file, compiler)) std::cerr << "rcxc run: " << *note << "\n";
   const rcx::Image& image = std::get<rcx::Image>(loaded);
   std::vector<rcx::TimedInput> inputs;
   if (!o.scenario.empty()) {
@@ -207,8 +213,13 @@ int run(const RunOptions& o) {
   for (const auto& in : inputs) machine.schedule(in);
   machine.start_program();
   int tether_code = kExitOk;
-  if (o.nxt_port) tether_code = run_on_nxt(machine, image, *o.nxt_port, run_ms);
-  else machine.run(run_ms * rcx::kMicrosPerMs);
+  if (o.nxt_port) {
+    tether_code = run_on_nxt(machine, image, *o.nxt_port, run_ms);
+    // Without a port nothing ran: a timeline of time 0 would read as a run.
+    if (tether_code == kExitNoPort || tether_code == kExitUsage) return tether_code;
+  } else {
+    machine.run(run_ms * rcx::kMicrosPerMs);
+  }
 
   rcx::EventNames names = event_names();
   if (o.report == "json")
@@ -218,8 +229,8 @@ int run(const RunOptions& o) {
   if (!o.trace.empty()) {
     std::string program = std::filesystem::path(o.file).filename().string();
     std::string text = trace_text(o.trace, machine, image, names, program);
-    if (!write_file_atomically(o.trace, text)) {
-      std::cerr << "rcxc run: cannot write trace file " << o.trace << "\n";
+    if (auto unwritten = write_file_atomically(o.trace, text)) {
+      std::cerr << "rcxc run: cannot write trace file " << o.trace << ": " << *unwritten << "\n";
       return kExitFailure;
     }
   }
@@ -244,7 +255,9 @@ void register_run(CLI::App& app, int& exit_code) {
   cmd->add_option("FILE", o->file, ".rcx image or NQC source (compiled in memory)")->required();
   add_compiler_options(cmd, o->compiler);
   cmd->add_option("--scenario", o->scenario, "TOML file of timed inputs ([[input]] tables)")->check(not_empty());
-  cmd->add_option("--for", o->for_ms, "virtual time limit in ms (default 60000)")->check(CLI::Range(std::int64_t{1}, kMaxRunMs));
+  cmd->add_option("--for", o->for_ms, "virtual time limit in ms (default 60000, or the source's // @for)")
+      ->check(whole_number())
+      ->check(CLI::Range(std::int64_t{1}, kMaxRunMs));
   cmd->add_option("--seed", o->seed, "seed of the random source (default 1)")->check(whole_number());
   cmd->add_option("--report", o->report, "print a report instead of the timeline: json")->check(CLI::IsMember({"json"}));
   cmd->add_option("--trace", o->trace,

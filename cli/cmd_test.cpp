@@ -89,6 +89,9 @@ std::vector<std::string> collect(const std::vector<std::string>& paths, std::vec
       files.insert(files.end(), found.begin(), found.end());
     } else if (fs::is_regular_file(p, ec)) {
       files.push_back(p);
+    } else if (p == frontend::kStandardInput) {
+      // A test names its @scenario and @options folders relative to itself.
+      problems.push_back("'-': rcxc test reads test files, not the standard input (save the program to a file)");
     } else {
       problems.push_back("no such file or folder: " + p);
     }
@@ -118,7 +121,7 @@ Compiled compile(const TestOptions& o, const std::string& file, const CompilerAr
 
 // Runs one test file; returns its failures (empty = pass).
 std::vector<Failure> run_test(const TestOptions& o, const std::string& file, std::string& log) {
-  if (is_nqc_source(file) == false) return {{0, "an .rcx image, not an NQC test program"}};
+  if (is_nqc_source(file) == false) return {{0, non_source_kind(file) + ", not an NQC test program"}};
   auto parsed = rcx::semtest::parse_spec_file(file);
   if (auto* errors = std::get_if<std::vector<rcx::semtest::SpecError>>(&parsed)) {
     std::vector<Failure> out;
@@ -246,8 +249,9 @@ int run(const TestOptions& o) {
     if (!o.junit.empty()) report.push_back({file, r.failures, r.seconds, {}});
   });
   std::cout << fmt::format("{} passed, {} failed\n", passed, failed);
-  if (!o.junit.empty() && !write_file_atomically(o.junit, rcx::semtest::junit_xml(report))) {
-    std::cerr << "rcxc test: cannot write the report " << o.junit << "\n";
+  auto unwritten = o.junit.empty() ? std::nullopt : write_file_atomically(o.junit, rcx::semtest::junit_xml(report));
+  if (unwritten) {
+    std::cerr << "rcxc test: cannot write the report " << o.junit << ": " << *unwritten << "\n";
     return kExitFailure;
   }
   return (failed == 0 && problems.empty() && !files.empty()) ? kExitOk : kExitFailure;
@@ -262,8 +266,11 @@ void register_test(CLI::App& app, int& exit_code) {
   add_compiler_options(cmd, o->compiler);
   auto use_nqc = std::make_shared<bool>(false);
   auto nqc_path = std::make_shared<std::string>("nqc");
-  cmd->add_flag("--nqc", *use_nqc, "compile with nqc instead of rcxc, for comparison");
-  cmd->add_option("--nqc-path", *nqc_path, "the nqc to use with --nqc (path or name; default: nqc on PATH)")->check(not_empty());
+  auto* nqc_flag = cmd->add_flag("--nqc", *use_nqc, "compile with nqc instead of rcxc, for comparison");
+  // Alone it would be taken and ignored: the tests would run on rcxc's code.
+  cmd->add_option("--nqc-path", *nqc_path, "the nqc to use with --nqc (path or name; default: nqc on PATH)")
+      ->check(not_empty())
+      ->needs(nqc_flag);
   cmd->add_flag("-v,--verbose", o->verbose, "say how every run ended");
   cmd->add_option("--junit", o->junit, "also write the results to FILE as a JUnit XML report (for CI and grading)")
       ->check(not_empty());

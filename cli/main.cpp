@@ -8,6 +8,7 @@
 #include "cli/commands.h"
 #include "cli/large_stack.h"
 #include "cli/nqc_mode.h"
+#include "cli/usage_hint.h"
 #include "cli/version.h"
 
 namespace {
@@ -42,6 +43,7 @@ int run_main(int argc, char** argv) {
       {"compare", rcxc::cli::register_compare}, {"brick", rcxc::cli::register_brick},
       {"download", rcxc::cli::register_download}, {"remote", rcxc::cli::register_remote},
       {"nxt", rcxc::cli::register_nxt},         {"lsp", rcxc::cli::register_lsp},
+      {"format", rcxc::cli::register_format},
   };
   int exit_code = rcxc::cli::kExitOk;
   const Command* named = nullptr;
@@ -65,11 +67,13 @@ int run_main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     // Bad command line: say what was wrong, then how to call us, on stderr.
     std::cerr << "rcxc: " << e.what() << "\n";
+    if (auto hint = rcxc::cli::misspelling_hint(app, {argv + 1, argv + argc})) std::cerr << "rcxc: " << *hint << "\n";
     if (auto hint = rcxc::cli::nqc_habit_hint({argv + 1, argv + argc})) std::cerr << "rcxc: " << *hint << "\n";
     std::cerr << "\n";
     const CLI::App* where = &app;
     for (const CLI::App* sub : app.get_subcommands()) where = sub;
-    std::cerr << where->help();
+    // "Usage: rcxc run ...", as `rcxc help run` shows it, not "Usage: run".
+    std::cerr << where->help(where == &app ? "" : app.get_name());
     return rcxc::cli::kExitUsage;
   }
   if (app.get_subcommands().empty()) {

@@ -20,8 +20,10 @@
 #include "backend/compile.h"
 #include "backend/nqc_listing.h"
 #include "cli/output_file.h"
+#include "cli/program_loader.h"
 #include "cli/version.h"
 #include "frontend/frontend.h"
+#include "frontend/preprocess.h"
 #include "link/download.h"
 #include "link/remote.h"
 #include "link/transport.h"
@@ -281,15 +283,17 @@ class Session {
       std::cerr << text;
     } else if (o_.errors->file.empty()) {
       std::cout << text;
-    } else if (!write_file_atomically(o_.errors->file, text)) {
-      std::cerr << text << "rcxc (as nqc): cannot write the error file " << o_.errors->file << "\n";
+    } else if (auto unwritten = write_file_atomically(o_.errors->file, text)) {
+      std::cerr << text << "rcxc (as nqc): cannot write the error file " << o_.errors->file << ": " << *unwritten
+                << "\n";
       return false;
     }
     return true;
   }
 
   int perform(const SourceStep& s) {
-    if (o_.binary) return perform_binary(s.name);
+    // nqc reads a FILE named *.rcx (any case) as an image, as if -b were given.
+    if (o_.binary || named_as_image(s.name)) return perform_binary(s.name);
     // Read with the cap every source has: /dev/zero or an endless pipe
     // ends with a message, not with the machine's memory.
     auto [name, read] = frontend::read_source(s.name);
@@ -300,6 +304,11 @@ class Session {
       return kNqcExitCompile;
     }
     std::string text = std::move(std::get<std::string>(read));
+    // nqc prints a screen of the binary bytes; one line says what is wrong.
+    if (std::string why = frontend::not_source_reason(name, text); !why.empty()) {
+      report_errors("# Error: " + why + "\n");
+      return kNqcExitCompile;
+    }
     SourceManager sm;
     Diagnostics diags;
     ir::Log log;
@@ -317,7 +326,23 @@ class Session {
       report_errors(fmt::format("# Error: '{}' is not a valid RCX image: {}\n", file, e->message));
       return kNqcExitCompile;
     }
-    if (o_.download) return download(std::get<rcx::Image>(image));
+    const auto& read = std::get<rcx::Image>(image);
+    // nqc lists an image it was given as it lists one it compiled.
+    if (o_.listing) {
+      auto style = o_.lasm_listing ? backend::ListingStyle::Lasm : backend::ListingStyle::Nqc;
+      if (int code = write_listing(backend::nqc_listing(read, {}, style)); code != kNqcExitOk) return code;
+    }
+    if (o_.download) return download(read);
+    return kNqcExitOk;
+  }
+
+  int write_listing(const std::string& text) {
+    if (o_.listing->file.empty()) {
+      std::cout << text;
+    } else if (auto unwritten = write_file_atomically(o_.listing->file, text)) {
+      std::cerr << "rcxc (as nqc): cannot write " << o_.listing->file << ": " << *unwritten << "\n";
+      return kNqcExitCompile;
+    }
     return kNqcExitOk;
   }
 
@@ -337,21 +362,14 @@ class Session {
     }
     if (image_file) {
       auto bytes = rcx::write_image(out.image);
-      if (!write_file_atomically(*image_file, std::string(bytes.begin(), bytes.end()))) {
-        std::cerr << "rcxc (as nqc): cannot write " << *image_file << "\n";
+      if (auto unwritten = write_file_atomically(*image_file, std::string(bytes.begin(), bytes.end()))) {
+        std::cerr << "rcxc (as nqc): cannot write " << *image_file << ": " << *unwritten << "\n";
         return kNqcExitCompile;
       }
     }
-    if (o_.listing) {
-      std::string text = backend::nqc_listing(out, o_.source_in_listing ? &sm : nullptr,
-                                              o_.lasm_listing ? backend::ListingStyle::Lasm : backend::ListingStyle::Nqc);
-      if (o_.listing->file.empty()) {
-        std::cout << text;
-      } else if (!write_file_atomically(o_.listing->file, text)) {
-        std::cerr << "rcxc (as nqc): cannot write " << o_.listing->file << "\n";
-        return kNqcExitCompile;
-      }
-    }
+    if (o_.listing)
+      return write_listing(backend::nqc_listing(out, o_.source_in_listing ? &sm : nullptr,
+                                                o_.lasm_listing ? backend::ListingStyle::Lasm : backend::ListingStyle::Nqc));
     return kNqcExitOk;
   }
 

@@ -6,6 +6,8 @@
 
 #include <cerrno>
 #include <filesystem>
+#include <optional>
+#include <system_error>
 #include <fstream>
 #include <vector>
 
@@ -32,18 +34,22 @@ mode_t new_file_mode() {
 
 }  // namespace
 
-bool write_file_atomically(const std::string& path, const std::string& bytes) {
+std::optional<std::string> write_file_atomically(const std::string& path, const std::string& bytes) {
   namespace fs = std::filesystem;
+  auto failure = [](int error) { return std::optional<std::string>(std::generic_category().message(error)); };
   // Anything but a plain file (-o /dev/null, a FIFO, a symbolic link such as
   // /dev/stderr) is written through: renaming over it would replace the
   // device or the link itself with a regular file.
   std::error_code status_error;
   auto status = fs::symlink_status(path, status_error);
+  if (fs::is_directory(status)) return failure(EISDIR);
   if (fs::exists(status) && !fs::is_regular_file(status)) {
+    errno = 0;
     std::ofstream f(path, std::ios::binary);
     f << bytes;
     f.close();
-    return static_cast<bool>(f);
+    if (!f) return failure(errno != 0 ? errno : EIO);
+    return std::nullopt;
   }
   // The temporary is made by mkstemp (O_CREAT|O_EXCL, a random name) in the
   // target's folder, so the rename stays on one file system and no one can
@@ -54,20 +60,22 @@ bool write_file_atomically(const std::string& path, const std::string& bytes) {
   std::vector<char> name(pattern.begin(), pattern.end());
   name.push_back('\0');
   int fd = ::mkstemp(name.data());
-  if (fd < 0) return false;
+  if (fd < 0) return failure(errno);
   std::string temp(name.data());
   struct stat old{};
   mode_t mode = ::stat(path.c_str(), &old) == 0 ? (old.st_mode & 07777) : new_file_mode();
-  bool ok = ::fchmod(fd, mode) == 0 && write_all(fd, bytes);
-  ok = (::close(fd) == 0) && ok;
+  int error = 0;
+  errno = 0;
+  if (::fchmod(fd, mode) != 0 || !write_all(fd, bytes)) error = errno != 0 ? errno : EIO;
+  if (::close(fd) != 0 && error == 0) error = errno;
   std::error_code ec;
-  if (ok) fs::rename(temp, path, ec);
-  if (!ok || ec) {
+  if (error == 0) fs::rename(temp, path, ec);
+  if (error != 0 || ec) {
     std::error_code ignored;
     fs::remove(temp, ignored);
-    return false;
+    return error != 0 ? failure(error) : std::optional<std::string>(ec.message());
   }
-  return true;
+  return std::nullopt;
 }
 
 bool same_file(const std::string& a, const std::string& b) {

@@ -1,6 +1,7 @@
 // Writing what a command produces (images, listings, traces).
 #pragma once
 
+#include <optional>
 #include <string>
 
 namespace rcxc::cli {
@@ -10,8 +11,9 @@ namespace rcxc::cli {
 // leaves what was there before, and no predictable name exists for a
 // symbolic link to redirect. The file keeps the mode of the one it replaces
 // (new ones get 0666 less the umask). Anything else at `path` (a device, a
-// pipe, a symbolic link) is written through.
-bool write_file_atomically(const std::string& path, const std::string& bytes);
+// pipe, a symbolic link) is written through. Returns why the write failed
+// ("No such file or directory", "Is a directory"), or nullopt when it worked.
+std::optional<std::string> write_file_atomically(const std::string& path, const std::string& bytes);
 
 // Whether two paths name the same file (or would, once written).
 bool same_file(const std::string& a, const std::string& b);

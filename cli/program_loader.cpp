@@ -21,11 +21,6 @@ bool is_identifier(const std::string& name) {
   return std::all_of(name.begin(), name.end(), [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; });
 }
 
-bool has_extension(const std::string& path, std::string_view extension) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  return std::equal(ext.begin(), ext.end(), extension.begin(), extension.end(),
-                    [](char a, char b) { return std::tolower(static_cast<unsigned char>(a)) == b; });
-}
 
 ir::OptLevel level_of(const std::string& optimize) {
   return optimize == "0"   ? ir::OptLevel::O0
@@ -44,12 +39,16 @@ void add_compiler_options(CLI::App* cmd, CompilerArgs& args) {
   cmd->add_option("-O", args.optimize,
                   "Optimisation: -O0 none; -O1 clean-ups only, every motor command kept; -O2 (default) the "
                   "fastest code, shrunk only where no instruction more runs; -Os the smallest code, trading "
-                  "time for bytes (outlined code runs a call and a return more). Unlike nqc's -O<file>, -o "
-                  "names the output")
+                  "time for bytes (outlined code runs a call and a return more). Not nqc's -O<file>: rcxc "
+                  "compile's -o names the output")
       ->check(CLI::Validator(
           [](std::string& level) {
             if (level == "0" || level == "1" || level == "2" || level == "s") return std::string();
-            // nqc's -O<file>: say what to write instead.
+            // gcc's -O3 or -Ofast: a level that does not exist. A name with a
+            // dot or a slash is nqc's -O<file>: say what to write instead.
+            if (level.find_first_of("./") == std::string::npos)
+              return "-O" + level + ": there is no such optimisation level: -O0, -O1, -O2 (the default, the fastest " +
+                     "code) or -Os (the smallest); the output file is -o FILE";
             return "-O" + level + ": -O is the optimisation level here (-O0, -O1, -O2, -Os); the output file is -o " +
                    level + " (nqc's -O<file>; 'rcxc nqc' takes nqc's options)";
           },
@@ -162,7 +161,10 @@ CompiledForTest compile_nqc_file(const std::string& path, const CompileRequest& 
   return t;
 }
 
-std::optional<bool> is_nqc_source(const std::string& path) {
+namespace {
+
+// The first 4 KiB of FILE, or nullopt when it is no regular file one can read.
+std::optional<std::string> file_head(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) return std::nullopt;
   std::ifstream in(path, std::ios::binary);
@@ -170,8 +172,30 @@ std::optional<bool> is_nqc_source(const std::string& path) {
   std::string head(4096, '\0');
   in.read(head.data(), static_cast<std::streamsize>(head.size()));
   head.resize(static_cast<std::size_t>(in.gcount()));
+  return head;
+}
+
+}  // namespace
+
+bool named_as_image(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::string_view rcx = ".rcx";
+  return std::equal(ext.begin(), ext.end(), rcx.begin(), rcx.end(),
+                    [](char a, char b) { return std::tolower(static_cast<unsigned char>(a)) == b; });
+}
+
+std::string non_source_kind(const std::string& path) {
+  auto head = file_head(path);
+  bool image = named_as_image(path) || (head && head->rfind("RCXI", 0) == 0);
+  return image ? "an .rcx image" : "binary data";
+}
+
+std::optional<bool> is_nqc_source(const std::string& path) {
+  auto read = file_head(path);
+  if (!read) return std::nullopt;
+  const std::string& head = *read;
   if (head.rfind("RCXI", 0) == 0) return false;
-  if (has_extension(path, ".rcx")) return false;
+  if (named_as_image(path)) return false;
   return head.find('\0') == std::string::npos;
 }
 
@@ -201,6 +225,13 @@ std::variant<rcx::Image, std::string> load_standard_input(const CompileRequest& 
 }
 
 }  // namespace
+
+std::optional<std::string> unused_compiler_options(const std::string& path, const CompilerArgs& args) {
+  bool given = !args.include_dirs.empty() || !args.defines.empty() || !args.undefines.empty() || args.no_stdlib ||
+               args.optimize != CompilerArgs{}.optimize;
+  if (!given || path == frontend::kStandardInput || is_nqc_source(path) != false) return std::nullopt;
+  return "note: " + path + " is an .rcx image: -I, -D, -U, -n and -O apply to NQC source and were not used";
+}
 
 std::variant<rcx::Image, std::string> load_program(const std::string& path, const CompileRequest& request) {
   // A file that cannot be read (missing, a folder) is the image reader's to

@@ -81,6 +81,16 @@ CompiledForTest compile_nqc_file(const std::string& path, const CompileRequest& 
 // NUL) make it an image, which the image reader then refuses with a reason;
 // anything else is source. nullopt when the file cannot be read.
 std::optional<bool> is_nqc_source(const std::string& path);
+// Whether FILE's name ends in .rcx, in any case (nqc's own test for an image).
+bool named_as_image(const std::string& path);
+// What a FILE that is_nqc_source calls no source holds: "an .rcx image"
+// (its signature or its name says so) or "binary data".
+std::string non_source_kind(const std::string& path);
+
+// For `run`, `disasm` and `download` given an image with -I, -D, -U, -n or
+// -O: a note that they were not used (there is nothing to compile), or
+// nullopt. Without it they would be taken and ignored without a word.
+std::optional<std::string> unused_compiler_options(const std::string& path, const CompilerArgs& args);
 
 // FILE as a program image: source is compiled in memory (diagnostics go to
 // stderr), an image is read. The error names the file.

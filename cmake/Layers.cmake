@@ -11,6 +11,7 @@ set(RCXC_LAYERS
   "ir:rcx,frontend"
   "backend:rcx,frontend,ir"
   "verify:rcx,runtime"
-  "lsp:stdlib,frontend"
+  "format:rcx,frontend"
+  "lsp:stdlib,frontend,format"
   "nxt:"
-  "cli:rcx,runtime,link,stdlib,frontend,ir,backend,verify,nxt,lsp,cli")
+  "cli:rcx,runtime,link,stdlib,frontend,format,ir,backend,verify,nxt,lsp,cli")

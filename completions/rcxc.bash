@@ -13,7 +13,7 @@ _rcxc() {
     cword=$COMP_CWORD
   fi
 
-  local commands="compile run disasm test compare brick download remote nxt nqc lsp help version"
+  local commands="compile run disasm test compare brick download remote nxt nqc lsp format help version"
   if [[ $cword -eq 1 ]]; then
     COMPREPLY=($(compgen -W "$commands --help --version" -- "$cur"))
     return
@@ -55,6 +55,9 @@ _rcxc() {
       fi ;;
     lsp)
       options="-I -D -U -n --stdio --stdlib-dir --help" ;;
+    format)
+      options="-i --in-place --check --indent --help"
+      files="!*.@(nqc|nqh)" ;;
     help)
       COMPREPLY=($(compgen -W "$commands" -- "$cur"))
       return ;;
@@ -77,6 +80,8 @@ _rcxc() {
       COMPREPLY=($(compgen -W "usb serial" -- "$cur") $(compgen -f -- "$cur")); return ;;
     --program)
       COMPREPLY=($(compgen -W "1 2 3 4 5" -- "$cur")); return ;;
+    --indent)
+      COMPREPLY=($(compgen -W "1 2 3 4 5 6 7 8" -- "$cur")); return ;;
   esac
 
   if [[ $cur == -* ]]; then

@@ -46,9 +46,8 @@ bool skip_block_comment(Cursor& c) {
   return false;
 }
 
-}  // namespace
-
-std::vector<Token> lex(std::string_view text, std::uint32_t file, Diagnostics& diags, std::vector<Token> room) {
+std::vector<Token> lex_text(std::string_view text, std::uint32_t file, Diagnostics& diags, std::vector<Token> room,
+                            std::vector<Comment>* comments) {
   // re2c reads through a NUL sentinel, so work on a NUL-terminated copy.
   std::string buf(text);
   Cursor c{buf.c_str(), buf.c_str() + buf.size(), buf.c_str(), buf.c_str(), file};
@@ -76,6 +75,15 @@ std::vector<Token> lex(std::string_view text, std::uint32_t file, Diagnostics& d
     end.line_start = true;
     out.push_back(std::move(end));
     return true;
+  };
+
+  // A comment leaves line_start as it was: a directive's '#' after a
+  // comment on its line still starts the directive, as when comments are
+  // dropped.
+  auto keep_comment = [&](const char* start, SourceLoc begin) {
+    if (comments == nullptr) return;
+    std::string_view spelling(text.data() + (start - c.begin), static_cast<std::size_t>(c.p - start));
+    comments->push_back({spelling, {begin, c.loc(c.p)}, line_start});
   };
 
   auto emit = [&](TokenKind kind, const char* start) {
@@ -120,11 +128,12 @@ std::vector<Token> lex(std::string_view text, std::uint32_t file, Diagnostics& d
       [ \t\v\f\r]+ { space = true; continue; }
       "\\" [ \t\r]* "\n" { c.newline(c.p); space = true; continue; }
       "\n" { c.newline(c.p); line_start = true; space = false; continue; }
-      "//" [^\n\x00]* { space = true; continue; }
+      "//" [^\n\x00]* { keep_comment(start, c.loc(start)); space = true; continue; }
       "/*" {
         SourceLoc open = c.loc(start);
         if (!skip_block_comment(c))
           diags.error({open, c.loc(start + 2)}, "unterminated /* comment");
+        keep_comment(start, open);
         space = true;
         continue;
       }
@@ -151,6 +160,17 @@ std::vector<Token> lex(std::string_view text, std::uint32_t file, Diagnostics& d
       }
     */
   }
+}
+
+}  // namespace
+
+std::vector<Token> lex(std::string_view text, std::uint32_t file, Diagnostics& diags, std::vector<Token> room) {
+  return lex_text(text, file, diags, std::move(room), nullptr);
+}
+
+std::vector<Token> lex(std::string_view text, std::uint32_t file, Diagnostics& diags,
+                       std::vector<Comment>& comments) {
+  return lex_text(text, file, diags, {}, &comments);
 }
 
 std::string invalid_number_message(std::string_view text) {

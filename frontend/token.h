@@ -52,6 +52,18 @@ static_assert(std::is_trivially_copyable_v<Token>, "tokens are copied and moved 
 // part already had instead of each faulting in pages of its own.
 std::vector<Token> lex(std::string_view text, std::uint32_t file, Diagnostics& diags, std::vector<Token> room = {});
 
+// A comment as written, /* */ or // (without its newline). The compiler
+// drops comments; the source formatter (format/) keeps them, so lex() can
+// also list them, without changing the tokens it returns.
+struct Comment {
+  std::string_view text;  // a view of the lexed text, like a token's
+  SourceSpan span;
+  bool line_start = false;  // nothing but whitespace before it on its line
+};
+// lex(), also appending every comment of `text`, in order, to `comments`.
+std::vector<Token> lex(std::string_view text, std::uint32_t file, Diagnostics& diags,
+                       std::vector<Comment>& comments);
+
 // The value of a Number or Char token, or nullopt-like false when malformed.
 bool number_value(const Token& t, std::int64_t& value);
 // A literal of 2^62 or more: number_value gives this bit with the literal's

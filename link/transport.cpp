@@ -108,7 +108,9 @@ std::optional<TransportError> configure_tty(int fd, const std::string& path, boo
 
 std::string open_advice(const std::string& path) {
   if (errno == ENOENT)
-    return fmt::format("{} does not exist (is the tower plugged in? see docs/link.md; set --port or RCX_PORT)", path);
+    return fmt::format("{} does not exist (is the tower plugged in? see docs/link.md; name another port with "
+                       "--port, -S in nqc mode, or RCX_PORT)",
+                       path);
   if (errno == EACCES || errno == EPERM)
     return fmt::format("no permission to open {} (add yourself to the device's group or install the udev rule in "
                        "docs/link.md)",

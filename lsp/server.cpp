@@ -1,5 +1,6 @@
 #include "lsp/server.h"
 
+#include <algorithm>
 #include <cctype>
 #include <cstdint>
 #include <cstdlib>
@@ -8,7 +9,9 @@
 #include <set>
 #include <stdexcept>
 #include <sstream>
+#include <variant>
 
+#include "format/format.h"
 #include "frontend/parse.h"
 #include "lsp/jsonrpc.h"
 #include "lsp/outline.h"
@@ -662,6 +665,30 @@ json semantic_tokens(Request& r) {
   return {{"data", data}};
 }
 
+// ----------------------------------------------------------- formatting --
+
+// The document formatted (docs/format.md) as one edit of the whole text, or
+// no edit when it already is; a text the formatter refuses (a lexical
+// error) is an error with its message. The editor's tab size is the indent.
+json formatting(Request& r) {
+  format::Style style;
+  const json& options = r.params.contains("options") ? r.params["options"] : json::object();
+  if (options.is_object() && options.contains("tabSize"))
+    style.indent = static_cast<int>(std::clamp<std::int64_t>(integer_field(options, "tabSize"), format::kMinIndent,
+                                                             format::kMaxIndent));
+  const std::string& text = r.doc->text;
+  auto formatted = format::format_source(text, style);
+  if (auto* refusal = std::get_if<format::Refusal>(&formatted)) throw Refused(refusal->message);
+  std::string& out = std::get<std::string>(formatted);
+  if (out == text) return json::array();
+  std::size_t last_newline = text.rfind('\n');
+  std::string_view last_line = last_newline == std::string::npos ? std::string_view(text) : std::string_view(text).substr(last_newline + 1);
+  json end = {{"line", std::count(text.begin(), text.end(), '\n')},
+              {"character", utf16_of_byte_column(last_line, static_cast<std::uint32_t>(last_line.size() + 1))}};
+  json range = {{"start", {{"line", 0}, {"character", 0}}}, {"end", end}};
+  return json::array({{{"range", range}, {"newText", std::move(out)}}});
+}
+
 json initialize_result(Server& server, const json& params) {
   if (params.is_object() && params.contains("initializationOptions")) {
     const json& init = params["initializationOptions"];
@@ -683,6 +710,7 @@ json initialize_result(Server& server, const json& params) {
       {"foldingRangeProvider", true},
       {"workspaceSymbolProvider", true},
       {"semanticTokensProvider", {{"legend", {{"tokenTypes", kTokenTypes}, {"tokenModifiers", kTokenModifiers}}}, {"full", true}}},
+      {"documentFormattingProvider", true},
   };
   return {{"capabilities", capabilities}, {"serverInfo", {{"name", "rcxc"}, {"version", server.version}}}};
 }
@@ -776,6 +804,7 @@ json answer(Server& server, const std::string& method, const json& params) {
       {"textDocument/documentHighlight", document_highlight},
       {"textDocument/foldingRange", folding_ranges},
       {"textDocument/semanticTokens/full", semantic_tokens},
+      {"textDocument/formatting", formatting},
   };
   if (method == "workspace/symbol") return workspace_symbols(server, params);
   auto h = handlers.find(method);

@@ -19,6 +19,10 @@ std::string where(std::string_view path, const toml::node& node) {
   return fmt::format("{}:{}", path, node.source().begin.line);
 }
 
+// The latest at_ms an input can name (its time in µs still fits): later
+// than any run goes.
+constexpr std::int64_t kNoUpperBound = INT64_MAX / kMicrosPerMs;
+
 // An integer key in [lo, hi], or nullopt when absent.
 std::optional<std::int64_t> int_key(const toml::table& t, std::string_view key, std::int64_t lo, std::int64_t hi,
                                     std::string_view path) {
@@ -26,6 +30,8 @@ std::optional<std::int64_t> int_key(const toml::table& t, std::string_view key, 
   if (node == nullptr) return std::nullopt;
   auto v = node->value_exact<std::int64_t>();
   if (!v) throw Fail{fmt::format("{}: '{}' must be an integer", where(path, *node), key)};
+  if (hi == kNoUpperBound && *v < lo)
+    throw Fail{fmt::format("{}: '{}' = {} must be {} or more", where(path, *node), key, *v, lo)};
   if (*v < lo || *v > hi) throw Fail{fmt::format("{}: '{}' = {} is out of range {}..{}", where(path, *node), key, *v, lo, hi)};
   return v;
 }
@@ -40,7 +46,7 @@ TimedInput parse_input(const toml::table& t, std::string_view path) {
                              where(path, node), key.str())};
   }
   std::string here = where(path, t);
-  auto at = int_key(t, "at_ms", 0, INT64_MAX / kMicrosPerMs, path);
+  auto at = int_key(t, "at_ms", 0, kNoUpperBound, path);
   if (!at) throw Fail{fmt::format("{}: input without 'at_ms'", here)};
   auto sensor = int_key(t, "sensor", 1, 3, path);
   auto raw = int_key(t, "raw", 0, 1023, path);
@@ -64,6 +70,10 @@ TimedInput parse_input(const toml::table& t, std::string_view path) {
 }  // namespace
 
 std::variant<std::vector<TimedInput>, ScenarioError> parse_scenario(std::string_view text, std::string_view path) {
+  // TOML's own words for a binary file are about UTF-8 sequences.
+  if (text.substr(0, 4) == "RCXI" || text.substr(0, 4096).find('\0') != std::string_view::npos)
+    return ScenarioError{fmt::format("{}: holds binary data, not a scenario (a scenario is a TOML file of [[input]] tables)",
+                                     path)};
   toml::table root;
   try {
     root = toml::parse(text, path);

@@ -81,6 +81,20 @@ TEST(CompileCli, VerboseReportsDecisions) {
   EXPECT_NE(r.err.find("bytes of code"), std::string::npos) << r.err;
 }
 
+TEST(CompileCli, OneSlotIsASlotNotSlots) {
+  TempDir d;
+  std::string one = d.write("one.nqc", "int x;\ntask main() { x = Message(); SendMessage(x); }\n");
+  std::string none = d.write("none.nqc", "task main() { PlaySound(1); }\n");
+  auto r1 = run_rcxc({"compile", one, "-v", "--listing", "-o", d.path + "/one.rcx"});
+  auto r0 = run_rcxc({"compile", none, "-v", "--listing", "-o", d.path + "/none.rcx"});
+  ASSERT_EQ(r1.exit_code, 0) << r1.err;
+  ASSERT_EQ(r0.exit_code, 0) << r0.err;
+  EXPECT_NE(r1.err.find("bytes of code, 1 variable slot\n"), std::string::npos) << r1.err;
+  EXPECT_NE(r1.out.find("bytes of code, 1 variable slot\n"), std::string::npos) << r1.out;
+  EXPECT_NE(r0.err.find("bytes of code, 0 variable slots\n"), std::string::npos) << r0.err;
+  EXPECT_NE(r0.out.find("bytes of code, 0 variable slots\n"), std::string::npos) << r0.out;
+}
+
 TEST(CompileCli, OptimisationLevelsDiffer) {
   TempDir d;
   std::string src = d.write("p.nqc", "int x;\ntask main() { OnFwd(OUT_A); Wait(10); OnFwd(OUT_A); x = 2 + 3; }\n");

@@ -12,6 +12,7 @@
 
 #include "backend/compile.h"
 #include "rcx/image.h"
+#include "tests/support/process.h"
 #include "tests/support/random_programs.h"
 
 namespace rcxc {
@@ -52,15 +53,6 @@ std::string read(const fs::path& path) {
   std::stringstream s;
   s << in.rdbuf();
   return s.str();
-}
-
-std::vector<fs::path> programs_under(const fs::path& dir) {
-  std::vector<fs::path> out;
-  if (!fs::exists(dir)) return out;
-  for (const auto& e : fs::recursive_directory_iterator(dir))
-    if (e.is_regular_file() && e.path().extension() == ".nqc") out.push_back(e.path());
-  std::sort(out.begin(), out.end());
-  return out;
 }
 
 // Only the reached functions are parsed: a program calling OnFwd gets OnFwd
@@ -111,17 +103,17 @@ TEST(LibraryReach, SameAnswerOnEdgeCases) {
 TEST(LibraryReach, SameAnswerOnEverySemanticTestAndExample) {
   int n = 0;
   for (const char* dir : {"tests/semantic", "examples"})
-    for (const auto& path : programs_under(fs::path(RCXC_SOURCE_DIR) / dir)) {
-      expect_same(path.string(), read(path));
+    for (const auto& path : test::nqc_programs_under((fs::path(RCXC_SOURCE_DIR) / dir).string())) {
+      expect_same(path, read(path));
       ++n;
     }
   EXPECT_GT(n, 300);
 }
 
 TEST(LibraryReach, SameAnswerOnTheCorpus) {
-  auto files = programs_under(RCXC_CORPUS_DIR);
+  auto files = test::nqc_programs_under(RCXC_CORPUS_DIR);
   if (files.empty()) GTEST_SKIP() << "no corpus at " << RCXC_CORPUS_DIR;
-  for (const auto& path : files) expect_same(path.string(), read(path));
+  for (const auto& path : files) expect_same(path, read(path));
 }
 
 TEST(LibraryReach, SameAnswerOnRandomPrograms) {

@@ -2,6 +2,10 @@
 // usage text goes are checked end to end against the real binary.
 #include <gtest/gtest.h>
 
+#include <string>
+#include <utility>
+#include <vector>
+
 #include "tests/support/process.h"
 
 using rcxc::test::run_rcxc;
@@ -29,7 +33,35 @@ TEST(Cli, UnknownOptionIsUsageErrorOnStderr) {
 TEST(Cli, UnknownSubcommandOptionShowsThatSubcommandsUsage) {
   auto r = run_rcxc({"run", "--bogus", "x.rcx"});
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_NE(r.err.find("run"), std::string::npos) << r.err;
+  // As `rcxc help run` shows it (it was "Usage: run [OPTIONS] FILE").
+  EXPECT_NE(r.err.find("Usage: rcxc run [OPTIONS] FILE"), std::string::npos) << r.err;
+  auto nested = run_rcxc({"nxt", "tone"});
+  EXPECT_EQ(nested.exit_code, 2);
+  EXPECT_NE(nested.err.find("Usage: rcxc nxt tone [OPTIONS] HZ MS"), std::string::npos) << nested.err;
+}
+
+// A misspelt command, action or option got only "The following arguments
+// were not expected: prog.nqc --fro" (naming the file as unexpected too) or,
+// for an NXT action, "A subcommand is required". Each now gets the word it
+// most likely stands for, an option value (--port usb) not taken for one.
+TEST(Cli, AMisspeltCommandActionOrOptionGetsADidYouMean) {
+  const std::pair<std::vector<std::string>, std::string> cases[] = {
+      {{"compiel", "p.nqc"}, "unknown command 'compiel': did you mean 'compile'?"},
+      {{"run", "--fro", "10", "p.nqc"}, "unknown option '--fro': did you mean '--for'?"},
+      {{"run", "p.nqc", "--scenaro=s.toml"}, "unknown option '--scenaro': did you mean '--scenario'?"},
+      {{"nxt", "--timeout", "5", "motr", "A", "5"}, "unknown action 'motr': did you mean 'motor'?"},
+      {{"nxt", "--port", "usb", "mailbox", "wrte", "1", "x"}, "unknown action 'wrte': did you mean 'write'?"},
+      {{"nxt", "--prot", "usb", "info"}, "unknown option '--prot': did you mean '--port'?"},
+  };
+  for (const auto& [args, hint] : cases) {
+    auto r = run_rcxc(args);
+    EXPECT_EQ(r.exit_code, 2) << args[0] << ": " << r.err;
+    EXPECT_NE(r.err.find("rcxc: " + hint), std::string::npos) << r.err;
+  }
+  // Nothing near: no guess.
+  auto far = run_rcxc({"run", "--zzzzzz", "p.nqc"});
+  EXPECT_EQ(far.exit_code, 2);
+  EXPECT_EQ(far.err.find("did you mean"), std::string::npos) << far.err;
 }
 
 TEST(Cli, MissingSubcommandIsUsageError) {
@@ -62,4 +94,14 @@ TEST(Cli, AnEmptyValueOrANegativeSeedIsAUsageError) {
     EXPECT_TRUE(said) << call << ": " << r.err;
   }
   EXPECT_EQ(run_rcxc({"run", p, "--seed", "0", "--for", "10"}).exit_code, 0);
+}
+
+// `rcxc lsp --stdlib-dir FILE` started, and every go to definition into the
+// standard library then answered null with nothing said anywhere.
+TEST(Cli, AnLspStdlibDirThatIsAFileIsAUsageError) {
+  rcxc::test::TempDir d;
+  std::string file = d.write("not-a-folder", "x");
+  auto r = run_rcxc({"lsp", "--stdlib-dir", file});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find(file + " is a file, not a folder"), std::string::npos) << r.err;
 }

@@ -6,6 +6,8 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <string>
+#include <utility>
 
 #include "rcx/image.h"
 #include "tests/support/process.h"
@@ -93,6 +95,45 @@ TEST(CompareCli, TheStandardInputIsRefusedSinceNqcReadsTheFileToo) {
   auto r = run_rcxc({"compare", "-"}, kSource);
   EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
   EXPECT_NE(r.err.find("compare needs the program in a file"), std::string::npos) << r.err;
+}
+
+// A missing file, a folder or binary bytes went to nqc first, whose refusal
+// read "nqc does not compile this program; nothing to compare" (exit 5), or
+// as a binary file "is an .rcx image". They are bad inputs, said as rcxc
+// compile says them, before any nqc runs (the fake one would accept all).
+TEST(CompareCli, AFileThatIsNoSourceIsABadInputNotNothingToCompare) {
+  TempDir d;
+  std::string nqc = fake_nqc(d, image_playing(d, 3));
+  const std::pair<std::string, std::string> cases[] = {
+      {d.path + "/missing.nqc", "cannot open"},
+      {d.path, "is a directory, not a source file"},
+      {d.write("bin.nqc", std::string("\x01\x00\xff\x00", 4)), "is not NQC source: it holds binary data"},
+  };
+  for (const auto& [file, message] : cases) {
+    auto r = run_rcxc({"compare", file, "--nqc-path", nqc});
+    EXPECT_EQ(r.exit_code, 1) << file << ": " << r.out << r.err;
+    EXPECT_NE(r.err.find(message), std::string::npos) << file << ": " << r.err;
+    EXPECT_EQ(r.out.find("nothing to compare"), std::string::npos) << file << ": " << r.out;
+  }
+}
+
+// A program nqc refuses got one line, "nqc does not compile this program",
+// and nothing about why, even when rcxc refused it too. Both compilers'
+// messages are shown now, and the line says which refused.
+TEST(CompareCli, AProgramNqcRefusesShowsWhy) {
+  TempDir d;
+  std::string refusing = d.write("refusing-nqc", "#!/bin/sh\necho '# Error: no such thing'\n"
+                                                 "echo 'File \"p.nqc\" ; line 1'\nexit 1\n");
+  chmod(refusing.c_str(), 0755);
+  auto both = run_rcxc({"compare", d.write("p.nqc", "task main() { nope(); }\n"), "--nqc-path", refusing});
+  EXPECT_EQ(both.exit_code, 5) << both.out << both.err;
+  EXPECT_NE(both.out.find("neither nqc nor rcxc compiles this program"), std::string::npos) << both.out;
+  EXPECT_NE(both.err.find("error: 'nope' is not declared"), std::string::npos) << both.err;
+  EXPECT_NE(both.err.find("nqc: line 1: no such thing"), std::string::npos) << both.err;
+  auto only_nqc = run_rcxc({"compare", d.write("q.nqc", kSource), "--nqc-path", refusing});
+  EXPECT_EQ(only_nqc.exit_code, 5) << only_nqc.out << only_nqc.err;
+  EXPECT_NE(only_nqc.out.find("nqc does not compile this program"), std::string::npos) << only_nqc.out;
+  EXPECT_NE(only_nqc.err.find("nqc: line 1: no such thing"), std::string::npos) << only_nqc.err;
 }
 
 TEST(CompareCli, ProgramRcxcRejectsButNqcAcceptsFails) {

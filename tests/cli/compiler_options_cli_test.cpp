@@ -55,6 +55,21 @@ TEST(CompilerOptions, BadMacroNamesAndLevelsAreUsageErrors) {
   }
 }
 
+// gcc's -O3 was read as nqc's -O<file>: "the output file is -o 3". A level
+// that does not exist is named so; a file name still gets nqc's hint.
+TEST(CompilerOptions, ALevelThatDoesNotExistIsNotTakenForAnOutputFile) {
+  TempDir d;
+  auto src = d.write("p.nqc", "task main() {}\n");
+  for (const std::string level : {"-O3", "-Ofast"}) {
+    auto r = run_rcxc({"compile", level, src});
+    EXPECT_EQ(r.exit_code, 2) << level << ": " << r.err;
+    EXPECT_NE(r.err.find(level + ": there is no such optimisation level"), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("-o " + level.substr(2)), std::string::npos) << r.err;
+  }
+  auto file = run_rcxc({"compile", "-Oout.rcx", src});
+  EXPECT_NE(file.err.find("the output file is -o out.rcx"), std::string::npos) << file.err;
+}
+
 TEST(CompilerOptions, SourceIsKnownByContentOrByItsNameInAnyCase) {
   TempDir d;
   const std::string program = "int v;\ntask main() { v = 4; }\n";

@@ -107,3 +107,24 @@ TEST(DisasmCli, TheStandardInputIsAnImageOrSource) {
   EXPECT_NE(broken.err.find("<stdin>:1:22: error"), std::string::npos) << broken.err;
   EXPECT_NE(broken.err.find("rcxc run: <stdin>: the program does not compile"), std::string::npos) << broken.err;
 }
+
+// `rcxc run prog.rcx -O0 -DX` (or disasm, download) has nothing to compile:
+// the options were taken and ignored without a word. A note says so; the
+// command still does its work. Source given the same options gets no note.
+TEST(DisasmCli, CompilerOptionsGivenWithAnImageGetANote) {
+  rcxc::test::TempDir d;
+  rcx::Image img;
+  img.fragments.push_back({rcx::FragmentType::Task, 0, {0x13, 0x05, 0x02, 0x03}});
+  std::string image = write_temp(d.path, rcx::write_image(img));
+  for (const char* command : {"disasm", "run"}) {
+    auto r = run_rcxc({command, image, "-O0", "-DX"});
+    EXPECT_EQ(r.exit_code, 0) << command << ": " << r.err;
+    EXPECT_NE(r.err.find("is an .rcx image: -I, -D, -U, -n and -O apply to NQC source and were not used"),
+              std::string::npos)
+        << command << ": " << r.err;
+    EXPECT_EQ(run_rcxc({command, image}).err.find("were not used"), std::string::npos) << command;
+  }
+  auto source = run_rcxc({"disasm", d.write("p.nqc", "task main() {}\n"), "-O0"});
+  EXPECT_EQ(source.exit_code, 0) << source.err;
+  EXPECT_EQ(source.err.find("were not used"), std::string::npos) << source.err;
+}

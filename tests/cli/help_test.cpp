@@ -62,6 +62,16 @@ TEST(Help, HelpAndVersionCommands) {
   EXPECT_EQ(version.out.rfind("rcxc ", 0), 0u);
 }
 
+// README and the man page name `rcxc nqc` as a command, yet `rcxc help nqc`
+// said "there is no command 'nqc'". It shows nqc mode's own summary.
+TEST(Help, HelpNqcShowsTheNqcModeSummary) {
+  auto r = run_rcxc({"help", "nqc"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.out, run_rcxc({"nqc", "-help"}).out);
+  EXPECT_NE(r.out.find("usage: nqc [options]"), std::string::npos) << r.out;
+  EXPECT_NE(run_rcxc({"help", "compiel"}).err.find("(commands: nqc, compile,"), std::string::npos);
+}
+
 // `rcxc COMMAND ...` registers that command alone (cli/main.cpp, for
 // startup time); `rcxc help COMMAND` registers every command. Both must
 // describe the command alike, so no command depends on another's options.

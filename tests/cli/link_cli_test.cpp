@@ -64,6 +64,7 @@ TEST(LinkCli, DownloadRunThenReadTheVariable) {
   auto r = run_rcxc({"download", "--port", brick.path, sample_rcx(dir), "--run"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.err.find("downloaded 10 bytes to program 1"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("(1 block, 0 retransmissions), running"), std::string::npos) << r.err;
   EXPECT_EQ(r.out, "");
   EXPECT_EQ(r.err.find('\r'), std::string::npos);  // no progress bar when stderr is not a terminal
   EXPECT_EQ(get_var0(brick.path), "42\n");
@@ -223,3 +224,13 @@ TEST(LinkCli, DownloadingADirectoryIsExit1) {
 }
 
 }  // namespace
+
+// `rcxc remote --csv alive` (or get, battery, ...) took --csv and ignored
+// it; it shapes the datalog alone. Refused before the port is opened.
+TEST(LinkCli, CsvWithAnActionButDatalogIsAUsageError) {
+  auto r = run_rcxc({"remote", "--port", "/dev/no-such-tower", "--csv", "alive"});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("--csv is for datalog, not alive"), std::string::npos) << r.err;
+  auto datalog = run_rcxc({"remote", "--port", "/dev/no-such-tower", "--csv", "datalog"});
+  EXPECT_EQ(datalog.exit_code, 3) << datalog.err;
+}

@@ -12,6 +12,7 @@
 #include <set>
 #include <sstream>
 
+#include "rcx/image.h"
 #include "tests/support/process.h"
 
 namespace {
@@ -21,7 +22,18 @@ using rcxc::test::run_rcxc;
 using rcxc::test::TempDir;
 namespace fs = std::filesystem;
 
+// An image of task main (pwr ABC, 7), for nqc's reading of FILE.rcx.
+std::string image_bytes() {
+  rcx::Image img;
+  img.fragments.push_back({rcx::FragmentType::Task, 0, {0x13, 0x07, 0x02, 0x07}});
+  img.symbols.push_back({rcx::SymbolType::Task, 0, "main"});
+  auto bytes = rcx::write_image(img);
+  return std::string(bytes.begin(), bytes.end());
+}
+
 const std::map<std::string, std::string> kFiles = {
+    {"img.rcx", image_bytes()},
+    {"text.RCX", "task main()\n{\n}\n"},  // named as an image, holding source
     {"ok.nqc", "task main()\n{\n  OnFwd(OUT_A);\n  Wait(100);\n}\n"},
     {"undeclared.nqc", "task main()\n{\n  OnFwd(OUT_A);\n  x = 1;\n}\n"},
     // Lines ended by a lone CR, as classic Mac OS editors wrote them.
@@ -137,6 +149,11 @@ TEST(NqcMode, CompilingBehavesAsNqc) {
            {{"plain.nqc"}},
            {{"defs.nqc"}},
            {{"-b", "ok.nqc"}},
+           // nqc reads FILE.rcx (any case) as an image, -b or not, and lists it.
+           {{"img.rcx"}},
+           {{"-L", "img.rcx"}},
+           {{"-b", "-Limg.lst", "img.rcx"}},
+           {{"text.RCX"}},
            {{"-"}, "", kFiles.at("undeclared.nqc")},
            {{"-"}, "", kFiles.at("ok.nqc")},
            {{"-DLEVEL=2", "defs.nqc"}},
@@ -267,6 +284,21 @@ TEST(NqcMode, ActionsAfterAFailureDoNotRun) {
   auto o = run_in_folder(nqc.path, {"undeclared.nqc", "-api"});
   EXPECT_EQ(o.exit_code, 243);
   EXPECT_EQ(o.out, "");
+}
+
+}  // namespace
+
+namespace {
+
+// Binary bytes given as source: nqc (and this mode before) printed them back
+// as the "source line" of a syntax error, a screen of control characters.
+TEST(NqcMode, ABinaryFileIsOneErrorNotAScreenOfItsBytes) {
+  TempDir d;
+  std::string file = d.write("bin.nqc", std::string("\x7f\x01\x00\x02\x1b[2J", 8));
+  auto r = run_rcxc({"nqc", file});
+  EXPECT_EQ(r.exit_code, 243) << r.err;
+  EXPECT_NE(r.err.find("# Error: '" + file + "' is not NQC source: it holds binary data"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find('\x1b'), std::string::npos) << r.err;
 }
 
 }  // namespace

@@ -11,6 +11,9 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "tests/support/process.h"
 
@@ -66,6 +69,28 @@ TEST(OutputFileCli, ADirectoryIsNotWritable) {
   auto r = run_rcxc({"compile", d.write("p.nqc", kProgram), "-o", d.path + "/out"});
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("cannot write " + d.path + "/out"), std::string::npos) << r.err;
+}
+
+// "cannot write X" said no more: a missing folder, a folder named as the
+// file and a full disk read alike. The reason now follows, for every output.
+TEST(OutputFileCli, AFailedWriteSaysWhy) {
+  TempDir d;
+  std::string src = d.write("p.nqc", kProgram);
+  std::filesystem::create_directory(d.path + "/out");
+  const std::pair<std::vector<std::string>, std::string> cases[] = {
+      {{"compile", src, "-o", d.path + "/out"}, d.path + "/out: Is a directory"},
+      {{"compile", src, "-o", d.path + "/no/p.rcx"}, d.path + "/no/p.rcx: No such file or directory"},
+      {{"compile", src, "--listing=" + d.path + "/no/p.lst"}, "p.lst: No such file or directory"},
+      {{"compile", "-E", src, "-o", d.path + "/out"}, "/out: Is a directory"},
+      {{"run", src, "--trace", d.path + "/no/t.vcd"}, "t.vcd: No such file or directory"},
+      {{"nqc", "-Trcx", "-O" + d.path + "/out", src}, "/out: Is a directory"},
+  };
+  for (const auto& [args, reason] : cases) {
+    auto r = run_rcxc(args);
+    EXPECT_NE(r.exit_code, 0) << args[0];
+    EXPECT_NE(r.err.find("cannot write"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(reason), std::string::npos) << r.err;
+  }
 }
 
 TEST(OutputFileCli, NoPredictableTemporaryALinkCouldRedirect) {
@@ -152,4 +177,22 @@ TEST(OutputFileCli, AStandardOutputThatCannotBeWrittenIsAFailure) {
   // Written in full, the same commands succeed.
   EXPECT_EQ(rcxc::test::run_process({"/bin/sh", "-c", "'" RCXC_BINARY "' disasm '" + src + "' > /dev/null"}).exit_code,
             0);
+}
+
+// -E printed to the standard output whatever -o said, and took --listing
+// without a word: `rcxc compile -E p.nqc -o p.i` left no p.i. It writes to
+// -o as gcc -E does, refuses the source file there, and refuses a listing.
+TEST(OutputFileCli, PreprocessedTextGoesToTheOutputFile) {
+  TempDir d;
+  std::string src = d.write("p.nqc", "#define POWER 5\ntask main() { SetPower(OUT_A, POWER); }\n");
+  auto r = run_rcxc({"compile", "-E", "-n", src, "-o", d.path + "/p.i"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.out, "");
+  EXPECT_NE(rcxc::test::read_text_file(d.path + "/p.i").find("SetPower(OUT_A, 5);"), std::string::npos);
+  auto over_source = run_rcxc({"compile", "-E", src, "-o", src});
+  EXPECT_EQ(over_source.exit_code, 2) << over_source.err;
+  EXPECT_NE(rcxc::test::read_text_file(src).find("#define POWER 5"), std::string::npos);
+  auto listing = run_rcxc({"compile", "-E", src, "--listing=" + d.path + "/p.lst"});
+  EXPECT_EQ(listing.exit_code, 2) << listing.err;
+  EXPECT_NE(listing.err.find("leave out --listing"), std::string::npos) << listing.err;
 }

@@ -245,3 +245,27 @@ TEST(RunCli, ControlCharactersInSymbolNamesAreEscapedInText) {
   ASSERT_EQ(dis.exit_code, 0) << dis.err;
   EXPECT_NE(dis.out.find("task 0 ma\\x1b[31min"), std::string::npos) << dis.out;
 }
+
+// With --nxt naming a port that is not there, the run never started, yet the
+// timeline of a machine at 0 ms ("stopped: running at 0.000 ms", every
+// output floating) was printed before exit 3 as if it had run.
+TEST(RunCli, AnNxtPortThatCannotBeOpenedPrintsNoTimeline) {
+  TempDir d;
+  auto r = run_rcxc({"run", d.write("p.rcx", program_bytes()), "--nxt", d.path + "/no-such-nxt"});
+  EXPECT_EQ(r.exit_code, 3) << r.err;
+  EXPECT_NE(r.err.find("no-such-nxt does not exist"), std::string::npos) << r.err;
+  EXPECT_EQ(r.out, "");
+}
+
+// `--for abc` (or 1e3, 1.5) was "Value abc not in range 1 to ...", as if
+// abc were a number too large; it is no number at all.
+TEST(RunCli, AForThatIsNoWholeNumberSaysSo) {
+  TempDir d;
+  std::string image = d.write("p.rcx", program_bytes());
+  for (const std::string value : {"abc", "1e3", "1.5"})
+    for (const std::string command : {"run", "compare"}) {
+      auto r = run_rcxc({command, image, "--for", value});
+      EXPECT_EQ(r.exit_code, 2) << command << " " << value << ": " << r.err;
+      EXPECT_NE(r.err.find("--for: '" + value + "' is not a whole number"), std::string::npos) << r.err;
+    }
+}

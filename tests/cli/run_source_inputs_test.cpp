@@ -85,3 +85,19 @@ TEST(RunSourceInputs, BadOptionsDirectiveIsAnErrorAtItsLine) {
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_NE(r.err.find("bad.nqc:2: error: bad @options"), std::string::npos) << r.err;
 }
+
+// A directive with a mistake (`@for 3 s`) made the run drop every
+// directive without a word: the inputs never came and the run took the
+// default minute. It still runs without them, and says so.
+TEST(RunSourceInputs, DirectivesWithErrorsAreNotUsedAndSaidSo) {
+  std::string dir = rcxc::test::make_temp_dir();
+  std::string path = dir + "/p.nqc";
+  std::ofstream(path) << "// @for 1 s\n" << kProgram;
+  auto r = run_rcxc({"run", path, "--report", "json"});
+  std::filesystem::remove_all(dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("the // @ directives in " + path + " have errors and are not used (rcxc test " + path),
+            std::string::npos)
+      << r.err;
+  EXPECT_EQ(nlohmann::json::parse(r.out)["stop"], "time_limit");
+}

@@ -218,3 +218,32 @@ TEST(TestCommand, JunitWritesTheResultsAsAReport) {
   EXPECT_EQ(nowhere.exit_code, 1);
   EXPECT_NE(nowhere.err.find("cannot write the report"), std::string::npos) << nowhere.err;
 }
+
+// --nqc-path without --nqc was taken and ignored: the tests ran on rcxc's
+// code and passed, whatever nqc the user meant to try.
+TEST(TestCommand, AnNqcPathWithoutNqcIsAUsageError) {
+  TempDir d;
+  std::string test = d.write("t.nqc", "// @expect stop ended\ntask main() {}\n");
+  auto r = run_rcxc({"test", "--nqc-path", "/no/such/nqc", test});
+  EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
+  EXPECT_NE(r.err.find("--nqc-path requires --nqc"), std::string::npos) << r.err;
+  EXPECT_EQ(r.out.find("PASS"), std::string::npos) << r.out;
+}
+
+// README said '-' reads the program from the standard input for "any command
+// but compare"; `rcxc test -` answered "no such file or folder: -".
+TEST(TestCommand, TheStandardInputIsRefusedWithItsReason) {
+  auto r = run_rcxc({"test", "-"}, "// @expect stop ended\ntask main() {}\n");
+  EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+  EXPECT_NE(r.err.find("rcxc test reads test files, not the standard input"), std::string::npos) << r.err;
+}
+
+// A binary file found among the tests was "an .rcx image, not an NQC test
+// program": it is binary data, and an image is still called an image.
+TEST(TestCommand, ABinaryFileIsNotCalledAnImage) {
+  TempDir d;
+  std::string binary = d.write("junk.nqc", std::string("\x01\x00\xff\x02", 4));
+  auto r = run_rcxc({"test", binary});
+  EXPECT_EQ(r.exit_code, 1) << r.out;
+  EXPECT_NE(r.out.find("junk.nqc: error: binary data, not an NQC test program"), std::string::npos) << r.out;
+}

@@ -55,6 +55,32 @@ TEST(Lexer, CommentsAreSkippedAndKeepLineNumbers) {
   EXPECT_TRUE(toks[1].space_before);
 }
 
+// For the formatter: the comments are listed too, with their spans and
+// whether they start their line, and the tokens are the same as without.
+TEST(Lexer, CommentsCanBeListedWithoutChangingTheTokens) {
+  const std::string text = "a /* one\ntwo */ b // rest\n  /* own */ # define X\nc";
+  Diagnostics d;
+  std::vector<Comment> comments;
+  auto toks = lex(text, 0, d, comments);
+  Diagnostics d2;
+  auto plain = lex(text, 0, d2);
+  ASSERT_EQ(texts(toks), texts(plain));
+  ASSERT_EQ(comments.size(), 3u);
+  EXPECT_EQ(comments[0].text, "/* one\ntwo */");
+  EXPECT_EQ(comments[0].span.begin.line, 1u);
+  EXPECT_EQ(comments[0].span.begin.column, 3u);
+  EXPECT_EQ(comments[0].span.end.line, 2u);
+  EXPECT_EQ(comments[0].span.end.column, 7u);
+  EXPECT_FALSE(comments[0].line_start);
+  EXPECT_EQ(comments[1].text, "// rest");
+  EXPECT_EQ(comments[2].text, "/* own */");
+  EXPECT_TRUE(comments[2].line_start);
+  // The '#' after a comment at the start of its line still starts a directive.
+  ASSERT_EQ(toks[2].text, "#");
+  EXPECT_TRUE(toks[2].line_start);
+  EXPECT_EQ(toks[2].line_start, plain[2].line_start);
+}
+
 TEST(Lexer, LineStartMarksDirectivesAndBackslashJoinsLines) {
   Diagnostics d;
   auto toks = lex("#define X \\\n  1\n# if X", 0, d);

@@ -121,6 +121,8 @@ TEST(LinkPort, MissingDeviceSaysWhatToCheck) {
   auto r = open_port({"/dev/nonexistent-tower", PortKind::Usb});
   ASSERT_TRUE(std::holds_alternative<TransportError>(r));
   EXPECT_NE(std::get<TransportError>(r).message.find("does not exist"), std::string::npos);
+  // nqc mode names the port with -S, not --port.
+  EXPECT_NE(std::get<TransportError>(r).message.find("--port, -S in nqc mode, or RCX_PORT"), std::string::npos);
 }
 
 TEST(LinkPort, APtyNobodyServesTimesOutCleanly) {

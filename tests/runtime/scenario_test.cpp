@@ -66,7 +66,7 @@ TEST(Scenario, ErrorsNameTheLine) {
   EXPECT_EQ(error("[[input]]\nat_ms = 1\nsensor = 1\nraw = 1024\n"), "s.toml:4: 'raw' = 1024 is out of range 0..1023");
   EXPECT_NE(error("[[input]]\nat_ms = 1\nsensr = 1\nraw = 3\n").find("s.toml:3: unknown key 'sensr'"), std::string::npos);
   EXPECT_EQ(error("[[input]]\nat_ms = \"soon\"\nmessage = 1\n"), "s.toml:2: 'at_ms' must be an integer");
-  EXPECT_EQ(error("[[input]]\nat_ms = -5\nmessage = 1\n"), "s.toml:2: 'at_ms' = -5 is out of range 0..9223372036854775");
+  EXPECT_EQ(error("[[input]]\nat_ms = -5\nmessage = 1\n"), "s.toml:2: 'at_ms' = -5 must be 0 or more");
   EXPECT_EQ(error("[[input]]\nat_ms = 1\nmessage = 256\n"), "s.toml:3: 'message' = 256 is out of range 0..255");
   EXPECT_NE(error("[[input]]\nmessage = 1\n").find("s.toml:1: input without 'at_ms'"), std::string::npos);
   EXPECT_NE(error("[[input]]\nat_ms = 1\n").find("exactly one of"), std::string::npos);
@@ -76,6 +76,12 @@ TEST(Scenario, ErrorsNameTheLine) {
   EXPECT_NE(error("speed = 3\n").find("s.toml:1: unknown key 'speed'"), std::string::npos);
   EXPECT_NE(error("input = 3\n").find("[[input]]"), std::string::npos);
   EXPECT_EQ(error("[[input]\n").rfind("s.toml:1:", 0), 0u);  // TOML syntax error
+}
+
+TEST(Scenario, ABinaryFileIsNamedAsSuchNotAsBadUtf8) {
+  const std::string expected = "s.toml: holds binary data, not a scenario (a scenario is a TOML file of [[input]] tables)";
+  EXPECT_EQ(error(std::string("RCXI\x01\x02", 6)), expected);
+  EXPECT_EQ(error(std::string("[[input]]\n\0at_ms = 1\n", 20)), expected);
 }
 
 // A directory used to read as an empty scenario, so `rcxc run P --scenario

@@ -36,6 +36,10 @@ bool built_with_asan();
 // The whole content of the file at `path` ("" when it cannot be read).
 std::string read_text_file(const std::string& path);
 
+// Every .nqc file under `dir` (recursively), sorted; none when `dir` is
+// not a folder (the corpus may be absent).
+std::vector<std::string> nqc_programs_under(const std::string& dir);
+
 // A fresh empty directory under the system temp dir, removed by the caller.
 std::string make_temp_dir();
 

@@ -1,0 +1,89 @@
+#include "cli/usage_hint.h"
+
+#include <algorithm>
+
+#include "frontend/spelling.h"
+
+namespace rcxc::cli {
+namespace {
+
+// The command's options and those of the commands it is under (`rcxc nxt
+// --port P info`: --port is nxt's).
+std::vector<std::string> long_options(const CLI::App& app) {
+  std::vector<std::string> out;
+  for (const CLI::App* at = &app; at; at = at->get_parent())
+    for (const CLI::Option* option : at->get_options())
+      for (const std::string& name : option->get_lnames()) out.push_back("--" + name);
+  return out;
+}
+
+std::vector<std::string> command_names(const CLI::App& app) {
+  std::vector<std::string> out;
+  for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; }))
+    out.push_back(sub->get_name());
+  return out;
+}
+
+bool contains(const std::vector<std::string>& names, const std::string& name) {
+  return std::find(names.begin(), names.end(), name) != names.end();
+}
+
+// `--port usb`: the word after such an option is its value, no command.
+bool takes_value(const CLI::App& app, const std::string& word) {
+  if (word.find('=') != std::string::npos) return false;
+  for (const CLI::App* at = &app; at; at = at->get_parent())
+    if (const CLI::Option* option = at->get_option_no_throw(word)) return option->get_items_expected_max() > 0;
+  return false;
+}
+
+}  // namespace
+
+std::optional<std::string> misspelling_hint(const CLI::App& app, const std::vector<std::string>& words) {
+  // The deepest command the words name, read as the parser reads them (the
+  // parser's own record stops short when it fails inside a command).
+  const CLI::App* where = &app;
+  auto from = words.begin();
+  for (auto w = words.begin(); w != words.end(); ++w) {
+    if (w->empty()) continue;
+    if ((*w)[0] == '-') {
+      if (takes_value(*where, *w) && w + 1 != words.end()) ++w;
+      continue;
+    }
+    const CLI::App* sub = nullptr;
+    for (const CLI::App* s : where->get_subcommands([](const CLI::App*) { return true; }))
+      if (s->get_name() == *w) sub = s;
+    if (!sub) break;
+    where = sub;
+    from = w + 1;
+  }
+  const std::vector<std::string> options = long_options(*where);
+  const std::vector<std::string> commands = command_names(*where);
+  bool first_word = true;
+  for (auto w = words.begin(); w != words.end(); ++w) {
+    if (w->rfind("--", 0) == 0 && w->size() > 2) {
+      std::string name = w->substr(0, w->find('='));
+      if (contains(options, name)) {
+        if (takes_value(*where, *w) && w + 1 != words.end()) ++w;
+        continue;
+      }
+      if (auto near = frontend::closest_name(name, options))
+        return "unknown option '" + name + "': did you mean '" + *near + "'?";
+      continue;
+    }
+    if (!w->empty() && (*w)[0] == '-') {
+      if (takes_value(*where, *w) && w + 1 != words.end()) ++w;
+      continue;
+    }
+    if (w < from || w->empty() || !first_word) continue;
+    // The first plain word after the command names the action, where the
+    // command has actions.
+    first_word = false;
+    if (commands.empty() || contains(commands, *w)) continue;
+    if (auto near = frontend::closest_name(*w, commands))
+      return "unknown " + std::string(where->get_parent() ? "action" : "command") + " '" + *w + "': did you mean '" +
+             *near + "'?";
+  }
+  return std::nullopt;
+}
+
+}  // namespace rcxc::cli

@@ -1,0 +1,301 @@
+// Each layout rule of docs/format.md, as a text before and the text after
+// written out by hand; and inputs the formatter must refuse with a message.
+#include <gtest/gtest.h>
+
+#include <string>
+#include <variant>
+
+#include "format/format.h"
+
+namespace rcxc {
+namespace {
+
+std::string fmt(const std::string& text, int indent = 2) {
+  auto out = format::format_source(text, {.indent = indent});
+  if (auto* r = std::get_if<format::Refusal>(&out)) return "REFUSED: " + r->message;
+  return std::get<std::string>(out);
+}
+
+std::string refusal(const std::string& text) {
+  auto out = format::format_source(text);
+  if (auto* r = std::get_if<format::Refusal>(&out)) return r->message;
+  return "";
+}
+
+TEST(FormatRules, IndentsByNestingWithBracesOnTheirOwnLines) {
+  EXPECT_EQ(fmt("task main() {\nwhile(true) {\nWait(1);\n}\n}\n"),
+            "task main()\n"
+            "{\n"
+            "  while (true)\n"
+            "  {\n"
+            "    Wait(1);\n"
+            "  }\n"
+            "}\n");
+}
+
+TEST(FormatRules, IndentWidthIsAnOption) {
+  EXPECT_EQ(fmt("task main()\n{\nWait(1);\n}\n", 4), "task main()\n{\n    Wait(1);\n}\n");
+}
+
+TEST(FormatRules, OneStatementPerLine) {
+  EXPECT_EQ(fmt("task main()\n{\n  OnFwd(OUT_A); Wait(50); Off(OUT_A);\n}\n"),
+            "task main()\n{\n  OnFwd(OUT_A);\n  Wait(50);\n  Off(OUT_A);\n}\n");
+}
+
+TEST(FormatRules, ForHeaderSemicolonsStayOnTheLine) {
+  EXPECT_EQ(fmt("task main()\n{\n  for(i=0;i<3;i++) x+=i;\n  for(;;) Wait(1);\n}\n"),
+            "task main()\n{\n  for (i = 0; i < 3; i++)\n    x += i;\n  for (;;)\n    Wait(1);\n}\n");
+}
+
+TEST(FormatRules, SpacesAroundBinaryOperatorsNotUnary) {
+  EXPECT_EQ(fmt("int x;\ntask main()\n{\n  x=-1+2*3/4%5-(-x);\n  x=!x&&~x||x!=1;\n  x++;--x;\n  x=a<<2>>1&3|4^5;\n}\n"),
+            "int x;\ntask main()\n{\n  x = -1 + 2 * 3 / 4 % 5 - (-x);\n  x = !x && ~x || x != 1;\n  x++;\n  --x;\n"
+            "  x = a << 2 >> 1 & 3 | 4 ^ 5;\n}\n");
+}
+
+TEST(FormatRules, SignsAfterOperatorsKeepApartWhatWouldMerge) {
+  // "- -y" written as "--y" would be a decrement, "+ +" an increment.
+  EXPECT_EQ(fmt("task main()\n{\n  x = - -y;\n  x = a- -b;\n  x = a+ +b;\n}\n"),
+            "task main()\n{\n  x = - -y;\n  x = a - -b;\n  x = a + +b;\n}\n");
+}
+
+TEST(FormatRules, SpaceAfterCommasAndControlKeywordsNotCalls) {
+  EXPECT_EQ(fmt("task main()\n{\n  SetSensor(SENSOR_1,SENSOR_TOUCH);\n  repeat(4) PlayTone(262 , 40);\n"
+                "  until(SENSOR_1==1);\n  return ;\n}\n"),
+            "task main()\n{\n  SetSensor(SENSOR_1, SENSOR_TOUCH);\n  repeat (4)\n    PlayTone(262, 40);\n"
+            "  until (SENSOR_1 == 1);\n  return;\n}\n");
+}
+
+TEST(FormatRules, ReferenceParametersAndTernary) {
+  EXPECT_EQ(fmt("void f(int &a, const int& b) { a = b>0?b:-b; }\n"),
+            "void f(int &a, const int &b)\n{\n  a = b > 0 ? b : -b;\n}\n");
+}
+
+TEST(FormatRules, IfElseChainsAndBracelessBodies) {
+  EXPECT_EQ(fmt("task main()\n{\n  if (x) y = 1; else if (z) { y = 2; } else y = 3;\n}\n"),
+            "task main()\n"
+            "{\n"
+            "  if (x)\n"
+            "    y = 1;\n"
+            "  else if (z)\n"
+            "  {\n"
+            "    y = 2;\n"
+            "  }\n"
+            "  else\n"
+            "    y = 3;\n"
+            "}\n");
+}
+
+TEST(FormatRules, DanglingElseGoesWithTheInnerIf) {
+  EXPECT_EQ(fmt("task main()\n{\n  if (a) if (b) x = 1; else x = 2; y = 3;\n}\n"),
+            "task main()\n"
+            "{\n"
+            "  if (a)\n"
+            "    if (b)\n"
+            "      x = 1;\n"
+            "    else\n"
+            "      x = 2;\n"
+            "  y = 3;\n"
+            "}\n");
+}
+
+TEST(FormatRules, DoWhileAndEmptyBodies) {
+  EXPECT_EQ(fmt("task main()\n{\n  do x--; while(x>0);\n  do { x++; } while (x < 3);\n  while (x);\n}\n"),
+            "task main()\n"
+            "{\n"
+            "  do\n"
+            "    x--;\n"
+            "  while (x > 0);\n"
+            "  do\n"
+            "  {\n"
+            "    x++;\n"
+            "  }\n"
+            "  while (x < 3);\n"
+            "  while (x);\n"
+            "}\n");
+}
+
+TEST(FormatRules, SwitchCasesOneLevelInStatementsTwo) {
+  EXPECT_EQ(fmt("task main()\n{\n  switch(x){case 1: y=2; break; default: y=3;}\n}\n"),
+            "task main()\n"
+            "{\n"
+            "  switch (x)\n"
+            "  {\n"
+            "    case 1:\n"
+            "      y = 2;\n"
+            "      break;\n"
+            "    default:\n"
+            "      y = 3;\n"
+            "  }\n"
+            "}\n");
+}
+
+TEST(FormatRules, MonitorAndAcquireWithCatch) {
+  EXPECT_EQ(fmt("task main()\n{\n  monitor(EVENT_MASK(1)) { Wait(1); } catch (EVENT_MASK(1)) { x = 1; }\n"
+                "  acquire(ACQUIRE_OUT_A) { Off(OUT_A); } catch { x = 2; }\n}\n"),
+            "task main()\n"
+            "{\n"
+            "  monitor (EVENT_MASK(1))\n"
+            "  {\n"
+            "    Wait(1);\n"
+            "  }\n"
+            "  catch (EVENT_MASK(1))\n"
+            "  {\n"
+            "    x = 1;\n"
+            "  }\n"
+            "  acquire (ACQUIRE_OUT_A)\n"
+            "  {\n"
+            "    Off(OUT_A);\n"
+            "  }\n"
+            "  catch\n"
+            "  {\n"
+            "    x = 2;\n"
+            "  }\n"
+            "}\n");
+}
+
+TEST(FormatRules, CommentsKeptWhereTheyWere) {
+  EXPECT_EQ(fmt("/* head\n   er */\ntask main() { // start\n      // own line\n  x = 1;    // aligned\n"
+                "  y = 22;   // aligned\n  f(/* a */ 1); z = 1; /* after */\n    // last\n}\n"),
+            "/* head\n   er */\n"
+            "task main()\n"
+            "{ // start\n"
+            "  // own line\n"
+            "  x = 1;    // aligned\n"
+            "  y = 22;   // aligned\n"
+            "  f(/* a */ 1);\n"
+            "  z = 1; /* after */\n"
+            "  // last\n"
+            "}\n");
+}
+
+TEST(FormatRules, CommentBeforeElseAndCase) {
+  EXPECT_EQ(fmt("task main()\n{\n  if (x) y();\n  // otherwise\n  else z();\n  switch (x)\n  {\n  // one\n  case 1: break;\n  }\n}\n"),
+            "task main()\n"
+            "{\n"
+            "  if (x)\n"
+            "    y();\n"
+            "  // otherwise\n"
+            "  else\n"
+            "    z();\n"
+            "  switch (x)\n"
+            "  {\n"
+            "    // one\n"
+            "    case 1:\n"
+            "      break;\n"
+            "  }\n"
+            "}\n");
+}
+
+TEST(FormatRules, DirectivesVerbatimAtColumnOne) {
+  EXPECT_EQ(fmt("  #define turn(s,t)  SetPower(OUT_A,s);\\\n     Wait(t);\n#include \"x.nqh\"\ntask main()\n{\n"
+                "    #ifdef FAST\n  turn(7,75);\n  #endif\n}\n"),
+            "#define turn(s,t)  SetPower(OUT_A,s);\\\n     Wait(t);\n#include \"x.nqh\"\ntask main()\n{\n"
+            "#ifdef FAST\n  turn(7, 75);\n#endif\n}\n");
+}
+
+TEST(FormatRules, DirectiveBoundsStayWhereTheLexerPutsThem) {
+  // A '\\' ending a // comment continues nothing; one after the last token
+  // continues the directive onto the blank line, which must stay.
+  EXPECT_EQ(fmt("#define A 1 // note\\\n#define B 2\n"), "#define A 1 // note\\\n#define B 2\n");
+  EXPECT_EQ(fmt("#define A 1 \\\n\nint x;\n"), "#define A 1 \\\n\nint x;\n");
+  // A '#' inside code is no directive and must not start a line.
+  EXPECT_EQ(fmt("task main()\n{#\n}\n"), "task main()\n{#\n}\n");
+}
+
+TEST(FormatRules, EachConditionalBranchStartsFromTheSameNesting) {
+  EXPECT_EQ(fmt("#ifdef A\ntask main() {\n#else\ntask main() { Wait(2);\n#endif\nWait(1);\n}\n"),
+            "#ifdef A\ntask main()\n{\n#else\ntask main()\n{\n  Wait(2);\n#endif\n  Wait(1);\n}\n");
+}
+
+TEST(FormatRules, DirectiveInsideAStatementContinuesIt) {
+  EXPECT_EQ(fmt("task main()\n{\n  x = 1 +\n#ifdef A\n  2 +\n#endif\n  3;\n}\n"),
+            "task main()\n{\n  x = 1 +\n#ifdef A\n      2 +\n#endif\n      3;\n}\n");
+}
+
+TEST(FormatRules, BlankLinesKeptButCollapsed) {
+  EXPECT_EQ(fmt("\n\nint x;\n\n\n\nint y;\ntask main()\n{\n\n  x = 1;\n\n\n  y = 2;\n}\n\n\n"),
+            "int x;\n\nint y;\ntask main()\n{\n\n  x = 1;\n\n  y = 2;\n}\n");
+}
+
+TEST(FormatRules, LinesBrokenInsideAStatementAreContinued) {
+  EXPECT_EQ(fmt("task main()\n{\n  x = f(1,\n  2) +\n        3;\n}\n"),
+            "task main()\n{\n  x = f(1,\n      2) +\n      3;\n}\n");
+}
+
+TEST(FormatRules, AsmBlocksKeepTheirLines) {
+  EXPECT_EQ(fmt("task main()\n{\n  asm {0x51,3};\n  asm { sound 4; }\n  asm {\n  0x13, 1,\n  $v : 0x01000015\n  }\n}\n"),
+            "task main()\n"
+            "{\n"
+            "  asm {0x51, 3};\n"
+            "  asm { sound 4; }\n"
+            "  asm {\n"
+            "    0x13, 1,\n"
+            "    $v : 0x01000015\n"
+            "  }\n"
+            "}\n");
+}
+
+TEST(FormatRules, InitialisersStayOnTheirLine) {
+  EXPECT_EQ(fmt("int a[] = {1,2, 3};\n"), "int a[] = {1, 2, 3};\n");
+}
+
+TEST(FormatRules, GlobalsAndDeclarations) {
+  EXPECT_EQ(fmt(" int x,y=3;\nsub s() { x = y; }\ninline void f() { }\n"),
+            "int x, y = 3;\nsub s()\n{\n  x = y;\n}\ninline void f()\n{\n}\n");
+}
+
+TEST(FormatRules, LineEndingsBecomeNewlinesAndTrailingBlanksGo) {
+  EXPECT_EQ(fmt("task main()\r\n{\r\n  x = 1;   \r\n  y = 2; // c\r\n}\r\n"), "task main()\n{\n  x = 1;\n  y = 2; // c\n}\n");
+  EXPECT_EQ(fmt("task main()\r{\rx = 1;\r}"), "task main()\n{\n  x = 1;\n}\n");
+}
+
+TEST(FormatRules, EmptyAndBlankTexts) {
+  EXPECT_EQ(fmt(""), "");
+  EXPECT_EQ(fmt("  \n\n\t\n"), "");
+}
+
+TEST(FormatRules, FormattedTextIsLeftAlone) {
+  std::string done = "// a program\nint x;\n\ntask main()\n{\n  if (x > 0)\n  {\n    x = -x; // flip\n  }\n}\n";
+  EXPECT_EQ(fmt(done), done);
+}
+
+TEST(FormatRules, SyntaxErrorsStillFormat) {
+  // Not NQC, but it lexes: the tokens are laid out, none is lost.
+  EXPECT_EQ(fmt("task main( { x = ; } }\n"), "task main(\n{\n  x =;\n}\n}\n");
+}
+
+TEST(FormatRefusals, LexicalErrorsAreNamed) {
+  EXPECT_EQ(refusal("task main()\n{\n  /* never ends\n}\n"), "cannot format: line 3, column 3: unterminated /* comment");
+  EXPECT_EQ(refusal("task main() { x = 1; ` }\n"), "cannot format: line 1, column 22: stray character '`' in program");
+  EXPECT_EQ(refusal(std::string("x\0y", 3)), "cannot format: line 1, column 2: stray NUL character in source");
+  EXPECT_EQ(refusal("x = \"open\n"), "cannot format: line 1, column 5: missing terminating \" character");
+}
+
+TEST(FormatRefusals, TooLargeAndBadIndent) {
+  EXPECT_EQ(refusal(std::string(format::kMaxSource + 1, ' ')),
+            "cannot format: larger than a source file may be (1 MiB)");
+  EXPECT_EQ(std::get<format::Refusal>(format::format_source("x;", {.indent = 0})).message,
+            "cannot format: the indent must be 1 to 8 spaces");
+}
+
+TEST(FormatRefusals, HostileShapesGiveAnAnswer) {
+  std::string deep = "task main()\n" + std::string(2000, '{') + std::string(2001, '}');
+  auto out = format::format_source(deep);
+  ASSERT_TRUE(std::holds_alternative<std::string>(out));
+  // Indentation stops growing 40 levels in: the 2,000th brace is indented like the 40th.
+  const std::string& text = std::get<std::string>(out);
+  EXPECT_NE(text.find("\n" + std::string(80, ' ') + "{\n" + std::string(80, ' ') + "{\n"), std::string::npos);
+  EXPECT_EQ(text.find(std::string(81, ' ')), std::string::npos);
+  // 100,000 of them, one a line, would be 16 MB: more than the compiler reads.
+  std::string deeper = "task main()\n" + std::string(100000, '{') + std::string(100000, '}');
+  EXPECT_EQ(refusal(deeper), "cannot format: the formatted text would be larger than a source file may be (1 MiB)");
+  std::string wide = "int x = " + std::string(300000, '(') + "1" + std::string(300000, ')') + ";";
+  EXPECT_EQ(fmt(wide), wide + "\n");
+  std::string garbage;
+  for (int i = 0; i < 4000; ++i) garbage += static_cast<char>(i * 37 % 256);
+  EXPECT_NE(refusal(garbage), "");
+}
+
+}  // namespace
+}  // namespace rcxc

@@ -1,0 +1,69 @@
+// textDocument/formatting: one edit replacing the whole document, none when
+// it is already formatted, an error with the formatter's message when the
+// text cannot be formatted.
+#include <gtest/gtest.h>
+
+#include <optional>
+
+#include "lsp/jsonrpc.h"
+#include "lsp/server.h"
+
+namespace rcxc::lsp {
+namespace {
+
+using nlohmann::json;
+
+json message(const std::string& method, json params, std::optional<int> id = std::nullopt) {
+  json m = {{"jsonrpc", "2.0"}, {"method", method}, {"params", std::move(params)}};
+  if (id) m["id"] = *id;
+  return m;
+}
+
+// The reply to textDocument/formatting of `text` (opened as a document).
+json format_reply(const std::string& text, json options = {{"tabSize", 2}, {"insertSpaces", true}}) {
+  Server server;
+  auto init = handle(server, message("initialize", {{"capabilities", json::object()}}, 1));
+  EXPECT_EQ(init.at(0)["result"]["capabilities"]["documentFormattingProvider"], true);
+  handle(server, message("initialized", json::object()));
+  const std::string uri = "file:///tmp/formatting-test.nqc";
+  handle(server, message("textDocument/didOpen",
+                         {{"textDocument", {{"uri", uri}, {"languageId", "nqc"}, {"version", 1}, {"text", text}}}}));
+  auto out = handle(server, message("textDocument/formatting", {{"textDocument", {{"uri", uri}}}, {"options", options}}, 2));
+  EXPECT_EQ(out.size(), 1u);
+  return out.empty() ? json() : out[0];
+}
+
+TEST(LspFormatting, OneEditReplacesTheWholeDocument) {
+  json reply = format_reply("task main() {\nWait(1);\n}\n// \xc3\xa9t\xc3\xa9 \xf0\x9f\x98\x80");
+  ASSERT_TRUE(reply.contains("result")) << reply.dump();
+  const json& edits = reply["result"];
+  ASSERT_EQ(edits.size(), 1u);
+  EXPECT_EQ(edits[0]["newText"], "task main()\n{\n  Wait(1);\n}\n// \xc3\xa9t\xc3\xa9 \xf0\x9f\x98\x80\n");
+  // The end of the text: line 3, after "// été 😀": 9 UTF-16 units (the emoji takes 2).
+  EXPECT_EQ(edits[0]["range"], json::parse(R"({"start":{"line":0,"character":0},"end":{"line":3,"character":9}})"));
+}
+
+TEST(LspFormatting, TheEditorsTabSizeIsTheIndent) {
+  json reply = format_reply("task main()\n{\nWait(1);\n}\n", {{"tabSize", 4}, {"insertSpaces", true}});
+  EXPECT_EQ(reply["result"][0]["newText"], "task main()\n{\n    Wait(1);\n}\n");
+}
+
+TEST(LspFormatting, AFormattedDocumentGetsNoEdit) {
+  json reply = format_reply("task main()\n{\n  Wait(1);\n}\n");
+  EXPECT_EQ(reply["result"], json::array());
+}
+
+TEST(LspFormatting, ARefusalIsAnErrorWithItsMessage) {
+  json reply = format_reply("task main()\n{\n  /* never closed\n}\n");
+  ASSERT_TRUE(reply.contains("error")) << reply.dump();
+  EXPECT_EQ(reply["error"]["code"], kRequestFailed);
+  EXPECT_EQ(reply["error"]["message"], "cannot format: line 3, column 3: unterminated /* comment");
+}
+
+TEST(LspFormatting, BadOptionsAreInvalidParams) {
+  json reply = format_reply("task main() {}\n", {{"tabSize", "four"}});
+  EXPECT_EQ(reply["error"]["code"], kInvalidParams);
+}
+
+}  // namespace
+}  // namespace rcxc::lsp
