@@ -9,8 +9,10 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "frontend/diagnostics.h"
@@ -68,13 +70,45 @@ struct DocDiagnostic {
   std::vector<Related> related;
 };
 
+// How the program uses a variable at one place, as the syntax tree says:
+// assigned (`=`, `+=` and the other assignment operators, `++`, `--`),
+// passed whole to a call (the callee may take it by reference), or read.
+enum class Access : std::uint8_t { Read, Argument, Write };
+
+// A character of more than one byte, on one line of a file: its bytes
+// [start, end) from the line's start (0-based; `end` may pass the line's end
+// when the text is cut short) and the UTF-16 units from the line's start
+// through it.
+struct WideChar {
+  std::uint32_t line = 0;
+  std::uint32_t start = 0, end = 0;
+  std::uint32_t units = 0;
+};
+
 struct Index {
   SourceManager sm;                 // every file read, the document is file `main_file`
   std::uint32_t main_file = 0;
   std::vector<bool> is_stdlib;      // by file: the embedded standard library
+  // The `-D` options, one `-D NAME=VALUE` a line, as a file of their own:
+  // the macros they define are placed there (nothing an editor can open).
+  std::optional<std::uint32_t> command_line;
   std::vector<Definition> defs;
   std::vector<Occurrence> occurrences;
   std::vector<DocDiagnostic> diagnostics;
+  // Where a name is assigned or passed to a call: from the place (file,
+  // line, column) its expression begins, to the line and column it ends
+  // (a name in parentheses begins at the '('); a name in a macro's body
+  // counts where the body spells it.
+  struct Accessed {
+    std::uint32_t end_line = 0, end_column = 0;
+    Access access = Access::Read;
+  };
+  std::map<std::tuple<std::uint32_t, std::uint32_t, std::uint32_t>, Accessed> accesses;
+  // By file, in order: its characters of more than one byte, so that a
+  // column converts to UTF-16 without reading the line up to it (a line of
+  // 60,000 declarations made a symbol list take minutes). Empty for a
+  // document past kMaxDocument, which has no names to place.
+  std::vector<std::vector<WideChar>> wide_chars;
 };
 
 // The largest document compiled, as rcxc compile caps a source file
@@ -91,6 +125,29 @@ const Occurrence* occurrence_at(const Index& index, std::uint32_t file, std::uin
 // What the identifier `name` at `where` refers to: a macro, else the
 // innermost local, parameter or label in scope, else a top-level name.
 const Definition* resolve(const Index& index, const std::string& name, const Place& where);
+
+// The bytes of the UTF-8 character that `lead` starts (1 for a byte that
+// starts none, such as a stray continuation byte).
+std::size_t utf8_length(unsigned char lead);
+
+// The UTF-16 column (from 0) of the byte column `at.column` (from 1) of
+// its line, as LSP counts: a character begun before the column counts
+// whole, a 4-byte one as two units, and columns past the line's end one
+// unit each.
+std::uint32_t utf16_column(const Index& index, const Place& at);
+
+// What the identifier at `at` does with its variable (Read when the tree
+// has nothing there, e.g. in a line the parser could not read).
+Access access_at(const Index& index, const Place& at);
+
+// Each identifier of `file` with what it refers to (nullptr: nothing
+// known), in source order; the names are looked up in one table, so a
+// whole document costs about as much as its identifiers.
+std::vector<std::pair<const Occurrence*, const Definition*>> resolve_file(const Index& index, std::uint32_t file);
+
+// Whether `file` is the standard library, or the `-D` options.
+bool in_stdlib(const Index& index, std::uint32_t file);
+bool on_command_line(const Index& index, std::uint32_t file);
 
 // Every occurrence that refers to `def` (its own declaration included when
 // `with_declaration`), in file then source order.

@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <stdexcept>
 #include <sstream>
 #include <variant>
@@ -13,6 +14,7 @@
 #include "format/format.h"
 #include "frontend/parse.h"
 #include "lsp/jsonrpc.h"
+#include "lsp/outline.h"
 #include "stdlib/stdlib.h"
 
 namespace rcxc::lsp {
@@ -24,14 +26,6 @@ namespace fs = std::filesystem;
 // ------------------------------------------------------------ positions --
 // LSP counts characters in UTF-16 code units from 0; the compiler counts
 // bytes from 1.
-
-std::size_t utf8_length(unsigned char lead) {
-  if (lead < 0x80) return 1;
-  if ((lead >> 5) == 0x6) return 2;
-  if ((lead >> 4) == 0xe) return 3;
-  if ((lead >> 3) == 0x1e) return 4;
-  return 1;  // a stray continuation byte counts as one
-}
 
 std::uint32_t utf16_of_byte_column(std::string_view line, std::uint32_t column) {
   std::size_t bytes = column > 0 ? column - 1 : 0;
@@ -75,10 +69,15 @@ json position(std::string_view line_text, std::uint32_t line, std::uint32_t colu
   return {{"line", line - 1}, {"character", utf16_of_byte_column(line_text, column)}};
 }
 
-json range_json(const SourceManager& sm, const Range& r) {
-  return {{"start", position(sm.line(r.begin.file, r.begin.line), r.begin.line, r.begin.column)},
-          {"end", position(sm.line(r.end.file, r.end.line), r.end.line, r.end.column)}};
+// A place in one of the index's files, its column through the index's
+// table of wide characters (a line read from its start for every place
+// made 30,000 diagnostics on one line take 23 s).
+json place_json(const Index& index, const Place& p) {
+  if (p.line == 0) return {{"line", 0}, {"character", 0}};
+  return {{"line", p.line - 1}, {"character", utf16_column(index, p)}};
 }
+
+json range_json(const Index& index, const Range& r) { return {{"start", place_json(index, r.begin)}, {"end", place_json(index, r.end)}}; }
 
 // Parameters that are not what LSP says they are (answered Invalid params).
 struct BadParams : std::runtime_error {
@@ -172,6 +171,7 @@ std::string stdlib_copy(Server& server, const std::string& name) {
 
 std::string file_uri(Server& server, const Document& doc, const std::string& uri, std::uint32_t file) {
   if (file == doc.index.main_file) return uri;
+  if (on_command_line(doc.index, file)) return "";  // a -D option: no file to show
   const std::string& path = doc.index.sm.path(file);
   if (file < doc.index.is_stdlib.size() && doc.index.is_stdlib[file]) {
     std::string copy = stdlib_copy(server, path);
@@ -184,7 +184,7 @@ std::string file_uri(Server& server, const Document& doc, const std::string& uri
 json location(Server& server, const Document& doc, const std::string& uri, const Range& r) {
   std::string target = file_uri(server, doc, uri, r.begin.file);
   if (target.empty()) return nullptr;
-  return {{"uri", target}, {"range", range_json(doc.index.sm, r)}};
+  return {{"uri", target}, {"range", range_json(doc.index, r)}};
 }
 
 // ----------------------------------------------------------- diagnostics --
@@ -197,10 +197,10 @@ std::optional<std::uint32_t> stdlib_file(const Index& index, const std::string& 
 }
 
 json diagnostic_json(Server& server, const Document& doc, const std::string& doc_uri, const DocDiagnostic& d) {
-  auto text_line = [&](std::uint32_t l) { return doc_line(doc, l); };
+  const std::uint32_t main = doc.index.main_file;
   json j = {{"range",
-             {{"start", position(text_line(d.line), d.line, d.column)},
-              {"end", position(text_line(d.end_line), d.end_line, d.end_column)}}},
+             {{"start", place_json(doc.index, {main, d.line, d.column})},
+              {"end", place_json(doc.index, {main, d.end_line, d.end_column})}}},
             {"severity", d.severity == Severity::Error ? 1 : d.severity == Severity::Warning ? 2 : 3},
             {"source", "rcxc"},
             {"message", d.message}};
@@ -210,6 +210,7 @@ json diagnostic_json(Server& server, const Document& doc, const std::string& doc
     std::string uri;
     std::string line_text;
     std::error_code ec;
+    json range;
     if (fs::path(r.path).is_relative() && stdlib::find(r.path) && !fs::exists(fs::path(doc.path).parent_path() / r.path, ec)) {
       std::string copy = stdlib_copy(server, r.path);
       if (copy.empty()) continue;
@@ -220,12 +221,13 @@ json diagnostic_json(Server& server, const Document& doc, const std::string& doc
       // The client's own name for the document: a URI rebuilt from the
       // path differs for untitled: documents and file://localhost/ URIs.
       uri = doc_uri;
-      line_text = std::string(doc_line(doc, r.line));
+      range = {{"start", place_json(doc.index, {main, r.line, r.column})},
+               {"end", place_json(doc.index, {main, r.end_line, r.end_column})}};
     } else {
       uri = path_to_uri(fs::absolute(r.path, ec).string());
     }
-    json range = {{"start", position(line_text, r.line, r.column)},
-                  {"end", position(line_text, r.end_line, r.end_column)}};
+    if (range.is_null())
+      range = {{"start", position(line_text, r.line, r.column)}, {"end", position(line_text, r.end_line, r.end_column)}};
     related.push_back({{"location", {{"uri", uri}, {"range", range}}}, {"message", r.message}});
   }
   if (!related.empty()) j["relatedInformation"] = related;
@@ -269,9 +271,11 @@ int symbol_kind(const Definition& d) {
   }
 }
 
-std::string hover_text(const Definition& d, bool in_stdlib) {
+std::string hover_text(const Index& index, const Definition& d) {
   std::string text = "```nqc\n" + d.signature + "\n```";
-  std::string where = std::string(def_kind_name(d.kind)) + (in_stdlib ? " of the RCX API (rcx.nqh)" : "");
+  std::string where = std::string(def_kind_name(d.kind));
+  if (in_stdlib(index, d.at.begin.file)) where += " of the RCX API (rcx.nqh)";
+  if (on_command_line(index, d.at.begin.file)) where += " defined on the command line";
   text += "\n" + where;
   if (!d.doc.empty()) text += "\n\n" + d.doc;
   return text;
@@ -296,9 +300,8 @@ json hover(Request& r) {
   const Occurrence* occ = nullptr;
   const Definition* def = definition_at(r, *at, &occ);
   if (!def) return nullptr;
-  bool in_stdlib = r.doc->index.is_stdlib[def->at.begin.file];
-  return {{"contents", {{"kind", "markdown"}, {"value", hover_text(*def, in_stdlib)}}},
-          {"range", range_json(r.doc->index.sm, occ->at)}};
+  return {{"contents", {{"kind", "markdown"}, {"value", hover_text(r.doc->index, *def)}}},
+          {"range", range_json(r.doc->index, occ->at)}};
 }
 
 json completion(Request& r) {
@@ -349,7 +352,7 @@ json document_symbols(Request& r) {
   json list = json::array();
   for (const Definition* d : defs)
     list.push_back({{"name", d->name}, {"detail", d->signature}, {"kind", symbol_kind(*d)},
-                    {"range", range_json(index.sm, d->extent)}, {"selectionRange", range_json(index.sm, d->at)}});
+                    {"range", range_json(index, d->extent)}, {"selectionRange", range_json(index, d->at)}});
   return list;
 }
 
@@ -403,7 +406,7 @@ json code_actions(Request& r) {
     for (auto& n : similar_names(index, name, occ->at.begin))
       if (std::find(names.begin(), names.end(), n) == names.end()) names.push_back(n);
     for (std::size_t i = 0; i < names.size(); ++i) {
-      json edit = {{"range", range_json(index.sm, occ->at)}, {"newText", names[i]}};
+      json edit = {{"range", range_json(index, occ->at)}, {"newText", names[i]}};
       actions.push_back({{"title", "Change '" + name + "' to '" + names[i] + "'"},
                          {"kind", "quickfix"},
                          {"isPreferred", i == 0},
@@ -447,10 +450,9 @@ json signature_help(Request& r) {
 // types a thousand-letter name.
 constexpr std::size_t kMaxNewName = 255;
 
-bool in_stdlib(const Index& index, std::uint32_t file) { return file < index.is_stdlib.size() && index.is_stdlib[file]; }
-
 std::string where_defined(const Index& index, const Definition& d) {
   if (in_stdlib(index, d.at.begin.file)) return "in the RCX API (rcx.nqh)";
+  if (on_command_line(index, d.at.begin.file)) return "on the command line (" + d.signature + ")";
   std::string file = fs::path(index.sm.path(d.at.begin.file)).filename().string();
   return "at " + (d.at.begin.file == index.main_file ? "" : file + ":") + "line " + std::to_string(d.at.begin.line);
 }
@@ -474,6 +476,8 @@ Renamed renamable_at(Request& r, const Place& at) {
   const Index& index = r.doc->index;
   if (in_stdlib(index, what.def->at.begin.file))
     throw Refused("'" + name + "' is part of the RCX API (rcx.nqh) and cannot be renamed");
+  if (on_command_line(index, what.def->at.begin.file))
+    throw Refused("'" + name + "' is defined on the command line (" + what.def->signature + ") and cannot be renamed");
   what.uses = references(index, *what.def, true);
   for (const Range& use : what.uses)
     if (in_stdlib(index, use.begin.file)) throw Refused("'" + name + "' is used in the RCX API (rcx.nqh) and cannot be renamed");
@@ -496,7 +500,7 @@ json prepare_rename(Request& r) {
   if (!at) return nullptr;
   Renamed what = renamable_at(r, *at);
   if (!what.def) return nullptr;
-  return {{"range", range_json(r.doc->index.sm, what.occurrence->at)}, {"placeholder", what.occurrence->name}};
+  return {{"range", range_json(r.doc->index, what.occurrence->at)}, {"placeholder", what.occurrence->name}};
 }
 
 json rename(Request& r) {
@@ -512,47 +516,23 @@ json rename(Request& r) {
     // Only a standard library copy has no URI, and its uses were refused;
     // a rename that left some uses out would change what the program means.
     if (target.empty()) throw Refused("'" + what.def->name + "' is used in a file that has no URI");
-    changes[target].push_back({{"range", range_json(r.doc->index.sm, use)}, {"newText", new_name}});
+    changes[target].push_back({{"range", range_json(r.doc->index, use)}, {"newText", new_name}});
   }
   return {{"changes", changes}};
 }
 
 // --------------------------------------------------------- highlighting --
 
-std::string_view without_blanks_before(std::string_view s) {
-  auto b = s.find_first_not_of(" \t");
-  return b == std::string_view::npos ? std::string_view() : s.substr(b);
-}
-
-std::string_view without_blanks_after(std::string_view s) {
-  auto e = s.find_last_not_of(" \t");
-  return e == std::string_view::npos ? std::string_view() : s.substr(0, e + 1);
-}
-
-// Whether `text` ends with a call's "NAME(" (not "if (" or "x * (").
-bool opens_call(std::string_view text) {
-  if (!text.ends_with("(")) return false;
-  std::string_view head = without_blanks_after(text.substr(0, text.size() - 1));
-  std::size_t start = head.size();
-  while (start > 0 && (std::isalnum(static_cast<unsigned char>(head[start - 1])) || head[start - 1] == '_')) --start;
-  return start < head.size() && is_plain_name(head.substr(start));
-}
-
-// How the variable at `r` is used, from the text around it on its line:
-// Write when assigned (an assignment operator after it, ++ or -- before or
-// after it), Text when it is a whole argument of a call (a function may take
+// The highlight kind of a variable's use at `r`: Write where it is
+// assigned, Text where it is a whole argument of a call (a function may take
 // it by reference and write it), else Read.
 int access_kind(const Index& index, const Range& r) {
-  std::string_view line = index.sm.line(r.begin.file, r.begin.line);
-  std::string_view before = without_blanks_after(line.substr(0, std::min<std::size_t>(line.size(), r.begin.column - 1)));
-  std::string_view after = without_blanks_before(line.substr(std::min<std::size_t>(line.size(), r.end.column - 1)));
-  const int text = 1, read = 2, write = 3;
-  if (before.ends_with("++") || before.ends_with("--")) return write;
-  for (std::string_view op : {"++", "--", "||=", "+-=", "<<=", ">>=", "+=", "-=", "*=", "/=", "%=", "&=", "|=", "^="})
-    if (after.starts_with(op)) return write;
-  if (after.starts_with("=") && !after.starts_with("==")) return write;
-  bool argument = (opens_call(before) || before.ends_with(",")) && (after.starts_with(")") || after.starts_with(","));
-  return argument ? text : read;
+  switch (access_at(index, r.begin)) {
+    case Access::Write: return 3;
+    case Access::Argument: return 1;
+    case Access::Read: return 2;
+  }
+  return 2;
 }
 
 json document_highlight(Request& r) {
@@ -568,9 +548,121 @@ json document_highlight(Request& r) {
     bool declaration = use.begin.line == def->at.begin.line && use.begin.column == def->at.begin.column &&
                        use.begin.file == def->at.begin.file;
     int kind = !variable ? 1 : declaration ? 3 : access_kind(index, use);  // 1 Text, 3 Write
-    list.push_back({{"range", range_json(index.sm, use)}, {"kind", kind}});
+    list.push_back({{"range", range_json(index, use)}, {"kind", kind}});
   }
   return list;
+}
+
+// -------------------------------------------------------------- folding --
+
+json folding_ranges(Request& r) {
+  json list = json::array();
+  // As large a document as the compiler reads (the protocol allows 64 MiB).
+  if (r.doc->text.size() > kMaxDocument) return list;
+  for (const Fold& f : folds(r.doc->text)) {
+    json range = {{"startLine", f.first - 1}, {"endLine", f.last - 1}};
+    if (f.kind == FoldKind::Comment) range["kind"] = "comment";
+    if (f.kind == FoldKind::Imports) range["kind"] = "imports";
+    list.push_back(range);
+  }
+  return list;
+}
+
+// ------------------------------------------------------ workspace symbols --
+
+// The tasks, subs, functions, globals and macros of every open document
+// and of the files they include (an included file that is open itself
+// counts as open: its own text, not the one on disk), matching the query.
+json workspace_symbols(Server& server, const json& params) {
+  const std::string query = params.at("query").get<std::string>();
+  std::set<std::string> open;
+  for (const auto& [uri, doc] : server.documents) open.insert(fs::path(doc.path).lexically_normal().string());
+  struct Found {
+    int rank;
+    const Definition* def;
+    Document* doc;
+    const std::string* uri;
+  };
+  std::vector<Found> found;
+  std::set<std::tuple<std::string, std::uint32_t, std::uint32_t>> seen;  // a file included twice counts once
+  for (auto& [uri, doc] : server.documents) {
+    const Index& index = doc.index;
+    for (const auto& d : index.defs) {
+      std::uint32_t file = d.at.begin.file;
+      if (d.scope || in_stdlib(index, file) || on_command_line(index, file)) continue;
+      std::error_code ec;
+      std::string path = file == index.main_file ? doc.path : fs::absolute(index.sm.path(file), ec).string();
+      path = fs::path(path).lexically_normal().string();
+      if (file != index.main_file && open.contains(path)) continue;
+      auto rank = symbol_match(d.name, query);
+      if (!rank || !seen.insert({path, d.at.begin.line, d.at.begin.column}).second) continue;
+      found.push_back({*rank, &d, &doc, &uri});
+    }
+  }
+  std::sort(found.begin(), found.end(), [](const Found& a, const Found& b) {
+    return std::tie(a.rank, a.def->name, *a.uri, a.def->at.begin.line) <
+           std::tie(b.rank, b.def->name, *b.uri, b.def->at.begin.line);
+  });
+  json list = json::array();
+  for (const Found& f : found) {
+    json loc = location(server, *f.doc, *f.uri, f.def->at);
+    if (loc.is_null()) continue;
+    list.push_back({{"name", f.def->name}, {"kind", symbol_kind(*f.def)}, {"location", loc}});
+  }
+  return list;
+}
+
+// -------------------------------------------------------- semantic tokens --
+
+// The legend: a token's type is an index into the first list, its
+// modifiers a bit set over the second.
+const std::vector<std::string> kTokenTypes = {"function", "parameter", "variable", "macro", "label"};
+const std::vector<std::string> kTokenModifiers = {"declaration", "defaultLibrary", "globalScope", "functionScope",
+                                                  "task"};
+
+std::pair<std::uint32_t, std::uint32_t> token_type(const Index& index, const Definition& d, const Occurrence& o) {
+  enum : std::uint32_t { function, parameter, variable, macro, label };
+  enum : std::uint32_t { declaration = 1, library = 2, global_scope = 4, function_scope = 8, task = 16 };
+  std::uint32_t type = function, mods = 0;
+  switch (d.kind) {
+    case DefKind::Task: mods = task; break;
+    case DefKind::Sub:
+    case DefKind::Function: break;
+    case DefKind::Global: type = variable, mods = global_scope; break;
+    case DefKind::Local: type = variable, mods = function_scope; break;
+    case DefKind::Param: type = parameter; break;
+    case DefKind::Label: type = label; break;
+    case DefKind::Macro: type = macro; break;
+  }
+  if (in_stdlib(index, d.at.begin.file)) mods |= library;
+  if (o.at.begin.file == d.at.begin.file && o.at.begin.line == d.at.begin.line && o.at.begin.column == d.at.begin.column)
+    mods |= declaration;
+  return {type, mods};
+}
+
+// The name after a directive's '#' (`#define`, `#include`) is no name of the program.
+bool directive_word(std::string_view line, std::uint32_t column) {
+  std::string_view before = line.substr(0, std::min<std::size_t>(line.size(), column - 1));
+  auto b = before.find_first_not_of(" \t");
+  return b != std::string_view::npos && before[b] == '#' && before.find_first_not_of(" \t", b + 1) == std::string_view::npos;
+}
+
+json semantic_tokens(Request& r) {
+  const Index& index = r.doc->index;
+  std::vector<std::uint32_t> data;
+  std::uint32_t last_line = 1, last_start = 0;
+  for (const auto& [occ, def] : resolve_file(index, index.main_file)) {
+    const Place& b = occ->at.begin;
+    if (!def || occ->at.end.line != b.line) continue;
+    if (directive_word(doc_line(*r.doc, b.line), b.column)) continue;
+    std::uint32_t start = utf16_column(index, b);
+    std::uint32_t length = utf16_column(index, occ->at.end) - start;
+    auto [type, mods] = token_type(index, *def, *occ);
+    data.insert(data.end(), {b.line - last_line, b.line == last_line ? start - last_start : start, length, type, mods});
+    last_line = b.line;
+    last_start = start;
+  }
+  return {{"data", data}};
 }
 
 // ----------------------------------------------------------- formatting --
@@ -615,6 +707,9 @@ json initialize_result(Server& server, const json& params) {
       {"signatureHelpProvider", {{"triggerCharacters", json::array({"(", ","})}}},
       {"renameProvider", {{"prepareProvider", true}}},
       {"documentHighlightProvider", true},
+      {"foldingRangeProvider", true},
+      {"workspaceSymbolProvider", true},
+      {"semanticTokensProvider", {{"legend", {{"tokenTypes", kTokenTypes}, {"tokenModifiers", kTokenModifiers}}}, {"full", true}}},
       {"documentFormattingProvider", true},
   };
   return {{"capabilities", capabilities}, {"serverInfo", {{"name", "rcxc"}, {"version", server.version}}}};
@@ -707,8 +802,11 @@ json answer(Server& server, const std::string& method, const json& params) {
       {"textDocument/prepareRename", prepare_rename},
       {"textDocument/rename", rename},
       {"textDocument/documentHighlight", document_highlight},
+      {"textDocument/foldingRange", folding_ranges},
+      {"textDocument/semanticTokens/full", semantic_tokens},
       {"textDocument/formatting", formatting},
   };
+  if (method == "workspace/symbol") return workspace_symbols(server, params);
   auto h = handlers.find(method);
   if (h == handlers.end()) throw UnknownMethod{};
   Request r{server, params, text_document_uri(params)};

@@ -1,5 +1,6 @@
-// The editor files under editors/: the JSON of the VS Code extension parses,
-// its grammar's patterns compile, every API name of stdlib/rcx.nqh is in the
+// The editor files under editors/: the JSON of the VS Code extension parses
+// and declares the server's own semantic token modifiers, its grammar's
+// patterns compile, every API name of stdlib/rcx.nqh is in the
 // vim, VS Code and Emacs highlighting, the problem matchers read rcxc's real
 // messages, and the vim files load in headless Neovim, where :make fills the
 // quickfix list through the errorformat.
@@ -12,6 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "lsp/server.h"
 #include "tests/support/process.h"
 
 namespace rcxc::test {
@@ -65,6 +67,26 @@ void check_patterns(const json& node, int& count) {
     for (const auto& [k, v] : node.items()) check_patterns(v, count);
   } else if (node.is_array()) {
     for (const auto& v : node) check_patterns(v, count);
+  }
+}
+
+// VS Code styles only the semantic token modifiers it knows: the LSP's own
+// and those an extension declares. Every other one `rcxc lsp` announces is
+// declared by the extension.
+TEST(Editors, VsCodeDeclaresTheServersOwnTokenModifiers) {
+  lsp::Server server;
+  json legend = lsp::handle(server, {{"jsonrpc", "2.0"}, {"id", 1}, {"method", "initialize"}, {"params", json::object()}})
+                    .at(0)["result"]["capabilities"]["semanticTokensProvider"]["legend"];
+  const std::set<std::string> standard = {"declaration", "definition",   "readonly",     "static",
+                                          "deprecated",  "abstract",     "async",        "modification",
+                                          "documentation", "defaultLibrary"};
+  std::set<std::string> declared;
+  json package = read_json(kEditors + "vscode/package.json");
+  for (const auto& m : package["contributes"]["semanticTokenModifiers"]) declared.insert(m["id"].get<std::string>());
+  ASSERT_FALSE(legend["tokenModifiers"].empty());
+  for (const auto& m : legend["tokenModifiers"]) {
+    std::string name = m.get<std::string>();
+    EXPECT_TRUE(standard.contains(name) || declared.contains(name)) << name;
   }
 }
 

@@ -11,57 +11,13 @@
 #include "lsp/index.h"
 #include "lsp/jsonrpc.h"
 #include "lsp/server.h"
+#include "tests/lsp/session.h"
 #include "tests/support/process.h"
 
 namespace rcxc::lsp {
 namespace {
 
 using nlohmann::json;
-
-std::string framed(const json& j) {
-  std::string body = j.dump();
-  return "Content-Length: " + std::to_string(body.size()) + "\r\n\r\n" + body;
-}
-
-json request(int id, const std::string& method, json params = json::object()) {
-  return {{"jsonrpc", "2.0"}, {"id", id}, {"method", method}, {"params", params}};
-}
-
-json note(const std::string& method, json params = json::object()) {
-  return {{"jsonrpc", "2.0"}, {"method", method}, {"params", params}};
-}
-
-json pos(int line, int character) { return {{"line", line}, {"character", character}}; }
-
-// A server with one open document; `diagnostics` is what didOpen published.
-struct Session {
-  test::TempDir dir;
-  Server server;
-  std::string uri;
-  json diagnostics;
-
-  explicit Session(const std::string& text, const std::string& name = "prog.nqc") {
-    server.stdlib_dir = dir.path + "/stdlib-copy";
-    EXPECT_EQ(handle(server, request(1, "initialize", {{"capabilities", json::object()}})).size(), 1u);
-    EXPECT_TRUE(handle(server, note("initialized")).empty());
-    std::string path = dir.write(name, text);
-    uri = path_to_uri(path);
-    auto out = handle(server, note("textDocument/didOpen", {{"textDocument",
-                                                             {{"uri", uri}, {"languageId", "nqc"}, {"version", 1}, {"text", text}}}}));
-    EXPECT_EQ(out.size(), 1u);
-    if (!out.empty()) diagnostics = out[0]["params"]["diagnostics"];
-  }
-
-  json ask(const std::string& method, json params) {
-    params["textDocument"] = {{"uri", uri}};
-    auto out = handle(server, request(7, method, params));
-    EXPECT_EQ(out.size(), 1u);
-    if (out.empty()) return nullptr;
-    EXPECT_FALSE(out[0].contains("error")) << out[0].dump();
-    return out[0]["result"];
-  }
-  json at(const std::string& method, int line, int character) { return ask(method, {{"position", pos(line, character)}}); }
-};
 
 // ---------------------------------------------------------------- framing --
 
@@ -479,13 +435,7 @@ TEST(LspRobustness, RandomEditsAndRequestsAlwaysGetOneReply) {
   const std::string alphabet = "abcXYZ_09 ;{}()#/*\"\n\t=+-<>&|!~'\xc3\xa9\xff";
   std::string text = kProgram;
   for (int round = 0; round < 400; ++round) {
-    for (int e = below(4); e >= 0; --e) {
-      std::size_t at = text.empty() ? 0 : static_cast<std::size_t>(below(static_cast<int>(text.size())));
-      if (below(2) == 0 && !text.empty())
-        text.erase(at, static_cast<std::size_t>(1 + below(8)));
-      else
-        text.insert(at, 1, alphabet[static_cast<std::size_t>(below(static_cast<int>(alphabet.size())))]);
-    }
+    random_edits(text, rng, alphabet, 8);
     auto change = handle(s.server, note("textDocument/didChange", {{"textDocument", {{"uri", s.uri}, {"version", round}}},
                                                                    {"contentChanges", json::array({{{"text", text}}})}}));
     ASSERT_EQ(change.size(), 1u);
@@ -857,16 +807,6 @@ const char* kNames =
     "}\n"                                          // 13
     "task other() { int count; count = 2; }\n";    // 14
 
-json range_at(int line, int begin, int end) { return {{"start", pos(line, begin)}, {"end", pos(line, end)}}; }
-
-// The request's error reply (code and message), or null when it succeeded.
-json error_of(Session& s, const std::string& method, json params) {
-  params["textDocument"] = {{"uri", s.uri}};
-  auto out = handle(s.server, request(9, method, params));
-  EXPECT_EQ(out.size(), 1u);
-  return out.empty() || !out[0].contains("error") ? json(nullptr) : out[0]["error"];
-}
-
 // The ranges a rename of the name at (line, character) to `name` edits in
 // the session's document, in order.
 std::vector<json> renamed(Session& s, int line, int character, const std::string& name) {
@@ -976,15 +916,6 @@ TEST(LspRename, UsesInAnIncludedFileAreRenamedThere) {
 }
 
 // -------------------------------------------------------- highlighting --
-
-// (line, character, kind) of each highlight of the name at the position.
-std::vector<std::tuple<int, int, int>> highlights(Session& s, int line, int character) {
-  std::vector<std::tuple<int, int, int>> out;
-  for (const auto& h : s.at("textDocument/documentHighlight", line, character))
-    out.emplace_back(h["range"]["start"]["line"], h["range"]["start"]["character"], h["kind"]);
-  std::sort(out.begin(), out.end());
-  return out;
-}
 
 TEST(LspDocumentHighlight, EveryUseInTheDocumentWithReadAndWrite) {
   Session s(kNames);

@@ -1,8 +1,8 @@
 -- Drives `rcxc lsp` from Neovim's own LSP client (headless), for
 -- tests/lsp/nvim_test.cpp. g:rcxc_config names a JSON file with: rcxc (the
 -- binary), file (the program to open), stdlib_dir, out (where the findings
--- go as JSON), the 0-based positions to ask about and rename_to, the new
--- name for the rename at `rename`. Written for the
+-- go as JSON), the 0-based positions to ask about, rename_to, the new
+-- name for the rename at `rename`, and symbol_query, a workspace symbol search. Written for the
 -- vim.lsp API of Neovim 0.7 (Debian 12) and later.
 local result = {}
 local function run()
@@ -48,6 +48,17 @@ local function run()
 
   local help = ask('textDocument/signatureHelp', at(cfg.signature))
   result.signature = help and help.signatures[1] and help.signatures[1].label or vim.NIL
+
+  -- Workspace symbols as a user asks for them: the client's handler fills
+  -- the quickfix list and opens its window, closed again for what follows.
+  vim.fn.setqflist({}, 'r')
+  vim.lsp.buf.workspace_symbol(cfg.symbol_query)
+  vim.wait(10000, function() return #vim.fn.getqflist() > 0 end, 20)
+  vim.cmd('cclose')
+  result.symbols = {}
+  for _, item in ipairs(vim.fn.getqflist()) do
+    table.insert(result.symbols, { lnum = item.lnum, col = item.col, text = item.text })
+  end
 
   -- Rename as a user does it: the client asks prepareRename, then rename,
   -- and applies the edit to the buffer.

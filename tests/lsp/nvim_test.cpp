@@ -1,6 +1,7 @@
 // `rcxc lsp` under a real LSP client: headless Neovim opens a program,
 // attaches the server and asks for diagnostics, hover, completion,
-// definition and signature help, and renames a sub with vim.lsp.buf.rename
+// definition and signature help, searches workspace symbols with
+// vim.lsp.buf.workspace_symbol, and renames a sub with vim.lsp.buf.rename
 // (tests/lsp/nvim_client.lua). Skipped when nvim is absent.
 #include <gtest/gtest.h>
 
@@ -38,7 +39,7 @@ json run_nvim_client(const TempDir& dir, const std::string& nvim, json config) {
   return result;
 }
 
-TEST(NvimClient, DiagnosticsHoverCompletionDefinitionSignatureAndRename) {
+TEST(NvimClient, DiagnosticsHoverCompletionDefinitionSignatureSymbolsAndRename) {
   std::string nvim = find_nvim();
   if (nvim.empty()) GTEST_SKIP() << "nvim is not installed (apt-get install neovim)";
   TempDir dir;
@@ -63,6 +64,7 @@ TEST(NvimClient, DiagnosticsHoverCompletionDefinitionSignatureAndRename) {
                                  {"signature", {4, 7}},    // Wait(|
                                  {"rename", {8, 4}},       // back_off
                                  {"rename_to", "retreat"},
+                                 {"symbol_query", "BACK"},
                                  {"jump", {3, 4}}});       // OnRev, into the library
   ASSERT_FALSE(result.is_discarded());
   ASSERT_FALSE(result.contains("error")) << result["error"];
@@ -89,6 +91,13 @@ TEST(NvimClient, DiagnosticsHoverCompletionDefinitionSignatureAndRename) {
   EXPECT_EQ(result["definition"]["character"], 4);
 
   EXPECT_EQ(result["signature"], "void Wait(const int &ticks)");
+
+  // vim.lsp.buf.workspace_symbol: the client lists 'back_off' (line 1,
+  // character 4 as LSP counts, 1-based in the quickfix list), nothing of rcx.nqh.
+  ASSERT_EQ(result["symbols"].size(), 1u) << result["symbols"].dump();
+  EXPECT_EQ(result["symbols"][0]["lnum"], 2);
+  EXPECT_EQ(result["symbols"][0]["col"], 5);
+  EXPECT_EQ(result["symbols"][0]["text"], "[Method] back_off");
 
   ASSERT_EQ(result["renamed"].size(), 12u) << result["renamed"].dump();
   EXPECT_EQ(result["renamed"][1], "sub retreat()");
