@@ -515,15 +515,13 @@ std::string render_nqc(const Diagnostics& diags, const SourceManager& sm) {
     if (at.valid() && at.file < sm.size()) {
       // BricxCC finds the line by searching this line for "line N".
       out += fmt::format("File \"{}\" ; line {}\n", file_label(at.file, sm), at.line);
-      std::string_view text = sm.line(at.file, at.line);
-      std::string caret;
-      for (std::size_t i = 0; i + 1 < at.column && i < text.size(); ++i) caret += text[i] == '\t' ? '\t' : ' ';
       std::size_t width = 1;
       const SourceLoc& end = d->span.end;
       if (at.expansion == 0 && d->span.begin.expansion == 0 && end.file == at.file && end.line == at.line &&
           end.column > at.column)
         width = end.column - at.column;
-      out += fmt::format("# {}\n# {}{}\n", text, caret, std::string(width, '^'));
+      QuotedLine quoted = quote_line(sm.line(at.file, at.line), at.column == 0 ? 0 : at.column - 1, width);
+      out += fmt::format("# {}\n# {}{}\n", quoted.text, quoted.lead_in, std::string(quoted.width, '^'));
     }
     out += "#----------------------------------------------------------\n";
   }

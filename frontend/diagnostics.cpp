@@ -154,14 +154,12 @@ void render_one(std::string& out, Severity sev, const SourceSpan& span, const st
                      palette.severity(sev), palette.paint("1", message));
   std::string_view text = sm.line(b.file, b.line);
   if (text.empty() && b.column <= 1) return;
-  out += fmt::format("  {}\n  ", text);
-  // Tabs are kept in the caret line so the caret lines up under the text.
-  std::size_t col = b.column == 0 ? 0 : b.column - 1;
-  for (std::size_t i = 0; i < col && i < text.size(); ++i) out += text[i] == '\t' ? '\t' : ' ';
   std::size_t width = 1;
   if (span.end.file == b.file && span.end.line == b.line && span.end.column > b.column)
     width = span.end.column - b.column;
-  out += palette.paint("1;32", "^" + std::string(width - 1, '~'));
+  QuotedLine quoted = quote_line(text, b.column == 0 ? 0 : b.column - 1, width);
+  out += fmt::format("  {}\n  {}", quoted.text, quoted.lead_in);
+  out += palette.paint("1;32", "^" + std::string(quoted.width - 1, '~'));
   out += '\n';
 }
 
@@ -264,6 +262,32 @@ std::string render_json(const Diagnostic& shown, const SourceManager& sm) {
   // Source text need not be UTF-8; bad bytes become U+FFFD instead of
   // making the dump throw.
   return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
+namespace {
+
+constexpr std::size_t kQuotedLineBytes = 160;
+
+bool continues_a_character(char c) { return (static_cast<unsigned char>(c) & 0xC0) == 0x80; }
+
+}  // namespace
+
+QuotedLine quote_line(std::string_view line, std::size_t column0, std::size_t width) {
+  std::size_t begin = 0, end = line.size();
+  if (line.size() > kQuotedLineBytes) {
+    begin = std::min(column0 > kQuotedLineBytes / 2 ? column0 - kQuotedLineBytes / 2 : 0, line.size() - kQuotedLineBytes);
+    end = begin + kQuotedLineBytes;
+    while (begin > 0 && continues_a_character(line[begin])) --begin;
+    while (end < line.size() && continues_a_character(line[end])) ++end;
+  }
+  std::string_view shown = line.substr(begin, end - begin);
+  QuotedLine q;
+  q.text = fmt::format("{}{}{}", begin > 0 ? "..." : "", shown, end < line.size() ? "..." : "");
+  if (begin > 0) q.lead_in = "   ";
+  std::size_t col = column0 - std::min(column0, begin);
+  for (std::size_t i = 0; i < col && i < shown.size(); ++i) q.lead_in += shown[i] == '\t' ? '\t' : ' ';
+  q.width = col < shown.size() ? std::clamp<std::size_t>(width, 1, shown.size() - col) : 1;
+  return q;
 }
 
 std::string render_all(const Diagnostics& diags, const SourceManager& sm, const RenderOptions& options) {

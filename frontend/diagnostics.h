@@ -162,6 +162,20 @@ std::vector<const Diagnostic*> in_source_order(const Diagnostics& diags, const S
 
 inline constexpr std::size_t kDefaultMaxErrors = 20;
 
+// A source line as printed under a message, and the caret line's lead-in
+// (the line's tabs kept, so the caret lines up under the text). A line of a
+// generated or minified program can be hundreds of kilobytes, and printing
+// it whole under each of thousands of messages wrote gigabytes: a line over
+// 160 bytes shows a window around `column0` (0-based bytes), cut at
+// character boundaries and marked "...". `width` is the span's, clamped to
+// what is shown.
+struct QuotedLine {
+  std::string text;
+  std::string lead_in;
+  std::size_t width = 1;
+};
+QuotedLine quote_line(std::string_view line, std::size_t column0, std::size_t width);
+
 // How a whole compilation's diagnostics are printed.
 struct RenderOptions {
   bool json = false;  // one JSON object per line instead of text

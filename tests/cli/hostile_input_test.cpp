@@ -165,6 +165,22 @@ TEST(HostileInput, ALoopNestWithALocalPerLevelGoesThroughThePassesInTime) {
   expect_error(r, "no variable slot left for 'i'");
 }
 
+// Each warning quotes its line: 20,000 of them on one 60 KB line wrote 2.4 GB
+// (every message printed the whole line), and nqc mode's errors the same.
+TEST(HostileInput, ThousandsOfMessagesOnOneLongLineQuoteAWindowOfIt) {
+  TempDir d;
+  auto r = compile(d, "task main() { " + repeat("1; ", 20000) + "}\n");
+  EXPECT_FALSE(r.timed_out);
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_LT(r.err.size(), std::size_t{20000} * 400) << r.err.substr(0, 500);
+  EXPECT_NE(r.err.find("p.nqc:1:30012: warning: expression result unused\n  ..."), std::string::npos)
+      << r.err.substr(r.err.size() - 1000);
+  auto nqc = limited({"nqc", "-Trcx", d.write("q.nqc", "task main() { " + repeat("x; ", 20000) + "}\n")});
+  EXPECT_EQ(nqc.exit_code, 243);
+  EXPECT_LT(nqc.out.size() + nqc.err.size(), std::size_t{20000} * 400);
+  EXPECT_NE((nqc.out + nqc.err).find("# task main() { x; x;"), std::string::npos);
+}
+
 TEST(HostileInput, DoublingSubroutineChains) {
   // Each link doubles the inlined code: 14 links once took 20 s (the copy
   // was moved into place block by block), 16 never ended.

@@ -109,3 +109,44 @@ TEST(Diagnostics, ErrorLimitNoteIsJsonToo) {
   EXPECT_EQ(lines[1]["severity"], "note");
   EXPECT_EQ(lines[1]["message"], "4 more errors not shown (--max-errors=0 shows every error)");
 }
+
+// A long line is quoted as 160 bytes around the column, so thousands of
+// messages on one generated line do not each print the whole line.
+TEST(QuotedLine, AShortLineIsQuotedWholeWithItsTabsInTheLeadIn) {
+  QuotedLine q = quote_line("\tx = 1;", 1, 1);
+  EXPECT_EQ(q.text, "\tx = 1;");
+  EXPECT_EQ(q.lead_in, "\t");
+  EXPECT_EQ(q.width, 1u);
+}
+
+TEST(QuotedLine, ALongLineShowsAWindowCentredOnTheColumn) {
+  std::string line(400, 'a');
+  line[200] = 'X';
+  QuotedLine q = quote_line(line, 200, 1);
+  // Bytes 120..279: 80 before the column.
+  EXPECT_EQ(q.text, "..." + line.substr(120, 160) + "...");
+  EXPECT_EQ(q.lead_in, std::string(3 + 80, ' '));
+  EXPECT_EQ(q.text[q.lead_in.size()], 'X');
+}
+
+TEST(QuotedLine, TheWindowStopsAtEitherEndOfTheLine) {
+  std::string line(400, 'a');
+  QuotedLine start = quote_line(line, 10, 3);
+  EXPECT_EQ(start.text, line.substr(0, 160) + "...");
+  EXPECT_EQ(start.lead_in, std::string(10, ' '));
+  EXPECT_EQ(start.width, 3u);
+  QuotedLine end = quote_line(line, 399, 1);  // bytes 240..399
+  EXPECT_EQ(end.text, "..." + line.substr(240));
+  EXPECT_EQ(end.lead_in, std::string(3 + 159, ' '));
+}
+
+TEST(QuotedLine, AWindowIsCutBetweenCharactersAndTheSpanClampedToIt) {
+  std::string line;
+  for (int i = 0; i < 300; ++i) line += "\xC3\xA9";  // é, two bytes
+  // From byte 301 the window would start at 221 and end at 381, both in
+  // the middle of an é: it widens to 220..382.
+  QuotedLine q = quote_line(line, 301, 1000);
+  EXPECT_EQ(q.text, "..." + line.substr(220, 162) + "...");
+  EXPECT_EQ(q.lead_in, std::string(3 + 81, ' '));
+  EXPECT_EQ(q.width, 162u - 81u);
+}
