@@ -23,13 +23,13 @@ std::optional<Output> allocate_and_generate(const ir::Program& program, ir::OptL
 
 }  // namespace
 
+namespace {
+
 // Rerolling is judged on the final code: the copies it folds into a loop
 // may have been worth more to outlining, and its temporary needs a slot.
 // It also rescues a task that is too long written out. Each alternative
 // reports into its own copy of the diagnostics so far; the chosen one's
 // diagnostics and log are kept.
-namespace {
-
 std::optional<Output> compile_at(ir::Program program, ir::OptLevel level, Diagnostics& diags, ir::Log& log,
                                  const ir::PassOptions& passes) {
   if (!ir::optimize(program, level, diags, log, passes)) return std::nullopt;
@@ -61,7 +61,7 @@ std::optional<Output> compile_at(ir::Program program, ir::OptLevel level, Diagno
 
 bool out_of_slots(const Diagnostics& diags) {
   return std::any_of(diags.all().begin(), diags.all().end(),
-                     [](const Diagnostic& d) { return d.message.starts_with("no variable slot left"); });
+                     [](const Diagnostic& d) { return ir::reports_no_slot_left(d); });
 }
 
 }  // namespace

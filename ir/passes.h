@@ -266,6 +266,9 @@ void warn_reads_before_writes(const Program& p, Diagnostics& diags, LivenessCach
 // VarId (-1: unused variable), or an empty vector after reporting which
 // variables hold the slots.
 std::vector<int> allocate_slots(const Program& p, Diagnostics& diags);
+// Whether `d` is allocate_slots' report that the slots ran out (-Os falls
+// back to -O2's code on it: backend/compile.cpp).
+bool reports_no_slot_left(const Diagnostic& d);
 
 // Passes a caller may turn off whatever the level.
 struct PassOptions {

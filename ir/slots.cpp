@@ -69,12 +69,14 @@ void add_liveness_edges(const Program& p, const Function& f, const CallEffects& 
   }
 }
 
+constexpr std::string_view kNoSlotLeft = "no variable slot left for ";
+
 std::string holder_name(const Var& v) { return v.name.empty() ? std::string("a compiler temporary") : "'" + v.name + "'"; }
 
 void report_exhaustion(const Program& p, VarId failed, const std::vector<int>& slot, Diagnostics& diags) {
   const Var& v = p.vars[static_cast<std::size_t>(failed)];
-  auto& d = diags.error(v.span, fmt::format("no variable slot left for {}: the RCX has {} and all are taken",
-                                            holder_name(v), kSlots));
+  auto& d = diags.error(v.span, fmt::format("{}{}: the RCX has {} and all are taken", kNoSlotLeft, holder_name(v),
+                                            kSlots));
   for (int s = 0; s < kSlots; ++s) {
     std::string holders;
     SourceSpan where = v.span;
@@ -185,6 +187,10 @@ std::vector<int> allocate_slots(const Program& p, Diagnostics& diags) {
       }
     }
   return slot;
+}
+
+bool reports_no_slot_left(const Diagnostic& d) {
+  return d.severity == Severity::Error && d.message.starts_with(kNoSlotLeft);
 }
 
 }  // namespace rcxc::ir
