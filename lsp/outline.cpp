@@ -12,20 +12,6 @@ namespace {
 
 using frontend::Token;
 
-// The line of byte offsets met in increasing order, counted as it goes, so
-// that finding the lines of every comment costs one pass over the text.
-struct LineCounter {
-  std::string_view text;
-  std::size_t at = 0;
-  std::uint32_t line = 1;
-
-  std::uint32_t of(std::size_t offset) {
-    for (; at < offset && at < text.size(); ++at)
-      if (text[at] == '\n') ++line;
-    return line;
-  }
-};
-
 // Consecutive lines of one kind (// comment lines, #include lines) folded
 // together once the run is over.
 struct Run {
@@ -47,10 +33,9 @@ struct Run {
 };
 
 struct Folder {
-  std::string_view text;
   std::vector<Token> tokens;
+  std::vector<frontend::Comment> comment_list;
   std::vector<Fold> out;
-  LineCounter lines{text};
   Run comment_lines{FoldKind::Comment};
   Run include_lines{FoldKind::Imports};
   std::vector<std::size_t> open_parens;          // token indexes
@@ -58,34 +43,19 @@ struct Folder {
   std::vector<std::uint32_t> open_braces;        // the first line of each open block
   std::vector<std::uint32_t> open_conditionals;  // the first line of each open #if part
 
-  Folder(std::string_view t, std::vector<Token> toks) : text(t), tokens(std::move(toks)) {}
-
-  std::size_t offset(const Token& t) const {
-    return t.kind == frontend::TokenKind::End ? text.size() : static_cast<std::size_t>(t.text.data() - text.data());
-  }
-
-  bool alone_on_line(std::size_t at) const {
-    while (at > 0 && (text[at - 1] == ' ' || text[at - 1] == '\t')) --at;
-    return at == 0 || text[at - 1] == '\n';
-  }
-
-  // The comments between two tokens: [from, to) holds nothing else.
-  void comments(std::size_t from, std::size_t to) {
-    std::string_view gap = text.substr(0, to);
-    for (std::size_t p = gap.find('/', from); p != std::string_view::npos && p + 1 < to; p = gap.find('/', p)) {
-      if (gap[p + 1] == '/') {
-        if (alone_on_line(p)) comment_lines.add(lines.of(p), out);
-        p = std::min(gap.find('\n', p), to);
-      } else if (gap[p + 1] == '*') {
-        std::uint32_t first = lines.of(p);
-        std::size_t end = gap.find("*/", p + 2);
-        p = end == std::string_view::npos ? to : end + 2;
-        std::uint32_t last = lines.of(std::min(p, to) - 1);
-        if (last > first) out.push_back({first, last, FoldKind::Comment});
-      } else {
-        ++p;
-      }
+  // The lexer lists comments with their lines: a // comment alone on its
+  // line joins a run of such lines, a /* */ comment over lines folds. The
+  // lexer's line_start stays true after a comment (`/* a */ // b`), which
+  // is not alone on its line.
+  void comment(const frontend::Comment& c, const frontend::Comment* before) {
+    if (c.text.starts_with("//")) {
+      bool after_comment = before != nullptr && before->span.end.line == c.span.begin.line;
+      if (c.line_start && !after_comment) comment_lines.add(c.span.begin.line, out);
+      return;
     }
+    // The line of its last character: an unterminated one ends where the
+    // text does, past its last newline.
+    close(c.span.begin.line, c.span.end.column == 1 ? c.span.end.line - 1 : c.span.end.line, FoldKind::Comment);
   }
 
   // The line a block's fold starts on: its header's when the '{' follows
@@ -142,12 +112,8 @@ struct Folder {
 
   std::vector<Fold> run() {
     paren_match.assign(tokens.size(), SIZE_MAX);
-    std::size_t previous_end = 0;
-    for (std::size_t i = 0; i < tokens.size(); ++i) {
-      comments(previous_end, offset(tokens[i]));
-      token(i);
-      previous_end = offset(tokens[i]) + tokens[i].text.size();
-    }
+    for (std::size_t i = 0; i < comment_list.size(); ++i) comment(comment_list[i], i > 0 ? &comment_list[i - 1] : nullptr);
+    for (std::size_t i = 0; i < tokens.size(); ++i) token(i);
     comment_lines.flush(out);
     include_lines.flush(out);
     auto key = [](const Fold& f) { return std::tuple(f.first, -static_cast<std::int64_t>(f.last), f.kind); };
@@ -168,7 +134,8 @@ std::string lowered(std::string_view s) {
 
 std::vector<Fold> folds(std::string_view text) {
   Diagnostics ignored;
-  Folder folder{text, frontend::lex(text, 0, ignored)};
+  Folder folder;
+  folder.tokens = frontend::lex(text, 0, ignored, folder.comment_list);
   return folder.run();
 }
 
