@@ -186,7 +186,7 @@ bool named_as_image(const std::string& path) {
 
 std::string non_source_kind(const std::string& path) {
   auto head = file_head(path);
-  bool image = named_as_image(path) || (head && head->rfind("RCXI", 0) == 0);
+  bool image = named_as_image(path) || (head && rcx::starts_as_image(*head));
   return image ? "an .rcx image" : "binary data";
 }
 
@@ -194,9 +194,8 @@ std::optional<bool> is_nqc_source(const std::string& path) {
   auto read = file_head(path);
   if (!read) return std::nullopt;
   const std::string& head = *read;
-  if (head.rfind("RCXI", 0) == 0) return false;
   if (named_as_image(path)) return false;
-  return head.find('\0') == std::string::npos;
+  return !rcx::holds_binary_data(head);
 }
 
 namespace {
@@ -209,7 +208,7 @@ std::variant<rcx::Image, std::string> load_standard_input(const CompileRequest& 
     return *problem == rcx::FileProblem::TooLarge ? rcx::too_large_message(name, rcx::kSourceFile)
                                                   : "cannot read the standard input";
   std::string& bytes = std::get<std::string>(read);
-  if (bytes.rfind("RCXI", 0) == 0) {
+  if (rcx::starts_as_image(bytes)) {
     auto image = rcx::read_image({reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()});
     if (auto* e = std::get_if<rcx::ImageError>(&image)) return name + ": " + e->message;
     return std::get<rcx::Image>(std::move(image));

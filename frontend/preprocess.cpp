@@ -1226,9 +1226,9 @@ std::string tokens_to_text(const std::vector<Token>& tokens, const SourceManager
 }
 
 std::string not_source_reason(const std::string& path, std::string_view text) {
-  if (text.substr(0, 4) == "RCXI")
+  if (rcx::starts_as_image(text))
     return "'" + path + "' is an RCX image, not NQC source (rcxc run and rcxc disasm read images)";
-  if (text.substr(0, 4096).find('\0') != std::string_view::npos)
+  if (rcx::holds_binary_data(text))
     return "'" + path + "' is not NQC source: it holds binary data";
   return "";
 }

@@ -35,4 +35,10 @@ std::string too_large_message(const std::string& path, FileKind kind) {
   return fmt::format("{}: larger than a {} may be ({}); is it the right file?", path, kind.noun, size);
 }
 
+bool starts_as_image(std::string_view bytes) { return bytes.substr(0, 4) == "RCXI"; }
+
+bool holds_binary_data(std::string_view bytes) {
+  return starts_as_image(bytes) || bytes.substr(0, 4096).find('\0') != std::string_view::npos;
+}
+
 }  // namespace rcx

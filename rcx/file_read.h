@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <istream>
 #include <string>
+#include <string_view>
 #include <variant>
 
 namespace rcx {
@@ -36,6 +37,12 @@ std::variant<std::string, FileProblem> read_file(const std::string& path, FileKi
 // The same for a stream already open (standard input, for a FILE of "-"):
 // a pipe that never ends is TooLarge one byte past the cap.
 std::variant<std::string, FileProblem> read_stream(std::istream& in, FileKind kind);
+
+// How a file read as text (a source, a scenario, a test) is told from one
+// that is not: an RCX image starts with its signature "RCXI"; other binary
+// data has a NUL byte in its first 4 KiB, which no text file has.
+bool starts_as_image(std::string_view bytes);
+bool holds_binary_data(std::string_view bytes);  // an image, or a NUL in the first 4 KiB
 
 // "P: larger than a source file may be (1 MiB); is it the right file?"
 std::string too_large_message(const std::string& path, FileKind kind);

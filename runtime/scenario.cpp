@@ -71,7 +71,7 @@ TimedInput parse_input(const toml::table& t, std::string_view path) {
 
 std::variant<std::vector<TimedInput>, ScenarioError> parse_scenario(std::string_view text, std::string_view path) {
   // TOML's own words for a binary file are about UTF-8 sequences.
-  if (text.substr(0, 4) == "RCXI" || text.substr(0, 4096).find('\0') != std::string_view::npos)
+  if (holds_binary_data(text))
     return ScenarioError{fmt::format("{}: holds binary data, not a scenario (a scenario is a TOML file of [[input]] tables)",
                                      path)};
   toml::table root;

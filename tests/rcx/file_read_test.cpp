@@ -52,3 +52,16 @@ TEST(FileRead, AFileOfExactlyTheCapIsRead) {
   EXPECT_EQ(std::get<std::string>(exact).size(), 4096u);
   ASSERT_TRUE(std::holds_alternative<FileProblem>(over));
 }
+
+TEST(FileRead, BinaryDataIsAnImageSignatureOrANulInTheFirst4KiB) {
+  EXPECT_TRUE(rcx::starts_as_image(std::string("RCXI\x01\x02", 6)));
+  EXPECT_FALSE(rcx::starts_as_image("RCX"));
+  EXPECT_TRUE(rcx::holds_binary_data("RCXI"));
+  EXPECT_TRUE(rcx::holds_binary_data(std::string("task\0main", 9)));
+  EXPECT_FALSE(rcx::holds_binary_data("task main() {}\n"));
+  std::string late(4096, 'x');
+  late += '\0';  // byte 4096: past what is looked at
+  EXPECT_FALSE(rcx::holds_binary_data(late));
+  late[4095] = '\0';
+  EXPECT_TRUE(rcx::holds_binary_data(late));
+}
