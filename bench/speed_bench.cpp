@@ -12,10 +12,14 @@
 //    the one it ran (a loop's back edge, a poll that branches to itself);
 //    instructions executed / passes. Fewer is a loop that looks at its
 //    inputs more often. Programs with no pass (they end) are left out;
-//  * reaction, in instructions: for each input change, the first event
-//    both runs show after it, and the instructions the brick executed (all
-//    tasks) from the change to that event. Idle time in waits, the same
-//    for both codes, is no instruction, so this is the code's own share;
+//  * reaction, in instructions: for each input change, the output change
+//    it caused (where the run parts from a run of the same code without
+//    that change, before the next change; verify/compare.h parting_time),
+//    and the instructions the brick executed (all tasks) from the change
+//    to it. Idle time in waits, the same for both codes, is no instruction;
+//    another task's polls during a wait are. Printed too: the same count to
+//    the first event after each change, caused by it or not (an earlier
+//    measure, which counted a task's timed moves as reactions);
 //  * work of programs that end by themselves: their instructions, less
 //    polls in place (a test that branches to itself is waiting for an
 //    input or a timer, not working);
@@ -29,6 +33,8 @@
 // Then code size over generated programs (tests/support/random_programs.h,
 // never used to tune the optimisations), and the compile time of the
 // corpus: `rcxc compile` and `nqc` as processes, CPU time of each.
+// RCXC_SPEED_TRACE=1 prints every reaction measured to stderr;
+// RCXC_BENCH_PROGRAMS=DIR keeps the generated control loops there.
 //
 // The corpus is found through RCXC_CORPUS_DIR, or next to the source tree
 // (../shared/corpus); nqc on PATH. Without either it says so and stops.
@@ -59,6 +65,7 @@ namespace fs = std::filesystem;
 
 constexpr rcx::Micros kBrickInstructionUs = rcx::kDefaultInstructionCostUs;
 constexpr rcx::Micros kRunUs = 20'000 * rcx::kMicrosPerMs;
+constexpr std::int64_t kShortReaction = 10;  // instructions
 
 using rcxc::bench::corpus_dir;
 using rcxc::bench::corpus_files;
@@ -137,8 +144,15 @@ struct Speed {
   std::int64_t ours_instructions = 0, theirs_instructions = 0;
   std::int64_t ours_passes = 0, theirs_passes = 0;
   std::int64_t ours_pass_instructions = 0, theirs_pass_instructions = 0;  // of the profiled runs
-  std::int64_t ours_reaction = 0, theirs_reaction = 0;                    // instructions, input to event
+  std::int64_t ours_reaction = 0, theirs_reaction = 0;                    // instructions, input to the event it caused
   int reactions = 0;
+  std::int64_t ours_first = 0, theirs_first = 0;  // instructions, input to the first event after it
+  int firsts = 0;
+  // The reactions that took at most kShortReaction instructions with both
+  // codes: the code's own path from the test to the output, where a longer
+  // one has mostly waited (another task's polls during a Wait count).
+  std::int64_t ours_short = 0, theirs_short = 0;
+  int shorts = 0;
   std::int64_t ours_work = 0, theirs_work = 0;  // instructions less polls in place
   bool busy = true;   // busy in every scenario, on both sides
   bool ended = true;  // ended by itself in every scenario, on both sides
@@ -156,7 +170,31 @@ rcx::Micros cause_of(const rcx::NamedScenario& s, rcx::Micros t) {
   return cause;
 }
 
-Speed measure_speed(const rcx::Image& mine, const rcx::Image& theirs) {
+// When the change of inputs at `from` first made `image`'s run `with` (the
+// whole scenario) show something it would not have shown without it: the
+// run again with only the inputs before `from`, up to `until` (the next
+// change), and where the two part. nullopt: nothing before `until`, as a
+// change the program ignores or only remembers.
+std::optional<rcx::Micros> caused_at(const rcx::Image& image, const rcx::Machine& with, const rcx::NamedScenario& s,
+                                     rcx::Micros from, rcx::Micros until) {
+  std::vector<rcx::TimedInput> before;
+  for (const auto& in : s.inputs)
+    if (in.at_us < from) before.push_back(in);
+  rcx::Machine without = rcx::start_scenario(image, before, kBrickInstructionUs, 1);
+  without.run(until);
+  auto t = rcx::parting_time(with, without, from);
+  if (!t || *t >= until) return std::nullopt;
+  return t;
+}
+
+// RCXC_SPEED_TRACE set: each reaction measured, one line on stderr, for
+// reading one program's figures (which change, when each code acted).
+struct Trace {
+  bool on = false;
+  std::string program;
+};
+
+Speed measure_speed(const rcx::Image& mine, const rcx::Image& theirs, const Trace& trace) {
   Speed r;
   const std::int64_t capacity = kRunUs / kBrickInstructionUs;
   // At 2 ms per instruction the two codes drift apart by their instruction
@@ -191,9 +229,27 @@ Speed measure_speed(const rcx::Image& mine, const rcx::Image& theirs) {
       auto first = std::find_if(cmp.matched.begin(), cmp.matched.end(), [&](const rcx::MatchedEvent& m) {
         return m.a_us >= from && m.b_us >= from;
       });
-      if (first == cmp.matched.end() || first->a_us >= until || first->b_us >= until) continue;
-      r.ours_reaction += pa.instructions_by(first->a_us) - pa.instructions_by(from);
-      r.theirs_reaction += pb.instructions_by(first->b_us) - pb.instructions_by(from);
+      if (first != cmp.matched.end() && first->a_us < until && first->b_us < until) {
+        r.ours_first += pa.instructions_by(first->a_us) - pa.instructions_by(from);
+        r.theirs_first += pb.instructions_by(first->b_us) - pb.instructions_by(from);
+        ++r.firsts;
+      }
+      auto ours_caused = caused_at(mine, a, s, from, until);
+      auto theirs_caused = caused_at(theirs, b, s, from, until);
+      if (!ours_caused || !theirs_caused) continue;
+      std::int64_t ours_count = pa.instructions_by(*ours_caused) - pa.instructions_by(from);
+      std::int64_t theirs_count = pb.instructions_by(*theirs_caused) - pb.instructions_by(from);
+      if (trace.on)
+        std::cerr << fmt::format("{}, {}: change at {} ms; rcxc acted at {} ms ({} instructions), nqc at {} ms ({})\n",
+                                 trace.program, s.name, from / rcx::kMicrosPerMs, *ours_caused / rcx::kMicrosPerMs,
+                                 ours_count, *theirs_caused / rcx::kMicrosPerMs, theirs_count);
+      r.ours_reaction += ours_count;
+      r.theirs_reaction += theirs_count;
+      if (ours_count <= kShortReaction && theirs_count <= kShortReaction) {
+        r.ours_short += ours_count;
+        r.theirs_short += theirs_count;
+        ++r.shorts;
+      }
       ++r.reactions;
     }
     for (const auto& m : cmp.matched) {
@@ -245,6 +301,10 @@ struct Totals {
   PassRatios passes;
   std::int64_t ours_reaction = 0, theirs_reaction = 0;
   int reactions = 0, slower_reactions = 0;
+  std::int64_t ours_first = 0, theirs_first = 0;
+  int firsts = 0, slower_firsts = 0;
+  std::int64_t ours_short = 0, theirs_short = 0;
+  int shorts = 0;
   std::int64_t ours_instructions = 0, theirs_instructions = 0;
   int more_instructions = 0, busy = 0;
   std::int64_t ours_ended = 0, theirs_ended = 0;  // programs that end by themselves
@@ -256,7 +316,7 @@ struct Totals {
 };
 
 
-void print_corpus(Totals& t) {
+void print_corpus(Totals& t, bool trace) {
   std::cout << "Corpus programs under the built-in scenarios, 2 ms per instruction, 20 s each\n";
   std::cout << fmt::format("{:<22} {:>21} {:>21} {:>20} {:>13} {:>17}\n", "", "instructions per pass",
                            "reaction (instr.)", "instructions (20 s)", "latency (ms)", "bytes");
@@ -269,7 +329,7 @@ void print_corpus(Totals& t) {
     auto o2 = ours(f, rcxc::ir::OptLevel::O2);
     auto os = ours(f, rcxc::ir::OptLevel::Os);
     if (!theirs.image || !bytes || !o2 || !os) continue;
-    Speed s = measure_speed(o2->image, *theirs.image);
+    Speed s = measure_speed(o2->image, *theirs.image, {trace, f.filename().string()});
     ++t.programs;
     double ours_pass = per_pass(s.ours_pass_instructions, s.ours_passes);
     double theirs_pass = per_pass(s.theirs_pass_instructions, s.theirs_passes);
@@ -278,6 +338,13 @@ void print_corpus(Totals& t) {
     t.theirs_reaction += s.theirs_reaction;
     t.reactions += s.reactions;
     t.slower_reactions += s.ours_reaction > s.theirs_reaction;
+    t.ours_first += s.ours_first;
+    t.theirs_first += s.theirs_first;
+    t.firsts += s.firsts;
+    t.slower_firsts += s.ours_first > s.theirs_first;
+    t.ours_short += s.ours_short;
+    t.theirs_short += s.theirs_short;
+    t.shorts += s.shorts;
     if (s.busy) {
       ++t.busy;
     } else {
@@ -396,25 +463,35 @@ struct ReactiveTotals {
   int programs = 0, unlike = 0;
   std::int64_t ours_reaction = 0, theirs_reaction = 0;
   int reactions = 0, slower_reactions = 0;
+  std::int64_t ours_short = 0, theirs_short = 0;
+  int shorts = 0;
   std::vector<std::string> slower_names;
 };
 
-ReactiveTotals generated_reactive(int count) {
-  rcxc::bench::ScratchDir dir("rcxc-reactive");
-  fs::path file = dir.path / "reactive.nqc";
+ReactiveTotals generated_reactive(int count, bool trace) {
+  // RCXC_BENCH_PROGRAMS names a folder to write the programs into and keep
+  // (reactive1.nqc ...); otherwise a temporary one.
+  const char* keep = std::getenv("RCXC_BENCH_PROGRAMS");
+  std::optional<rcxc::bench::ScratchDir> scratch;
+  fs::path dir = keep && *keep ? fs::path(keep) : scratch.emplace("rcxc-reactive").path;
+  fs::create_directories(dir);
   ReactiveTotals t;
   for (int seed = 1; seed <= count; ++seed) {
+    fs::path file = dir / fmt::format("reactive{}.nqc", seed);
     std::ofstream(file) << rcxc::test::ReactiveGenerator(static_cast<unsigned>(seed)).program();
     auto theirs = rcx::semtest::compile_with_nqc("nqc", file.string());
     auto o2 = ours(file, rcxc::ir::OptLevel::O2);
     if (!theirs.image || !o2) continue;
-    Speed s = measure_speed(o2->image, *theirs.image);
+    Speed s = measure_speed(o2->image, *theirs.image, {trace, fmt::format("reactive {}", seed)});
     ++t.programs;
     t.unlike += !s.behaves_alike;
     t.passes.add(s, fmt::format("reactive {}", seed));
     t.ours_reaction += s.ours_reaction;
     t.theirs_reaction += s.theirs_reaction;
     t.reactions += s.reactions;
+    t.ours_short += s.ours_short;
+    t.theirs_short += s.theirs_short;
+    t.shorts += s.shorts;
     if (s.ours_reaction > s.theirs_reaction) {
       ++t.slower_reactions;
       t.slower_names.push_back(fmt::format("reactive {}: {} vs {} instructions{}", seed, s.ours_reaction,
@@ -445,10 +522,12 @@ int main(int, char** argv) {
     std::cout << "speed_bench: needs the corpus (" << corpus_dir().string() << ") and nqc on PATH\n";
     return 0;
   }
+  const char* trace_env = std::getenv("RCXC_SPEED_TRACE");
+  bool trace = trace_env && *trace_env;
   Totals t;
-  print_corpus(t);
+  print_corpus(t, trace);
   SizeTotals g = generated_sizes();
-  ReactiveTotals r = generated_reactive(200);
+  ReactiveTotals r = generated_reactive(200, trace);
   const int rounds = 5;
   double rcxc_cpu = compile_cpu(rcxc_binary(argv[0]).string() + " compile FILE -o /dev/null", corpus_files(), rounds);
   double nqc_cpu = compile_cpu("nqc -Trcx -O/dev/null FILE", corpus_files(), rounds);
@@ -460,9 +539,16 @@ int main(int, char** argv) {
                            t.passes.geometric_mean(), t.passes.looping, t.passes.slower, t.passes.worst_ratio,
                            t.passes.worst);
   std::cout << fmt::format("  reaction, in instructions   {:.3f}  ({} vs {} instructions from {} input changes to the "
-                           "first event after each; {} programs slower)\n",
+                           "output change each caused; {} programs slower)\n",
                            ratio(static_cast<double>(t.ours_reaction), static_cast<double>(t.theirs_reaction)),
                            t.ours_reaction, t.theirs_reaction, t.reactions, t.slower_reactions);
+  std::cout << fmt::format("    of them within {} instructions  {:.3f}  ({} vs {} instructions from {} input changes)\n",
+                           kShortReaction, ratio(static_cast<double>(t.ours_short), static_cast<double>(t.theirs_short)),
+                           t.ours_short, t.theirs_short, t.shorts);
+  std::cout << fmt::format("    to the first event after  {:.3f}  ({} vs {} instructions from {} input changes to the "
+                           "first event after each, caused or not; {} programs slower)\n",
+                           ratio(static_cast<double>(t.ours_first), static_cast<double>(t.theirs_first)),
+                           t.ours_first, t.theirs_first, t.firsts, t.slower_firsts);
   std::cout << fmt::format("  work of programs that end   {:.3f}  ({} vs {} instructions, polls in place left out, over "
                            "{} programs; {} execute more)\n",
                            ratio(static_cast<double>(t.ours_ended), static_cast<double>(t.theirs_ended)),
@@ -500,11 +586,14 @@ int main(int, char** argv) {
                            g.theirs_work, g.worked, g.more_work_names.size());
   for (const auto& l : g.more_work_names) std::cout << "    more than nqc's: " << l << "\n";
   std::cout << fmt::format("  generated control loops     {:.3f} per pass (geometric mean over {} programs, {} slower "
-                           "per pass), reaction {:.3f} ({} vs {} instructions from {} input changes, {} programs "
-                           "slower); {} of {} behave differently at 2 ms\n",
+                           "per pass), reaction {:.3f} ({} vs {} instructions from {} input changes to the output "
+                           "change each caused, {} programs slower; within {} instructions {:.3f} over {} changes); "
+                           "{} of {} behave differently at 2 ms\n",
                            r.passes.geometric_mean(), r.passes.looping, r.passes.slower,
                            ratio(static_cast<double>(r.ours_reaction), static_cast<double>(r.theirs_reaction)),
-                           r.ours_reaction, r.theirs_reaction, r.reactions, r.slower_reactions, r.unlike, r.programs);
+                           r.ours_reaction, r.theirs_reaction, r.reactions, r.slower_reactions, kShortReaction,
+                           ratio(static_cast<double>(r.ours_short), static_cast<double>(r.theirs_short)), r.shorts,
+                           r.unlike, r.programs);
   for (const auto& l : r.slower_names) std::cout << "    reacts later than nqc's: " << l << "\n";
   std::cout << fmt::format("  compile time (CPU)      {:.3f}  ({:.1f} vs {:.1f} ms per corpus program, as processes)\n",
                            ratio(rcxc_cpu, nqc_cpu), rcxc_cpu * 1000 / compiles, nqc_cpu * 1000 / compiles);

@@ -256,6 +256,22 @@ std::vector<std::string> observable_lines(const Machine& machine) {
   return out;
 }
 
+std::optional<Micros> parting_time(const Machine& a, const Machine& b, Micros from_us) {
+  auto va = visible_events(a), vb = visible_events(b);
+  std::size_t i = 0;
+  for (; i < va.size() && i < vb.size(); ++i) {
+    const Event& ea = *va[i];
+    const Event& eb = *vb[i];
+    if (ea.t_us == eb.t_us && look_of(ea) == look_of(eb)) continue;
+    Micros t = std::min(ea.t_us, eb.t_us);
+    // Before `from_us` the inputs were the same, so the runs were too.
+    return std::max(t, from_us);
+  }
+  if (i < va.size()) return std::max(va[i]->t_us, from_us);
+  if (i < vb.size()) return std::max(vb[i]->t_us, from_us);
+  return std::nullopt;
+}
+
 TimingDifference timing_difference(const std::vector<MatchedEvent>& matched) {
   TimingDifference d;
   double sooner = 0;

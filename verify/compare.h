@@ -75,6 +75,14 @@ RunComparison compare_runs(const RunView& a, const RunView& b, TimeTolerance tol
 // while it is on, and a change nobody could see is no line.
 std::vector<std::string> observable_lines(const Machine& machine);
 
+// Where two runs of one image, under inputs that are the same until
+// `from_us`, first show something different at or after it: the earlier
+// time of the first observable event (as observable_lines lists them) on
+// which they disagree, in kind or in time; nullopt when one run's events
+// are all the other's. Run once with an input change and once without it,
+// this is when the robot first did something the change caused.
+std::optional<Micros> parting_time(const Machine& a, const Machine& b, Micros from_us);
+
 // How much sooner a's code acted than b's over the matched events: the mean
 // and the worst (largest) lateness of a, in microseconds; zeros without
 // matched events.

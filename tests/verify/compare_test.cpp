@@ -307,3 +307,44 @@ TEST(Compare, ARunCutByItsEventLogIsComparedUpToTheCut) {
   other.machine.run(1'000'000);
   EXPECT_FALSE(compare(cut, other).same);
 }
+
+namespace {
+
+Micros sound_time(const Machine& m) {
+  for (const auto& e : m.state().events)
+    if (e.kind == EventKind::Sound) return e.t_us;
+  ADD_FAILURE() << "no sound";
+  return -1;
+}
+
+}  // namespace
+
+TEST(PartingTime, RunsThatShowTheSameNeverPart) {
+  RunResult a = run_program(kSetVar5, 100), b = run_program(kSetVar6, 100);
+  EXPECT_EQ(parting_time(a.machine, b.machine, 0), std::nullopt);
+}
+
+// "A on" at the same time in both; the sound 1 s or 1.2 s later: they part
+// at the earlier sound, whichever run is given first.
+TEST(PartingTime, RunsPartAtTheEarlierOfTheFirstEventsThatDiffer) {
+  RunResult a = run_program(kSetVar5, 100), b = run_program(kSetVar5, 120);
+  Micros a_sound = sound_time(a.machine), b_sound = sound_time(b.machine);
+  ASSERT_LT(a_sound, b_sound);
+  EXPECT_EQ(parting_time(a.machine, b.machine, 0), a_sound);
+  EXPECT_EQ(parting_time(b.machine, a.machine, 0), a_sound);
+}
+
+// A run cut off before its sound shows one event fewer: the runs part at
+// the other's sound.
+TEST(PartingTime, AnEventOnlyOneRunShowsIsWhereTheyPart) {
+  RunResult a = run_program(kSetVar5, 100), cut = run_program(kSetVar5, 100, 500'000);
+  EXPECT_EQ(parting_time(a.machine, cut.machine, 0), sound_time(a.machine));
+  EXPECT_EQ(parting_time(cut.machine, a.machine, 0), sound_time(a.machine));
+}
+
+// The inputs were the same until `from_us`, so a difference the caller
+// asks about from later on is placed there.
+TEST(PartingTime, NoPartingIsEarlierThanTheInputsDiffer) {
+  RunResult a = run_program(kSetVar5, 100), b = run_program(kSetVar5, 120);
+  EXPECT_EQ(parting_time(a.machine, b.machine, 5'000'000), 5'000'000);
+}
