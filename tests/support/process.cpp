@@ -11,6 +11,7 @@
 #include <chrono>
 #include <csignal>
 #include <cstdlib>
+#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -207,6 +208,17 @@ int PtyServer::stop() {
   if (out >= 0) ::close(out);
   out = -1;
   return exit_code;
+}
+
+double cpu_seconds_for(const std::function<void()>& f) {
+  auto now = [] {
+    timespec t{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return static_cast<double>(t.tv_sec) + static_cast<double>(t.tv_nsec) / 1e9;
+  };
+  double start = now();
+  f();
+  return now() - start;
 }
 
 }  // namespace rcxc::test

@@ -4,6 +4,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -32,6 +33,12 @@ ProcessResult run_rcxc(const std::vector<std::string>& args, const std::string& 
 // needs terabytes of address space and inflates the resident size: memory
 // limits cannot be measured there.
 bool built_with_asan();
+
+// The CPU time, in seconds, this process spent running `f` (all threads).
+// For limits that catch work growing out of bounds in-process: wall time
+// counts whatever else the machine runs (a parallel build made a 4 s check
+// take 25 s), CPU time only this process's work.
+double cpu_seconds_for(const std::function<void()>& f);
 
 // The nqc on the PATH, or "" when it is not installed.
 std::string find_nqc();
