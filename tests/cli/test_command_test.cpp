@@ -78,6 +78,14 @@ TEST(TestCommand, MissingPathIsAnError) {
   EXPECT_NE(r.err.find("no such file or folder"), std::string::npos) << r.err;
 }
 
+// A device exists but holds no test: it used to be called missing.
+TEST(TestCommand, ADeviceIsNeitherAFileNorAFolder) {
+  auto r = run_rcxc({"test", "/dev/zero"});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("/dev/zero: not a file or a folder"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("no such file"), std::string::npos) << r.err;
+}
+
 TEST(TestCommand, InputsDriveTheProgram) {
   TempDir d;
   auto f = d.write("touch.nqc",
