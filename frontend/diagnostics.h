@@ -84,6 +84,9 @@ class SourceManager {
 
   // Where `file` was #included (so diagnostics in it can say so).
   void set_include_site(std::uint32_t file, SourceSpan site);
+  // The #include directive that read `file` (from its '#' to its end), or
+  // an invalid span for a file no directive read.
+  SourceSpan include_site(std::uint32_t file) const { return files_.at(file).included_from; }
   // The notes "FILE was included from here" for a location, innermost first.
   std::vector<Note> include_notes(const SourceLoc& loc) const;
 

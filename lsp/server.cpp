@@ -319,9 +319,64 @@ json completion(Request& r) {
   return {{"isIncomplete", false}, {"items", items}};
 }
 
+// ------------------------------------------------------------- includes --
+
+// A file the document #includes, and where: the quoted or bracketed name
+// of its directive, or the whole directive when a macro names the file.
+struct IncludeLink {
+  Range range;
+  std::uint32_t file = 0;
+};
+
+Range name_in_directive(const Index& index, const SourceSpan& site) {
+  Range whole{{index.main_file, site.begin.line, site.begin.column}, {index.main_file, site.end.line, site.end.column}};
+  if (site.begin.line != site.end.line) return whole;  // a directive continued with '\\'
+  std::string_view line = index.sm.line(index.main_file, site.begin.line);
+  std::size_t from = site.begin.column - 1, to = std::min<std::size_t>(site.end.column - 1, line.size());
+  std::size_t open = line.find_first_of("\"<", from);
+  if (open == std::string_view::npos || open >= to) return whole;
+  std::size_t close = line.find(line[open] == '"' ? '"' : '>', open + 1);
+  if (close == std::string_view::npos || close >= to) return whole;
+  auto column = [](std::size_t byte) { return static_cast<std::uint32_t>(byte + 1); };
+  return {{index.main_file, site.begin.line, column(open)}, {index.main_file, site.begin.line, column(close + 1)}};
+}
+
+// The files the document itself #includes (not those its includes do).
+std::vector<IncludeLink> include_links(const Index& index) {
+  std::vector<IncludeLink> out;
+  for (std::uint32_t f = 0; f < index.sm.size(); ++f) {
+    SourceSpan site = index.sm.include_site(f);
+    if (!site.begin.valid() || site.begin.file != index.main_file || site.begin.expansion != 0) continue;
+    out.push_back({name_in_directive(index, site), f});
+  }
+  return out;
+}
+
+bool contains(const Range& r, const Place& p) {
+  auto before = [](const Place& a, const Place& b) { return std::tie(a.line, a.column) < std::tie(b.line, b.column); };
+  return r.begin.file == p.file && !before(p, r.begin) && before(p, r.end);
+}
+
+json document_links(Request& r) {
+  json list = json::array();
+  for (const IncludeLink& link : include_links(r.doc->index)) {
+    std::string target = file_uri(r.server, *r.doc, r.uri, link.file);
+    if (!target.empty()) list.push_back({{"range", range_json(r.doc->index, link.range)}, {"target", target}});
+  }
+  return list;
+}
+
 json definition(Request& r) {
   auto at = place_of(*r.doc, r.params.at("position"));
   if (!at) return nullptr;
+  // On an #include's file name: the file's first line.
+  for (const IncludeLink& link : include_links(r.doc->index)) {
+    if (!contains(link.range, *at)) continue;
+    std::string target = file_uri(r.server, *r.doc, r.uri, link.file);
+    if (target.empty()) return nullptr;
+    json top = {{"line", 0}, {"character", 0}};
+    return {{"uri", target}, {"range", {{"start", top}, {"end", top}}}};
+  }
   const Definition* def = definition_at(r, *at);
   if (!def) return nullptr;
   return location(r.server, *r.doc, r.uri, def->at);
@@ -708,6 +763,7 @@ json initialize_result(Server& server, const json& params) {
       {"renameProvider", {{"prepareProvider", true}}},
       {"documentHighlightProvider", true},
       {"foldingRangeProvider", true},
+      {"documentLinkProvider", {{"resolveProvider", false}}},
       {"workspaceSymbolProvider", true},
       {"semanticTokensProvider", {{"legend", {{"tokenTypes", kTokenTypes}, {"tokenModifiers", kTokenModifiers}}}, {"full", true}}},
       {"documentFormattingProvider", true},
@@ -803,6 +859,7 @@ json answer(Server& server, const std::string& method, const json& params) {
       {"textDocument/rename", rename},
       {"textDocument/documentHighlight", document_highlight},
       {"textDocument/foldingRange", folding_ranges},
+      {"textDocument/documentLink", document_links},
       {"textDocument/semanticTokens/full", semantic_tokens},
       {"textDocument/formatting", formatting},
   };

@@ -388,11 +388,76 @@ TEST(LspCommandLineDefines, TheProgramsOwnDefineAndUndefineWin) {
   EXPECT_EQ(last.at("textDocument/hover", 3, 19)["contents"]["value"], "```nqc\n-D SPEED=6\n```\nmacro defined on the command line");
 }
 
+// ---------------------------------------------------------- #include links --
+
+// A folder of headers: part.nqh includes inner.nqh; other.nqh.
+struct Headers {
+  test::TempDir dir;
+  std::string part = dir.write("part.nqh", "#include \"inner.nqh\"\n#define SPEED 5\n");
+  std::string inner = dir.write("inner.nqh", "#define INNER 1\n");
+  std::string other = dir.write("other.nqh", "#define OTHER 2\n");
+  frontend::Options options() const {
+    frontend::Options o;
+    o.include_dirs = {dir.path};
+    return o;
+  }
+};
+
+TEST(LspDocumentLink, EachIncludeOfTheDocumentLinksItsFileName) {
+  Headers h;
+  Session s("#include \"part.nqh\"\n  #include <other.nqh>\ntask main() { SetPower(OUT_A, SPEED + OTHER); }\n",
+            "prog.nqc", h.options());
+  ASSERT_TRUE(s.diagnostics.empty()) << s.diagnostics.dump();
+  json links = s.ask("textDocument/documentLink", json::object());
+  // inner.nqh is part.nqh's include, not the document's.
+  ASSERT_EQ(links.size(), 2u) << links.dump();
+  // `#include ` is 9 characters: "part.nqh" with its quotes is 9..19; on
+  // the next line two spaces and `#include ` put <other.nqh> at 11..22.
+  EXPECT_EQ(links[0]["range"], range_at(0, 9, 19));
+  EXPECT_EQ(links[0]["target"], path_to_uri(h.part));
+  EXPECT_EQ(links[1]["range"], range_at(1, 11, 22));
+  EXPECT_EQ(links[1]["target"], path_to_uri(h.other));
+}
+
+TEST(LspDocumentLink, AMacroThatNamesTheFileLinksTheWholeDirective) {
+  Headers h;
+  Session s("#define PART \"part.nqh\"\n#include PART\ntask main() { SetPower(OUT_A, SPEED); }\n", "prog.nqc",
+            h.options());
+  json links = s.ask("textDocument/documentLink", json::object());
+  ASSERT_EQ(links.size(), 1u) << links.dump();
+  EXPECT_EQ(links[0]["range"], range_at(1, 0, 13));
+  EXPECT_EQ(links[0]["target"], path_to_uri(h.part));
+}
+
+TEST(LspDocumentLink, AnIncludeThatFindsNoFileHasNoLink) {
+  Session s("#include \"missing.nqh\"\ntask main() {}\n");
+  EXPECT_TRUE(s.ask("textDocument/documentLink", json::object()).empty());
+}
+
+// Go to definition on an include's file name opens the file; elsewhere on
+// the line it finds nothing.
+TEST(LspDocumentLink, DefinitionOnTheFileNameGoesToTheFile) {
+  Headers h;
+  Session s("#include \"part.nqh\"\ntask main() { SetPower(OUT_A, SPEED); }\n", "prog.nqc", h.options());
+  json top = {{"line", 0}, {"character", 0}};
+  for (int character : {9, 14, 18})
+    EXPECT_EQ(s.at("textDocument/definition", 0, character),
+              json({{"uri", path_to_uri(h.part)}, {"range", {{"start", top}, {"end", top}}}}))
+        << character;
+  EXPECT_TRUE(s.at("textDocument/definition", 0, 19).is_null());
+  EXPECT_TRUE(s.at("textDocument/definition", 0, 3).is_null());
+  // SPEED, defined in part.nqh, still goes to its #define there.
+  json speed = s.at("textDocument/definition", 1, 31);
+  EXPECT_EQ(speed["uri"], path_to_uri(h.part));
+  EXPECT_EQ(speed["range"], range_at(1, 8, 13));
+}
+
 // -------------------------------------------------------------- hostile --
 
 TEST(LspHostile, FoldingSymbolsAndTokensAnswerBadParamsProperly) {
   Session s(kUsesSpeed);
-  for (const char* method : {"textDocument/foldingRange", "textDocument/semanticTokens/full"}) {
+  for (const char* method :
+       {"textDocument/foldingRange", "textDocument/semanticTokens/full", "textDocument/documentLink"}) {
     auto out = handle(s.server, request(3, method, {{"textDocument", {{"uri", "file:///nowhere.nqc"}}}}));
     ASSERT_EQ(out.size(), 1u);
     EXPECT_TRUE(out[0]["result"].is_null()) << out[0].dump();
@@ -518,13 +583,13 @@ TEST(LspRobustness, RandomEditsAndTheNewRequestsAlwaysGetOneGoodReply) {
   const std::string alphabet = "abx_09 ;{}()#/*\"'\n\r\t=+&|\xc3\xa9\xf0\x9f\x98\x80\xff";
   std::string text = start;
   const char* methods[] = {"textDocument/foldingRange", "textDocument/semanticTokens/full", "workspace/symbol",
-                           "textDocument/documentHighlight"};
+                           "textDocument/documentHighlight", "textDocument/documentLink", "textDocument/definition"};
   for (int round = 0; round < 300; ++round) {
     random_edits(text, rng, alphabet, 6);
     handle(s.server, note("textDocument/didChange", {{"textDocument", {{"uri", s.uri}, {"version", round}}},
                                                     {"contentChanges", json::array({{{"text", text}}})}}));
     json params = {{"textDocument", {{"uri", s.uri}}}, {"query", text.substr(0, 2)}, {"position", pos(below(12), below(20))}};
-    auto out = handle(s.server, request(round, methods[below(4)], params));
+    auto out = handle(s.server, request(round, methods[below(6)], params));
     ASSERT_EQ(out.size(), 1u);
     ASSERT_TRUE(out[0].contains("result")) << out[0].dump();
     const json& result = out[0]["result"];
