@@ -16,7 +16,9 @@
 //    it caused (where the run parts from a run of the same code without
 //    that change, before the next change; verify/compare.h parting_time),
 //    and the instructions the brick executed (all tasks) from the change
-//    to it. Idle time in waits, the same for both codes, is no instruction;
+//    to it, with the inputs at kInputPhases phases one instruction apart
+//    (where a change falls in a pass decides a few instructions either
+//    way). Idle time in waits, the same for both codes, is no instruction;
 //    another task's polls during a wait are. Printed too: the same count to
 //    the first event after each change, caused by it or not (an earlier
 //    measure, which counted a task's timed moves as reactions);
@@ -66,6 +68,10 @@ namespace fs = std::filesystem;
 constexpr rcx::Micros kBrickInstructionUs = rcx::kDefaultInstructionCostUs;
 constexpr rcx::Micros kRunUs = 20'000 * rcx::kMicrosPerMs;
 constexpr std::int64_t kShortReaction = 10;  // instructions
+// Where an input change falls in a loop's pass decides a few instructions
+// of its reaction either way, so reactions are measured with the inputs
+// at this many phases, each one instruction later than the one before.
+constexpr int kInputPhases = 8;
 
 using rcxc::bench::corpus_dir;
 using rcxc::bench::corpus_files;
@@ -194,6 +200,51 @@ struct Trace {
   std::string program;
 };
 
+// The times the inputs change (inputs at one instant are one change).
+std::vector<rcx::Micros> changes_of(const rcx::NamedScenario& s) {
+  std::vector<rcx::Micros> changes;
+  for (const auto& in : s.inputs) changes.push_back(in.at_us);
+  std::sort(changes.begin(), changes.end());
+  changes.erase(std::unique(changes.begin(), changes.end()), changes.end());
+  return changes;
+}
+
+// One code's run of a scenario, whole and stepped.
+struct Ran {
+  const rcx::Image& image;
+  const rcx::Machine& run;
+  Profile profile;
+};
+
+// For each input change of `s`, the output change it caused in each code
+// (caused_at), both before the next change, and the instructions to it.
+void add_caused_reactions(const Ran& ours, const Ran& theirs, const rcx::NamedScenario& s, int phase, Speed& r,
+                          const Trace& trace) {
+  std::vector<rcx::Micros> changes = changes_of(s);
+  for (std::size_t c = 0; c < changes.size(); ++c) {
+    rcx::Micros from = changes[c], until = c + 1 < changes.size() ? changes[c + 1] : kRunUs;
+    auto ours_caused = caused_at(ours.image, ours.run, s, from, until);
+    auto theirs_caused = caused_at(theirs.image, theirs.run, s, from, until);
+    if (!ours_caused || !theirs_caused) continue;
+    std::int64_t ours_count = ours.profile.instructions_by(*ours_caused) - ours.profile.instructions_by(from);
+    std::int64_t theirs_count = theirs.profile.instructions_by(*theirs_caused) - theirs.profile.instructions_by(from);
+    if (trace.on)
+      std::cerr << fmt::format("{}, {}, inputs {} ms later: change at {} ms; rcxc acted at {} ms ({} instructions), "
+                               "nqc at {} ms ({})\n",
+                               trace.program, s.name, phase * kBrickInstructionUs / rcx::kMicrosPerMs,
+                               from / rcx::kMicrosPerMs, *ours_caused / rcx::kMicrosPerMs, ours_count,
+                               *theirs_caused / rcx::kMicrosPerMs, theirs_count);
+    r.ours_reaction += ours_count;
+    r.theirs_reaction += theirs_count;
+    if (ours_count <= kShortReaction && theirs_count <= kShortReaction) {
+      r.ours_short += ours_count;
+      r.theirs_short += theirs_count;
+      ++r.shorts;
+    }
+    ++r.reactions;
+  }
+}
+
 Speed measure_speed(const rcx::Image& mine, const rcx::Image& theirs, const Trace& trace) {
   Speed r;
   const std::int64_t capacity = kRunUs / kBrickInstructionUs;
@@ -217,13 +268,9 @@ Speed measure_speed(const rcx::Image& mine, const rcx::Image& theirs, const Trac
     r.theirs_work += static_cast<std::int64_t>(pb.step_end_us.size()) - pb.polls_in_place;
     r.ours_pass_instructions += static_cast<std::int64_t>(pa.step_end_us.size());
     r.theirs_pass_instructions += static_cast<std::int64_t>(pb.step_end_us.size());
-    // Each input change (inputs at one instant are one change) and the
-    // first matched event after it, before the next change.
-    std::vector<rcx::Micros> changes;
-    for (const auto& in : s.inputs)
-      if (changes.empty() || changes.back() != in.at_us) changes.push_back(in.at_us);
-    std::sort(changes.begin(), changes.end());
-    changes.erase(std::unique(changes.begin(), changes.end()), changes.end());
+    // Each input change and the first matched event after it, before the
+    // next change.
+    std::vector<rcx::Micros> changes = changes_of(s);
     for (std::size_t c = 0; c < changes.size(); ++c) {
       rcx::Micros from = changes[c], until = c + 1 < changes.size() ? changes[c + 1] : kRunUs;
       auto first = std::find_if(cmp.matched.begin(), cmp.matched.end(), [&](const rcx::MatchedEvent& m) {
@@ -234,23 +281,16 @@ Speed measure_speed(const rcx::Image& mine, const rcx::Image& theirs, const Trac
         r.theirs_first += pb.instructions_by(first->b_us) - pb.instructions_by(from);
         ++r.firsts;
       }
-      auto ours_caused = caused_at(mine, a, s, from, until);
-      auto theirs_caused = caused_at(theirs, b, s, from, until);
-      if (!ours_caused || !theirs_caused) continue;
-      std::int64_t ours_count = pa.instructions_by(*ours_caused) - pa.instructions_by(from);
-      std::int64_t theirs_count = pb.instructions_by(*theirs_caused) - pb.instructions_by(from);
-      if (trace.on)
-        std::cerr << fmt::format("{}, {}: change at {} ms; rcxc acted at {} ms ({} instructions), nqc at {} ms ({})\n",
-                                 trace.program, s.name, from / rcx::kMicrosPerMs, *ours_caused / rcx::kMicrosPerMs,
-                                 ours_count, *theirs_caused / rcx::kMicrosPerMs, theirs_count);
-      r.ours_reaction += ours_count;
-      r.theirs_reaction += theirs_count;
-      if (ours_count <= kShortReaction && theirs_count <= kShortReaction) {
-        r.ours_short += ours_count;
-        r.theirs_short += theirs_count;
-        ++r.shorts;
-      }
-      ++r.reactions;
+    }
+    // The reactions, at each phase of the inputs against the instructions.
+    add_caused_reactions({mine, a, pa}, {theirs, b, pb}, s, 0, r, trace);
+    for (int phase = 1; phase < kInputPhases; ++phase) {
+      rcx::NamedScenario shifted = s;
+      for (auto& in : shifted.inputs) in.at_us += phase * kBrickInstructionUs;
+      auto a2 = rcx::run_scenario(mine, shifted, kBrickInstructionUs, 1, kRunUs);
+      auto b2 = rcx::run_scenario(theirs, shifted, kBrickInstructionUs, 1, kRunUs);
+      add_caused_reactions({mine, a2, profile(mine, shifted)}, {theirs, b2, profile(theirs, shifted)}, shifted, phase, r,
+                           trace);
     }
     for (const auto& m : cmp.matched) {
       rcx::Micros cause = cause_of(s, std::min(m.a_us, m.b_us));
@@ -539,9 +579,9 @@ int main(int, char** argv) {
                            t.passes.geometric_mean(), t.passes.looping, t.passes.slower, t.passes.worst_ratio,
                            t.passes.worst);
   std::cout << fmt::format("  reaction, in instructions   {:.3f}  ({} vs {} instructions from {} input changes to the "
-                           "output change each caused; {} programs slower)\n",
+                           "output change each caused, at {} input phases; {} programs slower)\n",
                            ratio(static_cast<double>(t.ours_reaction), static_cast<double>(t.theirs_reaction)),
-                           t.ours_reaction, t.theirs_reaction, t.reactions, t.slower_reactions);
+                           t.ours_reaction, t.theirs_reaction, t.reactions, kInputPhases, t.slower_reactions);
   std::cout << fmt::format("    of them within {} instructions  {:.3f}  ({} vs {} instructions from {} input changes)\n",
                            kShortReaction, ratio(static_cast<double>(t.ours_short), static_cast<double>(t.theirs_short)),
                            t.ours_short, t.theirs_short, t.shorts);
@@ -587,11 +627,13 @@ int main(int, char** argv) {
   for (const auto& l : g.more_work_names) std::cout << "    more than nqc's: " << l << "\n";
   std::cout << fmt::format("  generated control loops     {:.3f} per pass (geometric mean over {} programs, {} slower "
                            "per pass), reaction {:.3f} ({} vs {} instructions from {} input changes to the output "
-                           "change each caused, {} programs slower; within {} instructions {:.3f} over {} changes); "
+                           "change each caused, at {} input phases, {} programs slower; within {} instructions {:.3f} "
+                           "over {} changes); "
                            "{} of {} behave differently at 2 ms\n",
                            r.passes.geometric_mean(), r.passes.looping, r.passes.slower,
                            ratio(static_cast<double>(r.ours_reaction), static_cast<double>(r.theirs_reaction)),
-                           r.ours_reaction, r.theirs_reaction, r.reactions, r.slower_reactions, kShortReaction,
+                           r.ours_reaction, r.theirs_reaction, r.reactions, kInputPhases, r.slower_reactions,
+                           kShortReaction,
                            ratio(static_cast<double>(r.ours_short), static_cast<double>(r.theirs_short)), r.shorts,
                            r.unlike, r.programs);
   for (const auto& l : r.slower_names) std::cout << "    reacts later than nqc's: " << l << "\n";
