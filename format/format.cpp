@@ -11,6 +11,8 @@
 #include <array>
 #include <cstdint>
 #include <optional>
+#include <set>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -224,6 +226,10 @@ struct Printer {
   bool pending_break = false;  // the next token starts a statement on a new line
   bool header_ended = false;   // a header just closed: a comment here is between statements
   int statement_level = 0;     // the level of the line the current statement started on
+  std::size_t statement_first = 0;  // the index of the current statement's first token
+  // Macros whose body ends a statement (`;` or `}` last): a use of one on
+  // a line of its own is a whole statement, though no `;` follows it.
+  std::set<std::string_view> statement_macros{};
   Nesting n{};
   std::vector<std::optional<Nesting>> conditionals{};
   bool too_large = false;
@@ -431,6 +437,7 @@ void lead_in(Printer& pr, const Piece& t, Role role, const Brace& b) {
     int level = level_for(pr, &t);
     new_line(pr, level, blank_before(pr, t));
     pr.statement_level = level;
+    pr.statement_first = static_cast<std::size_t>(&t - pr.pieces.data());
   } else if (!stays_on_line && source_break) {
     new_line(pr, asm_line ? level_for(pr, &t) : pr.statement_level + 2, blank_before(pr, t));
   } else if (b.closing && b.closing->kind == FrameKind::Asm ? t.space_before : space_between(pr, t, role)) {
@@ -493,6 +500,20 @@ void after_keyword(Printer& pr, std::size_t i, const Piece& t) {
   n.header_saw_paren = false;
 }
 
+// `t` ends a use of a statement macro that stands alone: the statement
+// began with the macro's name, `t` is that name or the ')' closing its
+// arguments, and the next token is on a later line and no ';'.
+bool ends_macro_statement(const Printer& pr, std::size_t i, const Piece& t) {
+  if (in_asm(pr) || pr.n.parens != 0 || pr.n.header || pr.pending_break) return false;
+  const Piece& first = pr.pieces[pr.statement_first];
+  if (first.comment || first.kind != TokenKind::Identifier || !pr.statement_macros.contains(first.text)) return false;
+  const Piece* next = code_after(pr, i);
+  if (next == nullptr || next->is(";") || next->span.begin.line <= t.span.end.line) return false;
+  if (i == pr.statement_first) return !next->is("(");
+  const Piece* open = code_after(pr, pr.statement_first);
+  return t.is(")") && open != nullptr && open->is("(");
+}
+
 void after_token(Printer& pr, std::size_t i, const Piece& t, Role role) {
   Nesting& n = pr.n;
   if (t.is("(") || t.is("[")) {
@@ -517,6 +538,7 @@ void after_token(Printer& pr, std::size_t i, const Piece& t, Role role) {
   } else if (!in_asm(pr) && n.parens == 0 && t.kind == TokenKind::Identifier) {
     after_keyword(pr, i, t);
   }
+  if (ends_macro_statement(pr, i, t)) end_statement(pr, i, Owner::None);
 }
 
 void place_comment(Printer& pr, std::size_t i) {
@@ -592,8 +614,28 @@ std::vector<std::size_t> next_code_table(const std::vector<Piece>& pieces) {
   return next;
 }
 
+// The macros whose body's last token is `;` or `}`: `#define STOP Off(OUT_A);`,
+// `#define TURN(t) { OnRev(OUT_A); Wait(t); }`.
+std::set<std::string_view> statement_macros(const std::vector<Piece>& pieces) {
+  std::set<std::string_view> names;
+  for (std::size_t i = 0; i < pieces.size(); ++i) {
+    if (pieces[i].comment || !pieces[i].line_start || !pieces[i].is("#")) continue;
+    std::size_t end = i + 1;
+    while (end < pieces.size() && !pieces[end].line_start) ++end;
+    const Piece* last = nullptr;
+    for (std::size_t k = i + 3; k < end; ++k)
+      if (!pieces[k].comment) last = &pieces[k];
+    if (i + 2 < end && pieces[i + 1].is_word("define") && pieces[i + 2].kind == TokenKind::Identifier &&
+        last != nullptr && (last->is(";") || last->is("}")))
+      names.insert(pieces[i + 2].text);
+    i = end - 1;
+  }
+  return names;
+}
+
 std::string lay_out(std::string_view source, const std::vector<Piece>& pieces, const Style& style, bool& too_large) {
   Printer pr{.source = source, .pieces = pieces, .next_code = next_code_table(pieces), .style = style};
+  pr.statement_macros = statement_macros(pieces);
   pr.out.reserve(source.size() + source.size() / 4 + 16);
   for (std::size_t i = 0; i < pieces.size() && !pr.too_large;) {
     const Piece& p = pieces[i];

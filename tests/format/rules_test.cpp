@@ -213,6 +213,19 @@ TEST(FormatRules, DirectiveInsideAStatementContinuesIt) {
             "task main()\n{\n  x = 1 +\n#ifdef A\n      2 +\n#endif\n      3;\n}\n");
 }
 
+// A macro whose body ends in ';' or '}' is a whole statement where it
+// stands alone on its line; one whose body does not (F) is an expression,
+// whose line is continued as any other.
+TEST(FormatRules, AStatementMacroWithoutASemicolonEndsItsStatement) {
+  const std::string defines =
+      "#define STOP Off(OUT_A);\n#define TURN(t) { OnRev(OUT_A); Wait(t); }\n#define F(x) ((x) + 1)\n";
+  EXPECT_EQ(fmt(defines + "task main()\n{\nTURN(50)\nSTOP\nOnFwd(OUT_A);\nif (x)\nTURN(20)\nelse\nSTOP\n"
+                          "Wait(F(1))\n;\nx = F(2)\n+ 3;\nTURN(\n10)\nWait(1);\n}\n"),
+            defines +
+                "task main()\n{\n  TURN(50)\n  STOP\n  OnFwd(OUT_A);\n  if (x)\n    TURN(20)\n  else\n    STOP\n"
+                "  Wait(F(1))\n      ;\n  x = F(2)\n      + 3;\n  TURN(\n      10)\n  Wait(1);\n}\n");
+}
+
 TEST(FormatRules, BlankLinesKeptButCollapsed) {
   EXPECT_EQ(fmt("\n\nint x;\n\n\n\nint y;\ntask main()\n{\n\n  x = 1;\n\n\n  y = 2;\n}\n\n\n"),
             "int x;\n\nint y;\ntask main()\n{\n\n  x = 1;\n\n  y = 2;\n}\n");
