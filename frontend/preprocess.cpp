@@ -696,9 +696,6 @@ class Preprocessor {
     OpenFile& f = files_.back();
     Token hash = std::move(f.tokens[f.pos++]);
     std::vector<Token> line = line_tokens();
-    if (active())
-      for (const Token& t : line)
-        if (t.kind == TokenKind::Unknown) report_unknown(t);
     if (line.empty()) return;  // the null directive
     const Token& name = line[0];
     std::string_view d = name.text;
@@ -707,7 +704,14 @@ class Preprocessor {
     if (d == "else") return do_else(line, hash);
     if (d == "endif") return do_endif(line, hash);
     if (!active()) return;
-    if (d == "define") return do_define(line);
+    if (d == "define") {
+      // The body is compiled where the macro is used; the text of #error,
+      // #warning and #pragma is a message (`#warning it's slow`), and an
+      // #if expression says what it cannot read.
+      for (const Token& t : line)
+        if (t.kind == TokenKind::Unknown) report_unknown(t);
+      return do_define(line);
+    }
     if (d == "undef") return do_undef(line);
     if (d == "include") return do_include(line, hash);
     if (d == "error") {
