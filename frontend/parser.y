@@ -89,6 +89,11 @@ namespace {
 using namespace rcxc;
 using namespace rcxc::ast;
 
+// C's `const int K = 5;`: NQC's only constants are macros and numbers.
+constexpr const char* kNoConstVariables =
+    "NQC has no constant variables: write '#define NAME value' for a named constant ('const' belongs to "
+    "function parameters only)";
+
 template <class F>
 void each_operand(const ExprNode& n, F f) {
   std::visit([&](const auto& v) {
@@ -242,6 +247,22 @@ top
         note_order(feed.program, SymbolKind::Sub, feed.program.subs.size());
         feed.program.subs.push_back(Sub{std::string($2), @2, std::move(*$5), kNoSymbol});
       }
+  | INT IDENT '(' params_opt ')' block
+      {
+        // C's `int f()`: no call in NQC returns a value.
+        feed.diags.error(@1, "functions return no value in NQC: write 'void " + std::string($2) +
+                             "(...)' and pass a result back in a global variable or an 'int &' parameter").parsed_past = true;
+        note_order(feed.program, SymbolKind::Function, feed.program.functions.size());
+        feed.program.functions.push_back(Function{std::string($2), @2, std::move($4), std::move(*$6), kNoSymbol});
+      }
+  | CONST INT declarators ';'
+      {
+        feed.diags.error(@1, kNoConstVariables).parsed_past = true;
+        for (auto& v : $3) {
+          note_order(feed.program, SymbolKind::Global, feed.program.globals.size());
+          feed.program.globals.push_back(std::move(v));
+        }
+      }
   | SUB IDENT '(' params ')' block
       {
         // The firmware's subroutine call carries no values.
@@ -332,6 +353,11 @@ stmts
 stmt
   : block                 { $$ = std::move($1); }
   | INT declarators ';'   { $$ = mks(DeclStmt{std::move($2)}, @$); }
+  | CONST INT declarators ';'
+      {
+        feed.diags.error(@1, kNoConstVariables).parsed_past = true;
+        $$ = mks(DeclStmt{std::move($3)}, @$);
+      }
   | expr ';'              { $$ = mks(ExprStmt{std::move(*$1)}, @$); }
   | ';'                   { $$ = mks(Empty{}, @$); }
   | IF '(' expr ')' stmt %prec LOWER_THAN_ELSE
@@ -361,6 +387,12 @@ stmt
   | BREAK ';'             { $$ = mks(Break{}, @$); }
   | CONTINUE ';'          { $$ = mks(Continue{}, @$); }
   | RETURN ';'            { $$ = mks(Return{}, @$); }
+  | RETURN expr ';'
+      {
+        feed.diags.error(@2, "'return' takes no value in NQC: tasks, subs and functions return nothing (pass a "
+                             "result back in a global variable or an 'int &' parameter)").parsed_past = true;
+        $$ = mks(Return{}, @$);
+      }
   | GOTO IDENT ';'        { $$ = mks(Goto{std::string($2), kNoSymbol}, @$); }
   | IDENT ':' stmt        { $$ = mks(Labeled{std::string($1), @1, box(std::move($3)), kNoSymbol}, @$); }
   | START IDENT ';'       { $$ = mks(StartTask{std::string($2), kNoSymbol}, @$); }
