@@ -796,6 +796,19 @@ class Checker {
     }
   }
 
+  // The RCX takes a source's argument from the instruction itself: say so
+  // in the words of the call written (Random(n), Timer(i)).
+  static std::string non_constant_source_message(const Source& n) {
+    std::string why = " must be a constant expression: the RCX takes it from the instruction, so a variable cannot ";
+    if (n.type->constant && !n.arg->constant) {
+      int type = *n.type->constant;
+      if (type == static_cast<int>(rcx::Source::Random)) return "the maximum of Random(n)" + why + "set it";
+      if (auto range = rcx::source_argument_range(type); range && !range->noun.empty())
+        return fmt::format("the {} number{}choose the {}", range->noun, why, range->noun);
+    }
+    return "both operands of __source(TYPE, ARG) must be constant expressions";
+  }
+
   void visit_expr(Source& n, Expr& e, Use) {
     std::size_t errors_before = diags_.error_count();
     expr(*n.type, Use::Value);
@@ -804,7 +817,7 @@ class Checker {
       // An operand already said what is wrong with it (SensorValueRaw(x):
       // "argument must be a sensor"); a second message would only repeat it.
       if (!depends_on_const_param(e) && diags_.error_count() == errors_before)
-        diags_.error(e.span, "both operands of __source(TYPE, ARG) must be constant expressions");
+        diags_.error(e.span, non_constant_source_message(n));
       return;
     }
     int type = *n.type->constant;
