@@ -198,6 +198,9 @@ void report_unknown_token(const Token& t, Diagnostics& diags) {
 }
 
 std::string invalid_number_message(std::string_view text) {
+  if (text.starts_with('\''))
+    return "character constant " + std::string(text) +
+           " must hold one character or one escape (\\n \\t \\r \\\\ \\' \\\" \\0 \\101 \\x41)";
   if (text.find('.') != std::string_view::npos)
     return "'" + std::string(text) + "' is a floating-point number; the RCX computes with 16-bit integers only";
   return "invalid number '" + std::string(text) + "'";
@@ -206,24 +209,33 @@ std::string invalid_number_message(std::string_view text) {
 bool number_value(const Token& t, std::int64_t& value) {
   std::string_view s = t.text;
   if (t.kind == TokenKind::Char) {
-    // 'c' or an escape '\n', '\t', '\0', '\\', '\''.
+    // 'c' or an escape '\n', '\t', '\r', '\\', '\'', '\"', an octal '\101'
+    // (up to three digits, so '\0' too) or a hex '\x41' (one or two digits).
     if (s.size() == 3) {
       value = static_cast<unsigned char>(s[1]);
       return true;
     }
-    if (s.size() == 4 && s[1] == '\\') {
-      switch (s[2]) {
+    if (s.size() < 4 || s[1] != '\\') return false;
+    std::string_view esc = s.substr(2, s.size() - 3);
+    if (esc.size() == 1) {
+      switch (esc[0]) {
         case 'n': value = '\n'; return true;
         case 't': value = '\t'; return true;
         case 'r': value = '\r'; return true;
-        case '0': value = 0; return true;
         case '\\': value = '\\'; return true;
         case '\'': value = '\''; return true;
         case '"': value = '"'; return true;
-        default: return false;
+        default: break;
       }
     }
-    return false;
+    bool hex = esc[0] == 'x';
+    std::string_view digits = hex ? esc.substr(1) : esc;
+    if (digits.empty() || digits.size() > (hex ? 2u : 3u)) return false;
+    unsigned code = 0;
+    auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), code, hex ? 16 : 8);
+    if (ec != std::errc() || end != digits.data() + digits.size() || code > 255) return false;
+    value = code;
+    return true;
   }
   if (t.kind != TokenKind::Number) return false;
   int base = 10;
