@@ -573,6 +573,27 @@ void yy::Parser::report_syntax_error(const context& ctx) const {
     if (name.size() >= 2 && name.front() == '"' && name.back() == '"') name = "'" + name.substr(1, name.size() - 2) + "'";
     return name;
   };
+  // C's other types (`float x`, `unsigned int x`): said at the type rather
+  // than "expected ';' before 'x'". Between declarations the type is the
+  // token found; in a body, the token before the name found.
+  static constexpr std::string_view kCTypes[] = {"float", "double", "char", "short", "long", "unsigned", "signed",
+                                                 "bool", "boolean", "byte", "string", "uint8_t", "int16_t"};
+  auto c_type = [&](std::size_t back) -> const Token* {
+    if (feed.pos < back) return nullptr;
+    const Token& t = feed.tokens[feed.pos - back];
+    bool is = t.kind == TokenKind::Identifier &&
+              std::find(std::begin(kCTypes), std::end(kCTypes), t.text) != std::end(kCTypes);
+    return is ? &t : nullptr;
+  };
+  const Token* type = nullptr;
+  if (ctx.token() == symbol_kind::S_IDENT && expects(symbol_kind::S_TASK)) type = c_type(1);
+  if (!type && (ctx.token() == symbol_kind::S_IDENT || ctx.token() == symbol_kind::S_INT)) type = c_type(2);
+  if (type) {
+    feed.diags.error(type->span, "'" + std::string(type->text) +
+                                     "' is not a type in NQC: every variable is an int, a 16-bit whole number "
+                                     "(-32768 to 32767)");
+    return;
+  }
   std::string want;
   SourceSpan where = ctx.location();
   if (n >= 1 && n <= 3) {
