@@ -397,6 +397,16 @@ stmt
   | IDENT ':' stmt        { $$ = mks(Labeled{std::string($1), @1, box(std::move($3)), kNoSymbol}, @$); }
   | START IDENT ';'       { $$ = mks(StartTask{std::string($2), kNoSymbol}, @$); }
   | STOP IDENT ';'        { $$ = mks(StopTask{std::string($2), kNoSymbol}, @$); }
+  | START IDENT '(' ')' ';'
+      {
+        feed.diags.error(SourceSpan{@3.begin, @4.end}, "'start' takes the task's name alone: write 'start " + std::string($2) + ";'").parsed_past = true;
+        $$ = mks(StartTask{std::string($2), kNoSymbol}, @$);
+      }
+  | STOP IDENT '(' ')' ';'
+      {
+        feed.diags.error(SourceSpan{@3.begin, @4.end}, "'stop' takes the task's name alone: write 'stop " + std::string($2) + ";'").parsed_past = true;
+        $$ = mks(StopTask{std::string($2), kNoSymbol}, @$);
+      }
   | ASM '{' asm_body '}'  { $$ = mks(Asm{std::move($3)}, @$); }
   | error ';'             { $$ = mks(Empty{}, @$); }
   ;
@@ -555,6 +565,42 @@ void yy::Parser::error(const location_type& loc, const std::string& msg) {
   if (!feed.too_deep) feed.diags.error(loc, msg);
 }
 
+namespace {
+
+// A keyword written with capitals where the parse failed: `Task main()` (the
+// token found), `Int x` (the one before it), `While (x < 3) x++` (the one
+// before the parenthesis the token found follows); each only where a
+// statement or declaration starts, so that `y = Stop x` names no keyword.
+const Token* miscased_keyword(const Feed& feed) {
+  static constexpr std::string_view kKeywords[] = {"task", "sub", "void", "int", "const", "if", "else", "while",
+                                                   "do", "until", "for", "repeat", "switch", "case", "default",
+                                                   "break", "continue", "return", "goto", "start", "stop", "asm"};
+  auto miscased = [&](std::size_t i) -> const Token* {
+    const Token& t = feed.tokens[i];
+    if (t.kind != TokenKind::Identifier) return nullptr;
+    std::string lower(t.text);
+    for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    bool keyword = lower != t.text && std::find(std::begin(kKeywords), std::end(kKeywords), lower) != std::end(kKeywords);
+    bool starts = i == 0 || feed.tokens[i - 1].is(";") || feed.tokens[i - 1].is("{") || feed.tokens[i - 1].is("}") ||
+                  feed.tokens[i - 1].is(":") || feed.tokens[i - 1].is(")");
+    return keyword && starts ? &t : nullptr;
+  };
+  if (feed.pos < 1) return nullptr;
+  std::size_t found = feed.pos - 1;
+  if (const Token* t = miscased(found)) return t;
+  if (found < 1) return nullptr;
+  if (const Token* t = miscased(found - 1)) return t;
+  if (!feed.tokens[found - 1].is(")")) return nullptr;
+  int depth = 0;
+  for (std::size_t i = found - 1; i > 0; --i) {
+    if (feed.tokens[i].is(")")) ++depth;
+    if (feed.tokens[i].is("(") && --depth == 0) return miscased(i - 1);
+  }
+  return nullptr;
+}
+
+}  // namespace
+
 // gcc-like messages: "expected ';' before 'x'", naming what the grammar
 // wanted when that is short, or the most useful single expectation.
 void yy::Parser::report_syntax_error(const context& ctx) const {
@@ -592,6 +638,13 @@ void yy::Parser::report_syntax_error(const context& ctx) const {
     feed.diags.error(type->span, "'" + std::string(type->text) +
                                      "' is not a type in NQC: every variable is an int, a 16-bit whole number "
                                      "(-32768 to 32767)");
+    return;
+  }
+  if (const Token* k = miscased_keyword(feed)) {
+    std::string lower(k->text);
+    for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    feed.diags.error(k->span, "'" + std::string(k->text) + "' is not a keyword: NQC's keywords are lower case (did you mean '" +
+                                  lower + "'?)");
     return;
   }
   std::string want;
