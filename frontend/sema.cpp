@@ -183,7 +183,10 @@ class Checker {
       diags_.error(span, "'" + name + "' is not declared (it belongs to the RCX 2 firmware's API; this target is the RCX)");
       return;
     }
-    if (auto meant = closest_name(name, spelling_candidates(callee))) {
+    auto candidates = spelling_candidates(callee);
+    auto meant = closest_name(name, candidates);
+    if (!meant) meant = name_with_prefix(name, candidates);
+    if (meant) {
       diags_.error(span, "'" + name + "' is not declared; did you mean '" + *meant + "'?");
       return;
     }
