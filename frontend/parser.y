@@ -647,6 +647,14 @@ void yy::Parser::report_syntax_error(const context& ctx) const {
                                   lower + "'?)");
     return;
   }
+  // `int OUT_A = 3;` or `void Random(int n)`: a name that is a macro was
+  // expanded where a new name is declared. The note names the macro.
+  if (feed.pos >= 1 && expects(symbol_kind::S_IDENT) && !expects(symbol_kind::S_NUMBER) &&
+      feed.tokens[feed.pos - 1].span.begin.expansion != 0) {
+    feed.diags.error(ctx.location(), "expected a new name, but a macro stands here and expands to '" +
+                                         std::string(feed.last_text) + "': a macro's name cannot be declared again");
+    return;
+  }
   std::string want;
   SourceSpan where = ctx.location();
   if (n >= 1 && n <= 3) {
