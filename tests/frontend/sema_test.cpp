@@ -123,6 +123,14 @@ const BadProgram kCases[] = {
      {"4:16: warning: source type 6 is a CyberMaster source; on the RCX it reads 0"}},
     {"SourceOperandsMustBeConstant", "int g;\ntask main()\n{\n  g = __source(g, 0);\n}\n",
      {"4:7: error: both operands of __source(TYPE, ARG) must be constant expressions"}},
+    // + - and * keep the low 16 bits whatever the width; a division or a
+    // comparison of an operand that left them does not (nqc: 32 bits).
+    {"WrappedConstantWarnsOnlyWhereTheResultParts",
+     "int x;\ntask main()\n{\n  x = 30000 + 30000 - 1;\n  x = 300 * 300 / 1000;\n  x = -32768 / -1;\n"
+     "  x = (30000 + 30000) / 1;\n  x = 70000 / 7;\n}\n",
+     {"5:7: warning: 90000 does not fit in 16 bits: it wraps to 24464, so the division gives 24 (nqc, which computes "
+      "constants in 32 bits, gives 90)",
+      "8:7: warning: integer constant 70000 does not fit in 16 bits; it becomes 4464"}},
     {"SensorArgumentMustBeASensor", "task main()\n{\n  SetSensor(__source(1, 1), SENSOR_TOUCH);\n}\n",
      {"3:13: error: argument for 'sensor' of 'SetSensor' must be a sensor (SENSOR_1, SENSOR_2 or SENSOR_3)"}, true},
     {"SensorArgumentMustNotBeANumber", "task main()\n{\n  ClearSensor(0);\n}\n",
