@@ -571,30 +571,36 @@ namespace {
 // token found), `Int x` (the one before it), `While (x < 3) x++` (the one
 // before the parenthesis the token found follows); each only where a
 // statement or declaration starts, so that `y = Stop x` names no keyword.
-const Token* miscased_keyword(const Feed& feed) {
+const Token* miscased_keyword(const Feed& feed, bool between_declarations) {
   static constexpr std::string_view kKeywords[] = {"task", "sub", "void", "int", "const", "if", "else", "while",
                                                    "do", "until", "for", "repeat", "switch", "case", "default",
                                                    "break", "continue", "return", "goto", "start", "stop", "asm"};
-  auto miscased = [&](std::size_t i) -> const Token* {
+  // Before a parenthesis only the keywords with a parenthesised head count:
+  // `Stop()` there is more likely a sub of the program's own.
+  static constexpr std::string_view kHeadKeywords[] = {"if", "while", "for", "repeat", "switch", "until"};
+  auto miscased = [&](std::size_t i, bool before_parenthesis = false) -> const Token* {
     const Token& t = feed.tokens[i];
     if (t.kind != TokenKind::Identifier) return nullptr;
     std::string lower(t.text);
     for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    bool keyword = lower != t.text && std::find(std::begin(kKeywords), std::end(kKeywords), lower) != std::end(kKeywords);
+    bool keyword = lower != t.text && (before_parenthesis ? std::find(std::begin(kHeadKeywords), std::end(kHeadKeywords), lower) != std::end(kHeadKeywords)
+                                                          : std::find(std::begin(kKeywords), std::end(kKeywords), lower) != std::end(kKeywords));
     bool starts = i == 0 || feed.tokens[i - 1].is(";") || feed.tokens[i - 1].is("{") || feed.tokens[i - 1].is("}") ||
                   feed.tokens[i - 1].is(":") || feed.tokens[i - 1].is(")");
     return keyword && starts ? &t : nullptr;
   };
   if (feed.pos < 1) return nullptr;
   std::size_t found = feed.pos - 1;
-  if (const Token* t = miscased(found)) return t;
+  // In a body a name is always welcome where a statement starts, so the
+  // token found is a keyword only between declarations.
+  if (between_declarations) return miscased(found);
   if (found < 1) return nullptr;
   if (const Token* t = miscased(found - 1)) return t;
   if (!feed.tokens[found - 1].is(")")) return nullptr;
   int depth = 0;
   for (std::size_t i = found - 1; i > 0; --i) {
     if (feed.tokens[i].is(")")) ++depth;
-    if (feed.tokens[i].is("(") && --depth == 0) return miscased(i - 1);
+    if (feed.tokens[i].is("(") && --depth == 0) return miscased(i - 1, true);
   }
   return nullptr;
 }
@@ -640,7 +646,7 @@ void yy::Parser::report_syntax_error(const context& ctx) const {
                                      "(-32768 to 32767)");
     return;
   }
-  if (const Token* k = miscased_keyword(feed)) {
+  if (const Token* k = miscased_keyword(feed, expects(symbol_kind::S_TASK))) {
     std::string lower(k->text);
     for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
     feed.diags.error(k->span, "'" + std::string(k->text) + "' is not a keyword: NQC's keywords are lower case (did you mean '" +

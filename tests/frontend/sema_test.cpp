@@ -139,6 +139,10 @@ const BadProgram kCases[] = {
      "int done;\ntask main()\n{\n  done = 1;\n}\n",
      {},
      true},
+    // A sub of the program's own named like a keyword with capitals is not
+    // taken for the keyword where a ';' is missing after its call.
+    {"ASubNamedStopIsNoMiscasedKeyword", "sub Stop() { }\ntask main()\n{\n  Stop()\n  Stop();\n}\n",
+     {"4:9: error: expected ';' before 'Stop'"}},
     {"SensorArgumentMustBeASensor", "task main()\n{\n  SetSensor(__source(1, 1), SENSOR_TOUCH);\n}\n",
      {"3:13: error: argument for 'sensor' of 'SetSensor' must be a sensor (SENSOR_1, SENSOR_2 or SENSOR_3)"}, true},
     {"SensorArgumentMustNotBeANumber", "task main()\n{\n  ClearSensor(0);\n}\n",
