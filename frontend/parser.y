@@ -630,12 +630,17 @@ void yy::Parser::report_syntax_error(const context& ctx) const {
   // token found; in a body, the token before the name found.
   static constexpr std::string_view kCTypes[] = {"float", "double", "char", "short", "long", "unsigned", "signed",
                                                  "bool", "boolean", "byte", "string", "uint8_t", "int16_t"};
+  // Only where a declaration can start: `y = byte x` is about a variable.
   auto c_type = [&](std::size_t back) -> const Token* {
     if (feed.pos < back) return nullptr;
-    const Token& t = feed.tokens[feed.pos - back];
+    std::size_t i = feed.pos - back;
+    const Token& t = feed.tokens[i];
     bool is = t.kind == TokenKind::Identifier &&
               std::find(std::begin(kCTypes), std::end(kCTypes), t.text) != std::end(kCTypes);
-    return is ? &t : nullptr;
+    bool starts = i == 0 || feed.tokens[i - 1].is(";") || feed.tokens[i - 1].is("{") ||
+                  feed.tokens[i - 1].is("}") || feed.tokens[i - 1].is(")") || feed.tokens[i - 1].is(":") ||
+                  feed.tokens[i - 1].is("(");
+    return is && starts ? &t : nullptr;
   };
   const Token* type = nullptr;
   if (ctx.token() == symbol_kind::S_IDENT && expects(symbol_kind::S_TASK)) type = c_type(1);

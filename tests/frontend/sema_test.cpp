@@ -143,6 +143,9 @@ const BadProgram kCases[] = {
     // taken for the keyword where a ';' is missing after its call.
     {"ASubNamedStopIsNoMiscasedKeyword", "sub Stop() { }\ntask main()\n{\n  Stop()\n  Stop();\n}\n",
      {"4:9: error: expected ';' before 'Stop'"}},
+    // A variable named like a C type, before a missing ';', is no type.
+    {"AVariableNamedByteIsNoCType", "int byte, y;\ntask main()\n{\n  y = byte\n  y = 2;\n}\n",
+     {"4:11: error: expected ';' before 'y'"}},
     {"SensorArgumentMustBeASensor", "task main()\n{\n  SetSensor(__source(1, 1), SENSOR_TOUCH);\n}\n",
      {"3:13: error: argument for 'sensor' of 'SetSensor' must be a sensor (SENSOR_1, SENSOR_2 or SENSOR_3)"}, true},
     {"SensorArgumentMustNotBeANumber", "task main()\n{\n  ClearSensor(0);\n}\n",
