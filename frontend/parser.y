@@ -660,8 +660,12 @@ void yy::Parser::report_syntax_error(const context& ctx) const {
   }
   // `int OUT_A = 3;` or `void Random(int n)`: a name that is a macro was
   // expanded where a new name is declared. The note names the macro.
-  if (feed.pos >= 1 && expects(symbol_kind::S_IDENT) && !expects(symbol_kind::S_NUMBER) &&
-      feed.tokens[feed.pos - 1].span.begin.expansion != 0) {
+  auto declares = [&](const Token& t) {
+    return t.is_identifier("int") || t.is_identifier("void") || t.is_identifier("sub") || t.is_identifier("task") ||
+           t.is(",") || t.is("&");
+  };
+  if (feed.pos >= 2 && expects(symbol_kind::S_IDENT) && !expects(symbol_kind::S_NUMBER) &&
+      feed.tokens[feed.pos - 1].span.begin.expansion != 0 && declares(feed.tokens[feed.pos - 2])) {
     feed.diags.error(ctx.location(), "expected a new name, but a macro stands here and expands to '" +
                                          std::string(feed.last_text) + "': a macro's name cannot be declared again");
     return;
