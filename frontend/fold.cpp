@@ -1,6 +1,7 @@
 #include "frontend/fold.h"
 
 #include "frontend/frontend.h"
+#include "frontend/token.h"
 
 namespace rcxc::frontend {
 
@@ -56,6 +57,49 @@ std::optional<std::int16_t> fold_unary(UnaryOp op, std::int16_t a) {
 
 namespace {
 
+std::optional<std::int64_t> exact_rec(const Expr& e, int& budget) {
+  // Far past what 16-bit operands can reach after a few hundred nodes, and
+  // no int64 overflow: each step is bounded before it is taken.
+  constexpr std::int64_t kLimit = std::int64_t{1} << 40;
+  if (--budget < 0) return std::nullopt;
+  if (const auto* lit = as<IntLit>(e)) {
+    if (lit->value >= kLiteralPastRange) return std::nullopt;
+    return lit->value;
+  }
+  if (const auto* u = as<Unary>(e)) {
+    if (u->op != UnaryOp::Negate && u->op != UnaryOp::Plus) return std::nullopt;
+    auto a = exact_rec(*u->operand, budget);
+    if (!a) return std::nullopt;
+    return u->op == UnaryOp::Negate ? -*a : *a;
+  }
+  const auto* b = as<Binary>(e);
+  if (!b) return std::nullopt;
+  auto x = exact_rec(*b->lhs, budget);
+  if (!x) return std::nullopt;
+  auto y = exact_rec(*b->rhs, budget);
+  if (!y) return std::nullopt;
+  std::int64_t r = 0;
+  switch (b->op) {
+    case BinaryOp::Add: r = *x + *y; break;
+    case BinaryOp::Sub: r = *x - *y; break;
+    case BinaryOp::Mul:
+      if ((*x != 0 && (*y > kLimit || *y < -kLimit)) || (*y != 0 && (*x > kLimit || *x < -kLimit))) return std::nullopt;
+      r = *x * *y;
+      break;
+    case BinaryOp::Div:
+      if (*y == 0) return std::nullopt;
+      r = *x / *y;
+      break;
+    case BinaryOp::Mod:
+      if (*y == 0) return std::nullopt;
+      r = *x % *y;
+      break;
+    default: return std::nullopt;
+  }
+  if (r > kLimit || r < -kLimit) return std::nullopt;
+  return r;
+}
+
 std::optional<std::int16_t> fold_rec(const Expr& e, Diagnostics* diags) {
   if (const auto* lit = as<IntLit>(e)) return wrap16(lit->value);
   if (const auto* u = as<Unary>(e)) {
@@ -101,5 +145,10 @@ std::optional<std::int16_t> fold_rec(const Expr& e, Diagnostics* diags) {
 }  // namespace
 
 std::optional<std::int16_t> fold_constant(const Expr& e, Diagnostics* diags) { return fold_rec(e, diags); }
+
+std::optional<std::int64_t> exact_constant(const Expr& e) {
+  int budget = 256;
+  return exact_rec(e, budget);
+}
 
 }  // namespace rcxc::frontend

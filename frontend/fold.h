@@ -20,4 +20,11 @@ std::optional<std::int16_t> fold_binary(ast::BinaryOp op, std::int16_t a, std::i
 // Pre/post increment and decrement are never constant: nullopt.
 std::optional<std::int16_t> fold_unary(ast::UnaryOp op, std::int16_t a);
 
+// The value of constant arithmetic as written, in wide integers: literals,
+// parentheses, unary - and +, and + - * / % of those (what a C compiler,
+// or nqc in 32 bits, computes for `60 * 1000 / 10`). nullopt for anything
+// else, for a division by zero, and past a few hundred nodes (the caller
+// asks at each division, so the work stays linear in the program).
+std::optional<std::int64_t> exact_constant(const ast::Expr& e);
+
 }  // namespace rcxc::frontend

@@ -46,8 +46,11 @@ bool skip_block_comment(Cursor& c) {
   return false;
 }
 
+// With `defer`, a character or quote that starts no token is not reported
+// here: it becomes an Unknown token (a NUL too) for report_unknown_token(),
+// so that text an #if leaves out may hold anything, as in C.
 std::vector<Token> lex_text(std::string_view text, std::uint32_t file, Diagnostics& diags, std::vector<Token> room,
-                            std::vector<Comment>* comments) {
+                            std::vector<Comment>* comments, bool defer = false) {
   // re2c reads through a NUL sentinel, so work on a NUL-terminated copy.
   std::string buf(text);
   Cursor c{buf.c_str(), buf.c_str() + buf.size(), buf.c_str(), buf.c_str(), file};
@@ -67,7 +70,7 @@ std::vector<Token> lex_text(std::string_view text, std::uint32_t file, Diagnosti
   constexpr int kMaxLexErrors = 40;
   int lex_errors = 0;
   auto too_many = [&](const char* at) {
-    if (++lex_errors < kMaxLexErrors) return false;
+    if (defer || ++lex_errors < kMaxLexErrors) return false;
     diags.error({c.loc(at), c.loc(at)}, "too many invalid characters; is this an NQC source file?");
     Token end;
     end.kind = TokenKind::End;
@@ -121,6 +124,10 @@ std::vector<Token> lex_text(std::string_view text, std::uint32_t file, Diagnosti
           emit(TokenKind::End, start);
           return out;
         }
+        if (defer) {
+          emit(TokenKind::Unknown, start);
+          continue;
+        }
         diags.error({c.loc(start), c.loc(c.p)}, "stray NUL character in source");
         if (too_many(start)) return out;
         continue;
@@ -144,8 +151,8 @@ std::vector<Token> lex_text(std::string_view text, std::uint32_t file, Diagnosti
       ["'] {
         // Unterminated: take the rest of the line so lexing resumes sanely.
         while (c.p < c.limit && *c.p != '\n') ++c.p;
-        diags.error({c.loc(start), c.loc(start + 1)}, std::string("missing terminating ") + *start + " character");
         emit(TokenKind::Unknown, start);
+        if (!defer) report_unknown_token(out.back(), diags);
         if (too_many(start)) return out;
         continue;
       }
@@ -153,8 +160,8 @@ std::vector<Token> lex_text(std::string_view text, std::uint32_t file, Diagnosti
       | "+=" | "-=" | "*=" | "/=" | "%=" | "&=" | "|=" | "^="
       | [-+*/%&|^~!<>=?:;,.(){}[\]#$@] { emit(TokenKind::Punct, start); continue; }
       * {
-        diags.error({c.loc(start), c.loc(c.p)}, "stray character " + describe_char(*start) + " in program");
         emit(TokenKind::Unknown, start);
+        if (!defer) report_unknown_token(out.back(), diags);
         if (too_many(start)) return out;
         continue;
       }
@@ -173,7 +180,27 @@ std::vector<Token> lex(std::string_view text, std::uint32_t file, Diagnostics& d
   return lex_text(text, file, diags, {}, &comments);
 }
 
+std::vector<Token> lex_deferring_stray(std::string_view text, std::uint32_t file, Diagnostics& diags,
+                                       std::vector<Token> room) {
+  return lex_text(text, file, diags, std::move(room), nullptr, true);
+}
+
+void report_unknown_token(const Token& t, Diagnostics& diags) {
+  char first = t.text.empty() ? '\0' : t.text[0];
+  SourceSpan one_char = {t.span.begin, t.span.begin};
+  ++one_char.end.column;
+  if (first == '\0')
+    diags.error(one_char, "stray NUL character in source");
+  else if (first == '\'' || first == '"')
+    diags.error(one_char, std::string("missing terminating ") + first + " character");
+  else
+    diags.error(t.span, "stray character " + describe_char(first) + " in program");
+}
+
 std::string invalid_number_message(std::string_view text) {
+  if (text.starts_with('\''))
+    return "character constant " + std::string(text) +
+           " must hold one character or one escape (\\n \\t \\r \\\\ \\' \\\" \\0 \\101 \\x41)";
   if (text.find('.') != std::string_view::npos)
     return "'" + std::string(text) + "' is a floating-point number; the RCX computes with 16-bit integers only";
   return "invalid number '" + std::string(text) + "'";
@@ -182,24 +209,33 @@ std::string invalid_number_message(std::string_view text) {
 bool number_value(const Token& t, std::int64_t& value) {
   std::string_view s = t.text;
   if (t.kind == TokenKind::Char) {
-    // 'c' or an escape '\n', '\t', '\0', '\\', '\''.
+    // 'c' or an escape '\n', '\t', '\r', '\\', '\'', '\"', an octal '\101'
+    // (up to three digits, so '\0' too) or a hex '\x41' (one or two digits).
     if (s.size() == 3) {
       value = static_cast<unsigned char>(s[1]);
       return true;
     }
-    if (s.size() == 4 && s[1] == '\\') {
-      switch (s[2]) {
+    if (s.size() < 4 || s[1] != '\\') return false;
+    std::string_view esc = s.substr(2, s.size() - 3);
+    if (esc.size() == 1) {
+      switch (esc[0]) {
         case 'n': value = '\n'; return true;
         case 't': value = '\t'; return true;
         case 'r': value = '\r'; return true;
-        case '0': value = 0; return true;
         case '\\': value = '\\'; return true;
         case '\'': value = '\''; return true;
         case '"': value = '"'; return true;
-        default: return false;
+        default: break;
       }
     }
-    return false;
+    bool hex = esc[0] == 'x';
+    std::string_view digits = hex ? esc.substr(1) : esc;
+    if (digits.empty() || digits.size() > (hex ? 2u : 3u)) return false;
+    unsigned code = 0;
+    auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), code, hex ? 16 : 8);
+    if (ec != std::errc() || end != digits.data() + digits.size() || code > 255) return false;
+    value = code;
+    return true;
   }
   if (t.kind != TokenKind::Number) return false;
   int base = 10;

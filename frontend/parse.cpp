@@ -211,7 +211,7 @@ yy::Parser::symbol_type next_token(Feed& feed, std::size_t stack_size) {
       }
       case TokenKind::Unknown:
       case TokenKind::End:
-        continue;  // already reported by the lexer
+        continue;  // already reported by the lexer or the preprocessor
     }
   }
 }

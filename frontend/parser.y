@@ -89,6 +89,11 @@ namespace {
 using namespace rcxc;
 using namespace rcxc::ast;
 
+// C's `const int K = 5;`: NQC's only constants are macros and numbers.
+constexpr const char* kNoConstVariables =
+    "NQC has no constant variables: write '#define NAME value' for a named constant ('const' belongs to "
+    "function parameters only)";
+
 template <class F>
 void each_operand(const ExprNode& n, F f) {
   std::visit([&](const auto& v) {
@@ -242,6 +247,22 @@ top
         note_order(feed.program, SymbolKind::Sub, feed.program.subs.size());
         feed.program.subs.push_back(Sub{std::string($2), @2, std::move(*$5), kNoSymbol});
       }
+  | INT IDENT '(' params_opt ')' block
+      {
+        // C's `int f()`: no call in NQC returns a value.
+        feed.diags.error(@1, "functions return no value in NQC: write 'void " + std::string($2) +
+                             "(...)' and pass a result back in a global variable or an 'int &' parameter").parsed_past = true;
+        note_order(feed.program, SymbolKind::Function, feed.program.functions.size());
+        feed.program.functions.push_back(Function{std::string($2), @2, std::move($4), std::move(*$6), kNoSymbol});
+      }
+  | CONST INT declarators ';'
+      {
+        feed.diags.error(@1, kNoConstVariables).parsed_past = true;
+        for (auto& v : $3) {
+          note_order(feed.program, SymbolKind::Global, feed.program.globals.size());
+          feed.program.globals.push_back(std::move(v));
+        }
+      }
   | SUB IDENT '(' params ')' block
       {
         // The firmware's subroutine call carries no values.
@@ -332,6 +353,11 @@ stmts
 stmt
   : block                 { $$ = std::move($1); }
   | INT declarators ';'   { $$ = mks(DeclStmt{std::move($2)}, @$); }
+  | CONST INT declarators ';'
+      {
+        feed.diags.error(@1, kNoConstVariables).parsed_past = true;
+        $$ = mks(DeclStmt{std::move($3)}, @$);
+      }
   | expr ';'              { $$ = mks(ExprStmt{std::move(*$1)}, @$); }
   | ';'                   { $$ = mks(Empty{}, @$); }
   | IF '(' expr ')' stmt %prec LOWER_THAN_ELSE
@@ -361,10 +387,26 @@ stmt
   | BREAK ';'             { $$ = mks(Break{}, @$); }
   | CONTINUE ';'          { $$ = mks(Continue{}, @$); }
   | RETURN ';'            { $$ = mks(Return{}, @$); }
+  | RETURN expr ';'
+      {
+        feed.diags.error(@2, "'return' takes no value in NQC: tasks, subs and functions return nothing (pass a "
+                             "result back in a global variable or an 'int &' parameter)").parsed_past = true;
+        $$ = mks(Return{}, @$);
+      }
   | GOTO IDENT ';'        { $$ = mks(Goto{std::string($2), kNoSymbol}, @$); }
   | IDENT ':' stmt        { $$ = mks(Labeled{std::string($1), @1, box(std::move($3)), kNoSymbol}, @$); }
   | START IDENT ';'       { $$ = mks(StartTask{std::string($2), kNoSymbol}, @$); }
   | STOP IDENT ';'        { $$ = mks(StopTask{std::string($2), kNoSymbol}, @$); }
+  | START IDENT '(' ')' ';'
+      {
+        feed.diags.error(SourceSpan{@3.begin, @4.end}, "'start' takes the task's name alone: write 'start " + std::string($2) + ";'").parsed_past = true;
+        $$ = mks(StartTask{std::string($2), kNoSymbol}, @$);
+      }
+  | STOP IDENT '(' ')' ';'
+      {
+        feed.diags.error(SourceSpan{@3.begin, @4.end}, "'stop' takes the task's name alone: write 'stop " + std::string($2) + ";'").parsed_past = true;
+        $$ = mks(StopTask{std::string($2), kNoSymbol}, @$);
+      }
   | ASM '{' asm_body '}'  { $$ = mks(Asm{std::move($3)}, @$); }
   | error ';'             { $$ = mks(Empty{}, @$); }
   ;
@@ -523,6 +565,48 @@ void yy::Parser::error(const location_type& loc, const std::string& msg) {
   if (!feed.too_deep) feed.diags.error(loc, msg);
 }
 
+namespace {
+
+// A keyword written with capitals where the parse failed: `Task main()` (the
+// token found), `Int x` (the one before it), `While (x < 3) x++` (the one
+// before the parenthesis the token found follows); each only where a
+// statement or declaration starts, so that `y = Stop x` names no keyword.
+const Token* miscased_keyword(const Feed& feed, bool between_declarations) {
+  static constexpr std::string_view kKeywords[] = {"task", "sub", "void", "int", "const", "if", "else", "while",
+                                                   "do", "until", "for", "repeat", "switch", "case", "default",
+                                                   "break", "continue", "return", "goto", "start", "stop", "asm"};
+  // Before a parenthesis only the keywords with a parenthesised head count:
+  // `Stop()` there is more likely a sub of the program's own.
+  static constexpr std::string_view kHeadKeywords[] = {"if", "while", "for", "repeat", "switch", "until"};
+  auto miscased = [&](std::size_t i, bool before_parenthesis = false) -> const Token* {
+    const Token& t = feed.tokens[i];
+    if (t.kind != TokenKind::Identifier) return nullptr;
+    std::string lower(t.text);
+    for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    bool keyword = lower != t.text && (before_parenthesis ? std::find(std::begin(kHeadKeywords), std::end(kHeadKeywords), lower) != std::end(kHeadKeywords)
+                                                          : std::find(std::begin(kKeywords), std::end(kKeywords), lower) != std::end(kKeywords));
+    bool starts = i == 0 || feed.tokens[i - 1].is(";") || feed.tokens[i - 1].is("{") || feed.tokens[i - 1].is("}") ||
+                  feed.tokens[i - 1].is(":") || feed.tokens[i - 1].is(")");
+    return keyword && starts ? &t : nullptr;
+  };
+  if (feed.pos < 1) return nullptr;
+  std::size_t found = feed.pos - 1;
+  // In a body a name is always welcome where a statement starts, so the
+  // token found is a keyword only between declarations.
+  if (between_declarations) return miscased(found);
+  if (found < 1) return nullptr;
+  if (const Token* t = miscased(found - 1)) return t;
+  if (!feed.tokens[found - 1].is(")")) return nullptr;
+  int depth = 0;
+  for (std::size_t i = found - 1; i > 0; --i) {
+    if (feed.tokens[i].is(")")) ++depth;
+    if (feed.tokens[i].is("(") && --depth == 0) return miscased(i - 1, true);
+  }
+  return nullptr;
+}
+
+}  // namespace
+
 // gcc-like messages: "expected ';' before 'x'", naming what the grammar
 // wanted when that is short, or the most useful single expectation.
 void yy::Parser::report_syntax_error(const context& ctx) const {
@@ -541,6 +625,51 @@ void yy::Parser::report_syntax_error(const context& ctx) const {
     if (name.size() >= 2 && name.front() == '"' && name.back() == '"') name = "'" + name.substr(1, name.size() - 2) + "'";
     return name;
   };
+  // C's other types (`float x`, `unsigned int x`): said at the type rather
+  // than "expected ';' before 'x'". Between declarations the type is the
+  // token found; in a body, the token before the name found.
+  static constexpr std::string_view kCTypes[] = {"float", "double", "char", "short", "long", "unsigned", "signed",
+                                                 "bool", "boolean", "byte", "string", "uint8_t", "int16_t"};
+  // Only where a declaration can start: `y = byte x` is about a variable.
+  auto c_type = [&](std::size_t back) -> const Token* {
+    if (feed.pos < back) return nullptr;
+    std::size_t i = feed.pos - back;
+    const Token& t = feed.tokens[i];
+    bool is = t.kind == TokenKind::Identifier &&
+              std::find(std::begin(kCTypes), std::end(kCTypes), t.text) != std::end(kCTypes);
+    bool starts = i == 0 || feed.tokens[i - 1].is(";") || feed.tokens[i - 1].is("{") ||
+                  feed.tokens[i - 1].is("}") || feed.tokens[i - 1].is(")") || feed.tokens[i - 1].is(":") ||
+                  feed.tokens[i - 1].is("(");
+    return is && starts ? &t : nullptr;
+  };
+  const Token* type = nullptr;
+  if (ctx.token() == symbol_kind::S_IDENT && expects(symbol_kind::S_TASK)) type = c_type(1);
+  if (!type && (ctx.token() == symbol_kind::S_IDENT || ctx.token() == symbol_kind::S_INT)) type = c_type(2);
+  if (type) {
+    feed.diags.error(type->span, "'" + std::string(type->text) +
+                                     "' is not a type in NQC: every variable is an int, a 16-bit whole number "
+                                     "(-32768 to 32767)");
+    return;
+  }
+  if (const Token* k = miscased_keyword(feed, expects(symbol_kind::S_TASK))) {
+    std::string lower(k->text);
+    for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    feed.diags.error(k->span, "'" + std::string(k->text) + "' is not a keyword: NQC's keywords are lower case (did you mean '" +
+                                  lower + "'?)");
+    return;
+  }
+  // `int OUT_A = 3;` or `void Random(int n)`: a name that is a macro was
+  // expanded where a new name is declared. The note names the macro.
+  auto declares = [&](const Token& t) {
+    return t.is_identifier("int") || t.is_identifier("void") || t.is_identifier("sub") || t.is_identifier("task") ||
+           t.is(",") || t.is("&");
+  };
+  if (feed.pos >= 2 && expects(symbol_kind::S_IDENT) && !expects(symbol_kind::S_NUMBER) &&
+      feed.tokens[feed.pos - 1].span.begin.expansion != 0 && declares(feed.tokens[feed.pos - 2])) {
+    feed.diags.error(ctx.location(), "expected a new name, but a macro stands here and expands to '" +
+                                         std::string(feed.last_text) + "': a macro's name cannot be declared again");
+    return;
+  }
   std::string want;
   SourceSpan where = ctx.location();
   if (n >= 1 && n <= 3) {

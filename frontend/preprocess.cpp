@@ -283,6 +283,8 @@ class Preprocessor {
   // each level before going deeper (kLiveArgumentBase, ...PerInputToken).
   std::size_t live_argument_tokens_ = 0;
   bool aborted_ = false;
+  static constexpr int kMaxUnknownReported = 40;
+  int unknown_reported_ = 0;
   SourceSpan last_span_;
   Preprocessed out_;
 
@@ -325,7 +327,7 @@ class Preprocessor {
 
   void push_file(std::uint32_t file, const std::string& dir, const std::string& key) {
     OpenFile f;
-    f.tokens = lex(sm_.text(file), file, diags_, std::exchange(spare_, {}));
+    f.tokens = lex_deferring_stray(sm_.text(file), file, diags_, std::exchange(spare_, {}));
     input_tokens_ += f.tokens.size();
     // An #included file's tokens will mostly be output too: room for them
     // at once (read_all() makes room for the first files), so that a
@@ -381,6 +383,7 @@ class Preprocessor {
         ++files_.back().pos;
         continue;
       }
+      if (t->kind == TokenKind::Unknown) report_unknown(*t);
       // A file's tokens are read once, front to back: each is moved out.
       out = std::move(*t);
       ++files_.back().pos;
@@ -396,6 +399,16 @@ class Preprocessor {
     if (!current_file_token(t)) return false;
     if (t->line_start && t->is("#")) return false;
     return active() && t->is("(");
+  }
+
+  // The lexer leaves stray characters to be reported here, where the text
+  // is not skipped. A file full of them is not NQC (a binary, say): stop
+  // after a few dozen rather than one report per byte.
+  void report_unknown(const Token& t) {
+    report_unknown_token(t, diags_);
+    if (++unknown_reported_ < kMaxUnknownReported) return;
+    diags_.error(t.span, "too many invalid characters; is this an NQC source file?");
+    aborted_ = true;
   }
 
   // The rest of the current directive line (tokens up to the next line start).
@@ -691,7 +704,14 @@ class Preprocessor {
     if (d == "else") return do_else(line, hash);
     if (d == "endif") return do_endif(line, hash);
     if (!active()) return;
-    if (d == "define") return do_define(line);
+    if (d == "define") {
+      // The body is compiled where the macro is used; the text of #error,
+      // #warning and #pragma is a message (`#warning it's slow`), and an
+      // #if expression says what it cannot read.
+      for (const Token& t : line)
+        if (t.kind == TokenKind::Unknown) report_unknown(t);
+      return do_define(line);
+    }
     if (d == "undef") return do_undef(line);
     if (d == "include") return do_include(line, hash);
     if (d == "error") {

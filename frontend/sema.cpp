@@ -183,7 +183,10 @@ class Checker {
       diags_.error(span, "'" + name + "' is not declared (it belongs to the RCX 2 firmware's API; this target is the RCX)");
       return;
     }
-    if (auto meant = closest_name(name, spelling_candidates(callee))) {
+    auto candidates = spelling_candidates(callee);
+    auto meant = closest_name(name, candidates);
+    if (!meant) meant = name_with_prefix(name, candidates);
+    if (meant) {
       diags_.error(span, "'" + name + "' is not declared; did you mean '" + *meant + "'?");
       return;
     }
@@ -630,12 +633,49 @@ class Checker {
     if (a && b) {
       e.constant = fold_binary(n.op, *a, *b);
       if (!e.constant) diags_.error(n.rhs->span, "division by zero in a constant expression");
+      if (e.constant) warn_wrapped_operand(n, *e.constant);
       return;
     }
     if (a && n.op == BinaryOp::LogAnd && *a == 0) e.constant = 0;
     if (a && n.op == BinaryOp::LogOr && *a != 0) e.constant = 1;
     if (divides && b && *b == 0)
       diags_.warning(n.rhs->span, "division by zero (at run time the firmware leaves the value unchanged)");
+  }
+
+  // `Wait(60 * 1000 / 10)`: 60000 wraps to -5536 in 16 bits, as the brick
+  // would compute it, so the wait is -553, where nqc (32-bit constants) and
+  // a C reader expect 6000. + - and * wrap to the same low 16 bits either
+  // way; a division, a remainder or a comparison of a wrapped operand does
+  // not, so it is said where the operand leaves the 16 bits.
+  void warn_wrapped_operand(const Binary& n, std::int16_t folded) {
+    bool divides = n.op == BinaryOp::Div || n.op == BinaryOp::Mod;
+    bool compares = n.op == BinaryOp::Lt || n.op == BinaryOp::Le || n.op == BinaryOp::Gt || n.op == BinaryOp::Ge ||
+                    n.op == BinaryOp::Eq || n.op == BinaryOp::Ne;
+    if (!divides && !compares) return;
+    auto x = exact_constant(*n.lhs);
+    auto y = exact_constant(*n.rhs);
+    if (!x || !y) return;
+    auto fits = [](std::int64_t v) { return v >= -32768 && v <= 32767; };
+    const Expr* wrapped = !fits(*x) ? n.lhs.get() : !fits(*y) ? n.rhs.get() : nullptr;
+    // A literal past 16 bits has its own warning already.
+    if (!wrapped || as<IntLit>(*wrapped)) return;
+    std::int64_t wide = 0;
+    switch (n.op) {
+      case BinaryOp::Div: if (*y == 0) return; wide = *x / *y; break;
+      case BinaryOp::Mod: if (*y == 0) return; wide = *x % *y; break;
+      case BinaryOp::Lt: wide = *x < *y; break;
+      case BinaryOp::Le: wide = *x <= *y; break;
+      case BinaryOp::Gt: wide = *x > *y; break;
+      case BinaryOp::Ge: wide = *x >= *y; break;
+      case BinaryOp::Eq: wide = *x == *y; break;
+      default: wide = *x != *y; break;
+    }
+    if (wrap16(wide) == folded) return;
+    std::int64_t exact = wrapped == n.lhs.get() ? *x : *y;
+    const char* what = n.op == BinaryOp::Div ? "division" : n.op == BinaryOp::Mod ? "remainder" : "comparison";
+    diags_.warning(wrapped->span, fmt::format("{} does not fit in 16 bits: it wraps to {}, so the {} gives {} (nqc, "
+                                              "which computes constants in 32 bits, gives {})",
+                                              exact, wrap16(exact), what, folded, wide));
   }
 
   void visit_expr(Assign& n, Expr&, Use) {
@@ -796,6 +836,19 @@ class Checker {
     }
   }
 
+  // The RCX takes a source's argument from the instruction itself: say so
+  // in the words of the call written (Random(n), Timer(i)).
+  static std::string non_constant_source_message(const Source& n) {
+    std::string why = " must be a constant expression: the RCX takes it from the instruction, so a variable cannot ";
+    if (n.type->constant && !n.arg->constant) {
+      int type = *n.type->constant;
+      if (type == static_cast<int>(rcx::Source::Random)) return "the maximum of Random(n)" + why + "set it";
+      if (auto range = rcx::source_argument_range(type); range && !range->noun.empty())
+        return fmt::format("the {} number{}choose the {}", range->noun, why, range->noun);
+    }
+    return "both operands of __source(TYPE, ARG) must be constant expressions";
+  }
+
   void visit_expr(Source& n, Expr& e, Use) {
     std::size_t errors_before = diags_.error_count();
     expr(*n.type, Use::Value);
@@ -804,7 +857,7 @@ class Checker {
       // An operand already said what is wrong with it (SensorValueRaw(x):
       // "argument must be a sensor"); a second message would only repeat it.
       if (!depends_on_const_param(e) && diags_.error_count() == errors_before)
-        diags_.error(e.span, "both operands of __source(TYPE, ARG) must be constant expressions");
+        diags_.error(e.span, non_constant_source_message(n));
       return;
     }
     int type = *n.type->constant;

@@ -53,4 +53,23 @@ std::optional<std::string> closest_name(std::string_view misspelt, const std::ve
   return best;
 }
 
+std::optional<std::string> name_with_prefix(std::string_view bare, const std::vector<std::string>& candidates) {
+  if (bare.size() < 3) return std::nullopt;
+  std::optional<std::string> best;
+  bool tied = false;
+  for (const std::string& c : candidates) {
+    if (c.size() <= bare.size() + 1 || !c.ends_with(bare) || c[c.size() - bare.size() - 1] != '_' ||
+        c.rfind("__", 0) == 0)
+      continue;
+    if (!best || c.size() < best->size()) {
+      best = c;
+      tied = false;
+    } else if (c.size() == best->size() && c != *best) {
+      tied = true;
+    }
+  }
+  if (!best || tied) return std::nullopt;
+  return best;
+}
+
 }  // namespace rcxc::frontend

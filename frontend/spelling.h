@@ -22,4 +22,9 @@ inline constexpr std::size_t kMaxSpelledName = 64;
 // A name longer than kMaxSpelledName gets none.
 std::optional<std::string> closest_name(std::string_view misspelt, const std::vector<std::string>& candidates);
 
+// The candidate that is `bare` with a prefix, as TOUCH is SENSOR_TOUCH and
+// FWD is OUT_FWD: the shortest one ending in "_" + `bare` (same case), when
+// `bare` has three letters or more and no other such candidate is as short.
+std::optional<std::string> name_with_prefix(std::string_view bare, const std::vector<std::string>& candidates);
+
 }  // namespace rcxc::frontend

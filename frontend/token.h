@@ -19,7 +19,7 @@ enum class TokenKind : std::uint8_t {
   Char,        // 'a', as spelled with quotes
   String,      // "text", as spelled with quotes
   Punct,       // operators and punctuation, incl. # ## and $
-  Unknown,     // a character that starts no token (already diagnosed)
+  Unknown,     // a character that starts no token (reported by lex or by the preprocessor)
 };
 
 // The small fields come last, packed together: a file can hold hundreds of
@@ -51,6 +51,18 @@ static_assert(std::is_trivially_copyable_v<Token>, "tokens are copied and moved 
 // long program #includes, lexed one after another, fill memory the last
 // part already had instead of each faulting in pages of its own.
 std::vector<Token> lex(std::string_view text, std::uint32_t file, Diagnostics& diags, std::vector<Token> room = {});
+
+// lex(), except that a character or quote that starts no token (and a NUL)
+// is not reported: it is left as an Unknown token, which the preprocessor
+// reports with report_unknown_token() only where the text is not left out
+// by an #if, so that `#if 0` around prose ("don't", UTF-8 letters) is no
+// error, as in C and nqc. Nor does it stop after a few dozen of them.
+std::vector<Token> lex_deferring_stray(std::string_view text, std::uint32_t file, Diagnostics& diags,
+                                       std::vector<Token> room = {});
+
+// The error for an Unknown token: a stray character, a stray NUL, or a
+// quote without its closing one (at the quote).
+void report_unknown_token(const Token& t, Diagnostics& diags);
 
 // A comment as written, /* */ or // (without its newline). The compiler
 // drops comments; the source formatter (format/) keeps them, so lex() can

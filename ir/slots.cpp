@@ -73,13 +73,28 @@ constexpr std::string_view kNoSlotLeft = "no variable slot left for ";
 
 std::string holder_name(const Var& v) { return v.name.empty() ? std::string("a compiler temporary") : "'" + v.name + "'"; }
 
+// Where a variable is first used: a compiler temporary has no declaration,
+// so the error points at the code that needed it.
+SourceSpan first_use(const Program& p, VarId v) {
+  for (const auto& f : p.functions) {
+    if (!live_function(f)) continue;
+    for (const auto& b : f.blocks)
+      for (const auto& in : b.instrs)
+        if (in.span != 0)
+          for (const auto& a : in.args)
+            if (a.is_var() && a.value == v) return p.span(in.span);
+  }
+  return {};
+}
+
 void report_exhaustion(const Program& p, VarId failed, const std::vector<int>& slot, Diagnostics& diags) {
   const Var& v = p.vars[static_cast<std::size_t>(failed)];
-  auto& d = diags.error(v.span, fmt::format("{}{}: the RCX has {} and all are taken", kNoSlotLeft, holder_name(v),
+  SourceSpan at = v.span.begin.valid() ? v.span : first_use(p, failed);
+  auto& d = diags.error(at, fmt::format("{}{}: the RCX has {} and all are taken", kNoSlotLeft, holder_name(v),
                                             kSlots));
   for (int s = 0; s < kSlots; ++s) {
     std::string holders;
-    SourceSpan where = v.span;
+    SourceSpan where = at;
     if ((p.reserved_slots >> s) & 1u) holders = "#pragma reserve";
     for (std::size_t u = 0; u < slot.size(); ++u)
       if (slot[u] == s && static_cast<VarId>(u) != failed) {

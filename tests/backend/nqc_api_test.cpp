@@ -160,5 +160,35 @@ TEST(NqcApi, EveryNameOfNqcsRcxApiCompilesAndRunsAsNqcsCodeDoes) {
   EXPECT_GT(checked.size(), 80u) << "nqc accepted too few of its own names";
 }
 
+// Arguments outside what the API's constants spell still make the bytes
+// nqc's code has: the outputs and the mode of SetOutput and SetDirection
+// share a byte and are added (SetDirection(OUT_A, 3) is output C reversed),
+// and SetSensor's type is the config's high byte even when it is negative.
+TEST(NqcApi, EdgeArgumentsMakeTheBytesNqcsCodeHas) {
+  std::string nqc = test::find_nqc();
+  if (nqc.empty()) GTEST_SKIP() << "nqc is not installed";
+  const char* bodies[] = {
+      "SetDirection(OUT_A, 3);", "SetOutput(OUT_A, OUT_ON + 1);", "SetOutput(OUT_B, 5);",
+      "SetSensor(SENSOR_2, -300);", "SetSensor(SENSOR_1, -1);", "SetSensor(SENSOR_3, 0x3ff);",
+  };
+  test::TempDir dir;
+  for (const char* body : bodies) {
+    std::string text = std::string("#pragma noinit\ntask main()\n{\n  ") + body + "\n}\n";
+    std::string src = dir.write("edge.nqc", text), image_path = dir.path + "/edge.rcx";
+    ASSERT_EQ(test::run_process({nqc, "-Trcx", "-O" + image_path, src}).exit_code, 0) << body;
+    auto theirs = rcx::read_image_file(image_path);
+    ASSERT_TRUE(std::holds_alternative<rcx::Image>(theirs)) << body;
+    SourceManager sm;
+    Diagnostics diags;
+    ir::Log log;
+    auto ours = backend::compile_source("edge.nqc", text, frontend::Options{}, ir::OptLevel::Os, sm, diags, log);
+    ASSERT_TRUE(ours && !diags.has_errors()) << body;
+    const auto* mine = ours->image.find(rcx::FragmentType::Task, 0);
+    const auto* nqcs = std::get<rcx::Image>(theirs).find(rcx::FragmentType::Task, 0);
+    ASSERT_TRUE(mine && nqcs) << body;
+    EXPECT_EQ(mine->code, nqcs->code) << body;
+  }
+}
+
 }  // namespace
 }  // namespace rcxc

@@ -35,6 +35,20 @@ TEST(Spelling, ClosestNameNeedsOneClearWinner) {
   EXPECT_EQ(closest_name("__internl", names), std::nullopt);  // the library's helpers are not offered
 }
 
+// TOUCH written for SENSOR_TOUCH is too far in edits for closest_name; the
+// shortest name that ends in _TOUCH is meant.
+TEST(Spelling, ANameWithoutItsPrefixFindsTheShortestThatEndsInIt) {
+  using rcxc::frontend::name_with_prefix;
+  std::vector<std::string> names{"SENSOR_TOUCH", "SENSOR_TYPE_TOUCH", "OUT_A", "DISPLAY_OUT_A", "SOUND_UP",
+                                 "SOUND_FAST_UP", "SOUND_LO_BEEP", "SOUND_HI_BEEP", "__X_FWD", "TOUCHED"};
+  EXPECT_EQ(name_with_prefix("TOUCH", names), "SENSOR_TOUCH");
+  EXPECT_EQ(name_with_prefix("touch", names), std::nullopt);  // the case is kept
+  EXPECT_EQ(name_with_prefix("A", names), std::nullopt);      // too short to guess from
+  EXPECT_EQ(name_with_prefix("BEEP", names), std::nullopt);   // LO and HI are as short
+  EXPECT_EQ(name_with_prefix("FWD", names), std::nullopt);    // the library's helpers are not offered
+  EXPECT_EQ(name_with_prefix("CHED", names), std::nullopt);   // a word's end is not a name's
+}
+
 TEST(Spelling, AVeryLongNameGetsNoSuggestion) {
   // The distance costs the product of the lengths: two 20,000-letter names
   // one letter apart took 17 s to compile. No one misspells such a name.

@@ -111,6 +111,26 @@ TEST(Lexer, NumbersAndCharacters) {
   EXPECT_GT(v, 0xFFFF);  // too big: reported by sema as not fitting
 }
 
+// Character constants take C's escapes, octal and hex ones too; anything
+// but one character or one escape is named as a character constant.
+TEST(Lexer, CharacterEscapes) {
+  Diagnostics d;
+  auto toks = lex(R"('\0' '\t' '\\' '\'' '\"' '\101' '\x41' '\xff' '\377' 'ab' '' '\400' '\x100' '\q' '\x')", 0, d);
+  std::vector<std::int64_t> want = {0, 9, 92, 39, 34, 65, 65, 255, 255};
+  for (std::size_t i = 0; i < want.size(); ++i) {
+    std::int64_t v = -1;
+    ASSERT_TRUE(number_value(toks[i], v)) << toks[i].text;
+    EXPECT_EQ(v, want[i]) << toks[i].text;
+  }
+  for (std::size_t i = want.size(); i + 1 < toks.size(); ++i) {
+    std::int64_t v = 0;
+    EXPECT_FALSE(number_value(toks[i], v)) << toks[i].text;
+  }
+  EXPECT_EQ(toks.size(), want.size() + 6 + 1);
+  EXPECT_EQ(invalid_number_message("'ab'"),
+            R"(character constant 'ab' must hold one character or one escape (\n \t \r \\ \' \" \0 \101 \x41))");
+}
+
 TEST(Lexer, MalformedNumbersAreRejected) {
   Diagnostics d;
   auto toks = lex("12ab 0x", 0, d);

@@ -194,6 +194,35 @@ TEST(Preprocessor, ErrorWarningUndefAndUnknownDirectives) {
   EXPECT_EQ(p.joined, "");
 }
 
+// Text an #if leaves out may hold anything, as in C and nqc: an apostrophe
+// in prose, UTF-8 letters, a stray character. The same text where it is
+// compiled is an error at each place, and so is a stray character in a
+// macro's body; the text of #warning is a message, which may hold anything.
+TEST(Preprocessor, StrayCharactersAreErrorsOnlyWhereTheTextIsNotSkipped) {
+  auto skipped = run_pp("#if 0\nIt doesn't work yet: Gr\xc3\xb6\xc3\x9f" "e ` \"x\n#endif\nx;\n");
+  EXPECT_FALSE(skipped.diags.has_errors()) << messages(skipped.diags)[0];
+  EXPECT_EQ(skipped.joined, "x ;");
+  auto active = run_pp("#if 1\nit's `\n#endif\n#define A ` 1\n");
+  // The unterminated quote takes the rest of its line, '`' included.
+  EXPECT_EQ(messages(active.diags), (std::vector<std::string>{"missing terminating ' character",
+                                                              "stray character '`' in program"}));
+  EXPECT_EQ(active.diags.all()[0].span.begin.line, 2u);
+  EXPECT_EQ(active.diags.all()[0].span.begin.column, 3u);
+  EXPECT_EQ(active.diags.all()[0].span.end.column, 4u);
+  EXPECT_EQ(active.diags.all()[1].span.begin.line, 4u);
+  auto message = run_pp("#warning it's slow\n#pragma don't\n");
+  EXPECT_EQ(message.diags.error_count(), 0u);
+}
+
+// A file full of stray characters stops after a few dozen reports (it is
+// not NQC), however many more it holds.
+TEST(Preprocessor, AFileOfStrayCharactersStopsAfterAFewDozen) {
+  auto p = run_pp(std::string(10000, '\x01'));
+  EXPECT_EQ(p.diags.error_count(), 41u);
+  EXPECT_EQ(p.diags.all().back().message, "too many invalid characters; is this an NQC source file?");
+  EXPECT_FALSE(p.out.complete);
+}
+
 TEST(Preprocessor, RedefinitionWithADifferentBodyWarns) {
   auto p = run_pp("#define X 1\n#define X 1\n#define X 2\n");
   ASSERT_EQ(p.diags.all().size(), 1u);
