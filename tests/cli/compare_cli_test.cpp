@@ -97,6 +97,15 @@ TEST(CompareCli, TheStandardInputIsRefusedSinceNqcReadsTheFileToo) {
   EXPECT_NE(r.err.find("compare needs the program in a file"), std::string::npos) << r.err;
 }
 
+// The test's own harness: a program that exits without reading its input
+// leaves the input's writer with a closed pipe. The write must fail, not
+// kill the test with SIGPIPE (the test above died so under load, when
+// rcxc had refused '-' before the input was written).
+TEST(CompareCli, InputLeftUnreadKillsNoTest) {
+  auto r = rcxc::test::run_process({"/bin/true"}, std::string(4 << 20, 'x'));
+  EXPECT_EQ(r.exit_code, 0);
+}
+
 // A missing file, a folder or binary bytes went to nqc first, whose refusal
 // read "nqc does not compile this program; nothing to compare" (exit 5), or
 // as a binary file "is an .rcx image". They are bad inputs, said as rcxc

@@ -23,9 +23,14 @@ ProcessResult run_process(const std::vector<std::string>& argv, const std::strin
                           std::size_t address_space_bytes) {
   int in[2], out[2], err[2];
   if (pipe(in) || pipe(out) || pipe(err)) throw std::runtime_error("pipe failed");
+  // A program that exits without reading all of its input (one that
+  // refuses it at once) must not kill the test with SIGPIPE: the write
+  // below then fails with EPIPE and the input is closed.
+  std::signal(SIGPIPE, SIG_IGN);
   pid_t pid = fork();
   if (pid < 0) throw std::runtime_error("fork failed");
   if (pid == 0) {
+    std::signal(SIGPIPE, SIG_DFL);  // an ignored signal would stay ignored across exec
     dup2(in[0], 0);
     dup2(out[1], 1);
     dup2(err[1], 2);
