@@ -152,9 +152,12 @@ CompiledForTest compile_nqc_file(const std::string& path, const CompileRequest& 
   CompileResult r = compile_file(path, request);
   CompiledForTest t;
   if (r.output) t.image = std::move(r.output->image);
-  for (const auto& d : r.diagnostics.all()) {
-    if (d.severity == Severity::Note) continue;
-    // Only diagnostics in the test file itself have lines a test can name.
+  for (const auto& raw : r.diagnostics.all()) {
+    if (raw.severity == Severity::Note) continue;
+    // Placed as printed: a problem inside a standard-library macro at the
+    // line that used the macro. Only diagnostics in the test file itself
+    // have lines a test can name.
+    Diagnostic d = as_reported(raw, r.sources);
     bool in_file = d.span.begin.valid() && r.sources.path(d.span.begin.file) == path;
     t.messages.push_back({d.severity == Severity::Error, in_file ? static_cast<int>(d.span.begin.line) : 0, d.message});
   }
