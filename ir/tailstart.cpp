@@ -1,5 +1,4 @@
 // Tasks that main ends by starting run in main's place (see passes.h).
-#include <algorithm>
 #include <optional>
 #include <fmt/format.h>
 
@@ -39,19 +38,35 @@ bool can_take_over(const Program& p, const TaskRefs& refs, FuncId main, const In
          refs.starts[t] == 1 && refs.stops[t] == 0;
 }
 
-// Block `from` of main ends the task with a run of starts; if one of them
-// names a task main can become, that start moves to the end of the run
-// (tasks started together have no order among them) and is returned.
-std::optional<FuncId> tail_started_task(const Program& p, const TaskRefs& refs, FuncId main, Block& from) {
-  auto& instrs = from.instrs;
-  std::size_t first = instrs.size();
-  while (first > 0 && starts_named_task(instrs[first - 1])) --first;
-  for (std::size_t i = instrs.size(); i-- > first;) {
-    if (!can_take_over(p, refs, main, instrs[i])) continue;
-    std::rotate(instrs.begin() + static_cast<long>(i), instrs.begin() + static_cast<long>(i) + 1, instrs.end());
-    return instrs.back().args[0].value;
+// Whether the task main would become comes before every other task that
+// may run beside it (started anywhere) in task order. Tasks take turns in
+// that order, one instruction each; main's code takes the first turn. A
+// task started by main's last instruction runs its first instruction
+// later in the same round, after every task numbered below it; in main's
+// place it runs in main's next turn, before them. Only when no such task
+// runs is the order of everyone's instructions the same: with `start a;
+// start b;` at main's end, a (numbered first) would otherwise move an
+// instruction behind b, and two tasks setting one output at the same
+// moment would leave it set the other way round.
+bool first_in_task_order(const Program& p, const TaskRefs& refs, FuncId main, FuncId task) {
+  for (std::size_t f = 0; f < p.functions.size(); ++f) {
+    auto id = static_cast<FuncId>(f);
+    const Function& other = p.functions[f];
+    if (id == main || id == task || other.kind != FuncKind::Task || other.blocks.empty()) continue;
+    if (refs.starts[f] > 0 && id < task) return false;
   }
-  return std::nullopt;
+  return true;
+}
+
+// Block `from` of main ends the task with a start; the task it names, if
+// main can become it. Only the last start: starting the tasks of a run in
+// another order would change which runs first.
+std::optional<FuncId> tail_started_task(const Program& p, const TaskRefs& refs, FuncId main, const Block& from) {
+  if (from.instrs.empty() || !starts_named_task(from.instrs.back())) return std::nullopt;
+  const Instr& start = from.instrs.back();
+  if (!can_take_over(p, refs, main, start) || !first_in_task_order(p, refs, main, start.args[0].value))
+    return std::nullopt;
+  return start.args[0].value;
 }
 
 // Whether leaving block b ends the task: it exits, or jumps through empty

@@ -114,22 +114,57 @@ TEST(TailStart, NothingMovesBesideRawAsmOrATaskNumber) {
   EXPECT_TRUE(run(numbered).empty());
 }
 
-TEST(TailStart, StartsTogetherAtTheEndMayBeReordered) {
+TEST(TailStart, StartsTogetherAtTheEndKeepTheirOrder) {
   // main ends `start worker; start keeper;` and keeper is stopped elsewhere:
-  // keeper's start goes first, main becomes the worker.
+  // starting keeper first so that main could become the worker would put
+  // keeper's first instruction ahead of the worker's. Nothing moves.
   Tasks t = tasks_ending_with(just_start);
   FuncId keeper = t.b.function("keeper");
   t.b.block(keeper, {sound(4)});
   FuncId other = t.b.function("other");
   t.b.block(other, {stop(keeper)});
   t.b.at(t.main, 0).instrs.push_back(start(keeper));
-  Log log = run(t);
-  ASSERT_EQ(log.size(), 1u);
-  EXPECT_NE(log[0].find("worker"), std::string::npos);
+  EXPECT_TRUE(run(t).empty());
   const auto& instrs = t.b.fn(t.main).blocks[0].instrs;
-  ASSERT_EQ(instrs.size(), 2u);
-  EXPECT_EQ(instrs[1].op, rcx::Op::StartTask);
-  EXPECT_EQ(instrs[1].args[0], Operand::func(keeper));
+  ASSERT_EQ(instrs.size(), 3u);
+  EXPECT_EQ(instrs[1].args[0], Operand::func(t.worker));
+  EXPECT_EQ(instrs[2].args[0], Operand::func(keeper));
+}
+
+TEST(TailStart, OnlyATaskNumberedBeforeTheOthersItMayRunBesideRunsInMain) {
+  // Tasks take turns in task order and main's turn comes first. main ends
+  // `start early; start late;`: late in main's place would take its turns
+  // ahead of early's, so it stays a task. Started the other way round,
+  // `start late; start early;`, early already came first: it runs in main.
+  for (bool late_last : {true, false}) {
+    Builder b;
+    FuncId m = b.function("main");
+    FuncId early = b.function("early"), late = b.function("late");
+    b.block(m, late_last ? std::vector<Instr>{start(early), start(late)}
+                         : std::vector<Instr>{start(late), start(early)});
+    b.block(early, {sound(1)}, Jump{0});
+    b.block(late, {sound(2)}, Jump{0});
+    Log log;
+    run_tail_started_tasks_in_main(b.p, log);
+    EXPECT_EQ(log.empty(), late_last);
+    EXPECT_EQ(b.fn(early).blocks.empty(), !late_last);
+    EXPECT_FALSE(b.fn(late).blocks.empty());
+  }
+}
+
+TEST(TailStart, ATaskNumberedLowerButNeverStartedDoesNotCount) {
+  // idle is never started, so it never takes a turn: worker runs in main.
+  Builder b;
+  FuncId m = b.function("main");
+  FuncId idle = b.function("idle"), worker = b.function("worker");
+  b.block(m, {start(worker)});
+  b.block(idle, {sound(1)});
+  b.block(worker, {sound(2)}, Jump{0});
+  Log log;
+  run_tail_started_tasks_in_main(b.p, log);
+  EXPECT_EQ(log.size(), 1u);
+  EXPECT_TRUE(b.fn(worker).blocks.empty());
+  EXPECT_FALSE(b.fn(idle).blocks.empty());
 }
 
 TEST(TailStart, BothEndsOfAnIfAndAChain) {
