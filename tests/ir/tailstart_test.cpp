@@ -131,25 +131,43 @@ TEST(TailStart, StartsTogetherAtTheEndKeepTheirOrder) {
   EXPECT_EQ(instrs[2].args[0], Operand::func(keeper));
 }
 
-TEST(TailStart, OnlyATaskNumberedBeforeTheOthersItMayRunBesideRunsInMain) {
-  // Tasks take turns in task order and main's turn comes first. main ends
-  // `start early; start late;`: late in main's place would take its turns
-  // ahead of early's, so it stays a task. Started the other way round,
-  // `start late; start early;`, early already came first: it runs in main.
-  for (bool late_last : {true, false}) {
-    Builder b;
-    FuncId m = b.function("main");
-    FuncId early = b.function("early"), late = b.function("late");
-    b.block(m, late_last ? std::vector<Instr>{start(early), start(late)}
-                         : std::vector<Instr>{start(late), start(early)});
-    b.block(early, {sound(1)}, Jump{0});
-    b.block(late, {sound(2)}, Jump{0});
-    Log log;
-    run_tail_started_tasks_in_main(b.p, log);
-    EXPECT_EQ(log.empty(), late_last);
-    EXPECT_EQ(b.fn(early).blocks.empty(), !late_last);
-    EXPECT_FALSE(b.fn(late).blocks.empty());
-  }
+// main ends `start early; start late;` (or the other way round when
+// `late_last` is false); each task runs its own body in an endless loop.
+// Returns whether main became the task started last.
+bool last_runs_in_main(std::vector<Instr> early_body, std::vector<Instr> late_body, bool late_last = true) {
+  Builder b;
+  FuncId m = b.function("main");
+  FuncId early = b.function("early"), late = b.function("late");
+  b.p.add_var("shared", VarKind::Global);
+  b.block(m, late_last ? std::vector<Instr>{start(early), start(late)}
+                       : std::vector<Instr>{start(late), start(early)});
+  b.block(early, std::move(early_body), Jump{0});
+  b.block(late, std::move(late_body), Jump{0});
+  Log log;
+  run_tail_started_tasks_in_main(b.p, log);
+  return b.fn(late_last ? late : early).blocks.empty();
+}
+
+TEST(TailStart, ATaskNumberedAfterAnotherThatMayShowTheOrderOfTurnsStays) {
+  // Tasks take turns in task order and main's turn comes first: late in
+  // main's place would take its turns ahead of early's. Both play sounds,
+  // set output A, use one variable, or one clears a timer the other waits
+  // on: which goes first would show, so late stays a task.
+  EXPECT_FALSE(last_runs_in_main({sound(1)}, {sound(2)}));
+  EXPECT_FALSE(last_runs_in_main({out(0x81)}, {out(0x41)}));
+  EXPECT_FALSE(last_runs_in_main({set(0, I(1))}, {wait(V(0))}));
+  EXPECT_FALSE(last_runs_in_main({op(rcx::Op::ClearTimer, {I(0)})}, {wait(Operand::src(1, 0))}));
+  EXPECT_FALSE(last_runs_in_main({out(0x81)}, {wait(Operand::src(3, 0))}));  // reads A's state
+  // Started the other way round, `start late; start early;`, early already
+  // came first: it runs in main whatever the two share.
+  EXPECT_TRUE(last_runs_in_main({sound(1)}, {sound(2)}, false));
+}
+
+TEST(TailStart, ATaskNumberedAfterAnotherThatSharesNothingWithItRunsInMain) {
+  // early sends messages, late drives output C and reads sensor 1: the
+  // order of their turns shows nowhere.
+  EXPECT_TRUE(last_runs_in_main({op(rcx::Op::SendMessage, {I(1)}), wait(I(10))},
+                                {out(0x84), wait(Operand::src(9, 0)), out(0x44)}));
 }
 
 TEST(TailStart, ATaskNumberedLowerButNeverStartedDoesNotCount) {
