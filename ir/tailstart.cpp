@@ -58,6 +58,7 @@ enum Change : unsigned {
 
 unsigned change_of(const Instr& in) {
   if (in.raw) return kAnything;
+  if (computes_into_variable(in.op)) return 0;  // the variables count apart
   switch (in.op) {
     case rcx::Op::PlaySound:
     case rcx::Op::PlayTone: return kSound;
@@ -80,16 +81,7 @@ unsigned change_of(const Instr& in) {
     case rcx::Op::SetMotorPower:
     case rcx::Op::Wait:
     case rcx::Op::CallSubroutine:
-    case rcx::Op::SetLoopCounter:
-    case rcx::Op::SetVariable:
-    case rcx::Op::AddToVariable:
-    case rcx::Op::SubtractFromVariable:
-    case rcx::Op::MultiplyVariable:
-    case rcx::Op::DivideVariable:
-    case rcx::Op::AndVariable:
-    case rcx::Op::OrVariable:
-    case rcx::Op::AbsoluteValue:
-    case rcx::Op::SignVariable: return 0;
+    case rcx::Op::SetLoopCounter: return 0;
     default: return kAnything;
   }
 }
