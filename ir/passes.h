@@ -125,7 +125,9 @@ void shift_right_without_branches(Function& f, bool constant_shifts);
 // anywhere, inside one of main's counter loops, or with raw asm or task
 // numbers in asm (they may name tasks the IR cannot see). Each move is
 // reported in `log`.
-void run_tail_started_tasks_in_main(Program& p, Log& log);
+// Without `may_add_an_exit` (-O2), only where main gains no second way to
+// end, which would cost a jump on one path.
+void run_tail_started_tasks_in_main(Program& p, Log& log, bool may_add_an_exit = true);
 
 // flip.cpp: a task's endless loop whose body goes one way and then back,
 // two halves alike but for one direction command (OnFwd(OUT_A); Wait(t);

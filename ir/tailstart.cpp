@@ -221,6 +221,23 @@ bool ends_task(const Function& f, BlockId b) {
   return false;  // a loop of empty blocks never ends
 }
 
+// Whether an exit of `f` is reached from its entry without passing through
+// block `avoid` (-1: none).
+bool reaches_exit(const Function& f, BlockId avoid) {
+  std::vector<bool> seen(f.blocks.size(), false);
+  std::vector<BlockId> todo{0};
+  while (!todo.empty()) {
+    BlockId b = todo.back();
+    todo.pop_back();
+    if (b == avoid || seen[static_cast<std::size_t>(b)]) continue;
+    seen[static_cast<std::size_t>(b)] = true;
+    const Terminator& t = f.blocks[static_cast<std::size_t>(b)].term;
+    if (std::holds_alternative<Exit>(t)) return true;
+    for (BlockId next : successors(t)) todo.push_back(next);
+  }
+  return false;
+}
+
 // Moves `task`'s blocks into main, entered from block `from` in place of
 // that block's last instruction (the start of `task`).
 void take_over(Function& main, Function& task, BlockId from) {
@@ -238,7 +255,11 @@ void take_over(Function& main, Function& task, BlockId from) {
 }
 
 // One task main ends by starting, moved into main; false when none is left.
-bool take_over_one(Program& p, FuncId main, Log& log) {
+// Unless `may_add_an_exit`, only where main then has no more ways to end
+// than before: two ends cost a jump to the end on one of the paths, which
+// may be one that ran none (`if (c) start a; else { start b; start k; }`
+// with a ending: the side that still starts b would jump over a's code).
+bool take_over_one(Program& p, FuncId main, bool may_add_an_exit, Log& log) {
   TaskRefs refs = task_refs(p);
   auto m = static_cast<std::size_t>(main);
   if (refs.by_number || refs.starts[m] != 0 || refs.stops[m] != 0) return false;
@@ -253,6 +274,7 @@ bool take_over_one(Program& p, FuncId main, Log& log) {
     auto t = tail_started_task(p, refs, main, block);
     if (!t) continue;
     Function& task = p.functions[static_cast<std::size_t>(*t)];
+    if (!may_add_an_exit && reaches_exit(task, -1) && reaches_exit(fn, static_cast<BlockId>(b))) continue;
     log.push_back(fmt::format("task {} runs in main, which ends by starting it (nothing else starts or stops it)",
                               task.name));
     take_over(fn, task, static_cast<BlockId>(b));
@@ -263,10 +285,10 @@ bool take_over_one(Program& p, FuncId main, Log& log) {
 
 }  // namespace
 
-void run_tail_started_tasks_in_main(Program& p, Log& log) {
+void run_tail_started_tasks_in_main(Program& p, Log& log, bool may_add_an_exit) {
   FuncId main = p.find_function("main");
   if (main < 0 || p.functions[static_cast<std::size_t>(main)].kind != FuncKind::Task) return;
-  while (take_over_one(p, main, log)) {
+  while (take_over_one(p, main, may_add_an_exit, log)) {
   }
 }
 
