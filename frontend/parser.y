@@ -692,7 +692,12 @@ void yy::Parser::report_syntax_error(const context& ctx) const {
   // first line of a program is wrong): then at what was found.
   if (want.rfind("';'", 0) == 0 && feed.prev_end.valid() && feed.prev_end.file == where.begin.file)
     where = {feed.prev_end, feed.prev_end};
-  auto& d = feed.diags.error(where, want.empty() ? "syntax error at " + found : "expected " + want + " before " + found);
+  std::string message = want.empty() ? "syntax error at " + found : "expected " + want + " before " + found;
+  // Text where a value goes: a program for another brick (the NXT's
+  // TextOut) or a C habit. Say why no string can be a value here.
+  if (ctx.token() == symbol_kind::S_STRING && want == "an expression")
+    message += ": the RCX has no strings, only numbers (its display shows a number)";
+  auto& d = feed.diags.error(where, message);
   // At the end of the file the mistake is far above: show the '{' left open.
   if (ctx.token() == symbol_kind::S_YYEOF && !feed.open_braces.empty())
     d.notes.push_back({feed.open_braces.back(), "this '{' is not closed"});

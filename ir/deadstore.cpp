@@ -13,21 +13,7 @@ bool draws_random(const Instr& in) { return std::any_of(in.args.begin(), in.args
 // read of the random source also moves it on: dropping an unused
 // `t = Random(10)` would change every later draw, and with it what a run
 // with a given seed does (against -O0, or nqc's code in `rcxc compare`).
-bool pure_variable_write(const Instr& in) {
-  if (in.raw || draws_random(in)) return false;
-  switch (in.op) {
-    case rcx::Op::SetVariable:
-    case rcx::Op::AddToVariable:
-    case rcx::Op::SubtractFromVariable:
-    case rcx::Op::MultiplyVariable:
-    case rcx::Op::DivideVariable:
-    case rcx::Op::AndVariable:
-    case rcx::Op::OrVariable:
-    case rcx::Op::AbsoluteValue:
-    case rcx::Op::SignVariable: return true;
-    default: return false;
-  }
-}
+bool pure_variable_write(const Instr& in) { return !in.raw && !draws_random(in) && computes_into_variable(in.op); }
 
 bool remove_in(const Program& p, Function& f, const CallEffects& calls, LivenessCache& cache) {
   const Liveness& L = cache.of(p, f, calls);

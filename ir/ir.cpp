@@ -326,6 +326,21 @@ bool accepts(rcx::Op op, std::size_t slot, const Operand& o) {
   }
 }
 
+bool computes_into_variable(rcx::Op op) {
+  switch (op) {
+    case rcx::Op::SetVariable:
+    case rcx::Op::AddToVariable:
+    case rcx::Op::SubtractFromVariable:
+    case rcx::Op::MultiplyVariable:
+    case rcx::Op::DivideVariable:
+    case rcx::Op::AndVariable:
+    case rcx::Op::OrVariable:
+    case rcx::Op::AbsoluteValue:
+    case rcx::Op::SignVariable: return true;
+    default: return false;
+  }
+}
+
 int instr_size(const Instr& in) {
   return in.raw ? static_cast<int>(in.args.size()) : rcx::command_size(rcx::info(in.op)).value_or(4);
 }

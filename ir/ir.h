@@ -370,6 +370,10 @@ bool same_instr(const Instr& a, const Instr& b);
 // Whether the operand reads the random source (each read draws a number).
 bool reads_random(const Operand& o);
 
+// The opcodes that compute into a variable and do nothing else: set,
+// arithmetic, logic, absolute value and sign.
+bool computes_into_variable(rcx::Op op);
+
 // Variables an instruction reads and writes (Var operands only).
 // The variables of one instruction: a few, kept inline, so the passes that
 // ask about every instruction of every block allocate nothing (raw asm with

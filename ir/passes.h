@@ -116,13 +116,18 @@ void compute_nonzero_by_sign(Function& f);
 void shift_right_without_branches(Function& f, bool constant_shifts);
 
 // tailstart.cpp: a task that main starts as the last thing it does before
-// ending (`start a; start b;` at main's end: either), that nothing else
-// starts and nothing stops, runs in main instead: main jumps into its code,
-// saving the start and the task. Never when main is started or stopped
+// ending (`start a; start b;` at main's end: b), that nothing else starts
+// and nothing stops, runs in main instead: main jumps into its code,
+// saving the start and the task. Only where that keeps the order of turns
+// anyone could see: main's turn comes first, so the task must not move
+// ahead of a task numbered before it that may run beside it, unless the
+// two share nothing (outputs, variables, sounds, ...). Never when main is started or stopped
 // anywhere, inside one of main's counter loops, or with raw asm or task
 // numbers in asm (they may name tasks the IR cannot see). Each move is
 // reported in `log`.
-void run_tail_started_tasks_in_main(Program& p, Log& log);
+// Without `may_add_an_exit` (-O2), only where main gains no second way to
+// end, which would cost a jump on one path.
+void run_tail_started_tasks_in_main(Program& p, Log& log, bool may_add_an_exit = true);
 
 // flip.cpp: a task's endless loop whose body goes one way and then back,
 // two halves alike but for one direction command (OnFwd(OUT_A); Wait(t);

@@ -49,7 +49,8 @@ bool optimize(Program& p, OptLevel level, Diagnostics& diags, Log& log, const Pa
   // pass that would reuse its liveness).
   warn_reads_before_writes(p, diags, level != OptLevel::O0 ? &liveness : nullptr);
   if (!resolve_calls(p, level, diags, log)) return false;
-  if (shrinks_without_slowing(level) && passes.tail_starts) run_tail_started_tasks_in_main(p, log);
+  if (shrinks_without_slowing(level) && passes.tail_starts)
+    run_tail_started_tasks_in_main(p, log, trades_time_for_size(level));
   if (level != OptLevel::O0) {
     // Once: the shapes it rewrites come from the lowering alone.
     if (shrinks_without_slowing(level))

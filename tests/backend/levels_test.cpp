@@ -51,6 +51,33 @@ TEST(Levels, OutliningALoopBodyIsMinusOsOnly) {
   EXPECT_TRUE(test::logged(test::compile_program(kRepeatedLoopCode, ir::OptLevel::Os).log, "outlined"));
 }
 
+// main's last if: one side starts a task that ends, the other starts two
+// tasks it cannot run in its place (`keep` is stopped elsewhere, and
+// `other` comes first). Running `brief` in main would give main two ends,
+// and the side that runs (x is 0) would jump over brief's code to the end:
+// -O2 keeps brief a task, -Os runs it in main for the start and the task's
+// bytes.
+const char* kOneSideEndsInATask = R"(
+int x;
+task brief() { PlaySound(1); Wait(20); PlaySound(2); }
+task other() { PlaySound(3); }
+task keep() { PlaySound(4); }
+task never() { stop keep; }
+task main() {
+  x = 0;
+  if (x > 0) start brief;
+  else { start other; start keep; }
+}
+)";
+
+TEST(Levels, MinusO2GivesMainNoSecondEndToRunATaskInItsPlace) {
+  auto o1 = measure(kOneSideEndsInATask, ir::OptLevel::O1);
+  auto o2 = measure(kOneSideEndsInATask, ir::OptLevel::O2);
+  EXPECT_LE(o2.instructions, o1.instructions);
+  EXPECT_FALSE(test::logged(test::compile_program(kOneSideEndsInATask, ir::OptLevel::O2).log, "runs in main"));
+  EXPECT_TRUE(test::logged(test::compile_program(kOneSideEndsInATask, ir::OptLevel::Os).log, "task brief runs in main"));
+}
+
 // Every kind of generated program the -Os passes were written for: at -O2
 // none runs more instructions than at -O1 in the same time, and none is
 // larger. -Os runs more on some of them: the measure sees the difference.

@@ -59,9 +59,11 @@ TEST(TailStartCompile, NothingMovesWhenSomethingStopsMain) {
   EXPECT_EQ(tasks_in(os), 3u);
 }
 
-TEST(TailStartCompile, ATaskStoppedElsewhereStartsFirstAndTheOtherRunsInMain) {
-  // check is started once and never stopped; move is stopped and restarted
-  // by check: main starts move, then runs check.
+TEST(TailStartCompile, StartsAtTheEndAreNotReordered) {
+  // check is started once and never stopped, but move (stopped and
+  // restarted by check) is started last. Starting move first to let main
+  // become check would run move's first instructions ahead of check's: all
+  // three tasks stay.
   auto os = test::expect_same_as_o1(R"(
     task move() { while (true) { OnFwd(OUT_A+OUT_C); Wait(100); OnRev(OUT_C); Wait(85); } }
     task check() {
@@ -72,6 +74,24 @@ TEST(TailStartCompile, ATaskStoppedElsewhereStartsFirstAndTheOtherRunsInMain) {
     task main() { start check; start move; })",
                                     1, 3'000);
   ASSERT_TRUE(os.out);
-  EXPECT_TRUE(test::logged(os.log, "task check runs in main"));
+  EXPECT_FALSE(moved(os));
+  EXPECT_EQ(tasks_in(os), 3u);
+}
+
+TEST(TailStartCompile, ATaskStartedAfterAnEarlierOneThatSharesNothingRunsInMain) {
+  // beacon (numbered first) only sends messages; drive only drives and
+  // reads its own sensor. Whichever takes its turn first, nothing shows
+  // it: main runs drive. Had drive played a sound too, or set output A,
+  // it would stay a task.
+  const char* src = R"(
+    task beacon() { while (true) { SendMessage(1); Wait(10); } }
+    task drive() {
+      SetSensor(SENSOR_2, SENSOR_TOUCH);
+      while (true) { OnFwd(OUT_C); until (SENSOR_2 == 1); Off(OUT_C); Wait(20); }
+    }
+    task main() { OnFwd(OUT_A); start beacon; start drive; })";
+  auto os = test::expect_same_as_o1(src, 1, 3'000);
+  ASSERT_TRUE(os.out);
+  EXPECT_TRUE(test::logged(os.log, "task drive runs in main"));
   EXPECT_EQ(tasks_in(os), 2u);
 }

@@ -114,22 +114,75 @@ TEST(TailStart, NothingMovesBesideRawAsmOrATaskNumber) {
   EXPECT_TRUE(run(numbered).empty());
 }
 
-TEST(TailStart, StartsTogetherAtTheEndMayBeReordered) {
+TEST(TailStart, StartsTogetherAtTheEndKeepTheirOrder) {
   // main ends `start worker; start keeper;` and keeper is stopped elsewhere:
-  // keeper's start goes first, main becomes the worker.
+  // starting keeper first so that main could become the worker would put
+  // keeper's first instruction ahead of the worker's. Nothing moves.
   Tasks t = tasks_ending_with(just_start);
   FuncId keeper = t.b.function("keeper");
   t.b.block(keeper, {sound(4)});
   FuncId other = t.b.function("other");
   t.b.block(other, {stop(keeper)});
   t.b.at(t.main, 0).instrs.push_back(start(keeper));
-  Log log = run(t);
-  ASSERT_EQ(log.size(), 1u);
-  EXPECT_NE(log[0].find("worker"), std::string::npos);
+  EXPECT_TRUE(run(t).empty());
   const auto& instrs = t.b.fn(t.main).blocks[0].instrs;
-  ASSERT_EQ(instrs.size(), 2u);
-  EXPECT_EQ(instrs[1].op, rcx::Op::StartTask);
-  EXPECT_EQ(instrs[1].args[0], Operand::func(keeper));
+  ASSERT_EQ(instrs.size(), 3u);
+  EXPECT_EQ(instrs[1].args[0], Operand::func(t.worker));
+  EXPECT_EQ(instrs[2].args[0], Operand::func(keeper));
+}
+
+// main ends `start early; start late;` (or the other way round when
+// `late_last` is false); each task runs its own body in an endless loop.
+// Returns whether main became the task started last.
+bool last_runs_in_main(std::vector<Instr> early_body, std::vector<Instr> late_body, bool late_last = true) {
+  Builder b;
+  FuncId m = b.function("main");
+  FuncId early = b.function("early"), late = b.function("late");
+  b.p.add_var("shared", VarKind::Global);
+  b.block(m, late_last ? std::vector<Instr>{start(early), start(late)}
+                       : std::vector<Instr>{start(late), start(early)});
+  b.block(early, std::move(early_body), Jump{0});
+  b.block(late, std::move(late_body), Jump{0});
+  Log log;
+  run_tail_started_tasks_in_main(b.p, log);
+  return b.fn(late_last ? late : early).blocks.empty();
+}
+
+TEST(TailStart, ATaskNumberedAfterAnotherThatMayShowTheOrderOfTurnsStays) {
+  // Tasks take turns in task order and main's turn comes first: late in
+  // main's place would take its turns ahead of early's. Both play sounds,
+  // set output A, use one variable, or one clears a timer the other waits
+  // on: which goes first would show, so late stays a task.
+  EXPECT_FALSE(last_runs_in_main({sound(1)}, {sound(2)}));
+  EXPECT_FALSE(last_runs_in_main({out(0x81)}, {out(0x41)}));
+  EXPECT_FALSE(last_runs_in_main({set(0, I(1))}, {wait(V(0))}));
+  EXPECT_FALSE(last_runs_in_main({op(rcx::Op::ClearTimer, {I(0)})}, {wait(Operand::src(1, 0))}));
+  EXPECT_FALSE(last_runs_in_main({out(0x81)}, {wait(Operand::src(3, 0))}));  // reads A's state
+  // Started the other way round, `start late; start early;`, early already
+  // came first: it runs in main whatever the two share.
+  EXPECT_TRUE(last_runs_in_main({sound(1)}, {sound(2)}, false));
+}
+
+TEST(TailStart, ATaskNumberedAfterAnotherThatSharesNothingWithItRunsInMain) {
+  // early sends messages, late drives output C and reads sensor 1: the
+  // order of their turns shows nowhere.
+  EXPECT_TRUE(last_runs_in_main({op(rcx::Op::SendMessage, {I(1)}), wait(I(10))},
+                                {out(0x84), wait(Operand::src(9, 0)), out(0x44)}));
+}
+
+TEST(TailStart, ATaskNumberedLowerButNeverStartedDoesNotCount) {
+  // idle is never started, so it never takes a turn: worker runs in main.
+  Builder b;
+  FuncId m = b.function("main");
+  FuncId idle = b.function("idle"), worker = b.function("worker");
+  b.block(m, {start(worker)});
+  b.block(idle, {sound(1)});
+  b.block(worker, {sound(2)}, Jump{0});
+  Log log;
+  run_tail_started_tasks_in_main(b.p, log);
+  EXPECT_EQ(log.size(), 1u);
+  EXPECT_TRUE(b.fn(worker).blocks.empty());
+  EXPECT_FALSE(b.fn(idle).blocks.empty());
 }
 
 TEST(TailStart, BothEndsOfAnIfAndAChain) {

@@ -331,10 +331,12 @@ class TailStartGenerator : public Generator {
     std::ostringstream out;
     bool keeper = pick(0, 1) == 1;
     out << "int x, y;\n";
-    if (keeper) out << "task keeper() {\n  PlaySound(" << pick(0, 5) << ");\n  Wait(" << pick(5, 40) * 10 << ");\n}\n";
-    task(out, "c", keeper ? "  stop keeper;\n" : "");
+    // Declared in the order main may run them in its place: a task runs
+    // there only when it is numbered before the others beside it.
     task(out, "a", pick(0, 1) == 1 ? "  start c;\n" : "");
     task(out, "b", keeper && pick(0, 1) == 1 ? "  stop keeper;\n" : "");
+    task(out, "c", keeper ? "  stop keeper;\n" : "");
+    if (keeper) out << "task keeper() {\n  PlaySound(" << pick(0, 5) << ");\n  Wait(" << pick(5, 40) * 10 << ");\n}\n";
     out << "task main() {\n  x = 0; y = 0;\n";
     block(out, 2, 0);
     out << "  if (x > " << pick(-2, 4) << ") {\n";
