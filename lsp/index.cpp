@@ -22,10 +22,6 @@ Range range_of(const SourceSpan& span) { return {place_of(span.begin), place_of(
 
 bool before(const Place& a, const Place& b) { return a.line < b.line || (a.line == b.line && a.column < b.column); }
 
-bool contains(const Range& r, const Place& p) {
-  return p.file == r.begin.file && !before(p, r.begin) && before(p, r.end);
-}
-
 std::string trim(std::string_view s) {
   auto b = s.find_first_not_of(" \t\r");
   if (b == std::string_view::npos) return "";
@@ -740,6 +736,10 @@ std::vector<std::string> similar_names(const Index& index, const std::string& na
     out.push_back(n);
   }
   return out;
+}
+
+bool contains(const Range& r, const Place& p) {
+  return p.file == r.begin.file && !before(p, r.begin) && before(p, r.end);
 }
 
 }  // namespace rcxc::lsp

@@ -122,6 +122,9 @@ Index build_index(const std::string& path, const std::string& text, const fronte
 // The identifier at (line, column) of `file`, if the position is on one.
 const Occurrence* occurrence_at(const Index& index, std::uint32_t file, std::uint32_t line, std::uint32_t column);
 
+// Whether `p` lies in `r` (its end excluded).
+bool contains(const Range& r, const Place& p);
+
 // What the identifier `name` at `where` refers to: a macro, else the
 // innermost local, parameter or label in scope, else a top-level name.
 const Definition* resolve(const Index& index, const std::string& name, const Place& where);

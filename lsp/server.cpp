@@ -352,11 +352,6 @@ std::vector<IncludeLink> include_links(const Index& index) {
   return out;
 }
 
-bool contains(const Range& r, const Place& p) {
-  auto before = [](const Place& a, const Place& b) { return std::tie(a.line, a.column) < std::tie(b.line, b.column); };
-  return r.begin.file == p.file && !before(p, r.begin) && before(p, r.end);
-}
-
 json document_links(Request& r) {
   json list = json::array();
   for (const IncludeLink& link : include_links(r.doc->index)) {
