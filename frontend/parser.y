@@ -567,6 +567,12 @@ void yy::Parser::error(const location_type& loc, const std::string& msg) {
 
 namespace {
 
+std::string lower_case(std::string_view text) {
+  std::string lower(text);
+  for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return lower;
+}
+
 // A keyword written with capitals where the parse failed: `Task main()` (the
 // token found), `Int x` (the one before it), `While (x < 3) x++` (the one
 // before the parenthesis the token found follows); each only where a
@@ -581,8 +587,7 @@ const Token* miscased_keyword(const Feed& feed, bool between_declarations) {
   auto miscased = [&](std::size_t i, bool before_parenthesis = false) -> const Token* {
     const Token& t = feed.tokens[i];
     if (t.kind != TokenKind::Identifier) return nullptr;
-    std::string lower(t.text);
-    for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    std::string lower = lower_case(t.text);
     bool keyword = lower != t.text && (before_parenthesis ? std::find(std::begin(kHeadKeywords), std::end(kHeadKeywords), lower) != std::end(kHeadKeywords)
                                                           : std::find(std::begin(kKeywords), std::end(kKeywords), lower) != std::end(kKeywords));
     bool starts = i == 0 || feed.tokens[i - 1].is(";") || feed.tokens[i - 1].is("{") || feed.tokens[i - 1].is("}") ||
@@ -652,10 +657,8 @@ void yy::Parser::report_syntax_error(const context& ctx) const {
     return;
   }
   if (const Token* k = miscased_keyword(feed, expects(symbol_kind::S_TASK))) {
-    std::string lower(k->text);
-    for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
     feed.diags.error(k->span, "'" + std::string(k->text) + "' is not a keyword: NQC's keywords are lower case (did you mean '" +
-                                  lower + "'?)");
+                                  lower_case(k->text) + "'?)");
     return;
   }
   // `int OUT_A = 3;` or `void Random(int n)`: a name that is a macro was
