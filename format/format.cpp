@@ -586,11 +586,18 @@ void track_conditional(Printer& pr, std::string_view name) {
   }
 }
 
+// The index of the first piece after the directive whose '#' is piece i:
+// a directive ends where a piece starts a line.
+std::size_t directive_end(const std::vector<Piece>& pieces, std::size_t i) {
+  std::size_t end = i + 1;
+  while (end < pieces.size() && !pieces[end].line_start) ++end;
+  return end;
+}
+
 // Writes the directive starting at piece i as it is written, at the start
 // of a line of its own; returns the index of the first piece after it.
 std::size_t place_directive(Printer& pr, std::size_t i) {
-  std::size_t end = i + 1;
-  while (end < pr.pieces.size() && !pr.pieces[end].line_start) ++end;
+  std::size_t end = directive_end(pr.pieces, i);
   const Piece& first = pr.pieces[i];
   const Piece& last = pr.pieces[end - 1];
   std::string_view text = directive_text(pr, first, last);
@@ -620,8 +627,7 @@ std::set<std::string_view> statement_macros(const std::vector<Piece>& pieces) {
   std::set<std::string_view> names;
   for (std::size_t i = 0; i < pieces.size(); ++i) {
     if (pieces[i].comment || !pieces[i].line_start || !pieces[i].is("#")) continue;
-    std::size_t end = i + 1;
-    while (end < pieces.size() && !pieces[end].line_start) ++end;
+    std::size_t end = directive_end(pieces, i);
     const Piece* last = nullptr;
     for (std::size_t k = i + 3; k < end; ++k)
       if (!pieces[k].comment) last = &pieces[k];
