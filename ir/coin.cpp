@@ -46,15 +46,42 @@ BlockId side(const Branch& br, VarId coin, int face) {
   return evaluate(br.cmp, a, b) ? br.then : br.otherwise;
 }
 
+// The index of the block's `set v, Random(1)` that its test may toss
+// instead: the last instruction, or followed only by instructions that
+// neither touch v, nor draw a number (the toss draws at the test), nor
+// call or push a counter (hoist.cpp moves a common motor command or sound
+// of both sides there).
+std::optional<std::size_t> coin_draw(const Block& block) {
+  for (std::size_t i = block.instrs.size(); i-- > 0;) {
+    const Instr& in = block.instrs[i];
+    if (in.raw || in.op == rcx::Op::CallSubroutine || in.op == rcx::Op::SetLoopCounter) return std::nullopt;
+    if (in.op == rcx::Op::SetVariable && in.args[0].is_var() && is_random_one(in.args[1])) {
+      VarId coin = in.args[0].value;
+      for (std::size_t k = i + 1; k < block.instrs.size(); ++k) {
+        const Instr& after = block.instrs[k];
+        VarUse use = uses_of(after);
+        bool touches = std::find(use.reads.begin(), use.reads.end(), coin) != use.reads.end() ||
+                       std::find(use.writes.begin(), use.writes.end(), coin) != use.writes.end() ||
+                       (!after.args.empty() && after.args[0].is_var(coin));
+        if (touches) return std::nullopt;
+      }
+      return i;
+    }
+    for (const Operand& o : in.args)
+      if (reads_random(o)) return std::nullopt;
+  }
+  return std::nullopt;
+}
+
 void toss_in(const Program& p, Function& f, const CounterDepths& d, int entry, const CallEffects& calls, Log& log) {
   Liveness live = compute_liveness(p, f, calls);
   for (std::size_t b = 0; b < f.blocks.size(); ++b) {
     Block& block = f.blocks[b];
     const auto* br = std::get_if<Branch>(&block.term);
     if (br == nullptr || block.instrs.empty() || d.at_block[b] < 0) continue;
-    const Instr& last = block.instrs.back();
-    if (last.op != rcx::Op::SetVariable || !last.args[0].is_var() || !is_random_one(last.args[1])) continue;
-    VarId coin = last.args[0].value;
+    auto draw = coin_draw(block);
+    if (!draw) continue;
+    VarId coin = block.instrs[*draw].args[0].value;
     if (p.vars[static_cast<std::size_t>(coin)].kind == VarKind::Global || live.live_out[b].has(coin)) continue;
     bool a_coin = br->a.is_var(coin), b_coin = br->b.is_var(coin);
     if (!((a_coin && br->b.is_imm()) || (b_coin && br->a.is_imm()))) continue;
@@ -64,7 +91,7 @@ void toss_in(const Program& p, Function& f, const CounterDepths& d, int entry, c
     BlockId zero = side(*br, coin, 0), one = side(*br, coin, 1);
     auto here = static_cast<BlockId>(b);
     if (depth + 1 > kLoopCounters || zero == one || zero <= here || one <= here) continue;
-    block.instrs.pop_back();
+    block.instrs.erase(block.instrs.begin() + static_cast<std::ptrdiff_t>(*draw));
     block.term = CoinToss{zero, one};
     log.push_back(fmt::format("{}: a test of Random(1) is a coin toss on the loop counter", f.name));
   }

@@ -160,3 +160,45 @@ TEST(Coin, NotInAFunctionWithRawAsm) {
   toss_coins_on_loop_counter(b.p, log);
   EXPECT_TRUE(std::holds_alternative<Branch>(b.at(s, 0).term));
 }
+
+namespace {
+
+// c = Random(1) with `between` after it, at the end of block 0.
+Toss coin_if_after(std::vector<Instr> between) {
+  Toss t;
+  t.c = t.b.temp();
+  t.f = t.b.function("main");
+  std::vector<Instr> code{set(t.c, kRandom1)};
+  code.insert(code.end(), between.begin(), between.end());
+  t.b.block(t.f, code, Branch{Cmp::EQ, V(t.c), I(0), 1, 2});
+  t.b.block(t.f, {sound(1)}, Jump{3});
+  t.b.block(t.f, {sound(2)}, Jump{3});
+  t.b.block(t.f, {sound(3)});
+  return t;
+}
+
+}  // namespace
+
+TEST(Coin, ACommandHoistedBetweenTheDrawAndTheTestStillTosses) {
+  // `if (Random(1) == 0) { x *= 2; ... } else { x *= 2; ... }`: hoist.cpp
+  // moves `x *= 2` between the draw and the test.
+  Toss t = coin_if_after({mul(1, I(2)), sound(4)});  // var 0 is c, 1 x
+  t.b.global("x");
+  const CoinToss* c = tossed(t);
+  ASSERT_NE(c, nullptr);
+  const auto& left = t.b.at(t.f, 0).instrs;
+  ASSERT_EQ(left.size(), 2u);  // the draw went; the two commands stay in order
+  EXPECT_EQ(left[0].op, rcx::Op::MultiplyVariable);
+  EXPECT_EQ(left[1].op, rcx::Op::PlaySound);
+}
+
+TEST(Coin, ADrawThatWouldChangePlacesWithAnotherStays) {
+  // The toss draws at the test: a second draw between would then come first.
+  Toss other = coin_if_after({set(1, Operand::src(static_cast<int>(rcx::Source::Random), 9))});
+  other.b.global("y");
+  EXPECT_EQ(tossed(other), nullptr);
+  // An instruction that reads the drawn value needs the variable.
+  Toss reads = coin_if_after({add(1, V(0))});
+  reads.b.global("y");
+  EXPECT_EQ(tossed(reads), nullptr);
+}
