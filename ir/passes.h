@@ -144,6 +144,16 @@ void halve_back_and_forth_loops(Program& p, Log& log);
 // runs when c holds). Globals are left alone: another task could see Y.
 void speculate_assignments(Function& f, const std::vector<Var>& vars);
 
+// hoist.cpp: an instruction both sides of a test begin with, where each
+// side is entered from the test alone, runs once before the test instead:
+// `if (d == 1) { SetPower(OUT_A+OUT_C, 3); Rev(OUT_A); } else {
+// SetPower(OUT_A+OUT_C, 3); Rev(OUT_C); }` keeps one SetPower. Every path
+// runs as many instructions; the one moved runs an instruction earlier.
+// Only motor commands (unless the test reads an output's state), sounds,
+// and arithmetic into a variable the test does not read. Each move is
+// reported in `log`.
+void hoist_common_heads(Function& f, Log& log);
+
 // cfg.cpp: threads jumps through empty blocks, turns branches whose both
 // targets agree into jumps, and deletes blocks no path reaches (dead code
 // after unconditional jumps).

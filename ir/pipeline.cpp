@@ -72,6 +72,7 @@ bool optimize(Program& p, OptLevel level, Diagnostics& diags, Log& log, const Pa
       }
       for (auto& f : p.functions) {
         shorten_complements(f);
+        if (shrinks_without_slowing(level)) hoist_common_heads(f, log);
         simplify_cfg(f);
       }
       std::uint64_t after = code_hash(p);
@@ -90,8 +91,12 @@ bool optimize(Program& p, OptLevel level, Diagnostics& diags, Log& log, const Pa
         if (trades_time_for_size(level)) speculate_assignments(f, p.vars);
       }
       remove_redundant_motor_commands(p);
-      // Removed motor commands can leave waits next to each other.
-      for (auto& f : p.functions) merge_consecutive_waits(f);
+      // Removed motor commands can leave waits next to each other, and
+      // merged ones the same command at the head of both sides of a test.
+      for (auto& f : p.functions) {
+        merge_consecutive_waits(f);
+        hoist_common_heads(f, log);
+      }
     }
   }
   // Needed at every level: a counter loop left by a jump must not keep its

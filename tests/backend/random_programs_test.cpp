@@ -513,3 +513,12 @@ TEST(RandomPrograms, ExpressionsComputeWhatTheCppReferenceComputes) {
   }
   EXPECT_GT(compared, 150);
 }
+
+TEST(RandomPrograms, ABeginningBothSidesShareRunsBeforeTheTestAsItRanAfter) {
+  // -O2 and -Os run what both sides of an if/else begin with once before
+  // the test (ir/hoist.cpp); -O1 runs it on each side. Where the shared
+  // beginning could change the test (x += 1 before a test of x, a motor
+  // command before a test of an output's state, a draw before a test that
+  // draws) it must stay on both sides.
+  EXPECT_GE(agreeing_programs_logging<test::CommonHeadGenerator>("runs before the test"), 150) << "of 300 programs";
+}

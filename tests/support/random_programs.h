@@ -411,6 +411,67 @@ class CoinGenerator : public Generator {
   }
 };
 
+// if/else statements whose two sides begin alike (a motor command, a
+// sound, arithmetic on x or y), tested on x, y, a timer, an output's state
+// or a random number: -O2 and -Os run a common beginning once before the
+// test (ir/hoist.cpp) where that cannot change the test, which a common
+// `x += 1` before a test of x, or a draw before a test that draws, would.
+class CommonHeadGenerator : public Generator {
+ public:
+  using Generator::Generator;
+
+  std::string program() {
+    std::ostringstream out;
+    out << "int x, y;\ntask main() {\n  x = " << pick(-2, 3) << "; y = 0; ClearTimer(0);\n";
+    block(out, 3);
+    marker(out);
+    out << "}\n";
+    return out.str();
+  }
+
+ private:
+  std::string statement() {
+    std::ostringstream out;
+    int k = pick(0, 7);
+    static const char* calls[] = {"OnFwd", "OnRev", "Off", "Float", "Toggle"};
+    if (k <= 2) out << calls[pick(0, 4)] << "(" << mask() << "); ";
+    else if (k == 3) out << "SetPower(" << mask() << ", " << pick(0, 7) << "); ";
+    else if (k == 4) out << "PlaySound(" << pick(0, 5) << "); ";
+    else if (k == 5) out << "x += " << pick(1, 3) << "; ";
+    else if (k == 6) out << "y = " << (pick(0, 1) ? "Random(3)" : "x * 2") << "; ";
+    else out << "Wait(" << pick(1, 3) << "); ";
+    return out.str();
+  }
+
+  std::string test() {
+    switch (pick(0, 5)) {
+      case 0: return "x > " + std::to_string(pick(-1, 4));
+      case 1: return "y == " + std::to_string(pick(0, 2));
+      case 2: return "Timer(0) >= " + std::to_string(pick(0, 2));
+      case 3: return "OutputStatus(" + std::to_string(pick(0, 2)) + ") > 10";
+      case 4: return "Random(2) == 1";
+      default: return "x != y";
+    }
+  }
+
+  void block(std::ostringstream& out, int depth) {
+    int n = pick(1, 4);
+    for (int i = 0; i < n; ++i) {
+      if (pick(0, 3) == 0 || depth == 0) {
+        out << "  " << statement() << "\n";
+        continue;
+      }
+      std::string head;
+      for (int h = pick(1, 3); h > 0; --h) head += statement();
+      out << "  if (" << test() << ") {\n  " << head << statement() << "\n";
+      if (pick(0, 2) == 0) block(out, depth - 1);
+      out << "  } else {\n  " << head << statement() << "\n";
+      if (pick(0, 2) == 0) block(out, depth - 1);
+      out << "  }\n";
+    }
+  }
+};
+
 // Subroutines and inline functions whose locals are read before they are
 // written, so each call sees what the previous call left (one variable for
 // all calls, as in nqc), called from main, in loops and branches, and from

@@ -1,0 +1,65 @@
+// Hoisting what both sides of a test begin with (see passes.h).
+#include <fmt/format.h>
+
+#include "ir/passes.h"
+
+namespace rcxc::ir {
+namespace {
+
+bool reads_source(const Branch& br, rcx::Source s) {
+  auto is = [&](const Operand& o) { return o.kind == Operand::Kind::Src && o.source == static_cast<int>(s); };
+  return is(br.a) || is(br.b);
+}
+
+bool is_motor_command(rcx::Op op) {
+  return op == rcx::Op::SetMotorDirection || op == rcx::Op::SetMotorOnOff || op == rcx::Op::SetMotorPower;
+}
+
+// Whether `in` may run before the test instead of after it. Only what
+// cannot change the test's outcome or its timing: a motor command (unless
+// the test reads an output's state), a sound, or arithmetic into a variable
+// the test does not read (drawing a random number before a test that draws
+// one too would swap the draws). A wait would delay the test's reading, a
+// call or a task start could change anything: they stay.
+bool may_run_before(const Instr& in, const Branch& br) {
+  if (in.raw) return false;
+  if (is_motor_command(in.op)) return !reads_source(br, rcx::Source::MotorState);
+  if (in.op == rcx::Op::PlaySound || in.op == rcx::Op::PlayTone) return true;
+  if (!computes_into_variable(in.op)) return false;
+  const Operand& dest = in.args.at(0);
+  if (dest.is_var() && (br.a.is_var(dest.value) || br.b.is_var(dest.value))) return false;
+  bool draws = false;
+  for (const Operand& o : in.args) draws |= reads_random(o);
+  return !(draws && reads_source(br, rcx::Source::Random));
+}
+
+// Whether a side of the branch in block b is its own: entered from b alone.
+bool entered_only_from(const Function& f, const std::vector<int>& preds, const std::vector<bool>& loop_blocks,
+                       BlockId side, std::size_t b) {
+  auto s = static_cast<std::size_t>(side);
+  return side != 0 && s != b && preds[s] == 1 && !loop_blocks[s] && !f.blocks[s].instrs.empty();
+}
+
+}  // namespace
+
+void hoist_common_heads(Function& f, Log& log) {
+  const std::vector<int> preds = predecessor_counts(f);
+  const std::vector<bool> loop_blocks = repeat_blocks(f);
+  for (std::size_t b = 0; b < f.blocks.size(); ++b) {
+    const auto* br = std::get_if<Branch>(&f.blocks[b].term);
+    if (br == nullptr || br->then == br->otherwise || loop_blocks[b]) continue;
+    auto& then_code = f.blocks[static_cast<std::size_t>(br->then)].instrs;
+    auto& else_code = f.blocks[static_cast<std::size_t>(br->otherwise)].instrs;
+    while (entered_only_from(f, preds, loop_blocks, br->then, b) &&
+           entered_only_from(f, preds, loop_blocks, br->otherwise, b) &&
+           same_instr(then_code.front(), else_code.front()) && may_run_before(then_code.front(), *br)) {
+      log.push_back(fmt::format("{}: the {} both sides of a test begin with runs before the test", f.name,
+                                rcx::info(then_code.front().op).mnemonic));
+      f.blocks[b].instrs.push_back(then_code.front());
+      then_code.erase(then_code.begin());
+      else_code.erase(else_code.begin());
+    }
+  }
+}
+
+}  // namespace rcxc::ir
