@@ -690,6 +690,12 @@ void yy::Parser::report_syntax_error(const context& ctx) const {
   } else if (expects_punct("')'")) {
     want = "')'";
   }
+  // A string as a call's first argument (`PlayFileEx("cash.rso", ...)`):
+  // the parser has already settled on an empty argument list there and
+  // asks only for ')', but what was meant is a value.
+  bool string_found = ctx.token() == symbol_kind::S_STRING;
+  if (string_found && want == "')'" && feed.pos >= 2 && feed.tokens[feed.pos - 2].is("("))
+    want = "an expression";
   // A missing ';' is shown just after the statement it should end, unless
   // that statement is in another file (the end of the library, when the
   // first line of a program is wrong): then at what was found.
@@ -697,8 +703,9 @@ void yy::Parser::report_syntax_error(const context& ctx) const {
     where = {feed.prev_end, feed.prev_end};
   std::string message = want.empty() ? "syntax error at " + found : "expected " + want + " before " + found;
   // Text where a value goes: a program for another brick (the NXT's
-  // TextOut) or a C habit. Say why no string can be a value here.
-  if (ctx.token() == symbol_kind::S_STRING && want == "an expression")
+  // TextOut) or a C habit. No rule takes a string, so wherever one is
+  // found, say why it cannot be there.
+  if (string_found)
     message += ": the RCX has no strings, only numbers (its display shows a number)";
   auto& d = feed.diags.error(where, message);
   // At the end of the file the mistake is far above: show the '{' left open.
