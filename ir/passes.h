@@ -47,6 +47,14 @@ void remove_dead_stores(Program& p, LivenessCache* cache = nullptr);
 // their call sites' states.
 void remove_redundant_motor_commands(Program& p);
 
+// overwritten.cpp: a motor command that ends a block is dropped when the
+// block it jumps to begins with motor commands (reading no output) of
+// which one sets the same field of the same outputs (or more) to the same
+// value again: `if (c) { ...; Off(OUT_B); } Off(OUT_B+OUT_C);` keeps the
+// second. One instruction less on that path, and no output state that
+// lasted a jump's time changes. Each drop is reported in `log`.
+void drop_motor_commands_overwritten_next(Function& f, Log& log);
+
 // peephole.cpp: within a block, runs of motor commands (with only
 // instructions between that neither read nor change outputs nor write a
 // global) become the fewest commands giving the same final output states

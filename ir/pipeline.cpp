@@ -96,6 +96,7 @@ bool optimize(Program& p, OptLevel level, Diagnostics& diags, Log& log, const Pa
       for (auto& f : p.functions) {
         merge_consecutive_waits(f);
         hoist_common_heads(f, log);
+        drop_motor_commands_overwritten_next(f, log);
       }
     }
   }
