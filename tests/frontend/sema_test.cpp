@@ -134,8 +134,8 @@ const BadProgram kCases[] = {
       "9:7: warning: 90000 does not fit in 16 bits: it wraps to 24464, so the remainder gives 464 (nqc, which "
       "computes constants in 32 bits, gives 0)"}},
     // Text an #if leaves out is not compiled: nqc compiles this program, and
-    // so must rcxc. (Not a tests/semantic program: the formatter, which
-    // lexes every line, refuses it, and those are formatted in a test.)
+    // so must rcxc (tests/semantic/preprocessor/skipped_prose.nqc too, which
+    // the formatter's program test formats, the branch kept as written).
     {"SkippedTextMayHoldAnything",
      "#if 0\nNotes: this doesn't turn yet, the \"left wheel slips.\nGr\xc3\xb6\xc3\x9f" "e ` \\ @\n#endif\n"
      "int done;\ntask main()\n{\n  done = 1;\n}\n",
