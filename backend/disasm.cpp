@@ -46,19 +46,29 @@ Instruction format_instruction(std::span<const std::uint8_t> code, int address) 
   Instruction out;
   out.address = address;
   const std::uint8_t byte = code[static_cast<std::size_t>(address)];
-  const rcx::OpcodeInfo* info = rcx::command_at(byte);
   rcx::Decoded d = rcx::decode_command(code, address);
-  if (info == nullptr || d.error == static_cast<std::uint8_t>(rcx::DecodeError::NotACommand)) {
-    out.valid = false;
-    out.text = fmt::format("??? 0x{:02x}", byte);
-    return out;
+  // A request (an asm block's Upload datalog, say) is named with its
+  // operands, as nqc -L does, and marked as nothing the brick runs.
+  bool is_request = false;
+  if (d.error == static_cast<std::uint8_t>(rcx::DecodeError::NotACommand)) {
+    auto request = rcx::decode_request(code, address);
+    if (!request) {
+      out.valid = false;
+      out.text = fmt::format("??? 0x{:02x}", byte);
+      return out;
+    }
+    d = *request;
+    is_request = true;
   }
+  const std::string_view note = is_request ? "  ; a request, not a program opcode" : "";
+  const rcx::OpcodeInfo* info = &rcx::info(d.op);
   if (d.error == static_cast<std::uint8_t>(rcx::DecodeError::Truncated)) {
     out.valid = false;
     out.size = static_cast<int>(code.size()) - address;
-    out.text = fmt::format("{} (truncated)", info->mnemonic);
+    out.text = fmt::format("{} (truncated){}", info->mnemonic, note);
     return out;
   }
+  out.valid = !is_request;
   out.size = d.size;
   if (info->op == rcx::Op::SetMotorOnOff || info->op == rcx::Op::SetMotorDirection) {
     out.text = fmt::format("{} {}", info->mnemonic, motor_code(info->op, d.v[0]));
@@ -108,6 +118,7 @@ Instruction format_instruction(std::span<const std::uint8_t> code, int address) 
   out.text = std::string(info->mnemonic);
   for (std::size_t i = 0; i < parts.size(); ++i) out.text += (i == 0 ? " " : ", ") + parts[i];
   if (d.error == static_cast<std::uint8_t>(rcx::DecodeError::BadSource)) out.text += "  ; source not allowed";
+  out.text += note;
   return out;
 }
 

@@ -3,7 +3,9 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <map>
+#include <optional>
 #include <tuple>
 
 #include "rcx/decode.h"
@@ -36,14 +38,28 @@ std::string named(int value, std::initializer_list<const char*> names) {
   return std::to_string(value);
 }
 
-// Each operand's value as a number, in table order: both layouts' form for
-// the instructions they spell no other way.
+// Each operand's value as a number, in table order (each of a key's five
+// bytes): both layouts' form for the instructions they spell no other way.
 std::string numbered_operands(const rcx::Decoded& d) {
-  const auto& info = rcx::info(d.op);
+  std::size_t values = 0;
+  for (const rcx::Operand& o : rcx::info(d.op).operands) values += o.count;
   std::string s;
-  for (std::size_t i = 0; i < info.operands.size() && i < d.v.size(); ++i)
+  for (std::size_t i = 0; i < values && i < d.v.size(); ++i)
     s += (i ? ", " : "") + std::to_string(d.v[i]);
   return s;
+}
+
+// The download requests as both layouts write them: without the byte the
+// seed calls unknown, the firmware's address and checksum as signed.
+std::optional<std::string> download_operands(const rcx::Decoded& d) {
+  const auto& v = d.v;
+  using rcx::Op;
+  switch (d.op) {
+    case Op::StartTaskDownload: case Op::StartSubroutineDownload: return fmt::format("{}, {}", v[1], v[2]);
+    case Op::StartFirmwareDownload:
+      return fmt::format("{}, {}", static_cast<std::int16_t>(v[0]), static_cast<std::int16_t>(v[1]));
+    default: return std::nullopt;
+  }
 }
 
 // The operands as nqc writes them, from the decoded values (table order).
@@ -65,6 +81,7 @@ std::string operands_text(const rcx::Decoded& d) {
       return fmt::format("{}, {}", v[0], named(v[1] >> 5, {"Raw", "Boolean", "Edge", "Pulse", "Percent", "Celcius",
                                                             "Fahrenheit", "Angle"}));
     case Op::Wait: case Op::SetLoopCounter: case Op::SetDisplay: case Op::SendMessage: case Op::DatalogNext:
+    case Op::GetValue:
       return source_text(v[0], v[1]);
     case Op::TestAndBranchNear: case Op::TestAndBranchFar: {
       static constexpr const char* kCompare[] = {"<=", ">=", "!=", "=="};
@@ -76,6 +93,7 @@ std::string operands_text(const rcx::Decoded& d) {
       return std::to_string(d.target);
     default: break;
   }
+  if (auto download = download_operands(d)) return *download;
   return numbered_operands(d);
 }
 
@@ -99,7 +117,19 @@ std::string lasm_operands(const rcx::Decoded& d, const std::string& target) {
     default: break;
   }
   if (rcx::is_branch(d.op)) return target;
+  if (auto download = download_operands(d)) return *download;
   return numbered_operands(d);
+}
+
+// The instruction at `address`, or the request an asm block put there,
+// which nqc lists by name too (error 0 here: it is listed like the rest).
+rcx::Decoded decode_listed(const std::vector<std::uint8_t>& code, int address) {
+  rcx::Decoded d = rcx::decode_command(code, address);
+  if (d.error != static_cast<std::uint8_t>(rcx::DecodeError::NotACommand)) return d;
+  auto request = rcx::decode_request(code, address);
+  if (!request || request->error != static_cast<std::uint8_t>(rcx::DecodeError::NotACommand)) return d;
+  request->error = 0;
+  return *request;
 }
 
 // Bytes nqc cannot name are listed one at a time as `?`.
@@ -108,7 +138,7 @@ bool nameable(const rcx::Decoded& d) { return d.error == 0 && !rcx::info(d.op).n
 // The line of the instruction at `address`; `size` gets how many bytes it
 // listed.
 std::string line_text(const std::vector<std::uint8_t>& code, int address, int& size) {
-  rcx::Decoded d = rcx::decode_command(code, address);
+  rcx::Decoded d = decode_listed(code, address);
   std::string mnemonic, operands;
   size = 1;
   if (nameable(d)) {
@@ -130,7 +160,7 @@ std::string lasm_fragment(const rcx::Fragment& frag, const SourceLineAt& source_
   // A branch may target the end: the task's or subroutine's own end.
   std::vector<bool> targeted(code.size() + 1, false);
   for (int address = 0; address < static_cast<int>(code.size());) {
-    rcx::Decoded d = rcx::decode_command(code, address);
+    rcx::Decoded d = decode_listed(code, address);
     if (!nameable(d)) {
       ++address;
       continue;
@@ -145,7 +175,7 @@ std::string lasm_fragment(const rcx::Fragment& frag, const SourceLineAt& source_
       if (std::string line = source_line(frag.type, frag.index, address); !line.empty()) text += line + "\n";
     if (targeted[static_cast<std::size_t>(address)])
       text += lasm_label(frag.type, frag.index, address) + ":\n";
-    rcx::Decoded d = rcx::decode_command(code, address);
+    rcx::Decoded d = decode_listed(code, address);
     if (!nameable(d)) {
       // nqc 3.1 stops listing here and never ends; a comment keeps the
       // text an assembler can read.

@@ -220,6 +220,10 @@ int run(const CompareOptions& o) {
                  "input)\n";
     return kExitUsage;
   }
+  if (auto problem = special_file_problem(o.file, Takes::Files, "compare needs the program in a file, which nqc compiles too")) {
+    std::cerr << "rcxc compare: " << *problem << "\n";
+    return kExitFailure;
+  }
   // A file that is not source (missing, a folder, an image, binary bytes)
   // is refused in rcxc compile's words before nqc is asked: nqc's refusal
   // would read as "nothing to compare" (exit 5) for what is a bad input.

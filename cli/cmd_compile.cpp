@@ -136,6 +136,10 @@ int run_compile(const CompileArgs& a) {
     std::cerr << "rcxc compile: " << *bad << "\n";
     return kExitUsage;
   }
+  if (auto problem = special_file_problem(a.file, Takes::Files, "give an NQC source file, or '-' for the standard input")) {
+    std::cerr << "rcxc compile: " << *problem << "\n";
+    return kExitFailure;
+  }
   SourceManager sm;
   Diagnostics diags;
   for (const auto& w : a.warning_flags) {

@@ -9,6 +9,7 @@
 
 #include "cli/commands.h"
 #include "cli/output_file.h"
+#include "cli/program_loader.h"
 #include "format/format.h"
 #include "frontend/frontend.h"
 
@@ -26,6 +27,10 @@ enum class Outcome { Unchanged, Changed, Failed };
 
 // Formats one file as the arguments say; problems go to stderr.
 Outcome format_one(const std::string& path, const FormatArgs& args) {
+  if (auto problem = special_file_problem(path, Takes::Files, "give NQC source files, or '-' for the standard input")) {
+    std::cerr << "rcxc format: " << *problem << "\n";
+    return Outcome::Failed;
+  }
   auto [name, read] = frontend::read_source(path);
   if (auto* problem = std::get_if<rcx::FileProblem>(&read)) {
     if (*problem == rcx::FileProblem::TooLarge)

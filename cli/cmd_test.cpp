@@ -92,10 +92,8 @@ std::vector<std::string> collect(const std::vector<std::string>& paths, std::vec
     } else if (p == frontend::kStandardInput) {
       // A test names its @scenario and @options folders relative to itself.
       problems.push_back("'-': rcxc test reads test files, not the standard input (save the program to a file)");
-    } else if (fs::exists(p, ec)) {
-      problems.push_back(fmt::format("{}: not a file or a folder (a device, a pipe or a socket); rcxc test reads "
-                                     ".nqc test files",
-                                     p));
+    } else if (auto special = special_file_problem(p, Takes::FilesAndFolders, "rcxc test reads .nqc test files")) {
+      problems.push_back(*special);
     } else {
       problems.push_back("no such file or folder: " + p);
     }

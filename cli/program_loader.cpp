@@ -228,6 +228,17 @@ std::variant<rcx::Image, std::string> load_standard_input(const CompileRequest& 
 
 }  // namespace
 
+std::optional<std::string> special_file_problem(const std::string& path, Takes takes, std::string_view reads) {
+  if (path == frontend::kStandardInput) return std::nullopt;
+  std::error_code ec;
+  auto status = std::filesystem::status(path, ec);
+  if (ec || !std::filesystem::exists(status) || std::filesystem::is_regular_file(status) ||
+      std::filesystem::is_directory(status))
+    return std::nullopt;
+  return fmt::format("{}: not a file{} (a device, a pipe or a socket); {}", path,
+                     takes == Takes::FilesAndFolders ? " or a folder" : "", reads);
+}
+
 std::optional<std::string> unused_compiler_options(const std::string& path, const CompilerArgs& args) {
   bool given = !args.include_dirs.empty() || !args.defines.empty() || !args.undefines.empty() || args.no_stdlib ||
                args.optimize != CompilerArgs{}.optimize;
@@ -239,6 +250,7 @@ std::variant<rcx::Image, std::string> load_program(const std::string& path, cons
   // A file that cannot be read (missing, a folder) is the image reader's to
   // explain: it names the file and the reason.
   if (path == frontend::kStandardInput) return load_standard_input(request);
+  if (auto problem = special_file_problem(path, Takes::Files, "give an NQC source file or an .rcx image, or '-' for the standard input")) return *problem;
   if (is_nqc_source(path).value_or(false)) {
     CompileResult compiled = compile_file(path, request);
     std::cerr << render_all(compiled.diagnostics, compiled.sources, {});

@@ -7,7 +7,9 @@
 #include <CLI/CLI.hpp>
 
 #include <optional>
+#include <cstdint>
 #include <string>
+#include <string_view>
 #include <variant>
 #include <vector>
 
@@ -86,6 +88,16 @@ bool named_as_image(const std::string& path);
 // What a FILE that is_nqc_source calls no source holds: "an .rcx image"
 // (its signature or its name says so) or "binary data".
 std::string non_source_kind(const std::string& path);
+
+// What a command reads, for the message of special_file_problem().
+enum class Takes : std::uint8_t { Files, FilesAndFolders };
+// PATH names something that exists but is neither a regular file nor a
+// folder: a device, a pipe or a socket, which no command reads as a program
+// (/dev/null would be an empty program or an image "too short", a pipe is
+// read once where a command may look at a file twice). The message, as
+// "P: not a file (a device, a pipe or a socket); `reads`"; nullopt for
+// anything else ("-", a missing file or a folder, which the readers explain).
+std::optional<std::string> special_file_problem(const std::string& path, Takes takes, std::string_view reads);
 
 // For `run`, `disasm` and `download` given an image with -I, -D, -U, -n or
 // -O: a note that they were not used (there is nothing to compile), or

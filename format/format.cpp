@@ -36,25 +36,50 @@ struct Piece {
   bool is(std::string_view punct) const { return !comment && kind == TokenKind::Punct && text == punct; }
   bool is_word(std::string_view word) const { return !comment && kind == TokenKind::Identifier && text == word; }
   bool line_comment() const { return comment && text.starts_with("//"); }
+  // A stray character or an unterminated quote (with the rest of its line).
+  bool unknown() const { return !comment && kind == TokenKind::Unknown; }
+  // Text whose blanks at the end of its line are not kept.
+  bool runs_to_line_end() const { return line_comment() || unknown(); }
 };
 
 struct Lexed {
   std::vector<Piece> pieces;
-  std::string error;  // the first lexical error, "" if none
+  std::string error;  // the first lexical error the lexer reports, "" if none
+  SourceLoc error_at{};
 };
 
 std::string where(const SourceLoc& loc) {
   return "line " + std::to_string(loc.line) + ", column " + std::to_string(loc.column);
 }
 
+bool earlier(const SourceLoc& a, const SourceLoc& b) {
+  return a.line < b.line || (a.line == b.line && a.column < b.column);
+}
+
+// The compiler's error for an Unknown token it reads, with where it is.
+std::string stray_message(const Piece& p) {
+  Diagnostics diags;
+  Token t;
+  t.text = p.text;
+  t.span = p.span;
+  t.kind = TokenKind::Unknown;
+  frontend::report_unknown_token(t, diags);
+  const auto& d = diags.all().front();
+  return where(d.span.begin) + ": " + d.message;
+}
+
+// Lexed as the compiler's preprocessor lexes a file: a stray character or
+// an unterminated quote is an Unknown token, an error only where an #if
+// does not leave it out (stray_branches() decides what to do with it).
 Lexed lex_pieces(std::string_view text) {
   Diagnostics diags;
   std::vector<frontend::Comment> comments;
-  std::vector<Token> tokens = frontend::lex(text, 0, diags, comments);
+  std::vector<Token> tokens = frontend::lex_deferring_stray(text, 0, diags, comments);
   Lexed out;
   for (const auto& d : diags.all()) {
     if (d.severity == Severity::Error) {
       out.error = where(d.span.begin) + ": " + d.message;
+      out.error_at = d.span.begin;
       break;
     }
   }
@@ -112,7 +137,7 @@ std::vector<SigItem> signature(const std::vector<Piece>& pieces) {
       sig.push_back({Mark::DirectiveBegin, TokenKind::End, {}});
       in_directive = true;
     }
-    sig.push_back({Mark::Token, p.kind, p.text});
+    sig.push_back({Mark::Token, p.kind, p.unknown() ? trim_right(p.text) : p.text});
   }
   if (in_directive) sig.push_back({Mark::DirectiveEnd, TokenKind::End, {}});
   return sig;
@@ -285,7 +310,7 @@ int level_for(const Printer& pr, const Piece* next) {
 }
 
 void write(Printer& pr, const Piece& p, Role role) {
-  pr.out += p.line_comment() ? trim_right(p.text) : p.text;
+  pr.out += p.runs_to_line_end() ? trim_right(p.text) : p.text;
   pr.prev = &p;
   pr.prev_end_line = p.span.end.line;
   if (p.comment) return;
@@ -639,12 +664,91 @@ std::set<std::string_view> statement_macros(const std::vector<Piece>& pieces) {
   return names;
 }
 
-std::string lay_out(std::string_view source, const std::vector<Piece>& pieces, const Style& style, bool& too_large) {
-  Printer pr{.source = source, .pieces = pieces, .next_code = next_code_table(pieces), .style = style};
-  pr.statement_macros = statement_macros(pieces);
-  pr.out.reserve(source.size() + source.size() / 4 + 16);
-  for (std::size_t i = 0; i < pieces.size() && !pr.too_large;) {
+// ---------------------------------------------------------------------------
+// Branches kept as written. Text an #if leaves out may hold what is no
+// token (prose with a "don't" in it), as the compiler allows; the formatter
+// cannot tell which branches are left out (#ifdef depends on -D), so a
+// branch of any conditional that holds such a thing outside its directives
+// is kept as written, and only one outside every conditional is refused.
+
+struct PieceRange {
+  std::size_t begin;  // the first piece after the directive opening the branch
+  std::size_t end;    // the directive closing it (or the end of the file)
+};
+
+struct StrayBranches {
+  std::vector<PieceRange> verbatim;  // in order, none inside another
+  const Piece* stray = nullptr;      // the first Unknown token outside every conditional
+};
+
+StrayBranches stray_branches(const std::vector<Piece>& pieces) {
+  struct OpenBranch {
+    std::size_t begin;
+    bool stray;
+  };
+  std::vector<OpenBranch> open;
+  StrayBranches found;
+  auto close = [&](std::size_t end) {
+    if (open.back().stray) found.verbatim.push_back({open.back().begin, end});
+  };
+  for (std::size_t i = 0; i < pieces.size();) {
     const Piece& p = pieces[i];
+    if (!p.comment && p.line_start && p.is("#")) {
+      std::size_t end = directive_end(pieces, i);
+      std::string_view name = i + 1 < end && !pieces[i + 1].comment ? pieces[i + 1].text : "";
+      if (name == "if" || name == "ifdef" || name == "ifndef") {
+        open.push_back({end, false});
+      } else if ((name == "elif" || name == "else") && !open.empty()) {
+        close(i);
+        open.back() = {end, false};
+      } else if (name == "endif" && !open.empty()) {
+        close(i);
+        open.pop_back();
+      }
+      i = end;
+      continue;
+    }
+    if (p.unknown() && !open.empty()) open.back().stray = true;
+    if (p.unknown() && open.empty() && found.stray == nullptr) found.stray = &p;
+    ++i;
+  }
+  for (; !open.empty(); open.pop_back()) close(pieces.size());
+  // An inner branch closes first: order by start, dropping those inside another.
+  std::sort(found.verbatim.begin(), found.verbatim.end(),
+            [](const PieceRange& a, const PieceRange& b) { return a.begin < b.begin; });
+  std::vector<PieceRange> outermost;
+  for (const PieceRange& r : found.verbatim)
+    if (outermost.empty() || r.begin >= outermost.back().end) outermost.push_back(r);
+  found.verbatim = std::move(outermost);
+  return found;
+}
+
+// The source text of pieces [begin, end) from the start of the first one's
+// line, with the blanks that end its lines dropped (and so a CRLF's CR).
+std::string verbatim_text(const Printer& pr, PieceRange r) {
+  std::string_view s = pr.source;
+  std::string out;
+  std::size_t from = s.rfind('\n', static_cast<std::size_t>(pr.pieces[r.begin].text.data() - s.data()));
+  from = from == std::string_view::npos ? 0 : from + 1;
+  for (std::size_t i = r.begin; i < r.end; ++i) {
+    const Piece& p = pr.pieces[i];
+    std::size_t at = static_cast<std::size_t>(p.text.data() - s.data());
+    std::string_view gap = s.substr(from, at - from);
+    for (std::size_t eol = gap.find('\n'); eol != std::string_view::npos; eol = gap.find('\n')) {
+      out += trim_right(gap.substr(0, eol));
+      out += '\n';
+      gap.remove_prefix(eol + 1);
+    }
+    out += gap;
+    out += p.runs_to_line_end() ? trim_right(p.text) : p.text;
+    from = at + p.text.size();
+  }
+  return out;
+}
+
+void lay_out_pieces(Printer& pr, std::size_t i, std::size_t end) {
+  while (i < end && !pr.too_large) {
+    const Piece& p = pr.pieces[i];
     if (!p.comment && p.line_start && p.is("#")) {
       i = place_directive(pr, i);
       continue;
@@ -655,6 +759,30 @@ std::string lay_out(std::string_view source, const std::vector<Piece>& pieces, c
       place_token(pr, i);
     ++i;
   }
+}
+
+// What follows the branch is laid out as if it were not there: it is most
+// likely prose, and its tokens say nothing of the program's nesting.
+void place_verbatim(Printer& pr, PieceRange r) {
+  if (!pr.out.empty()) pr.out += blank_before(pr, pr.pieces[r.begin]) ? "\n\n" : "\n";
+  pr.out += verbatim_text(pr, r);
+  pr.prev = &pr.pieces[r.end - 1];
+  pr.prev_end_line = pr.prev->span.end.line;
+  pr.too_large = pr.out.size() > kMaxSource;
+}
+
+std::string lay_out(std::string_view source, const std::vector<Piece>& pieces, const std::vector<PieceRange>& verbatim,
+                    const Style& style, bool& too_large) {
+  Printer pr{.source = source, .pieces = pieces, .next_code = next_code_table(pieces), .style = style};
+  pr.statement_macros = statement_macros(pieces);
+  pr.out.reserve(source.size() + source.size() / 4 + 16);
+  std::size_t i = 0;
+  for (const PieceRange& r : verbatim) {
+    lay_out_pieces(pr, i, r.begin);
+    if (!pr.too_large) place_verbatim(pr, r);
+    i = r.end;
+  }
+  lay_out_pieces(pr, i, pieces.size());
   too_large = pr.too_large;
   if (!pr.out.empty()) pr.out += '\n';
   return std::move(pr.out);
@@ -669,9 +797,12 @@ std::variant<std::string, Refusal> format_source(std::string_view input, const S
     return Refusal{"cannot format: the indent must be " + std::to_string(kMinIndent) + " to " + std::to_string(kMaxIndent) + " spaces"};
   std::string text = with_lone_crs_as_lf(std::string(input));
   Lexed before = lex_pieces(text);
+  StrayBranches stray = stray_branches(before.pieces);
+  if (stray.stray != nullptr && (before.error.empty() || earlier(stray.stray->span.begin, before.error_at)))
+    return Refusal{"cannot format: " + stray_message(*stray.stray)};
   if (!before.error.empty()) return Refusal{"cannot format: " + before.error};
   bool too_large = false;
-  std::string out = lay_out(text, before.pieces, style, too_large);
+  std::string out = lay_out(text, before.pieces, stray.verbatim, style, too_large);
   if (too_large)
     return Refusal{"cannot format: the formatted text would be larger than a source file may be (" +
                    std::to_string(kMaxSource >> 20) + " MiB)"};

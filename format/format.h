@@ -2,7 +2,8 @@
 // "Format Document"): lays a program out again in one style (docs/format.md)
 // without changing what it means. It works on the lexer's tokens and
 // comments, before preprocessing, so it formats any text that lexes, even
-// one with syntax errors, and keeps every directive as written.
+// one with syntax errors, and keeps every directive as written (and every
+// #if branch holding text that is no token, as the compiler allows there).
 #pragma once
 
 #include <cstddef>

@@ -87,13 +87,12 @@ std::optional<std::int64_t> exact_rec(const Expr& e, int& budget) {
       r = *x * *y;
       break;
     case BinaryOp::Div:
-      if (*y == 0) return std::nullopt;
-      r = *x / *y;
+    case BinaryOp::Mod: {
+      auto q = exact_divide(b->op, *x, *y);
+      if (!q) return std::nullopt;
+      r = *q;
       break;
-    case BinaryOp::Mod:
-      if (*y == 0) return std::nullopt;
-      r = *x % *y;
-      break;
+    }
     default: return std::nullopt;
   }
   if (r > kLimit || r < -kLimit) return std::nullopt;
@@ -145,6 +144,11 @@ std::optional<std::int16_t> fold_rec(const Expr& e, Diagnostics* diags) {
 }  // namespace
 
 std::optional<std::int16_t> fold_constant(const Expr& e, Diagnostics* diags) { return fold_rec(e, diags); }
+
+std::optional<std::int64_t> exact_divide(BinaryOp op, std::int64_t x, std::int64_t y) {
+  if (y == 0) return std::nullopt;
+  return op == BinaryOp::Div ? x / y : x % y;
+}
 
 std::optional<std::int64_t> exact_constant(const Expr& e) {
   int budget = 256;

@@ -26,5 +26,9 @@ std::optional<std::int16_t> fold_unary(ast::UnaryOp op, std::int16_t a);
 // else, for a division by zero, and past a few hundred nodes (the caller
 // asks at each division, so the work stays linear in the program).
 std::optional<std::int64_t> exact_constant(const ast::Expr& e);
+// x / y or x % y (`op` Div or Mod) in wide integers, truncating as C does;
+// nullopt when y is 0. exact_constant's division, and the one the wrapped
+// operand warning compares the brick's 16-bit result with.
+std::optional<std::int64_t> exact_divide(ast::BinaryOp op, std::int64_t x, std::int64_t y);
 
 }  // namespace rcxc::frontend

@@ -185,6 +185,11 @@ std::vector<Token> lex_deferring_stray(std::string_view text, std::uint32_t file
   return lex_text(text, file, diags, std::move(room), nullptr, true);
 }
 
+std::vector<Token> lex_deferring_stray(std::string_view text, std::uint32_t file, Diagnostics& diags,
+                                       std::vector<Comment>& comments) {
+  return lex_text(text, file, diags, {}, &comments, true);
+}
+
 void report_unknown_token(const Token& t, Diagnostics& diags) {
   char first = t.text.empty() ? '\0' : t.text[0];
   SourceSpan one_char = {t.span.begin, t.span.begin};

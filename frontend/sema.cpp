@@ -661,8 +661,13 @@ class Checker {
     if (!wrapped || as<IntLit>(*wrapped)) return;
     std::int64_t wide = 0;
     switch (n.op) {
-      case BinaryOp::Div: if (*y == 0) return; wide = *x / *y; break;
-      case BinaryOp::Mod: if (*y == 0) return; wide = *x % *y; break;
+      case BinaryOp::Div:
+      case BinaryOp::Mod: {
+        auto q = exact_divide(n.op, *x, *y);
+        if (!q) return;
+        wide = *q;
+        break;
+      }
       case BinaryOp::Lt: wide = *x < *y; break;
       case BinaryOp::Le: wide = *x <= *y; break;
       case BinaryOp::Gt: wide = *x > *y; break;

@@ -75,6 +75,10 @@ struct Comment {
 // lex(), also appending every comment of `text`, in order, to `comments`.
 std::vector<Token> lex(std::string_view text, std::uint32_t file, Diagnostics& diags,
                        std::vector<Comment>& comments);
+// lex_deferring_stray(), also listing the comments: the formatter keeps
+// text an #if may leave out (prose with a "don't" in it) as written.
+std::vector<Token> lex_deferring_stray(std::string_view text, std::uint32_t file, Diagnostics& diags,
+                                       std::vector<Comment>& comments);
 
 // The value of a Number or Char token, or nullopt-like false when malformed.
 bool number_value(const Token& t, std::int64_t& value);

@@ -74,15 +74,20 @@ constexpr std::string_view kNoSlotLeft = "no variable slot left for ";
 std::string holder_name(const Var& v) { return v.name.empty() ? std::string("a compiler temporary") : "'" + v.name + "'"; }
 
 // Where a variable is first used: a compiler temporary has no declaration,
-// so the error points at the code that needed it.
+// so the error points at the code that needed it, an instruction or the
+// test that ends a block (`if (Random(5) > 3)` reads its temporary there).
 SourceSpan first_use(const Program& p, VarId v) {
   for (const auto& f : p.functions) {
     if (!live_function(f)) continue;
-    for (const auto& b : f.blocks)
+    for (const auto& b : f.blocks) {
       for (const auto& in : b.instrs)
         if (in.span != 0)
           for (const auto& a : in.args)
             if (a.is_var() && a.value == v) return p.span(in.span);
+      if (b.span != 0)
+        for (VarId read : reads_of(b.term))
+          if (read == v) return p.span(b.span);
+    }
   }
   return {};
 }

@@ -40,6 +40,35 @@ int disallowed_source(const OpcodeInfo& info, const std::array<int, 5>& v) {
   return -1;
 }
 
+namespace {
+
+// The opcode `info` at `address` of `code` with its operands, as the table
+// lays them out; `d` holds the opcode byte's decoding so far (size 1).
+Decoded with_operands(const OpcodeInfo& info, std::span<const std::uint8_t> code, int address, Decoded d) {
+  d.op = info.op;
+  int size = command_size(info).value_or(1);  // every command has a fixed size
+  if (address + size > static_cast<int>(code.size())) {
+    d.error = static_cast<std::uint8_t>(DecodeError::Truncated);
+    return d;
+  }
+  d.size = static_cast<std::uint8_t>(size);
+  int at = address + 1;
+  std::size_t n = 0;
+  int offset_index = -1, offset_at = 0;
+  for (const auto& operand : info.operands) {
+    for (int i = 0; i < operand.count && n < d.v.size(); ++i) {
+      if (operand.role == Role::Offset) offset_index = static_cast<int>(n), offset_at = at;
+      d.v[n++] = read_field(operand.type, code.data() + at);
+      at += field_size(operand.type);
+    }
+  }
+  if (d.error == 0 && disallowed_source(info, d.v) >= 0) d.error = static_cast<std::uint8_t>(DecodeError::BadSource);
+  if (offset_index >= 0) d.target = branch_target(d.op, offset_at, d.v, offset_index);
+  return d;
+}
+
+}  // namespace
+
 Decoded decode_command(std::span<const std::uint8_t> code, int address) {
   Decoded d;
   d.size = 1;
@@ -52,25 +81,18 @@ Decoded decode_command(std::span<const std::uint8_t> code, int address) {
     d.error = static_cast<std::uint8_t>(DecodeError::NotACommand);
     return d;
   }
-  d.op = info->op;
-  int size = command_size(*info).value_or(1);
-  if (address + size > static_cast<int>(code.size())) {
-    d.error = static_cast<std::uint8_t>(DecodeError::Truncated);
-    return d;
-  }
-  d.size = static_cast<std::uint8_t>(size);
-  int at = address + 1;
-  std::size_t n = 0;
-  int offset_index = -1, offset_at = 0;
-  for (const auto& operand : info->operands) {
-    for (int i = 0; i < operand.count && n < d.v.size(); ++i) {
-      if (operand.role == Role::Offset) offset_index = static_cast<int>(n), offset_at = at;
-      d.v[n++] = read_field(operand.type, code.data() + at);
-      at += field_size(operand.type);
-    }
-  }
-  if (disallowed_source(*info, d.v) >= 0) d.error = static_cast<std::uint8_t>(DecodeError::BadSource);
-  if (offset_index >= 0) d.target = branch_target(d.op, offset_at, d.v, offset_index);
+  return with_operands(*info, code, address, d);
+}
+
+std::optional<Decoded> decode_request(std::span<const std::uint8_t> code, int address) {
+  if (address < 0 || address >= static_cast<int>(code.size())) return std::nullopt;
+  const OpcodeInfo* info = request_at(code[static_cast<std::size_t>(address)]);
+  // Transfer data's size depends on its length field: not listed.
+  if (info == nullptr || info->is_command() || !command_size(*info)) return std::nullopt;
+  Decoded d;
+  d.size = 1;
+  d.error = static_cast<std::uint8_t>(DecodeError::NotACommand);
+  d = with_operands(*info, code, address, d);
   return d;
 }
 

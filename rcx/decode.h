@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <span>
 
 #include "rcx/opcodes.h"
@@ -28,6 +29,14 @@ enum class DecodeError : std::uint8_t { None = 0, NotACommand, Truncated, BadSou
 // the code: the machine faults only when such a branch is taken).
 Decoded decode_command(std::span<const std::uint8_t> code, int address);
 const char* to_string(DecodeError error);
+
+// A request-only opcode (Kind::Request, in either toggle form: Upload
+// datalog 0xa4/0xac, Alive, Get value, ...) at `address` of program
+// bytecode, where an asm block can put one, decoded with the request's
+// operand layout for listings: error NotACommand (the brick runs no such
+// instruction; the emulator stops there) or Truncated. nullopt for any
+// other byte and for Transfer data, whose size its own bytes give. Not for running: decode_command() is what a task executes.
+std::optional<Decoded> decode_request(std::span<const std::uint8_t> code, int address);
 
 // Whether `op` is one of the branch opcodes (its operands hold an offset).
 bool is_branch(Op op);

@@ -99,8 +99,9 @@ struct OpcodeInfo {
   bool replies;               // a request answered with reply code ~request
   std::span<const Operand> operands;
   std::span<const Operand> reply;  // reply payload after the reply opcode
-  // What `nqc -L` calls the instruction (empty: nqc lists no such program
-  // instruction); `rcxc nqc -L` prints nqc's layout with it.
+  // What `nqc -L` calls the instruction, or the request an asm block put in
+  // a program (empty: nqc lists the byte as `?`); `rcxc nqc -L` prints
+  // nqc's layout with it.
   std::string_view nqc_mnemonic;
 
   constexpr bool is_command() const { return (static_cast<int>(kind) & 1) != 0; }

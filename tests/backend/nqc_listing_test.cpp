@@ -149,6 +149,32 @@ TEST(NqcListing, CorpusAndSemanticTestProgramsListForLasmAsNqcListsThem) {
   EXPECT_GT(compared, 100);
 }
 
+// An asm block can put a request in a program (the brick will not run it):
+// nqc names each one it knows, in either toggle form, with its operands,
+// and lists Transfer data and a request cut short a byte at a time (where
+// nqc -c never ends, so its listing is compared without them).
+constexpr const char* kRequestsInCode =
+    "0xa4, 1, 0, 2, 0, 0x12, 0, 1, 0x12, 9, 1, 0x15, 1, 2, 3, 4, 5, 0x75, 1, 2, 3, 4, 5, 0x25, 7, 1, 0, 10, 0, "
+    "0x10, 0x20, 0x30, 0x35, 7, 1, 0, 10, 0, 0xa5, 1, 2, 3, 4, 5, 0xac, 3, 0, 4, 0, 0x18, 0x1a, 0, 1";
+constexpr const char* kUnnamedInCode = ", 0x45, 1, 0, 1, 0, 7, 7, 0xa4, 1";
+
+TEST(NqcListing, RequestsInCodeListAsNqcListsThem) {
+  std::string nqc = test::find_nqc();
+  if (nqc.empty()) GTEST_SKIP() << "nqc is not installed";
+  test::TempDir dir;
+  fs::path file = fs::path(dir.path) / "requests.nqc";
+  std::ofstream(file) << "task main() { asm { " << kRequestsInCode << kUnnamedInCode << " }; }\n";
+  auto l = both(nqc, file, dir.path);
+  ASSERT_TRUE(l) << "nqc did not compile the program";
+  EXPECT_NE(l->nqc.find("polld    1, 2 "), std::string::npos) << l->nqc;
+  EXPECT_EQ(l->rcxc, l->nqc);
+  std::ofstream(file) << "task main() { asm { " << kRequestsInCode << " }; }\n";
+  auto lasm = both(nqc, file, dir.path, backend::ListingStyle::Lasm);
+  ASSERT_TRUE(lasm) << "nqc did not compile the program";
+  EXPECT_NE(lasm->nqc.find("\tpolld\t1, 2 \n"), std::string::npos) << lasm->nqc;
+  EXPECT_EQ(lasm->rcxc, lasm->nqc);
+}
+
 // Where nqc -c stops and never ends, rcxc writes a comment and goes on.
 TEST(NqcListing, ABytePastTheInstructionsIsACommentForLasm) {
   rcx::Image image;

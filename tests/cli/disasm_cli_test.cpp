@@ -27,7 +27,7 @@ TEST(DisasmCli, ListsTasksAndSubsWithAddressesMnemonicsOperandsBytes) {
                             0x85, 0x42, 0x00, 0x0a, 0x00, 0x00, 0x07,         //  5 chk 10 >= var[0], 18
                             0x27, 0x8d,                                       // 12 jmp 0 (13 - 0x8d + 128)
                             0x13, 0x05, 0x02, 0x03,                           // 14 pwr AC, 3
-                            0x10}});                                          // 18 not a command
+                            0x01}});                                          // 18 no opcode at all
   img.fragments.push_back({rcx::FragmentType::Subroutine, 2, {0x51, 0x03, 0xf6}});
   img.symbols.push_back({rcx::SymbolType::Task, 0, "main"});
   img.symbols.push_back({rcx::SymbolType::Subroutine, 2, "beep"});
@@ -42,7 +42,7 @@ TEST(DisasmCli, ListsTasksAndSubsWithAddressesMnemonicsOperandsBytes) {
   EXPECT_NE(out.find("0005  chk 10 >= var[0], 18"), std::string::npos) << out;
   EXPECT_NE(out.find("0012  jmp 0"), std::string::npos) << out;
   EXPECT_NE(out.find("0014  pwr AC, 3"), std::string::npos) << out;
-  EXPECT_NE(out.find("0018  ??? 0x10"), std::string::npos) << out;
+  EXPECT_NE(out.find("0018  ??? 0x01"), std::string::npos) << out;
   EXPECT_NE(out.find("sub 2 beep (3 bytes)"), std::string::npos) << out;
   EXPECT_NE(out.find("0000  sound 3"), std::string::npos) << out;
   EXPECT_NE(out.find("0002  ret"), std::string::npos) << out;
@@ -57,6 +57,23 @@ TEST(DisasmCli, MotorCodesAreSpelledOut) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   for (const char* line : {"out AC, on", "out B, off", "out ABC, float", "dir ABC, fwd", "dir B, rev", "dir A, flip"})
     EXPECT_NE(r.out.find(line), std::string::npos) << line << "\n" << r.out;
+}
+
+// An asm block can put a request in a program: it is named with its
+// operands, as nqc -L names it, and marked as nothing the brick runs.
+TEST(DisasmCli, RequestsInCodeAreNamedAndMarked) {
+  rcx::Image img;
+  img.fragments.push_back({rcx::FragmentType::Task, 0, {0xa4, 0x01, 0x00, 0x02, 0x00, 0x12, 0x09, 0x01, 0x10, 0xa4, 0x03}});
+  std::string dir = rcxc::test::make_temp_dir();
+  auto r = run_rcxc({"disasm", write_temp(dir, rcx::write_image(img))});
+  std::filesystem::remove_all(dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const char* line : {"0000  logupload 1, 2  ; a request, not a program opcode a4 01 00 02 00",
+                           "0005  getval sensor[1]  ; a request, not a program opcode 12 09 01",
+                           "0008  alive  ; a request, not a program opcode 10",
+                           "0009  logupload (truncated)  ; a request, not a program opcode a4 03"})
+    EXPECT_NE(r.out.find(line), std::string::npos) << line << "\n" << r.out;
+  EXPECT_EQ(r.out.find("???"), std::string::npos) << r.out;
 }
 
 TEST(DisasmCli, BadFileIsAClearError) {

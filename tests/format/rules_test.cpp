@@ -208,6 +208,36 @@ TEST(FormatRules, EachConditionalBranchStartsFromTheSameNesting) {
             "#ifdef A\ntask main()\n{\n#else\ntask main()\n{\n  Wait(2);\n#endif\n  Wait(1);\n}\n");
 }
 
+// `text` formats to `want`, which formats to itself.
+void expect_fixed_point(const std::string& text, const std::string& want) {
+  EXPECT_EQ(fmt(text), want);
+  EXPECT_EQ(fmt(want), want);
+}
+
+// What an #if may leave out may hold what is no token, as the compiler
+// allows; the formatter cannot tell which branch is left out, so a branch
+// holding such a thing is kept as written, and the code after it is laid
+// out as if the branch were not there.
+TEST(FormatRules, ABranchHoldingStrayTextIsKeptAsWritten) {
+  expect_fixed_point("#if 0\nThe motor   won't start;  see `notes`\n  it's  fine\n#endif\ntask main() {\nWait(1);\n}\n",
+                     "#if 0\nThe motor   won't start;  see `notes`\n  it's  fine\n#endif\ntask main()\n{\n  Wait(1);\n}\n");
+  // Only that branch: the #else one is laid out, from the nesting before the #if.
+  expect_fixed_point("task main() {\n#ifdef OLD\n  OnFwd(OUT_A) ;Wait(1); \"unended\n#else\nOnRev(OUT_A);Wait(2);\n#endif\n}\n",
+                     "task main()\n{\n#ifdef OLD\n  OnFwd(OUT_A) ;Wait(1); \"unended\n#else\n  OnRev(OUT_A);\n  Wait(2);\n#endif\n}\n");
+  // An inner branch is kept and the one around it laid out; directives inside a kept branch stay as indented.
+  expect_fixed_point("task main() {\n#ifdef A\nx=1;\n  #if 0\n  don't\n  #endif\ny=2;\n#endif\n}\n",
+                     "task main()\n{\n#ifdef A\n  x = 1;\n#if 0\n  don't\n#endif\n  y = 2;\n#endif\n}\n");
+  expect_fixed_point("#if 0\n  #ifdef A\n  x=1;\n  #endif\n  don't\n#endif\n",
+                     "#if 0\n  #ifdef A\n  x=1;\n  #endif\n  don't\n#endif\n");
+  // Blanks that end its lines go (a CRLF's CR too), a NUL stays, blank lines before it collapse.
+  using namespace std::string_literals;
+  expect_fixed_point("#if 0\n\n\nit's  \r\nnul \0 here\t\n#endif\n"s, "#if 0\n\nit's\nnul \0 here\n#endif\n"s);
+  // A branch left open at the end of the file is kept to the end.
+  expect_fixed_point("int x;\n#if 0\n  don't\n", "int x;\n#if 0\n  don't\n");
+  // In a directive a quote is kept as any directive is (#warning it's slow compiles).
+  expect_fixed_point("#warning it's slow\nint  x;\n", "#warning it's slow\nint x;\n");
+}
+
 TEST(FormatRules, DirectiveInsideAStatementContinuesIt) {
   EXPECT_EQ(fmt("task main()\n{\n  x = 1 +\n#ifdef A\n  2 +\n#endif\n  3;\n}\n"),
             "task main()\n{\n  x = 1 +\n#ifdef A\n      2 +\n#endif\n      3;\n}\n");
@@ -283,6 +313,10 @@ TEST(FormatRefusals, LexicalErrorsAreNamed) {
   EXPECT_EQ(refusal("task main() { x = 1; ` }\n"), "cannot format: line 1, column 22: stray character '`' in program");
   EXPECT_EQ(refusal(std::string("x\0y", 3)), "cannot format: line 1, column 2: stray NUL character in source");
   EXPECT_EQ(refusal("x = \"open\n"), "cannot format: line 1, column 5: missing terminating \" character");
+  // Outside every conditional such text is read, so it is an error there as in the compiler.
+  EXPECT_EQ(refusal("#if 0\ndon't\n#endif\nx = 'y;\n"), "cannot format: line 4, column 5: missing terminating ' character");
+  EXPECT_EQ(refusal("x = ` /* never ends\n"), "cannot format: line 1, column 5: stray character '`' in program");
+  EXPECT_EQ(refusal("/* never ends ` \n"), "cannot format: line 1, column 1: unterminated /* comment");
 }
 
 TEST(FormatRefusals, TooLargeAndBadIndent) {

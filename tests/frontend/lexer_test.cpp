@@ -81,6 +81,27 @@ TEST(Lexer, CommentsCanBeListedWithoutChangingTheTokens) {
   EXPECT_EQ(toks[2].line_start, plain[2].line_start);
 }
 
+// The formatter lexes as the preprocessor does, listing comments too: a
+// stray quote is an Unknown token, not reported, and the comments are there.
+TEST(Lexer, DeferringStrayCanListCommentsToo) {
+  const std::string text = "don't /* c */ ` // d\nx";
+  Diagnostics d;
+  std::vector<Comment> comments;
+  auto toks = lex_deferring_stray(text, 0, d, comments);
+  EXPECT_FALSE(d.has_errors());
+  ASSERT_EQ(texts(toks), (std::vector<std::string>{"don", "'t /* c */ ` // d", "x"}));
+  EXPECT_EQ(toks[1].kind, TokenKind::Unknown);
+  EXPECT_TRUE(comments.empty());  // the quote takes the rest of its line
+  comments.clear();
+  toks = lex_deferring_stray("a /* c */ ` // d", 0, d, comments);
+  EXPECT_FALSE(d.has_errors());
+  ASSERT_EQ(texts(toks), (std::vector<std::string>{"a", "`"}));
+  EXPECT_EQ(toks[1].kind, TokenKind::Unknown);
+  ASSERT_EQ(comments.size(), 2u);
+  EXPECT_EQ(comments[0].text, "/* c */");
+  EXPECT_EQ(comments[1].text, "// d");
+}
+
 TEST(Lexer, LineStartMarksDirectivesAndBackslashJoinsLines) {
   Diagnostics d;
   auto toks = lex("#define X \\\n  1\n# if X", 0, d);
