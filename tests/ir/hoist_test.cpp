@@ -68,27 +68,15 @@ TEST(Hoist, SidesThatDifferFromTheStartStay) {
 TEST(Hoist, AnAssignmentToWhatTheTestReadsStays) {
   // if (x == 1) { x = 5; ... } else { x = 5; ... }: setting x first would
   // change the test.
-  Builder b;
-  VarId x = b.local("x");
-  FuncId f = b.function("main");
-  b.block(f, {}, Branch{Cmp::EQ, V(x), I(1), 1, 2});
-  b.block(f, {set(x, I(5)), sound(1)}, Jump{3});
-  b.block(f, {set(x, I(5)), sound(2)}, Jump{3});
-  b.block(f, {sound(9)});
+  Builder b = if_else(test_of(V(0), I(1)), {set(0, I(5)), sound(1)}, {set(0, I(5)), sound(2)});
   EXPECT_EQ(hoisted(b), 0u);
 }
 
 TEST(Hoist, ArithmeticIntoAnotherVariableMoves) {
-  Builder b;
-  VarId x = b.local("x");
-  VarId y = b.global("y");
-  FuncId f = b.function("main");
-  b.block(f, {}, Branch{Cmp::EQ, V(x), I(1), 1, 2});
-  b.block(f, {add(y, I(2)), sound(1)}, Jump{3});
-  b.block(f, {add(y, I(2)), sound(2)}, Jump{3});
-  b.block(f, {sound(9)});
+  Builder b = if_else(test_of(V(0), I(1)), {add(1, I(2)), sound(1)}, {add(1, I(2)), sound(2)});
+  b.global("y");  // variable 1
   ASSERT_EQ(hoisted(b), 1u);
-  EXPECT_TRUE(same_instr(b.fn(0).blocks[0].instrs[0], add(y, I(2))));
+  EXPECT_TRUE(same_instr(b.fn(0).blocks[0].instrs[0], add(1, I(2))));
 }
 
 TEST(Hoist, AMotorCommandStaysWhenTheTestReadsAnOutput) {
@@ -108,13 +96,7 @@ TEST(Hoist, WaitsCallsAndOtherCommandsStay) {
 
 TEST(Hoist, TwoRandomDrawsKeepTheirOrder) {
   // The test draws a number; a side's draw moved before it would swap them.
-  Builder b;
-  VarId y = b.local("y");
-  FuncId f = b.function("main");
-  b.block(f, {}, Branch{Cmp::EQ, kRandom, I(1), 1, 2});
-  b.block(f, {set(y, kRandom), sound(1)}, Jump{3});
-  b.block(f, {set(y, kRandom), sound(2)}, Jump{3});
-  b.block(f, {sound(9)});
+  Builder b = if_else(test_of(kRandom, I(1)), {set(0, kRandom), sound(1)}, {set(0, kRandom), sound(2)});
   EXPECT_EQ(hoisted(b), 0u);
 }
 
