@@ -97,6 +97,7 @@ TEST(Levels, MinusO2NeverRunsMoreThanMinusO1) {
     check(test::BackAndForthGenerator(seed).program(), "back and forth " + std::to_string(seed));
     check(test::CoinGenerator(seed).program(), "coin " + std::to_string(seed));
     check(test::TailStartGenerator(seed).program(), "tail start " + std::to_string(seed));
+    check(test::CommonHeadGenerator(seed).program(), "common head " + std::to_string(seed));
   }
   EXPECT_GT(os_slower, 0);
 }
