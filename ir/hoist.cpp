@@ -53,7 +53,7 @@ void hoist_common_heads(Function& f, Log& log) {
     while (entered_only_from(f, preds, loop_blocks, br->then, b) &&
            entered_only_from(f, preds, loop_blocks, br->otherwise, b) &&
            same_instr(then_code.front(), else_code.front()) && may_run_before(then_code.front(), *br)) {
-      log.push_back(fmt::format("{}: the {} both sides of a test begin with runs before the test", f.name,
+      log.push_back(fmt::format("{}: `{}` begins both sides of a test and runs once before the test", f.name,
                                 rcx::info(then_code.front().op).mnemonic));
       f.blocks[b].instrs.push_back(then_code.front());
       then_code.erase(then_code.begin());

@@ -62,7 +62,7 @@ void drop_motor_commands_overwritten_next(Function& f, Log& log) {
     if (&next == &block) continue;
     while (!block.instrs.empty() && is_motor_command(block.instrs.back()) &&
            overwritten_at_start(next, block.instrs.back())) {
-      log.push_back(fmt::format("{}: a {} the next block sets again goes", f.name,
+      log.push_back(fmt::format("{}: `{}` goes: the block it jumps to sets it again", f.name,
                                 rcx::info(block.instrs.back().op).mnemonic));
       block.instrs.pop_back();
     }

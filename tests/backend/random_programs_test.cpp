@@ -520,8 +520,8 @@ TEST(RandomPrograms, ABeginningBothSidesShareRunsBeforeTheTestAsItRanAfter) {
   // beginning could change the test (x += 1 before a test of x, a motor
   // command before a test of an output's state, a draw before a test that
   // draws) it must stay on both sides.
-  EXPECT_GE(agreeing_programs_logging<test::CommonHeadGenerator>("runs before the test"), 150) << "of 300 programs";
+  EXPECT_GE(agreeing_programs_logging<test::CommonHeadGenerator>("runs once before the test"), 150) << "of 300 programs";
   // A side ending with a motor command that the next statement sets again
   // (ir/overwritten.cpp) drops it: 14 of the first 300.
-  EXPECT_GE(agreeing_programs_logging<test::CommonHeadGenerator>("sets again goes"), 5) << "of 300 programs";
+  EXPECT_GE(agreeing_programs_logging<test::CommonHeadGenerator>("sets it again"), 5) << "of 300 programs";
 }
