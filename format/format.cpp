@@ -70,7 +70,7 @@ std::string stray_message(const Piece& p) {
 
 // Lexed as the compiler's preprocessor lexes a file: a stray character or
 // an unterminated quote is an Unknown token, an error only where an #if
-// does not leave it out (stray_branches() decides what to do with it).
+// does not leave it out (kept_branches() decides what to do with it).
 Lexed lex_pieces(std::string_view text) {
   Diagnostics diags;
   std::vector<frontend::Comment> comments;
@@ -234,6 +234,23 @@ struct Nesting {
 
 enum class Role : std::uint8_t { Other, Prefix, Postfix, Binary, Label };
 
+struct Layout {
+  Nesting n;
+  const Piece* prev_code;
+  Role prev_role;
+  bool pending_break;
+  bool header_ended;
+  int statement_level;
+  std::size_t statement_first;
+};
+
+// An #if being laid out: the layout before it (none when too deep to copy
+// cheaply), and whether it stood between statements.
+struct Conditional {
+  std::optional<Layout> before;
+  bool between_statements;
+};
+
 constexpr int kMaxIndentLevels = 40;  // deeper code is indented no further
 constexpr std::size_t kMaxSnapshotFrames = 256;
 
@@ -256,9 +273,26 @@ struct Printer {
   // a line of its own is a whole statement, though no `;` follows it.
   std::set<std::string_view> statement_macros{};
   Nesting n{};
-  std::vector<std::optional<Nesting>> conditionals{};
+  std::vector<Conditional> conditionals{};
+  std::vector<std::size_t> kept_begins{};  // the first piece of each branch kept as written, in order
   bool too_large = false;
 };
+
+// Where the layout was: what each branch of an #if/#else starts from, and
+// what a branch kept as written leaves as it was.
+Layout layout_of(const Printer& pr) {
+  return {pr.n, pr.prev_code, pr.prev_role, pr.pending_break, pr.header_ended, pr.statement_level, pr.statement_first};
+}
+
+void restore(Printer& pr, const Layout& l) {
+  pr.n = l.n;
+  pr.prev_code = l.prev_code;
+  pr.prev_role = l.prev_role;
+  pr.pending_break = l.pending_break;
+  pr.header_ended = l.header_ended;
+  pr.statement_level = l.statement_level;
+  pr.statement_first = l.statement_first;
+}
 
 const Piece* code_after(const Printer& pr, std::size_t i) {
   std::size_t j = pr.next_code[i];
@@ -600,13 +634,28 @@ std::string_view directive_text(const Printer& pr, const Piece& first, const Pie
   }
 }
 
-void track_conditional(Printer& pr, std::string_view name) {
+// A statement begun inside a branch of an #if that stood between statements
+// and left unended there (a note in an #ifdef, half a statement) ends with
+// the branch, as a ';' would end it: the code after the #endif is no
+// continuation of text the preprocessor may leave out.
+void end_branch_statement(Printer& pr, std::size_t last) {
+  if (!pr.conditionals.back().between_statements || !(mid_statement(pr) || pr.n.header)) return;
+  pr.n.parens = 0;
+  pr.n.header.reset();
+  end_statement(pr, last, Owner::None);
+}
+
+// `last` is the directive's last piece; `kept` says whether the branch it
+// opens is kept as written, which leaves the layout as the branch before
+// it left it (as if it were not there).
+void track_conditional(Printer& pr, std::string_view name, std::size_t last, bool kept) {
   if (name == "if" || name == "ifdef" || name == "ifndef") {
     bool small = pr.n.frames.size() <= kMaxSnapshotFrames;
-    pr.conditionals.push_back(small ? std::optional<Nesting>(pr.n) : std::nullopt);
-  } else if ((name == "elif" || name == "else") && !pr.conditionals.empty() && pr.conditionals.back()) {
-    pr.n = *pr.conditionals.back();
+    pr.conditionals.push_back({small ? std::optional<Layout>(layout_of(pr)) : std::nullopt, !mid_statement(pr)});
+  } else if ((name == "elif" || name == "else") && !pr.conditionals.empty()) {
+    if (!kept && pr.conditionals.back().before) restore(pr, *pr.conditionals.back().before);
   } else if (name == "endif" && !pr.conditionals.empty()) {
+    end_branch_statement(pr, last);
     pr.conditionals.pop_back();
   }
 }
@@ -635,7 +684,9 @@ std::size_t place_directive(Printer& pr, std::size_t i) {
   // continuation of the one it interrupts.
   if (!mid_statement(pr)) pr.pending_break = true;
   const Piece* name = i + 1 < end ? &pr.pieces[i + 1] : nullptr;
-  if (name != nullptr && !name->comment && name->kind == TokenKind::Identifier) track_conditional(pr, name->text);
+  bool kept = std::binary_search(pr.kept_begins.begin(), pr.kept_begins.end(), end);
+  if (name != nullptr && !name->comment && name->kind == TokenKind::Identifier)
+    track_conditional(pr, name->text, end - 1, kept);
   return end;
 }
 
@@ -665,42 +716,86 @@ std::set<std::string_view> statement_macros(const std::vector<Piece>& pieces) {
 }
 
 // ---------------------------------------------------------------------------
-// Branches kept as written. Text an #if leaves out may hold what is no
-// token (prose with a "don't" in it), as the compiler allows; the formatter
-// cannot tell which branches are left out (#ifdef depends on -D), so a
-// branch of any conditional that holds such a thing outside its directives
-// is kept as written, and only one outside every conditional is refused.
+// Branches kept as written: those the preprocessor leaves out whatever the
+// macros (#if 0, the #else of an #if 1), and those holding what is no token.
+// A left-out branch holds prose and half-written code as often as code, so
+// laying it out could mangle it and leave a statement open for the code
+// after it. Text that is no token (prose with a "don't" in it) the compiler
+// allows in any branch it leaves out; the formatter cannot tell which those
+// are (#ifdef depends on -D), so a branch of any conditional holding such a
+// thing is kept, and only one outside every conditional is refused.
 
 struct PieceRange {
   std::size_t begin;  // the first piece after the directive opening the branch
   std::size_t end;    // the directive closing it (or the end of the file)
 };
 
-struct StrayBranches {
+struct KeptBranches {
   std::vector<PieceRange> verbatim;  // in order, none inside another
   const Piece* stray = nullptr;      // the first Unknown token outside every conditional
 };
 
-StrayBranches stray_branches(const std::vector<Piece>& pieces) {
+// The value of an #if or #elif condition that is a constant without any
+// macro: a number, `true` or `false` (the preprocessor's own), under `!`
+// and parentheses (`#if 0`, `#elif (1)`, `#if !true`); nullopt for any
+// other, whose value the formatter does not work out.
+std::optional<bool> constant_condition(const std::vector<Piece>& pieces, std::size_t begin, std::size_t end) {
+  std::vector<const Piece*> t;
+  for (std::size_t k = begin; k < end; ++k)
+    if (!pieces[k].comment) t.push_back(&pieces[k]);
+  std::size_t a = 0;
+  std::size_t b = t.size();
+  bool negated = false;
+  for (;;) {
+    if (a < b && t[a]->is("!")) {
+      negated = !negated;
+      ++a;
+    } else if (b - a >= 3 && t[a]->is("(") && t[b - 1]->is(")")) {
+      ++a;
+      --b;
+    } else {
+      break;
+    }
+  }
+  if (b - a != 1) return std::nullopt;
+  const Piece& p = *t[a];
+  std::optional<bool> value;
+  if (p.is_word("true") || p.is_word("false")) value = p.is_word("true");
+  if (p.kind == TokenKind::Number) {
+    Token number;
+    number.text = p.text;
+    number.kind = TokenKind::Number;
+    std::int64_t v = 0;
+    if (frontend::number_value(number, v)) value = v != 0;
+  }
+  if (!value) return std::nullopt;
+  return *value != negated;
+}
+
+KeptBranches kept_branches(const std::vector<Piece>& pieces) {
   struct OpenBranch {
     std::size_t begin;
-    bool stray;
+    bool kept;   // left out whatever the macros, or holding what is no token
+    bool taken;  // a branch so far is taken whatever the macros: the rest are left out
   };
   std::vector<OpenBranch> open;
-  StrayBranches found;
+  KeptBranches found;
   auto close = [&](std::size_t end) {
-    if (open.back().stray) found.verbatim.push_back({open.back().begin, end});
+    if (open.back().kept && open.back().begin < end) found.verbatim.push_back({open.back().begin, end});
   };
   for (std::size_t i = 0; i < pieces.size();) {
     const Piece& p = pieces[i];
     if (!p.comment && p.line_start && p.is("#")) {
       std::size_t end = directive_end(pieces, i);
       std::string_view name = i + 1 < end && !pieces[i + 1].comment ? pieces[i + 1].text : "";
+      std::optional<bool> value;
+      if (name == "if" || name == "elif") value = constant_condition(pieces, i + 2, end);
       if (name == "if" || name == "ifdef" || name == "ifndef") {
-        open.push_back({end, false});
+        open.push_back({end, value == false, value == true});
       } else if ((name == "elif" || name == "else") && !open.empty()) {
         close(i);
-        open.back() = {end, false};
+        bool taken = open.back().taken;
+        open.back() = {end, taken || (name == "elif" && value == false), taken || value == true};
       } else if (name == "endif" && !open.empty()) {
         close(i);
         open.pop_back();
@@ -708,7 +803,7 @@ StrayBranches stray_branches(const std::vector<Piece>& pieces) {
       i = end;
       continue;
     }
-    if (p.unknown() && !open.empty()) open.back().stray = true;
+    if (p.unknown() && !open.empty()) open.back().kept = true;
     if (p.unknown() && open.empty() && found.stray == nullptr) found.stray = &p;
     ++i;
   }
@@ -761,8 +856,8 @@ void lay_out_pieces(Printer& pr, std::size_t i, std::size_t end) {
   }
 }
 
-// What follows the branch is laid out as if it were not there: it is most
-// likely prose, and its tokens say nothing of the program's nesting.
+// The layout state is left as it was: what follows the branch is laid out
+// as if it were not there, its tokens saying nothing of the nesting.
 void place_verbatim(Printer& pr, PieceRange r) {
   if (!pr.out.empty()) pr.out += blank_before(pr, pr.pieces[r.begin]) ? "\n\n" : "\n";
   pr.out += verbatim_text(pr, r);
@@ -775,6 +870,7 @@ std::string lay_out(std::string_view source, const std::vector<Piece>& pieces, c
                     const Style& style, bool& too_large) {
   Printer pr{.source = source, .pieces = pieces, .next_code = next_code_table(pieces), .style = style};
   pr.statement_macros = statement_macros(pieces);
+  for (const PieceRange& r : verbatim) pr.kept_begins.push_back(r.begin);
   pr.out.reserve(source.size() + source.size() / 4 + 16);
   std::size_t i = 0;
   for (const PieceRange& r : verbatim) {
@@ -797,12 +893,12 @@ std::variant<std::string, Refusal> format_source(std::string_view input, const S
     return Refusal{"cannot format: the indent must be " + std::to_string(kMinIndent) + " to " + std::to_string(kMaxIndent) + " spaces"};
   std::string text = with_lone_crs_as_lf(std::string(input));
   Lexed before = lex_pieces(text);
-  StrayBranches stray = stray_branches(before.pieces);
-  if (stray.stray != nullptr && (before.error.empty() || earlier(stray.stray->span.begin, before.error_at)))
-    return Refusal{"cannot format: " + stray_message(*stray.stray)};
+  KeptBranches kept = kept_branches(before.pieces);
+  if (kept.stray != nullptr && (before.error.empty() || earlier(kept.stray->span.begin, before.error_at)))
+    return Refusal{"cannot format: " + stray_message(*kept.stray)};
   if (!before.error.empty()) return Refusal{"cannot format: " + before.error};
   bool too_large = false;
-  std::string out = lay_out(text, before.pieces, stray.verbatim, style, too_large);
+  std::string out = lay_out(text, before.pieces, kept.verbatim, style, too_large);
   if (too_large)
     return Refusal{"cannot format: the formatted text would be larger than a source file may be (" +
                    std::to_string(kMaxSource >> 20) + " MiB)"};

@@ -3,7 +3,8 @@
 // without changing what it means. It works on the lexer's tokens and
 // comments, before preprocessing, so it formats any text that lexes, even
 // one with syntax errors, and keeps every directive as written (and every
-// #if branch holding text that is no token, as the compiler allows there).
+// #if branch left out whatever the macros, #if 0, or holding text that is
+// no token, as the compiler allows there).
 #pragma once
 
 #include <cstddef>

@@ -80,6 +80,23 @@ TEST(FormatPrograms, GeneratedProgramsKeepTheirImages) {
   }
 }
 
+// Prose and half statements in branches the preprocessor leaves out, kept
+// as written (docs/format.md), around code laid out as usual: the layout
+// worked out by hand, and the same image before and after.
+TEST(FormatPrograms, BranchesLeftOutKeepTheirTextAndTheImage) {
+  const std::string text =
+      "int x;\n#if 0\nThis is a note about the motor\n  x = \n#endif\ntask main() {\n"
+      "#if 0\n  Wait(1\n#else\n x=2;Wait(2);\n#endif\n#ifdef NOTES\n  See the manual\n#endif\n"
+      "#if 1\nOnFwd(OUT_A);\n#else\n  OnRev(OUT_A\n#endif\nx = 1 +\n#if 0\n    2 +\n#endif\n3;\n}\n";
+  const std::string want =
+      "int x;\n#if 0\nThis is a note about the motor\n  x =\n#endif\ntask main()\n{\n"
+      "#if 0\n  Wait(1\n#else\n  x = 2;\n  Wait(2);\n#endif\n#ifdef NOTES\n  See the manual\n#endif\n"
+      "#if 1\n  OnFwd(OUT_A);\n#else\n  OnRev(OUT_A\n#endif\n  x = 1 +\n#if 0\n    2 +\n#endif\n      3;\n}\n";
+  ASSERT_TRUE(image_of("branches.nqc", text).has_value());
+  EXPECT_EQ(formatted(text), want);
+  EXPECT_TRUE(check_program("branches.nqc", text));
+}
+
 // Random edits of real programs (text that lexes, mostly with syntax
 // errors): every result is a lexical refusal or a text that formats to
 // itself; the layout never trips the re-lex check.
@@ -93,7 +110,7 @@ TEST(FormatPrograms, RandomlyEditedProgramsFormatOrAreRefusedForTheirLexing) {
   const std::vector<std::string> words = {
       "#",      "\\\n",  "\n",    " else ", "if",   " do ",   "case 1", "default", "asm",   "while",      "switch",
       "for",    "repeat", "until",  "monitor", "catch", "/*c*/", "//c\n", "'a'",     "\"s\"", "#define Q 1\n",
-      "#if 1\n", "#else\n", "#endif\n", "- -",   "++",   "x",      "1",      "return", "&",     "int &"};
+      "#if 1\n", "#else\n", "#endif\n", "#if 0\n", "#elif 0\n", "#ifdef A\n", "- -", "++", "x", "1", "return", "&", "int &"};
   int formatted_count = 0;
   for (int round = 0; round < 10000; ++round) {
     std::string text = seeds[below(seeds.size())];

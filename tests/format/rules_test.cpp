@@ -238,6 +238,62 @@ TEST(FormatRules, ABranchHoldingStrayTextIsKeptAsWritten) {
   expect_fixed_point("#warning it's slow\nint  x;\n", "#warning it's slow\nint x;\n");
 }
 
+// A branch the preprocessor leaves out whatever the macros holds prose and
+// half-written code as often as code: it is kept as written, and the code
+// after it is laid out as if it were not there (no continuation indent for
+// a statement it seemed to leave open).
+TEST(FormatRules, ABranchLeftOutWhateverTheMacrosIsKeptAsWritten) {
+  expect_fixed_point("int  x;\n#if 0\n  This is   a note\n#endif\ntask main() {\nx=1;\n}\n",
+                     "int x;\n#if 0\n  This is   a note\n#endif\ntask main()\n{\n  x = 1;\n}\n");
+  // Half statements inside a function body; the blank ending "x = " goes.
+  expect_fixed_point("task main()\n{\nWait(1);\n#if 0\n  x = \n    if (y\n#endif\nWait(2);\n}\n",
+                     "task main()\n{\n  Wait(1);\n#if 0\n  x =\n    if (y\n#endif\n  Wait(2);\n}\n");
+  // The #else of an #if 0 is laid out, from the layout before the #if.
+  expect_fixed_point("task main() {\n#if 0\n  Wait(1\n#else\nWait(2);Wait(3);\n#endif\nWait(4);\n}\n",
+                     "task main()\n{\n#if 0\n  Wait(1\n#else\n  Wait(2);\n  Wait(3);\n#endif\n  Wait(4);\n}\n");
+  // An #if 1's #else is left out; what follows goes on from the #if 1 branch's layout (its open brace).
+  expect_fixed_point("task main() {\n#if 1\nWait(1);\n#else\n    Wait(2\n#endif\nWait(3);\n}\n",
+                     "task main()\n{\n#if 1\n  Wait(1);\n#else\n    Wait(2\n#endif\n  Wait(3);\n}\n");
+  expect_fixed_point("#if 1\ntask main() {\n#else\ntask main() { old\n#endif\nWait(1);\n}\n",
+                     "#if 1\ntask main()\n{\n#else\ntask main() { old\n#endif\n  Wait(1);\n}\n");
+  // #elif 0 is left out; after a branch taken whatever the macros, every later one is.
+  expect_fixed_point("#ifdef A\nint  a;\n#elif 0\nnot  this\n#else\nint  b;\n#endif\n",
+                     "#ifdef A\nint a;\n#elif 0\nnot  this\n#else\nint b;\n#endif\n");
+  expect_fixed_point("#if (1)\nint  a;\n#elif B\nint  b;\n#else\nint  c;\n#endif\n",
+                     "#if (1)\nint a;\n#elif B\nint  b;\n#else\nint  c;\n#endif\n");
+  // Nested in an #ifdef, which is laid out around it.
+  expect_fixed_point("#ifdef A\nint  y;\n#if 0\nhalf statement =\n#endif\n#endif\ntask main() {\nWait(3);\n}\n",
+                     "#ifdef A\nint y;\n#if 0\nhalf statement =\n#endif\n#endif\ntask main()\n{\n  Wait(3);\n}\n");
+  // Constants the preprocessor reads without a macro: false, !1, 0x0, (0), a comment after.
+  expect_fixed_point("#if false\na  b\n#endif\n#if !1\na  b\n#endif\n#if 0x0 // off\na  b\n#endif\n#if (0)\na  b\n#endif\n",
+                     "#if false\na  b\n#endif\n#if !1\na  b\n#endif\n#if 0x0 // off\na  b\n#endif\n#if (0)\na  b\n#endif\n");
+  // An empty branch adds no line.
+  expect_fixed_point("#if 0\n#endif\nint  x;\n", "#if 0\n#endif\nint x;\n");
+  // Inside a statement the code after it still continues the statement.
+  expect_fixed_point("task main() {\nx = 1 +\n#if 0\n  2 +\n#endif\n3;\n}\n",
+                     "task main()\n{\n  x = 1 +\n#if 0\n  2 +\n#endif\n      3;\n}\n");
+}
+
+// Other branches are laid out (the formatter does not know the macros), but
+// a statement begun in one that stands between statements ends with it:
+// the code after the #else or #endif is no continuation of a note.
+TEST(FormatRules, AStatementLeftOpenInABranchEndsWithIt) {
+  expect_fixed_point("#ifdef NOTES\nThis is  a note\n#endif\ntask main() {\nWait(3);\n}\n",
+                     "#ifdef NOTES\nThis is a note\n#endif\ntask main()\n{\n  Wait(3);\n}\n");
+  expect_fixed_point("#if FALSE\nThis is  a note\n#endif\nint  x;\n", "#if FALSE\nThis is a note\n#endif\nint x;\n");
+  expect_fixed_point("task main() {\n#ifdef NOTES\nThis is a note\n#else\nWait(1);\n#endif\nWait(2);\n}\n",
+                     "task main()\n{\n#ifdef NOTES\n  This is a note\n#else\n  Wait(1);\n#endif\n  Wait(2);\n}\n");
+  // An else in the note opens a body for the rest of it, which ends with the branch too.
+  expect_fixed_point("task main() {\n#ifdef NOTES\nor else it stops\n#endif\nWait(1);\n}\n",
+                     "task main()\n{\n#ifdef NOTES\n  or else\n    it stops\n#endif\n  Wait(1);\n}\n");
+  // A body an if in a branch leaves waiting is no open statement: it takes the line after.
+  expect_fixed_point("task main() {\n#ifdef A\nif (x)\n#else\nif (y)\n#endif\nWait(1);\n}\n",
+                     "task main()\n{\n#ifdef A\n  if (x)\n#else\n  if (y)\n#endif\n    Wait(1);\n}\n");
+  // An #if inside a statement: each branch continues it, the #else one too.
+  expect_fixed_point("task main() {\nx = 1 +\n#ifdef A\n2;\n#else\n3;\n#endif\nWait(1);\n}\n",
+                     "task main()\n{\n  x = 1 +\n#ifdef A\n      2;\n#else\n      3;\n#endif\n  Wait(1);\n}\n");
+}
+
 TEST(FormatRules, DirectiveInsideAStatementContinuesIt) {
   EXPECT_EQ(fmt("task main()\n{\n  x = 1 +\n#ifdef A\n  2 +\n#endif\n  3;\n}\n"),
             "task main()\n{\n  x = 1 +\n#ifdef A\n      2 +\n#endif\n      3;\n}\n");
