@@ -429,6 +429,11 @@ struct Lowerer {
       if (b->op == ast::BinaryOp::Shl || b->op == ast::BinaryOp::Shr)
         return shift(d, *b, b->op == ast::BinaryOp::Shl);
       auto op = direct_op(b->op);
+      if (op && right_first(*b) && !reads(*b->lhs, d)) {
+        into(d, *b->rhs);  // x = 5 + x * SENSOR_1  ->  x *= t; x += 5
+        arith(*op, d, arith_value(*b->lhs));
+        return;
+      }
       // The left side may have side effects of its own (x = (x - y++) & 3):
       // into() computes all of it, d included, before the right side runs.
       if (op && !reads(*b->rhs, d)) {
@@ -626,8 +631,38 @@ struct Lowerer {
     return v;
   }
 
+  // For + * & |, whether to compute the right side first and apply the
+  // left, a variable or constant, to it: `300 + Random(300)` is `t =
+  // Random(300); t += 300`, where left to right sets 300, draws into a
+  // second temporary and adds it (the arithmetic opcodes take only a
+  // variable or a constant). Only where the order cannot show: the left
+  // side is a constant, or a variable the right side does not change.
+  // A right side that tests (`c + (b < c) * 3`) stays second: in a
+  // temporary its 0 or 1 and what follows fold into the branches
+  // (joinconst.cpp), which they cannot in a global.
+  bool right_first(const ast::Binary& b) {
+    bool commutes = b.op == ast::BinaryOp::Add || b.op == ast::BinaryOp::Mul || b.op == ast::BinaryOp::BitAnd ||
+                    b.op == ast::BinaryOp::BitOr;
+    if (!commutes || !is_plain_operand(*b.lhs) || is_plain_operand(*b.rhs) || tests(*b.rhs)) return false;
+    return constant(*b.lhs) || !has_effects(*b.rhs);
+  }
+
+  // Whether computing e takes a branch: a comparison, !, &&, || or ?:.
+  bool tests(const ast::Expr& whole) {
+    const ast::Expr& e = chosen(whole);
+    if (is_truth_valued(e) || ast::as<ast::Conditional>(e)) return true;
+    if (const auto* u = ast::as<ast::Unary>(e)) return tests(*u->operand);
+    if (const auto* b = ast::as<ast::Binary>(e)) return tests(*b->lhs) || tests(*b->rhs);
+    if (const auto* a = ast::as<ast::Assign>(e)) return tests(*a->value);
+    return false;
+  }
+
   void binary(VarId d, const ast::Binary& b, const ast::Expr& e) {
     if (auto op = direct_op(b.op)) {
+      if (right_first(b)) {
+        compute(d, *b.rhs);
+        return arith(*op, d, arith_value(*b.lhs));
+      }
       into(d, *b.lhs);
       return arith(*op, d, stepped_value(*b.rhs));
     }
