@@ -19,13 +19,14 @@ bool is_motor_command(rcx::Op op) {
 // cannot change the test's outcome or its timing: a motor command (unless
 // the test reads an output's state), a sound, or arithmetic into a variable
 // the test does not read (drawing a random number before a test that draws
-// one too would swap the draws). A wait would delay the test's reading, a
-// call or a task start could change anything: they stay.
+// one too would swap the draws; a test reading a slot by number, `@0`,
+// may read any variable: globals keep nqc's slots). A wait would delay the
+// test's reading, a call or a task start could change anything: they stay.
 bool may_run_before(const Instr& in, const Branch& br) {
   if (in.raw) return false;
   if (is_motor_command(in.op)) return !reads_source(br, rcx::Source::MotorState);
   if (in.op == rcx::Op::PlaySound || in.op == rcx::Op::PlayTone) return true;
-  if (!computes_into_variable(in.op)) return false;
+  if (!computes_into_variable(in.op) || reads_source(br, rcx::Source::Variable)) return false;
   const Operand& dest = in.args.at(0);
   if (dest.is_var() && (br.a.is_var(dest.value) || br.b.is_var(dest.value))) return false;
   bool draws = false;

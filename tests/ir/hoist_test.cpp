@@ -131,3 +131,15 @@ TEST(Hoist, ASideEnteredFromElsewhereStays) {
   b.block(f, {});
   EXPECT_EQ(hoisted(b), 0u);
 }
+
+TEST(Hoist, AnAssignmentStaysWhenTheTestReadsAVariableByNumber) {
+  // if (@0 == 1) { x = 5; ... } else { x = 5; ... }: `@0` is slot 0, the
+  // global x's (globals keep nqc's slots), so setting x first would change
+  // the test.
+  const Operand slot0 = Operand::src(static_cast<int>(rcx::Source::Variable), 0);
+  Builder b = if_else(test_of(slot0, I(1)), {set(0, I(5)), sound(1)}, {set(0, I(5)), sound(2)});
+  EXPECT_EQ(hoisted(b), 0u);
+  // A motor command or sound changes no variable: it still moves.
+  Builder m = if_else(test_of(slot0, I(1)), {out(0x81), sound(1)}, {out(0x81), sound(2)});
+  EXPECT_EQ(hoisted(m), 1u);
+}
