@@ -46,16 +46,30 @@ BlockId side(const Branch& br, VarId coin, int face) {
   return evaluate(br.cmp, a, b) ? br.then : br.otherwise;
 }
 
+// Whether `in` may stand between a draw and the test that becomes its
+// toss: what hoist.cpp moves there (a motor command, a sound, arithmetic),
+// each an instruction's time. A wait or a task start between would let
+// other tasks draw before the toss does, and swap their numbers; a call
+// could draw or push a counter.
+bool quick_command(const Instr& in) {
+  if (in.raw) return false;
+  switch (in.op) {
+    case rcx::Op::SetMotorDirection:
+    case rcx::Op::SetMotorOnOff:
+    case rcx::Op::SetMotorPower:
+    case rcx::Op::PlaySound:
+    case rcx::Op::PlayTone: return true;
+    default: return computes_into_variable(in.op);
+  }
+}
+
 // The index of the block's `set v, Random(1)` that its test may toss
-// instead: the last instruction, or followed only by instructions that
-// neither touch v, nor draw a number (the toss draws at the test), nor
-// call or push a counter (hoist.cpp moves a common motor command or sound
-// of both sides there).
+// instead: the last instruction, or followed only by quick commands that
+// neither touch v nor draw a number (the toss draws at the test).
 std::optional<std::size_t> coin_draw(const Block& block) {
   for (std::size_t i = block.instrs.size(); i-- > 0;) {
     const Instr& in = block.instrs[i];
-    if (in.raw || in.op == rcx::Op::CallSubroutine || in.op == rcx::Op::SetLoopCounter) return std::nullopt;
-    if (in.op == rcx::Op::SetVariable && in.args[0].is_var() && is_random_one(in.args[1])) {
+    if (!in.raw && in.op == rcx::Op::SetVariable && in.args[0].is_var() && is_random_one(in.args[1])) {
       VarId coin = in.args[0].value;
       for (std::size_t k = i + 1; k < block.instrs.size(); ++k) {
         const Instr& after = block.instrs[k];
@@ -67,6 +81,7 @@ std::optional<std::size_t> coin_draw(const Block& block) {
       }
       return i;
     }
+    if (!quick_command(in)) return std::nullopt;
     for (const Operand& o : in.args)
       if (reads_random(o)) return std::nullopt;
   }

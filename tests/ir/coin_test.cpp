@@ -202,3 +202,17 @@ TEST(Coin, ADrawThatWouldChangePlacesWithAnotherStays) {
   reads.b.global("y");
   EXPECT_EQ(tossed(reads), nullptr);
 }
+
+TEST(Coin, AWaitOrATaskStartBetweenTheDrawAndTheTestStays) {
+  // `c = Random(1); Wait(10); if (c == 0)`: tossed at the test, the draw
+  // would come 100 ms later, after the draws other tasks make meanwhile
+  // (a task started between may draw first too), and each would get
+  // another number.
+  Toss waits = coin_if_after({wait(I(10))});
+  EXPECT_EQ(tossed(waits), nullptr);
+  Toss starts = coin_if_after({start(1)});
+  VarId y = starts.b.global("y");
+  FuncId other = starts.b.function("other");
+  starts.b.block(other, {set(y, Operand::src(static_cast<int>(rcx::Source::Random), 9))});
+  EXPECT_EQ(tossed(starts), nullptr);
+}
