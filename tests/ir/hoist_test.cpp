@@ -34,7 +34,7 @@ Branch test_of(Operand a, Operand b) { return Branch{Cmp::EQ, a, b, 0, 0}; }
 
 std::size_t hoisted(Builder& b) {
   Log log;
-  hoist_common_heads(b.fn(0), log);
+  hoist_common_heads(b.p, log);
   EXPECT_EQ(log.size(), b.fn(0).blocks[0].instrs.size());
   return b.fn(0).blocks[0].instrs.size();
 }
@@ -142,4 +142,56 @@ TEST(Hoist, AnAssignmentStaysWhenTheTestReadsAVariableByNumber) {
   // A motor command or sound changes no variable: it still moves.
   Builder m = if_else(test_of(slot0, I(1)), {out(0x81), sound(1)}, {out(0x81), sound(2)});
   EXPECT_EQ(hoisted(m), 1u);
+}
+
+namespace {
+
+// if_else's program with a second task, which could copy one global into
+// another or poll an output while main runs.
+Builder with_other_task(Builder b) {
+  FuncId other = b.function("other");
+  b.block(other, {sound(7)});
+  return b;
+}
+
+}  // namespace
+
+TEST(Hoist, WithOtherTasksWhatTheyCanSeeStaysAfterATestOfWhatTheyCanChange) {
+  // task copier() { while (true) x = y; } and main's
+  // if (x == 1) { y = 1; ... } else { y = 1; ... }: y set before the
+  // test, the copier could make x 1 in the instruction between.
+  auto globals = [](std::vector<Instr> then_code, std::vector<Instr> else_code) {
+    Builder b = if_else(test_of(V(0), I(1)), std::move(then_code), std::move(else_code));
+    b.global("y");  // variable 1
+    return b;
+  };
+  Builder assigned = with_other_task(globals({set(1, I(1)), sound(1)}, {set(1, I(1)), sound(2)}));
+  EXPECT_EQ(hoisted(assigned), 0u);
+  // A task polling output A could set x when it sees A on.
+  Builder motor = with_other_task(globals({out(0x81), sound(1)}, {out(0x81), sound(2)}));
+  EXPECT_EQ(hoisted(motor), 0u);
+  // A sensor, a timer or the message could be changed in answer too.
+  const Operand timer = Operand::src(static_cast<int>(rcx::Source::Timer), 0);
+  Builder timed = with_other_task(if_else(test_of(timer, I(1)), {out(0x81), sound(1)}, {out(0x81), sound(2)}));
+  EXPECT_EQ(hoisted(timed), 0u);
+  // A sound no task can see: it moves.
+  Builder sounds = with_other_task(globals({sound(4), sound(1)}, {sound(4), sound(2)}));
+  EXPECT_EQ(hoisted(sounds), 1u);
+  // Alone, main moves both: nothing can answer between.
+  Builder alone = globals({set(1, I(1)), out(0x81), sound(1)}, {set(1, I(1)), out(0x81), sound(2)});
+  EXPECT_EQ(hoisted(alone), 2u);
+}
+
+TEST(Hoist, WithOtherTasksATestOfMainsOwnVariableStillTakesTheCommand) {
+  // No other task writes a local: nothing can answer before the test.
+  Builder b;
+  VarId x = b.local("x");
+  VarId y = b.global("y");
+  FuncId f = b.function("main");
+  b.block(f, {}, Branch{Cmp::EQ, V(x), I(1), 1, 2});
+  b.block(f, {set(y, I(2)), out(0x81), sound(1)}, Jump{3});
+  b.block(f, {set(y, I(2)), out(0x81), sound(2)}, Jump{3});
+  b.block(f, {sound(9)});
+  b = with_other_task(std::move(b));
+  EXPECT_EQ(hoisted(b), 2u);
 }
