@@ -32,6 +32,21 @@ Builder if_else(Branch test, std::vector<Instr> then_code, std::vector<Instr> el
 
 Branch test_of(Operand a, Operand b) { return Branch{Cmp::EQ, a, b, 0, 0}; }
 
+// if (x == 1) { then_code } else { else_code } sound(9), with x main's
+// local (variable 0) and y a global (variable 1).
+constexpr VarId kLocalX = 0, kGlobalY = 1;
+Builder if_local_else(std::vector<Instr> then_code, std::vector<Instr> else_code) {
+  Builder b;
+  b.local("x");
+  b.global("y");
+  FuncId f = b.function("main");
+  b.block(f, {}, Branch{Cmp::EQ, V(kLocalX), I(1), 1, 2});
+  b.block(f, std::move(then_code), Jump{3});
+  b.block(f, std::move(else_code), Jump{3});
+  b.block(f, {sound(9)});
+  return b;
+}
+
 std::size_t hoisted(Builder& b) {
   Log log;
   hoist_common_heads(b.p, log);
@@ -68,27 +83,14 @@ TEST(Hoist, SidesThatDifferFromTheStartStay) {
 TEST(Hoist, AnAssignmentToWhatTheTestReadsStays) {
   // if (x == 1) { x = 5; ... } else { x = 5; ... }: setting x first would
   // change the test.
-  Builder b;
-  VarId x = b.local("x");
-  FuncId f = b.function("main");
-  b.block(f, {}, Branch{Cmp::EQ, V(x), I(1), 1, 2});
-  b.block(f, {set(x, I(5)), sound(1)}, Jump{3});
-  b.block(f, {set(x, I(5)), sound(2)}, Jump{3});
-  b.block(f, {sound(9)});
+  Builder b = if_local_else({set(kLocalX, I(5)), sound(1)}, {set(kLocalX, I(5)), sound(2)});
   EXPECT_EQ(hoisted(b), 0u);
 }
 
 TEST(Hoist, ArithmeticIntoAnotherVariableMoves) {
-  Builder b;
-  VarId x = b.local("x");
-  VarId y = b.global("y");
-  FuncId f = b.function("main");
-  b.block(f, {}, Branch{Cmp::EQ, V(x), I(1), 1, 2});
-  b.block(f, {add(y, I(2)), sound(1)}, Jump{3});
-  b.block(f, {add(y, I(2)), sound(2)}, Jump{3});
-  b.block(f, {sound(9)});
+  Builder b = if_local_else({add(kGlobalY, I(2)), sound(1)}, {add(kGlobalY, I(2)), sound(2)});
   ASSERT_EQ(hoisted(b), 1u);
-  EXPECT_TRUE(same_instr(b.fn(0).blocks[0].instrs[0], add(y, I(2))));
+  EXPECT_TRUE(same_instr(b.fn(0).blocks[0].instrs[0], add(kGlobalY, I(2))));
 }
 
 TEST(Hoist, AMotorCommandStaysWhenTheTestReadsAnOutput) {
@@ -184,14 +186,7 @@ TEST(Hoist, WithOtherTasksWhatTheyCanSeeStaysAfterATestOfWhatTheyCanChange) {
 
 TEST(Hoist, WithOtherTasksATestOfMainsOwnVariableStillTakesTheCommand) {
   // No other task writes a local: nothing can answer before the test.
-  Builder b;
-  VarId x = b.local("x");
-  VarId y = b.global("y");
-  FuncId f = b.function("main");
-  b.block(f, {}, Branch{Cmp::EQ, V(x), I(1), 1, 2});
-  b.block(f, {set(y, I(2)), out(0x81), sound(1)}, Jump{3});
-  b.block(f, {set(y, I(2)), out(0x81), sound(2)}, Jump{3});
-  b.block(f, {sound(9)});
-  b = with_other_task(std::move(b));
+  Builder b = with_other_task(
+      if_local_else({set(kGlobalY, I(2)), out(0x81), sound(1)}, {set(kGlobalY, I(2)), out(0x81), sound(2)}));
   EXPECT_EQ(hoisted(b), 2u);
 }
