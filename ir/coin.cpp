@@ -50,23 +50,20 @@ BlockId side(const Branch& br, VarId coin, int face) {
 // toss: what hoist.cpp moves there (a motor command, a sound, arithmetic),
 // each an instruction's time. A wait or a task start between would let
 // other tasks draw before the toss does, and swap their numbers; a call
-// could draw or push a counter.
-bool quick_command(const Instr& in) {
+// could draw or push a counter. With other tasks, neither may what they
+// can see: one polling an output could draw in answer before the toss.
+bool may_stand_between(const Instr& in, const std::vector<Var>& vars, bool other_tasks) {
   if (in.raw) return false;
-  switch (in.op) {
-    case rcx::Op::SetMotorDirection:
-    case rcx::Op::SetMotorOnOff:
-    case rcx::Op::SetMotorPower:
-    case rcx::Op::PlaySound:
-    case rcx::Op::PlayTone: return true;
-    default: return computes_into_variable(in.op);
-  }
+  bool quick = is_motor_command(in) || in.op == rcx::Op::PlaySound || in.op == rcx::Op::PlayTone ||
+               computes_into_variable(in.op);
+  return quick && !(other_tasks && seen_by_other_tasks(in, vars));
 }
 
 // The index of the block's `set v, Random(1)` that its test may toss
-// instead: the last instruction, or followed only by quick commands that
-// neither touch v nor draw a number (the toss draws at the test).
-std::optional<std::size_t> coin_draw(const Block& block) {
+// instead: the last instruction, or followed only by commands that may
+// stand between and neither touch v nor draw a number (the toss draws at
+// the test).
+std::optional<std::size_t> coin_draw(const Block& block, const std::vector<Var>& vars, bool other_tasks) {
   for (std::size_t i = block.instrs.size(); i-- > 0;) {
     const Instr& in = block.instrs[i];
     if (!in.raw && in.op == rcx::Op::SetVariable && in.args[0].is_var() && is_random_one(in.args[1])) {
@@ -81,7 +78,7 @@ std::optional<std::size_t> coin_draw(const Block& block) {
       }
       return i;
     }
-    if (!quick_command(in)) return std::nullopt;
+    if (!may_stand_between(in, vars, other_tasks)) return std::nullopt;
     for (const Operand& o : in.args)
       if (reads_random(o)) return std::nullopt;
   }
@@ -90,11 +87,12 @@ std::optional<std::size_t> coin_draw(const Block& block) {
 
 void toss_in(const Program& p, Function& f, const CounterDepths& d, int entry, const CallEffects& calls, Log& log) {
   Liveness live = compute_liveness(p, f, calls);
+  const bool other_tasks = runs_several_tasks(p);
   for (std::size_t b = 0; b < f.blocks.size(); ++b) {
     Block& block = f.blocks[b];
     const auto* br = std::get_if<Branch>(&block.term);
     if (br == nullptr || block.instrs.empty() || d.at_block[b] < 0) continue;
-    auto draw = coin_draw(block);
+    auto draw = coin_draw(block, p.vars, other_tasks);
     if (!draw) continue;
     VarId coin = block.instrs[*draw].args[0].value;
     if (p.vars[static_cast<std::size_t>(coin)].kind == VarKind::Global || live.live_out[b].has(coin)) continue;

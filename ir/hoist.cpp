@@ -1,6 +1,4 @@
 // Hoisting what both sides of a test begin with (see passes.h).
-#include <algorithm>
-
 #include <fmt/format.h>
 
 #include "ir/passes.h"
@@ -13,10 +11,6 @@ bool reads_source(const Branch& br, rcx::Source s) {
   return is(br.a) || is(br.b);
 }
 
-bool is_motor_command(rcx::Op op) {
-  return op == rcx::Op::SetMotorDirection || op == rcx::Op::SetMotorOnOff || op == rcx::Op::SetMotorPower;
-}
-
 // Whether the test reads what another task may change: a global, a slot
 // by number, or any source (an output's state, a timer, the message, a
 // sensor, the next random number).
@@ -26,14 +20,6 @@ bool reads_shared(const Branch& br, const std::vector<Var>& vars) {
     return o.kind == Operand::Kind::Src;
   };
   return shared(br.a) || shared(br.b);
-}
-
-// Whether another task can see `in` happen: a motor command (through an
-// output's state) or an assignment to a global.
-bool seen_by_other_tasks(const Instr& in, const std::vector<Var>& vars) {
-  if (is_motor_command(in.op)) return true;
-  const Operand& dest = in.args.at(0);
-  return dest.is_var() && vars.at(static_cast<std::size_t>(dest.value)).kind == VarKind::Global;
 }
 
 // Whether `in` may run before the test instead of after it. Only what
@@ -50,9 +36,9 @@ bool seen_by_other_tasks(const Instr& in, const std::vector<Var>& vars) {
 bool may_run_before(const Instr& in, const Branch& br, const std::vector<Var>& vars, bool other_tasks) {
   if (in.raw) return false;
   if (in.op == rcx::Op::PlaySound || in.op == rcx::Op::PlayTone) return true;
-  if (!is_motor_command(in.op) && !computes_into_variable(in.op)) return false;
+  if (!is_motor_command(in) && !computes_into_variable(in.op)) return false;
   if (other_tasks && seen_by_other_tasks(in, vars) && reads_shared(br, vars)) return false;
-  if (is_motor_command(in.op)) return !reads_source(br, rcx::Source::MotorState);
+  if (is_motor_command(in)) return !reads_source(br, rcx::Source::MotorState);
   if (reads_source(br, rcx::Source::Variable)) return false;
   const Operand& dest = in.args.at(0);
   if (dest.is_var() && (br.a.is_var(dest.value) || br.b.is_var(dest.value))) return false;
@@ -92,9 +78,8 @@ void hoist_in(Function& f, const std::vector<Var>& vars, bool other_tasks, Log& 
 }  // namespace
 
 void hoist_common_heads(Program& p, Log& log) {
-  auto tasks = std::count_if(p.functions.begin(), p.functions.end(),
-                             [](const Function& f) { return f.kind == FuncKind::Task && !f.blocks.empty(); });
-  for (auto& f : p.functions) hoist_in(f, p.vars, tasks > 1, log);
+  bool other_tasks = runs_several_tasks(p);
+  for (auto& f : p.functions) hoist_in(f, p.vars, other_tasks, log);
 }
 
 }  // namespace rcxc::ir
