@@ -46,16 +46,27 @@ BlockId side(const Branch& br, VarId coin, int face) {
   return evaluate(br.cmp, a, b) ? br.then : br.otherwise;
 }
 
+// Whether `in` may stand between a draw and the test that becomes its
+// toss: what hoist.cpp moves there (a motor command, a sound, arithmetic),
+// each an instruction's time. A wait or a task start between would let
+// other tasks draw before the toss does, and swap their numbers; a call
+// could draw or push a counter. With other tasks, neither may what they
+// can see: one polling an output could draw in answer before the toss.
+bool may_stand_between(const Instr& in, const std::vector<Var>& vars, bool other_tasks) {
+  if (in.raw) return false;
+  bool quick = is_motor_command(in) || in.op == rcx::Op::PlaySound || in.op == rcx::Op::PlayTone ||
+               computes_into_variable(in.op);
+  return quick && !(other_tasks && seen_by_other_tasks(in, vars));
+}
+
 // The index of the block's `set v, Random(1)` that its test may toss
-// instead: the last instruction, or followed only by instructions that
-// neither touch v, nor draw a number (the toss draws at the test), nor
-// call or push a counter (hoist.cpp moves a common motor command or sound
-// of both sides there).
-std::optional<std::size_t> coin_draw(const Block& block) {
+// instead: the last instruction, or followed only by commands that may
+// stand between and neither touch v nor draw a number (the toss draws at
+// the test).
+std::optional<std::size_t> coin_draw(const Block& block, const std::vector<Var>& vars, bool other_tasks) {
   for (std::size_t i = block.instrs.size(); i-- > 0;) {
     const Instr& in = block.instrs[i];
-    if (in.raw || in.op == rcx::Op::CallSubroutine || in.op == rcx::Op::SetLoopCounter) return std::nullopt;
-    if (in.op == rcx::Op::SetVariable && in.args[0].is_var() && is_random_one(in.args[1])) {
+    if (!in.raw && in.op == rcx::Op::SetVariable && in.args[0].is_var() && is_random_one(in.args[1])) {
       VarId coin = in.args[0].value;
       for (std::size_t k = i + 1; k < block.instrs.size(); ++k) {
         const Instr& after = block.instrs[k];
@@ -67,6 +78,7 @@ std::optional<std::size_t> coin_draw(const Block& block) {
       }
       return i;
     }
+    if (!may_stand_between(in, vars, other_tasks)) return std::nullopt;
     for (const Operand& o : in.args)
       if (reads_random(o)) return std::nullopt;
   }
@@ -75,11 +87,12 @@ std::optional<std::size_t> coin_draw(const Block& block) {
 
 void toss_in(const Program& p, Function& f, const CounterDepths& d, int entry, const CallEffects& calls, Log& log) {
   Liveness live = compute_liveness(p, f, calls);
+  const bool other_tasks = runs_several_tasks(p);
   for (std::size_t b = 0; b < f.blocks.size(); ++b) {
     Block& block = f.blocks[b];
     const auto* br = std::get_if<Branch>(&block.term);
     if (br == nullptr || block.instrs.empty() || d.at_block[b] < 0) continue;
-    auto draw = coin_draw(block);
+    auto draw = coin_draw(block, p.vars, other_tasks);
     if (!draw) continue;
     VarId coin = block.instrs[*draw].args[0].value;
     if (p.vars[static_cast<std::size_t>(coin)].kind == VarKind::Global || live.live_out[b].has(coin)) continue;

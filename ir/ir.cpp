@@ -1,6 +1,8 @@
 #include "ir/ir.h"
 #include "ir/predecessors.h"
 
+#include <algorithm>
+
 #include <fmt/format.h>
 
 namespace rcxc::ir {
@@ -339,6 +341,24 @@ bool computes_into_variable(rcx::Op op) {
     case rcx::Op::SignVariable: return true;
     default: return false;
   }
+}
+
+bool is_motor_command(const Instr& in) {
+  return !in.raw && (in.op == rcx::Op::SetMotorDirection || in.op == rcx::Op::SetMotorOnOff ||
+                     in.op == rcx::Op::SetMotorPower);
+}
+
+bool runs_several_tasks(const Program& p) {
+  auto tasks = std::count_if(p.functions.begin(), p.functions.end(),
+                             [](const Function& f) { return f.kind == FuncKind::Task && !f.blocks.empty(); });
+  return tasks > 1;
+}
+
+bool seen_by_other_tasks(const Instr& in, const std::vector<Var>& vars) {
+  if (is_motor_command(in)) return true;
+  if (in.raw || !computes_into_variable(in.op)) return false;
+  const Operand& dest = in.args.at(0);
+  return dest.is_var() && vars.at(static_cast<std::size_t>(dest.value)).kind == VarKind::Global;
 }
 
 int instr_size(const Instr& in) {

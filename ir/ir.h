@@ -373,6 +373,16 @@ bool reads_random(const Operand& o);
 // The opcodes that compute into a variable and do nothing else: set,
 // arithmetic, logic, absolute value and sign.
 bool computes_into_variable(rcx::Op op);
+// Whether `in` sets outputs' direction, on/off mode or power (raw asm
+// bytes are not counted).
+bool is_motor_command(const Instr& in);
+// Whether the program has more than one task with code: one task's
+// commands may then be seen, and answered, by another between two of its
+// instructions.
+bool runs_several_tasks(const Program& p);
+// Whether another task can see `in` happen: a motor command (through an
+// output's state) or an assignment to a global.
+bool seen_by_other_tasks(const Instr& in, const std::vector<Var>& vars);
 
 // Variables an instruction reads and writes (Var operands only).
 // The variables of one instruction: a few, kept inline, so the passes that

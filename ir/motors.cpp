@@ -51,15 +51,10 @@ void merge_into(State& into, const State& from) {
   }
 }
 
-bool is_motor_op(const Instr& in) {
-  return !in.raw && (in.op == rcx::Op::SetMotorDirection || in.op == rcx::Op::SetMotorOnOff ||
-                     in.op == rcx::Op::SetMotorPower);
-}
-
 // Outputs an instruction may change (raw bytes: any).
 int touched(const Instr& in) {
   if (in.raw) return 7;
-  if (is_motor_op(in)) return in.args.at(0).is_imm() ? (in.args[0].value & 7) : 7;
+  if (is_motor_command(in)) return in.args.at(0).is_imm() ? (in.args[0].value & 7) : 7;
   return 0;
 }
 
@@ -116,7 +111,7 @@ void combine_into(Writes& into, const Writes& from) {
 void add_writes(const Instr& in, Writes& w) {
   int mask = touched(in);
   if (mask == 0) return;
-  bool known = !in.raw && is_motor_op(in) && in.args[0].is_imm();
+  bool known = !in.raw && is_motor_command(in) && in.args[0].is_imm();
   Effect e = known ? effect_of(in) : Effect{};
   if (known && e.field == nullptr) return;
   for (int o = 0; o < kOutputs; ++o) {
@@ -197,7 +192,7 @@ struct MotorPass {
     // Most instructions neither command an output, call, nor start a
     // task: they change nothing here (asked of every instruction of the
     // program several times).
-    if (!in.raw && !is_motor_op(in) && in.op != rcx::Op::CallSubroutine && in.op != rcx::Op::StartTask) return false;
+    if (!in.raw && !is_motor_command(in) && in.op != rcx::Op::CallSubroutine && in.op != rcx::Op::StartTask) return false;
     if (FuncId g = callee_of(in); g >= 0) {
       apply_call(g, s);
       return false;
@@ -215,7 +210,7 @@ struct MotorPass {
     }
     int mask = touched(in);
     if (mask == 0) return false;
-    if (in.raw || !is_motor_op(in) || !in.args[0].is_imm()) {
+    if (in.raw || !is_motor_command(in) || !in.args[0].is_imm()) {
       for (int o = 0; o < kOutputs; ++o)
         if ((mask >> o) & 1) s.out[o] = {};
       return false;

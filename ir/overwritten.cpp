@@ -6,11 +6,6 @@
 namespace rcxc::ir {
 namespace {
 
-bool is_motor_command(const Instr& in) {
-  return !in.raw && (in.op == rcx::Op::SetMotorDirection || in.op == rcx::Op::SetMotorOnOff ||
-                     in.op == rcx::Op::SetMotorPower);
-}
-
 // The outputs a motor command names (bits 0..2), when constant.
 std::optional<int> outputs_of(const Instr& in) {
   if (!in.args.at(0).is_imm()) return std::nullopt;

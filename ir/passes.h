@@ -158,9 +158,11 @@ void speculate_assignments(Function& f, const std::vector<Var>& vars);
 // SetPower(OUT_A+OUT_C, 3); Rev(OUT_C); }` keeps one SetPower. Every path
 // runs as many instructions; the one moved runs an instruction earlier.
 // Only motor commands (unless the test reads an output's state), sounds,
-// and arithmetic into a variable the test does not read. Each move is
-// reported in `log`.
-void hoist_common_heads(Function& f, Log& log);
+// and arithmetic into a variable the test does not read. In a program of
+// several tasks, a motor command or an assignment to a global stays after
+// a test of a global or a source: another task could answer it before the
+// test. Each move is reported in `log`.
+void hoist_common_heads(Program& p, Log& log);
 
 // cfg.cpp: threads jumps through empty blocks, turns branches whose both
 // targets agree into jumps, and deletes blocks no path reaches (dead code

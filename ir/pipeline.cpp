@@ -70,11 +70,9 @@ bool optimize(Program& p, OptLevel level, Diagnostics& diags, Log& log, const Pa
         }
         apply_constants_in_predecessors(p);
       }
-      for (auto& f : p.functions) {
-        shorten_complements(f);
-        if (shrinks_without_slowing(level)) hoist_common_heads(f, log);
-        simplify_cfg(f);
-      }
+      for (auto& f : p.functions) shorten_complements(f);
+      if (shrinks_without_slowing(level)) hoist_common_heads(p, log);
+      for (auto& f : p.functions) simplify_cfg(f);
       std::uint64_t after = code_hash(p);
       if (after == before) break;
       before = after;  // the next round starts from this code
@@ -93,11 +91,9 @@ bool optimize(Program& p, OptLevel level, Diagnostics& diags, Log& log, const Pa
       remove_redundant_motor_commands(p);
       // Removed motor commands can leave waits next to each other, and
       // merged ones the same command at the head of both sides of a test.
-      for (auto& f : p.functions) {
-        merge_consecutive_waits(f);
-        hoist_common_heads(f, log);
-        drop_motor_commands_overwritten_next(f, log);
-      }
+      for (auto& f : p.functions) merge_consecutive_waits(f);
+      hoist_common_heads(p, log);
+      for (auto& f : p.functions) drop_motor_commands_overwritten_next(f, log);
     }
   }
   // Needed at every level: a counter loop left by a jump must not keep its

@@ -202,3 +202,39 @@ TEST(Coin, ADrawThatWouldChangePlacesWithAnotherStays) {
   reads.b.global("y");
   EXPECT_EQ(tossed(reads), nullptr);
 }
+
+TEST(Coin, AWaitOrATaskStartBetweenTheDrawAndTheTestStays) {
+  // `c = Random(1); Wait(10); if (c == 0)`: tossed at the test, the draw
+  // would come 100 ms later, after the draws other tasks make meanwhile
+  // (a task started between may draw first too), and each would get
+  // another number.
+  Toss waits = coin_if_after({wait(I(10))});
+  EXPECT_EQ(tossed(waits), nullptr);
+  Toss starts = coin_if_after({start(1)});
+  VarId y = starts.b.global("y");
+  FuncId other = starts.b.function("other");
+  starts.b.block(other, {set(y, Operand::src(static_cast<int>(rcx::Source::Random), 9))});
+  EXPECT_EQ(tossed(starts), nullptr);
+}
+
+TEST(Coin, WithOtherTasksWhatTheyCanSeeBetweenTheDrawAndTheTestStays) {
+  // `if (Random(1) == 0) { On(OUT_A); ... } else { On(OUT_A); ... }` with
+  // On(OUT_A) hoisted between the draw and the test: a task waiting for A
+  // to run, then drawing, would draw before the toss.
+  auto with_other_task = [](Toss t) {
+    FuncId other = t.b.function("other");
+    t.b.block(other, {sound(7)});
+    return t;
+  };
+  Toss motor = with_other_task(coin_if_after({out(0x81)}));
+  EXPECT_EQ(tossed(motor), nullptr);
+  Toss global = coin_if_after({add(1, I(1))});
+  global.b.global("x");
+  global = with_other_task(std::move(global));
+  EXPECT_EQ(tossed(global), nullptr);
+  // A sound and arithmetic into a local no task can see: still a toss.
+  Toss unseen = coin_if_after({sound(4), add(1, I(1))});
+  unseen.b.local("y");
+  unseen = with_other_task(std::move(unseen));
+  EXPECT_NE(tossed(unseen), nullptr);
+}

@@ -32,9 +32,24 @@ Builder if_else(Branch test, std::vector<Instr> then_code, std::vector<Instr> el
 
 Branch test_of(Operand a, Operand b) { return Branch{Cmp::EQ, a, b, 0, 0}; }
 
+// if (x == 1) { then_code } else { else_code } sound(9), with x main's
+// local (variable 0) and y a global (variable 1).
+constexpr VarId kLocalX = 0, kGlobalY = 1;
+Builder if_local_else(std::vector<Instr> then_code, std::vector<Instr> else_code) {
+  Builder b;
+  b.local("x");
+  b.global("y");
+  FuncId f = b.function("main");
+  b.block(f, {}, Branch{Cmp::EQ, V(kLocalX), I(1), 1, 2});
+  b.block(f, std::move(then_code), Jump{3});
+  b.block(f, std::move(else_code), Jump{3});
+  b.block(f, {sound(9)});
+  return b;
+}
+
 std::size_t hoisted(Builder& b) {
   Log log;
-  hoist_common_heads(b.fn(0), log);
+  hoist_common_heads(b.p, log);
   EXPECT_EQ(log.size(), b.fn(0).blocks[0].instrs.size());
   return b.fn(0).blocks[0].instrs.size();
 }
@@ -68,15 +83,14 @@ TEST(Hoist, SidesThatDifferFromTheStartStay) {
 TEST(Hoist, AnAssignmentToWhatTheTestReadsStays) {
   // if (x == 1) { x = 5; ... } else { x = 5; ... }: setting x first would
   // change the test.
-  Builder b = if_else(test_of(V(0), I(1)), {set(0, I(5)), sound(1)}, {set(0, I(5)), sound(2)});
+  Builder b = if_local_else({set(kLocalX, I(5)), sound(1)}, {set(kLocalX, I(5)), sound(2)});
   EXPECT_EQ(hoisted(b), 0u);
 }
 
 TEST(Hoist, ArithmeticIntoAnotherVariableMoves) {
-  Builder b = if_else(test_of(V(0), I(1)), {add(1, I(2)), sound(1)}, {add(1, I(2)), sound(2)});
-  b.global("y");  // variable 1
+  Builder b = if_local_else({add(kGlobalY, I(2)), sound(1)}, {add(kGlobalY, I(2)), sound(2)});
   ASSERT_EQ(hoisted(b), 1u);
-  EXPECT_TRUE(same_instr(b.fn(0).blocks[0].instrs[0], add(1, I(2))));
+  EXPECT_TRUE(same_instr(b.fn(0).blocks[0].instrs[0], add(kGlobalY, I(2))));
 }
 
 TEST(Hoist, AMotorCommandStaysWhenTheTestReadsAnOutput) {
@@ -96,7 +110,13 @@ TEST(Hoist, WaitsCallsAndOtherCommandsStay) {
 
 TEST(Hoist, TwoRandomDrawsKeepTheirOrder) {
   // The test draws a number; a side's draw moved before it would swap them.
-  Builder b = if_else(test_of(kRandom, I(1)), {set(0, kRandom), sound(1)}, {set(0, kRandom), sound(2)});
+  Builder b;
+  VarId y = b.local("y");
+  FuncId f = b.function("main");
+  b.block(f, {}, Branch{Cmp::EQ, kRandom, I(1), 1, 2});
+  b.block(f, {set(y, kRandom), sound(1)}, Jump{3});
+  b.block(f, {set(y, kRandom), sound(2)}, Jump{3});
+  b.block(f, {sound(9)});
   EXPECT_EQ(hoisted(b), 0u);
 }
 
@@ -112,4 +132,61 @@ TEST(Hoist, ASideEnteredFromElsewhereStays) {
   b.block(f, {sound(9)}, Branch{Cmp::EQ, V(x), I(2), 2, 4});
   b.block(f, {});
   EXPECT_EQ(hoisted(b), 0u);
+}
+
+TEST(Hoist, AnAssignmentStaysWhenTheTestReadsAVariableByNumber) {
+  // if (@0 == 1) { x = 5; ... } else { x = 5; ... }: `@0` is slot 0, the
+  // global x's (globals keep nqc's slots), so setting x first would change
+  // the test.
+  const Operand slot0 = Operand::src(static_cast<int>(rcx::Source::Variable), 0);
+  Builder b = if_else(test_of(slot0, I(1)), {set(0, I(5)), sound(1)}, {set(0, I(5)), sound(2)});
+  EXPECT_EQ(hoisted(b), 0u);
+  // A motor command or sound changes no variable: it still moves.
+  Builder m = if_else(test_of(slot0, I(1)), {out(0x81), sound(1)}, {out(0x81), sound(2)});
+  EXPECT_EQ(hoisted(m), 1u);
+}
+
+namespace {
+
+// if_else's program with a second task, which could copy one global into
+// another or poll an output while main runs.
+Builder with_other_task(Builder b) {
+  FuncId other = b.function("other");
+  b.block(other, {sound(7)});
+  return b;
+}
+
+}  // namespace
+
+TEST(Hoist, WithOtherTasksWhatTheyCanSeeStaysAfterATestOfWhatTheyCanChange) {
+  // task copier() { while (true) x = y; } and main's
+  // if (x == 1) { y = 1; ... } else { y = 1; ... }: y set before the
+  // test, the copier could make x 1 in the instruction between.
+  auto globals = [](std::vector<Instr> then_code, std::vector<Instr> else_code) {
+    Builder b = if_else(test_of(V(0), I(1)), std::move(then_code), std::move(else_code));
+    b.global("y");  // variable 1
+    return b;
+  };
+  Builder assigned = with_other_task(globals({set(1, I(1)), sound(1)}, {set(1, I(1)), sound(2)}));
+  EXPECT_EQ(hoisted(assigned), 0u);
+  // A task polling output A could set x when it sees A on.
+  Builder motor = with_other_task(globals({out(0x81), sound(1)}, {out(0x81), sound(2)}));
+  EXPECT_EQ(hoisted(motor), 0u);
+  // A sensor, a timer or the message could be changed in answer too.
+  const Operand timer = Operand::src(static_cast<int>(rcx::Source::Timer), 0);
+  Builder timed = with_other_task(if_else(test_of(timer, I(1)), {out(0x81), sound(1)}, {out(0x81), sound(2)}));
+  EXPECT_EQ(hoisted(timed), 0u);
+  // A sound no task can see: it moves.
+  Builder sounds = with_other_task(globals({sound(4), sound(1)}, {sound(4), sound(2)}));
+  EXPECT_EQ(hoisted(sounds), 1u);
+  // Alone, main moves both: nothing can answer between.
+  Builder alone = globals({set(1, I(1)), out(0x81), sound(1)}, {set(1, I(1)), out(0x81), sound(2)});
+  EXPECT_EQ(hoisted(alone), 2u);
+}
+
+TEST(Hoist, WithOtherTasksATestOfMainsOwnVariableStillTakesTheCommand) {
+  // No other task writes a local: nothing can answer before the test.
+  Builder b = with_other_task(
+      if_local_else({set(kGlobalY, I(2)), out(0x81), sound(1)}, {set(kGlobalY, I(2)), out(0x81), sound(2)}));
+  EXPECT_EQ(hoisted(b), 2u);
 }
