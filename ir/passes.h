@@ -164,6 +164,15 @@ void speculate_assignments(Function& f, const std::vector<Var>& vars);
 // test. Each move is reported in `log`.
 void hoist_common_heads(Program& p, Log& log);
 
+// invariant.cpp: a poll (a block that tests and branches back to itself:
+// `until (SENSOR_2 <= last + 3);`) that begins by computing what it
+// compares with from constants and variables it does not change (locals
+// and temporaries; globals only in a program of one task) computes that
+// once, in the block that jumps into it: `t = last; t += 3;` no longer
+// runs on every pass, and the poll is its test alone. Each poll is
+// reported in `log`.
+void compute_poll_thresholds_once(Program& p, Log& log);
+
 // cfg.cpp: threads jumps through empty blocks, turns branches whose both
 // targets agree into jumps, and deletes blocks no path reaches (dead code
 // after unconditional jumps).

@@ -73,6 +73,7 @@ bool optimize(Program& p, OptLevel level, Diagnostics& diags, Log& log, const Pa
       for (auto& f : p.functions) shorten_complements(f);
       if (shrinks_without_slowing(level)) hoist_common_heads(p, log);
       for (auto& f : p.functions) simplify_cfg(f);
+      if (shrinks_without_slowing(level)) compute_poll_thresholds_once(p, log);
       std::uint64_t after = code_hash(p);
       if (after == before) break;
       before = after;  // the next round starts from this code
