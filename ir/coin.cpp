@@ -53,10 +53,7 @@ BlockId side(const Branch& br, VarId coin, int face) {
 // could draw or push a counter. With other tasks, neither may what they
 // can see: one polling an output could draw in answer before the toss.
 bool may_stand_between(const Instr& in, const std::vector<Var>& vars, bool other_tasks) {
-  if (in.raw) return false;
-  bool quick = is_motor_command(in) || in.op == rcx::Op::PlaySound || in.op == rcx::Op::PlayTone ||
-               computes_into_variable(in.op);
-  return quick && !(other_tasks && seen_by_other_tasks(in, vars));
+  return is_quick_command(in) && !(other_tasks && seen_by_other_tasks(in, vars));
 }
 
 // The index of the block's `set v, Random(1)` that its test may toss
@@ -72,8 +69,7 @@ std::optional<std::size_t> coin_draw(const Block& block, const std::vector<Var>&
         const Instr& after = block.instrs[k];
         VarUse use = uses_of(after);
         bool touches = std::find(use.reads.begin(), use.reads.end(), coin) != use.reads.end() ||
-                       std::find(use.writes.begin(), use.writes.end(), coin) != use.writes.end() ||
-                       (!after.args.empty() && after.args[0].is_var(coin));
+                       std::find(use.writes.begin(), use.writes.end(), coin) != use.writes.end();
         if (touches) return std::nullopt;
       }
       return i;

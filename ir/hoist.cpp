@@ -34,9 +34,8 @@ bool reads_shared(const Branch& br, const std::vector<Var>& vars) {
 // output, could answer the moved command before the test, which it never
 // could when the command came after.
 bool may_run_before(const Instr& in, const Branch& br, const std::vector<Var>& vars, bool other_tasks) {
-  if (in.raw) return false;
+  if (!is_quick_command(in)) return false;
   if (in.op == rcx::Op::PlaySound || in.op == rcx::Op::PlayTone) return true;
-  if (!is_motor_command(in) && !computes_into_variable(in.op)) return false;
   if (other_tasks && seen_by_other_tasks(in, vars) && reads_shared(br, vars)) return false;
   if (is_motor_command(in)) return !reads_source(br, rcx::Source::MotorState);
   if (reads_source(br, rcx::Source::Variable)) return false;

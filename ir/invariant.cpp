@@ -18,7 +18,6 @@ bool has(const std::vector<VarId>& set, VarId v) { return std::find(set.begin(),
 // runs, since the poll calls nothing), reading no source (a sensor, a
 // timer or a random number changes between passes).
 std::size_t invariant_prefix(const std::vector<Instr>& code, const std::vector<Var>& vars, bool other_tasks) {
-  std::vector<VarId> written_after;  // written by the poll past a candidate prefix: computed below
   std::vector<VarId> prefix_sets;    // set so far in the prefix
   std::size_t n = 0;
   for (; n < code.size(); ++n) {

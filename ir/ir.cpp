@@ -348,6 +348,11 @@ bool is_motor_command(const Instr& in) {
                      in.op == rcx::Op::SetMotorPower);
 }
 
+bool is_quick_command(const Instr& in) {
+  return !in.raw && (is_motor_command(in) || in.op == rcx::Op::PlaySound || in.op == rcx::Op::PlayTone ||
+                     computes_into_variable(in.op));
+}
+
 bool runs_several_tasks(const Program& p) {
   auto tasks = std::count_if(p.functions.begin(), p.functions.end(),
                              [](const Function& f) { return f.kind == FuncKind::Task && !f.blocks.empty(); });

@@ -376,6 +376,11 @@ bool computes_into_variable(rcx::Op op);
 // Whether `in` sets outputs' direction, on/off mode or power (raw asm
 // bytes are not counted).
 bool is_motor_command(const Instr& in);
+// Whether `in` is a motor command, a sound or arithmetic into a variable:
+// an instruction's time that changes nothing but outputs, the speaker or
+// a variable, which hoist.cpp may move before a test and a coin toss may
+// then find between its draw and its test.
+bool is_quick_command(const Instr& in);
 // Whether the program has more than one task with code: one task's
 // commands may then be seen, and answered, by another between two of its
 // instructions.
