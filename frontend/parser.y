@@ -105,6 +105,7 @@ void each_operand(const ExprNode& n, F f) {
     if constexpr (std::is_same_v<T, Call>) for (const auto& a : v.args) f(a);
     if constexpr (std::is_same_v<T, Source>) { f(*v.type); f(*v.arg); }
     if constexpr (std::is_same_v<T, SourceArg>) f(*v.operand);
+    if constexpr (std::is_same_v<T, TypeOf>) f(*v.operand);
   }, n);
 }
 // A node one level above its tallest operand. A left-associative chain
@@ -186,6 +187,7 @@ void note_order(Program& p, SymbolKind kind, std::size_t index) {
 %token CASE "case" DEFAULT "default" BREAK "break" CONTINUE "continue" RETURN "return"
 %token GOTO "goto" START "start" STOP "stop" ASM "asm" TRUE "true" FALSE "false" INLINE "inline"
 %token SOURCE "__source" SOURCE_ARG "__source_arg" ABS "abs" SIGN "sign" NOLIST "__nolist" SENSOR "__sensor"
+%token TASKID "__taskid" TYPE "__type"
 %token OROR "||" ANDAND "&&" EQ "==" NE "!=" LE "<=" GE ">=" SHL "<<" SHR ">>" INC "++" DEC "--"
 %token ADD_ASSIGN "+=" SUB_ASSIGN "-=" MUL_ASSIGN "*=" DIV_ASSIGN "/=" MOD_ASSIGN "%="
 %token AND_ASSIGN "&=" OR_ASSIGN "|=" XOR_ASSIGN "^=" SHL_ASSIGN "<<=" SHR_ASSIGN ">>="
@@ -245,7 +247,7 @@ top
   | SUB IDENT '(' ')' block
       {
         note_order(feed.program, SymbolKind::Sub, feed.program.subs.size());
-        feed.program.subs.push_back(Sub{std::string($2), @2, std::move(*$5), kNoSymbol});
+        feed.program.subs.push_back(Sub{std::string($2), @2, std::move(*$5), kNoSymbol, {}});
       }
   | INT IDENT '(' params_opt ')' block
       {
@@ -480,6 +482,8 @@ expr
         $$ = mk(feed, SourceArg{box(std::move($3)), type}, @$);
       }
   | '(' expr ')'            { $$ = std::move($2); $$->span = @$; }
+  | TASKID                  { $$ = mk(feed, TaskId{}, @$); }
+  | TYPE '(' expr ')'       { $$ = mk(feed, TypeOf{box(std::move($3))}, @$); }
   | ABS '(' expr ')'        { $$ = un(feed, UnaryOp::Abs, std::move($3), @$); }
   | SIGN '(' expr ')'       { $$ = un(feed, UnaryOp::Sign, std::move($3), @$); }
   | '@' expr %prec UNARY    { $$ = encoded_source(feed, std::move(*$2), @$); }

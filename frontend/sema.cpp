@@ -73,6 +73,7 @@ class Checker {
     check_limits();
     check_function_recursion();
     check_pragmas();
+    record_calling_tasks();
   }
 
  private:
@@ -93,6 +94,7 @@ class Checker {
   int breakable_depth_ = 0;
   std::vector<Switch*> switches_;
   std::map<SymbolId, std::set<SymbolId>> function_calls_;  // function -> functions it calls
+  std::map<SymbolId, std::set<SymbolId>> callees_;  // task, sub or function -> subs and functions it calls
   RangeMemo range_memo_;
 
   // ------------------------------------------------------------ symbols --
@@ -462,6 +464,17 @@ class Checker {
     return any;
   }
 
+  // Known only when lowering generates the code: a `const` parameter's
+  // argument, or __taskid (the task the code ends up in). Operands that
+  // must be constant are checked then.
+  bool known_when_lowered(const Expr& e) const {
+    if (as<TaskId>(e)) return true;
+    if (depends_on_const_param(e)) return true;
+    bool any = false;
+    visit_children(e, [&](const Expr& c) { any = any || known_when_lowered(c); });
+    return any;
+  }
+
   template <class F>
   static void visit_children(const Expr& e, F&& f) {
     std::visit(
@@ -488,6 +501,7 @@ class Checker {
             f(*n.arg);
           }
           if constexpr (std::is_same_v<N, SourceArg>) f(*n.operand);
+          if constexpr (std::is_same_v<N, TypeOf>) f(*n.operand);
         },
         e.node);
   }
@@ -496,7 +510,7 @@ class Checker {
     expr(b.value, Use::Value);
     if (b.source_pair) return;
     if (!b.value.constant) {
-      if (!depends_on_const_param(b.value))
+      if (!known_when_lowered(b.value))
         diags_.error(b.value.span, "an asm byte must be a constant (write $name for a variable)");
       return;
     }
@@ -555,7 +569,7 @@ class Checker {
       return;
     }
     if (!e.constant) {
-      if (!depends_on_const_param(e)) diags_.error(e.span, what + " must be a constant");
+      if (!known_when_lowered(e)) diags_.error(e.span, what + " must be a constant");
       return;
     }
     int v = *e.constant;
@@ -741,6 +755,7 @@ class Checker {
     }
     n.symbol = *id;
     prog_.symbols[*id].used = true;
+    if (owner_ != kNoSymbol) callees_[owner_].insert(*id);
     if (use != Use::Discarded)
       diags_.error(e.span, "'" + n.callee + "' does not return a value; call it as a statement");
     if (s.kind == SymbolKind::Sub) {
@@ -861,7 +876,7 @@ class Checker {
     if (!n.type->constant || !n.arg->constant) {
       // An operand already said what is wrong with it (SensorValueRaw(x):
       // "argument must be a sensor"); a second message would only repeat it.
-      if (!depends_on_const_param(e) && diags_.error_count() == errors_before)
+      if (!known_when_lowered(e) && diags_.error_count() == errors_before)
         diags_.error(e.span, non_constant_source_message(n));
       return;
     }
@@ -893,7 +908,7 @@ class Checker {
 
   void visit_expr(SourceArg& n, Expr& e, Use) {
     expr(*n.operand, Use::Value);
-    if (depends_on_const_param(*n.operand)) return;  // known at each call
+    if (known_when_lowered(*n.operand)) return;  // known at each call
     const auto* src = as<Source>(*n.operand);
     if (!src) {
       diags_.error(n.operand->span, n.type_required == static_cast<int>(rcx::Source::SensorValue)
@@ -907,6 +922,20 @@ class Checker {
       return;
     }
     e.constant = src->arg_value;
+  }
+
+  // Lowering gives it the task's number; in a `case` or as a `const int`
+  // argument it is refused, as nqc refuses it, since it is not constant
+  // where the program is read.
+  void visit_expr(TaskId&, Expr&, Use) {}
+
+  // __type(E) does not compute E: only whether nqc would count it as a
+  // constant matters. Through a `const` parameter that is known at each call.
+  void visit_expr(TypeOf& n, Expr& e, Use) {
+    expr(*n.operand, Use::Value);
+    if (depends_on_const_param(*n.operand)) return;
+    bool constant = nqc_constant(*n.operand, [](const Name&) -> const Expr* { return nullptr; }, std::nullopt).constant;
+    e.constant = static_cast<std::int16_t>(constant ? 2 : 0);
   }
 
   // ------------------------------------------------------------ program --
@@ -947,6 +976,26 @@ class Checker {
     };
     for (const auto& [f, calls] : function_calls_)
       if (state[f] == 0) dfs(f);
+  }
+
+  // Which tasks run each sub, directly or through inline functions and
+  // other subs: __taskid in a sub is the number of the one task that does.
+  // Task main also runs what `#pragma init` names.
+  void record_calling_tasks() {
+    for (const auto& t : prog_.tasks) {
+      std::set<SymbolId> seen;
+      std::vector<SymbolId> todo{t.symbol};
+      if (t.name == "main" && prog_.pragmas.init)
+        if (auto it = globals_.find(*prog_.pragmas.init); it != globals_.end()) todo.push_back(it->second);
+      while (!todo.empty()) {
+        SymbolId f = todo.back();
+        todo.pop_back();
+        if (!seen.insert(f).second) continue;
+        const Symbol& s = prog_.symbols[f];
+        if (s.kind == SymbolKind::Sub) prog_.subs[s.index].calling_tasks.push_back(t.symbol);
+        for (SymbolId g : callees_[f]) todo.push_back(g);
+      }
+    }
   }
 
   void check_pragmas() {

@@ -222,6 +222,20 @@ const BadProgram kCases[] = {
      {"3:3: error: 'a' is not declared", "4:3: error: cannot start 'b': there is no task of that name",
       "5:3: error: 'c' is not declared (no sub or function of that name)",
       "6:3: error: cannot assign to this expression: it is not a variable"}},
+    // nqc: "constant expression required" and "argument must be a constant".
+    {"TaskIdIsNoCaseValue", "int x;\ntask main() { switch (x) { case __taskid: x = 1; } }\n",
+     {"2:33: error: a case value must be a constant expression"}},
+    {"TaskIdIsNoConstArgument", "int x;\nvoid f(const int n) { x = n; }\ntask main() { f(__taskid); }\n",
+     {"3:17: error: argument for 'const int n' of 'f' must be a constant expression"}},
+    {"TaskIdFitsAnAsmByte", "task main() { asm { 0x51, __taskid }; }\n", {}},
+    {"TypeOfIsACaseValue", "int x;\ntask main() { switch (x) { case __type(x): case __type(1): x = 1; } }\n", {}},
+    {"TypeOfTwoCaseValuesClash", "int x, y;\ntask main() { switch (x) { case __type(x): case __type(y): x = 1; } }\n",
+     {"2:44: error: duplicate case value 0"}},
+    {"TypeOfChecksItsOperand", "int x;\ntask main() { x = __type(zz); }\n", {"2:26: error: 'zz' is not declared"}},
+    {"TypeOfIsNoVariable", "int x;\ntask main() { __type(x) = 1; }\n",
+     {"2:15: error: cannot assign to this expression: it is not a variable"}},
+    {"TaskIdInIfDirective", "#if __taskid\n#endif\ntask main() { }\n",
+     {"1:5: error: __taskid is known only when the code is generated, not in #if"}},
 };
 
 class Malformed : public ::testing::TestWithParam<BadProgram> {};
@@ -333,6 +347,45 @@ TEST(Sema, FoldConstantSeesThroughSubstitutedSources) {
   Expr div{Binary{BinaryOp::Div, Expr{IntLit{1}, {}, 1}, Expr{IntLit{0}, {}, 0}}, {}, std::nullopt};
   EXPECT_FALSE(frontend::fold_constant(div, &d).has_value());
   EXPECT_EQ(d.all().back().message, "division by zero in a constant expression");
+}
+
+TEST(Sema, TypeOfFoldsAsNqcCountsConstants) {
+  // 2 for what nqc folds (x && 0 whatever x is), 0 for the rest, a timer
+  // and x * 0 included (nqc does not fold them); a const parameter's is
+  // known only at each call.
+  auto r = run_frontend(
+      "int x;\nint a = __type(x), b = __type(3 + 4), c = __type(Timer(1)), d = __type(x && 0), e = __type(x * 0),\n"
+      "  f = __type(1 ? 2 : x), g = __type(__taskid + 1), h = __type(__type(x)), i = __type(x++);\n"
+      "void k(const int &n) { x = __type(n); }\ntask main() { k(1); }\n");
+  ASSERT_TRUE(r.program) << r.text();
+  std::vector<std::optional<std::int16_t>> got;
+  for (std::size_t g = 1; g < r.program->globals.size(); ++g) got.push_back(r.program->globals[g].init->constant);
+  using V = std::optional<std::int16_t>;
+  EXPECT_EQ(got, (std::vector<V>{V(0), V(2), V(0), V(2), V(0), V(2), V(2), V(2), V(0)}));
+  const Function* k = nullptr;
+  for (const auto& f : r.program->functions)
+    if (f.name == "k") k = &f;
+  ASSERT_NE(k, nullptr);
+  const auto& assign = std::get<Assign>(std::get<ExprStmt>(std::get<Block>(k->body.node).stmts[0].node).expr.node);
+  EXPECT_FALSE(assign.value->constant);
+}
+
+TEST(Sema, SubsKnowTheTasksThatCallThem) {
+  // Through an inline function and another sub too; `b` is run by two.
+  auto r = run_frontend(
+      "sub a() { }\nsub b() { a(); }\nsub c() { }\nvoid f() { b(); }\n"
+      "task main() { f(); start t; }\ntask t() { b(); }\n",
+      true);
+  ASSERT_TRUE(r.program) << r.text();
+  const Program& p = *r.program;
+  auto names = [&](const Sub& s) {
+    std::vector<std::string> out;
+    for (SymbolId t : s.calling_tasks) out.push_back(p.symbol(t).name);
+    return out;
+  };
+  EXPECT_EQ(names(p.subs[0]), (std::vector<std::string>{"main", "t"}));
+  EXPECT_EQ(names(p.subs[1]), (std::vector<std::string>{"main", "t"}));
+  EXPECT_TRUE(names(p.subs[2]).empty());
 }
 
 TEST(Sema, SwitchCasesAreListedInOrder) {
