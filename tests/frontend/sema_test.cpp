@@ -222,6 +222,11 @@ const BadProgram kCases[] = {
      {"3:3: error: 'a' is not declared", "4:3: error: cannot start 'b': there is no task of that name",
       "5:3: error: 'c' is not declared (no sub or function of that name)",
       "6:3: error: cannot assign to this expression: it is not a variable"}},
+    {"ConstantRightSideDropsTheLeft", "int x, y;\ntask main() { y = x++ && 0; y = (x = 2) || 3; y = x && 0; }\n",
+     {"2:19: warning: this is never computed: '&&' with a constant 0 on its right is 0 whatever its left side is (as "
+      "in nqc), so its side effects do not happen",
+      "2:33: warning: this is never computed: '||' with a constant 3 on its right is 1 whatever its left side is (as "
+      "in nqc), so its side effects do not happen"}},
     // nqc: "constant expression required" and "argument must be a constant".
     {"TaskIdIsNoCaseValue", "int x;\ntask main() { switch (x) { case __taskid: x = 1; } }\n",
      {"2:33: error: a case value must be a constant expression"}},
