@@ -33,6 +33,15 @@ bool is_rcx2_api_name(const std::string& name) {
   return names.count(name) > 0 || name.rfind("EVENT_TYPE_", 0) == 0 || name.rfind("ACQUIRE_", 0) == 0;
 }
 
+// Words nqc reserves that rcxc's grammar does not use: they name RCX 2
+// statements and other targets' intrinsics. A program using one as a name
+// does not compile with nqc, so it is refused here too. nullptr for others.
+const char* reserved_by_nqc(const std::string& name) {
+  if (name == "acquire" || name == "monitor" || name == "catch") return "a statement of the RCX 2 firmware";
+  if (name == "__event_src" || name == "__res") return "an intrinsic of other targets";
+  return nullptr;
+}
+
 std::string kind_name(SymbolKind k) {
   switch (k) {
     case SymbolKind::Global: return "global variable";
@@ -100,6 +109,8 @@ class Checker {
   // ------------------------------------------------------------ symbols --
 
   SymbolId add_symbol(Symbol s) {
+    if (auto why = reserved_by_nqc(s.name))
+      diags_.error(s.span, "'" + s.name + "' cannot be a name: nqc reserves it (" + why + ")");
     prog_.symbols.push_back(std::move(s));
     return static_cast<SymbolId>(prog_.symbols.size() - 1);
   }

@@ -203,7 +203,10 @@ const BadProgram kCases[] = {
       "6:7: error: the RCX has no pointers: 'p' must be a plain int",
       "4:3: error: 'SetEvent' is not declared (it belongs to the RCX 2 firmware's API; this target is the RCX)",
       "5:3: error: 'y' is not declared", "7:7: error: 'z' is not declared"}},
-    {"SubsNamedLikeRcx2StatementsAreFine", "int x;\nsub monitor() { x = 1; }\ntask main()\n{\n  monitor();\n}\n", {}},
+    // nqc reserves the word (syntax error); the call is not taken for the
+    // RCX 2 statement either.
+    {"SubsNamedLikeRcx2StatementsAreRefusedByName", "int x;\nsub monitor() { x = 1; }\ntask main()\n{\n  monitor();\n}\n",
+     {"2:5: error: 'monitor' cannot be a name: nqc reserves it (a statement of the RCX 2 firmware)"}},
     {"PointersAreNamedAsWhatTheRcxLacks",
      "void f(int *x) { }\nint p, *r;\ntask main()\n{\n  f(&p);\n  *p = 1;\n}\n",
      {"1:8: error: the RCX has no pointers: write 'int &x' to pass a variable by reference",
@@ -227,6 +230,11 @@ const BadProgram kCases[] = {
       "in nqc), so its side effects do not happen",
       "2:33: warning: this is never computed: '||' with a constant 3 on its right is 1 whatever its left side is (as "
       "in nqc), so its side effects do not happen"}},
+    {"NqcReservedWordsAreNoNames", "int acquire;\nvoid catch() { }\ntask main() { int __res; monitor: __res = 1; }\n",
+     {"1:5: error: 'acquire' cannot be a name: nqc reserves it (a statement of the RCX 2 firmware)",
+      "2:6: error: 'catch' cannot be a name: nqc reserves it (a statement of the RCX 2 firmware)",
+      "3:26: error: 'monitor' cannot be a name: nqc reserves it (a statement of the RCX 2 firmware)",
+      "3:19: error: '__res' cannot be a name: nqc reserves it (an intrinsic of other targets)"}},
     // nqc: "constant expression required" and "argument must be a constant".
     {"TaskIdIsNoCaseValue", "int x;\ntask main() { switch (x) { case __taskid: x = 1; } }\n",
      {"2:33: error: a case value must be a constant expression"}},
