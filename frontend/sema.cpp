@@ -1042,6 +1042,12 @@ class Checker {
       return;
     }
     prog_.symbols[it->second].used = true;
+    const Symbol& f = prog_.symbols[it->second];
+    if (f.kind != SymbolKind::Function) return;
+    if (std::size_t n = prog_.functions[f.index].params.size(); n != 0)
+      diags_.error(prog_.pragmas.init_span, fmt::format("#pragma init names '{}', which takes {} argument{}: the "
+                                                        "startup code calls it with none",
+                                                        f.name, n, n == 1 ? "" : "s"));
   }
 };
 
