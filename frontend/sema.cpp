@@ -663,31 +663,8 @@ class Checker {
     }
     if (a && n.op == BinaryOp::LogAnd && *a == 0) e.constant = 0;
     if (a && n.op == BinaryOp::LogOr && *a != 0) e.constant = 1;
-    // nqc folds `E && 0` to 0 and `E || 1` to 1 without computing E, so
-    // E's side effects never happen; rcxc does the same, and says so.
-    bool right_decides = b && ((n.op == BinaryOp::LogAnd && *b == 0) || (n.op == BinaryOp::LogOr && *b != 0));
-    if (right_decides) {
-      e.constant = static_cast<std::int16_t>(n.op == BinaryOp::LogOr);
-      if (changes_something(*n.lhs))
-        diags_.warning(n.lhs->span, fmt::format("this is never computed: '{}' with a constant {} on its right is {} "
-                                                "whatever its left side is (as in nqc), so its side effects do not "
-                                                "happen",
-                                                n.op == BinaryOp::LogAnd ? "&&" : "||", *b, *e.constant));
-    }
     if (divides && b && *b == 0)
       diags_.warning(n.rhs->span, "division by zero (at run time the firmware leaves the value unchanged)");
-  }
-
-  // Whether computing e assigns, steps a variable or calls something.
-  static bool changes_something(const Expr& e) {
-    if (as<Assign>(e) || as<Call>(e)) return true;
-    if (const auto* u = as<Unary>(e);
-        u && (u->op == UnaryOp::PreInc || u->op == UnaryOp::PreDec || u->op == UnaryOp::PostInc ||
-              u->op == UnaryOp::PostDec))
-      return true;
-    bool any = false;
-    visit_children(e, [&](const Expr& c) { any = any || changes_something(c); });
-    return any;
   }
 
   // `Wait(60 * 1000 / 10)`: 60000 wraps to -5536 in 16 bits, as the brick

@@ -207,10 +207,9 @@ struct Lowerer {
     if (b.op == ast::BinaryOp::LogAnd && l && *l == 0) return 0;
     if (b.op == ast::BinaryOp::LogOr && l && *l != 0) return 1;
     auto r = constant(*b.rhs);
-    // x || 5 is 1 and x && 0 is 0 whatever x is, and x is not computed, as
-    // nqc folds them (sema warns where x has side effects).
-    if (b.op == ast::BinaryOp::LogOr && r && *r != 0) return 1;
-    if (b.op == ast::BinaryOp::LogAnd && r && *r == 0) return 0;
+    // x || 5 is 1 and x && 0 is 0 whatever x is, when x changes nothing.
+    if (b.op == ast::BinaryOp::LogOr && r && *r != 0 && !has_effects(*b.lhs)) return 1;
+    if (b.op == ast::BinaryOp::LogAnd && r && *r == 0 && !has_effects(*b.lhs)) return 0;
     if (auto z = absorbed(b, l, r)) return z;
     if (!l || !r) return std::nullopt;
     return binary_constant(b.op, *l, *r);

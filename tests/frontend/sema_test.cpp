@@ -225,11 +225,6 @@ const BadProgram kCases[] = {
      {"3:3: error: 'a' is not declared", "4:3: error: cannot start 'b': there is no task of that name",
       "5:3: error: 'c' is not declared (no sub or function of that name)",
       "6:3: error: cannot assign to this expression: it is not a variable"}},
-    {"ConstantRightSideDropsTheLeft", "int x, y;\ntask main() { y = x++ && 0; y = (x = 2) || 3; y = x && 0; }\n",
-     {"2:19: warning: this is never computed: '&&' with a constant 0 on its right is 0 whatever its left side is (as "
-      "in nqc), so its side effects do not happen",
-      "2:33: warning: this is never computed: '||' with a constant 3 on its right is 1 whatever its left side is (as "
-      "in nqc), so its side effects do not happen"}},
     {"NqcReservedWordsAreNoNames", "int acquire;\nvoid catch() { }\ntask main() { int __res; monitor: __res = 1; }\n",
      {"1:5: error: 'acquire' cannot be a name: nqc reserves it (a statement of the RCX 2 firmware)",
       "2:6: error: 'catch' cannot be a name: nqc reserves it (a statement of the RCX 2 firmware)",
