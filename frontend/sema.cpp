@@ -854,6 +854,12 @@ class Checker {
     }
     if (p.kind == ParamKind::Reference) {
       const auto* n = as<Name>(arg);
+      // A `const int &` parameter passed on stands for its caller's
+      // argument, which lowering checks at each call (nqc takes `f(b)` for
+      // `g(x)` and refuses it for `g(3)`).
+      if (n && n->symbol != kNoSymbol && prog_.symbols[n->symbol].kind == SymbolKind::Param &&
+          prog_.symbols[n->symbol].param_kind == ParamKind::ConstReference)
+        return;
       if (!n || (n->symbol != kNoSymbol && !is_writable(prog_.symbols[n->symbol]))) {
         auto& d = diags_.error(arg.span, "argument for 'int &" + p.name + "' of '" + f.name + "' must be a variable");
         d.notes.push_back({p.span, "parameter declared here"});

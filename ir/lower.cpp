@@ -940,7 +940,7 @@ struct Lowerer {
         case ast::ParamKind::Reference: {
           auto v = var_of(arg);
           if (!v) {
-            error(arg.span, fmt::format("parameter '{}' of {} is a reference (int &): pass a variable", p.name, f.name));
+            error(arg.span, fmt::format("argument for 'int &{}' of '{}' must be a variable", p.name, f.name));
             return;
           }
           bound.push_back({p.symbol, Binding{*v, nullptr}});

@@ -71,6 +71,11 @@ const BadProgram kCases[] = {
      {"4:3: error: sub 's' takes no arguments"}},
     {"ReferenceNeedsVariable", "void f(int &a) { a = 1; }\ntask main()\n{\n  f(3);\n}\n",
      {"4:5: error: argument for 'int &a' of 'f' must be a variable"}},
+    // Checked at each call of g, where b stands for g's argument (nqc too).
+    {"ConstReferenceForwardedToReferenceIsChecked", "void f(int &a) { a = 1; }\nvoid g(const int &b) { f(b); }\n"
+     "task main() { }\n", {}},
+    {"ConstForwardedToReferenceIsRefused", "void f(int &a) { a = 1; }\nvoid g(const int b) { f(b); }\ntask main() { }\n",
+     {"2:25: error: argument for 'int &a' of 'f' must be a variable"}},
     {"ConstNeedsConstant", "void f(const int a) { }\ntask main()\n{\n  int v;\n  f(v);\n}\n",
      {"5:5: error: argument for 'const int a' of 'f' must be a constant expression"}},
     {"ConstParamForwardedIsFine",
