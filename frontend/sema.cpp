@@ -340,9 +340,12 @@ class Checker {
 
   void visit_stmt(Block& b, Stmt&) { statements(b.stmts); }
   void visit_stmt(DeclStmt& d, Stmt&) {
+    // The name is declared before its initial value is read, as in C and
+    // nqc: in `int a = a + 1;` a is the new variable, not yet set, even
+    // where an outer a exists (lowering warns of the read).
     for (auto& v : d.vars) {
-      if (v.init) expr(*v.init, Use::Value);  // before declaring: `int x = x;` is an error
       v.symbol = declare_local(SymbolKind::Local, v.name, v.span, 0);
+      if (v.init) expr(*v.init, Use::Value);
     }
   }
   void visit_stmt(ExprStmt& e, Stmt&) {

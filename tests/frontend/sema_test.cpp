@@ -76,6 +76,8 @@ const BadProgram kCases[] = {
      "task main() { }\n", {}},
     {"ConstForwardedToReferenceIsRefused", "void f(int &a) { a = 1; }\nvoid g(const int b) { f(b); }\ntask main() { }\n",
      {"2:25: error: argument for 'int &a' of 'f' must be a variable"}},
+    // As in C and nqc, the new variable is in scope in its own initial value.
+    {"LocalInitialiserNamesTheNewLocal", "task main() { int x = x + 1; x = 2; }\n", {}},
     {"ConstNeedsConstant", "void f(const int a) { }\ntask main()\n{\n  int v;\n  f(v);\n}\n",
      {"5:5: error: argument for 'const int a' of 'f' must be a constant expression"}},
     {"ConstParamForwardedIsFine",
