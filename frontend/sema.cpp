@@ -252,7 +252,7 @@ class Checker {
   // A body's block shares the scope of the parameters (like C).
   void block_contents(Stmt& body) {
     if (auto* b = as<Block>(body)) {
-      statements(b->stmts);
+      statements(b->stmts, false);
     } else {
       stmt(body);
     }
@@ -304,8 +304,10 @@ class Checker {
   }
   static bool is_jump_target(const Stmt& s) { return as<Labeled>(s) || as<Case>(s) || as<Default>(s); }
 
-  void statements(std::vector<Stmt>& list) {
-    scopes_.emplace_back();
+  // `own_scope`: false for a body, whose block shares the parameters'
+  // scope, so `void f(int a) { int a; }` redeclares a (as in C and nqc).
+  void statements(std::vector<Stmt>& list, bool own_scope = true) {
+    if (own_scope) scopes_.emplace_back();
     bool dead = false;
     bool warned = false;
     for (auto& s : list) {
@@ -317,7 +319,7 @@ class Checker {
       stmt(s);
       if (ends_flow(s)) dead = true;
     }
-    scopes_.pop_back();
+    if (own_scope) scopes_.pop_back();
   }
 
   void condition(Expr& e) {

@@ -76,6 +76,9 @@ const BadProgram kCases[] = {
      "task main() { }\n", {}},
     {"ConstForwardedToReferenceIsRefused", "void f(int &a) { a = 1; }\nvoid g(const int b) { f(b); }\ntask main() { }\n",
      {"2:25: error: argument for 'int &a' of 'f' must be a variable"}},
+    {"ParameterRedeclaredInTheBody", "void f(int a) { int a; a = 1; }\ntask main() { f(2); }\n",
+     {"1:21: error: redefinition of 'a'"}},
+    {"ParameterShadowedInAnInnerBlock", "void f(int a) { { int a; a = 1; } }\ntask main() { f(2); }\n", {}},
     // As in C and nqc, the new variable is in scope in its own initial value.
     {"LocalInitialiserNamesTheNewLocal", "task main() { int x = x + 1; x = 2; }\n", {}},
     {"ConstNeedsConstant", "void f(const int a) { }\ntask main()\n{\n  int v;\n  f(v);\n}\n",
