@@ -677,6 +677,18 @@ void yy::Parser::report_syntax_error(const context& ctx) const {
                                          std::string(feed.last_text) + "': a macro's name cannot be declared again");
     return;
   }
+  // `end: }` and `case 1: }`: C and nqc want a statement after a label.
+  if (feed.pos >= 2 && feed.tokens[feed.pos - 1].is("}") && feed.tokens[feed.pos - 2].is(":")) {
+    feed.diags.error(ctx.location(), "a label needs a statement after it: at the end of a block, add an empty "
+                                     "one (';')");
+    return;
+  }
+  // `__nolist task t()`: nqc takes it before an inline function only.
+  if (feed.pos >= 2 && feed.tokens[feed.pos - 2].is_identifier("__nolist") && !expects(symbol_kind::S_TASK)) {
+    feed.diags.error(ctx.location(), "'__nolist' goes before 'void' only: it keeps an inline function out of "
+                                     "nqc's listings");
+    return;
+  }
   std::string want;
   SourceSpan where = ctx.location();
   if (n >= 1 && n <= 3) {
