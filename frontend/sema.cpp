@@ -29,7 +29,8 @@ bool is_rcx2_api_name(const std::string& name) {
       "SetUserDisplay", "SetPriority",        "SetGlobalOutput", "SetGlobalDirection", "SetMaxPower",
       "EnableOutput",   "DisableOutput",      "SendSerial",     "SetSerialComm",  "SetSerialPacket",
       "SetSerialData",  "SerialData",         "EVENT_MASK",     "DISPLAY_USER",   "ActiveEvents",
-      "UpperLimit",     "LowerLimit",         "Hysteresis",     "ClickCounter",   "ClickTime"};
+      "UpperLimit",     "LowerLimit",         "Hysteresis",     "ClickCounter",   "ClickTime",
+      "__event_src"};
   return names.count(name) > 0 || name.rfind("EVENT_TYPE_", 0) == 0 || name.rfind("ACQUIRE_", 0) == 0;
 }
 

@@ -235,6 +235,8 @@ const BadProgram kCases[] = {
      {"3:3: error: 'a' is not declared", "4:3: error: cannot start 'b': there is no task of that name",
       "5:3: error: 'c' is not declared (no sub or function of that name)",
       "6:3: error: cannot assign to this expression: it is not a variable"}},
+    {"EventSourceIsRcx2", "int x;\ntask main() { x = __event_src(1); }\n",
+     {"2:19: error: '__event_src' is not declared (it belongs to the RCX 2 firmware's API; this target is the RCX)"}},
     {"NqcReservedWordsAreNoNames", "int acquire;\nvoid catch() { }\ntask main() { int __res; monitor: __res = 1; }\n",
      {"1:5: error: 'acquire' cannot be a name: nqc reserves it (a statement of the RCX 2 firmware)",
       "2:6: error: 'catch' cannot be a name: nqc reserves it (a statement of the RCX 2 firmware)",
