@@ -225,6 +225,9 @@ struct Source {
 struct SourceArg {
   ExprBox operand;
   std::optional<std::int16_t> type_required;
+  // nqc's `__sensor(E)`: a constant E gives its low byte (nqc reads
+  // __sensor(300) as 44, __sensor(-1) as 255), a sensor its number.
+  bool or_constant_byte = false;
 };
 
 // nqc's `__taskid`: the number of the task the code is compiled into

@@ -122,6 +122,8 @@ std::optional<std::int16_t> fold_rec(const Expr& e, Diagnostics* diags) {
     return fold_rec(*cond ? *c->then_value : *c->else_value, diags);
   }
   if (const auto* sa = as<SourceArg>(e)) {
+    if (sa->or_constant_byte)
+      if (auto k = fold_rec(*sa->operand, nullptr)) return static_cast<std::int16_t>(*k & 0xff);
     const auto* src = as<Source>(*sa->operand);
     if (!src) {
       if (diags) diags->error(sa->operand->span, "__source_arg needs a source expression such as SENSOR_1");

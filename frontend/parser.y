@@ -472,14 +472,14 @@ expr
   | IDENT '(' args_opt ')'  { $$ = mk(feed, Call{std::string($1), @1, std::move($3), kNoSymbol}, @$); }
   | SOURCE '(' expr ',' expr ')'
                             { $$ = mk(feed, Source{box(std::move($3)), box(std::move($5)), 0, 0}, @$); }
-  | SOURCE_ARG '(' expr ')' { $$ = mk(feed, SourceArg{box(std::move($3)), std::nullopt}, @$); }
+  | SOURCE_ARG '(' expr ')' { $$ = mk(feed, SourceArg{box(std::move($3)), std::nullopt, false}, @$); }
   | SOURCE_ARG '(' expr ',' expr ')'
       {
         // The required type must be a literal-like constant; sema folds it.
         std::optional<std::int16_t> type;
         if (const auto* lit = std::get_if<IntLit>(&$5->node)) type = static_cast<std::int16_t>(lit->value);
         else feed.diags.error(@5, "the type in __source_arg(E, TYPE) must be a number");
-        $$ = mk(feed, SourceArg{box(std::move($3)), type}, @$);
+        $$ = mk(feed, SourceArg{box(std::move($3)), type, false}, @$);
       }
   | '(' expr ')'            { $$ = std::move($2); $$->span = @$; }
   | TASKID                  { $$ = mk(feed, TaskId{}, @$); }
@@ -489,10 +489,10 @@ expr
   | '@' expr %prec UNARY    { $$ = encoded_source(feed, std::move(*$2), @$); }
   | SENSOR '(' expr ')'
       {
-        // nqc's __sensor(E): a sensor number as is, or the number of the
-        // sensor E reads (SENSOR_2 gives 1); anything else is an error.
-        if (std::holds_alternative<IntLit>($3->node)) $$ = std::move($3);
-        else $$ = mk(feed, SourceArg{box(std::move($3)), static_cast<std::int16_t>(9)}, @$);
+        // nqc's __sensor(E): a constant's low byte (a sensor number), or
+        // the number of the sensor E reads (SENSOR_2 gives 1); anything
+        // else is an error.
+        $$ = mk(feed, SourceArg{box(std::move($3)), static_cast<std::int16_t>(9), true}, @$);
       }
   | expr '[' expr ']'
       {

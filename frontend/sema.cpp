@@ -804,7 +804,7 @@ class Checker {
     std::optional<std::int16_t> found;
     std::function<void(const Expr&)> scan_expr = [&](const Expr& e) {
       if (found) return;
-      if (const auto* sa = as<SourceArg>(e)) {
+      if (const auto* sa = as<SourceArg>(e); sa && !sa->or_constant_byte) {
         const auto* n = as<Name>(*sa->operand);
         if (n && n->symbol == param && sa->type_required) found = sa->type_required;
       }
@@ -917,20 +917,28 @@ class Checker {
     n.arg_value = *n.arg->constant;
     // SensorValueRaw(3) for the third sensor (whose number is 2) or Timer(4)
     // for the fourth timer read what the brick has there, which is not that.
+    // `SensorValue(3)` is __source(9, __sensor(3)): the number written is
+    // where the user's text is, the __sensor in the library's macro.
+    const Expr* arg = n.arg.get();
+    if (const auto* sa = as<SourceArg>(*arg); sa && sa->or_constant_byte) arg = sa->operand.get();
     if (auto range = rcx::source_argument_range(type); range && (n.arg_value < range->lo || n.arg_value > range->hi)) {
       if (range->lo == range->hi)
-        diags_.warning(n.arg->span, fmt::format("the {} source takes argument {}, not {}", rcx::source_name(type),
-                                                range->lo, n.arg_value));
+        diags_.warning(arg->span, fmt::format("the {} source takes argument {}, not {}", rcx::source_name(type),
+                                              range->lo, n.arg_value));
       else
-        diags_.warning(n.arg->span, fmt::format("{} {} does not exist: the RCX has {}s {} to {}{}", range->noun,
-                                                n.arg_value, range->noun, range->lo, range->hi,
-                                                range->noun == "sensor" ? " (SENSOR_1 to SENSOR_3)" : ""));
+        diags_.warning(arg->span, fmt::format("{} {} does not exist: the RCX has {}s {} to {}{}", range->noun,
+                                              n.arg_value, range->noun, range->lo, range->hi,
+                                              range->noun == "sensor" ? " (SENSOR_1 to SENSOR_3)" : ""));
     }
     if (type == static_cast<int>(rcx::Source::Immediate)) e.constant = n.arg_value;
   }
 
   void visit_expr(SourceArg& n, Expr& e, Use) {
     expr(*n.operand, Use::Value);
+    if (n.or_constant_byte && n.operand->constant) {
+      e.constant = static_cast<std::int16_t>(*n.operand->constant & 0xff);
+      return;
+    }
     if (known_when_lowered(*n.operand)) return;  // known at each call
     const auto* src = as<Source>(*n.operand);
     if (!src) {

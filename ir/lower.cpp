@@ -288,6 +288,8 @@ struct Lowerer {
     return frontend::nqc_constant(*t.operand, bound, id).constant ? 2 : 0;
   }
   std::optional<int> constant_of(const ast::SourceArg& s) {
+    if (s.or_constant_byte)
+      if (auto k = constant(*s.operand)) return *k & 0xff;
     const ast::Source* src = source_of(*s.operand);
     if (!src) return std::nullopt;
     auto type = constant(*src->type);
@@ -532,8 +534,9 @@ struct Lowerer {
     if (const auto* b = ast::as<ast::Binary>(e)) return binary(d, *b, e);
     if (const auto* a = ast::as<ast::Assign>(e)) return set(d, Operand::var(assign(*a, e.span)));
     if (const auto* c = ast::as<ast::Conditional>(e)) return conditional(d, *c);
-    if (ast::as<ast::SourceArg>(e)) {
-      error(e.span, "__source_arg needs a source expression such as SENSOR_1");
+    if (const auto* sa = ast::as<ast::SourceArg>(e)) {
+      error(e.span, sa->or_constant_byte ? "argument must be a sensor (SENSOR_1, SENSOR_2 or SENSOR_3) or a constant"
+                                         : "__source_arg needs a source expression such as SENSOR_1");
       return;
     }
     error(e.span, "a call has no value");

@@ -356,10 +356,10 @@ TEST(Sema, NqcsPredefinedVersionMacro) {
 TEST(Sema, FoldConstantSeesThroughSubstitutedSources) {
   // What lowering does after substituting `const int &sensor` with SENSOR_1.
   Expr src{Source{Expr{IntLit{9}, {}, 9}, Expr{IntLit{0}, {}, 0}, 9, 0}, {}, std::nullopt};
-  Expr arg{SourceArg{src, std::int16_t{9}}, {}, std::nullopt};
+  Expr arg{SourceArg{src, std::int16_t{9}, false}, {}, std::nullopt};
   EXPECT_EQ(frontend::fold_constant(arg), std::optional<std::int16_t>(0));
   Expr timer{Source{Expr{IntLit{1}, {}, 1}, Expr{IntLit{0}, {}, 0}, 1, 0}, {}, std::nullopt};
-  Expr bad{SourceArg{timer, std::int16_t{9}}, {}, std::nullopt};
+  Expr bad{SourceArg{timer, std::int16_t{9}, false}, {}, std::nullopt};
   Diagnostics d;
   EXPECT_FALSE(frontend::fold_constant(bad, &d).has_value());
   ASSERT_EQ(d.error_count(), 1u);
@@ -388,6 +388,18 @@ TEST(Sema, TypeOfFoldsAsNqcCountsConstants) {
   ASSERT_NE(k, nullptr);
   const auto& assign = std::get<Assign>(std::get<ExprStmt>(std::get<Block>(k->body.node).stmts[0].node).expr.node);
   EXPECT_FALSE(assign.value->constant);
+}
+
+TEST(Sema, SensorNumberOfAConstantIsItsLowByte) {
+  // nqc's __sensor: any constant expression, kept to a byte.
+  auto r = run_frontend(
+      "int a = __sensor(1 + 1), b = __sensor(300), c = __sensor(-1), d = __sensor(__sensor(SENSOR_2));\n"
+      "task main() { }\n");
+  ASSERT_TRUE(r.program) << r.text();
+  std::vector<std::optional<std::int16_t>> got;
+  for (const auto& g : r.program->globals) got.push_back(g.init->constant);
+  using V = std::optional<std::int16_t>;
+  EXPECT_EQ(got, (std::vector<V>{V(2), V(44), V(255), V(1)}));
 }
 
 TEST(Sema, SubsKnowTheTasksThatCallThem) {
