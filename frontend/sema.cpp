@@ -90,6 +90,10 @@ class Checker {
   Program& prog_;
   Diagnostics& diags_;
   std::unordered_map<std::string, SymbolId> globals_;
+  // Global variables named like a task, sub or function declared before
+  // them (`int On;`): nqc keeps variables apart from those, so the name is
+  // the variable where a value is meant and the callee in a call or start.
+  std::unordered_map<std::string, SymbolId> shadowing_variables_;
   std::vector<std::unordered_map<std::string, SymbolId>> scopes_;  // innermost last
   SymbolId owner_ = kNoSymbol;
   // The first symbol declared in the body being checked: its locals all
@@ -125,7 +129,10 @@ class Checker {
   SymbolId declare_global(SymbolKind kind, const std::string& name, SourceSpan span, std::uint32_t index) {
     SymbolId id = add_symbol({kind, name, span, index, kNoSymbol, ParamKind::Value, false});
     auto [it, fresh] = globals_.emplace(name, id);
-    if (!fresh) redefinition(name, span, it->second);
+    if (fresh) return id;
+    bool after_a_callee = kind == SymbolKind::Global && is_callable(prog_.symbols[it->second].kind);
+    if (after_a_callee && shadowing_variables_.emplace(name, id).second) return id;
+    redefinition(name, span, after_a_callee ? shadowing_variables_[name] : it->second);
     return id;
   }
 
@@ -157,6 +164,7 @@ class Checker {
   std::optional<SymbolId> lookup(const std::string& name) const {
     for (auto s = scopes_.rbegin(); s != scopes_.rend(); ++s)
       if (auto it = s->find(name); it != s->end()) return it->second;
+    if (auto it = shadowing_variables_.find(name); it != shadowing_variables_.end()) return it->second;
     if (auto it = globals_.find(name); it != globals_.end()) return it->second;
     return std::nullopt;
   }
@@ -445,7 +453,7 @@ class Checker {
   }
   void visit_stmt(Labeled& n, Stmt&) { stmt(*n.body); }
   void task_ref(const std::string& name, SymbolId& symbol, const Stmt& s, const char* verb) {
-    auto id = lookup(name);
+    auto id = lookup_callee(name);
     if (!id) {
       diags_.error(s.span, "cannot " + std::string(verb) + " '" + name + "': there is no task of that name");
       return;

@@ -237,6 +237,13 @@ const BadProgram kCases[] = {
       "6:3: error: cannot assign to this expression: it is not a variable"}},
     {"EventSourceIsRcx2", "int x;\ntask main() { x = __event_src(1); }\n",
      {"2:19: error: '__event_src' is not declared (it belongs to the RCX 2 firmware's API; this target is the RCX)"}},
+    // nqc keeps variables apart from the tasks, subs and functions above them.
+    {"VariableMayTakeTheNameOfAFunctionAbove",
+     "void g() { }\nsub s() { }\ntask t() { }\nint g, s, t;\ntask main() { g = s + t; g(); s(); start t; }\n", {}},
+    {"FunctionMayNotTakeTheNameOfAVariableAbove", "int g;\nvoid g() { }\ntask main() { }\n",
+     {"2:6: error: redefinition of 'g'"}},
+    {"VariableNamedLikeAFunctionOnlyOnce", "void g() { }\nint g;\nint g;\ntask main() { g = 1; }\n",
+     {"3:5: error: redefinition of 'g'"}},
     {"NqcReservedWordsAreNoNames", "int acquire;\nvoid catch() { }\ntask main() { int __res; monitor: __res = 1; }\n",
      {"1:5: error: 'acquire' cannot be a name: nqc reserves it (a statement of the RCX 2 firmware)",
       "2:6: error: 'catch' cannot be a name: nqc reserves it (a statement of the RCX 2 firmware)",
