@@ -678,7 +678,17 @@ void yy::Parser::report_syntax_error(const context& ctx) const {
     return;
   }
   // `end: }` and `case 1: }`: C and nqc want a statement after a label.
-  if (feed.pos >= 2 && feed.tokens[feed.pos - 1].is("}") && feed.tokens[feed.pos - 2].is(":")) {
+  auto ends_a_label = [&](std::size_t colon) {
+    std::size_t first = colon;
+    while (first > 0 && !feed.tokens[first - 1].is(";") && !feed.tokens[first - 1].is("{") &&
+           !feed.tokens[first - 1].is("}") && !feed.tokens[first - 1].is(":"))
+      --first;
+    const Token& t = feed.tokens[first];
+    return t.is_identifier("case") || t.is_identifier("default") ||
+           (first + 1 == colon && t.kind == TokenKind::Identifier);
+  };
+  if (feed.pos >= 2 && feed.tokens[feed.pos - 1].is("}") && feed.tokens[feed.pos - 2].is(":") &&
+      ends_a_label(feed.pos - 2)) {
     feed.diags.error(ctx.location(), "a label needs a statement after it: at the end of a block, add an empty "
                                      "one (';')");
     return;

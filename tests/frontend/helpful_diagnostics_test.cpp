@@ -105,6 +105,9 @@ TEST(HelpfulDiagnostics, LabelAtTheEndOfABlockWantsAStatement) {
     EXPECT_EQ(r.diags.all()[0].message,
               "a label needs a statement after it: at the end of a block, add an empty one (';')");
   }
+  auto r = run_frontend("int x, y;\ntask main() { x = y ? 1 : }\n");
+  ASSERT_FALSE(r.diags.all().empty());
+  EXPECT_EQ(r.diags.all()[0].message.find("label"), std::string::npos) << r.text();
 }
 
 TEST(HelpfulDiagnostics, NolistGoesBeforeVoidOnly) {
