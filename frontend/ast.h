@@ -225,9 +225,27 @@ struct Source {
 struct SourceArg {
   ExprBox operand;
   std::optional<std::int16_t> type_required;
+  // nqc's `__sensor(E)`: a constant E gives its low byte (nqc reads
+  // __sensor(300) as 44, __sensor(-1) as 255), a sensor its number.
+  bool or_constant_byte = false;
 };
 
-using ExprNode = std::variant<IntLit, Name, Unary, Binary, Assign, Conditional, Call, Source, SourceArg>;
+// nqc's `__taskid`: the number of the task the code is compiled into
+// (main is 0, the others count on in the order they are declared), a
+// constant once lowering knows the task: for a subroutine, the one task
+// that calls it. Sema leaves it unfolded, so a `case` label or a `const
+// int` argument refuses it, as nqc does.
+struct TaskId {};
+
+// nqc's `__type(E)`: the source type of E's value without computing it, 2
+// (constant) when E is a constant expression and 0 (variable) otherwise,
+// as nqc gives even for a timer or a sensor. A constant itself; inside an
+// inline function it is known once the parameters are substituted.
+struct TypeOf {
+  ExprBox operand;
+};
+
+using ExprNode = std::variant<IntLit, Name, Unary, Binary, Assign, Conditional, Call, Source, SourceArg, TaskId, TypeOf>;
 
 struct Expr {
   ExprNode node;
@@ -428,6 +446,9 @@ struct Sub {
   SourceSpan span;
   Stmt body;
   SymbolId symbol = kNoSymbol;
+  // The tasks that call it, directly or through inline functions and other
+  // subs, in the order of Program::tasks (filled by sema).
+  std::vector<SymbolId> calling_tasks;
 };
 
 // `void NAME(params) body`, expanded at each call.

@@ -122,6 +122,8 @@ std::optional<std::int16_t> fold_rec(const Expr& e, Diagnostics* diags) {
     return fold_rec(*cond ? *c->then_value : *c->else_value, diags);
   }
   if (const auto* sa = as<SourceArg>(e)) {
+    if (sa->or_constant_byte)
+      if (auto k = fold_rec(*sa->operand, nullptr)) return static_cast<std::int16_t>(*k & 0xff);
     const auto* src = as<Source>(*sa->operand);
     if (!src) {
       if (diags) diags->error(sa->operand->span, "__source_arg needs a source expression such as SENSOR_1");
@@ -144,6 +146,62 @@ std::optional<std::int16_t> fold_rec(const Expr& e, Diagnostics* diags) {
 }  // namespace
 
 std::optional<std::int16_t> fold_constant(const Expr& e, Diagnostics* diags) { return fold_rec(e, diags); }
+
+namespace {
+
+struct NqcFolder {
+  const NameBinding& bound;
+  std::optional<std::int16_t> task_id;
+
+  NqcConstant operator()(const Expr& e) const {
+    if (const auto* lit = as<IntLit>(e)) return {true, wrap16(lit->value)};
+    if (const auto* n = as<Name>(e)) {
+      const Expr* to = bound(*n);
+      return to ? (*this)(*to) : NqcConstant{};
+    }
+    if (as<TaskId>(e)) return {true, task_id};
+    if (const auto* t = as<TypeOf>(e)) return {true, static_cast<std::int16_t>((*this)(*t->operand).constant ? 2 : 0)};
+    if (const auto* u = as<Unary>(e)) return unary(*u);
+    if (const auto* b = as<Binary>(e)) return binary(*b);
+    if (const auto* c = as<Conditional>(e)) return conditional(*c);
+    // A source is constant when sema folded it (`@0x20005`, __source_arg);
+    // nqc reads `@(...)` when it parses it, before __taskid is known.
+    if (e.constant && (as<Source>(e) || as<SourceArg>(e))) return {true, e.constant};
+    return {};
+  }
+
+  NqcConstant unary(const Unary& u) const {
+    if (u.op == UnaryOp::PreInc || u.op == UnaryOp::PreDec || u.op == UnaryOp::PostInc || u.op == UnaryOp::PostDec)
+      return {};
+    NqcConstant a = (*this)(*u.operand);
+    if (a.value) a.value = fold_unary(u.op, *a.value);
+    return a;
+  }
+
+  NqcConstant binary(const Binary& b) const {
+    NqcConstant l = (*this)(*b.lhs), r = (*this)(*b.rhs);
+    auto is_zero = [](const NqcConstant& c) { return c.value && *c.value == 0; };
+    auto is_true = [](const NqcConstant& c) { return c.value && *c.value != 0; };
+    if (b.op == BinaryOp::LogAnd && (is_zero(l) || is_zero(r))) return {true, std::int16_t{0}};
+    if (b.op == BinaryOp::LogOr && (is_true(l) || is_true(r))) return {true, std::int16_t{1}};
+    if (!l.constant || !r.constant) return {};
+    if (!l.value || !r.value) return {true, std::nullopt};
+    return {true, fold_binary(b.op, *l.value, *r.value)};
+  }
+
+  NqcConstant conditional(const Conditional& c) const {
+    NqcConstant k = (*this)(*c.cond);
+    if (k.value) return (*this)(*k.value != 0 ? *c.then_value : *c.else_value);
+    if (k.constant && (*this)(*c.then_value).constant && (*this)(*c.else_value).constant) return {true, std::nullopt};
+    return {};
+  }
+};
+
+}  // namespace
+
+NqcConstant nqc_constant(const Expr& e, const NameBinding& bound, std::optional<std::int16_t> task_id) {
+  return NqcFolder{bound, task_id}(e);
+}
 
 std::optional<std::int64_t> exact_divide(BinaryOp op, std::int64_t x, std::int64_t y) {
   if (y == 0) return std::nullopt;

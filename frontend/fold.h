@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 
 #include "frontend/ast.h"
@@ -30,5 +31,18 @@ std::optional<std::int64_t> exact_constant(const ast::Expr& e);
 // nullopt when y is 0. exact_constant's division, and the one the wrapped
 // operand warning compares the brick's 16-bit result with.
 std::optional<std::int64_t> exact_divide(ast::BinaryOp op, std::int64_t x, std::int64_t y);
+
+// Whether nqc takes `e` as a constant expression, which is what `__type(e)`
+// reports (2 when it does, 0 otherwise), and its value when that is known.
+// nqc's rule, not the brick's arithmetic: `x && 0` and `x || 1` count
+// (nqc folds them whatever x is), `x * 0` and a timer do not. `bound` says
+// what a name stands for (a substituted `const` parameter's argument;
+// nullptr for a variable); `task_id` is __taskid's value when known.
+struct NqcConstant {
+  bool constant = false;
+  std::optional<std::int16_t> value;
+};
+using NameBinding = std::function<const ast::Expr*(const ast::Name&)>;
+NqcConstant nqc_constant(const ast::Expr& e, const NameBinding& bound, std::optional<std::int16_t> task_id);
 
 }  // namespace rcxc::frontend

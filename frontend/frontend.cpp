@@ -106,7 +106,8 @@ std::size_t closing(const std::vector<Token>& tokens, std::size_t open, std::siz
 // already expanded, so a macro's use counts). nullopt when every one is
 // reached or the library's text is not in the expected shape.
 std::optional<std::vector<Token>> without_unreached_library_functions(const std::vector<Token>& tokens,
-                                                                      const SourceManager& sm) {
+                                                                      const SourceManager& sm,
+                                                                      const ast::Pragmas& pragmas) {
   // rcx.nqh is read before the program, so its tokens come first.
   std::size_t library_end = 0;
   while (library_end < tokens.size() && tokens[library_end].kind != TokenKind::End &&
@@ -138,6 +139,7 @@ std::optional<std::vector<Token>> without_unreached_library_functions(const std:
     ++i;
   }
   use_names(library_end, tokens.size());
+  if (pragmas.init) used.insert(*pragmas.init);  // the startup code calls it
   for (bool grew = true; grew;) {
     grew = false;
     for (auto& f : functions)
@@ -167,14 +169,15 @@ std::optional<std::vector<Token>> without_unreached_library_functions(const std:
 // unchanged (it has no problems of its own) the program and its warnings
 // are the same. After an error the caller checks again with the whole
 // library, so messages (did you mean ...) still see every name.
-std::optional<ast::Program> parse_reached(const std::vector<Token>& tokens, const SourceManager& sm,
-                                          Diagnostics& diags) {
-  auto reached = without_unreached_library_functions(tokens, sm);
+std::optional<ast::Program> parse_reached(const std::vector<Token>& tokens, const ast::Pragmas& pragmas,
+                                          const SourceManager& sm, Diagnostics& diags) {
+  auto reached = without_unreached_library_functions(tokens, sm, pragmas);
   if (!reached) return std::nullopt;
   Diagnostics trial;
   trial.warnings_as_errors = diags.warnings_as_errors;
   trial.suppress_warnings = diags.suppress_warnings;
   ast::Program program = parse_tokens(std::move(*reached), trial);
+  program.pragmas = pragmas;  // sema checks what `#pragma init` names
   if (!trial.has_errors()) check(program, trial);
   if (trial.has_errors()) return std::nullopt;
   for (const auto& d : trial.all()) diags.add(d);
@@ -214,8 +217,7 @@ std::optional<ast::Program> run(std::uint32_t file, const std::string& dir, cons
   // memory (hostile inputs must stay under 100 MB: SECURITY.md).
   constexpr std::size_t kTrialTokenLimit = 50'000;
   if (!cache && !options.whole_library && !diags.has_errors() && pp.tokens.size() <= kTrialTokenLimit) {
-    if (auto program = parse_reached(pp.tokens, sm, diags)) {
-      program->pragmas = std::move(pp.pragmas);
+    if (auto program = parse_reached(pp.tokens, pp.pragmas, sm, diags)) {
       program->macro_names = std::move(pp.macro_names);
       return program;
     }

@@ -41,6 +41,7 @@ void children_of(Expr& e, Children& out) {
                  },
                  [&](ast::Source& s) { out.exprs.insert(out.exprs.end(), {s.type.get(), s.arg.get()}); },
                  [&](ast::SourceArg& s) { out.exprs.push_back(s.operand.get()); },
+                 [&](ast::TypeOf& t) { out.exprs.push_back(t.operand.get()); },
                  [](auto&) {},
              },
              e.node);

@@ -31,7 +31,7 @@ constexpr Spelling kKeywords[] = {
     {"asm", P::token::ASM},       {"true", P::token::TRUE},         {"false", P::token::FALSE},
     {"inline", P::token::INLINE}, {"__source", P::token::SOURCE},   {"__source_arg", P::token::SOURCE_ARG},
     {"abs", P::token::ABS},       {"sign", P::token::SIGN},         {"__nolist", P::token::NOLIST},
-    {"__sensor", P::token::SENSOR},
+    {"__sensor", P::token::SENSOR}, {"__taskid", P::token::TASKID},   {"__type", P::token::TYPE},
 };
 
 // Operators of more than one character; one character is its own token.

@@ -105,6 +105,7 @@ void each_operand(const ExprNode& n, F f) {
     if constexpr (std::is_same_v<T, Call>) for (const auto& a : v.args) f(a);
     if constexpr (std::is_same_v<T, Source>) { f(*v.type); f(*v.arg); }
     if constexpr (std::is_same_v<T, SourceArg>) f(*v.operand);
+    if constexpr (std::is_same_v<T, TypeOf>) f(*v.operand);
   }, n);
 }
 // A node one level above its tallest operand. A left-associative chain
@@ -186,6 +187,7 @@ void note_order(Program& p, SymbolKind kind, std::size_t index) {
 %token CASE "case" DEFAULT "default" BREAK "break" CONTINUE "continue" RETURN "return"
 %token GOTO "goto" START "start" STOP "stop" ASM "asm" TRUE "true" FALSE "false" INLINE "inline"
 %token SOURCE "__source" SOURCE_ARG "__source_arg" ABS "abs" SIGN "sign" NOLIST "__nolist" SENSOR "__sensor"
+%token TASKID "__taskid" TYPE "__type"
 %token OROR "||" ANDAND "&&" EQ "==" NE "!=" LE "<=" GE ">=" SHL "<<" SHR ">>" INC "++" DEC "--"
 %token ADD_ASSIGN "+=" SUB_ASSIGN "-=" MUL_ASSIGN "*=" DIV_ASSIGN "/=" MOD_ASSIGN "%="
 %token AND_ASSIGN "&=" OR_ASSIGN "|=" XOR_ASSIGN "^=" SHL_ASSIGN "<<=" SHR_ASSIGN ">>="
@@ -245,7 +247,7 @@ top
   | SUB IDENT '(' ')' block
       {
         note_order(feed.program, SymbolKind::Sub, feed.program.subs.size());
-        feed.program.subs.push_back(Sub{std::string($2), @2, std::move(*$5), kNoSymbol});
+        feed.program.subs.push_back(Sub{std::string($2), @2, std::move(*$5), kNoSymbol, {}});
       }
   | INT IDENT '(' params_opt ')' block
       {
@@ -470,25 +472,27 @@ expr
   | IDENT '(' args_opt ')'  { $$ = mk(feed, Call{std::string($1), @1, std::move($3), kNoSymbol}, @$); }
   | SOURCE '(' expr ',' expr ')'
                             { $$ = mk(feed, Source{box(std::move($3)), box(std::move($5)), 0, 0}, @$); }
-  | SOURCE_ARG '(' expr ')' { $$ = mk(feed, SourceArg{box(std::move($3)), std::nullopt}, @$); }
+  | SOURCE_ARG '(' expr ')' { $$ = mk(feed, SourceArg{box(std::move($3)), std::nullopt, false}, @$); }
   | SOURCE_ARG '(' expr ',' expr ')'
       {
         // The required type must be a literal-like constant; sema folds it.
         std::optional<std::int16_t> type;
         if (const auto* lit = std::get_if<IntLit>(&$5->node)) type = static_cast<std::int16_t>(lit->value);
         else feed.diags.error(@5, "the type in __source_arg(E, TYPE) must be a number");
-        $$ = mk(feed, SourceArg{box(std::move($3)), type}, @$);
+        $$ = mk(feed, SourceArg{box(std::move($3)), type, false}, @$);
       }
   | '(' expr ')'            { $$ = std::move($2); $$->span = @$; }
+  | TASKID                  { $$ = mk(feed, TaskId{}, @$); }
+  | TYPE '(' expr ')'       { $$ = mk(feed, TypeOf{box(std::move($3))}, @$); }
   | ABS '(' expr ')'        { $$ = un(feed, UnaryOp::Abs, std::move($3), @$); }
   | SIGN '(' expr ')'       { $$ = un(feed, UnaryOp::Sign, std::move($3), @$); }
   | '@' expr %prec UNARY    { $$ = encoded_source(feed, std::move(*$2), @$); }
   | SENSOR '(' expr ')'
       {
-        // nqc's __sensor(E): a sensor number as is, or the number of the
-        // sensor E reads (SENSOR_2 gives 1); anything else is an error.
-        if (std::holds_alternative<IntLit>($3->node)) $$ = std::move($3);
-        else $$ = mk(feed, SourceArg{box(std::move($3)), static_cast<std::int16_t>(9)}, @$);
+        // nqc's __sensor(E): a constant's low byte (a sensor number), or
+        // the number of the sensor E reads (SENSOR_2 gives 1); anything
+        // else is an error.
+        $$ = mk(feed, SourceArg{box(std::move($3)), static_cast<std::int16_t>(9), true}, @$);
       }
   | expr '[' expr ']'
       {
@@ -671,6 +675,28 @@ void yy::Parser::report_syntax_error(const context& ctx) const {
       feed.tokens[feed.pos - 1].span.begin.expansion != 0 && declares(feed.tokens[feed.pos - 2])) {
     feed.diags.error(ctx.location(), "expected a new name, but a macro stands here and expands to '" +
                                          std::string(feed.last_text) + "': a macro's name cannot be declared again");
+    return;
+  }
+  // `end: }` and `case 1: }`: C and nqc want a statement after a label.
+  auto ends_a_label = [&](std::size_t colon) {
+    std::size_t first = colon;
+    while (first > 0 && !feed.tokens[first - 1].is(";") && !feed.tokens[first - 1].is("{") &&
+           !feed.tokens[first - 1].is("}") && !feed.tokens[first - 1].is(":"))
+      --first;
+    const Token& t = feed.tokens[first];
+    return t.is_identifier("case") || t.is_identifier("default") ||
+           (first + 1 == colon && t.kind == TokenKind::Identifier);
+  };
+  if (feed.pos >= 2 && feed.tokens[feed.pos - 1].is("}") && feed.tokens[feed.pos - 2].is(":") &&
+      ends_a_label(feed.pos - 2)) {
+    feed.diags.error(ctx.location(), "a label needs a statement after it: at the end of a block, add an empty "
+                                     "one (';')");
+    return;
+  }
+  // `__nolist task t()`: nqc takes it before an inline function only.
+  if (feed.pos >= 2 && feed.tokens[feed.pos - 2].is_identifier("__nolist") && !expects(symbol_kind::S_TASK)) {
+    feed.diags.error(ctx.location(), "'__nolist' goes before 'void' only: it keeps an inline function out of "
+                                     "nqc's listings");
     return;
   }
   std::string want;

@@ -1164,6 +1164,12 @@ class Preprocessor {
         if (!number_value(t, v)) fail(t, invalid_number_message(t.text));
         return v;
       }
+      // Counting these as 0 would hide that the preprocessor cannot know
+      // them (nqc: syntax error).
+      if (t.kind == TokenKind::Identifier && (t.text == "__taskid" || t.text == "__type")) {
+        fail(t, std::string(t.text) + " is known only when the code is generated, not in #if");
+        return 0;
+      }
       if (t.kind == TokenKind::Identifier) return t.text == "true" ? 1 : 0;  // C: unknown names are 0
       fail(t, "unexpected '" + std::string(t.text) + "' in #if expression");
       return 0;

@@ -29,8 +29,18 @@ bool is_rcx2_api_name(const std::string& name) {
       "SetUserDisplay", "SetPriority",        "SetGlobalOutput", "SetGlobalDirection", "SetMaxPower",
       "EnableOutput",   "DisableOutput",      "SendSerial",     "SetSerialComm",  "SetSerialPacket",
       "SetSerialData",  "SerialData",         "EVENT_MASK",     "DISPLAY_USER",   "ActiveEvents",
-      "UpperLimit",     "LowerLimit",         "Hysteresis",     "ClickCounter",   "ClickTime"};
+      "UpperLimit",     "LowerLimit",         "Hysteresis",     "ClickCounter",   "ClickTime",
+      "__event_src"};
   return names.count(name) > 0 || name.rfind("EVENT_TYPE_", 0) == 0 || name.rfind("ACQUIRE_", 0) == 0;
+}
+
+// Words nqc reserves that rcxc's grammar does not use: they name RCX 2
+// statements and other targets' intrinsics. A program using one as a name
+// does not compile with nqc, so it is refused here too. nullptr for others.
+const char* reserved_by_nqc(const std::string& name) {
+  if (name == "acquire" || name == "monitor" || name == "catch") return "a statement of the RCX 2 firmware";
+  if (name == "__event_src" || name == "__res") return "an intrinsic of other targets";
+  return nullptr;
 }
 
 std::string kind_name(SymbolKind k) {
@@ -73,12 +83,17 @@ class Checker {
     check_limits();
     check_function_recursion();
     check_pragmas();
+    record_calling_tasks();
   }
 
  private:
   Program& prog_;
   Diagnostics& diags_;
   std::unordered_map<std::string, SymbolId> globals_;
+  // Global variables named like a task, sub or function declared before
+  // them (`int On;`): nqc keeps variables apart from those, so the name is
+  // the variable where a value is meant and the callee in a call or start.
+  std::unordered_map<std::string, SymbolId> shadowing_variables_;
   std::vector<std::unordered_map<std::string, SymbolId>> scopes_;  // innermost last
   SymbolId owner_ = kNoSymbol;
   // The first symbol declared in the body being checked: its locals all
@@ -93,11 +108,14 @@ class Checker {
   int breakable_depth_ = 0;
   std::vector<Switch*> switches_;
   std::map<SymbolId, std::set<SymbolId>> function_calls_;  // function -> functions it calls
+  std::map<SymbolId, std::set<SymbolId>> callees_;  // task, sub or function -> subs and functions it calls
   RangeMemo range_memo_;
 
   // ------------------------------------------------------------ symbols --
 
   SymbolId add_symbol(Symbol s) {
+    if (auto why = reserved_by_nqc(s.name))
+      diags_.error(s.span, "'" + s.name + "' cannot be a name: nqc reserves it (" + why + ")");
     prog_.symbols.push_back(std::move(s));
     return static_cast<SymbolId>(prog_.symbols.size() - 1);
   }
@@ -111,7 +129,10 @@ class Checker {
   SymbolId declare_global(SymbolKind kind, const std::string& name, SourceSpan span, std::uint32_t index) {
     SymbolId id = add_symbol({kind, name, span, index, kNoSymbol, ParamKind::Value, false});
     auto [it, fresh] = globals_.emplace(name, id);
-    if (!fresh) redefinition(name, span, it->second);
+    if (fresh) return id;
+    bool after_a_callee = kind == SymbolKind::Global && is_callable(prog_.symbols[it->second].kind);
+    if (after_a_callee && shadowing_variables_.emplace(name, id).second) return id;
+    redefinition(name, span, after_a_callee ? shadowing_variables_[name] : it->second);
     return id;
   }
 
@@ -143,6 +164,7 @@ class Checker {
   std::optional<SymbolId> lookup(const std::string& name) const {
     for (auto s = scopes_.rbegin(); s != scopes_.rend(); ++s)
       if (auto it = s->find(name); it != s->end()) return it->second;
+    if (auto it = shadowing_variables_.find(name); it != shadowing_variables_.end()) return it->second;
     if (auto it = globals_.find(name); it != globals_.end()) return it->second;
     return std::nullopt;
   }
@@ -239,7 +261,7 @@ class Checker {
   // A body's block shares the scope of the parameters (like C).
   void block_contents(Stmt& body) {
     if (auto* b = as<Block>(body)) {
-      statements(b->stmts);
+      statements(b->stmts, false);
     } else {
       stmt(body);
     }
@@ -291,8 +313,10 @@ class Checker {
   }
   static bool is_jump_target(const Stmt& s) { return as<Labeled>(s) || as<Case>(s) || as<Default>(s); }
 
-  void statements(std::vector<Stmt>& list) {
-    scopes_.emplace_back();
+  // `own_scope`: false for a body, whose block shares the parameters'
+  // scope, so `void f(int a) { int a; }` redeclares a (as in C and nqc).
+  void statements(std::vector<Stmt>& list, bool own_scope = true) {
+    if (own_scope) scopes_.emplace_back();
     bool dead = false;
     bool warned = false;
     for (auto& s : list) {
@@ -304,7 +328,7 @@ class Checker {
       stmt(s);
       if (ends_flow(s)) dead = true;
     }
-    scopes_.pop_back();
+    if (own_scope) scopes_.pop_back();
   }
 
   void condition(Expr& e) {
@@ -327,9 +351,12 @@ class Checker {
 
   void visit_stmt(Block& b, Stmt&) { statements(b.stmts); }
   void visit_stmt(DeclStmt& d, Stmt&) {
+    // The name is declared before its initial value is read, as in C and
+    // nqc: in `int a = a + 1;` a is the new variable, not yet set, even
+    // where an outer a exists (lowering warns of the read).
     for (auto& v : d.vars) {
-      if (v.init) expr(*v.init, Use::Value);  // before declaring: `int x = x;` is an error
       v.symbol = declare_local(SymbolKind::Local, v.name, v.span, 0);
+      if (v.init) expr(*v.init, Use::Value);
     }
   }
   void visit_stmt(ExprStmt& e, Stmt&) {
@@ -426,7 +453,7 @@ class Checker {
   }
   void visit_stmt(Labeled& n, Stmt&) { stmt(*n.body); }
   void task_ref(const std::string& name, SymbolId& symbol, const Stmt& s, const char* verb) {
-    auto id = lookup(name);
+    auto id = lookup_callee(name);
     if (!id) {
       diags_.error(s.span, "cannot " + std::string(verb) + " '" + name + "': there is no task of that name");
       return;
@@ -462,6 +489,17 @@ class Checker {
     return any;
   }
 
+  // Known only when lowering generates the code: a `const` parameter's
+  // argument, or __taskid (the task the code ends up in). Operands that
+  // must be constant are checked then.
+  bool known_when_lowered(const Expr& e) const {
+    if (as<TaskId>(e)) return true;
+    if (depends_on_const_param(e)) return true;
+    bool any = false;
+    visit_children(e, [&](const Expr& c) { any = any || known_when_lowered(c); });
+    return any;
+  }
+
   template <class F>
   static void visit_children(const Expr& e, F&& f) {
     std::visit(
@@ -488,6 +526,7 @@ class Checker {
             f(*n.arg);
           }
           if constexpr (std::is_same_v<N, SourceArg>) f(*n.operand);
+          if constexpr (std::is_same_v<N, TypeOf>) f(*n.operand);
         },
         e.node);
   }
@@ -496,7 +535,7 @@ class Checker {
     expr(b.value, Use::Value);
     if (b.source_pair) return;
     if (!b.value.constant) {
-      if (!depends_on_const_param(b.value))
+      if (!known_when_lowered(b.value))
         diags_.error(b.value.span, "an asm byte must be a constant (write $name for a variable)");
       return;
     }
@@ -555,7 +594,7 @@ class Checker {
       return;
     }
     if (!e.constant) {
-      if (!depends_on_const_param(e)) diags_.error(e.span, what + " must be a constant");
+      if (!known_when_lowered(e)) diags_.error(e.span, what + " must be a constant");
       return;
     }
     int v = *e.constant;
@@ -741,6 +780,7 @@ class Checker {
     }
     n.symbol = *id;
     prog_.symbols[*id].used = true;
+    if (owner_ != kNoSymbol) callees_[owner_].insert(*id);
     if (use != Use::Discarded)
       diags_.error(e.span, "'" + n.callee + "' does not return a value; call it as a statement");
     if (s.kind == SymbolKind::Sub) {
@@ -772,7 +812,7 @@ class Checker {
     std::optional<std::int16_t> found;
     std::function<void(const Expr&)> scan_expr = [&](const Expr& e) {
       if (found) return;
-      if (const auto* sa = as<SourceArg>(e)) {
+      if (const auto* sa = as<SourceArg>(e); sa && !sa->or_constant_byte) {
         const auto* n = as<Name>(*sa->operand);
         if (n && n->symbol == param && sa->type_required) found = sa->type_required;
       }
@@ -828,6 +868,12 @@ class Checker {
     }
     if (p.kind == ParamKind::Reference) {
       const auto* n = as<Name>(arg);
+      // A `const int &` parameter passed on stands for its caller's
+      // argument, which lowering checks at each call (nqc takes `f(b)` for
+      // `g(x)` and refuses it for `g(3)`).
+      if (n && n->symbol != kNoSymbol && prog_.symbols[n->symbol].kind == SymbolKind::Param &&
+          prog_.symbols[n->symbol].param_kind == ParamKind::ConstReference)
+        return;
       if (!n || (n->symbol != kNoSymbol && !is_writable(prog_.symbols[n->symbol]))) {
         auto& d = diags_.error(arg.span, "argument for 'int &" + p.name + "' of '" + f.name + "' must be a variable");
         d.notes.push_back({p.span, "parameter declared here"});
@@ -861,7 +907,7 @@ class Checker {
     if (!n.type->constant || !n.arg->constant) {
       // An operand already said what is wrong with it (SensorValueRaw(x):
       // "argument must be a sensor"); a second message would only repeat it.
-      if (!depends_on_const_param(e) && diags_.error_count() == errors_before)
+      if (!known_when_lowered(e) && diags_.error_count() == errors_before)
         diags_.error(e.span, non_constant_source_message(n));
       return;
     }
@@ -879,21 +925,29 @@ class Checker {
     n.arg_value = *n.arg->constant;
     // SensorValueRaw(3) for the third sensor (whose number is 2) or Timer(4)
     // for the fourth timer read what the brick has there, which is not that.
+    // `SensorValue(3)` is __source(9, __sensor(3)): the number written is
+    // where the user's text is, the __sensor in the library's macro.
+    const Expr* arg = n.arg.get();
+    if (const auto* sa = as<SourceArg>(*arg); sa && sa->or_constant_byte) arg = sa->operand.get();
     if (auto range = rcx::source_argument_range(type); range && (n.arg_value < range->lo || n.arg_value > range->hi)) {
       if (range->lo == range->hi)
-        diags_.warning(n.arg->span, fmt::format("the {} source takes argument {}, not {}", rcx::source_name(type),
-                                                range->lo, n.arg_value));
+        diags_.warning(arg->span, fmt::format("the {} source takes argument {}, not {}", rcx::source_name(type),
+                                              range->lo, n.arg_value));
       else
-        diags_.warning(n.arg->span, fmt::format("{} {} does not exist: the RCX has {}s {} to {}{}", range->noun,
-                                                n.arg_value, range->noun, range->lo, range->hi,
-                                                range->noun == "sensor" ? " (SENSOR_1 to SENSOR_3)" : ""));
+        diags_.warning(arg->span, fmt::format("{} {} does not exist: the RCX has {}s {} to {}{}", range->noun,
+                                              n.arg_value, range->noun, range->lo, range->hi,
+                                              range->noun == "sensor" ? " (SENSOR_1 to SENSOR_3)" : ""));
     }
     if (type == static_cast<int>(rcx::Source::Immediate)) e.constant = n.arg_value;
   }
 
   void visit_expr(SourceArg& n, Expr& e, Use) {
     expr(*n.operand, Use::Value);
-    if (depends_on_const_param(*n.operand)) return;  // known at each call
+    if (n.or_constant_byte && n.operand->constant) {
+      e.constant = static_cast<std::int16_t>(*n.operand->constant & 0xff);
+      return;
+    }
+    if (known_when_lowered(*n.operand)) return;  // known at each call
     const auto* src = as<Source>(*n.operand);
     if (!src) {
       diags_.error(n.operand->span, n.type_required == static_cast<int>(rcx::Source::SensorValue)
@@ -907,6 +961,20 @@ class Checker {
       return;
     }
     e.constant = src->arg_value;
+  }
+
+  // Lowering gives it the task's number; in a `case` or as a `const int`
+  // argument it is refused, as nqc refuses it, since it is not constant
+  // where the program is read.
+  void visit_expr(TaskId&, Expr&, Use) {}
+
+  // __type(E) does not compute E: only whether nqc would count it as a
+  // constant matters. Through a `const` parameter that is known at each call.
+  void visit_expr(TypeOf& n, Expr& e, Use) {
+    expr(*n.operand, Use::Value);
+    if (depends_on_const_param(*n.operand)) return;
+    bool constant = nqc_constant(*n.operand, [](const Name&) -> const Expr* { return nullptr; }, std::nullopt).constant;
+    e.constant = static_cast<std::int16_t>(constant ? 2 : 0);
   }
 
   // ------------------------------------------------------------ program --
@@ -949,6 +1017,26 @@ class Checker {
       if (state[f] == 0) dfs(f);
   }
 
+  // Which tasks run each sub, directly or through inline functions and
+  // other subs: __taskid in a sub is the number of the one task that does.
+  // Task main also runs what `#pragma init` names.
+  void record_calling_tasks() {
+    for (const auto& t : prog_.tasks) {
+      std::set<SymbolId> seen;
+      std::vector<SymbolId> todo{t.symbol};
+      if (t.name == "main" && prog_.pragmas.init)
+        if (auto it = globals_.find(*prog_.pragmas.init); it != globals_.end()) todo.push_back(it->second);
+      while (!todo.empty()) {
+        SymbolId f = todo.back();
+        todo.pop_back();
+        if (!seen.insert(f).second) continue;
+        const Symbol& s = prog_.symbols[f];
+        if (s.kind == SymbolKind::Sub) prog_.subs[s.index].calling_tasks.push_back(t.symbol);
+        for (SymbolId g : callees_[f]) todo.push_back(g);
+      }
+    }
+  }
+
   void check_pragmas() {
     if (!prog_.pragmas.init) return;
     auto it = globals_.find(*prog_.pragmas.init);
@@ -959,6 +1047,12 @@ class Checker {
       return;
     }
     prog_.symbols[it->second].used = true;
+    const Symbol& f = prog_.symbols[it->second];
+    if (f.kind != SymbolKind::Function) return;
+    if (std::size_t n = prog_.functions[f.index].params.size(); n != 0)
+      diags_.error(prog_.pragmas.init_span, fmt::format("#pragma init names '{}', which takes {} argument{}: the "
+                                                        "startup code calls it with none",
+                                                        f.name, n, n == 1 ? "" : "s"));
   }
 };
 

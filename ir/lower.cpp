@@ -65,6 +65,11 @@ struct Lowerer {
   // it: a statement's instructions share one.
   SourceSpan interned{};
   SpanId interned_id = 0;  // out.spans[0] is the empty span
+  // __taskid's value in the body being lowered: nqc's number of the task
+  // (main 0, the others from 1 in the order declared), or of the one task
+  // that calls the sub; none when no task or several do.
+  std::optional<int> task_number;
+  bool task_id_reported = false;  // in this sub, so that each says it once
 
   SpanId span_id() {
     if (span != interned) {
@@ -173,6 +178,7 @@ struct Lowerer {
   std::optional<int> constant(const ast::Expr& e) {
     if (e.constant) return *e.constant;
     if (auto it = constants.find(&e); it != constants.end()) return it->second;
+    if (ast::as<ast::TaskId>(e)) return task_id(e.span);
     auto c = std::visit([&](const auto& node) { return constant_of(node); }, e.node);
     constants.emplace(&e, c);
     return c;
@@ -256,7 +262,34 @@ struct Lowerer {
     if (!k) return std::nullopt;
     return constant(*k ? *c.then_value : *c.else_value);
   }
+  // __taskid: the task being lowered, or for a sub the one task that calls
+  // it. nqc refuses it in a sub that no task or several tasks call.
+  std::optional<int> task_id(SourceSpan at) {
+    if (task_number) return *task_number;
+    if (!task_id_reported) {
+      task_id_reported = true;
+      const ast::Sub& s = ast.subs[static_cast<std::size_t>(fid) - ast.tasks.size()];
+      std::string callers;
+      for (std::size_t i = 0; i < s.calling_tasks.size(); ++i)
+        callers += fmt::format("{}'{}'", i == 0 ? "" : i + 1 == s.calling_tasks.size() ? " and " : ", ",
+                               ast.symbol(s.calling_tasks[i]).name);
+      error(at, s.calling_tasks.empty()
+                      ? fmt::format("__taskid in sub '{}' has no value: no task calls the sub", s.name)
+                      : fmt::format("__taskid in sub '{}' has no one value: tasks {} call the sub", s.name, callers));
+    }
+    return 0;
+  }
+  std::optional<int> constant_of(const ast::TypeOf& t) {
+    auto bound = [&](const ast::Name& n) -> const ast::Expr* {
+      auto b = binding(n);
+      return b ? b->expr : nullptr;
+    };
+    auto id = task_number ? std::optional<std::int16_t>(static_cast<std::int16_t>(*task_number)) : std::nullopt;
+    return frontend::nqc_constant(*t.operand, bound, id).constant ? 2 : 0;
+  }
   std::optional<int> constant_of(const ast::SourceArg& s) {
+    if (s.or_constant_byte)
+      if (auto k = constant(*s.operand)) return *k & 0xff;
     const ast::Source* src = source_of(*s.operand);
     if (!src) return std::nullopt;
     auto type = constant(*src->type);
@@ -501,8 +534,9 @@ struct Lowerer {
     if (const auto* b = ast::as<ast::Binary>(e)) return binary(d, *b, e);
     if (const auto* a = ast::as<ast::Assign>(e)) return set(d, Operand::var(assign(*a, e.span)));
     if (const auto* c = ast::as<ast::Conditional>(e)) return conditional(d, *c);
-    if (ast::as<ast::SourceArg>(e)) {
-      error(e.span, "__source_arg needs a source expression such as SENSOR_1");
+    if (const auto* sa = ast::as<ast::SourceArg>(e)) {
+      error(e.span, sa->or_constant_byte ? "argument must be a sensor (SENSOR_1, SENSOR_2 or SENSOR_3) or a constant"
+                                         : "__source_arg needs a source expression such as SENSOR_1");
       return;
     }
     error(e.span, "a call has no value");
@@ -909,7 +943,7 @@ struct Lowerer {
         case ast::ParamKind::Reference: {
           auto v = var_of(arg);
           if (!v) {
-            error(arg.span, fmt::format("parameter '{}' of {} is a reference (int &): pass a variable", p.name, f.name));
+            error(arg.span, fmt::format("argument for 'int &{}' of '{}' must be a variable", p.name, f.name));
             return;
           }
           bound.push_back({p.symbol, Binding{*v, nullptr}});
@@ -1337,6 +1371,16 @@ struct Lowerer {
     permute_blocks(fn(), order);
   }
 
+  // Main is task 0 (the firmware starts it) and the others follow in the
+  // order they are declared, as nqc and the code generator number them.
+  int nqc_task_number(ast::SymbolId task) const {
+    std::uint32_t index = ast.symbol(task).index;
+    if (ast.tasks[index].name == "main") return 0;
+    int before = 1;
+    for (std::uint32_t i = 0; i < index; ++i) before += ast.tasks[i].name != "main";
+    return before;
+  }
+
   std::optional<Program> run() {
     for (const auto& r : ast.pragmas.reserve) {
       if (r.lo < 0 || r.hi > 31 || r.lo > r.hi) {
@@ -1352,10 +1396,15 @@ struct Lowerer {
     for (std::size_t i = 0; i < ast.tasks.size(); ++i) {
       bool is_main = ast.tasks[i].name == "main";
       has_main |= is_main;
+      task_number = nqc_task_number(ast.tasks[i].symbol);
       body(static_cast<FuncId>(i), ast.tasks[i].body, is_main);
     }
-    for (std::size_t i = 0; i < ast.subs.size(); ++i)
+    for (std::size_t i = 0; i < ast.subs.size(); ++i) {
+      const auto& callers = ast.subs[i].calling_tasks;
+      task_number = callers.size() == 1 ? std::optional<int>(nqc_task_number(callers[0])) : std::nullopt;
+      task_id_reported = false;
       body(static_cast<FuncId>(ast.tasks.size() + i), ast.subs[i].body, false);
+    }
     if (!has_main) error({}, "the program has no task main (the RCX starts task main)");
     if (diags.has_errors()) return std::nullopt;
     return std::move(out);

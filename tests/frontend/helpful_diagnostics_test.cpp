@@ -95,6 +95,30 @@ TEST(HelpfulDiagnostics, SubWithParametersSaysSubsTakeNone) {
   EXPECT_NE(r.diags.all()[0].message.find("'void add(...)'"), std::string::npos);
 }
 
+TEST(HelpfulDiagnostics, LabelAtTheEndOfABlockWantsAStatement) {
+  // C and nqc both refuse `end: }` and `case 1: }`; "expected an
+  // expression" did not say what was missing.
+  for (const char* body : {"int x;\ntask main() { goto end; x = 1; end: }\n",
+                           "int x;\ntask main() { switch (x) { case 1: } }\n"}) {
+    auto r = run_frontend(body);
+    ASSERT_EQ(r.diags.all().size(), 1u) << r.text();
+    EXPECT_EQ(r.diags.all()[0].message,
+              "a label needs a statement after it: at the end of a block, add an empty one (';')");
+  }
+  auto r = run_frontend("int x, y;\ntask main() { x = y ? 1 : }\n");
+  ASSERT_FALSE(r.diags.all().empty());
+  EXPECT_EQ(r.diags.all()[0].message.find("label"), std::string::npos) << r.text();
+}
+
+TEST(HelpfulDiagnostics, NolistGoesBeforeVoidOnly) {
+  for (const char* decl : {"__nolist task t() { }\n", "__nolist int y;\n", "__nolist sub s() { }\n"}) {
+    auto r = run_frontend(std::string(decl) + "task main() { }\n");
+    ASSERT_EQ(r.diags.all().size(), 1u) << r.text();
+    EXPECT_EQ(r.diags.all()[0].message,
+              "'__nolist' goes before 'void' only: it keeps an inline function out of nqc's listings");
+  }
+}
+
 TEST(HelpfulDiagnostics, ByteOrderMarkIsSkipped) {
   auto r = run_frontend("\xEF\xBB\xBFtask main()\n{\n  x = 1;\n}\n");
   EXPECT_EQ(r.brief(), (std::vector<std::string>{"3:3: error: 'x' is not declared"}));

@@ -106,7 +106,7 @@ TEST(Parser, EveryKeywordIsReservedAndOnlyIt) {
       "task",   "sub",  "void",   "int",      "const", "if",    "else",    "while",   "do",           "until",
       "for",    "repeat", "switch", "case",   "default", "break", "continue", "return", "goto",       "start",
       "stop",   "asm",  "true",   "false",    "inline", "__source", "__source_arg", "abs", "sign", "__nolist",
-      "__sensor"};
+      "__sensor", "__taskid", "__type"};
   for (std::string_view kw : all) {
     EXPECT_FALSE(run_frontend("int " + std::string(kw) + ";\ntask main() { }\n", true).program) << kw;
     auto r = run_frontend("int " + std::string(kw) + "x;\ntask main() { " + std::string(kw) + "x = 1; }\n", true);

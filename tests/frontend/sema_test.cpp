@@ -71,6 +71,16 @@ const BadProgram kCases[] = {
      {"4:3: error: sub 's' takes no arguments"}},
     {"ReferenceNeedsVariable", "void f(int &a) { a = 1; }\ntask main()\n{\n  f(3);\n}\n",
      {"4:5: error: argument for 'int &a' of 'f' must be a variable"}},
+    // Checked at each call of g, where b stands for g's argument (nqc too).
+    {"ConstReferenceForwardedToReferenceIsChecked", "void f(int &a) { a = 1; }\nvoid g(const int &b) { f(b); }\n"
+     "task main() { }\n", {}},
+    {"ConstForwardedToReferenceIsRefused", "void f(int &a) { a = 1; }\nvoid g(const int b) { f(b); }\ntask main() { }\n",
+     {"2:25: error: argument for 'int &a' of 'f' must be a variable"}},
+    {"ParameterRedeclaredInTheBody", "void f(int a) { int a; a = 1; }\ntask main() { f(2); }\n",
+     {"1:21: error: redefinition of 'a'"}},
+    {"ParameterShadowedInAnInnerBlock", "void f(int a) { { int a; a = 1; } }\ntask main() { f(2); }\n", {}},
+    // As in C and nqc, the new variable is in scope in its own initial value.
+    {"LocalInitialiserNamesTheNewLocal", "task main() { int x = x + 1; x = 2; }\n", {}},
     {"ConstNeedsConstant", "void f(const int a) { }\ntask main()\n{\n  int v;\n  f(v);\n}\n",
      {"5:5: error: argument for 'const int a' of 'f' must be a constant expression"}},
     {"ConstParamForwardedIsFine",
@@ -203,7 +213,10 @@ const BadProgram kCases[] = {
       "6:7: error: the RCX has no pointers: 'p' must be a plain int",
       "4:3: error: 'SetEvent' is not declared (it belongs to the RCX 2 firmware's API; this target is the RCX)",
       "5:3: error: 'y' is not declared", "7:7: error: 'z' is not declared"}},
-    {"SubsNamedLikeRcx2StatementsAreFine", "int x;\nsub monitor() { x = 1; }\ntask main()\n{\n  monitor();\n}\n", {}},
+    // nqc reserves the word (syntax error); the call is not taken for the
+    // RCX 2 statement either.
+    {"SubsNamedLikeRcx2StatementsAreRefusedByName", "int x;\nsub monitor() { x = 1; }\ntask main()\n{\n  monitor();\n}\n",
+     {"2:5: error: 'monitor' cannot be a name: nqc reserves it (a statement of the RCX 2 firmware)"}},
     {"PointersAreNamedAsWhatTheRcxLacks",
      "void f(int *x) { }\nint p, *r;\ntask main()\n{\n  f(&p);\n  *p = 1;\n}\n",
      {"1:8: error: the RCX has no pointers: write 'int &x' to pass a variable by reference",
@@ -222,6 +235,34 @@ const BadProgram kCases[] = {
      {"3:3: error: 'a' is not declared", "4:3: error: cannot start 'b': there is no task of that name",
       "5:3: error: 'c' is not declared (no sub or function of that name)",
       "6:3: error: cannot assign to this expression: it is not a variable"}},
+    {"EventSourceIsRcx2", "int x;\ntask main() { x = __event_src(1); }\n",
+     {"2:19: error: '__event_src' is not declared (it belongs to the RCX 2 firmware's API; this target is the RCX)"}},
+    // nqc keeps variables apart from the tasks, subs and functions above them.
+    {"VariableMayTakeTheNameOfAFunctionAbove",
+     "void g() { }\nsub s() { }\ntask t() { }\nint g, s, t;\ntask main() { g = s + t; g(); s(); start t; }\n", {}},
+    {"FunctionMayNotTakeTheNameOfAVariableAbove", "int g;\nvoid g() { }\ntask main() { }\n",
+     {"2:6: error: redefinition of 'g'"}},
+    {"VariableNamedLikeAFunctionOnlyOnce", "void g() { }\nint g;\nint g;\ntask main() { g = 1; }\n",
+     {"3:5: error: redefinition of 'g'"}},
+    {"NqcReservedWordsAreNoNames", "int acquire;\nvoid catch() { }\ntask main() { int __res; monitor: __res = 1; }\n",
+     {"1:5: error: 'acquire' cannot be a name: nqc reserves it (a statement of the RCX 2 firmware)",
+      "2:6: error: 'catch' cannot be a name: nqc reserves it (a statement of the RCX 2 firmware)",
+      "3:26: error: 'monitor' cannot be a name: nqc reserves it (a statement of the RCX 2 firmware)",
+      "3:19: error: '__res' cannot be a name: nqc reserves it (an intrinsic of other targets)"}},
+    // nqc: "constant expression required" and "argument must be a constant".
+    {"TaskIdIsNoCaseValue", "int x;\ntask main() { switch (x) { case __taskid: x = 1; } }\n",
+     {"2:33: error: a case value must be a constant expression"}},
+    {"TaskIdIsNoConstArgument", "int x;\nvoid f(const int n) { x = n; }\ntask main() { f(__taskid); }\n",
+     {"3:17: error: argument for 'const int n' of 'f' must be a constant expression"}},
+    {"TaskIdFitsAnAsmByte", "task main() { asm { 0x51, __taskid }; }\n", {}},
+    {"TypeOfIsACaseValue", "int x;\ntask main() { switch (x) { case __type(x): case __type(1): x = 1; } }\n", {}},
+    {"TypeOfTwoCaseValuesClash", "int x, y;\ntask main() { switch (x) { case __type(x): case __type(y): x = 1; } }\n",
+     {"2:44: error: duplicate case value 0"}},
+    {"TypeOfChecksItsOperand", "int x;\ntask main() { x = __type(zz); }\n", {"2:26: error: 'zz' is not declared"}},
+    {"TypeOfIsNoVariable", "int x;\ntask main() { __type(x) = 1; }\n",
+     {"2:15: error: cannot assign to this expression: it is not a variable"}},
+    {"TaskIdInIfDirective", "#if __taskid\n#endif\ntask main() { }\n",
+     {"1:5: error: __taskid is known only when the code is generated, not in #if"}},
 };
 
 class Malformed : public ::testing::TestWithParam<BadProgram> {};
@@ -322,10 +363,10 @@ TEST(Sema, NqcsPredefinedVersionMacro) {
 TEST(Sema, FoldConstantSeesThroughSubstitutedSources) {
   // What lowering does after substituting `const int &sensor` with SENSOR_1.
   Expr src{Source{Expr{IntLit{9}, {}, 9}, Expr{IntLit{0}, {}, 0}, 9, 0}, {}, std::nullopt};
-  Expr arg{SourceArg{src, std::int16_t{9}}, {}, std::nullopt};
+  Expr arg{SourceArg{src, std::int16_t{9}, false}, {}, std::nullopt};
   EXPECT_EQ(frontend::fold_constant(arg), std::optional<std::int16_t>(0));
   Expr timer{Source{Expr{IntLit{1}, {}, 1}, Expr{IntLit{0}, {}, 0}, 1, 0}, {}, std::nullopt};
-  Expr bad{SourceArg{timer, std::int16_t{9}}, {}, std::nullopt};
+  Expr bad{SourceArg{timer, std::int16_t{9}, false}, {}, std::nullopt};
   Diagnostics d;
   EXPECT_FALSE(frontend::fold_constant(bad, &d).has_value());
   ASSERT_EQ(d.error_count(), 1u);
@@ -333,6 +374,57 @@ TEST(Sema, FoldConstantSeesThroughSubstitutedSources) {
   Expr div{Binary{BinaryOp::Div, Expr{IntLit{1}, {}, 1}, Expr{IntLit{0}, {}, 0}}, {}, std::nullopt};
   EXPECT_FALSE(frontend::fold_constant(div, &d).has_value());
   EXPECT_EQ(d.all().back().message, "division by zero in a constant expression");
+}
+
+TEST(Sema, TypeOfFoldsAsNqcCountsConstants) {
+  // 2 for what nqc folds (x && 0 whatever x is), 0 for the rest, a timer
+  // and x * 0 included (nqc does not fold them); a const parameter's is
+  // known only at each call.
+  auto r = run_frontend(
+      "int x;\nint a = __type(x), b = __type(3 + 4), c = __type(Timer(1)), d = __type(x && 0), e = __type(x * 0),\n"
+      "  f = __type(1 ? 2 : x), g = __type(__taskid + 1), h = __type(__type(x)), i = __type(x++);\n"
+      "void k(const int &n) { x = __type(n); }\ntask main() { k(1); }\n");
+  ASSERT_TRUE(r.program) << r.text();
+  std::vector<std::optional<std::int16_t>> got;
+  for (std::size_t g = 1; g < r.program->globals.size(); ++g) got.push_back(r.program->globals[g].init->constant);
+  using V = std::optional<std::int16_t>;
+  EXPECT_EQ(got, (std::vector<V>{V(0), V(2), V(0), V(2), V(0), V(2), V(2), V(2), V(0)}));
+  const Function* k = nullptr;
+  for (const auto& f : r.program->functions)
+    if (f.name == "k") k = &f;
+  ASSERT_NE(k, nullptr);
+  const auto& assign = std::get<Assign>(std::get<ExprStmt>(std::get<Block>(k->body.node).stmts[0].node).expr.node);
+  EXPECT_FALSE(assign.value->constant);
+}
+
+TEST(Sema, SensorNumberOfAConstantIsItsLowByte) {
+  // nqc's __sensor: any constant expression, kept to a byte.
+  auto r = run_frontend(
+      "int a = __sensor(1 + 1), b = __sensor(300), c = __sensor(-1), d = __sensor(__sensor(SENSOR_2));\n"
+      "task main() { }\n");
+  ASSERT_TRUE(r.program) << r.text();
+  std::vector<std::optional<std::int16_t>> got;
+  for (const auto& g : r.program->globals) got.push_back(g.init->constant);
+  using V = std::optional<std::int16_t>;
+  EXPECT_EQ(got, (std::vector<V>{V(2), V(44), V(255), V(1)}));
+}
+
+TEST(Sema, SubsKnowTheTasksThatCallThem) {
+  // Through an inline function and another sub too; `b` is run by two.
+  auto r = run_frontend(
+      "sub a() { }\nsub b() { a(); }\nsub c() { }\nvoid f() { b(); }\n"
+      "task main() { f(); start t; }\ntask t() { b(); }\n",
+      true);
+  ASSERT_TRUE(r.program) << r.text();
+  const Program& p = *r.program;
+  auto names = [&](const Sub& s) {
+    std::vector<std::string> out;
+    for (SymbolId t : s.calling_tasks) out.push_back(p.symbol(t).name);
+    return out;
+  };
+  EXPECT_EQ(names(p.subs[0]), (std::vector<std::string>{"main", "t"}));
+  EXPECT_EQ(names(p.subs[1]), (std::vector<std::string>{"main", "t"}));
+  EXPECT_TRUE(names(p.subs[2]).empty());
 }
 
 TEST(Sema, SwitchCasesAreListedInOrder) {
