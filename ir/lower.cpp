@@ -1287,6 +1287,14 @@ struct Lowerer {
         }
         case rcx::Role::Source:
         case rcx::Role::OpSource: {
+          // A message is one byte: the brick sends the low byte of a
+          // variable's value, so a constant outside it is that byte, as in
+          // nqc's code, not a temporary holding the whole number.
+          if (auto c = constant(e); c && *in.op == Op::SendMessage && (*c < 0 || *c > 255)) {
+            warning(e.span, fmt::format("a message is one byte: {} is sent as {}", *c, *c & 0xff));
+            args.push_back(Operand::imm(*c & 0xff));
+            break;
+          }
           Operand o = operand_for(*in.op, i, e);
           if (!accepts(*in.op, i, o))
             return error(e.span, fmt::format("operand '{}' of {} cannot take this value", slots[i]->name, in.mnemonic));
