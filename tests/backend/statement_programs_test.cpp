@@ -196,10 +196,12 @@ TEST(StatementPrograms, EveryLevelAndNqcsCodeBehaveAlike) {
     check(StatementGenerator(seed).program(), seed, nqc, dir, tally);
   std::printf("%d programs, nqc compiled %d, compared with nqc %d (nqc's branches wrong in %d)\n", tally.programs,
               tally.nqc_compiled, tally.compared_with_nqc, tally.wrapped);
-  // About a tenth run nqc out of temporaries; half of the rest have a test
-  // nqc gets wrong (more than 127 bytes forward).
+  // nqc refuses 12 to 22 in a hundred, out of temporaries (seed offsets 0 to
+  // 1000000: 264 to 235 of 300 compiled); half of the rest have a test nqc
+  // gets wrong (more than 127 bytes forward). The bounds only catch a
+  // generator that stopped writing programs nqc takes.
   if (!nqc.empty()) {
-    EXPECT_GT(tally.nqc_compiled, static_cast<int>(kPrograms) * 8 / 10);
+    EXPECT_GT(tally.nqc_compiled, static_cast<int>(kPrograms) * 7 / 10);
     EXPECT_GT(tally.compared_with_nqc, static_cast<int>(kPrograms) * 3 / 10);
   }
 }
