@@ -185,6 +185,39 @@ TEST(NxtCli, BadValuesAreRefusedBeforeAnythingIsSent) {
   check({"raw", "8009003d" + std::string(61 * 2, '1')}, "this one is 65");
 }
 
+// A local file that cannot be uploaded is said before the port is opened
+// (it was read first but reported after: with no brick, "does not exist" of
+// the port hid the missing file, exit 3).
+TEST(NxtCli, AnUnreadableUploadIsSaidBeforeThePortIsOpened) {
+  TempDir dir;
+  const std::string nowhere = "/dev/no-such-nxt";
+  auto missing = nxt(nowhere, {"upload", dir.path + "/none.rxe"});
+  EXPECT_EQ(missing.exit_code, 1) << missing.err;
+  EXPECT_EQ(missing.err, "rcxc nxt upload: cannot read " + dir.path + "/none.rxe\n");
+  std::filesystem::create_directory(dir.path + "/folder.rxe");
+  auto folder = nxt(nowhere, {"upload", dir.path + "/folder.rxe"});
+  EXPECT_EQ(folder.exit_code, 1) << folder.err;
+  EXPECT_NE(folder.err.find("is a directory, not a file to upload"), std::string::npos) << folder.err;
+}
+
+// A download that cannot be written whole (here a file-size limit) leaves
+// the local file as it was; it was opened for writing first and cut short.
+TEST(NxtCli, AFailedDownloadLeavesTheLocalFileAsItWas) {
+  NxtBrickProcess brick;
+  TempDir dir;
+  ASSERT_EQ(nxt(brick.path, {"upload", dir.write("big.rxe", std::vector<std::uint8_t>(6000, 0x42))}).exit_code, 0);
+  std::string target = dir.write("kept.rxe", "what was here");
+  // ulimit -f counts 512- or 1024-byte blocks: at most 4 KiB may be written.
+  auto r = run_process({"/bin/sh", "-c",
+                        "trap '' XFSZ; ulimit -f 4 && exec " RCXC_BINARY " nxt --port " + brick.path +
+                            " download big.rxe " + target},
+                       "", 20'000);
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("cannot write " + target + ": File too large"), std::string::npos) << r.err;
+  EXPECT_EQ(rcxc::test::read_text_file(target), "what was here");
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir.path), std::filesystem::directory_iterator()), 2);
+}
+
 TEST(NxtCli, PortsThatCannotBeOpenedOrDoNotAnswer) {
   auto missing = nxt("/dev/no-such-nxt", {"battery"});
   EXPECT_EQ(missing.exit_code, 3);
