@@ -25,6 +25,10 @@ bool write_all(int fd, const std::string& bytes) {
   return true;
 }
 
+// Of the target's name in its temporary's: 1 + 200 + 7 is well inside the
+// 255 bytes a name may have on Linux file systems.
+constexpr std::size_t kMostTemporaryStem = 200;
+
 // The mode a new file gets from open(..., 0666): mkstemp makes 0600.
 mode_t new_file_mode() {
   mode_t mask = ::umask(0);
@@ -84,7 +88,10 @@ std::optional<std::string> write_file_atomically(const std::string& given, const
   // have put a link at the temporary's name beforehand.
   fs::path target(path);
   fs::path folder = target.parent_path().empty() ? fs::path(".") : target.parent_path();
-  std::string pattern = (folder / ("." + target.filename().string() + ".XXXXXX")).string();
+  // The name is cut to leave room for the dot and the random part: a file
+  // named with 250 characters is allowed, its temporary would not be.
+  std::string stem = target.filename().string().substr(0, kMostTemporaryStem);
+  std::string pattern = (folder / ("." + stem + ".XXXXXX")).string();
   std::vector<char> name(pattern.begin(), pattern.end());
   name.push_back('\0');
   int fd = ::mkstemp(name.data());

@@ -246,3 +246,18 @@ TEST(OutputFileCli, AFileSizeLimitIsAFailedWriteNotAKill) {
 }
 
 }  // namespace
+
+namespace {
+
+// A name of 250 characters is a good name, but ".NAME.XXXXXX" is not: the
+// temporary could not be made ("File name too long").
+TEST(OutputFileCli, ALongButValidNameCanBeWritten) {
+  TempDir d;
+  std::string out = d.path + "/" + std::string(246, 'a') + ".rcx";
+  auto r = run_rcxc({"compile", d.write("p.nqc", kProgram), "-o", out});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(std::filesystem::is_regular_file(out));
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(d.path), std::filesystem::directory_iterator()), 2);
+}
+
+}  // namespace
