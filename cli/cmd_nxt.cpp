@@ -416,7 +416,10 @@ void register_nxt(CLI::App& app, int& exit_code) {
          regulated = std::make_shared<bool>(false);
     cmd->add_option("PORT", *port, "A, B, C or all")->required();
     cmd->add_option("POWER", *power, "-100..100 (0 stops)")->required()->allow_extra_args(false);
-    cmd->add_option("--limit", *limit, "Stop after this many degrees (0: run on)");
+    // The checks see the text as typed: past 2^63 the number would be read
+    // as 2^63 - 1, and a message quoting that would not be what was typed.
+    cmd->add_option("--limit", *limit, "Stop after this many degrees (0: run on)")
+        ->check(CLI::Range(0LL, 0xFFFFFFFFLL));
     auto* b = cmd->add_flag("--brake", *brake, "Brake when stopping (hold the position)");
     auto* f = cmd->add_flag("--coast", *coast, "Let the motor float when stopping (default)");
     b->excludes(f);
@@ -425,7 +428,6 @@ void register_nxt(CLI::App& app, int& exit_code) {
       auto p = output_port(*port);
       if (!p) return bad_output_port(*port);
       if (*power < -100 || *power > 100) return fmt::format("power {} is outside -100..100", *power);
-      if (*limit < 0 || *limit > 0xFFFFFFFFLL) return fmt::format("--limit {} is outside 0..4294967295 degrees", *limit);
       std::uint8_t mode = 0;
       std::uint8_t run_state = nxt::kRunStateIdle;
       // Power 0 with --brake holds the motor; without it the motor floats.
@@ -525,7 +527,8 @@ void register_nxt(CLI::App& app, int& exit_code) {
     auto* w = mailbox->add_subcommand("write", "Put TEXT, --int N (NXC) or --float X (NXT-G) in mailbox BOX");
     w->add_option("BOX", *box, "1-10")->required();
     w->add_option("TEXT", *text, "Text, at most 58 characters");
-    w->add_option("--int", *as_int, "A 32-bit integer, as NXC sends numbers");
+    w->add_option("--int", *as_int, "A 32-bit integer, as NXC sends numbers")
+        ->check(CLI::Range(static_cast<long long>(INT32_MIN), static_cast<long long>(INT32_MAX)));
     w->add_option("--float", *as_float, "A 32-bit float, as NXT-G sends numbers");
     auto box_check = [box]() -> std::optional<std::string> {
       if (*box < 1 || *box > 10) return fmt::format("mailbox {} is not 1-10", *box);
@@ -543,7 +546,6 @@ void register_nxt(CLI::App& app, int& exit_code) {
         if ((*text)->find('\0') != std::string::npos) return std::string("the text cannot contain a NUL");
         message = nxt::message_text(**text);
       } else if (*as_int) {
-        if (**as_int < INT32_MIN || **as_int > INT32_MAX) return fmt::format("{} does not fit 32 bits", **as_int);
         message = nxt::message_int(static_cast<std::int32_t>(**as_int));
       } else {
         if (!std::isfinite(**as_float)) return std::string("--float needs a finite number");

@@ -167,7 +167,11 @@ TEST(NxtCli, BadValuesAreRefusedBeforeAnythingIsSent) {
   check({"tone", "440", "0"}, "0 ms is outside 1-65535 ms");
   check({"motor", "D", "50"}, "\"D\" is not a motor port (A, B, C or all)");
   check({"motor", "A", "101"}, "power 101 is outside -100..100");
-  check({"motor", "A", "50", "--limit", "-1"}, "--limit -1 is outside");
+  check({"motor", "A", "50", "--limit", "-1"}, "-1 not in range 0 to 4294967295");
+  // Past 2^63 the message quoted 9223372036854775807, not what was typed.
+  check({"motor", "A", "50", "--limit", "99999999999999999999"}, "99999999999999999999 not in range");
+  check({"mailbox", "write", "1", "--int", "99999999999999999999"}, "99999999999999999999 not in range");
+  check({"mailbox", "write", "1", "--int", "2147483648"}, "2147483648 not in range");
   check({"sensor", "5", "SWITCH"}, "\"5\" is not a sensor port (1-4)");
   check({"sensor", "1", "TOUCH"}, "\"TOUCH\" is not a sensor type (NO_SENSOR, SWITCH,");
   check({"sensor", "1", "SWITCH", "FAST"}, "\"FAST\" is not a sensor mode (RAWMODE, BOOLEANMODE,");
