@@ -516,11 +516,15 @@ std::optional<std::string> check_one(const Check& check, const Machine& m, const
 
 }  // namespace
 
+std::string scenario_path(const Spec& spec, const std::string& test_path) {
+  if (spec.scenario_file.empty()) return "";
+  return (std::filesystem::path(test_path).parent_path() / spec.scenario_file).string();
+}
+
 std::variant<std::vector<TimedInput>, std::string> all_inputs(const Spec& spec, const std::string& test_path) {
   std::vector<TimedInput> inputs = spec.inputs;
   if (spec.scenario_file.empty()) return inputs;
-  auto path = (std::filesystem::path(test_path).parent_path() / spec.scenario_file).string();
-  auto scenario = read_scenario_file(path);
+  auto scenario = read_scenario_file(scenario_path(spec, test_path));
   if (auto* e = std::get_if<ScenarioError>(&scenario)) return e->message;
   auto& more = std::get<std::vector<TimedInput>>(scenario);
   inputs.insert(inputs.end(), more.begin(), more.end());

@@ -132,6 +132,23 @@ TEST(OutputFileCli, ATraceOverTheInputImageIsRefused) {
   EXPECT_EQ(d.read("img.json"), before);
 }
 
+// The program's own `// @scenario` file is an input as --scenario's is: a
+// trace of the same name replaced it with the trace.
+TEST(OutputFileCli, ATraceOverTheSourcesScenarioFileIsRefused) {
+  TempDir d;
+  const std::string scenario = "[[input]]\nat_ms = 5\nmessage = 3\n";
+  d.write("s.json", scenario);
+  std::string src = d.write("p.nqc", std::string(kProgram) + "// @scenario s.json\n");
+  for (const std::string& trace : {d.path + "/s.json", d.path + "/./s.json"}) {
+    auto r = run_rcxc({"run", src, "--trace", trace});
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_NE(r.err.find("refusing to write the trace to " + trace + ": it is the input " + d.path + "/s.json"),
+              std::string::npos)
+        << r.err;
+    EXPECT_EQ(rcxc::test::read_text_file(d.path + "/s.json"), scenario);
+  }
+}
+
 // --listing's value is optional: `--listing prog.nqc` takes the program as
 // the listing's name, and the message says so instead of only that the
 // source is missing; nothing is written.
