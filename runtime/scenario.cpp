@@ -74,6 +74,9 @@ std::variant<std::vector<TimedInput>, ScenarioError> parse_scenario(std::string_
   if (holds_binary_data(text))
     return ScenarioError{fmt::format("{}: holds binary data, not a scenario (a scenario is a TOML file of [[input]] tables)",
                                      path)};
+  if (auto trap = toml_trap(text))
+    return ScenarioError{fmt::format("{}:{}: {} (a scenario is [[input]] tables of keys and numbers)", path,
+                                     trap->line, trap->what)};
   toml::table root;
   try {
     root = toml::parse(text, path);
