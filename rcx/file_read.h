@@ -9,7 +9,6 @@
 #include <cstddef>
 #include <cstdint>
 #include <istream>
-#include <optional>
 #include <string>
 #include <string_view>
 #include <variant>
@@ -44,18 +43,6 @@ std::variant<std::string, FileProblem> read_stream(std::istream& in, FileKind ki
 // data has a NUL byte in its first 4 KiB, which no text file has.
 bool starts_as_image(std::string_view bytes);
 bool holds_binary_data(std::string_view bytes);  // an image, or a NUL in the first 4 KiB
-
-// What in a TOML scenario (keys and numbers only) would reach a fault of
-// toml++ 3.3, which the fuzzer found: it classifies some letters (U+0441,
-// U+0411) as whitespace or not through __builtin_unreachable (undefined
-// behaviour), and asserts on a table header whose key starts with another
-// character than a letter, digit, '_', '-' or a quote ("[+", "[[/"): an
-// abort in Debug builds. Such text is refused before the parser sees it.
-struct TomlTrap {
-  int line = 0;  // from 1
-  std::string what;
-};
-std::optional<TomlTrap> toml_trap(std::string_view text);
 
 // "P: larger than a source file may be (1 MiB); is it the right file?"
 std::string too_large_message(const std::string& path, FileKind kind);
