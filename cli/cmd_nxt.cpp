@@ -9,7 +9,6 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <sstream>
 
@@ -18,6 +17,7 @@
 
 #include "cli/commands.h"
 #include "cli/nxt_tether.h"
+#include "cli/output_file.h"
 #include "nxt/client.h"
 #include "nxt/commands.h"
 #include "nxt/scenario.h"
@@ -56,6 +56,11 @@ struct Failure {
 };
 
 using Action = std::function<std::variant<Output, Failure>(Client&)>;
+
+// What an action's checks make of its values: the action, a usage message
+// (exit 2), or another failure found before the port is opened (a local
+// file that cannot be read).
+using Made = std::variant<Action, std::string, Failure>;
 
 int exit_code_for(CallError::Kind kind) {
   switch (kind) {
@@ -348,7 +353,7 @@ void register_nxt(CLI::App& app, int& exit_code) {
     sub->footer(exit_codes);
     return sub;
   };
-  auto run = [&exit_code, a](CLI::App* sub, std::function<std::variant<Action, std::string>()> make) {
+  auto run = [&exit_code, a](CLI::App* sub, std::function<Made()> make) {
     std::string name = sub->get_name();
     if (sub->get_parent() && sub->get_parent()->get_name() != "nxt") name = sub->get_parent()->get_name() + " " + name;
     sub->callback([&exit_code, a, make, name] {
@@ -357,16 +362,20 @@ void register_nxt(CLI::App& app, int& exit_code) {
         exit_code = report(*a, name, Failure{kExitUsage, *usage});
         return;
       }
+      if (auto* bad = std::get_if<Failure>(&made)) {
+        exit_code = report(*a, name, *bad);
+        return;
+      }
       exit_code = with_brick(*a, name, std::get<Action>(made));
     });
   };
 
   // An action on one sensor port: its PORT argument (1-4) is checked, then
   // `make` gets the port index 0-3.
-  auto run_on_input = [&run](CLI::App* sub, std::function<std::variant<Action, std::string>(int)> make) {
+  auto run_on_input = [&run](CLI::App* sub, std::function<Made(int)> make) {
     auto port = std::make_shared<std::string>();
     sub->add_option("PORT", *port, "1-4")->required();
-    run(sub, [port, make]() -> std::variant<Action, std::string> {
+    run(sub, [port, make]() -> Made {
       auto p = input_port(*port);
       if (!p) return bad_input_port(*port);
       return make(*p);
@@ -389,7 +398,7 @@ void register_nxt(CLI::App& app, int& exit_code) {
     auto hz = std::make_shared<int>(0), ms = std::make_shared<int>(0);
     cmd->add_option("HZ", *hz, "Frequency, 200-14000 Hz")->required();
     cmd->add_option("MS", *ms, "Duration, 1-65535 ms")->required();
-    run(cmd, [hz, ms]() -> std::variant<Action, std::string> {
+    run(cmd, [hz, ms]() -> Made {
       if (*hz < 200 || *hz > 14000) return fmt::format("a tone of {} Hz is outside 200-14000 Hz", *hz);
       if (*ms < 1 || *ms > 65535) return fmt::format("{} ms is outside 1-65535 ms", *ms);
       return Action([h = *hz, m = *ms](Client& c) {
@@ -407,16 +416,18 @@ void register_nxt(CLI::App& app, int& exit_code) {
          regulated = std::make_shared<bool>(false);
     cmd->add_option("PORT", *port, "A, B, C or all")->required();
     cmd->add_option("POWER", *power, "-100..100 (0 stops)")->required()->allow_extra_args(false);
-    cmd->add_option("--limit", *limit, "Stop after this many degrees (0: run on)");
+    // The checks see the text as typed: past 2^63 the number would be read
+    // as 2^63 - 1, and a message quoting that would not be what was typed.
+    cmd->add_option("--limit", *limit, "Stop after this many degrees (0: run on)")
+        ->check(CLI::Range(0LL, 0xFFFFFFFFLL));
     auto* b = cmd->add_flag("--brake", *brake, "Brake when stopping (hold the position)");
     auto* f = cmd->add_flag("--coast", *coast, "Let the motor float when stopping (default)");
     b->excludes(f);
     cmd->add_flag("--regulated", *regulated, "Speed regulation (keeps speed under load)");
-    run(cmd, [=]() -> std::variant<Action, std::string> {
+    run(cmd, [=]() -> Made {
       auto p = output_port(*port);
       if (!p) return bad_output_port(*port);
       if (*power < -100 || *power > 100) return fmt::format("power {} is outside -100..100", *power);
-      if (*limit < 0 || *limit > 0xFFFFFFFFLL) return fmt::format("--limit {} is outside 0..4294967295 degrees", *limit);
       std::uint8_t mode = 0;
       std::uint8_t run_state = nxt::kRunStateIdle;
       // Power 0 with --brake holds the motor; without it the motor floats.
@@ -435,7 +446,7 @@ void register_nxt(CLI::App& app, int& exit_code) {
     auto* cmd = add("motor-state", "A motor's power, mode and tacho counts");
     auto port = std::make_shared<std::string>();
     cmd->add_option("PORT", *port, "A, B or C")->required();
-    run(cmd, [port]() -> std::variant<Action, std::string> {
+    run(cmd, [port]() -> Made {
       auto p = output_port(*port);
       if (!p || *p == 0xFF) return fmt::format("\"{}\" is not a motor port (A, B or C)", *port);
       return Action([p = *p](Client& c) -> std::variant<Output, Failure> {
@@ -460,7 +471,7 @@ void register_nxt(CLI::App& app, int& exit_code) {
   {
     auto* cmd = add("sensor", "Set a sensor port's TYPE and MODE (names from the NXT protocol)");
     auto type = std::make_shared<std::string>(), mode = std::make_shared<std::string>("RAWMODE");
-    run_on_input(cmd, [=](int p) -> std::variant<Action, std::string> {
+    run_on_input(cmd, [=](int p) -> Made {
       auto t = nxt::sensor_type_named(*type);
       if (!t) return fmt::format("\"{}\" is not a sensor type ({})", *type, names_of(nxt::sensor_types()));
       auto m = nxt::sensor_mode_named(*mode);
@@ -516,13 +527,14 @@ void register_nxt(CLI::App& app, int& exit_code) {
     auto* w = mailbox->add_subcommand("write", "Put TEXT, --int N (NXC) or --float X (NXT-G) in mailbox BOX");
     w->add_option("BOX", *box, "1-10")->required();
     w->add_option("TEXT", *text, "Text, at most 58 characters");
-    w->add_option("--int", *as_int, "A 32-bit integer, as NXC sends numbers");
+    w->add_option("--int", *as_int, "A 32-bit integer, as NXC sends numbers")
+        ->check(CLI::Range(static_cast<long long>(INT32_MIN), static_cast<long long>(INT32_MAX)));
     w->add_option("--float", *as_float, "A 32-bit float, as NXT-G sends numbers");
     auto box_check = [box]() -> std::optional<std::string> {
       if (*box < 1 || *box > 10) return fmt::format("mailbox {} is not 1-10", *box);
       return std::nullopt;
     };
-    run(w, [=]() -> std::variant<Action, std::string> {
+    run(w, [=]() -> Made {
       if (auto bad = box_check()) return *bad;
       int given = (text->has_value() ? 1 : 0) + (as_int->has_value() ? 1 : 0) + (as_float->has_value() ? 1 : 0);
       if (given != 1) return std::string("give exactly one of TEXT, --int N, --float X");
@@ -534,7 +546,6 @@ void register_nxt(CLI::App& app, int& exit_code) {
         if ((*text)->find('\0') != std::string::npos) return std::string("the text cannot contain a NUL");
         message = nxt::message_text(**text);
       } else if (*as_int) {
-        if (**as_int < INT32_MIN || **as_int > INT32_MAX) return fmt::format("{} does not fit 32 bits", **as_int);
         message = nxt::message_int(static_cast<std::int32_t>(**as_int));
       } else {
         if (!std::isfinite(**as_float)) return std::string("--float needs a finite number");
@@ -548,7 +559,7 @@ void register_nxt(CLI::App& app, int& exit_code) {
     auto* r = mailbox->add_subcommand("read", "Take the oldest message from mailbox BOX (1-10, or 11-20: outboxes)");
     r->add_option("BOX", *rbox, "1-20")->required();
     r->add_flag("--keep", *keep, "Leave the message in the mailbox");
-    run(r, [=]() -> std::variant<Action, std::string> {
+    run(r, [=]() -> Made {
       if (*rbox < 1 || *rbox > 20) return fmt::format("mailbox {} is not 1-20", *rbox);
       std::int64_t q = *rbox - 1;
       return Action([q, k = *keep](Client& c) -> std::variant<Output, Failure> {
@@ -576,7 +587,7 @@ void register_nxt(CLI::App& app, int& exit_code) {
     cmd->add_option("NAME", *name, "A file on the brick (15.3)")->required();
     auto looping = std::make_shared<bool>(false);
     if (loop) cmd->add_flag("--loop", *looping, "Repeat until stopped");
-    run(cmd, [=]() -> std::variant<Action, std::string> {
+    run(cmd, [=]() -> Made {
       if (auto bad = nxt::check_file_name(*name)) return *bad;
       // The brick answers 0x00 to StartProgram of any file that exists and
       // then fails to run one that is no program: refuse it here, where the
@@ -639,7 +650,7 @@ void register_nxt(CLI::App& app, int& exit_code) {
     auto* cmd = add("ls", "List files (PATTERN: *.*, name.*, *.ext, name.ext)");
     auto pattern = std::make_shared<std::string>("*.*");
     cmd->add_option("PATTERN", *pattern, "default *.*");
-    run(cmd, [pattern]() -> std::variant<Action, std::string> {
+    run(cmd, [pattern]() -> Made {
       std::string p = *pattern;
       auto dot = p.rfind('.');
       std::string stem = dot == std::string::npos ? p : p.substr(0, dot);
@@ -666,13 +677,12 @@ void register_nxt(CLI::App& app, int& exit_code) {
     auto file = std::make_shared<std::string>(), name = std::make_shared<std::string>();
     cmd->add_option("FILE", *file, "A local file")->required();
     cmd->add_option("NAME", *name, "Its name on the brick (default: FILE's name)");
-    run(cmd, [=]() -> std::variant<Action, std::string> {
+    run(cmd, [=]() -> Made {
       std::string target = name->empty() ? std::filesystem::path(*file).filename().string() : *name;
       if (auto bad = nxt::check_file_name(target)) return *bad;
       auto data = std::make_shared<nxt::Bytes>();
-      std::string err = read_file_bytes(*file, *data);
+      if (std::string err = read_file_bytes(*file, *data); !err.empty()) return Failure{kExitFailure, err};
       return Action([=](Client& c) -> std::variant<Output, Failure> {
-        if (!err.empty()) return Failure{kExitFailure, err};
         if (auto e = nxt::upload_file(c, target, *data, progress_bar("upload " + target))) return failure(*e);
         return Output{fmt::format("{} bytes to {}\n", data->size(), target), {{"name", target}, {"size", data->size()}}};
       });
@@ -684,17 +694,17 @@ void register_nxt(CLI::App& app, int& exit_code) {
     auto name = std::make_shared<std::string>(), file = std::make_shared<std::string>();
     cmd->add_option("NAME", *name, "A file on the brick")->required();
     cmd->add_option("FILE", *file, "Where to write it (default: NAME)");
-    run(cmd, [=]() -> std::variant<Action, std::string> {
+    run(cmd, [=]() -> Made {
       if (auto bad = nxt::check_file_name(*name)) return *bad;
       std::string target = file->empty() ? *name : *file;
       return Action([=](Client& c) -> std::variant<Output, Failure> {
         auto r = nxt::download_file(c, *name, progress_bar("download " + *name));
         if (auto* e = std::get_if<CallError>(&r)) return failure(*e);
         const auto& data = std::get<nxt::Bytes>(r);
-        // Written only once the whole file is here: nothing half-done.
-        std::ofstream out(target, std::ios::binary);
-        out.write(reinterpret_cast<const char*>(data.data()), static_cast<std::streamsize>(data.size()));
-        if (!out.flush()) return Failure{kExitFailure, fmt::format("cannot write {}", target)};
+        // Written only once the whole file is here, through a temporary: a
+        // failed write leaves what was at `target` before.
+        if (auto unwritten = write_file_atomically(target, std::string(data.begin(), data.end())))
+          return Failure{kExitFailure, fmt::format("cannot write {}: {}", target, *unwritten)};
         return Output{fmt::format("{} bytes to {}\n", data.size(), target), {{"file", target}, {"size", data.size()}}};
       });
     });
@@ -704,7 +714,7 @@ void register_nxt(CLI::App& app, int& exit_code) {
     auto* cmd = add("raw", "Send a telegram given as hex bytes (00 0b: GetBatteryLevel) and show the reply");
     auto words = std::make_shared<std::vector<std::string>>();
     cmd->add_option("HEX", *words, "The telegram without the Bluetooth length")->required();
-    run(cmd, [words]() -> std::variant<Action, std::string> {
+    run(cmd, [words]() -> Made {
       std::string err;
       auto bytes = parse_hex_words(*words, err);
       if (!bytes) return err;
@@ -745,7 +755,7 @@ void register_nxt(CLI::App& app, int& exit_code) {
     auto* cmd = add("bench", "Round-trip latency of GetBatteryLevel: p50, p99");
     auto count = std::make_shared<int>(200);
     cmd->add_option("--count", *count, "Round trips")->check(CLI::Range(1, 100000));
-    run(cmd, [count]() -> std::variant<Action, std::string> {
+    run(cmd, [count]() -> Made {
       return Action([n = *count](Client& c) -> std::variant<Output, Failure> {
         std::vector<double> us;
         for (int i = 0; i < n; ++i) {

@@ -146,12 +146,6 @@ int run(const RunOptions& o) {
     std::cerr << "rcxc run: " << *bad << "\n";
     return kExitUsage;
   }
-  for (const std::string* input : {&o.file, &o.scenario})
-    if (!o.trace.empty() && !input->empty() && same_file(o.trace, *input)) {
-      std::cerr << "rcxc run: refusing to write the trace to " << o.trace << ": it is the input " << *input
-                << " (choose another name)\n";
-      return kExitUsage;
-    }
   if (o.nxt_port && !o.scenario.empty()) {
     std::cerr << "rcxc run: --scenario and --nxt do not go together: on an NXT the sensors, messages and battery "
                  "come from the brick (give the scenario to the virtual NXT: rcxc nxt brick --pty --scenario "
@@ -170,6 +164,15 @@ int run(const RunOptions& o) {
       std::cerr << "rcxc run: note: the // @ directives in " << o.file
                 << " have errors and are not used (rcxc test " << o.file << " names them)\n";
   }
+  // The @scenario file of the source is an input too, though --scenario
+  // may stand in for it.
+  std::string directive_scenario = spec ? rcx::semtest::scenario_path(*spec, o.file) : "";
+  for (const std::string* input : {&o.file, &o.scenario, static_cast<const std::string*>(&directive_scenario)})
+    if (!o.trace.empty() && !input->empty() && same_file(o.trace, *input)) {
+      std::cerr << "rcxc run: refusing to write the trace to " << o.trace << ": it is the input " << *input
+                << " (choose another name)\n";
+      return kExitUsage;
+    }
   CompilerArgs compiler = o.compiler;
   if (spec && !spec->options.empty()) {
     auto merged = with_file_options(o.compiler, spec->options, o.file);

@@ -222,16 +222,28 @@ void run_all(const TestOptions& o, const std::vector<std::string>& files, unsign
   }
 }
 
+// What a report at `junit` would overwrite among the tests' inputs: a test
+// program or a test's @scenario file ("the test program FILE"), or nullopt.
+std::optional<std::string> report_over_input(const std::string& junit, const std::vector<std::string>& files) {
+  if (junit.empty()) return std::nullopt;
+  for (const auto& file : files) {
+    if (same_file(junit, file)) return "the test program " + file;
+    auto parsed = rcx::semtest::parse_spec_file(file);
+    auto* spec = std::get_if<rcx::semtest::Spec>(&parsed);
+    std::string scenario = spec ? rcx::semtest::scenario_path(*spec, file) : "";
+    if (!scenario.empty() && same_file(junit, scenario)) return "the scenario " + scenario + " of " + file;
+  }
+  return std::nullopt;
+}
+
 int run(const TestOptions& o) {
   std::vector<std::string> problems;
   auto files = collect(o.paths, problems);
-  if (!o.junit.empty())
-    for (const auto& file : files)
-      if (same_file(o.junit, file)) {
-        std::cerr << "rcxc test: refusing to write the report to " << o.junit << ": it is the test program " << file
-                  << " (choose another name)\n";
-        return kExitUsage;
-      }
+  if (auto input = report_over_input(o.junit, files)) {
+    std::cerr << "rcxc test: refusing to write the report to " << o.junit << ": it is " << *input
+              << " (choose another name)\n";
+    return kExitUsage;
+  }
   for (const auto& m : problems) std::cerr << "rcxc test: " << m << "\n";
   if (files.empty() && problems.empty()) std::cerr << "rcxc test: no .nqc files found\n";
   std::vector<rcx::semtest::JUnitCase> report;

@@ -1,5 +1,6 @@
 // rcxc: the command-line front of the compiler, emulator and IR link
 // libraries. It only parses options and calls the libraries.
+#include <csignal>
 #include <cstdio>
 #include <iostream>
 #include <string_view>
@@ -86,6 +87,10 @@ int run_main(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // Past a file-size limit (ulimit -f) a write then fails with EFBIG, which
+  // every output reports, and the temporary it went to is removed; the
+  // signal's default would kill rcxc there and leave the temporary behind.
+  std::signal(SIGXFSZ, SIG_IGN);
   int exit_code = rcxc::cli::kExitFailure;
   if (rcxc::cli::compiles_once(argc, argv)) rcxc::cli::tune_allocator_for_one_compile();
   rcxc::cli::run_with_stack(rcxc::cli::kWorkStackBytes, [&] { exit_code = run_main(argc, argv); });

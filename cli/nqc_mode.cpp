@@ -211,6 +211,35 @@ NqcOptions parse_command_line(const std::vector<std::string>& args) {
   return o;
 }
 
+// The files named on the command line that the call may write: -E, -L, -O
+// and -R, with their letters.
+std::vector<std::pair<char, std::string>> named_outputs(const NqcOptions& o) {
+  std::vector<std::pair<char, std::string>> out;
+  if (o.errors && !o.errors->file.empty()) out.emplace_back('E', o.errors->file);
+  if (o.listing && !o.listing->file.empty()) out.emplace_back('L', o.listing->file);
+  if (o.output) out.emplace_back('O', *o.output);
+  if (o.text_output) out.emplace_back('R', *o.text_output);
+  return out;
+}
+
+// An output that is the source file, or two outputs in one file: nqc
+// empties the program, or keeps only what was written last.
+std::optional<std::string> clashing_outputs(const NqcOptions& o) {
+  std::string source;
+  for (const Step& step : o.steps)
+    if (auto* s = std::get_if<SourceStep>(&step); s && s->name != "-") source = s->name;
+  auto outputs = named_outputs(o);
+  for (std::size_t i = 0; i < outputs.size(); ++i) {
+    const auto& [letter, file] = outputs[i];
+    if (!source.empty() && same_file(file, source))
+      return fmt::format("refusing to write {} (-{}): it is the source file", file, letter);
+    for (std::size_t j = 0; j < i; ++j)
+      if (same_file(file, outputs[j].second))
+        return fmt::format("-{} and -{} both name {}: one would overwrite the other", outputs[j].first, letter, file);
+  }
+  return std::nullopt;
+}
+
 void print_help() {
   std::cout << fmt::format(
       "rcxc {} in nqc mode: nqc 3.1's command line (docs/nqc.md)\n"
@@ -258,10 +287,17 @@ class Session {
   explicit Session(NqcOptions options) : o_(std::move(options)) {}
 
   int run() {
-    // As nqc, an -E file that cannot be written stops the call before
-    // anything is compiled or sent: the errors would have nowhere to go.
+    // Checked before any file is opened: opening an -E or -R file that is
+    // the program would empty it.
+    if (auto clash = clashing_outputs(o_)) return perform(UsageStep{*clash});
+    // As nqc, an -E or -R file that cannot be written stops the call before
+    // anything is compiled or sent: the text would have nowhere to go.
     if (o_.errors && !o_.errors->file.empty() && !std::ofstream(o_.errors->file, std::ios::app))
       return perform(UsageStep{"cannot write the error file '" + o_.errors->file + "' (-E)"});
+    if (o_.text_output) {
+      text_file_ = std::make_unique<std::ofstream>(*o_.text_output, std::ios::binary);
+      if (!*text_file_) return perform(UsageStep{"cannot write the output file '" + *o_.text_output + "' (-R)"});
+    }
     for (const Step& step : o_.steps) {
       int code = std::visit([this](const auto& s) { return perform(s); }, step);
       if (code != kNqcExitOk) return code;
@@ -403,14 +439,17 @@ class Session {
     return kNqcExitOk;
   }
 
-  // Text an action prints goes to standard output, or the -R file.
-  void print_action_text(const std::string& text) {
-    if (!o_.text_output) {
+  // Text an action prints goes to standard output, or the -R file (opened
+  // by run()). False, said on stderr, when the file could not take it.
+  bool print_action_text(const std::string& text) {
+    if (!text_file_) {
       std::cout << text;
-      return;
+      return true;
     }
-    if (!text_file_) text_file_ = std::make_unique<std::ofstream>(*o_.text_output, std::ios::binary);
-    *text_file_ << text << std::flush;
+    if (*text_file_ << text << std::flush) return true;
+    std::cerr << text << "rcxc (as nqc): cannot write the output file " << *o_.text_output
+              << " (-R); the text is above\n";
+    return false;
   }
 
   // The link/remote words each nqc action stands for.
@@ -471,7 +510,10 @@ class Session {
         return e->kind == rcx::RemoteFailure::Input ? kNqcExitCompile : kNqcExitNoReply;
       }
       // nqc prints what it uploads (the datalog), not confirmations.
-      if (a.name == "-datalog" || a.name == "-datalog_full" || o_.verbose) print_action_text(std::get<std::string>(result));
+      bool printed = true;
+      if (a.name == "-datalog" || a.name == "-datalog_full" || o_.verbose)
+        printed = print_action_text(std::get<std::string>(result));
+      if (!printed) return kNqcExitCompile;
     }
     return kNqcExitOk;
   }

@@ -25,6 +25,10 @@ bool write_all(int fd, const std::string& bytes) {
   return true;
 }
 
+// Of the target's name in its temporary's: 1 + 200 + 7 is well inside the
+// 255 bytes a name may have on Linux file systems.
+constexpr std::size_t kMostTemporaryStem = 200;
+
 // The mode a new file gets from open(..., 0666): mkstemp makes 0600.
 mode_t new_file_mode() {
   mode_t mask = ::umask(0);
@@ -32,15 +36,43 @@ mode_t new_file_mode() {
   return 0666 & ~mask;
 }
 
+// The plain file a chain of symbolic links ends at, or nullopt: `path` is
+// no link, the chain is broken, loops or runs long, or passes through /proc
+// or /dev (/dev/stderr is a link to /proc/self/fd/2, which may be a log file
+// open for appending: replacing that file would drop what it holds).
+std::optional<std::string> plain_file_behind_link(const std::string& path) {
+  namespace fs = std::filesystem;
+  constexpr int kMostLinks = 40;  // as the kernel's own limit
+  std::error_code ec;
+  fs::path at = fs::absolute(path, ec);
+  if (ec || !fs::is_symlink(fs::symlink_status(at, ec))) return std::nullopt;
+  for (int hop = 0; hop < kMostLinks; ++hop) {
+    std::string text = at.lexically_normal().string();
+    if (text.starts_with("/proc/") || text.starts_with("/dev/")) return std::nullopt;
+    auto status = fs::symlink_status(at, ec);
+    if (ec) return std::nullopt;
+    if (fs::is_regular_file(status)) return text;
+    if (!fs::is_symlink(status)) return std::nullopt;
+    fs::path next = fs::read_symlink(at, ec);
+    if (ec) return std::nullopt;
+    at = next.is_absolute() ? next : at.parent_path() / next;
+  }
+  return std::nullopt;
+}
+
 }  // namespace
 
-std::optional<std::string> write_file_atomically(const std::string& path, const std::string& bytes) {
+std::optional<std::string> write_file_atomically(const std::string& given, const std::string& bytes) {
   namespace fs = std::filesystem;
   auto failure = [](int error) { return std::optional<std::string>(std::generic_category().message(error)); };
-  // Anything but a plain file (-o /dev/null, a FIFO, a symbolic link such as
-  // /dev/stderr) is written through: renaming over it would replace the
-  // device or the link itself with a regular file.
+  // A symbolic link to a plain file (format -i on a linked source) has that
+  // file replaced as any plain file is, the link left as it is: written
+  // through, a failed write would leave the file cut short.
+  std::string path = plain_file_behind_link(given).value_or(given);
   std::error_code status_error;
+  // Anything else but a plain file (-o /dev/null, a FIFO, a symbolic link
+  // such as /dev/stderr) is written through: renaming over it would replace
+  // the device or the link itself with a regular file.
   auto status = fs::symlink_status(path, status_error);
   if (fs::is_directory(status)) return failure(EISDIR);
   if (fs::exists(status) && !fs::is_regular_file(status)) {
@@ -56,7 +88,10 @@ std::optional<std::string> write_file_atomically(const std::string& path, const 
   // have put a link at the temporary's name beforehand.
   fs::path target(path);
   fs::path folder = target.parent_path().empty() ? fs::path(".") : target.parent_path();
-  std::string pattern = (folder / ("." + target.filename().string() + ".XXXXXX")).string();
+  // The name is cut to leave room for the dot and the random part: a file
+  // named with 250 characters is allowed, its temporary would not be.
+  std::string stem = target.filename().string().substr(0, kMostTemporaryStem);
+  std::string pattern = (folder / ("." + stem + ".XXXXXX")).string();
   std::vector<char> name(pattern.begin(), pattern.end());
   name.push_back('\0');
   int fd = ::mkstemp(name.data());

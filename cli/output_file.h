@@ -10,8 +10,9 @@ namespace rcxc::cli {
 // name, O_EXCL), then renames it over `path`: a failed or interrupted write
 // leaves what was there before, and no predictable name exists for a
 // symbolic link to redirect. The file keeps the mode of the one it replaces
-// (new ones get 0666 less the umask). Anything else at `path` (a device, a
-// pipe, a symbolic link) is written through. Returns why the write failed
+// (new ones get 0666 less the umask). A symbolic link to a plain file has
+// that file replaced so, the link kept. Anything else at `path` (a device, a
+// pipe, a link to one, a link to nothing) is written through. Returns why the write failed
 // ("No such file or directory", "Is a directory"), or nullopt when it worked.
 std::optional<std::string> write_file_atomically(const std::string& path, const std::string& bytes);
 

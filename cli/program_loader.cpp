@@ -216,6 +216,9 @@ std::variant<rcx::Image, std::string> load_standard_input(const CompileRequest& 
     if (auto* e = std::get_if<rcx::ImageError>(&image)) return name + ": " + e->message;
     return std::get<rcx::Image>(std::move(image));
   }
+  // As a file holding them would be: compiled, binary bytes make a screen
+  // of "stray character" errors, each quoting its line raw to the terminal.
+  if (rcx::holds_binary_data(bytes)) return name + ": binary data, neither NQC source nor an .rcx image";
   CompileResult compiled = compile_parsed(
       [&](SourceManager& sm, Diagnostics& d) {
         return frontend::parse_source(name, std::move(bytes), request.frontend, sm, d);

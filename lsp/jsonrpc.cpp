@@ -29,6 +29,10 @@ bool read_line(std::istream& in, std::string& line) {
   return true;
 }
 
+std::string truncated(std::uint64_t length) {
+  return "the input ended inside a message of " + std::to_string(length) + " bytes (its Content-Length)";
+}
+
 }  // namespace
 
 Frame read_frame(std::istream& in) {
@@ -37,7 +41,8 @@ Frame read_frame(std::istream& in) {
   std::string problem;
   bool any = false;
   while (true) {
-    if (!read_line(in, line)) return {Frame::Kind::End, "", ""};
+    if (!read_line(in, line))
+      return {Frame::Kind::End, "", any ? "the input ended inside a message's header" : ""};
     if (line.empty()) {
       if (!any) continue;  // stray blank lines between messages
       break;
@@ -74,7 +79,7 @@ Frame read_frame(std::istream& in) {
       auto step = static_cast<std::streamsize>(std::min<std::uint64_t>(left, std::uint64_t{1} << 30));
       in.ignore(step);
       left -= static_cast<std::uint64_t>(in.gcount());
-      if (in.gcount() < step) return {Frame::Kind::End, "", ""};
+      if (in.gcount() < step) return {Frame::Kind::End, "", truncated(*length)};
     }
     return {Frame::Kind::BadHeader, "",
             "a message of " + std::to_string(*length) + " bytes skipped (the limit is " + std::to_string(kMaxBody >> 20) +
@@ -82,7 +87,7 @@ Frame read_frame(std::istream& in) {
   }
   std::string body(*length, '\0');
   in.read(body.data(), static_cast<std::streamsize>(*length));
-  if (static_cast<std::size_t>(in.gcount()) != *length) return {Frame::Kind::End, "", ""};
+  if (static_cast<std::size_t>(in.gcount()) != *length) return {Frame::Kind::End, "", truncated(*length)};
   return {Frame::Kind::Message, std::move(body), ""};
 }
 

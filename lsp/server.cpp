@@ -927,7 +927,10 @@ std::vector<json> handle_text(Server& server, const std::string& body) {
 int serve(Server& server, std::istream& in, std::ostream& out, std::ostream& log) {
   while (!server.exited) {
     Frame frame = read_frame(in);
-    if (frame.kind == Frame::Kind::End) break;
+    if (frame.kind == Frame::Kind::End) {
+      if (!frame.error.empty()) log << "rcxc lsp: " << frame.error << "\n";
+      break;
+    }
     if (frame.kind == Frame::Kind::BadHeader) {
       log << "rcxc lsp: skipped a message: " << frame.error << "\n";
       continue;

@@ -27,6 +27,21 @@ std::string slurp(const std::string& path) {
   return text;
 }
 
+// What nqc printed, as it may go to a terminal: its lines stay lines, and
+// other control bytes (an escape sequence quoted from a source line, binary
+// junk from something that is no nqc) become \xNN.
+std::string shown_log(const std::string& log) {
+  std::string out;
+  for (char ch : log) {
+    auto c = static_cast<unsigned char>(ch);
+    if ((c < 0x20 && c != '\n' && c != '\t') || c == 0x7f)
+      out += fmt::format("\\x{:02x}", c);
+    else
+      out += ch;
+  }
+  return out;
+}
+
 // nqc reports errors as
 //   # Error: <message>
 //   File "<file>" ; line <N>
@@ -165,7 +180,7 @@ ExternalCompile compile_with_nqc(const std::string& nqc, const std::string& file
       if (auto* img = std::get_if<rcx::Image>(&image)) result.image = std::move(*img);
       else result.failure = "nqc wrote an unreadable image: " + std::get<rcx::ImageError>(image).message;
     } else if (result.messages.empty()) {
-      result.failure = "nqc failed: " + log;
+      result.failure = "nqc failed: " + shown_log(log);
     }
   }
   std::error_code ec;

@@ -91,8 +91,12 @@ std::optional<int> to_int(std::string_view s) {
     digits.remove_prefix(2);
     base = 16;
   }
+  // One sign at most: from_chars takes its own '-', so "--5" and "-0x-5"
+  // would read as 5.
+  if (neg && !digits.empty() && digits[0] == '-') return std::nullopt;
   auto [p, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), v, base);
-  if (ec != std::errc() || p != digits.data() + digits.size() || digits.empty()) return std::nullopt;
+  if (ec != std::errc() || p != digits.data() + digits.size() || digits.empty() || (base == 16 && v < 0))
+    return std::nullopt;
   return neg ? -v : v;
 }
 
@@ -319,6 +323,8 @@ void parse_directive(std::string_view text, int line, Spec& spec) {
   Cursor c(tokenize(space == std::string_view::npos ? std::string_view() : text.substr(space)));
   if (word == "for") {
     spec.run_for_us = need_time(c, "run length");
+    // As `rcxc run --for 0`: a run of no time checks nothing but the start.
+    if (*spec.run_for_us == 0) throw ParseFail{"the run length must be more than 0 ms"};
     need_end(c);
   } else if (word == "seed") {
     int seed = need_int(c, "seed");
@@ -510,11 +516,15 @@ std::optional<std::string> check_one(const Check& check, const Machine& m, const
 
 }  // namespace
 
+std::string scenario_path(const Spec& spec, const std::string& test_path) {
+  if (spec.scenario_file.empty()) return "";
+  return (std::filesystem::path(test_path).parent_path() / spec.scenario_file).string();
+}
+
 std::variant<std::vector<TimedInput>, std::string> all_inputs(const Spec& spec, const std::string& test_path) {
   std::vector<TimedInput> inputs = spec.inputs;
   if (spec.scenario_file.empty()) return inputs;
-  auto path = (std::filesystem::path(test_path).parent_path() / spec.scenario_file).string();
-  auto scenario = read_scenario_file(path);
+  auto scenario = read_scenario_file(scenario_path(spec, test_path));
   if (auto* e = std::get_if<ScenarioError>(&scenario)) return e->message;
   auto& more = std::get<std::vector<TimedInput>>(scenario);
   inputs.insert(inputs.end(), more.begin(), more.end());

@@ -81,6 +81,10 @@ struct Spec {
   bool expects_task_events() const;
 };
 
+// Where the spec's @scenario file is (it is named relative to the folder of
+// `test_path`), or "" when it names none.
+std::string scenario_path(const Spec& spec, const std::string& test_path);
+
 // The spec's @input lines plus the inputs of its @scenario file (a path
 // relative to the folder of `test_path`), or the scenario file's error.
 std::variant<std::vector<TimedInput>, std::string> all_inputs(const Spec& spec, const std::string& test_path);

@@ -125,6 +125,18 @@ TEST(DisasmCli, TheStandardInputIsAnImageOrSource) {
   EXPECT_NE(broken.err.find("rcxc run: <stdin>: the program does not compile"), std::string::npos) << broken.err;
 }
 
+// Binary bytes that are no image were compiled as source from the standard
+// input: a screen of errors quoting the bytes raw (a file of them was
+// already refused in one line).
+TEST(DisasmCli, BinaryBytesOnTheStandardInputAreOneError) {
+  const std::string junk("\x7f\x01\x00\x02\x1b[2J\nmore\n", 12);
+  for (const char* command : {"disasm", "run", "download"}) {
+    auto r = run_rcxc({command, "-"}, junk);
+    EXPECT_EQ(r.exit_code, 1) << command << ": " << r.err;
+    EXPECT_EQ(r.err, std::string("rcxc ") + command + ": <stdin>: binary data, neither NQC source nor an .rcx image\n");
+  }
+}
+
 // `rcxc run prog.rcx -O0 -DX` (or disasm, download) has nothing to compile:
 // the options were taken and ignored without a word. A note says so; the
 // command still does its work. Source given the same options gets no note.

@@ -109,6 +109,22 @@ TEST(LinkCli, NqcModeDownloadsSelectsAndRuns) {
   EXPECT_NE(log.out.find("0 entries"), std::string::npos) << log.out;
 }
 
+// The datalog goes to the -R file; a file that takes nothing (a full disk:
+// /dev/full) is a failure with the text on stderr, not exit 0 with it lost.
+TEST(LinkCli, NqcModeDatalogToAFileThatCannotTakeItFails) {
+  if (!std::filesystem::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
+  rcxc::test::TempDir dir;
+  BrickProcess brick;
+  ASSERT_FALSE(brick.path.empty());
+  auto ok = run_rcxc({"nqc", "-S" + brick.path, "-R" + dir.path + "/log.txt", "-datalog"});
+  EXPECT_EQ(ok.exit_code, 0) << ok.err;
+  EXPECT_EQ(rcxc::test::read_text_file(dir.path + "/log.txt"), "0 entries\n");
+  auto full = run_rcxc({"nqc", "-S" + brick.path, "-R/dev/full", "-datalog"});
+  EXPECT_EQ(full.exit_code, 243) << full.err;
+  EXPECT_NE(full.err.find("0 entries\nrcxc (as nqc): cannot write the output file /dev/full (-R)"), std::string::npos)
+      << full.err;
+}
+
 TEST(LinkCli, NqcModeWithoutATowerExitsAsNqc) {
   auto r = run_rcxc({"nqc", "-S/dev/no-such-tower", "-run"});
   EXPECT_EQ(r.exit_code, 255);

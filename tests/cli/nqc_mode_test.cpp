@@ -302,3 +302,45 @@ TEST(NqcMode, ABinaryFileIsOneErrorNotAScreenOfItsBytes) {
 }
 
 }  // namespace
+
+namespace {
+
+// An output named on the command line that is the program itself: nqc (and
+// this mode before) opened -E for writing and emptied the source.
+TEST(NqcMode, AnOutputThatIsTheSourceIsRefusedAndTheSourceKept) {
+  const std::string source = "task main()\n{\n  On(OUT_A);\n}\n";
+  for (const char* option : {"-E", "-L", "-O", "-R"}) {
+    TempDir d;
+    std::string file = d.write("p.nqc", source);
+    auto r = run_rcxc({"nqc", option + file, file});
+    EXPECT_EQ(r.exit_code, 244) << option << ": " << r.err;
+    EXPECT_NE(r.err.find("refusing to write " + file + " (" + option + "): it is the source file"), std::string::npos)
+        << r.err;
+    EXPECT_EQ(rcxc::test::read_text_file(file), source) << option;
+  }
+}
+
+// -O and -L naming one file kept only the listing, which overwrote the image.
+TEST(NqcMode, TwoOutputsInOneFileAreRefused) {
+  TempDir d;
+  std::string file = d.write("p.nqc", "task main()\n{\n  On(OUT_A);\n}\n");
+  auto r = run_rcxc({"nqc", "-O" + d.path + "/p.rcx", "-L" + d.path + "/./p.rcx", file});
+  EXPECT_EQ(r.exit_code, 244) << r.err;
+  EXPECT_NE(r.err.find("-L and -O both name " + d.path + "/p.rcx"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(d.path + "/p.rcx"));
+  auto e = run_rcxc({"nqc", "-E" + d.path + "/out", "-R" + d.path + "/out", file});
+  EXPECT_EQ(e.exit_code, 244) << e.err;
+}
+
+// As nqc, an -R file that cannot be written stops the call before the tower
+// is opened (before, the datalog was uploaded and then lost, exit 0).
+TEST(NqcMode, AnRFileThatCannotBeWrittenIsAUsageError) {
+  TempDir d;
+  for (const std::string& bad : {d.path, d.path + "/no/such/folder/log.txt"}) {
+    auto r = run_rcxc({"nqc", "-S/dev/no-such-tower", "-R" + bad, "-datalog"});
+    EXPECT_EQ(r.exit_code, 244) << bad << ": " << r.err;
+    EXPECT_NE(r.err.find("cannot write the output file '" + bad + "' (-R)"), std::string::npos) << r.err;
+  }
+}
+
+}  // namespace

@@ -132,6 +132,23 @@ TEST(OutputFileCli, ATraceOverTheInputImageIsRefused) {
   EXPECT_EQ(d.read("img.json"), before);
 }
 
+// The program's own `// @scenario` file is an input as --scenario's is: a
+// trace of the same name replaced it with the trace.
+TEST(OutputFileCli, ATraceOverTheSourcesScenarioFileIsRefused) {
+  TempDir d;
+  const std::string scenario = "[[input]]\nat_ms = 5\nmessage = 3\n";
+  d.write("s.json", scenario);
+  std::string src = d.write("p.nqc", std::string(kProgram) + "// @scenario s.json\n");
+  for (const std::string& trace : {d.path + "/s.json", d.path + "/./s.json"}) {
+    auto r = run_rcxc({"run", src, "--trace", trace});
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_NE(r.err.find("refusing to write the trace to " + trace + ": it is the input " + d.path + "/s.json"),
+              std::string::npos)
+        << r.err;
+    EXPECT_EQ(rcxc::test::read_text_file(d.path + "/s.json"), scenario);
+  }
+}
+
 // --listing's value is optional: `--listing prog.nqc` takes the program as
 // the listing's name, and the message says so instead of only that the
 // source is missing; nothing is written.
@@ -196,3 +213,68 @@ TEST(OutputFileCli, PreprocessedTextGoesToTheOutputFile) {
   EXPECT_EQ(listing.exit_code, 2) << listing.err;
   EXPECT_NE(listing.err.find("leave out --listing"), std::string::npos) << listing.err;
 }
+
+namespace {
+
+// `rcxc format -i` on a source reached through a symbolic link wrote through
+// the link: under a file-size limit the source was cut to 4 KiB of the new
+// text while rcxc said "it is left as it was". The file behind the link is
+// now replaced as a plain file is, and the link stays.
+std::string big_source() {
+  std::string text = "task main(){\n";
+  for (int i = 0; i < 300; ++i) text += "On(OUT_A);Off(OUT_A);\n";
+  return text + "}\n";
+}
+
+rcxc::test::ProcessResult rcxc_under_file_limit(const std::string& args, bool ignore_signal) {
+  // ulimit -f counts 512- or 1024-byte blocks: 4 blocks are at most 4 KiB.
+  std::string trap = ignore_signal ? "trap '' XFSZ; " : "";
+  return rcxc::test::run_process({"/bin/sh", "-c", trap + "ulimit -f 4 && exec " RCXC_BINARY " " + args}, "", 20'000);
+}
+
+TEST(OutputFileCli, AFailedFormatThroughALinkLeavesTheSourceWhole) {
+  TempDir d;
+  std::string text = big_source();
+  std::string real = d.write("real.nqc", text);
+  std::string link = d.path + "/link.nqc";
+  std::filesystem::create_symlink("real.nqc", link);
+  auto r = rcxc_under_file_limit("format -i " + link, true);
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("cannot write " + link + ": File too large; it is left as it was"), std::string::npos) << r.err;
+  EXPECT_EQ(rcxc::test::read_text_file(real), text);
+  EXPECT_TRUE(std::filesystem::is_symlink(link));
+  // Without a limit the file behind the link is formatted; the link stays.
+  auto ok = run_rcxc({"format", "-i", link});
+  EXPECT_EQ(ok.exit_code, 0) << ok.err;
+  EXPECT_TRUE(std::filesystem::is_symlink(link));
+  EXPECT_EQ(rcxc::test::read_text_file(real).rfind("task main()\n{\n  On(OUT_A);\n", 0), 0u);
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(d.path), std::filesystem::directory_iterator()), 2);
+}
+
+// The file-size signal killed rcxc mid-write (exit 153) and left its
+// temporary beside the output; the write now fails with a message.
+TEST(OutputFileCli, AFileSizeLimitIsAFailedWriteNotAKill) {
+  TempDir d;
+  std::string src = d.write("p.nqc", big_source());
+  auto r = rcxc_under_file_limit("compile " + src + " -E -o " + d.path + "/out.i", false);
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("cannot write " + d.path + "/out.i: File too large"), std::string::npos) << r.err;
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(d.path), std::filesystem::directory_iterator()), 1);
+}
+
+}  // namespace
+
+namespace {
+
+// A name of 250 characters is a good name, but ".NAME.XXXXXX" is not: the
+// temporary could not be made ("File name too long").
+TEST(OutputFileCli, ALongButValidNameCanBeWritten) {
+  TempDir d;
+  std::string out = d.path + "/" + std::string(246, 'a') + ".rcx";
+  auto r = run_rcxc({"compile", d.write("p.nqc", kProgram), "-o", out});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(std::filesystem::is_regular_file(out));
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(d.path), std::filesystem::directory_iterator()), 2);
+}
+
+}  // namespace

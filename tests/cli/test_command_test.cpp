@@ -227,6 +227,23 @@ TEST(TestCommand, JunitWritesTheResultsAsAReport) {
   EXPECT_NE(nowhere.err.find("cannot write the report"), std::string::npos) << nowhere.err;
 }
 
+// A test's @scenario file is an input too: a report named as it replaced
+// the scenario with XML once the tests had run.
+TEST(TestCommand, AJunitReportOverATestsScenarioIsRefused) {
+  TempDir d;
+  const std::string scenario = "[[input]]\nat_ms = 5\nmessage = 3\n";
+  d.write("inputs.toml", scenario);
+  std::string test = d.write("t.nqc", "// @scenario inputs.toml\n// @expect message == 3\ntask main() { Wait(10); }\n");
+  auto r = run_rcxc({"test", d.path, "--junit", d.path + "/inputs.toml"});
+  EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
+  EXPECT_NE(r.err.find("refusing to write the report to " + d.path + "/inputs.toml: it is the scenario " + d.path +
+                       "/inputs.toml of " + test),
+            std::string::npos)
+      << r.err;
+  EXPECT_EQ(rcxc::test::read_text_file(d.path + "/inputs.toml"), scenario);
+  EXPECT_EQ(run_rcxc({"test", test}).exit_code, 0);
+}
+
 // --nqc-path without --nqc was taken and ignored: the tests ran on rcxc's
 // code and passed, whatever nqc the user meant to try.
 TEST(TestCommand, AnNqcPathWithoutNqcIsAUsageError) {

@@ -51,6 +51,25 @@ TEST(LspFraming, ATruncatedBodyEndsTheStream) {
   EXPECT_EQ(read_frame(in).kind, Frame::Kind::End);
 }
 
+// A stream cut inside a message lost it without a word (exit 1 and an empty
+// stderr); the end of input between messages is still quiet.
+TEST(LspFraming, InputThatEndsInsideAMessageIsSaid) {
+  auto log_of = [](const std::string& input) {
+    Server server;
+    std::istringstream in(input);
+    std::ostringstream out, log;
+    EXPECT_EQ(serve(server, in, out, log), 1);
+    return log.str();
+  };
+  EXPECT_EQ(log_of("Content-Length: 50\r\n\r\n{\"a\":"),
+            "rcxc lsp: the input ended inside a message of 50 bytes (its Content-Length)\n");
+  EXPECT_EQ(log_of("Content-Length: 70000000\r\n\r\n{}"),
+            "rcxc lsp: the input ended inside a message of 70000000 bytes (its Content-Length)\n");
+  EXPECT_EQ(log_of("Content-Length: 2\r\n"), "rcxc lsp: the input ended inside a message's header\n");
+  EXPECT_EQ(log_of(framed(request(1, "initialize")) + "\r\n"), "");
+  EXPECT_EQ(log_of(""), "");
+}
+
 TEST(LspFraming, WritesContentLengthInBytes) {
   std::ostringstream out;
   write_message(out, {{"s", "\xc3\xa9"}});

@@ -167,7 +167,11 @@ TEST(NxtCli, BadValuesAreRefusedBeforeAnythingIsSent) {
   check({"tone", "440", "0"}, "0 ms is outside 1-65535 ms");
   check({"motor", "D", "50"}, "\"D\" is not a motor port (A, B, C or all)");
   check({"motor", "A", "101"}, "power 101 is outside -100..100");
-  check({"motor", "A", "50", "--limit", "-1"}, "--limit -1 is outside");
+  check({"motor", "A", "50", "--limit", "-1"}, "-1 not in range 0 to 4294967295");
+  // Past 2^63 the message quoted 9223372036854775807, not what was typed.
+  check({"motor", "A", "50", "--limit", "99999999999999999999"}, "99999999999999999999 not in range");
+  check({"mailbox", "write", "1", "--int", "99999999999999999999"}, "99999999999999999999 not in range");
+  check({"mailbox", "write", "1", "--int", "2147483648"}, "2147483648 not in range");
   check({"sensor", "5", "SWITCH"}, "\"5\" is not a sensor port (1-4)");
   check({"sensor", "1", "TOUCH"}, "\"TOUCH\" is not a sensor type (NO_SENSOR, SWITCH,");
   check({"sensor", "1", "SWITCH", "FAST"}, "\"FAST\" is not a sensor mode (RAWMODE, BOOLEANMODE,");
@@ -183,6 +187,39 @@ TEST(NxtCli, BadValuesAreRefusedBeforeAnythingIsSent) {
   check({"start", "noext"}, "\"noext\" is not a program");
   check({"raw", "0009003d" + std::string(61 * 2, '1')}, "a direct command is at most 64 bytes with its type byte; this one is 65");
   check({"raw", "8009003d" + std::string(61 * 2, '1')}, "this one is 65");
+}
+
+// A local file that cannot be uploaded is said before the port is opened
+// (it was read first but reported after: with no brick, "does not exist" of
+// the port hid the missing file, exit 3).
+TEST(NxtCli, AnUnreadableUploadIsSaidBeforeThePortIsOpened) {
+  TempDir dir;
+  const std::string nowhere = "/dev/no-such-nxt";
+  auto missing = nxt(nowhere, {"upload", dir.path + "/none.rxe"});
+  EXPECT_EQ(missing.exit_code, 1) << missing.err;
+  EXPECT_EQ(missing.err, "rcxc nxt upload: cannot read " + dir.path + "/none.rxe\n");
+  std::filesystem::create_directory(dir.path + "/folder.rxe");
+  auto folder = nxt(nowhere, {"upload", dir.path + "/folder.rxe"});
+  EXPECT_EQ(folder.exit_code, 1) << folder.err;
+  EXPECT_NE(folder.err.find("is a directory, not a file to upload"), std::string::npos) << folder.err;
+}
+
+// A download that cannot be written whole (here a file-size limit) leaves
+// the local file as it was; it was opened for writing first and cut short.
+TEST(NxtCli, AFailedDownloadLeavesTheLocalFileAsItWas) {
+  NxtBrickProcess brick;
+  TempDir dir;
+  ASSERT_EQ(nxt(brick.path, {"upload", dir.write("big.rxe", std::vector<std::uint8_t>(6000, 0x42))}).exit_code, 0);
+  std::string target = dir.write("kept.rxe", "what was here");
+  // ulimit -f counts 512- or 1024-byte blocks: at most 4 KiB may be written.
+  auto r = run_process({"/bin/sh", "-c",
+                        "trap '' XFSZ; ulimit -f 4 && exec " RCXC_BINARY " nxt --port " + brick.path +
+                            " download big.rxe " + target},
+                       "", 20'000);
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("cannot write " + target + ": File too large"), std::string::npos) << r.err;
+  EXPECT_EQ(rcxc::test::read_text_file(target), "what was here");
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir.path), std::filesystem::directory_iterator()), 2);
 }
 
 TEST(NxtCli, PortsThatCannotBeOpenedOrDoNotAnswer) {

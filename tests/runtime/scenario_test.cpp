@@ -86,6 +86,26 @@ TEST(Scenario, ABinaryFileIsNamedAsSuchNotAsBadUtf8) {
 
 // A directory used to read as an empty scenario, so `rcxc run P --scenario
 // DIR` ran without inputs and exited 0.
+// Found by fuzz_scenario: toml++ 3.3 meets __builtin_unreachable on some
+// letters (U+0441 after a value) and an assertion on a header such as "[+"
+// (an abort in Debug builds). Both are refused before it parses, with the
+// line; letters in comments are still fine.
+TEST(Scenario, TextThatTomlPlusPlusCannotTakeIsRefusedFirst) {
+  EXPECT_EQ(error("[[input]]\nat_ms = 5\xd1\x81\nmessage = 3\n"),
+            "s.toml:2: a letter that is not ASCII outside a comment (a scenario is [[input]] tables of keys and numbers)");
+  EXPECT_EQ(error("\xd1\x81/"), "s.toml:1: a letter that is not ASCII outside a comment (a scenario is [[input]] "
+                                  "tables of keys and numbers)");
+  for (const char* header : {"[+", "[&[", "[//", "[[", "[ [input]]", "[[ \"", "[[]]"}) {
+    std::string text = std::string("[[input]]\nat_ms = 1\nmessage = 2\n") + header + "\n";
+    if (std::string(header).find('"') != std::string::npos) continue;  // a quote may start a key
+    EXPECT_EQ(error(text), "s.toml:4: a table header without a name (a scenario is [[input]] tables of keys and numbers)")
+        << header;
+  }
+  auto in = ok("# Szenario f\xc3\xbcr den Lichtsensor: \xd1\x81\n[[input]]  # \xe2\x80\x94 erster\nat_ms = 5\nmessage = 3\n");
+  ASSERT_EQ(in.size(), 1u);
+  EXPECT_EQ(in[0].at_us, 5000);
+}
+
 TEST(Scenario, DirectoryIsAnError) {
   auto dir = std::filesystem::temp_directory_path() / "rcxc-scenario-test-dir";
   std::filesystem::create_directories(dir);

@@ -54,3 +54,11 @@ TEST(NqcLimits, AMissingNqcIsSaidSo) {
   auto r = compile_with_nqc("/no/such/nqc", "p.nqc");
   EXPECT_EQ(r.failure, "cannot run '/no/such/nqc' (is nqc installed?)");
 }
+
+// What a failing nqc printed went to the terminal raw: an escape sequence in
+// it could clear the screen or retitle the window.
+TEST(NqcLimits, WhatAFailingNqcPrintedIsShownWithoutControlBytes) {
+  FakeNqc fake("printf 'bad\\033[2J\\007\\tend\\n'; exit 1");
+  auto r = compile_with_nqc(fake.script, fake.source, {}, NqcLimits{7, 256});
+  EXPECT_EQ(r.failure, "nqc failed: bad\\x1b[2J\\x07\tend\n");
+}

@@ -199,6 +199,25 @@ TEST(TestSpec, NanAndInfinityAreNotTimes) {
   }
 }
 
+// "--5" and "-0x-5" read as 5: the sign was taken twice.
+TEST(TestSpec, ANumberHasOneSignAtMost) {
+  for (const char* value : {"--5", "-0x-5", "0x-5"}) {
+    auto errors = parse_bad(std::string("// @input at 1ms: message ") + value + "\n");
+    ASSERT_EQ(errors.size(), 1u) << value;
+    EXPECT_NE(errors[0].message.find(std::string("found '") + value + "'"), std::string::npos) << errors[0].message;
+  }
+}
+
+// `@for 0ms` ran nothing and passed what held at the start; `rcxc run --for
+// 0` is refused, and so is this.
+TEST(TestSpec, ARunOfNoTimeIsAnError) {
+  for (const char* value : {"0", "0ms", "0s", "0.0001ms"}) {
+    auto errors = parse_bad(std::string("// @for ") + value + "\n");
+    ASSERT_EQ(errors.size(), 1u) << value;
+    EXPECT_NE(errors[0].message.find("the run length must be more than 0 ms"), std::string::npos) << errors[0].message;
+  }
+}
+
 TEST(TestSpec, ARunCutShortByItsEventLogFailsTheTest) {
   Image img;
   // out A on, out A off, jmp back to the start: two events a pass.
