@@ -4,7 +4,8 @@
 # CheckLayers.cmake reads this list; the `layering` test runs it.
 set(RCXC_LAYERS
   "rcx:"
-  "runtime:rcx"
+  "tomlfile:"
+  "runtime:rcx,tomlfile"
   "link:rcx,runtime"
   "stdlib:"
   "frontend:rcx,stdlib"
@@ -13,5 +14,5 @@ set(RCXC_LAYERS
   "verify:rcx,runtime"
   "format:rcx,frontend"
   "lsp:stdlib,frontend,format"
-  "nxt:"
+  "nxt:tomlfile"
   "cli:rcx,runtime,link,stdlib,frontend,format,ir,backend,verify,nxt,lsp,cli")

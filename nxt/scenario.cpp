@@ -8,6 +8,8 @@
 #include <fmt/format.h>
 #include <toml++/toml.h>
 
+#include "tomlfile/read.h"
+
 namespace nxt {
 namespace {
 
@@ -71,12 +73,9 @@ ScenarioInput one_input(const toml::table& t, std::string_view path) {
 }  // namespace
 
 std::variant<std::vector<ScenarioInput>, ScenarioError> parse_scenario(std::string_view text, std::string_view path) {
-  toml::table root;
-  try {
-    root = toml::parse(text, path);
-  } catch (const toml::parse_error& e) {
-    return ScenarioError{fmt::format("{}:{}: {}", path, e.source().begin.line, e.description())};
-  }
+  auto read = rcxc::toml_read::read_toml(text, path, "an NXT scenario is [[input]] tables of keys and numbers");
+  if (auto* error = std::get_if<rcxc::toml_read::TomlError>(&read)) return ScenarioError{error->message};
+  toml::table root = std::move(std::get<toml::table>(read));
   std::vector<ScenarioInput> inputs;
   try {
     for (const auto& [key, node] : root) {

@@ -269,5 +269,23 @@ mailbox = 2
   EXPECT_NE(bad("[[input]\n").find("s.toml:1"), std::string::npos);
 }
 
+// The text toml++ 3.3 faults on (undefined behaviour on a Cyrillic letter
+// it takes for a blank, an assertion on "[+") is refused before it parses,
+// as in an RCX scenario (tomlfile/read.h).
+TEST(NxtScenario, TextThatTomlPlusPlusCannotTakeIsRefusedFirst) {
+  auto error = [](const std::string& text) {
+    auto r = parse_scenario(text, "s.toml");
+    return std::holds_alternative<ScenarioError>(r) ? std::get<ScenarioError>(r).message : std::string("accepted");
+  };
+  EXPECT_EQ(error("[[input]]\nat_ms = 5\xd1\x81\nmessage = 3\n"),
+            "s.toml:2: a letter that is not ASCII outside a comment (an NXT scenario is [[input]] tables of keys and "
+            "numbers)");
+  EXPECT_EQ(error("[[input]]\nat_ms = 1\nmessage = 2\n[+\n"),
+            "s.toml:4: a table header without a name (an NXT scenario is [[input]] tables of keys and numbers)");
+  auto in = parse_scenario("# f\xc3\xbcr den Sensor\n[[input]]\nat_ms = 5\nmessage = 3\n", "s.toml");
+  ASSERT_TRUE(std::holds_alternative<std::vector<ScenarioInput>>(in));
+  EXPECT_EQ(std::get<std::vector<ScenarioInput>>(in).size(), 1u);
+}
+
 }  // namespace
 }  // namespace nxt

@@ -1,0 +1,67 @@
+#include "tomlfile/read.h"
+
+#include <algorithm>
+#include <cctype>
+#include <optional>
+
+#include <fmt/format.h>
+
+namespace rcxc::toml_read {
+namespace {
+
+struct TomlTrap {
+  int line = 0;  // from 1
+  std::string what;
+};
+
+bool bare_key_character(char c) {
+  return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-';
+}
+
+// "[" or "[[" and blanks at the start of `row`, then a character no key
+// starts with.
+bool header_with_a_bad_key(std::string_view row) {
+  std::size_t at = row.find_first_not_of(" \t");
+  if (at == std::string_view::npos || row[at] != '[') return false;
+  at += at + 1 < row.size() && row[at + 1] == '[' ? 2 : 1;  // "[[" is one token, "[ [" is not
+  at = row.find_first_not_of(" \t", at);
+  if (at == std::string_view::npos) return true;
+  return !bare_key_character(row[at]) && row[at] != '"' && row[at] != '\'';
+}
+
+// What in a TOML file of keys and numbers would reach a fault of
+// toml++ 3.3, which the fuzzer found: it classifies some letters (U+0441,
+// U+0411) as whitespace or not through __builtin_unreachable (undefined
+// behaviour), and asserts on a table header whose key starts with another
+// character than a letter, digit, '_', '-' or a quote ("[+", "[[/"): an
+// abort in Debug builds. Such text is refused before the parser sees it.
+std::optional<TomlTrap> toml_trap(std::string_view text) {
+  int line = 1;
+  for (std::size_t at = 0; at <= text.size(); ++line) {
+    std::size_t end = std::min(text.find('\n', at), text.size());
+    std::string_view row = text.substr(at, end - at);
+    std::size_t hash = row.find('#');
+    bool quoted = row.substr(0, hash).find_first_of("\"'") != std::string_view::npos;
+    std::string_view code = quoted ? row : row.substr(0, hash);
+    if (std::any_of(code.begin(), code.end(), [](char c) { return static_cast<unsigned char>(c) > 0x7f; }))
+      return TomlTrap{line, "a letter that is not ASCII outside a comment"};
+    if (header_with_a_bad_key(code)) return TomlTrap{line, "a table header without a name"};
+    at = end + 1;
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
+std::variant<toml::table, TomlError> read_toml(std::string_view text, std::string_view path,
+                                               std::string_view what_it_holds) {
+  if (auto trap = toml_trap(text))
+    return TomlError{fmt::format("{}:{}: {} ({})", path, trap->line, trap->what, what_it_holds)};
+  try {
+    return toml::parse(text, path);
+  } catch (const toml::parse_error& e) {
+    return TomlError{fmt::format("{}:{}: {}", path, e.source().begin.line, e.description())};
+  }
+}
+
+}  // namespace rcxc::toml_read
