@@ -282,7 +282,13 @@ QuotedLine quote_line(std::string_view line, std::size_t column0, std::size_t wi
   }
   std::string_view shown = line.substr(begin, end - begin);
   QuotedLine q;
-  q.text = fmt::format("{}{}{}", begin > 0 ? "..." : "", shown, end < line.size() ? "..." : "");
+  // A control character would reach the terminal as itself (ESC starts a
+  // sequence that can retitle the window or move the cursor); a '?' in its
+  // place keeps the caret under the right column, and the message names it.
+  std::string printable(shown);
+  for (char& c : printable)
+    if ((static_cast<unsigned char>(c) < 0x20 && c != '\t') || c == 0x7f) c = '?';
+  q.text = fmt::format("{}{}{}", begin > 0 ? "..." : "", printable, end < line.size() ? "..." : "");
   if (begin > 0) q.lead_in = "   ";
   std::size_t col = column0 - std::min(column0, begin);
   for (std::size_t i = 0; i < col && i < shown.size(); ++i) q.lead_in += shown[i] == '\t' ? '\t' : ' ';

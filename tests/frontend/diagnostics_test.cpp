@@ -119,6 +119,15 @@ TEST(QuotedLine, AShortLineIsQuotedWholeWithItsTabsInTheLeadIn) {
   EXPECT_EQ(q.width, 1u);
 }
 
+// An ESC or BEL in the source would reach the terminal raw (an OSC
+// sequence retitles the window): each shows as '?', one column, so the
+// caret stays under the character the message is about.
+TEST(QuotedLine, ControlCharactersAreQuotedAsQuestionMarks) {
+  QuotedLine q = quote_line("  \x1b]0;pwned\x07 x;\x7f", 12, 1);
+  EXPECT_EQ(q.text, "  ?]0;pwned? x;?");
+  EXPECT_EQ(q.lead_in, std::string(12, ' '));
+}
+
 TEST(QuotedLine, ALongLineShowsAWindowCentredOnTheColumn) {
   std::string line(400, 'a');
   line[200] = 'X';
