@@ -16,13 +16,14 @@
 //    it caused (where the run parts from a run of the same code without
 //    that change, before the next change; verify/compare.h parting_time),
 //    and the instructions the brick executed (all tasks) from the change
-//    to it, over input_phases() runs of each scenario, every change
-//    delayed by its own draw in all but the first (where a change falls in
-//    a pass or a wait decides its reaction). Idle time in waits, the same
-//    for both codes, is no instruction; another task's polls during a wait
-//    are. Printed too: the same count to
-//    the first event after each change, caused by it or not (an earlier
-//    measure, which counted a task's timed moves as reactions);
+//    to it, over input_phases() runs of each scenario, its changes moved
+//    in all but the first (jittered_inputs: where a change falls in a pass
+//    or a wait decides its reaction). A program reacts later only beyond
+//    the noise of those timings (reacts_later). Idle time in waits, the
+//    same for both codes, is no instruction; another task's polls during a
+//    wait are. Printed too: the same count to the first event after each
+//    change, caused by it or not (an earlier measure, which counted a
+//    task's timed moves as reactions);
 //  * work of programs that end by themselves: their instructions, less
 //    polls in place (a test that branches to itself is waiting for an
 //    input or a timer, not working);
