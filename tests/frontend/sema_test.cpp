@@ -258,6 +258,18 @@ const BadProgram kCases[] = {
     {"TypeOfIsACaseValue", "int x;\ntask main() { switch (x) { case __type(x): case __type(1): x = 1; } }\n", {}},
     {"TypeOfTwoCaseValuesClash", "int x, y;\ntask main() { switch (x) { case __type(x): case __type(y): x = 1; } }\n",
      {"2:44: error: duplicate case value 0"}},
+    // nqc reads a case value with the function, before any call: a `const`
+    // parameter is a variable there and __taskid not yet a constant, so
+    // each of these is 0 (nqc -L: chk 0 == ..., and "duplicate case").
+    {"TypeOfAParameterInACaseValue",
+     "int x;\nvoid f(const int &n, const int m) { switch (x) { case __type(n): case __type(m) + 1:\n"
+     "  case __type(__type(n)) + 2: case __type(n && 0) + 3: x = 1; } }\ntask main() { f(1, 2); }\n",
+     {}},
+    {"TypeOfAParameterInACaseValueIsZero",
+     "int x;\nvoid f(const int &n) { switch (x) { case __type(n): case 0: x = 1; } }\ntask main() { f(1); }\n",
+     {"2:53: error: duplicate case value 0"}},
+    {"TypeOfTaskIdInACaseValueIsZero", "int x;\ntask main() { switch (x) { case __type(__taskid): case 0: x = 1; } }\n",
+     {"2:51: error: duplicate case value 0"}},
     {"TypeOfChecksItsOperand", "int x;\ntask main() { x = __type(zz); }\n", {"2:26: error: 'zz' is not declared"}},
     {"TypeOfIsNoVariable", "int x;\ntask main() { __type(x) = 1; }\n",
      {"2:15: error: cannot assign to this expression: it is not a variable"}},
