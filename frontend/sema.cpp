@@ -856,7 +856,10 @@ class Checker {
   }
 
   void check_argument(const Function& f, const Param& p, const Expr& arg) {
-    if (p.kind == ParamKind::ConstReference && !depends_on_const_param(arg)) {
+    // Only a name (a parameter standing for its argument) or a source can
+    // turn out to be a source at a call: `__sensor(n)` or `n + 1` never is.
+    bool may_become_source = as<Name>(arg) || as<Source>(arg);
+    if (p.kind == ParamKind::ConstReference && (!depends_on_const_param(arg) || !may_become_source)) {
       if (auto type = p.sensor ? std::optional<std::int16_t>(static_cast<std::int16_t>(rcx::Source::SensorValue))
                                : required_source_type(f, p.symbol)) {
         const auto* src = as<Source>(arg);

@@ -162,6 +162,15 @@ const BadProgram kCases[] = {
      {"3:13: error: argument for 'sensor' of 'SetSensor' must be a sensor (SENSOR_1, SENSOR_2 or SENSOR_3)"}, true},
     {"SensorArgumentMustNotBeANumber", "task main()\n{\n  ClearSensor(0);\n}\n",
      {"3:15: error: argument for 'sensor' of 'ClearSensor' must be a sensor (SENSOR_1, SENSOR_2 or SENSOR_3)"}, true},
+    // __sensor(n) is a number and n + 0 a sum whatever n stands for: neither
+    // is a sensor at any call (nqc: "argument must be a sensor"; it was
+    // lowering's "operand 'sensor' of senstype must be a constant").
+    {"SensorArgumentFromAParameterThatCannotBeASensor",
+     "void s(const int &n)\n{\n  SetSensorType(__sensor(n), 1);\n  SetSensor(n + 0, SENSOR_TOUCH);\n}\n"
+     "task main() { s(SENSOR_2); }\n",
+     {"3:17: error: argument for 'sensor' of 'SetSensorType' must be a sensor (SENSOR_1, SENSOR_2 or SENSOR_3)",
+      "4:13: error: argument for 'sensor' of 'SetSensor' must be a sensor (SENSOR_1, SENSOR_2 or SENSOR_3)"},
+     true},
     {"UnknownMnemonic", "task main()\n{\n  asm { frob 1; }\n}\n", {"3:9: error: unknown asm mnemonic 'frob'"}},
     {"MnemonicOperandCount", "task main()\n{\n  asm { pwr 1; }\n}\n",
      {"3:9: error: 'pwr' takes 2 operands, but 1 was given"}},
