@@ -239,6 +239,8 @@ const BadProgram kCases[] = {
       "4:3: error: 'SetUserDisplay' is not declared (it belongs to the RCX 2 firmware's API; this target is the RCX)"}},
     {"PragmaInitMustNameASub", "#pragma init Nope\ntask main() { }\n",
      {"1:14: error: #pragma init names 'Nope', which is not a sub or function"}},
+    // A later #pragma noinit drops the init, whose name nqc then never looks up.
+    {"PragmaInitUndoneByNoinitNamesNothing", "#pragma init Nope\n#pragma noinit\ntask main() { }\n", {}},
     {"ManyIndependentErrorsInOneRun",
      "task main()\n{\n  a = 1;\n  start b;\n  c();\n  3 = 4;\n}\n",
      {"3:3: error: 'a' is not declared", "4:3: error: cannot start 'b': there is no task of that name",
