@@ -468,6 +468,8 @@ struct Reserve {
 };
 
 struct Pragmas {
+  // The later of `#pragma noinit` and `#pragma init NAME` holds: at most
+  // one of these is set.
   bool noinit = false;                 // `#pragma noinit`: no startup code
   std::optional<std::string> init;     // `#pragma init NAME`: startup calls NAME
   SourceSpan init_span;

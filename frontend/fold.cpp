@@ -152,6 +152,7 @@ namespace {
 struct NqcFolder {
   const NameBinding& bound;
   std::optional<std::int16_t> task_id;
+  bool task_id_constant;
 
   NqcConstant operator()(const Expr& e) const {
     if (const auto* lit = as<IntLit>(e)) return {true, wrap16(lit->value)};
@@ -159,7 +160,7 @@ struct NqcFolder {
       const Expr* to = bound(*n);
       return to ? (*this)(*to) : NqcConstant{};
     }
-    if (as<TaskId>(e)) return {true, task_id};
+    if (as<TaskId>(e)) return task_id_constant ? NqcConstant{true, task_id} : NqcConstant{};
     if (const auto* t = as<TypeOf>(e)) return {true, static_cast<std::int16_t>((*this)(*t->operand).constant ? 2 : 0)};
     if (const auto* u = as<Unary>(e)) return unary(*u);
     if (const auto* b = as<Binary>(e)) return binary(*b);
@@ -199,8 +200,9 @@ struct NqcFolder {
 
 }  // namespace
 
-NqcConstant nqc_constant(const Expr& e, const NameBinding& bound, std::optional<std::int16_t> task_id) {
-  return NqcFolder{bound, task_id}(e);
+NqcConstant nqc_constant(const Expr& e, const NameBinding& bound, std::optional<std::int16_t> task_id,
+                         bool task_id_constant) {
+  return NqcFolder{bound, task_id, task_id_constant}(e);
 }
 
 std::optional<std::int64_t> exact_divide(BinaryOp op, std::int64_t x, std::int64_t y) {

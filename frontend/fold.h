@@ -38,11 +38,14 @@ std::optional<std::int64_t> exact_divide(ast::BinaryOp op, std::int64_t x, std::
 // (nqc folds them whatever x is), `x * 0` and a timer do not. `bound` says
 // what a name stands for (a substituted `const` parameter's argument;
 // nullptr for a variable); `task_id` is __taskid's value when known.
+// `task_id_constant` false reads E as nqc does a case label, before code
+// is generated: __taskid is not a constant yet there.
 struct NqcConstant {
   bool constant = false;
   std::optional<std::int16_t> value;
 };
 using NameBinding = std::function<const ast::Expr*(const ast::Name&)>;
-NqcConstant nqc_constant(const ast::Expr& e, const NameBinding& bound, std::optional<std::int16_t> task_id);
+NqcConstant nqc_constant(const ast::Expr& e, const NameBinding& bound, std::optional<std::int16_t> task_id,
+                         bool task_id_constant = true);
 
 }  // namespace rcxc::frontend

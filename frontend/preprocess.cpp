@@ -968,8 +968,11 @@ class Preprocessor {
       return;
     }
     const Token& what = line[1];
+    // Of `noinit` and `init NAME` the later holds, as in nqc: init after
+    // noinit runs NAME, noinit after init runs nothing and names nothing.
     if (what.is_identifier("noinit")) {
       out_.pragmas.noinit = true;
+      out_.pragmas.init.reset();
       extra_tokens(line, 2);
       return;
     }
@@ -980,6 +983,7 @@ class Preprocessor {
         diags_.warning(what.span, "#pragma init needs the name of a sub or function; the #pragma is ignored");
         return;
       }
+      out_.pragmas.noinit = false;
       out_.pragmas.init = line[2].text;
       out_.pragmas.init_span = line[2].span;
       extra_tokens(line, 3);

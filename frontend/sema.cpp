@@ -100,6 +100,7 @@ class Checker {
   // come after, so the unused-variable report reads only those.
   SymbolId body_symbols_begin_ = 0;
   bool in_function_ = false;
+  bool in_case_value_ = false;  // reading a `case` value (see TypeOf)
   // The global whose initial value is being checked (see check_global).
   std::optional<std::uint32_t> initialising_global_;
   std::unordered_map<std::string, SymbolId> labels_;
@@ -405,7 +406,9 @@ class Checker {
     switches_.pop_back();
   }
   void visit_stmt(Case& n, Stmt& s) {
+    in_case_value_ = true;
     expr(n.value, Use::Value);
+    in_case_value_ = false;
     if (switches_.empty()) {
       diags_.error(s.span, "'case' outside a switch");
     } else if (!n.value.constant) {
@@ -853,7 +856,10 @@ class Checker {
   }
 
   void check_argument(const Function& f, const Param& p, const Expr& arg) {
-    if (p.kind == ParamKind::ConstReference && !depends_on_const_param(arg)) {
+    // Only a name (a parameter standing for its argument) or a source can
+    // turn out to be a source at a call: `__sensor(n)` or `n + 1` never is.
+    bool may_become_source = as<Name>(arg) || as<Source>(arg);
+    if (p.kind == ParamKind::ConstReference && (!depends_on_const_param(arg) || !may_become_source)) {
       if (auto type = p.sensor ? std::optional<std::int16_t>(static_cast<std::int16_t>(rcx::Source::SensorValue))
                                : required_source_type(f, p.symbol)) {
         const auto* src = as<Source>(arg);
@@ -969,11 +975,16 @@ class Checker {
   void visit_expr(TaskId&, Expr&, Use) {}
 
   // __type(E) does not compute E: only whether nqc would count it as a
-  // constant matters. Through a `const` parameter that is known at each call.
+  // constant matters. Through a `const` parameter that is known at each call,
+  // except in a case value, which nqc reads with the function, before any
+  // call: there a parameter is a variable and __taskid not yet a constant
+  // (`case __type(n):` is `case 0:` whatever the argument).
   void visit_expr(TypeOf& n, Expr& e, Use) {
     expr(*n.operand, Use::Value);
-    if (depends_on_const_param(*n.operand)) return;
-    bool constant = nqc_constant(*n.operand, [](const Name&) -> const Expr* { return nullptr; }, std::nullopt).constant;
+    if (!in_case_value_ && depends_on_const_param(*n.operand)) return;
+    bool constant = nqc_constant(*n.operand, [](const Name&) -> const Expr* { return nullptr; }, std::nullopt,
+                                 !in_case_value_)
+                        .constant;
     e.constant = static_cast<std::int16_t>(constant ? 2 : 0);
   }
 

@@ -71,6 +71,11 @@ struct Lowerer {
   std::optional<int> task_number;
   bool task_id_reported = false;  // in this sub, so that each says it once
 
+  void set_task_number(std::optional<int> number) {
+    task_number = number;
+    constants.clear();
+  }
+
   SpanId span_id() {
     if (span != interned) {
       interned = span;
@@ -169,7 +174,9 @@ struct Lowerer {
 
   // Remembered per node: lowering asks again at every level of a long
   // expression, which would otherwise walk its subtree each time. What a
-  // node folds to depends only on the bindings, so `bind` forgets it all.
+  // node folds to depends only on the bindings and on __taskid, so `bind`
+  // and `set_task_number` forget it all (an inline function's `__taskid + 1`
+  // is another number in each task that calls it).
   std::unordered_map<const ast::Expr*, std::optional<int>> constants;
   // Expressions lowering builds itself (`x %= e` as `x % e`), alive as long
   // as the memos that name them.
@@ -1404,12 +1411,12 @@ struct Lowerer {
     for (std::size_t i = 0; i < ast.tasks.size(); ++i) {
       bool is_main = ast.tasks[i].name == "main";
       has_main |= is_main;
-      task_number = nqc_task_number(ast.tasks[i].symbol);
+      set_task_number(nqc_task_number(ast.tasks[i].symbol));
       body(static_cast<FuncId>(i), ast.tasks[i].body, is_main);
     }
     for (std::size_t i = 0; i < ast.subs.size(); ++i) {
       const auto& callers = ast.subs[i].calling_tasks;
-      task_number = callers.size() == 1 ? std::optional<int>(nqc_task_number(callers[0])) : std::nullopt;
+      set_task_number(callers.size() == 1 ? std::optional<int>(nqc_task_number(callers[0])) : std::nullopt);
       task_id_reported = false;
       body(static_cast<FuncId>(ast.tasks.size() + i), ast.subs[i].body, false);
     }

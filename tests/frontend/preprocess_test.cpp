@@ -255,8 +255,8 @@ TEST(Preprocessor, MadeTokensOutliveTheOptionsAndThePreprocessor) {
 }
 
 TEST(Preprocessor, PragmasBecomeProgramData) {
-  auto p = run_pp("#pragma noinit\n#pragma init Setup\n#pragma reserve 3 5\n#pragma reserve 31\n#pragma frob\n");
-  EXPECT_TRUE(p.out.pragmas.noinit);
+  auto p = run_pp("#pragma init Setup\n#pragma reserve 3 5\n#pragma reserve 31\n#pragma frob\n");
+  EXPECT_FALSE(p.out.pragmas.noinit);
   ASSERT_TRUE(p.out.pragmas.init.has_value());
   EXPECT_EQ(*p.out.pragmas.init, "Setup");
   ASSERT_EQ(p.out.pragmas.reserve.size(), 2u);
@@ -265,6 +265,17 @@ TEST(Preprocessor, PragmasBecomeProgramData) {
   EXPECT_EQ(p.out.pragmas.reserve[1].lo, 31);
   EXPECT_EQ(p.out.pragmas.reserve[1].hi, 31);
   EXPECT_EQ(messages(p.diags), (std::vector<std::string>{"unknown #pragma 'frob' ignored"}));
+}
+
+// nqc 3.1 (-L): init after noinit runs the init function; noinit after
+// init runs nothing and does not look the name up.
+TEST(Preprocessor, TheLaterOfNoinitAndInitHolds) {
+  auto init_last = run_pp("#pragma noinit\n#pragma init Setup\n");
+  EXPECT_FALSE(init_last.out.pragmas.noinit);
+  EXPECT_EQ(init_last.out.pragmas.init, std::optional<std::string>("Setup"));
+  auto noinit_last = run_pp("#pragma init Setup\n#pragma noinit\n");
+  EXPECT_TRUE(noinit_last.out.pragmas.noinit);
+  EXPECT_FALSE(noinit_last.out.pragmas.init.has_value());
 }
 
 TEST(Preprocessor, ReserveOutsideTheSlotsIsAnError) {

@@ -162,6 +162,15 @@ const BadProgram kCases[] = {
      {"3:13: error: argument for 'sensor' of 'SetSensor' must be a sensor (SENSOR_1, SENSOR_2 or SENSOR_3)"}, true},
     {"SensorArgumentMustNotBeANumber", "task main()\n{\n  ClearSensor(0);\n}\n",
      {"3:15: error: argument for 'sensor' of 'ClearSensor' must be a sensor (SENSOR_1, SENSOR_2 or SENSOR_3)"}, true},
+    // __sensor(n) is a number and n + 0 a sum whatever n stands for: neither
+    // is a sensor at any call (nqc: "argument must be a sensor"; it was
+    // lowering's "operand 'sensor' of senstype must be a constant").
+    {"SensorArgumentFromAParameterThatCannotBeASensor",
+     "void s(const int &n)\n{\n  SetSensorType(__sensor(n), 1);\n  SetSensor(n + 0, SENSOR_TOUCH);\n}\n"
+     "task main() { s(SENSOR_2); }\n",
+     {"3:17: error: argument for 'sensor' of 'SetSensorType' must be a sensor (SENSOR_1, SENSOR_2 or SENSOR_3)",
+      "4:13: error: argument for 'sensor' of 'SetSensor' must be a sensor (SENSOR_1, SENSOR_2 or SENSOR_3)"},
+     true},
     {"UnknownMnemonic", "task main()\n{\n  asm { frob 1; }\n}\n", {"3:9: error: unknown asm mnemonic 'frob'"}},
     {"MnemonicOperandCount", "task main()\n{\n  asm { pwr 1; }\n}\n",
      {"3:9: error: 'pwr' takes 2 operands, but 1 was given"}},
@@ -230,6 +239,8 @@ const BadProgram kCases[] = {
       "4:3: error: 'SetUserDisplay' is not declared (it belongs to the RCX 2 firmware's API; this target is the RCX)"}},
     {"PragmaInitMustNameASub", "#pragma init Nope\ntask main() { }\n",
      {"1:14: error: #pragma init names 'Nope', which is not a sub or function"}},
+    // A later #pragma noinit drops the init, whose name nqc then never looks up.
+    {"PragmaInitUndoneByNoinitNamesNothing", "#pragma init Nope\n#pragma noinit\ntask main() { }\n", {}},
     {"ManyIndependentErrorsInOneRun",
      "task main()\n{\n  a = 1;\n  start b;\n  c();\n  3 = 4;\n}\n",
      {"3:3: error: 'a' is not declared", "4:3: error: cannot start 'b': there is no task of that name",
@@ -258,6 +269,18 @@ const BadProgram kCases[] = {
     {"TypeOfIsACaseValue", "int x;\ntask main() { switch (x) { case __type(x): case __type(1): x = 1; } }\n", {}},
     {"TypeOfTwoCaseValuesClash", "int x, y;\ntask main() { switch (x) { case __type(x): case __type(y): x = 1; } }\n",
      {"2:44: error: duplicate case value 0"}},
+    // nqc reads a case value with the function, before any call: a `const`
+    // parameter is a variable there and __taskid not yet a constant, so
+    // each of these is 0 (nqc -L: chk 0 == ..., and "duplicate case").
+    {"TypeOfAParameterInACaseValue",
+     "int x;\nvoid f(const int &n, const int m) { switch (x) { case __type(n): case __type(m) + 1:\n"
+     "  case __type(__type(n)) + 2: case __type(n && 0) + 3: x = 1; } }\ntask main() { f(1, 2); }\n",
+     {}},
+    {"TypeOfAParameterInACaseValueIsZero",
+     "int x;\nvoid f(const int &n) { switch (x) { case __type(n): case 0: x = 1; } }\ntask main() { f(1); }\n",
+     {"2:53: error: duplicate case value 0"}},
+    {"TypeOfTaskIdInACaseValueIsZero", "int x;\ntask main() { switch (x) { case __type(__taskid): case 0: x = 1; } }\n",
+     {"2:51: error: duplicate case value 0"}},
     {"TypeOfChecksItsOperand", "int x;\ntask main() { x = __type(zz); }\n", {"2:26: error: 'zz' is not declared"}},
     {"TypeOfIsNoVariable", "int x;\ntask main() { __type(x) = 1; }\n",
      {"2:15: error: cannot assign to this expression: it is not a variable"}},
