@@ -74,13 +74,13 @@ constexpr rcx::Micros kRunUs = 20'000 * rcx::kMicrosPerMs;
 constexpr std::int64_t kShortReaction = 10;  // instructions
 // Where an input change falls in a loop's pass, or in another task's wait,
 // decides its reaction, so reactions are measured over this many runs of
-// each scenario: as written, then with every change moved by its own
-// pseudo-random delay (jittered_inputs). Inputs shifted together by one
-// instruction a phase (the earlier design, 8 phases) sampled 16 ms of a
-// wait's cycle and followed a scenario's round intervals: a loop whose pass
-// is 200 ms met every change in the same place, and the total swung between
-// 0.88 and 1.03 with the phases chosen. From 32 runs on it stays within
-// 0.01 (docs/compiler.md). RCXC_SPEED_PHASES=N runs N instead.
+// each scenario: as written, then with its changes moved by pseudo-random
+// delays (jittered_inputs). Inputs shifted together by one instruction a
+// phase (the earlier design, 8 phases) sampled 16 ms of a wait's cycle and
+// followed a scenario's round intervals: a loop whose pass is 200 ms met
+// every change in the same place, and the total swung between 0.88 and
+// 1.03 with the phases chosen. From 32 runs to 128 it stays within a few
+// hundredths (docs/compiler.md). RCXC_SPEED_PHASES=N runs N instead.
 int input_phases() {
   const char* env = std::getenv("RCXC_SPEED_PHASES");
   int n = env ? std::atoi(env) : 64;
@@ -198,6 +198,22 @@ bool reacts_later(const Speed& s) {
   double variance = std::max(0.0, (s.reaction_difference_squares / n - mean * mean) * n / (n - 1));
   return mean > 2 * std::sqrt(variance / n);
 }
+
+// The programs whose reactions took more instructions than nqc's code's:
+// beyond the noise of the timings (named), or within it (counted).
+struct ReactionVerdicts {
+  int slower = 0, within_noise = 0;
+  std::vector<std::string> names;
+
+  void add(const Speed& s, std::string_view program, std::string_view remark = "") {
+    if (reacts_later(s)) {
+      ++slower;
+      names.push_back(fmt::format("{}: {} vs {} instructions{}", program, s.ours_reaction, s.theirs_reaction, remark));
+    } else {
+      within_noise += s.ours_reaction > s.theirs_reaction;
+    }
+  }
+};
 
 // The input time at or before `t` (0: the program's start).
 rcx::Micros cause_of(const rcx::NamedScenario& s, rcx::Micros t) {
@@ -343,7 +359,7 @@ Speed measure_speed(const rcx::Image& mine, const rcx::Image& theirs, const Trac
     }
     // The reactions, at each phase of the inputs against the instructions.
     add_caused_reactions({mine, a, pa}, {theirs, b, pb}, s, 0, r, trace);
-    for (int phase = 1; phase < input_phases(); ++phase) {
+    for (int phase = 1, phases = input_phases(); phase < phases; ++phase) {
       rcx::NamedScenario shifted = jittered_inputs(s, phase);
       auto a2 = rcx::run_scenario(mine, shifted, kBrickInstructionUs, 1, kRunUs);
       auto b2 = rcx::run_scenario(theirs, shifted, kBrickInstructionUs, 1, kRunUs);
@@ -398,8 +414,8 @@ struct PassRatios {
 struct Totals {
   PassRatios passes;
   std::int64_t ours_reaction = 0, theirs_reaction = 0;
-  int reactions = 0, slower_reactions = 0, slower_within_noise = 0;
-  std::vector<std::string> slower_names;
+  int reactions = 0;
+  ReactionVerdicts slower_reactions;
   std::int64_t ours_first = 0, theirs_first = 0;
   int firsts = 0, slower_firsts = 0;
   std::int64_t ours_short = 0, theirs_short = 0;
@@ -436,13 +452,7 @@ void print_corpus(Totals& t, bool trace) {
     t.ours_reaction += s.ours_reaction;
     t.theirs_reaction += s.theirs_reaction;
     t.reactions += s.reactions;
-    if (reacts_later(s)) {
-      ++t.slower_reactions;
-      t.slower_names.push_back(fmt::format("{}: {} vs {} instructions", f.filename().string(), s.ours_reaction,
-                                           s.theirs_reaction));
-    } else {
-      t.slower_within_noise += s.ours_reaction > s.theirs_reaction;
-    }
+    t.slower_reactions.add(s, f.filename().string());
     t.ours_first += s.ours_first;
     t.theirs_first += s.theirs_first;
     t.firsts += s.firsts;
@@ -567,10 +577,10 @@ struct ReactiveTotals {
   PassRatios passes;
   int programs = 0, unlike = 0;
   std::int64_t ours_reaction = 0, theirs_reaction = 0;
-  int reactions = 0, slower_reactions = 0, slower_within_noise = 0;
+  int reactions = 0;
+  ReactionVerdicts slower_reactions;
   std::int64_t ours_short = 0, theirs_short = 0;
   int shorts = 0;
-  std::vector<std::string> slower_names;
 };
 
 ReactiveTotals generated_reactive(int count, bool trace) {
@@ -597,12 +607,7 @@ ReactiveTotals generated_reactive(int count, bool trace) {
     t.ours_short += s.ours_short;
     t.theirs_short += s.theirs_short;
     t.shorts += s.shorts;
-    t.slower_within_noise += s.ours_reaction > s.theirs_reaction && !reacts_later(s);
-    if (reacts_later(s)) {
-      ++t.slower_reactions;
-      t.slower_names.push_back(fmt::format("reactive {}: {} vs {} instructions{}", seed, s.ours_reaction,
-                                           s.theirs_reaction, s.behaves_alike ? "" : " (events differ at 2 ms)"));
-    }
+    t.slower_reactions.add(s, fmt::format("reactive {}", seed), s.behaves_alike ? "" : " (events differ at 2 ms)");
   }
   return t;
 }
@@ -648,9 +653,9 @@ int main(int, char** argv) {
                            "output change each caused, over {} input timings; {} programs slower, {} more within the "
                            "noise of the timings)\n",
                            ratio(static_cast<double>(t.ours_reaction), static_cast<double>(t.theirs_reaction)),
-                           t.ours_reaction, t.theirs_reaction, t.reactions, input_phases(), t.slower_reactions,
-                           t.slower_within_noise);
-  for (const auto& l : t.slower_names) std::cout << "    reacts later than nqc's: " << l << "\n";
+                           t.ours_reaction, t.theirs_reaction, t.reactions, input_phases(), t.slower_reactions.slower,
+                           t.slower_reactions.within_noise);
+  for (const auto& l : t.slower_reactions.names) std::cout << "    reacts later than nqc's: " << l << "\n";
   std::cout << fmt::format("    of them within {} instructions  {:.3f}  ({} vs {} instructions from {} input changes)\n",
                            kShortReaction, ratio(static_cast<double>(t.ours_short), static_cast<double>(t.theirs_short)),
                            t.ours_short, t.theirs_short, t.shorts);
@@ -702,11 +707,11 @@ int main(int, char** argv) {
                            "{} of {} behave differently at 2 ms\n",
                            r.passes.geometric_mean(), r.passes.looping, r.passes.slower,
                            ratio(static_cast<double>(r.ours_reaction), static_cast<double>(r.theirs_reaction)),
-                           r.ours_reaction, r.theirs_reaction, r.reactions, input_phases(), r.slower_reactions,
-                           r.slower_within_noise, kShortReaction,
+                           r.ours_reaction, r.theirs_reaction, r.reactions, input_phases(), r.slower_reactions.slower,
+                           r.slower_reactions.within_noise, kShortReaction,
                            ratio(static_cast<double>(r.ours_short), static_cast<double>(r.theirs_short)), r.shorts,
                            r.unlike, r.programs);
-  for (const auto& l : r.slower_names) std::cout << "    reacts later than nqc's: " << l << "\n";
+  for (const auto& l : r.slower_reactions.names) std::cout << "    reacts later than nqc's: " << l << "\n";
   std::cout << fmt::format("  compile time (CPU)      {:.3f}  ({:.1f} vs {:.1f} ms per corpus program, as processes)\n",
                            ratio(rcxc_cpu, nqc_cpu), rcxc_cpu * 1000 / compiles, nqc_cpu * 1000 / compiles);
   return 0;
