@@ -13,51 +13,37 @@
 namespace nxt {
 namespace {
 
-struct Bad {
-  std::string message;
-};
-
-std::string at(std::string_view path, const toml::node& node) {
-  return fmt::format("{}:{}", path, node.source().begin.line);
-}
-
-std::optional<std::int64_t> number(const toml::table& t, std::string_view key, std::int64_t lo, std::int64_t hi,
-                                   std::string_view path) {
-  const toml::node* node = t.get(key);
-  if (!node) return std::nullopt;
-  auto v = node->value_exact<std::int64_t>();
-  if (!v) throw Bad{fmt::format("{}: '{}' must be an integer", at(path, *node), key)};
-  if (*v < lo || *v > hi) throw Bad{fmt::format("{}: '{}' = {} is out of range {}..{}", at(path, *node), key, *v, lo, hi)};
-  return v;
-}
+using rcxc::toml_read::int_key;
+using rcxc::toml_read::TomlError;
+using rcxc::toml_read::where;
 
 ScenarioInput one_input(const toml::table& t, std::string_view path) {
   static constexpr std::string_view kKeys[] = {"at_ms",    "sensor",     "raw",     "distance_cm",
                                                "rotation", "battery_mv", "message", "mailbox"};
   for (const auto& [key, node] : t) {
     if (std::find(std::begin(kKeys), std::end(kKeys), key.str()) == std::end(kKeys))
-      throw Bad{fmt::format("{}: unknown key '{}' (the NXT brick reads at_ms, sensor, raw, distance_cm, rotation, "
-                            "battery_mv, message, mailbox)",
-                            at(path, node), key.str())};
+      throw TomlError{fmt::format("{}: unknown key '{}' (the NXT brick reads at_ms, sensor, raw, distance_cm, "
+                                  "rotation, battery_mv, message, mailbox)",
+                                  where(path, node), key.str())};
   }
-  auto when = number(t, "at_ms", 0, INT64_MAX / 1000, path);
-  if (!when) throw Bad{fmt::format("{}: input without 'at_ms'", at(path, t))};
-  auto sensor = number(t, "sensor", 1, 4, path);
-  auto raw = number(t, "raw", 0, 1023, path);
-  auto distance = number(t, "distance_cm", 0, 255, path);
-  auto rotation = number(t, "rotation", INT32_MIN, INT32_MAX, path);
-  auto battery = number(t, "battery_mv", 0, 65535, path);
-  auto message = number(t, "message", INT32_MIN, INT32_MAX, path);
-  auto mailbox = number(t, "mailbox", 1, 10, path);
+  auto when = int_key(t, "at_ms", 0, INT64_MAX / 1000, path);
+  if (!when) throw TomlError{fmt::format("{}: input without 'at_ms'", where(path, t))};
+  auto sensor = int_key(t, "sensor", 1, 4, path);
+  auto raw = int_key(t, "raw", 0, 1023, path);
+  auto distance = int_key(t, "distance_cm", 0, 255, path);
+  auto rotation = int_key(t, "rotation", INT32_MIN, INT32_MAX, path);
+  auto battery = int_key(t, "battery_mv", 0, 65535, path);
+  auto message = int_key(t, "message", INT32_MIN, INT32_MAX, path);
+  auto mailbox = int_key(t, "mailbox", 1, 10, path);
   bool for_a_port = raw || distance || rotation;
   if ((raw ? 1 : 0) + (distance ? 1 : 0) + (rotation ? 1 : 0) + (battery ? 1 : 0) + (message ? 1 : 0) != 1)
-    throw Bad{fmt::format("{}: an input needs exactly one of 'raw', 'distance_cm', 'rotation', 'battery_mv', 'message'",
-                          at(path, t))};
+    throw TomlError{fmt::format(
+        "{}: an input needs exactly one of 'raw', 'distance_cm', 'rotation', 'battery_mv', 'message'", where(path, t))};
   if (sensor.has_value() != for_a_port)
-    throw Bad{fmt::format("{}: 'sensor' (1-4) goes with 'raw', 'distance_cm' and 'rotation', not with 'battery_mv' "
-                          "or 'message'",
-                          at(path, t))};
-  if (mailbox && !message) throw Bad{fmt::format("{}: 'mailbox' goes with 'message'", at(path, t))};
+    throw TomlError{fmt::format("{}: 'sensor' (1-4) goes with 'raw', 'distance_cm' and 'rotation', not with "
+                                "'battery_mv' or 'message'",
+                                where(path, t))};
+  if (mailbox && !message) throw TomlError{fmt::format("{}: 'mailbox' goes with 'message'", where(path, t))};
   ScenarioInput in;
   in.at_ms = *when;
   if (sensor) in.port = static_cast<int>(*sensor) - 1;
@@ -81,10 +67,10 @@ std::variant<std::vector<ScenarioInput>, ScenarioError> parse_scenario(std::stri
     for (const auto& [key, node] : root) {
       const toml::array* list = node.as_array();
       if (key.str() != "input" || !list || !list->is_array_of_tables())
-        throw Bad{fmt::format("{}: a scenario is a list of [[input]] tables", at(path, node))};
+        throw TomlError{fmt::format("{}: a scenario is a list of [[input]] tables", where(path, node))};
       for (const auto& item : *list) inputs.push_back(one_input(*item.as_table(), path));
     }
-  } catch (const Bad& b) {
+  } catch (const TomlError& b) {
     return ScenarioError{b.message};
   }
   std::stable_sort(inputs.begin(), inputs.end(), [](const auto& a, const auto& b) { return a.at_ms < b.at_ms; });

@@ -3,7 +3,6 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <cctype>
 #include <optional>
 #include <toml++/toml.h>
 
@@ -13,30 +12,13 @@
 namespace rcx {
 namespace {
 
-struct Fail {
-  std::string message;
-};
-
-std::string where(std::string_view path, const toml::node& node) {
-  return fmt::format("{}:{}", path, node.source().begin.line);
-}
+using rcxc::toml_read::int_key;
+using rcxc::toml_read::TomlError;
+using rcxc::toml_read::where;
 
 // The latest at_ms an input can name (its time in µs still fits): later
 // than any run goes.
 constexpr std::int64_t kNoUpperBound = INT64_MAX / kMicrosPerMs;
-
-// An integer key in [lo, hi], or nullopt when absent.
-std::optional<std::int64_t> int_key(const toml::table& t, std::string_view key, std::int64_t lo, std::int64_t hi,
-                                    std::string_view path) {
-  const toml::node* node = t.get(key);
-  if (node == nullptr) return std::nullopt;
-  auto v = node->value_exact<std::int64_t>();
-  if (!v) throw Fail{fmt::format("{}: '{}' must be an integer", where(path, *node), key)};
-  if (hi == kNoUpperBound && *v < lo)
-    throw Fail{fmt::format("{}: '{}' = {} must be {} or more", where(path, *node), key, *v, lo)};
-  if (*v < lo || *v > hi) throw Fail{fmt::format("{}: '{}' = {} is out of range {}..{}", where(path, *node), key, *v, lo, hi)};
-  return v;
-}
 
 TimedInput parse_input(const toml::table& t, std::string_view path) {
   static constexpr std::string_view kKeys[] = {"at_ms", "sensor", "raw", "rotation", "message", "battery_mv"};
@@ -44,12 +26,12 @@ TimedInput parse_input(const toml::table& t, std::string_view path) {
     bool known = false;
     for (auto k : kKeys) known = known || key.str() == k;
     if (!known)
-      throw Fail{fmt::format("{}: unknown key '{}' (expected at_ms, sensor, raw, rotation, message, battery_mv)",
-                             where(path, node), key.str())};
+      throw TomlError{fmt::format("{}: unknown key '{}' (expected at_ms, sensor, raw, rotation, message, battery_mv)",
+                                  where(path, node), key.str())};
   }
   std::string here = where(path, t);
-  auto at = int_key(t, "at_ms", 0, kNoUpperBound, path);
-  if (!at) throw Fail{fmt::format("{}: input without 'at_ms'", here)};
+  auto at = int_key(t, "at_ms", 0, kNoUpperBound, path, true);
+  if (!at) throw TomlError{fmt::format("{}: input without 'at_ms'", here)};
   auto sensor = int_key(t, "sensor", 1, 3, path);
   auto raw = int_key(t, "raw", 0, 1023, path);
   auto rotation = int_key(t, "rotation", -32768, 32767, path);
@@ -57,9 +39,9 @@ TimedInput parse_input(const toml::table& t, std::string_view path) {
   auto battery = int_key(t, "battery_mv", 0, 65535, path);
   int kinds = (raw ? 1 : 0) + (rotation ? 1 : 0) + (message ? 1 : 0) + (battery ? 1 : 0);
   if (kinds != 1)
-    throw Fail{fmt::format("{}: an input needs exactly one of 'raw', 'rotation', 'message', 'battery_mv'", here)};
+    throw TomlError{fmt::format("{}: an input needs exactly one of 'raw', 'rotation', 'message', 'battery_mv'", here)};
   if ((raw || rotation) != sensor.has_value())
-    throw Fail{fmt::format("{}: 'sensor' goes with 'raw' or 'rotation' (and only with them)", here)};
+    throw TomlError{fmt::format("{}: 'sensor' goes with 'raw' or 'rotation' (and only with them)", here)};
   TimedInput in;
   in.at_us = *at * kMicrosPerMs;
   if (raw) in.input = SensorRawInput{static_cast<int>(*sensor) - 1, static_cast<int>(*raw)};
@@ -83,13 +65,14 @@ std::variant<std::vector<TimedInput>, ScenarioError> parse_scenario(std::string_
   try {
     for (const auto& [key, node] : root) {
       if (key.str() != "input")
-        throw Fail{fmt::format("{}: unknown key '{}' (a scenario is a list of [[input]] tables)", where(path, node), key.str())};
+        throw TomlError{fmt::format("{}: unknown key '{}' (a scenario is a list of [[input]] tables)",
+                                    where(path, node), key.str())};
       const toml::array* list = node.as_array();
       if (list == nullptr || !list->is_array_of_tables())
-        throw Fail{fmt::format("{}: 'input' must be written as [[input]] tables", where(path, node))};
+        throw TomlError{fmt::format("{}: 'input' must be written as [[input]] tables", where(path, node))};
       for (const auto& item : *list) inputs.push_back(parse_input(*item.as_table(), path));
     }
-  } catch (const Fail& f) {
+  } catch (const TomlError& f) {
     return ScenarioError{f.message};
   }
   std::stable_sort(inputs.begin(), inputs.end(), [](const TimedInput& a, const TimedInput& b) { return a.at_us < b.at_us; });

@@ -53,6 +53,23 @@ std::optional<TomlTrap> toml_trap(std::string_view text) {
 
 }  // namespace
 
+std::string where(std::string_view path, const toml::node& node) {
+  return fmt::format("{}:{}", path, node.source().begin.line);
+}
+
+std::optional<std::int64_t> int_key(const toml::table& t, std::string_view key, std::int64_t lo, std::int64_t hi,
+                                    std::string_view path, bool open_above) {
+  const toml::node* node = t.get(key);
+  if (node == nullptr) return std::nullopt;
+  auto v = node->value_exact<std::int64_t>();
+  if (!v) throw TomlError{fmt::format("{}: '{}' must be an integer", where(path, *node), key)};
+  if (open_above && *v < lo)
+    throw TomlError{fmt::format("{}: '{}' = {} must be {} or more", where(path, *node), key, *v, lo)};
+  if (*v < lo || *v > hi)
+    throw TomlError{fmt::format("{}: '{}' = {} is out of range {}..{}", where(path, *node), key, *v, lo, hi)};
+  return v;
+}
+
 std::variant<toml::table, TomlError> read_toml(std::string_view text, std::string_view path,
                                                std::string_view what_it_holds) {
   if (auto trap = toml_trap(text))

@@ -1,8 +1,10 @@
 // tomlfile/: reading the project's TOML files (the RCX and the NXT scenarios)
 // through toml++, with the text toml++ 3.3 faults on refused before it
-// parses. Both scenario readers call read_toml, so the guard is written once.
+// parses, and the checks of integer keys both scenario readers share.
 #pragma once
 
+#include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <variant>
@@ -14,6 +16,16 @@ namespace rcxc::toml_read {
 struct TomlError {
   std::string message;  // "PATH:LINE: what is wrong"
 };
+
+// "PATH:LINE" of a node, to begin a message about it.
+std::string where(std::string_view path, const toml::node& node);
+
+// An integer key of `t` in [lo, hi], or nullopt when absent; a value of
+// another type or out of range throws TomlError. `open_above`: hi only
+// keeps the value from overflowing later, so a value below lo is told
+// "lo or more" rather than a range.
+std::optional<std::int64_t> int_key(const toml::table& t, std::string_view key, std::int64_t lo, std::int64_t hi,
+                                    std::string_view path, bool open_above = false);
 
 // The table `text` holds, or what is wrong with it. `what_it_holds` ends
 // the message for text refused before parsing ("a scenario is [[input]]
