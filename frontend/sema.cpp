@@ -19,9 +19,13 @@ namespace {
 
 using namespace ast;
 
-// Names the RCX 2 firmware's API gives (events, resource control, the user
-// display, serial packets, priorities). Programs written for it fail here
-// with "not declared"; saying why saves the reader a search.
+// Names the RCX 2 firmware's API gives and the RCX's does not (the names
+// `nqc -TRCX2` declares and `nqc -TRCX` does not: events, resource control,
+// the user display, serial packets, priorities, 1/100 s timers, counters,
+// sound muting, Spybot and remote-control messages). Programs written for it
+// fail here with "not declared"; saying why saves the reader a search, and
+// keeps a suggestion ('ClearSound': "did you mean 'PlaySound'?") from
+// misleading.
 bool is_rcx2_api_name(const std::string& name) {
   static const std::set<std::string> names{
       "SetEvent",       "ClearEvent",         "ClearAllEvents", "EventState",     "CalibrateEvent",
@@ -30,8 +34,27 @@ bool is_rcx2_api_name(const std::string& name) {
       "EnableOutput",   "DisableOutput",      "SendSerial",     "SetSerialComm",  "SetSerialPacket",
       "SetSerialData",  "SerialData",         "EVENT_MASK",     "DISPLAY_USER",   "ActiveEvents",
       "UpperLimit",     "LowerLimit",         "Hysteresis",     "ClickCounter",   "ClickTime",
-      "__event_src"};
-  return names.count(name) > 0 || name.rfind("EVENT_TYPE_", 0) == 0 || name.rfind("ACQUIRE_", 0) == 0;
+      "__event_src",    "CurrentEvents",      "Event",          "FastTimer",      "SetTimer",
+      "Counter",        "ClearCounter",       "IncCounter",     "DecCounter",     "MuteSound",
+      "UnmuteSound",    "ClearSound",         "SelectProgram",  "BatteryLevel",   "FirmwareVersion",
+      "SetMessage",     "SetRandomSeed",      "Indirect",       "SetIndirectVar", "InvertOutput",
+      "ObvertOutput",   "GlobalOutputStatus", "DatalogType",    "DatalogValue",   "DatalogByte",
+      "Set",            "SerialComm",         "SerialPacket",   "InitRCComm",     "InitSpybotComm",
+      "SendRCMessage",  "SendRCMsg",          "SetRCMessage",   "SendSpybotMessage", "SendSpybotMsg",
+      "SendSpybotPing", "SendSpybotPingMsg",  "SetSpybotMessage", "SetSpybotPing",
+      "SendSpybotCtrlMessage", "SendSpybotCtrlMsg", "SendSpybotCtrlPingMessage",
+      "SendSpybotCtrlPingMsg", "SetSpybotCtrlMessage", "SetSpybotCtrlPingMessage",
+      "ID_NONE",        "ID_PC",              "ID_BOT_MIN",     "ID_BOT_MAX",     "MSG_BROADCAST",
+      "MSG_DIRECT",     "MSG_LINKCAST",       "UART_BOT",       "UART_CTRL",      "UART_PING",
+      "UART_RC",        "CMD_SMART_BOMB",     "CMD_FROM_RCX2"};
+  static const char* const prefixes[] = {"EVENT_TYPE_", "ACQUIRE_",   "SERIAL_COMM_", "SERIAL_PACKET_",
+                                         "SPY_CTRL_",   "RC_CHANNEL_", "RC_CMD_",     "ID_CTRL_",
+                                         "CMD_TYPE_",   "CMD_TELL_",  "CMD_GAME_",    "CMD_REACT_TO_",
+                                         "CMD_FIRE_"};
+  if (names.count(name) > 0) return true;
+  for (const char* prefix : prefixes)
+    if (name.rfind(prefix, 0) == 0) return true;
+  return false;
 }
 
 // Words nqc reserves that rcxc's grammar does not use: they name RCX 2
