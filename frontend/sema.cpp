@@ -57,6 +57,14 @@ bool is_rcx2_api_name(const std::string& name) {
   return false;
 }
 
+// NXC, the NXT's language, gives OnFwd and OnRev the power as a second
+// argument; programs written for it are often tried on the RCX, where the
+// power is an output's setting of its own.
+std::string nxc_power_hint(const std::string& callee, std::size_t args) {
+  if (args != 2 || (callee != "OnFwd" && callee != "OnRev")) return "";
+  return " (the RCX sets the power apart: SetPower(outputs, 0 to 7); " + callee + "(outputs, power) is NXC's)";
+}
+
 // Words nqc reserves that rcxc's grammar does not use: they name RCX 2
 // statements and other targets' intrinsics. A program using one as a name
 // does not compile with nqc, so it is refused here too. nullptr for others.
@@ -819,7 +827,7 @@ class Checker {
       auto& d = diags_.error(e.span, "function '" + n.callee + "' takes " + std::to_string(f.params.size()) +
                                          " argument" + (f.params.size() == 1 ? "" : "s") + ", but " +
                                          std::to_string(n.args.size()) + (n.args.size() == 1 ? " was" : " were") +
-                                         " given");
+                                         " given" + nxc_power_hint(n.callee, n.args.size()));
       d.notes.push_back({f.span, "'" + n.callee + "' is defined here"});
       return;
     }
