@@ -40,13 +40,17 @@ void warn_reads_before_writes(const Program& p, Diagnostics& diags, LivenessCach
     }
     // Reported at the first read in layout order. A call that reads a
     // subroutine's local is not the read: the subroutine's own code is.
+    // An inline function's code carries the span of its call, so the note
+    // at the declaration shows which function's local it is.
     auto report = [&](VarId v, SourceSpan at) {
       if (reported[static_cast<std::size_t>(v)]) return;
       reported[static_cast<std::size_t>(v)] = true;
-      diags.warning(at, fmt::format("'{}' is read before it is written: it holds what it held when the code last "
-                                    "ran (one variable serves every call of a subroutine or inline function), and "
-                                    "at first whatever its slot held",
-                                    p.vars[static_cast<std::size_t>(v)].name));
+      const Var& var = p.vars[static_cast<std::size_t>(v)];
+      auto& d = diags.warning(at, fmt::format("'{}' is read before it is written: it holds what it held when the code "
+                                              "last ran (one variable serves every call of a subroutine or inline "
+                                              "function), and at first whatever its slot held",
+                                              var.name));
+      if (var.span.begin.valid()) d.notes.push_back({var.span, fmt::format("'{}' is declared here", var.name)});
     };
     for (std::size_t b = 0; b < f.blocks.size(); ++b) {
       if (!seen[b]) continue;

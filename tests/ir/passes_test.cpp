@@ -730,6 +730,28 @@ TEST(ReadBeforeWrite, WarnsOnceAtTheRead) {
   EXPECT_EQ(d.all()[0].span.begin.line, 5u);
 }
 
+TEST(ReadBeforeWrite, NotesWhereTheLocalIsDeclared) {
+  // A local of an inline function is read in the caller's code, where the
+  // call is: the warning is at the call, so a note names the local's own
+  // declaration, inside the function.
+  Builder b;
+  VarId seen = b.global("seen"), p = b.local("p");
+  SourceSpan declared{{1, 3, 7}, {1, 3, 8}};
+  b.p.vars[static_cast<std::size_t>(p)].span = declared;
+  FuncId f = b.function("main");
+  SourceSpan call{{1, 11, 3}, {1, 11, 19}};
+  Instr read = set(seen, V(p));
+  read.span = b.p.add_span(call);
+  b.block(f, {read});
+  Diagnostics d;
+  warn_reads_before_writes(b.p, d);
+  ASSERT_EQ(d.all().size(), 1u);
+  EXPECT_EQ(d.all()[0].span.begin.line, 11u);
+  ASSERT_EQ(d.all()[0].notes.size(), 1u);
+  EXPECT_EQ(d.all()[0].notes[0].span.begin.line, 3u);
+  EXPECT_EQ(d.all()[0].notes[0].message, "'p' is declared here");
+}
+
 TEST(ReadBeforeWrite, AbsAndSignOverwriteTheirDestination) {
   // x = abs(g); y = sign(g): abs and sgn compute from their source alone,
   // so neither local is read before it is written (nqc's `x ||= e` and
