@@ -44,6 +44,22 @@ std::uint32_t SourceManager::add_expansion(MacroExpansion e) {
   return static_cast<std::uint32_t>(expansions_.size());
 }
 
+std::vector<Note> SourceManager::empty_expansion_notes(const SourceSpan& span) const {
+  std::vector<Note> notes;
+  const SourceLoc& b = span.begin;
+  // One line at most: an error that spans a whole body would list every
+  // empty macro in it (a `#define LOG(x)` called throughout).
+  if (!b.valid() || b.expansion != 0 || span.end.expansion != 0 || span.end.file != b.file ||
+      span.end.line != b.line)
+    return notes;
+  for (const MacroExpansion& e : expansions_) {
+    const SourceLoc& at = e.site.begin;
+    if (e.empty && at.file == b.file && at.expansion == 0 && !before(at, b) && before(at, span.end))
+      notes.push_back({e.site, "macro '" + e.macro + "' expands to nothing"});
+  }
+  return notes;
+}
+
 std::vector<Note> SourceManager::expansion_notes(const SourceLoc& loc) const {
   std::vector<Note> notes;
   std::uint32_t id = loc.expansion;
@@ -184,6 +200,10 @@ std::vector<Note> all_notes(const Diagnostic& d, const SourceManager& sm) {
     notes.push_back(n);
     auto more = sm.expansion_notes(n.span.begin);
     notes.insert(notes.end(), more.begin(), more.end());
+  }
+  if (d.severity == Severity::Error) {
+    auto empty = sm.empty_expansion_notes(d.span);
+    notes.insert(notes.end(), empty.begin(), empty.end());
   }
   return notes;
 }

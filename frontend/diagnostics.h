@@ -46,6 +46,9 @@ struct Note {
 struct MacroExpansion {
   std::string macro;
   SourceSpan site;
+  // Nothing came out of it: an error covering the site names the macro,
+  // since the text there shows tokens the parser never saw.
+  bool empty = false;
 };
 
 // `text` with each CR that no LF follows turned into LF: a lone CR ends a
@@ -76,6 +79,11 @@ class SourceManager {
   std::size_t expansion_count() const { return expansions_.size(); }
   // The notes "in expansion of macro X" for a location, innermost first.
   std::vector<Note> expansion_notes(const SourceLoc& loc) const;
+  void mark_expansion_empty(std::uint32_t id) { expansions_.at(id - 1).empty = true; }
+  // The notes "macro X expands to nothing" for each such use written in
+  // the text `span` covers, when it covers part of one line (not inside
+  // another macro's expansion).
+  std::vector<Note> empty_expansion_notes(const SourceSpan& span) const;
 
   // The standard library (rcx.nqh): a problem its text shows is the user's
   // use of it, so diagnostics move to the user's line (as_reported).

@@ -457,6 +457,7 @@ class Preprocessor {
     hide = hide_sets_.with(hide, id);
     std::uint32_t exp = sm_.add_expansion({m.name, t.span});
     std::vector<Token> result = substitute(m, args, hide, exp, depth);
+    if (result.empty()) sm_.mark_expansion_empty(exp);
     live_argument_tokens_ -= argument_tokens;
     if (expanded_tokens_ > kExpansionBase + kExpansionPerInputToken * input_tokens_) {
       diags_.error(t.span, "macro expansion of '" + m.name + "' grows without bound");

@@ -219,4 +219,18 @@ TEST(HelpfulDiagnostics, NqcsOutputOptionGetsAHint) {
   EXPECT_EQ(run_rcxc({"compile", "-O1", ok}).exit_code, 0);
 }
 
+// `#define PAUSE` left without its value: `Wait(PAUSE)` shows an argument,
+// and the error counts none. A note at the macro's use says why.
+TEST(HelpfulDiagnostics, AMacroThatExpandsToNothingInsideAnErrorIsNamed) {
+  TempDir d;
+  std::string src = d.write("empty.nqc", "#define PAUSE\n#define FAST 7\ntask main()\n{\n  Wait(PAUSE);\n  SetPower(OUT_A, FAST);\n}\n");
+  auto r = run_rcxc({"compile", src});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("empty.nqc:5:3: error: function 'Wait' takes 1 argument, but 0 were given"), std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("empty.nqc:5:8: note: macro 'PAUSE' expands to nothing"), std::string::npos) << r.err;
+  // Only where an error is: the macro with a value gets no note.
+  EXPECT_EQ(r.err.find("'FAST'"), std::string::npos) << r.err;
+}
+
 }  // namespace
