@@ -8,7 +8,7 @@
 #include <variant>
 
 #include "cli/commands.h"
-#include "cli/output_file.h"
+#include "savefile/savefile.h"
 #include "cli/program_loader.h"
 #include "format/format.h"
 #include "frontend/frontend.h"
@@ -53,7 +53,7 @@ Outcome format_one(const std::string& path, const FormatArgs& args) {
   if (args.check) {
     if (changed) std::cout << name << "\n";
   } else if (args.in_place) {
-    auto unwritten = changed ? write_file_atomically(path, out) : std::nullopt;
+    auto unwritten = changed ? savefile::write_file_atomically(path, out) : std::nullopt;
     if (unwritten) {
       std::cerr << "rcxc format: cannot write " << name << ": " << *unwritten << "; it is left as it was\n";
       return Outcome::Failed;

@@ -17,7 +17,7 @@
 
 #include "cli/commands.h"
 #include "cli/nxt_tether.h"
-#include "cli/output_file.h"
+#include "savefile/savefile.h"
 #include "nxt/client.h"
 #include "nxt/commands.h"
 #include "nxt/scenario.h"
@@ -703,7 +703,7 @@ void register_nxt(CLI::App& app, int& exit_code) {
         const auto& data = std::get<nxt::Bytes>(r);
         // Written only once the whole file is here, through a temporary: a
         // failed write leaves what was at `target` before.
-        if (auto unwritten = write_file_atomically(target, std::string(data.begin(), data.end())))
+        if (auto unwritten = savefile::write_file_atomically(target, std::string(data.begin(), data.end())))
           return Failure{kExitFailure, fmt::format("cannot write {}: {}", target, *unwritten)};
         return Output{fmt::format("{} bytes to {}\n", data.size(), target), {{"file", target}, {"size", data.size()}}};
       });

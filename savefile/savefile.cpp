@@ -1,4 +1,4 @@
-#include "cli/output_file.h"
+#include "savefile/savefile.h"
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -11,7 +11,7 @@
 #include <fstream>
 #include <vector>
 
-namespace rcxc::cli {
+namespace rcxc::savefile {
 namespace {
 
 bool write_all(int fd, const std::string& bytes) {
@@ -125,4 +125,4 @@ bool same_file(const std::string& a, const std::string& b) {
   return normal(a) == normal(b);
 }
 
-}  // namespace rcxc::cli
+}  // namespace rcxc::savefile

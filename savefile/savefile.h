@@ -1,10 +1,11 @@
-// Writing what a command produces (images, listings, traces).
+// Writing a file whole or not at all: what a command produces (images,
+// listings, traces) and the language server's copy of the standard library.
 #pragma once
 
 #include <optional>
 #include <string>
 
-namespace rcxc::cli {
+namespace rcxc::savefile {
 
 // Writes `bytes` into a temporary beside `path` (mkstemp: a fresh random
 // name, O_EXCL), then renames it over `path`: a failed or interrupted write
@@ -19,4 +20,4 @@ std::optional<std::string> write_file_atomically(const std::string& path, const 
 // Whether two paths name the same file (or would, once written).
 bool same_file(const std::string& a, const std::string& b);
 
-}  // namespace rcxc::cli
+}  // namespace rcxc::savefile
