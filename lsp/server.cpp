@@ -938,6 +938,7 @@ int serve(Server& server, std::istream& in, std::ostream& out, std::ostream& log
       log << "rcxc lsp: skipped a message: " << frame.error << "\n";
       continue;
     }
+    if (!frame.error.empty()) log << "rcxc lsp: " << frame.error << "\n";
     for (const auto& reply : handle_text(server, frame.body)) write_message(out, reply);
   }
   return server.shutdown && server.exited ? 0 : 1;

@@ -51,6 +51,48 @@ TEST(LspFraming, BadHeadersAreReportedNotFatal) {
   EXPECT_EQ(json::parse(f.body)["ok"], true);
 }
 
+// LSP asks for Content-Length once. Given twice alike it is one length,
+// said on stderr; given twice with different values the message is refused
+// (which end was meant cannot be known) and the next one is still read,
+// whichever of the two was the body's length.
+TEST(LspFraming, AContentLengthGivenTwice) {
+  const std::string body = R"({"jsonrpc":"2.0","id":10,"method":"initialize","params":{}})";  // 59 bytes
+  ASSERT_EQ(body.size(), 59u);
+  std::istringstream same("Content-Length: 59\r\ncontent-length:59\r\n\r\n" + body);
+  Frame f = read_frame(same);
+  ASSERT_EQ(f.kind, Frame::Kind::Message);
+  EXPECT_EQ(f.body, body);
+  EXPECT_EQ(f.error, "Content-Length given twice, as 59 both times: read as one");
+  for (std::string header : {"Content-Length: 59\r\nContent-Length: 70\r\n\r\n",
+                                    "Content-Length: 40\r\nContent-Length: 59\r\n\r\n"}) {
+    std::istringstream in(header + body + framed({{"next", 1}}));
+    f = read_frame(in);
+    EXPECT_EQ(f.kind, Frame::Kind::BadHeader) << header;
+    EXPECT_NE(f.error.find("Content-Length given twice, as "), std::string::npos) << f.error;
+    f = read_frame(in);
+    ASSERT_EQ(f.kind, Frame::Kind::Message) << header << f.error;
+    EXPECT_EQ(json::parse(f.body), json({{"next", 1}}));
+  }
+  // Through the server: the refused request is not run (no answer), the
+  // one after it is, and stderr says which header was wrong.
+  Server server;
+  const std::string exit = R"({"jsonrpc":"2.0","method":"exit"})";  // 33 bytes
+  std::istringstream in("Content-Length: 59\r\nContent-Length: 12\r\n\r\n" + body + framed(request(2, "initialize")) +
+                        framed(request(3, "shutdown")) + "Content-Length: 33\r\nContent-Length: 33\r\n\r\n" + exit);
+  std::ostringstream out, log;
+  EXPECT_EQ(serve(server, in, out, log), 0);
+  EXPECT_EQ(log.str(),
+            "rcxc lsp: skipped a message: Content-Length given twice, as 59 and 12: where the message ends is not known\n"
+            "rcxc lsp: Content-Length given twice, as 33 both times: read as one\n");
+  std::istringstream replies(out.str());
+  for (int id : {2, 3}) {
+    f = read_frame(replies);
+    ASSERT_EQ(f.kind, Frame::Kind::Message);
+    EXPECT_EQ(json::parse(f.body)["id"], id);
+  }
+  EXPECT_EQ(read_frame(replies).kind, Frame::Kind::End);
+}
+
 TEST(LspFraming, ATruncatedBodyEndsTheStream) {
   std::istringstream in("Content-Length: 50\r\n\r\n{\"a\":");
   EXPECT_EQ(read_frame(in).kind, Frame::Kind::End);
