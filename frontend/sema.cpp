@@ -10,6 +10,7 @@
 #include <unordered_map>
 
 #include "frontend/fold.h"
+#include "frontend/parse.h"
 #include "frontend/ranges.h"
 #include "frontend/spelling.h"
 #include "frontend/token.h"
@@ -32,15 +33,6 @@ bool is_rcx2_api_name(const std::string& name) {
       "UpperLimit",     "LowerLimit",         "Hysteresis",     "ClickCounter",   "ClickTime",
       "__event_src"};
   return names.count(name) > 0 || name.rfind("EVENT_TYPE_", 0) == 0 || name.rfind("ACQUIRE_", 0) == 0;
-}
-
-// Words nqc reserves that rcxc's grammar does not use: they name RCX 2
-// statements and other targets' intrinsics. A program using one as a name
-// does not compile with nqc, so it is refused here too. nullptr for others.
-const char* reserved_by_nqc(const std::string& name) {
-  if (name == "acquire" || name == "monitor" || name == "catch") return "a statement of the RCX 2 firmware";
-  if (name == "__event_src" || name == "__res") return "an intrinsic of other targets";
-  return nullptr;
 }
 
 std::string kind_name(SymbolKind k) {
