@@ -495,6 +495,16 @@ class Checker {
     return any;
   }
 
+  // The first assignment (`x = 5`, `x += 2`) in `e` outside an inner
+  // __type (which says so itself), or nullptr.
+  static const Expr* assignment_in(const Expr& e) {
+    if (as<Assign>(e)) return &e;
+    if (as<TypeOf>(e)) return nullptr;
+    const Expr* found = nullptr;
+    visit_children(e, [&](const Expr& c) { found = found ? found : assignment_in(c); });
+    return found;
+  }
+
   template <class F>
   static void visit_children(const Expr& e, F&& f) {
     std::visit(
@@ -973,6 +983,11 @@ class Checker {
   // (`case __type(n):` is `case 0:` whatever the argument).
   void visit_expr(TypeOf& n, Expr& e, Use) {
     expr(*n.operand, Use::Value);
+    // nqc has no assignment expressions, so it refuses one here ("syntax
+    // error"); rcxc has them, and here one would silently never happen.
+    // (`x++` nqc takes, and computes no more than rcxc does.)
+    if (const Expr* a = assignment_in(*n.operand))
+      diags_.error(a->span, "an assignment inside __type is never made: __type does not compute its operand");
     if (!in_case_value_ && depends_on_const_param(*n.operand)) return;
     bool constant = nqc_constant(*n.operand, [](const Name&) -> const Expr* { return nullptr; }, std::nullopt,
                                  !in_case_value_)

@@ -284,6 +284,13 @@ const BadProgram kCases[] = {
     {"TypeOfChecksItsOperand", "int x;\ntask main() { x = __type(zz); }\n", {"2:26: error: 'zz' is not declared"}},
     {"TypeOfIsNoVariable", "int x;\ntask main() { __type(x) = 1; }\n",
      {"2:15: error: cannot assign to this expression: it is not a variable"}},
+    // nqc 3.1: "syntax error" for each (it has no assignment expressions);
+    // it takes __type(x++) and does not make the increment either.
+    {"AnAssignmentInsideTypeOf",
+     "int x, y;\ntask main() { y = __type(x = 5); y = __type((x += 1) + 1); y = __type(__type(y = x = 2)); y = __type(x++); }\n",
+     {"2:26: error: an assignment inside __type is never made: __type does not compute its operand",
+      "2:45: error: an assignment inside __type is never made: __type does not compute its operand",
+      "2:78: error: an assignment inside __type is never made: __type does not compute its operand"}},
     {"TaskIdInIfDirective", "#if __taskid\n#endif\ntask main() { }\n",
      {"1:5: error: __taskid is known only when the code is generated, not in #if"}},
 };
