@@ -427,6 +427,28 @@ TEST(Sema, TypeOfFoldsAsNqcCountsConstants) {
   EXPECT_FALSE(assign.value->constant);
 }
 
+// nqc 3.1 (-L) works a `const int` argument out when it reads the call,
+// before it knows the task: __type(__taskid) there is 0 (set var[0], 0), 1
+// with 1 added; a `const int &` argument, read at each expansion, gives 2,
+// and so does __type of a __type, which is constant either way.
+TEST(Sema, TypeOfTaskIdAsAConstIntArgumentIsZeroAsInNqc) {
+  auto r = run_frontend(
+      "int y;\nvoid k(const int t) { y = t; }\nvoid kr(const int &t) { y = t; }\n"
+      "void g() { k(__type(__taskid)); }\n"
+      "task main() { k(__type(__taskid)); k(__type(__taskid) + 1); kr(__type(__taskid)); k(__type(__type(__taskid))); g(); }\n");
+  ASSERT_TRUE(r.program) << r.text();
+  auto argument = [](const Stmt& s) { return std::get<Call>(std::get<ExprStmt>(s.node).expr.node).args.at(0).constant; };
+  using V = std::optional<std::int16_t>;
+  const auto& main_body = std::get<Block>(r.program->tasks.at(0).body.node).stmts;
+  std::vector<V> got;
+  for (std::size_t i = 0; i < 4; ++i) got.push_back(argument(main_body[i]));
+  EXPECT_EQ(got, (std::vector<V>{V(0), V(1), V(2), V(2)}));
+  for (const auto& f : r.program->functions) {
+    if (f.name != "g") continue;
+    EXPECT_EQ(argument(std::get<Block>(f.body.node).stmts.at(0)), V(0));
+  }
+}
+
 TEST(Sema, SensorNumberOfAConstantIsItsLowByte) {
   // nqc's __sensor: any constant expression, kept to a byte.
   auto r = run_frontend(
