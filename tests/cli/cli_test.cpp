@@ -64,6 +64,22 @@ TEST(Cli, AMisspeltCommandActionOrOptionGetsADidYouMean) {
   EXPECT_EQ(far.err.find("did you mean"), std::string::npos) << far.err;
 }
 
+// An NXT action nothing like any got only "A subcommand is required", as if
+// none had been given.
+TEST(Cli, AnUnknownActionWithNothingNearIsNamed) {
+  const std::pair<std::vector<std::string>, std::string> cases[] = {
+      {{"nxt", "zzzzzz"}, "unknown action 'zzzzzz': the actions are listed below"},
+      {{"nxt", "mailbox", "zzzzzz", "1"}, "unknown action 'zzzzzz': the actions are listed below"},
+      {{"zzzzzz"}, "unknown command 'zzzzzz': the commands are listed below"},
+  };
+  for (const auto& [args, said] : cases) {
+    auto r = run_rcxc(args);
+    EXPECT_EQ(r.exit_code, 2) << args[0] << ": " << r.err;
+    EXPECT_NE(r.err.find("rcxc: " + said), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("Usage: rcxc"), std::string::npos) << r.err;
+  }
+}
+
 TEST(Cli, MissingSubcommandIsUsageError) {
   auto r = run_rcxc({});
   EXPECT_EQ(r.exit_code, 2);
