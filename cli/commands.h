@@ -4,8 +4,10 @@
 
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace rcxc::cli {
@@ -35,7 +37,13 @@ inline CLI::Validator whole_number() {
   return CLI::Validator(
       [](std::string& v) {
         bool digits = !v.empty() && v.find_first_not_of("0123456789") == std::string::npos;
-        return digits ? std::string() : "'" + v + "' is not a whole number 0 or more";
+        if (!digits) return "'" + v + "' is not a whole number 0 or more";
+        // Past 64 bits the conversion gives 2^64 - 1 without a word.
+        constexpr std::string_view kMost = "18446744073709551615";
+        std::string_view n = std::string_view(v).substr(std::min(v.find_first_not_of('0'), v.size() - 1));
+        if (n.size() > kMost.size() || (n.size() == kMost.size() && n > kMost))
+          return "'" + v + "' is more than " + std::string(kMost);
+        return std::string();
       },
       "", "whole number");
 }

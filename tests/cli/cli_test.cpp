@@ -112,6 +112,25 @@ TEST(Cli, AnEmptyValueOrANegativeSeedIsAUsageError) {
   EXPECT_EQ(run_rcxc({"run", p, "--seed", "0", "--for", "10"}).exit_code, 0);
 }
 
+// A seed past 2^64 - 1 ran as 2^64 - 1 without a word (so 2^64 and
+// 99999999999999999999 gave the same run as 18446744073709551615).
+TEST(Cli, ASeedPastSixtyFourBitsIsAUsageError) {
+  rcxc::test::TempDir d;
+  std::string p = d.write("p.nqc", "task main() { On(OUT_A); }\n");
+  for (const std::string seed : {"18446744073709551616", "99999999999999999999", "000000000000000000000018446744073709551616"})
+    for (const std::vector<std::string>& args : std::vector<std::vector<std::string>>{
+             {"run", p, "--seed", seed}, {"compare", p, "--seed", seed}, {"brick", "--pty", "--seed", seed}}) {
+      auto r = run_rcxc(args, "", 10000);
+      EXPECT_EQ(r.exit_code, 2) << args[0] << " " << seed << ": " << r.err;
+      EXPECT_NE(r.err.find(seed.substr(seed.find_first_not_of('0')) + "' is more than 18446744073709551615"),
+                std::string::npos)
+          << r.err;
+      EXPECT_TRUE(r.out.empty()) << r.out;
+    }
+  for (const std::string seed : {"18446744073709551615", "0018446744073709551615"})
+    EXPECT_EQ(run_rcxc({"run", p, "--seed", seed, "--for", "10"}).exit_code, 0) << seed;
+}
+
 // `rcxc lsp --stdlib-dir FILE` started, and every go to definition into the
 // standard library then answered null with nothing said anywhere.
 TEST(Cli, AnLspStdlibDirThatIsAFileIsAUsageError) {
