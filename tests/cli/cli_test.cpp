@@ -2,6 +2,8 @@
 // usage text goes are checked end to end against the real binary.
 #include <gtest/gtest.h>
 
+#include <nlohmann/json.hpp>
+
 #include <string>
 #include <utility>
 #include <vector>
@@ -129,6 +131,28 @@ TEST(Cli, ASeedPastSixtyFourBitsIsAUsageError) {
     }
   for (const std::string seed : {"18446744073709551615", "0018446744073709551615"})
     EXPECT_EQ(run_rcxc({"run", p, "--seed", seed, "--for", "10"}).exit_code, 0) << seed;
+}
+
+// CLI11 read a leading zero as octal: `--for 010` ran 8 ms, `--seed 010`
+// was seed 8, `--for 09` was "Could not convert". Every whole number is
+// decimal now.
+TEST(Cli, LeadingZerosAreDecimalNotOctal) {
+  rcxc::test::TempDir d;
+  std::string p = d.write("p.nqc", "int x;\ntask main() { x = Random(1000); Wait(1000); }\n");
+  auto time_and_x = [&](const std::vector<std::string>& extra) {
+    std::vector<std::string> args = {"run", p, "--report", "json"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    auto r = run_rcxc(args);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    auto j = nlohmann::json::parse(r.out, nullptr, false);
+    return j.is_discarded() ? std::pair<int, int>{-1, -1} : std::pair<int, int>{j["time_ms"], j["globals"]["x"]};
+  };
+  EXPECT_EQ(time_and_x({"--for", "010"}).first, 10);
+  EXPECT_EQ(time_and_x({"--for", "09"}).first, 9);
+  EXPECT_EQ(time_and_x({"--for", "5", "--seed", "010"}).second, time_and_x({"--for", "5", "--seed", "10"}).second);
+  EXPECT_NE(time_and_x({"--for", "5", "--seed", "010"}).second, time_and_x({"--for", "5", "--seed", "8"}).second);
+  EXPECT_EQ(run_rcxc({"run", p, "--for", "000"}).exit_code, 2);  // still 0, still out of range
+  EXPECT_EQ(run_rcxc({"nxt", "--port", "/dev/no-such-nxt", "tone", "0440", "0100"}).exit_code, 3);  // HZ, MS taken
 }
 
 // `rcxc lsp --stdlib-dir FILE` started, and every go to definition into the
