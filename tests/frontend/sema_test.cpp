@@ -406,6 +406,12 @@ TEST(Sema, FoldConstantSeesThroughSubstitutedSources) {
   EXPECT_EQ(d.all().back().message, "division by zero in a constant expression");
 }
 
+static const Function* function_named(const Program& program, std::string_view name) {
+  for (const auto& f : program.functions)
+    if (f.name == name) return &f;
+  return nullptr;
+}
+
 TEST(Sema, TypeOfFoldsAsNqcCountsConstants) {
   // 2 for what nqc folds (x && 0 whatever x is), 0 for the rest, a timer
   // and x * 0 included (nqc does not fold them); a const parameter's is
@@ -419,9 +425,7 @@ TEST(Sema, TypeOfFoldsAsNqcCountsConstants) {
   for (std::size_t g = 1; g < r.program->globals.size(); ++g) got.push_back(r.program->globals[g].init->constant);
   using V = std::optional<std::int16_t>;
   EXPECT_EQ(got, (std::vector<V>{V(0), V(2), V(0), V(2), V(0), V(2), V(2), V(2), V(0)}));
-  const Function* k = nullptr;
-  for (const auto& f : r.program->functions)
-    if (f.name == "k") k = &f;
+  const Function* k = function_named(*r.program, "k");
   ASSERT_NE(k, nullptr);
   const auto& assign = std::get<Assign>(std::get<ExprStmt>(std::get<Block>(k->body.node).stmts[0].node).expr.node);
   EXPECT_FALSE(assign.value->constant);
@@ -443,10 +447,9 @@ TEST(Sema, TypeOfTaskIdAsAConstIntArgumentIsZeroAsInNqc) {
   std::vector<V> got;
   for (std::size_t i = 0; i < 4; ++i) got.push_back(argument(main_body[i]));
   EXPECT_EQ(got, (std::vector<V>{V(0), V(1), V(2), V(2)}));
-  for (const auto& f : r.program->functions) {
-    if (f.name != "g") continue;
-    EXPECT_EQ(argument(std::get<Block>(f.body.node).stmts.at(0)), V(0));
-  }
+  const Function* g = function_named(*r.program, "g");
+  ASSERT_NE(g, nullptr);
+  EXPECT_EQ(argument(std::get<Block>(g->body.node).stmts.at(0)), V(0));
 }
 
 TEST(Sema, SensorNumberOfAConstantIsItsLowByte) {
