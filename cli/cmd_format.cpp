@@ -83,7 +83,15 @@ void register_format(CLI::App& app, int& exit_code) {
     }
     std::vector<std::string> files = args->files;
     if (files.empty()) files.emplace_back(frontend::kStandardInput);
-    if (args->in_place && std::count(files.begin(), files.end(), std::string(frontend::kStandardInput)) > 0) {
+    auto stdin_count = std::count(files.begin(), files.end(), std::string(frontend::kStandardInput));
+    // Read a second time it is empty: its text would be printed once and
+    // then nothing, as if the second were an empty file.
+    if (stdin_count > 1) {
+      std::cerr << "rcxc format: '-' (the standard input) is given " << stdin_count << " times; it can be read once\n";
+      exit_code = kExitUsage;
+      return;
+    }
+    if (args->in_place && stdin_count > 0) {
       std::cerr << "rcxc format: --in-place needs files; the standard input has nowhere to be written back\n";
       exit_code = kExitUsage;
       return;
