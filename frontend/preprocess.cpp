@@ -956,7 +956,14 @@ class Preprocessor {
                               ", not a source file");
       return;
     }
-    diags_.error(where, "cannot find include file '" + name + "'");
+    auto& e = diags_.error(where, "cannot find include file '" + name + "'");
+    // A mistyped -I is taken without a word (as gcc takes it); here is
+    // where it shows.
+    for (const auto& d : opts_.include_dirs) {
+      std::error_code ec;
+      if (!fs::is_directory(d, ec))
+        e.notes.push_back({{}, "-I " + d + (fs::exists(d, ec) ? " is a file, not a folder" : ": no such folder")});
+    }
   }
 
   // False (with a diagnostic naming the chain) if `key` would be open a

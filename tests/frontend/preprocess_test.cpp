@@ -368,6 +368,25 @@ TEST(Preprocessor, IncludeSearchesFileFolderThenIncludeDirsThenStdlib) {
   fs::remove_all(root);
 }
 
+// A mistyped -I (no such folder, or a file) was taken without a word, and
+// the include it was for then only "not found".
+TEST(Preprocessor, AMissingIncludeNamesTheIncludeFoldersThatAreNone) {
+  test::TempDir d;
+  std::string file = d.write("file.nqh", "");
+  std::filesystem::create_directory(d.path + "/real");
+  Options o;
+  o.include_dirs = {d.path + "/typo", file, d.path + "/real"};
+  auto p = run_pp("#include \"q.nqh\"\n", o, d.path + "/main.nqc", d.path);
+  ASSERT_EQ(messages(p.diags), (std::vector<std::string>{"cannot find include file 'q.nqh'"}));
+  std::vector<std::string> notes;
+  for (const auto& n : p.diags.all()[0].notes) notes.push_back(n.message);
+  EXPECT_EQ(notes, (std::vector<std::string>{"-I " + d.path + "/typo: no such folder",
+                                             "-I " + file + " is a file, not a folder"}));
+  // Found elsewhere, nothing is said of them.
+  d.write("q.nqh", "");
+  EXPECT_TRUE(run_pp("#include \"q.nqh\"\n", o, d.path + "/main.nqc", d.path).diags.all().empty());
+}
+
 TEST(Preprocessor, MissingIncludeAndIncludeCycleAreErrors) {
   namespace fs = std::filesystem;
   fs::path root = test::make_temp_dir();
