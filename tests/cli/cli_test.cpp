@@ -157,6 +157,17 @@ TEST(Cli, LeadingZerosAreDecimalNotOctal) {
 
 // `rcxc lsp --stdlib-dir FILE` started, and every go to definition into the
 // standard library then answered null with nothing said anywhere.
+// `rcxc lsp -D 1X` (or -Dtask) started a server that compiled every
+// document with that macro; the compiling commands refuse it.
+TEST(Cli, AnLspMacroNameThatCannotBeOneIsAUsageError) {
+  for (const std::string option : {"-D1X", "-Dtask=1", "-Uacquire"}) {
+    auto r = run_rcxc({"lsp", option});
+    EXPECT_EQ(r.exit_code, 2) << option << ": " << r.err;
+    EXPECT_NE(r.err.find("rcxc lsp: " + option + ": "), std::string::npos) << r.err;
+    EXPECT_EQ(r.out, "");
+  }
+}
+
 TEST(Cli, AnLspStdlibDirThatIsAFileIsAUsageError) {
   rcxc::test::TempDir d;
   std::string file = d.write("not-a-folder", "x");
