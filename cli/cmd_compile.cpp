@@ -6,7 +6,7 @@
 
 #include "cli/color.h"
 #include "cli/commands.h"
-#include "cli/output_file.h"
+#include "savefile/savefile.h"
 #include "cli/program_loader.h"
 #include "backend/listing.h"
 #include "frontend/frontend.h"
@@ -68,7 +68,7 @@ bool overwrites_source(const std::string& target, const SourceManager& sm) {
 int write_outputs(const CompileArgs& a, const backend::Output& out, const SourceManager& sm) {
   auto image = rcx::write_image(out.image);
   std::string path = image_path(a);  // "-": the standard output
-  if (!a.listing.empty() && a.listing != "-" && path != "-" && same_file(path, a.listing)) {
+  if (!a.listing.empty() && a.listing != "-" && path != "-" && savefile::same_file(path, a.listing)) {
     std::cerr << "rcxc compile: the image and the listing would both be written to " << a.listing
               << " (choose another name)\n";
     return kExitUsage;
@@ -84,7 +84,7 @@ int write_outputs(const CompileArgs& a, const backend::Output& out, const Source
       std::cerr << "rcxc compile: cannot write the image to the standard output\n";
       return kExitFailure;
     }
-  } else if (auto unwritten = write_file_atomically(path, std::string(image.begin(), image.end()))) {
+  } else if (auto unwritten = savefile::write_file_atomically(path, std::string(image.begin(), image.end()))) {
     std::cerr << "rcxc compile: cannot write " << path << ": " << *unwritten << "\n";
     return kExitFailure;
   }
@@ -92,7 +92,7 @@ int write_outputs(const CompileArgs& a, const backend::Output& out, const Source
   std::string text = backend::listing(out, &sm);
   if (a.listing == "-") {
     std::cout << text;
-  } else if (auto unwritten = write_file_atomically(a.listing, text)) {
+  } else if (auto unwritten = savefile::write_file_atomically(a.listing, text)) {
     std::cerr << "rcxc compile: cannot write " << a.listing << ": " << *unwritten << "\n";
     return kExitFailure;
   }
@@ -106,7 +106,7 @@ int write_preprocessed(const CompileArgs& a, const std::string& text, const Sour
     return kExitOk;
   }
   if (overwrites_source(*a.output, sm)) return kExitUsage;
-  if (auto unwritten = write_file_atomically(*a.output, text)) {
+  if (auto unwritten = savefile::write_file_atomically(*a.output, text)) {
     std::cerr << "rcxc compile: cannot write " << *a.output << ": " << *unwritten << "\n";
     return kExitFailure;
   }

@@ -8,7 +8,7 @@
 #include <variant>
 
 #include "cli/commands.h"
-#include "cli/output_file.h"
+#include "savefile/savefile.h"
 #include "cli/program_loader.h"
 #include "format/format.h"
 #include "frontend/frontend.h"
@@ -53,7 +53,7 @@ Outcome format_one(const std::string& path, const FormatArgs& args) {
   if (args.check) {
     if (changed) std::cout << name << "\n";
   } else if (args.in_place) {
-    auto unwritten = changed ? write_file_atomically(path, out) : std::nullopt;
+    auto unwritten = changed ? savefile::write_file_atomically(path, out) : std::nullopt;
     if (unwritten) {
       std::cerr << "rcxc format: cannot write " << name << ": " << *unwritten << "; it is left as it was\n";
       return Outcome::Failed;
@@ -83,7 +83,15 @@ void register_format(CLI::App& app, int& exit_code) {
     }
     std::vector<std::string> files = args->files;
     if (files.empty()) files.emplace_back(frontend::kStandardInput);
-    if (args->in_place && std::count(files.begin(), files.end(), std::string(frontend::kStandardInput)) > 0) {
+    auto stdin_count = std::count(files.begin(), files.end(), std::string(frontend::kStandardInput));
+    // Read a second time it is empty: its text would be printed once and
+    // then nothing, as if the second were an empty file.
+    if (stdin_count > 1) {
+      std::cerr << "rcxc format: '-' (the standard input) is given " << stdin_count << " times; it can be read once\n";
+      exit_code = kExitUsage;
+      return;
+    }
+    if (args->in_place && stdin_count > 0) {
       std::cerr << "rcxc format: --in-place needs files; the standard input has nowhere to be written back\n";
       exit_code = kExitUsage;
       return;

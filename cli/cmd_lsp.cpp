@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "cli/commands.h"
+#include "cli/program_loader.h"
 #include "cli/version.h"
 #include "lsp/server.h"
 
@@ -43,6 +44,13 @@ void register_lsp(CLI::App& app, int& exit_code) {
       ->check(not_empty())
       ->check(folder_or_new);
   cmd->callback([&exit_code, args] {
+    // As every compiling command checks them: a bad name here made a server
+    // that compiled every document with it, saying nothing.
+    if (auto bad = bad_compiler_arguments({.include_dirs = args->include_dirs, .defines = args->defines, .undefines = args->undefines})) {
+      std::cerr << "rcxc lsp: " << *bad << "\n";
+      exit_code = kExitUsage;
+      return;
+    }
     lsp::Server server;
     server.options.include_dirs = args->include_dirs;
     for (const auto& d : args->defines) server.options.define(d);

@@ -17,7 +17,7 @@
 
 #include "cli/commands.h"
 #include "cli/nxt_tether.h"
-#include "cli/output_file.h"
+#include "savefile/savefile.h"
 #include "nxt/client.h"
 #include "nxt/commands.h"
 #include "nxt/scenario.h"
@@ -693,17 +693,24 @@ void register_nxt(CLI::App& app, int& exit_code) {
     auto* cmd = add("download", "Copy NAME from the brick to a local FILE");
     auto name = std::make_shared<std::string>(), file = std::make_shared<std::string>();
     cmd->add_option("NAME", *name, "A file on the brick")->required();
-    cmd->add_option("FILE", *file, "Where to write it (default: NAME)");
+    cmd->add_option("FILE", *file, "Where to write it: a file, or a folder to write NAME in (default: NAME)");
     run(cmd, [=]() -> Made {
       if (auto bad = nxt::check_file_name(*name)) return *bad;
       std::string target = file->empty() ? *name : *file;
+      std::error_code ec;
+      if (std::filesystem::is_directory(target, ec) || target.ends_with('/'))
+        target = (std::filesystem::path(target) / *name).string();
+      // Said before the port is opened: a transfer takes seconds over
+      // Bluetooth, and only then did a missing folder show.
+      if (auto unwritable = savefile::check_writable(target))
+        return Failure{kExitFailure, fmt::format("cannot write {}: {}", target, *unwritable)};
       return Action([=](Client& c) -> std::variant<Output, Failure> {
         auto r = nxt::download_file(c, *name, progress_bar("download " + *name));
         if (auto* e = std::get_if<CallError>(&r)) return failure(*e);
         const auto& data = std::get<nxt::Bytes>(r);
         // Written only once the whole file is here, through a temporary: a
         // failed write leaves what was at `target` before.
-        if (auto unwritten = write_file_atomically(target, std::string(data.begin(), data.end())))
+        if (auto unwritten = savefile::write_file_atomically(target, std::string(data.begin(), data.end())))
           return Failure{kExitFailure, fmt::format("cannot write {}: {}", target, *unwritten)};
         return Output{fmt::format("{} bytes to {}\n", data.size(), target), {{"file", target}, {"size", data.size()}}};
       });

@@ -11,7 +11,7 @@
 
 #include "cli/commands.h"
 #include "cli/nxt_tether.h"
-#include "cli/output_file.h"
+#include "savefile/savefile.h"
 #include "cli/program_loader.h"
 #include "rcx/image.h"
 #include "rcx/program_io.h"
@@ -168,7 +168,7 @@ int run(const RunOptions& o) {
   // may stand in for it.
   std::string directive_scenario = spec ? rcx::semtest::scenario_path(*spec, o.file) : "";
   for (const std::string* input : {&o.file, &o.scenario, static_cast<const std::string*>(&directive_scenario)})
-    if (!o.trace.empty() && !input->empty() && same_file(o.trace, *input)) {
+    if (!o.trace.empty() && !input->empty() && savefile::same_file(o.trace, *input)) {
       std::cerr << "rcxc run: refusing to write the trace to " << o.trace << ": it is the input " << *input
                 << " (choose another name)\n";
       return kExitUsage;
@@ -232,7 +232,7 @@ int run(const RunOptions& o) {
   if (!o.trace.empty()) {
     std::string program = std::filesystem::path(o.file).filename().string();
     std::string text = trace_text(o.trace, machine, image, names, program);
-    if (auto unwritten = write_file_atomically(o.trace, text)) {
+    if (auto unwritten = savefile::write_file_atomically(o.trace, text)) {
       std::cerr << "rcxc run: cannot write trace file " << o.trace << ": " << *unwritten << "\n";
       return kExitFailure;
     }

@@ -16,7 +16,7 @@
 
 #include "cli/commands.h"
 #include "cli/large_stack.h"
-#include "cli/output_file.h"
+#include "savefile/savefile.h"
 #include "verify/external_nqc.h"
 #include "cli/program_loader.h"
 #include "verify/junit.h"
@@ -227,11 +227,11 @@ void run_all(const TestOptions& o, const std::vector<std::string>& files, unsign
 std::optional<std::string> report_over_input(const std::string& junit, const std::vector<std::string>& files) {
   if (junit.empty()) return std::nullopt;
   for (const auto& file : files) {
-    if (same_file(junit, file)) return "the test program " + file;
+    if (savefile::same_file(junit, file)) return "the test program " + file;
     auto parsed = rcx::semtest::parse_spec_file(file);
     auto* spec = std::get_if<rcx::semtest::Spec>(&parsed);
     std::string scenario = spec ? rcx::semtest::scenario_path(*spec, file) : "";
-    if (!scenario.empty() && same_file(junit, scenario)) return "the scenario " + scenario + " of " + file;
+    if (!scenario.empty() && savefile::same_file(junit, scenario)) return "the scenario " + scenario + " of " + file;
   }
   return std::nullopt;
 }
@@ -263,7 +263,7 @@ int run(const TestOptions& o) {
     if (!o.junit.empty()) report.push_back({file, r.failures, r.seconds, {}});
   });
   std::cout << fmt::format("{} passed, {} failed\n", passed, failed);
-  auto unwritten = o.junit.empty() ? std::nullopt : write_file_atomically(o.junit, rcx::semtest::junit_xml(report));
+  auto unwritten = o.junit.empty() ? std::nullopt : savefile::write_file_atomically(o.junit, rcx::semtest::junit_xml(report));
   if (unwritten) {
     std::cerr << "rcxc test: cannot write the report " << o.junit << ": " << *unwritten << "\n";
     return kExitFailure;

@@ -4,8 +4,10 @@
 
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace rcxc::cli {
@@ -22,6 +24,25 @@ inline constexpr int kExitNotComparable = 5;  // compare: nqc is missing or refu
 // 1000 must still fit the emulator's 64-bit microsecond clock.
 inline constexpr std::int64_t kMaxRunMs = std::int64_t{1} << 40;
 
+// CLI11 reads a whole number with a leading zero as octal: `--for 010` ran
+// 8 ms and `--seed 010` was seed 8, without a word. Every integer option
+// and argument of `app` and its commands is read as decimal (the zeros
+// dropped before any check sees the value); 0x stays hexadecimal.
+inline void read_integers_as_decimal(CLI::App& app) {
+  auto decimal = [](const std::string& v) -> std::string {
+    std::size_t sign = v.starts_with('-') || v.starts_with('+') ? 1 : 0;
+    bool digits = v.size() > sign && v.find_first_not_of("0123456789", sign) == std::string::npos;
+    std::size_t first = v.find_first_not_of('0', sign);  // npos: all zeros, which octal reads right
+    if (!digits || first == std::string::npos || first == sign) return v;
+    return v.substr(0, sign).append(v, first);
+  };
+  for (CLI::Option* option : app.get_options()) {
+    std::string type = option->get_type_name();
+    if (type.rfind("INT", 0) == 0 || type.rfind("UINT", 0) == 0) option->transform(decimal);
+  }
+  for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) read_integers_as_decimal(*sub);
+}
+
 // For options naming a file, port or program: an empty value ("--trace ''",
 // a variable that expanded to nothing) would read as the option not given,
 // and the command would go on silently without it.
@@ -35,7 +56,13 @@ inline CLI::Validator whole_number() {
   return CLI::Validator(
       [](std::string& v) {
         bool digits = !v.empty() && v.find_first_not_of("0123456789") == std::string::npos;
-        return digits ? std::string() : "'" + v + "' is not a whole number 0 or more";
+        if (!digits) return "'" + v + "' is not a whole number 0 or more";
+        // Past 64 bits the conversion gives 2^64 - 1 without a word.
+        constexpr std::string_view kMost = "18446744073709551615";
+        std::string_view n = std::string_view(v).substr(std::min(v.find_first_not_of('0'), v.size() - 1));
+        if (n.size() > kMost.size() || (n.size() == kMost.size() && n > kMost))
+          return "'" + v + "' is more than " + std::string(kMost);
+        return std::string();
       },
       "", "whole number");
 }

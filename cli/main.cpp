@@ -57,6 +57,7 @@ int run_main(int argc, char** argv) {
     rcxc::cli::register_help(app, exit_code);
   }
 
+  rcxc::cli::read_integers_as_decimal(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

@@ -19,7 +19,7 @@
 
 #include "backend/compile.h"
 #include "backend/nqc_listing.h"
-#include "cli/output_file.h"
+#include "savefile/savefile.h"
 #include "cli/program_loader.h"
 #include "cli/version.h"
 #include "frontend/frontend.h"
@@ -231,10 +231,10 @@ std::optional<std::string> clashing_outputs(const NqcOptions& o) {
   auto outputs = named_outputs(o);
   for (std::size_t i = 0; i < outputs.size(); ++i) {
     const auto& [letter, file] = outputs[i];
-    if (!source.empty() && same_file(file, source))
+    if (!source.empty() && savefile::same_file(file, source))
       return fmt::format("refusing to write {} (-{}): it is the source file", file, letter);
     for (std::size_t j = 0; j < i; ++j)
-      if (same_file(file, outputs[j].second))
+      if (savefile::same_file(file, outputs[j].second))
         return fmt::format("-{} and -{} both name {}: one would overwrite the other", outputs[j].first, letter, file);
   }
   return std::nullopt;
@@ -319,7 +319,7 @@ class Session {
       std::cerr << text;
     } else if (o_.errors->file.empty()) {
       std::cout << text;
-    } else if (auto unwritten = write_file_atomically(o_.errors->file, text)) {
+    } else if (auto unwritten = savefile::write_file_atomically(o_.errors->file, text)) {
       std::cerr << text << "rcxc (as nqc): cannot write the error file " << o_.errors->file << ": " << *unwritten
                 << "\n";
       return false;
@@ -375,7 +375,7 @@ class Session {
   int write_listing(const std::string& text) {
     if (o_.listing->file.empty()) {
       std::cout << text;
-    } else if (auto unwritten = write_file_atomically(o_.listing->file, text)) {
+    } else if (auto unwritten = savefile::write_file_atomically(o_.listing->file, text)) {
       std::cerr << "rcxc (as nqc): cannot write " << o_.listing->file << ": " << *unwritten << "\n";
       return kNqcExitCompile;
     }
@@ -398,7 +398,7 @@ class Session {
     }
     if (image_file) {
       auto bytes = rcx::write_image(out.image);
-      if (auto unwritten = write_file_atomically(*image_file, std::string(bytes.begin(), bytes.end()))) {
+      if (auto unwritten = savefile::write_file_atomically(*image_file, std::string(bytes.begin(), bytes.end()))) {
         std::cerr << "rcxc (as nqc): cannot write " << *image_file << ": " << *unwritten << "\n";
         return kNqcExitCompile;
       }

@@ -11,6 +11,7 @@
 #include "backend/compile.h"
 #include "ir/lower.h"
 #include "cli/commands.h"
+#include "frontend/parse.h"
 #include "rcx/file_read.h"
 
 namespace rcxc::cli {
@@ -19,6 +20,17 @@ namespace {
 bool is_identifier(const std::string& name) {
   if (name.empty() || std::isdigit(static_cast<unsigned char>(name[0]))) return false;
   return std::all_of(name.begin(), name.end(), [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; });
+}
+
+// A keyword as the name: as a #define of it is refused (nqc's lexer takes
+// its keywords first, so nqc never expands such a macro; rcxc would, and
+// `-D task=1` broke every task).
+std::optional<std::string> bad_macro_name(const std::string& option, const std::string& name) {
+  if (!is_identifier(name)) return option + ": a macro name must be an identifier";
+  if (const char* why = frontend::not_a_macro_name(name))
+    return option + ": '" + name + "' cannot be a macro name: it is " +
+           (why == std::string_view("a keyword") ? std::string(why) : "reserved by nqc (" + std::string(why) + ")");
+  return std::nullopt;
 }
 
 
@@ -57,9 +69,9 @@ void add_compiler_options(CLI::App* cmd, CompilerArgs& args) {
 
 std::optional<std::string> bad_compiler_arguments(const CompilerArgs& args) {
   for (const auto& d : args.defines)
-    if (!is_identifier(d.substr(0, d.find('=')))) return "-D" + d + ": a macro name must be an identifier";
+    if (auto bad = bad_macro_name("-D" + d, d.substr(0, d.find('=')))) return bad;
   for (const auto& u : args.undefines)
-    if (!is_identifier(u)) return "-U" + u + ": a macro name must be an identifier";
+    if (auto bad = bad_macro_name("-U" + u, u)) return bad;
   return std::nullopt;
 }
 

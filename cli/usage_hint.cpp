@@ -79,9 +79,11 @@ std::optional<std::string> misspelling_hint(const CLI::App& app, const std::vect
     // command has actions.
     first_word = false;
     if (commands.empty() || contains(commands, *w)) continue;
+    std::string what = where->get_parent() ? "action" : "command";
     if (auto near = frontend::closest_name(*w, commands))
-      return "unknown " + std::string(where->get_parent() ? "action" : "command") + " '" + *w + "': did you mean '" +
-             *near + "'?";
+      return "unknown " + what + " '" + *w + "': did you mean '" + *near + "'?";
+    // CLI11 says only "A subcommand is required", as if none were given.
+    return "unknown " + what + " '" + *w + "': the " + what + "s are listed below";
   }
   return std::nullopt;
 }

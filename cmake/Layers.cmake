@@ -5,6 +5,7 @@
 set(RCXC_LAYERS
   "rcx:"
   "tomlfile:"
+  "savefile:"
   "runtime:rcx,tomlfile"
   "link:rcx,runtime"
   "stdlib:"
@@ -13,6 +14,6 @@ set(RCXC_LAYERS
   "backend:rcx,frontend,ir"
   "verify:rcx,runtime"
   "format:rcx,frontend"
-  "lsp:stdlib,frontend,format"
+  "lsp:stdlib,frontend,format,savefile"
   "nxt:tomlfile"
-  "cli:rcx,runtime,link,stdlib,frontend,format,ir,backend,verify,nxt,lsp,cli")
+  "cli:rcx,savefile,runtime,link,stdlib,frontend,format,ir,backend,verify,nxt,lsp,cli")

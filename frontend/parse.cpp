@@ -267,4 +267,16 @@ std::vector<std::string_view> keywords() {
 
 bool is_keyword(std::string_view word) { return !word.empty() && find_keyword(word).has_value(); }
 
+const char* reserved_by_nqc(std::string_view word) {
+  if (word == "acquire" || word == "monitor" || word == "catch") return "a statement of the RCX 2 firmware";
+  if (word == "__event_src" || word == "__res") return "an intrinsic of other targets";
+  return nullptr;
+}
+
+const char* not_a_macro_name(std::string_view word) {
+  if (const char* why = reserved_by_nqc(word)) return why;
+  if (word == "until" || word == "inline" || word == "__source" || word == "__source_arg") return nullptr;
+  return is_keyword(word) ? "a keyword" : nullptr;
+}
+
 }  // namespace rcxc::frontend

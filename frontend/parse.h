@@ -21,4 +21,16 @@ ast::Program parse_tokens(std::vector<Token> tokens, Diagnostics& diags);
 std::vector<std::string_view> keywords();
 bool is_keyword(std::string_view word);
 
+// Words nqc reserves that rcxc's grammar does not use (`acquire monitor
+// catch __res __event_src`): why nqc has them ("a statement of the RCX 2
+// firmware"), or nullptr for any other word. nqc refuses them as names.
+const char* reserved_by_nqc(std::string_view word);
+
+// Why `word` cannot be a macro name (nqc's lexer gives its keywords and
+// reserved words before the preprocessor sees them: "#define required a
+// symbol name"), or nullptr when it can. rcxc's own keywords that nqc has
+// as macros or not at all (`until`, `inline`, `__source`, `__source_arg`)
+// can.
+const char* not_a_macro_name(std::string_view word);
+
 }  // namespace rcxc::frontend

@@ -10,6 +10,7 @@
 #include <unordered_set>
 #include <utility>
 
+#include "frontend/parse.h"
 #include "rcx/file_read.h"
 #include "stdlib/stdlib.h"
 
@@ -555,6 +556,7 @@ class Preprocessor {
       diags_.error(t.span, "'defined' needs a macro name: defined(NAME)");
       return false;
     }
+    if (not_a_macro_name(name, "'defined'")) return false;
     t.kind = TokenKind::Number;
     t.text = find_macro(name.text) ? "1" : "0";
     return true;
@@ -733,6 +735,18 @@ class Preprocessor {
                      "extra tokens after #" + std::string(line[0].text) + " are ignored");
   }
 
+  // nqc's lexer takes its keywords and reserved words before its
+  // preprocessor sees them, so none is a macro name there ("#define
+  // required a symbol name"): a program that used one would not compile
+  // with nqc. True after saying so at `name`.
+  bool not_a_macro_name(const Token& name, std::string_view what) {
+    const char* why = frontend::not_a_macro_name(name.text);
+    if (!why) return false;
+    std::string said = why == std::string_view("a keyword") ? "is a keyword" : "is reserved by nqc (" + std::string(why) + ")";
+    diags_.error(name.span, std::string(what) + " needs a macro name: '" + std::string(name.text) + "' " + said);
+    return true;
+  }
+
   void begin_if(std::string_view d, std::vector<Token>& line, const Token& hash) {
     Cond c;
     c.parent_active = active();
@@ -743,7 +757,7 @@ class Preprocessor {
         value = eval_condition(line);
       } else if (line.size() < 2 || line[1].kind != TokenKind::Identifier) {
         diags_.error(line.size() < 2 ? line[0].span : line[1].span, "#" + std::string(d) + " needs a macro name");
-      } else {
+      } else if (!not_a_macro_name(line[1], "#" + std::string(d))) {
         value = (find_macro(line[1].text) != nullptr) == (d == "ifdef");
         extra_tokens(line, 2);
       }
@@ -807,6 +821,7 @@ class Preprocessor {
       diags_.error(line[1].span, "'defined' cannot be used as a macro name");
       return;
     }
+    if (not_a_macro_name(line[1], "#define")) return;
     std::size_t i = 2;
     if (i < line.size() && line[i].is("(") && !line[i].space_before) {
       m.function_like = true;
@@ -874,6 +889,7 @@ class Preprocessor {
       diags_.error(line.size() < 2 ? line[0].span : line[1].span, "#undef needs a macro name");
       return;
     }
+    if (not_a_macro_name(line[1], "#undef")) return;
     if (auto it = defined_.find(line[1].text); it != defined_.end()) defined_.erase(it);
     extra_tokens(line, 2);
   }
@@ -941,7 +957,14 @@ class Preprocessor {
                               ", not a source file");
       return;
     }
-    diags_.error(where, "cannot find include file '" + name + "'");
+    auto& e = diags_.error(where, "cannot find include file '" + name + "'");
+    // A mistyped -I is taken without a word (as gcc takes it); here is
+    // where it shows.
+    for (const auto& d : opts_.include_dirs) {
+      std::error_code ec;
+      if (!fs::is_directory(d, ec))
+        e.notes.push_back({{}, "-I " + d + (fs::exists(d, ec) ? " is a file, not a folder" : ": no such folder")});
+    }
   }
 
   // False (with a diagnostic naming the chain) if `key` would be open a

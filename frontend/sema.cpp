@@ -10,6 +10,7 @@
 #include <unordered_map>
 
 #include "frontend/fold.h"
+#include "frontend/parse.h"
 #include "frontend/ranges.h"
 #include "frontend/spelling.h"
 #include "frontend/token.h"
@@ -63,15 +64,6 @@ bool is_rcx2_api_name(const std::string& name) {
 std::string nxc_power_hint(const std::string& callee, std::size_t args) {
   if (args != 2 || (callee != "OnFwd" && callee != "OnRev")) return "";
   return " (the RCX sets the power apart: SetPower(outputs, 0 to 7); " + callee + "(outputs, power) is NXC's)";
-}
-
-// Words nqc reserves that rcxc's grammar does not use: they name RCX 2
-// statements and other targets' intrinsics. A program using one as a name
-// does not compile with nqc, so it is refused here too. nullptr for others.
-const char* reserved_by_nqc(const std::string& name) {
-  if (name == "acquire" || name == "monitor" || name == "catch") return "a statement of the RCX 2 firmware";
-  if (name == "__event_src" || name == "__res") return "an intrinsic of other targets";
-  return nullptr;
 }
 
 std::string kind_name(SymbolKind k) {
@@ -132,6 +124,7 @@ class Checker {
   SymbolId body_symbols_begin_ = 0;
   bool in_function_ = false;
   bool in_case_value_ = false;  // reading a `case` value (see TypeOf)
+  bool in_const_argument_ = false;  // reading the argument of a `const int` parameter (see TypeOf)
   // The global whose initial value is being checked (see check_global).
   std::optional<std::uint32_t> initialising_global_;
   std::unordered_map<std::string, SymbolId> labels_;
@@ -534,6 +527,16 @@ class Checker {
     return any;
   }
 
+  // The first assignment (`x = 5`, `x += 2`) in `e` outside an inner
+  // __type (which says so itself), or nullptr.
+  static const Expr* assignment_in(const Expr& e) {
+    if (as<Assign>(e)) return &e;
+    if (as<TypeOf>(e)) return nullptr;
+    const Expr* found = nullptr;
+    visit_children(e, [&](const Expr& c) { found = found ? found : assignment_in(c); });
+    return found;
+  }
+
   template <class F>
   static void visit_children(const Expr& e, F&& f) {
     std::visit(
@@ -796,9 +799,16 @@ class Checker {
 
   void visit_expr(Call& n, Expr& e, Use use) {
     std::size_t errors_before = diags_.error_count();
-    for (auto& a : n.args) expr(a, Use::Value);
-    bool args_ok = diags_.error_count() == errors_before;
     auto id = lookup_callee(n.callee);
+    const Function* callee = id && prog_.symbols[*id].kind == SymbolKind::Function
+                                 ? &prog_.functions[prog_.symbols[*id].index]
+                                 : nullptr;
+    for (std::size_t i = 0; i < n.args.size(); ++i) {
+      in_const_argument_ = callee && i < callee->params.size() && callee->params[i].kind == ParamKind::Const;
+      expr(n.args[i], Use::Value);
+      in_const_argument_ = false;
+    }
+    bool args_ok = diags_.error_count() == errors_before;
     if (!id) {
       undefined(n.callee, n.callee_span, " (no sub or function of that name)", true);
       return;
@@ -1009,12 +1019,19 @@ class Checker {
   // constant matters. Through a `const` parameter that is known at each call,
   // except in a case value, which nqc reads with the function, before any
   // call: there a parameter is a variable and __taskid not yet a constant
-  // (`case __type(n):` is `case 0:` whatever the argument).
+  // (`case __type(n):` is `case 0:` whatever the argument). nqc works out a
+  // `const int` argument when it reads the call, before it knows the task,
+  // so there too __taskid is not a constant (`k(__type(__taskid))` passes 0).
   void visit_expr(TypeOf& n, Expr& e, Use) {
     expr(*n.operand, Use::Value);
+    // nqc has no assignment expressions, so it refuses one here ("syntax
+    // error"); rcxc has them, and here one would silently never happen.
+    // (`x++` nqc takes, and computes no more than rcxc does.)
+    if (const Expr* a = assignment_in(*n.operand))
+      diags_.error(a->span, "an assignment inside __type is never made: __type does not compute its operand");
     if (!in_case_value_ && depends_on_const_param(*n.operand)) return;
     bool constant = nqc_constant(*n.operand, [](const Name&) -> const Expr* { return nullptr; }, std::nullopt,
-                                 !in_case_value_)
+                                 !in_case_value_ && !in_const_argument_)
                         .constant;
     e.constant = static_cast<std::int16_t>(constant ? 2 : 0);
   }

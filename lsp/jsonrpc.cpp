@@ -33,12 +33,55 @@ std::string truncated(std::uint64_t length) {
   return "the input ended inside a message of " + std::to_string(length) + " bytes (its Content-Length)";
 }
 
+// The value of a Content-Length header (what follows the colon), or
+// nullopt when it is not a number or is past belief.
+std::optional<std::uint64_t> content_length(const std::string& value) {
+  std::uint64_t n = 0;
+  bool digits = false;
+  for (char ch : value) {
+    if (ch == ' ' || ch == '\t') continue;
+    if (!std::isdigit(static_cast<unsigned char>(ch)) || n > kMaxSkip) return std::nullopt;
+    n = n * 10 + static_cast<std::uint64_t>(ch - '0');
+    digits = true;
+  }
+  if (!digits || n > kMaxSkip) return std::nullopt;
+  return n;
+}
+
+// Reads past `length` bytes; false when the input ends first.
+bool skip(std::istream& in, std::uint64_t length) {
+  for (std::uint64_t left = length; left > 0;) {
+    auto step = static_cast<std::streamsize>(std::min<std::uint64_t>(left, std::uint64_t{1} << 30));
+    in.ignore(step);
+    left -= static_cast<std::uint64_t>(in.gcount());
+    if (in.gcount() < step) return false;
+  }
+  return true;
+}
+
+// After a header that gave two lengths the body is passed over as the
+// shorter says when those bytes are JSON text whole (no proper beginning of
+// an object is), else as the longer says. Either way the message is
+// refused: a guess that ran the wrong text would be worse than none.
+Frame refuse_two_lengths(std::istream& in, std::uint64_t a, std::uint64_t b) {
+  std::uint64_t shorter = std::min(a, b), longer = std::max(a, b);
+  Frame refused{Frame::Kind::BadHeader, "",
+                "Content-Length given twice, as " + std::to_string(a) + " and " + std::to_string(b) +
+                    ": where the message ends is not known"};
+  if (shorter > kMaxBody) return skip(in, longer) ? refused : Frame{Frame::Kind::End, "", truncated(longer)};
+  std::string body(shorter, '\0');
+  in.read(body.data(), static_cast<std::streamsize>(shorter));
+  if (static_cast<std::size_t>(in.gcount()) != shorter) return {Frame::Kind::End, "", truncated(shorter)};
+  if (nlohmann::json::accept(body) || skip(in, longer - shorter)) return refused;
+  return {Frame::Kind::End, "", truncated(longer)};
+}
+
 }  // namespace
 
 Frame read_frame(std::istream& in) {
   std::string line;
-  std::optional<std::uint64_t> length;
-  std::string problem;
+  std::optional<std::uint64_t> length, second_length;
+  std::string problem, remark;
   bool any = false;
   while (true) {
     if (!read_line(in, line))
@@ -50,37 +93,30 @@ Frame read_frame(std::istream& in) {
     any = true;
     if (iequals_prefix(line, "content-length:")) {
       std::string value = line.substr(15);
-      std::uint64_t n = 0;
-      bool digits = false, ok = true;
-      for (char ch : value) {
-        if (ch == ' ' || ch == '\t') continue;
-        if (!std::isdigit(static_cast<unsigned char>(ch)) || n > kMaxSkip) {
-          ok = false;
-          break;
-        }
-        n = n * 10 + static_cast<std::uint64_t>(ch - '0');
-        digits = true;
-      }
-      if (ok && digits && n <= kMaxSkip)
-        length = n;
-      else
+      auto n = content_length(value);
+      if (!n) {
         problem = "bad Content-Length '" + value + "'";
+        remark = problem + " ignored: another gives the length";
+      } else if (length && *n != *length) {
+        second_length = n;
+      } else {
+        // The same length twice is one length, as HTTP may take it (RFC
+        // 9110, 8.6), but it is said: LSP asks for the header once.
+        if (length) remark = "Content-Length given twice, as " + std::to_string(*n) + " both times: read as one";
+        length = n;
+      }
     } else if (line.find(':') == std::string::npos) {
       problem = "header line without ':'";
     }
   }
+  if (length && second_length) return refuse_two_lengths(in, *length, *second_length);
   if (!length) return {Frame::Kind::BadHeader, "", problem.empty() ? "no Content-Length header" : problem};
   if (*length > kMaxBody) {
     // Too large to hold, but the length is believable: reading past the
     // body keeps the next message's header where it is looked for. Taking
     // the body's first line for a header instead would lose the messages
     // after it too.
-    for (std::uint64_t left = *length; left > 0 && in;) {
-      auto step = static_cast<std::streamsize>(std::min<std::uint64_t>(left, std::uint64_t{1} << 30));
-      in.ignore(step);
-      left -= static_cast<std::uint64_t>(in.gcount());
-      if (in.gcount() < step) return {Frame::Kind::End, "", truncated(*length)};
-    }
+    if (!skip(in, *length)) return {Frame::Kind::End, "", truncated(*length)};
     return {Frame::Kind::BadHeader, "",
             "a message of " + std::to_string(*length) + " bytes skipped (the limit is " + std::to_string(kMaxBody >> 20) +
                 " MiB)"};
@@ -88,7 +124,7 @@ Frame read_frame(std::istream& in) {
   std::string body(*length, '\0');
   in.read(body.data(), static_cast<std::streamsize>(*length));
   if (static_cast<std::size_t>(in.gcount()) != *length) return {Frame::Kind::End, "", truncated(*length)};
-  return {Frame::Kind::Message, std::move(body), ""};
+  return {Frame::Kind::Message, std::move(body), remark};
 }
 
 void write_message(std::ostream& out, const nlohmann::json& message) {

@@ -31,12 +31,15 @@ inline constexpr std::uint64_t kMaxSkip = 1'000'000'000'000'000'000u;
 struct Frame {
   enum class Kind { Message, BadHeader, End } kind = Kind::End;
   std::string body;   // Message: the JSON text
-  std::string error;  // BadHeader: what was wrong; End: why, when the input ended inside a message
+  // BadHeader: what was wrong; End: why, when the input ended inside a
+  // message; Message: what was odd in its header but could be read past.
+  std::string error;
 };
 
-// Reads the next frame. A header block without a usable Content-Length is
-// reported (and skipped) as BadHeader; End at end of input (with an error
-// when it ended inside a message: that message is lost).
+// Reads the next frame. A header block without a usable Content-Length, or
+// with two that differ, is reported (and skipped) as BadHeader; End at end
+// of input (with an error when it ended inside a message: that message is
+// lost).
 Frame read_frame(std::istream& in);
 
 // Writes one message with its header and flushes.

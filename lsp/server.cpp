@@ -15,6 +15,7 @@
 #include "frontend/parse.h"
 #include "lsp/jsonrpc.h"
 #include "lsp/outline.h"
+#include "savefile/savefile.h"
 #include "stdlib/stdlib.h"
 
 namespace rcxc::lsp {
@@ -157,14 +158,16 @@ std::string stdlib_copy(Server& server, const std::string& name) {
     dir = base / "rcxc" / ("stdlib-" + std::to_string(std::hash<std::string_view>{}(*text) % 1000000007u));
   }
   fs::path file = dir / name;
+  // A copy is trusted only when it is the library byte for byte: one cut
+  // short or changed is written again. The write goes to a temporary that
+  // is then renamed, so a full disk or a crash mid-write leaves no part of
+  // a copy for the editor, or the next server, to read.
   std::ifstream existing(file, std::ios::binary);
   std::stringstream ss;
   if (existing) ss << existing.rdbuf();
   if (!existing || ss.str() != *text) {
     fs::create_directories(dir, ec);
-    std::ofstream out(file, std::ios::binary | std::ios::trunc);
-    out << *text;
-    if (!out) return "";
+    if (savefile::write_file_atomically(file.string(), std::string(*text))) return "";
   }
   return fs::absolute(file, ec).string();
 }
@@ -935,6 +938,7 @@ int serve(Server& server, std::istream& in, std::ostream& out, std::ostream& log
       log << "rcxc lsp: skipped a message: " << frame.error << "\n";
       continue;
     }
+    if (!frame.error.empty()) log << "rcxc lsp: " << frame.error << "\n";
     for (const auto& reply : handle_text(server, frame.body)) write_message(out, reply);
   }
   return server.shutdown && server.exited ? 0 : 1;

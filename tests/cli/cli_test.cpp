@@ -2,6 +2,8 @@
 // usage text goes are checked end to end against the real binary.
 #include <gtest/gtest.h>
 
+#include <nlohmann/json.hpp>
+
 #include <string>
 #include <utility>
 #include <vector>
@@ -64,6 +66,22 @@ TEST(Cli, AMisspeltCommandActionOrOptionGetsADidYouMean) {
   EXPECT_EQ(far.err.find("did you mean"), std::string::npos) << far.err;
 }
 
+// An NXT action nothing like any got only "A subcommand is required", as if
+// none had been given.
+TEST(Cli, AnUnknownActionWithNothingNearIsNamed) {
+  const std::pair<std::vector<std::string>, std::string> cases[] = {
+      {{"nxt", "zzzzzz"}, "unknown action 'zzzzzz': the actions are listed below"},
+      {{"nxt", "mailbox", "zzzzzz", "1"}, "unknown action 'zzzzzz': the actions are listed below"},
+      {{"zzzzzz"}, "unknown command 'zzzzzz': the commands are listed below"},
+  };
+  for (const auto& [args, said] : cases) {
+    auto r = run_rcxc(args);
+    EXPECT_EQ(r.exit_code, 2) << args[0] << ": " << r.err;
+    EXPECT_NE(r.err.find("rcxc: " + said), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("Usage: rcxc"), std::string::npos) << r.err;
+  }
+}
+
 TEST(Cli, MissingSubcommandIsUsageError) {
   auto r = run_rcxc({});
   EXPECT_EQ(r.exit_code, 2);
@@ -96,8 +114,60 @@ TEST(Cli, AnEmptyValueOrANegativeSeedIsAUsageError) {
   EXPECT_EQ(run_rcxc({"run", p, "--seed", "0", "--for", "10"}).exit_code, 0);
 }
 
+// A seed past 2^64 - 1 ran as 2^64 - 1 without a word (so 2^64 and
+// 99999999999999999999 gave the same run as 18446744073709551615).
+TEST(Cli, ASeedPastSixtyFourBitsIsAUsageError) {
+  rcxc::test::TempDir d;
+  std::string p = d.write("p.nqc", "task main() { On(OUT_A); }\n");
+  for (const std::string seed : {"18446744073709551616", "99999999999999999999", "000000000000000000000018446744073709551616"})
+    for (const std::vector<std::string>& args : std::vector<std::vector<std::string>>{
+             {"run", p, "--seed", seed}, {"compare", p, "--seed", seed}, {"brick", "--pty", "--seed", seed}}) {
+      auto r = run_rcxc(args, "", 10000);
+      EXPECT_EQ(r.exit_code, 2) << args[0] << " " << seed << ": " << r.err;
+      EXPECT_NE(r.err.find(seed.substr(seed.find_first_not_of('0')) + "' is more than 18446744073709551615"),
+                std::string::npos)
+          << r.err;
+      EXPECT_TRUE(r.out.empty()) << r.out;
+    }
+  for (const std::string seed : {"18446744073709551615", "0018446744073709551615"})
+    EXPECT_EQ(run_rcxc({"run", p, "--seed", seed, "--for", "10"}).exit_code, 0) << seed;
+}
+
+// CLI11 read a leading zero as octal: `--for 010` ran 8 ms, `--seed 010`
+// was seed 8, `--for 09` was "Could not convert". Every whole number is
+// decimal now.
+TEST(Cli, LeadingZerosAreDecimalNotOctal) {
+  rcxc::test::TempDir d;
+  std::string p = d.write("p.nqc", "int x;\ntask main() { x = Random(1000); Wait(1000); }\n");
+  auto time_and_x = [&](const std::vector<std::string>& extra) {
+    std::vector<std::string> args = {"run", p, "--report", "json"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    auto r = run_rcxc(args);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    auto j = nlohmann::json::parse(r.out, nullptr, false);
+    return j.is_discarded() ? std::pair<int, int>{-1, -1} : std::pair<int, int>{j["time_ms"], j["globals"]["x"]};
+  };
+  EXPECT_EQ(time_and_x({"--for", "010"}).first, 10);
+  EXPECT_EQ(time_and_x({"--for", "09"}).first, 9);
+  EXPECT_EQ(time_and_x({"--for", "5", "--seed", "010"}).second, time_and_x({"--for", "5", "--seed", "10"}).second);
+  EXPECT_NE(time_and_x({"--for", "5", "--seed", "010"}).second, time_and_x({"--for", "5", "--seed", "8"}).second);
+  EXPECT_EQ(run_rcxc({"run", p, "--for", "000"}).exit_code, 2);  // still 0, still out of range
+  EXPECT_EQ(run_rcxc({"nxt", "--port", "/dev/no-such-nxt", "tone", "0440", "0100"}).exit_code, 3);  // HZ, MS taken
+}
+
 // `rcxc lsp --stdlib-dir FILE` started, and every go to definition into the
 // standard library then answered null with nothing said anywhere.
+// `rcxc lsp -D 1X` (or -Dtask) started a server that compiled every
+// document with that macro; the compiling commands refuse it.
+TEST(Cli, AnLspMacroNameThatCannotBeOneIsAUsageError) {
+  for (const std::string option : {"-D1X", "-Dtask=1", "-Uacquire"}) {
+    auto r = run_rcxc({"lsp", option});
+    EXPECT_EQ(r.exit_code, 2) << option << ": " << r.err;
+    EXPECT_NE(r.err.find("rcxc lsp: " + option + ": "), std::string::npos) << r.err;
+    EXPECT_EQ(r.out, "");
+  }
+}
+
 TEST(Cli, AnLspStdlibDirThatIsAFileIsAUsageError) {
   rcxc::test::TempDir d;
   std::string file = d.write("not-a-folder", "x");

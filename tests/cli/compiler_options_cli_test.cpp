@@ -55,6 +55,24 @@ TEST(CompilerOptions, BadMacroNamesAndLevelsAreUsageErrors) {
   }
 }
 
+// -D task=1 replaced the keyword (every task then failed to parse) and
+// -D acquire was taken; as a #define of them is refused, so is the option.
+TEST(CompilerOptions, AKeywordAsAMacroNameIsAUsageError) {
+  TempDir d;
+  auto src = d.write("p.nqc", "task main() {}\n");
+  for (const std::string command : {"compile", "run", "disasm"}) {
+    auto r = run_rcxc({command, "-Dtask=1", src});
+    EXPECT_EQ(r.exit_code, 2) << command << ": " << r.err;
+    EXPECT_NE(r.err.find("-Dtask=1: 'task' cannot be a macro name: it is a keyword"), std::string::npos) << r.err;
+    r = run_rcxc({command, "-Uacquire", src});
+    EXPECT_EQ(r.exit_code, 2) << command << ": " << r.err;
+    EXPECT_NE(r.err.find("-Uacquire: 'acquire' cannot be a macro name: it is reserved by nqc (a statement of the RCX 2 firmware)"),
+              std::string::npos)
+        << r.err;
+  }
+  EXPECT_EQ(run_rcxc({"compile", "-Duntil=1", "-Dinline", src, "-o", d.path + "/p.rcx"}).exit_code, 0);
+}
+
 // gcc's -O3 was read as nqc's -O<file>: "the output file is -o 3". A level
 // that does not exist is named so; a file name still gets nqc's hint.
 TEST(CompilerOptions, ALevelThatDoesNotExistIsNotTakenForAnOutputFile) {

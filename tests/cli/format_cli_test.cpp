@@ -80,6 +80,19 @@ TEST(FormatCli, BadCommandLines) {
   EXPECT_EQ(run_rcxc({"format", "--indent", "9", messy}).exit_code, 2);
 }
 
+// `format - -` printed the text once and then nothing for the second '-'
+// (the input was used up), with exit 0.
+TEST(FormatCli, TheStandardInputTwiceIsAUsageError) {
+  TempDir dir;
+  std::string messy = dir.write("messy.nqc", kMessy);
+  for (const std::vector<std::string>& args : std::vector<std::vector<std::string>>{{"format", "-", "-"}, {"format", "-", messy, "-", "--check"}}) {
+    auto r = run_rcxc(args, kMessy);
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_EQ(r.out, "");
+    EXPECT_NE(r.err.find("'-' (the standard input) is given 2 times; it can be read once"), std::string::npos) << r.err;
+  }
+}
+
 TEST(FormatCli, TooLargeIsRefused) {
   auto r = run_rcxc({"format", "-"}, std::string((1 << 20) + 1, ' '));
   EXPECT_EQ(r.exit_code, 1);

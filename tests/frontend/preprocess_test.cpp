@@ -278,6 +278,40 @@ TEST(Preprocessor, TheLaterOfNoinitAndInitHolds) {
   EXPECT_FALSE(noinit_last.out.pragmas.init.has_value());
 }
 
+// nqc 3.1 (-Trcx) refuses each of these words as the name of #define,
+// #undef, #ifdef and #ifndef ("#define required a symbol name", marked on
+// the word), and in defined() ("syntax error in expression"); it takes the
+// others here (until only without its stdlib, which defines until).
+TEST(Preprocessor, TheWordsNqcReservesAreNoMacroNames) {
+  const char* refused[] = {"asm",     "break",    "case",     "const",    "continue", "default",     "do",
+                           "else",    "false",    "for",      "goto",     "if",       "int",         "repeat",
+                           "return",  "start",    "stop",     "sub",      "switch",   "task",        "true",
+                           "void",    "while",    "abs",      "sign",     "__nolist", "__sensor",    "__type",
+                           "__taskid", "acquire", "monitor",  "catch",    "__res",    "__event_src"};
+  for (std::string word : refused) {
+    auto p = run_pp("int a;\n#define " + word + " 1\n");
+    ASSERT_EQ(p.diags.all().size(), 1u) << word;
+    EXPECT_EQ(p.diags.all()[0].message.rfind("#define needs a macro name: '" + word + "' is ", 0), 0u)
+        << p.diags.all()[0].message;
+    EXPECT_EQ(p.diags.all()[0].span.begin.line, 2u);
+    EXPECT_EQ(p.diags.all()[0].span.begin.column, 9u);
+  }
+  for (std::string word : {"__asm", "inline", "until", "__source", "__source_arg", "long", "try", "__tasks"})
+    EXPECT_TRUE(run_pp("#define " + word + " 1\n#undef " + word + "\n#ifdef " + word + "\n#endif\n").diags.all().empty())
+        << word;
+  auto p = run_pp("#define acquire 1\n#undef task\n#ifdef monitor\nx\n#endif\n#ifndef __res\ny\n#endif\n"
+                  "#if defined(catch)\n#endif\n#if defined __event_src\n#endif\n");
+  EXPECT_EQ(messages(p.diags),
+            (std::vector<std::string>{
+                "#define needs a macro name: 'acquire' is reserved by nqc (a statement of the RCX 2 firmware)",
+                "#undef needs a macro name: 'task' is a keyword",
+                "#ifdef needs a macro name: 'monitor' is reserved by nqc (a statement of the RCX 2 firmware)",
+                "#ifndef needs a macro name: '__res' is reserved by nqc (an intrinsic of other targets)",
+                "'defined' needs a macro name: 'catch' is reserved by nqc (a statement of the RCX 2 firmware)",
+                "'defined' needs a macro name: '__event_src' is reserved by nqc (an intrinsic of other targets)"}));
+  EXPECT_EQ(p.joined, "");  // the groups of a refused #ifdef or #ifndef are skipped
+}
+
 TEST(Preprocessor, ReserveOutsideTheSlotsIsAnError) {
   auto p = run_pp("#pragma reserve 30 32\n#pragma reserve 5 2\n");
   EXPECT_EQ(messages(p.diags),
@@ -332,6 +366,25 @@ TEST(Preprocessor, IncludeSearchesFileFolderThenIncludeDirsThenStdlib) {
   EXPECT_FALSE(p.diags.has_errors()) << p.diags.all()[0].message;
   EXPECT_NE(p.joined.find("1 2 4"), std::string::npos) << p.joined;
   fs::remove_all(root);
+}
+
+// A mistyped -I (no such folder, or a file) was taken without a word, and
+// the include it was for then only "not found".
+TEST(Preprocessor, AMissingIncludeNamesTheIncludeFoldersThatAreNone) {
+  test::TempDir d;
+  std::string file = d.write("file.nqh", "");
+  std::filesystem::create_directory(d.path + "/real");
+  Options o;
+  o.include_dirs = {d.path + "/typo", file, d.path + "/real"};
+  auto p = run_pp("#include \"q.nqh\"\n", o, d.path + "/main.nqc", d.path);
+  ASSERT_EQ(messages(p.diags), (std::vector<std::string>{"cannot find include file 'q.nqh'"}));
+  std::vector<std::string> notes;
+  for (const auto& n : p.diags.all()[0].notes) notes.push_back(n.message);
+  EXPECT_EQ(notes, (std::vector<std::string>{"-I " + d.path + "/typo: no such folder",
+                                             "-I " + file + " is a file, not a folder"}));
+  // Found elsewhere, nothing is said of them.
+  d.write("q.nqh", "");
+  EXPECT_TRUE(run_pp("#include \"q.nqh\"\n", o, d.path + "/main.nqc", d.path).diags.all().empty());
 }
 
 TEST(Preprocessor, MissingIncludeAndIncludeCycleAreErrors) {

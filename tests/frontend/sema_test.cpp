@@ -284,6 +284,13 @@ const BadProgram kCases[] = {
     {"TypeOfChecksItsOperand", "int x;\ntask main() { x = __type(zz); }\n", {"2:26: error: 'zz' is not declared"}},
     {"TypeOfIsNoVariable", "int x;\ntask main() { __type(x) = 1; }\n",
      {"2:15: error: cannot assign to this expression: it is not a variable"}},
+    // nqc 3.1: "syntax error" for each (it has no assignment expressions);
+    // it takes __type(x++) and does not make the increment either.
+    {"AnAssignmentInsideTypeOf",
+     "int x, y;\ntask main() { y = __type(x = 5); y = __type((x += 1) + 1); y = __type(__type(y = x = 2)); y = __type(x++); }\n",
+     {"2:26: error: an assignment inside __type is never made: __type does not compute its operand",
+      "2:45: error: an assignment inside __type is never made: __type does not compute its operand",
+      "2:78: error: an assignment inside __type is never made: __type does not compute its operand"}},
     {"TaskIdInIfDirective", "#if __taskid\n#endif\ntask main() { }\n",
      {"1:5: error: __taskid is known only when the code is generated, not in #if"}},
 };
@@ -399,6 +406,12 @@ TEST(Sema, FoldConstantSeesThroughSubstitutedSources) {
   EXPECT_EQ(d.all().back().message, "division by zero in a constant expression");
 }
 
+static const Function* function_named(const Program& program, std::string_view name) {
+  for (const auto& f : program.functions)
+    if (f.name == name) return &f;
+  return nullptr;
+}
+
 TEST(Sema, TypeOfFoldsAsNqcCountsConstants) {
   // 2 for what nqc folds (x && 0 whatever x is), 0 for the rest, a timer
   // and x * 0 included (nqc does not fold them); a const parameter's is
@@ -412,12 +425,31 @@ TEST(Sema, TypeOfFoldsAsNqcCountsConstants) {
   for (std::size_t g = 1; g < r.program->globals.size(); ++g) got.push_back(r.program->globals[g].init->constant);
   using V = std::optional<std::int16_t>;
   EXPECT_EQ(got, (std::vector<V>{V(0), V(2), V(0), V(2), V(0), V(2), V(2), V(2), V(0)}));
-  const Function* k = nullptr;
-  for (const auto& f : r.program->functions)
-    if (f.name == "k") k = &f;
+  const Function* k = function_named(*r.program, "k");
   ASSERT_NE(k, nullptr);
   const auto& assign = std::get<Assign>(std::get<ExprStmt>(std::get<Block>(k->body.node).stmts[0].node).expr.node);
   EXPECT_FALSE(assign.value->constant);
+}
+
+// nqc 3.1 (-L) works a `const int` argument out when it reads the call,
+// before it knows the task: __type(__taskid) there is 0 (set var[0], 0), 1
+// with 1 added; a `const int &` argument, read at each expansion, gives 2,
+// and so does __type of a __type, which is constant either way.
+TEST(Sema, TypeOfTaskIdAsAConstIntArgumentIsZeroAsInNqc) {
+  auto r = run_frontend(
+      "int y;\nvoid k(const int t) { y = t; }\nvoid kr(const int &t) { y = t; }\n"
+      "void g() { k(__type(__taskid)); }\n"
+      "task main() { k(__type(__taskid)); k(__type(__taskid) + 1); kr(__type(__taskid)); k(__type(__type(__taskid))); g(); }\n");
+  ASSERT_TRUE(r.program) << r.text();
+  auto argument = [](const Stmt& s) { return std::get<Call>(std::get<ExprStmt>(s.node).expr.node).args.at(0).constant; };
+  using V = std::optional<std::int16_t>;
+  const auto& main_body = std::get<Block>(r.program->tasks.at(0).body.node).stmts;
+  std::vector<V> got;
+  for (std::size_t i = 0; i < 4; ++i) got.push_back(argument(main_body[i]));
+  EXPECT_EQ(got, (std::vector<V>{V(0), V(1), V(2), V(2)}));
+  const Function* g = function_named(*r.program, "g");
+  ASSERT_NE(g, nullptr);
+  EXPECT_EQ(argument(std::get<Block>(g->body.node).stmts.at(0)), V(0));
 }
 
 TEST(Sema, SensorNumberOfAConstantIsItsLowByte) {

@@ -2,7 +2,12 @@
 // on real programs (diagnostics, hover, completion, definition, references,
 // symbols, quick fixes), plus robustness against bad input.
 #include <gtest/gtest.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
+#include <csignal>
+#include <filesystem>
 #include <fstream>
 #include <functional>
 #include <memory>
@@ -44,6 +49,48 @@ TEST(LspFraming, BadHeadersAreReportedNotFatal) {
   f = read_frame(in);
   ASSERT_EQ(f.kind, Frame::Kind::Message);
   EXPECT_EQ(json::parse(f.body)["ok"], true);
+}
+
+// LSP asks for Content-Length once. Given twice alike it is one length,
+// said on stderr; given twice with different values the message is refused
+// (which end was meant cannot be known) and the next one is still read,
+// whichever of the two was the body's length.
+TEST(LspFraming, AContentLengthGivenTwice) {
+  const std::string body = R"({"jsonrpc":"2.0","id":10,"method":"initialize","params":{}})";  // 59 bytes
+  ASSERT_EQ(body.size(), 59u);
+  std::istringstream same("Content-Length: 59\r\ncontent-length:59\r\n\r\n" + body);
+  Frame f = read_frame(same);
+  ASSERT_EQ(f.kind, Frame::Kind::Message);
+  EXPECT_EQ(f.body, body);
+  EXPECT_EQ(f.error, "Content-Length given twice, as 59 both times: read as one");
+  for (std::string header : {"Content-Length: 59\r\nContent-Length: 70\r\n\r\n",
+                                    "Content-Length: 40\r\nContent-Length: 59\r\n\r\n"}) {
+    std::istringstream in(header + body + framed({{"next", 1}}));
+    f = read_frame(in);
+    EXPECT_EQ(f.kind, Frame::Kind::BadHeader) << header;
+    EXPECT_NE(f.error.find("Content-Length given twice, as "), std::string::npos) << f.error;
+    f = read_frame(in);
+    ASSERT_EQ(f.kind, Frame::Kind::Message) << header << f.error;
+    EXPECT_EQ(json::parse(f.body), json({{"next", 1}}));
+  }
+  // Through the server: the refused request is not run (no answer), the
+  // one after it is, and stderr says which header was wrong.
+  Server server;
+  const std::string exit = R"({"jsonrpc":"2.0","method":"exit"})";  // 33 bytes
+  std::istringstream in("Content-Length: 59\r\nContent-Length: 12\r\n\r\n" + body + framed(request(2, "initialize")) +
+                        framed(request(3, "shutdown")) + "Content-Length: 33\r\nContent-Length: 33\r\n\r\n" + exit);
+  std::ostringstream out, log;
+  EXPECT_EQ(serve(server, in, out, log), 0);
+  EXPECT_EQ(log.str(),
+            "rcxc lsp: skipped a message: Content-Length given twice, as 59 and 12: where the message ends is not known\n"
+            "rcxc lsp: Content-Length given twice, as 33 both times: read as one\n");
+  std::istringstream replies(out.str());
+  for (int id : {2, 3}) {
+    f = read_frame(replies);
+    ASSERT_EQ(f.kind, Frame::Kind::Message);
+    EXPECT_EQ(json::parse(f.body)["id"], id);
+  }
+  EXPECT_EQ(read_frame(replies).kind, Frame::Kind::End);
 }
 
 TEST(LspFraming, ATruncatedBodyEndsTheStream) {
@@ -336,6 +383,52 @@ TEST(LspDefinition, TheProgramsNamesAndTheStandardLibrary) {
   std::string line;
   for (int i = 0; i <= loc["range"]["start"]["line"].get<int>(); ++i) std::getline(copy, line);
   EXPECT_NE(line.find("void Wait("), std::string::npos) << line;
+}
+
+// The copy of rcx.nqh that go to definition opens is written whole or not
+// at all: a write cut short (here by a file size limit, as a full disk
+// would) leaves no part of it for the editor, or a later server, to read.
+TEST(LspDefinition, TheStdlibCopyIsNeverLeftCutShort) {
+  Session s(kProgram);
+  const std::string folder = s.dir.path + "/stdlib-copy";
+  const std::string copy = folder + "/rcx.nqh";
+  const std::string whole = test::read_text_file(RCXC_SOURCE_DIR "/stdlib/rcx.nqh");
+  ASSERT_GT(whole.size(), 4096u);
+  pid_t pid = ::fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    ::signal(SIGXFSZ, SIG_IGN);  // a write past the limit then fails with EFBIG
+    struct rlimit limit{4096, 4096};
+    ::setrlimit(RLIMIT_FSIZE, &limit);
+    json loc = s.at("textDocument/definition", 7, 3);  // Wait
+    ::_exit(loc.is_null() ? 0 : 1);                       // no copy: no place to show
+  }
+  int status = 0;
+  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 0) << "a definition was given in a copy that could not be written";
+  std::error_code ec;
+  EXPECT_FALSE(std::filesystem::exists(copy, ec)) << std::filesystem::file_size(copy, ec) << " bytes left";
+  EXPECT_TRUE(std::filesystem::is_empty(folder, ec)) << "a temporary was left behind";
+  // Without the limit the copy is written, whole.
+  json loc = s.at("textDocument/definition", 7, 3);
+  EXPECT_EQ(uri_to_path(loc["uri"]), copy);
+  EXPECT_EQ(test::read_text_file(copy), whole);
+}
+
+// A copy an earlier server left cut short or changed is not trusted: it is
+// written again before a definition is shown in it.
+TEST(LspDefinition, ACutOrChangedStdlibCopyIsWrittenAgain) {
+  const std::string whole = test::read_text_file(RCXC_SOURCE_DIR "/stdlib/rcx.nqh");
+  std::string changed = whole;
+  changed[changed.size() / 2] ^= 1;
+  for (const std::string& left : {whole.substr(0, whole.size() / 2), changed, std::string()}) {
+    Session s(kProgram);
+    std::filesystem::create_directories(s.dir.path + "/stdlib-copy");
+    s.dir.write("stdlib-copy/rcx.nqh", left);
+    json loc = s.at("textDocument/definition", 7, 3);
+    EXPECT_EQ(test::read_text_file(uri_to_path(loc["uri"])), whole);
+  }
 }
 
 TEST(LspDefinition, IntoIncludedFiles) {

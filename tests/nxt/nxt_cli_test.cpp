@@ -204,6 +204,33 @@ TEST(NxtCli, AnUnreadableUploadIsSaidBeforeThePortIsOpened) {
   EXPECT_NE(folder.err.find("is a directory, not a file to upload"), std::string::npos) << folder.err;
 }
 
+// Where a download cannot be written is said before the port is opened
+// (it was said only after the whole transfer: with no brick, the port's
+// "does not exist" came first, exit 3). A folder as FILE takes NAME in it.
+TEST(NxtCli, AnUnwritableDownloadIsSaidBeforeThePortIsOpened) {
+  TempDir dir;
+  const std::string nowhere = "/dev/no-such-nxt";
+  std::string plain = dir.write("plain", "x");
+  struct Case {
+    std::string file, said;
+  };
+  for (const Case& c : {Case{dir.path + "/no/such/x.rxe", dir.path + "/no/such/x.rxe: No such file or directory"},
+                        Case{dir.path + "/none/", dir.path + "/none/hello.rxe: No such file or directory"},
+                        Case{plain + "/x.rxe", plain + "/x.rxe: Not a directory"}}) {
+    auto r = nxt(nowhere, {"download", "hello.rxe", c.file});
+    EXPECT_EQ(r.exit_code, 1) << c.file << ": " << r.err;
+    EXPECT_EQ(r.err, "rcxc nxt download: cannot write " + c.said + "\n");
+  }
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir.path), std::filesystem::directory_iterator()), 1);
+  NxtBrickProcess brick;
+  ASSERT_EQ(nxt(brick.path, {"upload", dir.write("hello.rxe", std::vector<std::uint8_t>(70, 0x17))}).exit_code, 0);
+  std::filesystem::create_directory(dir.path + "/into");
+  auto r = nxt(brick.path, {"download", "hello.rxe", dir.path + "/into"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.out, "70 bytes to " + dir.path + "/into/hello.rxe\n");
+  EXPECT_EQ(dir.read("into/hello.rxe"), std::vector<std::uint8_t>(70, 0x17));
+}
+
 // A download that cannot be written whole (here a file-size limit) leaves
 // the local file as it was; it was opened for writing first and cut short.
 TEST(NxtCli, AFailedDownloadLeavesTheLocalFileAsItWas) {

@@ -1,4 +1,4 @@
-#include "cli/output_file.h"
+#include "savefile/savefile.h"
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -8,10 +8,11 @@
 #include <filesystem>
 #include <optional>
 #include <system_error>
+#include <utility>
 #include <fstream>
 #include <vector>
 
-namespace rcxc::cli {
+namespace rcxc::savefile {
 namespace {
 
 bool write_all(int fd, const std::string& bytes) {
@@ -60,7 +61,35 @@ std::optional<std::string> plain_file_behind_link(const std::string& path) {
   return std::nullopt;
 }
 
+// A fresh temporary beside `target` (mkstemp: O_EXCL, a random name): its
+// descriptor and name, or -1 with errno set.
+std::pair<int, std::string> temporary_beside(const std::filesystem::path& target) {
+  std::filesystem::path folder = target.parent_path().empty() ? std::filesystem::path(".") : target.parent_path();
+  // The name is cut to leave room for the dot and the random part: a file
+  // named with 250 characters is allowed, its temporary would not be.
+  std::string stem = target.filename().string().substr(0, kMostTemporaryStem);
+  std::string pattern = (folder / ("." + stem + ".XXXXXX")).string();
+  std::vector<char> name(pattern.begin(), pattern.end());
+  name.push_back('\0');
+  int fd = ::mkstemp(name.data());
+  return {fd, fd < 0 ? std::string() : std::string(name.data())};
+}
+
 }  // namespace
+
+std::optional<std::string> check_writable(const std::string& given) {
+  namespace fs = std::filesystem;
+  std::string path = plain_file_behind_link(given).value_or(given);
+  std::error_code ec;
+  auto status = fs::symlink_status(path, ec);
+  if (fs::is_directory(status)) return std::generic_category().message(EISDIR);
+  if (fs::exists(status) && !fs::is_regular_file(status)) return std::nullopt;
+  auto [fd, temp] = temporary_beside(fs::path(path));
+  if (fd < 0) return std::generic_category().message(errno);
+  ::close(fd);
+  fs::remove(temp, ec);
+  return std::nullopt;
+}
 
 std::optional<std::string> write_file_atomically(const std::string& given, const std::string& bytes) {
   namespace fs = std::filesystem;
@@ -86,17 +115,8 @@ std::optional<std::string> write_file_atomically(const std::string& given, const
   // The temporary is made by mkstemp (O_CREAT|O_EXCL, a random name) in the
   // target's folder, so the rename stays on one file system and no one can
   // have put a link at the temporary's name beforehand.
-  fs::path target(path);
-  fs::path folder = target.parent_path().empty() ? fs::path(".") : target.parent_path();
-  // The name is cut to leave room for the dot and the random part: a file
-  // named with 250 characters is allowed, its temporary would not be.
-  std::string stem = target.filename().string().substr(0, kMostTemporaryStem);
-  std::string pattern = (folder / ("." + stem + ".XXXXXX")).string();
-  std::vector<char> name(pattern.begin(), pattern.end());
-  name.push_back('\0');
-  int fd = ::mkstemp(name.data());
+  auto [fd, temp] = temporary_beside(fs::path(path));
   if (fd < 0) return failure(errno);
-  std::string temp(name.data());
   struct stat old{};
   mode_t mode = ::stat(path.c_str(), &old) == 0 ? (old.st_mode & 07777) : new_file_mode();
   int error = 0;
@@ -125,4 +145,4 @@ bool same_file(const std::string& a, const std::string& b) {
   return normal(a) == normal(b);
 }
 
-}  // namespace rcxc::cli
+}  // namespace rcxc::savefile
