@@ -53,22 +53,6 @@ void thread_jumps(Function& f) {
   }
 }
 
-void remove_unreachable(Function& f) {
-  std::vector<bool> seen(f.blocks.size(), false);
-  std::vector<BlockId> work{0};
-  seen[0] = true;
-  while (!work.empty()) {
-    BlockId b = work.back();
-    work.pop_back();
-    for (BlockId s : successors(f.blocks[static_cast<std::size_t>(b)].term))
-      if (!seen[static_cast<std::size_t>(s)]) {
-        seen[static_cast<std::size_t>(s)] = true;
-        work.push_back(s);
-      }
-  }
-  remove_blocks(f, seen);
-}
-
 // Appends a block to its only predecessor when that one jumps to it, so
 // straight-line code (an inline function's body and what follows the
 // call) is one block for the passes that work inside blocks.
@@ -224,6 +208,24 @@ void share_tails(Function& f) {
 }
 
 }  // namespace
+
+std::vector<bool> reachable_from(const Function& f, BlockId from) {
+  std::vector<bool> seen(f.blocks.size(), false);
+  std::vector<BlockId> work{from};
+  seen[static_cast<std::size_t>(from)] = true;
+  while (!work.empty()) {
+    BlockId b = work.back();
+    work.pop_back();
+    for (BlockId s : successors(f.blocks[static_cast<std::size_t>(b)].term))
+      if (!seen[static_cast<std::size_t>(s)]) {
+        seen[static_cast<std::size_t>(s)] = true;
+        work.push_back(s);
+      }
+  }
+  return seen;
+}
+
+void remove_unreachable(Function& f) { remove_blocks(f, reachable_from(f, 0)); }
 
 void simplify_cfg(Function& f) {
   if (f.blocks.empty()) return;

@@ -184,6 +184,19 @@ void simplify_cfg(Function& f);
 // that needs no more jump and test bytes.
 void rotate_loops(Function& f);
 
+// cfg.cpp: the blocks a path from block `from` reaches (itself included),
+// and dropping the blocks no path from the entry reaches.
+std::vector<bool> reachable_from(const Function& f, BlockId from);
+void remove_unreachable(Function& f);
+
+// entrytest.cpp: a jump to a test alone whose outcome the jumping block
+// fixes (it set the variables tested to constants: locals and temporaries,
+// which no other task writes) goes where the test would go. `int i = 0;
+// while (i < 10) ...`, rotated, enters the body directly instead of
+// jumping to the test at the bottom: one instruction and the jump's bytes
+// less each time the loop is entered. A loop the way in skips is dropped.
+void enter_past_known_tests(Function& f, const std::vector<Var>& vars);
+
 // layout.cpp: where a test can only branch when its comparison holds
 // (a < b of two variables has no single-instruction negation) and the
 // block after it is the true side, moves the false side there when that

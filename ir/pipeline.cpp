@@ -104,6 +104,7 @@ bool optimize(Program& p, OptLevel level, Diagnostics& diags, Log& log, const Pa
     for (auto& f : p.functions) {
       simplify_cfg(f);
       rotate_loops(f);
+      enter_past_known_tests(f, p.vars);
       place_branch_targets(f);
       place_exit_last(f);
     }
