@@ -210,6 +210,15 @@ void place_branch_targets(Function& f);
 // needs no jump over the loop.
 void place_exit_last(Function& f);
 
+// tailcopy.cpp (-O2 only): a jump on a loop to a short block (quick
+// commands, no wait, then a jump or a test) becomes a copy of that block:
+// one instruction, the jump, less on that path every pass, for at most 7
+// bytes more. `if (c) a; else b; SetPower(OUT_A, 7); }` at a loop's end
+// runs the power command on each side and goes straight back. Only where
+// the block has another way in, so nothing is left unreached; each copy is
+// reported in `log`.
+void copy_short_jump_targets(Function& f, Log& log);
+
 // A block order being decided for `f`, kept as positions so that moving
 // a run of blocks costs its length, not a renumbering of the function.
 struct BlockOrder {
