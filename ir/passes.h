@@ -211,7 +211,7 @@ void place_branch_targets(Function& f);
 void place_exit_last(Function& f);
 
 // tailcopy.cpp (-O2 only): a jump on a loop to a short block (quick
-// commands, no wait, then a jump or a test) becomes a copy of that block:
+// commands, no wait, then a jump) becomes a copy of that block:
 // one instruction, the jump, less on that path every pass, for at most 7
 // bytes more. `if (c) a; else b; SetPower(OUT_A, 7); }` at a loop's end
 // runs the power command on each side and goes straight back. Only where
