@@ -23,13 +23,19 @@ BlockId entered_at(Builder& b, VarId i, std::vector<Instr> entry, Operand limit 
   return std::get<Jump>(b.at(f, 0).term).target;
 }
 
+// Where the loop is entered when the way in sets `i`, of `kind`, to
+// `start`.
+BlockId entered_from(VarKind kind, int start) {
+  Builder b;
+  VarId i = kind == VarKind::Global ? b.global("i") : b.local("i");
+  return entered_at(b, i, {set(i, I(start))});
+}
+
 }  // namespace
 
 TEST(EntryTest, ALocalSetToAConstantEntersTheBody) {
   // int i = 0; while (i < 10) i++;
-  Builder b;
-  VarId i = b.local("i");
-  EXPECT_EQ(entered_at(b, i, {set(i, I(0))}), 1);
+  EXPECT_EQ(entered_from(VarKind::Local, 0), 1);
 }
 
 TEST(EntryTest, ATestThatFailsOnTheWayInSkipsTheLoop) {
@@ -44,9 +50,7 @@ TEST(EntryTest, ATestThatFailsOnTheWayInSkipsTheLoop) {
 
 TEST(EntryTest, AGlobalKeepsTheTest) {
   // Another task, or a PC, may write it between the set and the test.
-  Builder b;
-  VarId i = b.global("i");
-  EXPECT_EQ(entered_at(b, i, {set(i, I(0))}), 2);
+  EXPECT_EQ(entered_from(VarKind::Global, 0), 2);
 }
 
 TEST(EntryTest, AChangeAfterTheConstantKeepsTheTest) {

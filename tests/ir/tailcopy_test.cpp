@@ -12,6 +12,21 @@ namespace {
 
 constexpr int B = 2;
 
+// The copies the pass makes in `f`.
+std::size_t copies_in(Function& f) {
+  Log log;
+  copy_short_jump_targets(f, log);
+  return log.size();
+}
+
+// A function `main` of the given blocks, with a global x (variable 0).
+Function& function_of(Builder& b, std::vector<std::pair<std::vector<Instr>, Terminator>> blocks) {
+  b.global("x");
+  FuncId f = b.function("main");
+  for (auto& [instrs, term] : blocks) b.block(f, std::move(instrs), term);
+  return b.fn(f);
+}
+
 // while (true) { if (x == 0) then_side; else else_side; join; }: block 0
 // the test, 1 the else side, which falls into 2, the join that jumps back
 // to the test, and 3 the then side, which jumps to the join: that jump is
@@ -27,11 +42,7 @@ struct Loop {
     b.block(f, {sound(2)}, Jump{2});
   }
   const Block& then_side() { return b.at(f, 3); }
-  std::size_t copies() {
-    Log log;
-    copy_short_jump_targets(b.fn(f), log);
-    return log.size();
-  }
+  std::size_t copies() { return copies_in(b.fn(f)); }
 };
 
 }  // namespace
@@ -95,33 +106,25 @@ TEST(TailCopy, OutsideALoopTheJumpStays) {
   // if (x == 0) PlaySound(2); else PlaySound(1); x += 1; PlaySound(3); and
   // the task ends: the jump runs once, and a copy's bytes would buy nothing.
   Builder b;
-  VarId x = b.global("x");
-  FuncId f = b.function("main");
-  b.block(f, {}, Branch{Cmp::EQ, V(x), I(0), 3, 1});
-  b.block(f, {sound(1)}, Jump{2});
-  b.block(f, {add(x, I(1))}, Jump{4});
-  b.block(f, {sound(2)}, Jump{2});
-  b.block(f, {sound(3)});
-  Log log;
-  copy_short_jump_targets(b.fn(f), log);
-  EXPECT_TRUE(log.empty());
-  EXPECT_EQ(b.at(f, 3).instrs.size(), 1u);
+  Function& f = function_of(b, {{{}, Branch{Cmp::EQ, V(0), I(0), 3, 1}},
+                                {{sound(1)}, Jump{2}},
+                                {{add(0, I(1))}, Jump{4}},
+                                {{sound(2)}, Jump{2}},
+                                {{sound(3)}, Exit{}}});
+  EXPECT_EQ(copies_in(f), 0u);
+  EXPECT_EQ(f.blocks[3].instrs.size(), 1u);
 }
 
 TEST(TailCopy, ABlockWithNoOtherWayInStays) {
   // Block 3 is entered from block 1 alone: a copy would leave it unreached
   // (and the blocks are one straight line in all but their layout).
   Builder b;
-  VarId x = b.global("x");
-  FuncId f = b.function("main");
-  b.block(f, {}, Branch{Cmp::EQ, V(x), I(0), 2, 1});
-  b.block(f, {sound(1)}, Jump{3});
-  b.block(f, {sound(2)}, Jump{0});
-  b.block(f, {add(x, I(1))}, Jump{0});
-  Log log;
-  copy_short_jump_targets(b.fn(f), log);
-  EXPECT_TRUE(log.empty());
-  EXPECT_EQ(b.at(f, 1).instrs.size(), 1u);
+  Function& f = function_of(b, {{{}, Branch{Cmp::EQ, V(0), I(0), 2, 1}},
+                                {{sound(1)}, Jump{3}},
+                                {{sound(2)}, Jump{0}},
+                                {{add(0, I(1))}, Jump{0}}});
+  EXPECT_EQ(copies_in(f), 0u);
+  EXPECT_EQ(f.blocks[1].instrs.size(), 1u);
 }
 
 TEST(TailCopy, RawAsmKeepsTheFunctionAsItIs) {
