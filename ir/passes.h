@@ -184,10 +184,11 @@ void simplify_cfg(Function& f);
 // that needs no more jump and test bytes.
 void rotate_loops(Function& f);
 
-// cfg.cpp: the blocks a path from block `from` reaches (itself included),
-// and dropping the blocks no path from the entry reaches.
-std::vector<bool> reachable_from(const Function& f, BlockId from);
+// cfg.cpp: drops the blocks no path from the entry reaches.
 void remove_unreachable(Function& f);
+// cfg.cpp: for each block, the number of its strongly connected component:
+// two blocks with the same number lie on a loop together.
+std::vector<int> cycle_components(const Function& f);
 
 // entrytest.cpp: a jump to a test alone whose outcome the jumping block
 // fixes (it set the variables tested to constants: locals and temporaries,

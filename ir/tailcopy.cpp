@@ -50,6 +50,9 @@ void copy_short_jump_targets(Function& f, Log& log) {
   if (f.blocks.empty() || has_raw_asm(f)) return;
   const std::vector<bool> loop_blocks = repeat_blocks(f);
   std::vector<int> preds = predecessor_counts(f);
+  // Copying a block's code and terminator into a block of its component
+  // adds no loop: the components stay as they are.
+  const std::vector<int> components = cycle_components(f);
   for (std::size_t x = 0; x < f.blocks.size(); ++x) {
     const auto* jump = std::get_if<Jump>(&f.blocks[x].term);
     if (jump == nullptr || loop_blocks[x]) continue;
@@ -63,7 +66,7 @@ void copy_short_jump_targets(Function& f, Log& log) {
     // Only on a loop (the block jumped to leads back here): elsewhere the
     // jump runs once and the copy's bytes would buy nothing.
     auto added = bytes_added(f, static_cast<BlockId>(x), j);
-    if (!added || *added > kMostBytesAdded || !reachable_from(f, j)[x]) continue;
+    if (!added || *added > kMostBytesAdded || components[x] != components[ju]) continue;
     Block& from = f.blocks[x];
     const Block& to = f.blocks[ju];
     from.instrs.insert(from.instrs.end(), to.instrs.begin(), to.instrs.end());
