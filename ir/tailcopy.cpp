@@ -31,6 +31,9 @@ std::optional<int> bytes_added(const Function& f, BlockId x, BlockId j) {
   BlockId next = x + 1;
   if (const auto* jump = std::get_if<Jump>(&to.term)) {
     if (jump->target == j) return std::nullopt;  // a block that loops on itself
+    // A block that falls into the next one has no jump of its own to
+    // spare: the copy would need one, and save nothing.
+    if (jump->target == j + 1 && jump->target != next) return std::nullopt;
     return bytes + (jump->target != next ? kJump : 0);
   }
   return std::nullopt;

@@ -95,6 +95,21 @@ TEST(TailCopy, MoreThanSevenBytesStay) {
   EXPECT_EQ(three.copies(), 0u);
 }
 
+TEST(TailCopy, ABlockThatFallsIntoTheNextStays) {
+  // for (...; ...; i++) { if (c) {...} else {...} }: the join `i++` falls
+  // into the loop's test after it. A copy would have to jump to the test
+  // itself: the same instructions, 5 bytes more.
+  Builder b;
+  Function& f = function_of(b, {{{}, Branch{Cmp::EQ, V(0), I(0), 4, 1}},
+                                {{sound(1)}, Jump{2}},
+                                {{add(0, I(1))}, Jump{3}},
+                                {{}, Branch{Cmp::LT, V(0), I(10), 0, 5}},
+                                {{sound(2)}, Jump{2}},
+                                {{sound(3)}, Exit{}}});
+  EXPECT_EQ(copies_in(f), 0u);
+  EXPECT_EQ(f.blocks[4].instrs.size(), 1u);
+}
+
 TEST(TailCopy, ABlockEndingInATestStays) {
   // A copy of a test costs 7 bytes and more for a jump often not saved.
   Loop l({add(0, I(1))}, Branch{Cmp::EQ, V(0), I(3), 0, 4});
