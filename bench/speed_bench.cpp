@@ -608,6 +608,11 @@ ReactiveTotals generated_reactive(int count, bool trace) {
     t.theirs_short += s.theirs_short;
     t.shorts += s.shorts;
     t.slower_reactions.add(s, fmt::format("reactive {}", seed), s.behaves_alike ? "" : " (events differ at 2 ms)");
+    if (trace)
+      std::cerr << fmt::format("reactive {}: per pass {:.2f} vs {:.2f}, reaction {} vs {} instructions\n", seed,
+                               per_pass(s.ours_pass_instructions, s.ours_passes),
+                               per_pass(s.theirs_pass_instructions, s.theirs_passes), s.ours_reaction,
+                               s.theirs_reaction);
   }
   return t;
 }

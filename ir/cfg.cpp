@@ -53,22 +53,6 @@ void thread_jumps(Function& f) {
   }
 }
 
-void remove_unreachable(Function& f) {
-  std::vector<bool> seen(f.blocks.size(), false);
-  std::vector<BlockId> work{0};
-  seen[0] = true;
-  while (!work.empty()) {
-    BlockId b = work.back();
-    work.pop_back();
-    for (BlockId s : successors(f.blocks[static_cast<std::size_t>(b)].term))
-      if (!seen[static_cast<std::size_t>(s)]) {
-        seen[static_cast<std::size_t>(s)] = true;
-        work.push_back(s);
-      }
-  }
-  remove_blocks(f, seen);
-}
-
 // Appends a block to its only predecessor when that one jumps to it, so
 // straight-line code (an inline function's body and what follows the
 // call) is one block for the passes that work inside blocks.
@@ -224,6 +208,81 @@ void share_tails(Function& f) {
 }
 
 }  // namespace
+
+namespace {
+
+// The blocks a path from block `from` reaches (itself included).
+std::vector<bool> reachable_from(const Function& f, BlockId from) {
+  std::vector<bool> seen(f.blocks.size(), false);
+  std::vector<BlockId> work{from};
+  seen[static_cast<std::size_t>(from)] = true;
+  while (!work.empty()) {
+    BlockId b = work.back();
+    work.pop_back();
+    for (BlockId s : successors(f.blocks[static_cast<std::size_t>(b)].term))
+      if (!seen[static_cast<std::size_t>(s)]) {
+        seen[static_cast<std::size_t>(s)] = true;
+        work.push_back(s);
+      }
+  }
+  return seen;
+}
+
+}  // namespace
+
+void remove_unreachable(Function& f) { remove_blocks(f, reachable_from(f, 0)); }
+
+std::vector<int> cycle_components(const Function& f) {
+  // Tarjan's algorithm with an explicit stack (a long task has thousands
+  // of blocks): one walk of every edge.
+  const std::size_t n = f.blocks.size();
+  std::vector<int> index(n, -1), low(n, 0), component(n, -1);
+  std::vector<bool> on_stack(n, false);
+  std::vector<BlockId> stack;
+  struct Frame {
+    BlockId block;
+    Successors next;
+    std::size_t edge = 0;
+  };
+  std::vector<Frame> walk;
+  int counter = 0, components = 0;
+  auto enter = [&](BlockId b) {
+    auto u = static_cast<std::size_t>(b);
+    index[u] = low[u] = counter++;
+    stack.push_back(b);
+    on_stack[u] = true;
+    walk.push_back({b, successors(f.blocks[u].term)});
+  };
+  for (std::size_t root = 0; root < n; ++root) {
+    if (index[root] >= 0) continue;
+    enter(static_cast<BlockId>(root));
+    while (!walk.empty()) {
+      Frame& top = walk.back();
+      auto u = static_cast<std::size_t>(top.block);
+      if (top.edge < top.next.size()) {
+        auto v = static_cast<std::size_t>(top.next[top.edge++]);
+        if (index[v] < 0) enter(static_cast<BlockId>(v));
+        else if (on_stack[v]) low[u] = std::min(low[u], index[v]);
+        continue;
+      }
+      if (low[u] == index[u]) {
+        for (BlockId w = -1; w != top.block;) {
+          w = stack.back();
+          stack.pop_back();
+          on_stack[static_cast<std::size_t>(w)] = false;
+          component[static_cast<std::size_t>(w)] = components;
+        }
+        ++components;
+      }
+      walk.pop_back();
+      if (!walk.empty()) {
+        auto parent = static_cast<std::size_t>(walk.back().block);
+        low[parent] = std::min(low[parent], low[u]);
+      }
+    }
+  }
+  return component;
+}
 
 void simplify_cfg(Function& f) {
   if (f.blocks.empty()) return;

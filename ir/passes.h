@@ -184,6 +184,20 @@ void simplify_cfg(Function& f);
 // that needs no more jump and test bytes.
 void rotate_loops(Function& f);
 
+// cfg.cpp: drops the blocks no path from the entry reaches.
+void remove_unreachable(Function& f);
+// cfg.cpp: for each block, the number of its strongly connected component:
+// two blocks with the same number lie on a loop together.
+std::vector<int> cycle_components(const Function& f);
+
+// entrytest.cpp: a jump to a test alone whose outcome the jumping block
+// fixes (it set the variables tested to constants: locals and temporaries,
+// which no other task writes) goes where the test would go. `int i = 0;
+// while (i < 10) ...`, rotated, enters the body directly instead of
+// jumping to the test at the bottom: one instruction and the jump's bytes
+// less each time the loop is entered. A loop the way in skips is dropped.
+void enter_past_known_tests(Function& f, const std::vector<Var>& vars);
+
 // layout.cpp: where a test can only branch when its comparison holds
 // (a < b of two variables has no single-instruction negation) and the
 // block after it is the true side, moves the false side there when that
@@ -196,6 +210,15 @@ void place_branch_targets(Function& f);
 // bytes: `if (c) { loop forever } else { ...; }` at a task's end then
 // needs no jump over the loop.
 void place_exit_last(Function& f);
+
+// tailcopy.cpp (-O2 only): a jump on a loop to a short block (quick
+// commands, no wait, then a jump) becomes a copy of that block:
+// one instruction, the jump, less on that path every pass, for at most 7
+// bytes more. `if (c) a; else b; SetPower(OUT_A, 7); }` at a loop's end
+// runs the power command on each side and goes straight back. Only where
+// the block has another way in, so nothing is left unreached; each copy is
+// reported in `log`.
+void copy_short_jump_targets(Function& f, Log& log);
 
 // A block order being decided for `f`, kept as positions so that moving
 // a run of blocks costs its length, not a renumbering of the function.

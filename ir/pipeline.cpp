@@ -104,8 +104,11 @@ bool optimize(Program& p, OptLevel level, Diagnostics& diags, Log& log, const Pa
     for (auto& f : p.functions) {
       simplify_cfg(f);
       rotate_loops(f);
+      enter_past_known_tests(f, p.vars);
       place_branch_targets(f);
       place_exit_last(f);
+      // Bytes for time: -Os keeps the jumps.
+      if (shrinks_without_slowing(level) && !trades_time_for_size(level)) copy_short_jump_targets(f, log);
     }
   // A coin toss runs one loop test more on one of its sides.
   if (trades_time_for_size(level)) toss_coins_on_loop_counter(p, log);

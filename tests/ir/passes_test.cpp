@@ -1144,3 +1144,26 @@ TEST(Calls, InliningEveryCallAtOnceEqualsOneAtATime) {
 }
 
 }  // namespace
+
+TEST(Order, CycleComponentsGroupTheBlocksOfEachLoop) {
+  // 0 -> 1; 1 -> {2, 4}; 2 -> 3; 3 -> 1 (a loop of 1, 2, 3); 4 -> 5;
+  // 5 -> {5, 6} (a poll on itself); 6 ends.
+  Builder b;
+  VarId g = b.global("g");
+  FuncId f = b.function("main");
+  b.block(f, {}, Jump{1});
+  b.block(f, {}, Branch{Cmp::NE, V(g), I(0), 2, 4});
+  b.block(f, {sound(1)}, Jump{3});
+  b.block(f, {sound(2)}, Jump{1});
+  b.block(f, {sound(3)}, Jump{5});
+  b.block(f, {}, Branch{Cmp::EQ, V(g), I(1), 5, 6});
+  b.block(f, {});
+  std::vector<int> c = cycle_components(b.fn(f));
+  ASSERT_EQ(c.size(), 7u);
+  EXPECT_EQ(c[1], c[2]);
+  EXPECT_EQ(c[2], c[3]);
+  for (int other : {0, 4, 5, 6}) EXPECT_NE(c[static_cast<std::size_t>(other)], c[1]);
+  EXPECT_NE(c[0], c[4]);
+  EXPECT_NE(c[4], c[5]);
+  EXPECT_NE(c[5], c[6]);
+}
