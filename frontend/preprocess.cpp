@@ -58,6 +58,9 @@ struct Macro {
   std::vector<std::string> params;
   std::vector<Token> body;
   SourceSpan span;  // the name in its #define
+  // nqc's `until(c)`, a macro for `while (!(c))` that rcxc's parser reads as
+  // a statement: defined to #ifdef and defined(), never expanded.
+  bool statement = false;
 };
 
 // One file being read: its tokens and where we are in them.
@@ -309,6 +312,14 @@ class Preprocessor {
     // test it to tell nqc from other compilers, and rcxc takes their nqc path.
     define_text("__NQC__", "301", cmd);
     define_text("__RCXC__", "1", cmd);
+    // nqc defines until(c) before any file, with -n too: programs that test
+    // for it, or define their own, see what they see with nqc.
+    Macro until;
+    until.name = "until";
+    until.function_like = true;
+    until.params = {"c"};
+    until.statement = true;
+    set_macro(std::move(until));
     for (const auto& [name, value] : opts_.defines) define_text(name, value, cmd);
     for (const auto& name : opts_.undefines) defined_.erase(name);
   }
@@ -429,6 +440,7 @@ class Preprocessor {
     if (it == defined_.end()) return false;
     std::uint32_t id = it->second;
     const Macro& m = macros_[id];
+    if (m.statement) return false;
     if (hide_sets_.contains(t.hide, id)) {
       if (reported_recursion_.insert(m.name).second)
         diags_.error(t.span, "macro '" + m.name + "' is defined in terms of itself (recursive macros never end)");
@@ -869,7 +881,10 @@ class Preprocessor {
         return;
       }
     }
-    if (const Macro* old = find_macro(m.name); old && !same_definition(*old, m)) {
+    if (const Macro* old = find_macro(m.name); old && old->statement) {
+      diags_.warning(m.span, "macro '" + m.name + "' redefined (nqc refuses this: it predefines " + m.name +
+                                 "(c) as while (!(c)))");
+    } else if (old && !same_definition(*old, m)) {
       auto& w = diags_.warning(m.span, "macro '" + m.name + "' redefined");
       if (old->span.begin.valid()) w.notes.push_back({old->span, "the previous definition is here"});
     }

@@ -231,6 +231,22 @@ TEST(Preprocessor, RedefinitionWithADifferentBodyWarns) {
   EXPECT_EQ(p.diags.all()[0].span.begin.line, 3u);
 }
 
+// nqc 3.1 predefines until(c) as while (!(c)), -n or not: `#ifdef until`
+// holds there, and `#define until` is its "redefinition of 'until'".
+TEST(Preprocessor, UntilIsDefinedAsNqcPredefinesIt) {
+  auto p = run_pp("#ifdef until\nyes\n#endif\n#if defined(until) && !defined(whilst)\nboth\n#endif\nuntil (x) ;\n");
+  EXPECT_TRUE(p.diags.all().empty());
+  EXPECT_EQ(p.joined, "yes both until ( x ) ;");
+  auto undone = run_pp("#undef until\n#ifndef until\ngone\n#endif\n");
+  EXPECT_EQ(undone.joined, "gone");
+  auto redefined = run_pp("#define until(c) while (!(c))\nuntil (x) ;\n");
+  ASSERT_EQ(redefined.diags.all().size(), 1u);
+  EXPECT_EQ(redefined.diags.all()[0].severity, Severity::Warning);
+  EXPECT_EQ(redefined.diags.all()[0].message,
+            "macro 'until' redefined (nqc refuses this: it predefines until(c) as while (!(c)))");
+  EXPECT_EQ(redefined.joined, "while ( ! ( x ) ) ;");
+}
+
 TEST(Preprocessor, CommandLineDefinesAndPredefinedMacros) {
   Options o;
   o.defines = {{"SPEED", "5"}, {"FLAG", "1"}, {"GONE", "1"}};
@@ -296,7 +312,8 @@ TEST(Preprocessor, TheWordsNqcReservesAreNoMacroNames) {
     EXPECT_EQ(p.diags.all()[0].span.begin.line, 2u);
     EXPECT_EQ(p.diags.all()[0].span.begin.column, 9u);
   }
-  for (std::string word : {"__asm", "inline", "until", "__source", "__source_arg", "long", "try", "__tasks"})
+  // until is taken too, with the warning UntilIsDefinedAsNqcPredefinesIt checks.
+  for (std::string word : {"__asm", "inline", "__source", "__source_arg", "long", "try", "__tasks"})
     EXPECT_TRUE(run_pp("#define " + word + " 1\n#undef " + word + "\n#ifdef " + word + "\n#endif\n").diags.all().empty())
         << word;
   auto p = run_pp("#define acquire 1\n#undef task\n#ifdef monitor\nx\n#endif\n#ifndef __res\ny\n#endif\n"
