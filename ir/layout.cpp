@@ -45,6 +45,13 @@ int BlockOrder::total() const {
   return sum;
 }
 
+int code_bytes(const Function& f) {
+  int sum = BlockOrder(f).total();
+  for (const Block& b : f.blocks)
+    for (const Instr& in : b.instrs) sum += instr_size(in);
+  return sum;
+}
+
 void BlockOrder::rotate(int first, int middle, int last) {
   std::rotate(order.begin() + first, order.begin() + middle, order.begin() + last);
   for (int p = first; p < last; ++p) pos[static_cast<std::size_t>(order[static_cast<std::size_t>(p)])] = p;

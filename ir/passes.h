@@ -217,8 +217,11 @@ void place_exit_last(Function& f);
 // bytes more. `if (c) a; else b; SetPower(OUT_A, 7); }` at a loop's end
 // runs the power command on each side and goes straight back. Only where
 // the block has another way in, so nothing is left unreached; each copy is
-// reported in `log`.
-void copy_short_jump_targets(Function& f, Log& log);
+// reported in `log`. The copies of one block add at most 7 bytes in all,
+// and the copies in `f` at most `bytes_to_spend` (what the other passes
+// saved in it: a loop whose code nothing else shortens, an if/else setting
+// a power, came out 4 bytes over nqc's with its copy).
+void copy_short_jump_targets(Function& f, Log& log, int bytes_to_spend);
 
 // A block order being decided for `f`, kept as positions so that moving
 // a run of blocks costs its length, not a renumbering of the function.
@@ -240,6 +243,10 @@ struct BlockOrder {
   // Renumbers `fn` (the function this order was made from) to this order.
   void apply(Function& fn) const;
 };
+
+// layout.cpp: the bytes of f's code in its present order (instructions,
+// jumps and tests, every branch near).
+int code_bytes(const Function& f);
 
 // nested_repeat.cpp: `repeat (a) repeat (b) S`, with constant counts and
 // nothing else in the outer body, becomes one counter loop of a*b (when the

@@ -48,7 +48,7 @@ bool has_raw_asm(const Function& f) {
 
 }  // namespace
 
-void copy_short_jump_targets(Function& f, Log& log) {
+void copy_short_jump_targets(Function& f, Log& log, int bytes_to_spend) {
   // Raw asm may branch by offset over the code a copy would move.
   if (f.blocks.empty() || has_raw_asm(f)) return;
   const std::vector<bool> loop_blocks = repeat_blocks(f);
@@ -56,6 +56,10 @@ void copy_short_jump_targets(Function& f, Log& log) {
   // Copying a block's code and terminator into a block of its component
   // adds no loop: the components stay as they are.
   const std::vector<int> components = cycle_components(f);
+  // Bytes the copies of each block have added so far: the cap holds for
+  // all of a block's copies together, not for each, or a join that many
+  // sides jump to (an else-if chain of eight) grows by a copy per side.
+  std::vector<int> bytes_copied(f.blocks.size(), 0);
   for (std::size_t x = 0; x < f.blocks.size(); ++x) {
     const auto* jump = std::get_if<Jump>(&f.blocks[x].term);
     if (jump == nullptr || loop_blocks[x]) continue;
@@ -69,7 +73,11 @@ void copy_short_jump_targets(Function& f, Log& log) {
     // Only on a loop (the block jumped to leads back here): elsewhere the
     // jump runs once and the copy's bytes would buy nothing.
     auto added = bytes_added(f, static_cast<BlockId>(x), j);
-    if (!added || *added > kMostBytesAdded || components[x] != components[ju]) continue;
+    if (!added || bytes_copied[ju] + *added > kMostBytesAdded || *added > bytes_to_spend ||
+        components[x] != components[ju])
+      continue;
+    bytes_copied[ju] += *added;
+    bytes_to_spend -= *added;
     Block& from = f.blocks[x];
     const Block& to = f.blocks[ju];
     from.instrs.insert(from.instrs.end(), to.instrs.begin(), to.instrs.end());
