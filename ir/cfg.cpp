@@ -209,13 +209,10 @@ void share_tails(Function& f) {
 
 }  // namespace
 
-namespace {
-
-// The blocks a path from block `from` reaches (itself included).
-std::vector<bool> reachable_from(const Function& f, BlockId from) {
+void remove_unreachable(Function& f) {
   std::vector<bool> seen(f.blocks.size(), false);
-  std::vector<BlockId> work{from};
-  seen[static_cast<std::size_t>(from)] = true;
+  std::vector<BlockId> work{0};
+  seen[0] = true;
   while (!work.empty()) {
     BlockId b = work.back();
     work.pop_back();
@@ -225,12 +222,8 @@ std::vector<bool> reachable_from(const Function& f, BlockId from) {
         work.push_back(s);
       }
   }
-  return seen;
+  remove_blocks(f, seen);
 }
-
-}  // namespace
-
-void remove_unreachable(Function& f) { remove_blocks(f, reachable_from(f, 0)); }
 
 std::vector<int> cycle_components(const Function& f) {
   // Tarjan's algorithm with an explicit stack (a long task has thousands
