@@ -57,8 +57,10 @@ bool optimize(Program& p, OptLevel level, Diagnostics& diags, Log& log, const Pa
   // Each function's bytes as lowered: -O2's copies of short joins may
   // spend only what the other passes saved (by name: uncalled subroutines
   // go).
+  const bool copies_joins = shrinks_without_slowing(level) && !trades_time_for_size(level);
   std::map<std::string, int> lowered_bytes;
-  for (const auto& f : p.functions) lowered_bytes[f.name] = code_bytes(f);
+  if (copies_joins)
+    for (const auto& f : p.functions) lowered_bytes[f.name] = code_bytes(f);
   if (level != OptLevel::O0) {
     // Once: the shapes it rewrites come from the lowering alone.
     if (shrinks_without_slowing(level))
@@ -116,8 +118,7 @@ bool optimize(Program& p, OptLevel level, Diagnostics& diags, Log& log, const Pa
       place_branch_targets(f);
       place_exit_last(f);
       // Bytes for time: -Os keeps the jumps.
-      if (shrinks_without_slowing(level) && !trades_time_for_size(level))
-        copy_short_jump_targets(f, log, lowered_bytes[f.name] - code_bytes(f));
+      if (copies_joins) copy_short_jump_targets(f, log, lowered_bytes[f.name] - code_bytes(f));
     }
   // A coin toss runs one loop test more on one of its sides.
   if (trades_time_for_size(level)) toss_coins_on_loop_counter(p, log);
