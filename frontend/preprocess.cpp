@@ -1078,7 +1078,7 @@ class Preprocessor {
       diags_.error(directive.span, "#" + std::string(directive.text) + " needs an expression");
       return false;
     }
-    CondEval ev{toks, diags_, 0, false, 0};
+    CondEval ev{toks, diags_, *this, 0, false, 0};
     std::int64_t v = ev.ternary();
     if (!ev.failed && ev.pos < toks.size()) ev.fail(toks[ev.pos], "unexpected '" + std::string(toks[ev.pos].text) + "' in #if expression");
     return !ev.failed && v != 0;
@@ -1090,6 +1090,7 @@ class Preprocessor {
   struct CondEval {
     const std::vector<Token>& toks;
     Diagnostics& diags;
+    const Preprocessor& pp;
     std::size_t pos;
     bool failed;
     int depth;
@@ -1213,8 +1214,31 @@ class Preprocessor {
         fail(t, std::string(t.text) + " is known only when the code is generated, not in #if");
         return 0;
       }
-      if (t.kind == TokenKind::Identifier) return t.text == "true" ? 1 : 0;  // C: unknown names are 0
+      if (t.kind == TokenKind::Identifier) return name_value(t);
       fail(t, "unexpected '" + std::string(t.text) + "' in #if expression");
+      return 0;
+    }
+
+    // C counts a name left after expansion as 0. nqc refuses the names
+    // that are a mistake there, and so does rcxc: a function-like macro
+    // without its arguments (`#if DEBUG` meant `#ifdef DEBUG`; nqc: "wrong
+    // number of arguments") and a keyword or reserved word (nqc: "syntax
+    // error in expression"). `true` is 1 and `false` 0, an extension.
+    std::int64_t name_value(const Token& t) {
+      if (t.text == "true") return 1;
+      if (t.text == "false") return 0;
+      std::string name(t.text);
+      if (const Macro* m = pp.find_macro(t.text); m && m->function_like) {
+        fail(t, "'" + name + "' is a function-like macro: #if needs its arguments, '" + name +
+                    "(...)'; to ask whether it is defined, write 'defined(" + name + ")'");
+        return 0;
+      }
+      if (const char* why = frontend::not_a_macro_name(t.text)) {
+        std::string said = why == std::string_view("a keyword") ? "a keyword"
+                                                                 : "reserved by nqc (" + std::string(why) + ")";
+        fail(t, "'" + name + "' is " + said + ", not a value: #if takes numbers and macros");
+        return 0;
+      }
       return 0;
     }
   };

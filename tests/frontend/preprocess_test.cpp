@@ -186,6 +186,39 @@ TEST(Preprocessor, ConditionalErrors) {
                                       "unterminated conditional directive (#endif missing)"}));
 }
 
+// A name left in an #if after expansion counts as 0, as in C, except where
+// nqc 3.1 refuses it: a function-like macro without its arguments (nqc:
+// "wrong number of arguments to 'F'"; `#if DEBUG` meant `#ifdef DEBUG`) and a
+// keyword or a word nqc reserves (nqc: "syntax error in expression"). rcxc
+// took all of these as 0.
+TEST(Preprocessor, IfRefusesWhatNqcRefuses) {
+  auto p = run_pp("#define F(x) x\n#define G() 5\n#define H F\n#if F\n#endif\n#if G || 1\n#endif\n#if H\n#endif\n"
+                  "#if task\n#endif\n#if acquire\n#endif\n#if 1 + while\n#endif\n#if until\n#endif\n");
+  EXPECT_EQ(messages(p.diags),
+            (std::vector<std::string>{
+                "'F' is a function-like macro: #if needs its arguments, 'F(...)'; to ask whether it is defined, write "
+                "'defined(F)'",
+                "'G' is a function-like macro: #if needs its arguments, 'G(...)'; to ask whether it is defined, write "
+                "'defined(G)'",
+                "'F' is a function-like macro: #if needs its arguments, 'F(...)'; to ask whether it is defined, write "
+                "'defined(F)'",
+                "'task' is a keyword, not a value: #if takes numbers and macros",
+                "'acquire' is reserved by nqc (a statement of the RCX 2 firmware), not a value: #if takes numbers and "
+                "macros",
+                "'while' is a keyword, not a value: #if takes numbers and macros",
+                "'until' is a function-like macro: #if needs its arguments, 'until(...)'; to ask whether it is "
+                "defined, write 'defined(until)'"}));
+  EXPECT_EQ(p.diags.all()[0].span.begin.line, 4u);
+  EXPECT_EQ(p.diags.all()[0].span.begin.column, 5u);
+  // What nqc takes stays as it was: F with its arguments, defined(F), an
+  // unknown name, a name C leaves alone, true and false, and `inline`,
+  // which nqc does not reserve.
+  auto ok =
+      run_pp("#define F(x) x\n#if F(2) == 2 && defined(F) && !UNKNOWN && !inline && true && !false\nyes\n#endif\n");
+  EXPECT_TRUE(ok.diags.all().empty()) << ok.diags.all()[0].message;
+  EXPECT_EQ(ok.joined, "yes");
+}
+
 TEST(Preprocessor, ErrorWarningUndefAndUnknownDirectives) {
   auto p = run_pp("#define X 1\n#undef X\n#ifdef X\nbad\n#endif\n#error stop  here\n#warning careful\n#frob\n");
   EXPECT_EQ(messages(p.diags), (std::vector<std::string>{"#error stop here", "#warning careful",
