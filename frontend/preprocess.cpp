@@ -61,6 +61,12 @@ struct Macro {
   // nqc's `until(c)`, a macro for `while (!(c))` that rcxc's parser reads as
   // a statement: defined to #ifdef and defined(), never expanded.
   bool statement = false;
+  // A function-like body nqc would turn into a syntax error where it is
+  // used ('#' before no parameter, '##' at an end): the error waits for a
+  // use, since nqc compiles a program that defines such a macro and never
+  // calls it. Empty when the body is sound.
+  std::string unusable;
+  SourceSpan unusable_at;
 };
 
 // One file being read: its tokens and where we are in them.
@@ -457,6 +463,12 @@ class Preprocessor {
       if (!next_is_lparen(s)) return false;
       Token rparen;
       if (!collect_args(s, t, m, args, rparen)) return true;
+      if (!m.unusable.empty()) {
+        auto& d =
+            diags_.error({t.span.begin, rparen.span.end}, "macro '" + m.name + "' cannot be used: " + m.unusable);
+        d.notes.push_back({m.unusable_at, "in the definition of macro '" + m.name + "'"});
+        return true;
+      }
       hide = hide_sets_.intersect(t.hide, rparen.hide);
     }
     std::size_t argument_tokens = 0;
@@ -861,9 +873,12 @@ class Preprocessor {
           break;
         }
       }
+      // nqc defines nothing then and says nothing; a use of the name
+      // fails later ("undefined variable"). A warning says why.
       if (!ok) {
-        diags_.error(i < line.size() ? line[i].span : line.back().span,
-                     "expected a parameter name or ')' in the parameter list of macro '" + m.name + "'");
+        diags_.warning(i < line.size() ? line[i].span : line.back().span,
+                       "expected a parameter name or ')' in the parameter list of macro '" + m.name +
+                           "': the #define is ignored");
         return;
       }
     }
@@ -871,15 +886,18 @@ class Preprocessor {
     if (!m.body.empty()) m.body.front().space_before = false;
     for (std::size_t k = 0; k < m.body.size(); ++k) {
       bool edge = k == 0 || k + 1 == m.body.size();
-      if (m.body[k].is("##") && edge) {
-        diags_.error(m.body[k].span, "'##' cannot appear at either end of a macro body");
+      std::string why;
+      if (m.body[k].is("##") && edge) why = "'##' cannot appear at either end of a macro body";
+      if (m.function_like && m.body[k].is("#") && (k + 1 == m.body.size() || param_index(m, m.body[k + 1]) < 0))
+        why = "'#' is not followed by a macro parameter";
+      if (why.empty()) continue;
+      if (!m.function_like) {
+        diags_.error(m.body[k].span, why);
         return;
       }
-      if (m.function_like && m.body[k].is("#") &&
-          (k + 1 == m.body.size() || param_index(m, m.body[k + 1]) < 0)) {
-        diags_.error(m.body[k].span, "'#' is not followed by a macro parameter");
-        return;
-      }
+      m.unusable = why;
+      m.unusable_at = m.body[k].span;
+      break;
     }
     if (const Macro* old = find_macro(m.name); old && old->statement) {
       diags_.warning(m.span, "macro '" + m.name + "' redefined (nqc refuses this: it predefines " + m.name +

@@ -219,6 +219,37 @@ TEST(Preprocessor, IfRefusesWhatNqcRefuses) {
   EXPECT_EQ(ok.joined, "yes");
 }
 
+// nqc compiles a program holding a #define it cannot use as long as the
+// program never uses it: a parameter list that does not parse defines
+// nothing (nqc says nothing; rcxc warns), and a function-like body with '#'
+// before no parameter or '##' at an end fails only where it is called. rcxc
+// refused all of these at the #define.
+TEST(Preprocessor, BrokenDefinitionsFailOnlyWhereNqcFails) {
+  auto unused = run_pp("#define A(x\n#define B(x,) x\n#define C(x y) x\n#define D(x) #y\n#define E(x) x ##\n"
+                       "#define F(x) ## x\n#define G(x) 1 #\nok\n");
+  EXPECT_EQ(messages(unused.diags),
+            (std::vector<std::string>{
+                "expected a parameter name or ')' in the parameter list of macro 'A': the #define is ignored",
+                "expected a parameter name or ')' in the parameter list of macro 'B': the #define is ignored",
+                "expected a parameter name or ')' in the parameter list of macro 'C': the #define is ignored"}));
+  EXPECT_FALSE(unused.diags.has_errors());
+  EXPECT_EQ(unused.joined, "ok");
+  auto used = run_pp("#define A(x\n#define D(x) #y\n#define E(x) x ##\nA(1) D(2) E(3) D\n");
+  EXPECT_EQ(messages(used.diags),
+            (std::vector<std::string>{
+                "expected a parameter name or ')' in the parameter list of macro 'A': the #define is ignored",
+                "macro 'D' cannot be used: '#' is not followed by a macro parameter",
+                "macro 'E' cannot be used: '##' cannot appear at either end of a macro body"}));
+  EXPECT_EQ(used.diags.all()[1].span.begin.line, 4u);
+  EXPECT_EQ(used.diags.all()[1].span.begin.column, 6u);
+  ASSERT_EQ(used.diags.all()[1].notes.size(), 1u);
+  EXPECT_EQ(used.diags.all()[1].notes[0].span.begin.line, 2u);
+  EXPECT_EQ(used.joined, "A ( 1 ) D");  // A was never defined; D without '(' is a name
+  // An object-like macro has no call to wait for: the #define fails, as in nqc.
+  EXPECT_EQ(messages(run_pp("#define H ## b\n").diags),
+            (std::vector<std::string>{"'##' cannot appear at either end of a macro body"}));
+}
+
 TEST(Preprocessor, ErrorWarningUndefAndUnknownDirectives) {
   auto p = run_pp("#define X 1\n#undef X\n#ifdef X\nbad\n#endif\n#error stop  here\n#warning careful\n#frob\n");
   EXPECT_EQ(messages(p.diags), (std::vector<std::string>{"#error stop here", "#warning careful",
