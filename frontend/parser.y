@@ -173,6 +173,14 @@ ExprPtr encoded_source(frontend::Feed& feed, Expr e, const SourceSpan& s) {
 void note_order(Program& p, SymbolKind kind, std::size_t index) {
   p.order.push_back(TopLevelRef{kind, static_cast<std::uint32_t>(index)});
 }
+// C's `void f();` before the definition (nqc: syntax error). NQC needs none:
+// a name may be used above the line that defines it.
+void prototype(frontend::Feed& feed, const SourceSpan& semicolon, const char* what, std::string_view name) {
+  feed.diags.error(semicolon, std::string("NQC has no declarations without a body: define the ") + what + " '" +
+                                  std::string(name) + "' here with its body, or leave this line out (a " + what +
+                                  " may be used above its definition)")
+      .parsed_past = true;
+}
 }  // namespace
 }
 
@@ -292,6 +300,10 @@ top
         note_order(feed.program, SymbolKind::Function, feed.program.functions.size());
         feed.program.functions.push_back(Function{std::string($3), @3, std::move($5), std::move(*$7), kNoSymbol});
       }
+  | TASK IDENT '(' ')' ';'                   { prototype(feed, @5, "task", $2); }
+  | SUB IDENT '(' ')' ';'                    { prototype(feed, @5, "sub", $2); }
+  | VOID IDENT '(' params_opt ')' ';'        { prototype(feed, @6, "function", $2); }
+  | INT IDENT '(' params_opt ')' ';'         { prototype(feed, @6, "function", $2); }
   | ';'
   | error ';'
   | error '}'

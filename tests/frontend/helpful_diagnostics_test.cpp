@@ -95,6 +95,29 @@ TEST(HelpfulDiagnostics, SubWithParametersSaysSubsTakeNone) {
   EXPECT_NE(r.diags.all()[0].message.find("'void add(...)'"), std::string::npos);
 }
 
+// A C habit: declaring a function above its use. nqc refuses it ("syntax
+// error"), and rcxc said "expected '{' before ';'", which did not say that
+// NQC needs no such line. The rest of the program is still checked.
+TEST(HelpfulDiagnostics, APrototypeSaysNqcNeedsNone) {
+  auto r = run_frontend("void turn(int t);\nsub beep();\ntask other();\nint twice(int x);\ntask main()\n{\n"
+                        "  turn(3); beep(); start other; undeclared = 1;\n}\nvoid turn(int t) { Wait(t); }\n"
+                        "sub beep() { PlaySound(1); }\ntask other() { }\n");
+  std::vector<std::string> got;
+  for (const auto& d : r.diags.all())
+    got.push_back(std::to_string(d.span.begin.line) + ":" + std::to_string(d.span.begin.column) + " " + d.message);
+  EXPECT_EQ(got, (std::vector<std::string>{
+                     "1:17 NQC has no declarations without a body: define the function 'turn' here with its body, "
+                     "or leave this line out (a function may be used above its definition)",
+                     "2:11 NQC has no declarations without a body: define the sub 'beep' here with its body, or "
+                     "leave this line out (a sub may be used above its definition)",
+                     "3:13 NQC has no declarations without a body: define the task 'other' here with its body, or "
+                     "leave this line out (a task may be used above its definition)",
+                     "4:17 NQC has no declarations without a body: define the function 'twice' here with its body, "
+                     "or leave this line out (a function may be used above its definition)",
+                     "7:33 'undeclared' is not declared"}))
+      << r.text();
+}
+
 TEST(HelpfulDiagnostics, LabelAtTheEndOfABlockWantsAStatement) {
   // C and nqc both refuse `end: }` and `case 1: }`; "expected an
   // expression" did not say what was missing.
