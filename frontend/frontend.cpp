@@ -59,7 +59,8 @@ bool contains(const SourceSpan& outer, const SourceLoc& at) {
 // run reports the semantic errors too. An error outside every body (a
 // broken declaration) could make all that follows look wrong: then the
 // checks are skipped, as a half-parsed declaration would only repeat it.
-void check_around_syntax_errors(ast::Program& program, Diagnostics& diags) {
+void check_around_syntax_errors(ast::Program& program, Diagnostics& diags,
+                                const std::vector<std::string>& function_macro_names) {
   std::vector<ast::Stmt*> bodies;
   for (auto& t : program.tasks) bodies.push_back(&t.body);
   for (auto& s : program.subs) bodies.push_back(&s.body);
@@ -74,7 +75,7 @@ void check_around_syntax_errors(ast::Program& program, Diagnostics& diags) {
   }
   for (std::size_t b = 0; b < bodies.size(); ++b)
     if (broken[b]) bodies[b]->node = ast::Block{};
-  check(program, diags);
+  check(program, diags, function_macro_names);
 }
 
 // An inline function defined at the standard library's top level: its
@@ -227,10 +228,10 @@ std::optional<ast::Program> run(std::uint32_t file, const std::string& dir, cons
   program.pragmas = std::move(pp.pragmas);
   program.macro_names = std::move(pp.macro_names);
   if (diags.has_errors()) {
-    check_around_syntax_errors(program, diags);
+    check_around_syntax_errors(program, diags, pp.function_macro_names);
     return std::nullopt;
   }
-  check(program, diags);
+  check(program, diags, pp.function_macro_names);
   if (diags.has_errors()) return std::nullopt;
   return program;
 }

@@ -269,7 +269,10 @@ class Preprocessor {
     end.span = last_span_;
     out_.tokens.push_back(end);
     out_.complete = !aborted_;
-    for (const auto& [name, id] : defined_) out_.macro_names.push_back(name);
+    for (const auto& [name, id] : defined_) {
+      out_.macro_names.push_back(name);
+      if (macros_[id].function_like && !macros_[id].statement) out_.function_macro_names.push_back(name);
+    }
     return std::move(out_);
   }
 

@@ -22,6 +22,7 @@ struct Preprocessed {
   // would only add errors about a cut the user did not make.
   bool complete = true;
   std::vector<std::string> macro_names;  // defined at the end, for "did you mean"
+  std::vector<std::string> function_macro_names;  // those of them that take arguments
 };
 
 // Preprocesses file `file` (already added to `sm`, with `dir` as the folder

@@ -95,7 +95,8 @@ enum class Use { Value, Discarded, Condition };
 
 class Checker {
  public:
-  Checker(Program& p, Diagnostics& d) : prog_(p), diags_(d) {}
+  Checker(Program& p, Diagnostics& d, const std::vector<std::string>& function_macro_names)
+      : prog_(p), diags_(d), function_macro_names_(function_macro_names) {}
 
   void run() {
     declare_top_level();
@@ -112,6 +113,7 @@ class Checker {
  private:
   Program& prog_;
   Diagnostics& diags_;
+  const std::vector<std::string>& function_macro_names_;
   std::unordered_map<std::string, SymbolId> globals_;
   // Global variables named like a task, sub or function declared before
   // them (`int On;`): nqc keeps variables apart from those, so the name is
@@ -228,6 +230,12 @@ class Checker {
     if (!reported_undefined_.insert(name).second) return;
     if (is_rcx2_api_name(name)) {
       diags_.error(span, "'" + name + "' is not declared (it belongs to the RCX 2 firmware's API; this target is the RCX)");
+      return;
+    }
+    // nqc: "wrong number of arguments to 'Random'".
+    if (std::find(function_macro_names_.begin(), function_macro_names_.end(), name) != function_macro_names_.end()) {
+      diags_.error(span, "'" + name + "' is not declared: it is a macro that takes arguments, written '" + name +
+                             "(...)'");
       return;
     }
     auto candidates = spelling_candidates(callee);
@@ -1117,9 +1125,9 @@ class Checker {
 
 }  // namespace
 
-void check(Program& program, Diagnostics& diags) {
+void check(Program& program, Diagnostics& diags, const std::vector<std::string>& function_macro_names) {
   program.symbols.clear();
-  Checker(program, diags).run();
+  Checker(program, diags, function_macro_names).run();
 }
 
 }  // namespace rcxc::frontend

@@ -11,6 +11,8 @@ namespace rcxc::frontend {
 
 inline constexpr int kMaxTasks = 10;  // the firmware's task slots
 
-void check(ast::Program& program, Diagnostics& diags);
+// `function_macro_names`: the macros that take arguments, defined at the
+// end of the program; such a name left in the program lacks its '('.
+void check(ast::Program& program, Diagnostics& diags, const std::vector<std::string>& function_macro_names = {});
 
 }  // namespace rcxc::frontend

@@ -118,6 +118,20 @@ TEST(HelpfulDiagnostics, APrototypeSaysNqcNeedsNone) {
       << r.text();
 }
 
+// `x = Message;` names an API macro that takes arguments; "'Message' is not
+// declared" told a beginner that the API has no Message (nqc: "wrong number
+// of arguments to 'Message'"). A macro of the program's own is named alike.
+TEST(HelpfulDiagnostics, AMacroWithoutItsArgumentsSaysItTakesThem) {
+  auto r = run_frontend("#define HALF(x) ((x) / 2)\nint x;\ntask main() { x = Message; x = Random + HALF; }\n");
+  std::vector<std::string> got;
+  for (const auto& d : r.diags.all()) got.push_back(d.message);
+  EXPECT_EQ(got, (std::vector<std::string>{
+                     "'Message' is not declared: it is a macro that takes arguments, written 'Message(...)'",
+                     "'Random' is not declared: it is a macro that takes arguments, written 'Random(...)'",
+                     "'HALF' is not declared: it is a macro that takes arguments, written 'HALF(...)'"}))
+      << r.text();
+}
+
 TEST(HelpfulDiagnostics, LabelAtTheEndOfABlockWantsAStatement) {
   // C and nqc both refuse `end: }` and `case 1: }`; "expected an
   // expression" did not say what was missing.
