@@ -30,7 +30,7 @@
   '("SetOutput" "SetDirection" "SetPower" "On" "Off" "Float" "Fwd" "Rev" "Toggle" "OnFwd"
     "OnRev" "Wait" "OnFor" "ClearTimer" "OutputStatus" "UploadDatalog" "SetWatch" "SetSensorType" "SetSensorMode" "SetSensor"
     "ClearSensor" "PlaySound" "PlayTone" "SelectDisplay" "ClearMessage" "SendMessage"
-    "SetTxPower" "CreateDatalog" "AddToDatalog" "SetSleepTime" "SleepNow" "StopAllTasks"
+    "SetTxPower" "CreateDatalog" "AddToDatalog" "SetSleepTime" "SleepNow" "StopAllTasks" "_init"
     "Timer" "Watch" "SensorValue" "SensorType" "SensorMode" "SensorValueRaw" "SensorValueBool"
     "Message" "Random" "Program"))
 
@@ -42,7 +42,7 @@
     "SENSOR_MODE_BOOL" "SENSOR_MODE_EDGE" "SENSOR_MODE_PULSE" "SENSOR_MODE_PERCENT"
     "SENSOR_MODE_CELSIUS" "SENSOR_MODE_FAHRENHEIT" "SENSOR_MODE_ROTATION" "SENSOR_TOUCH"
     "SENSOR_LIGHT" "SENSOR_ROTATION" "SENSOR_CELSIUS" "SENSOR_FAHRENHEIT" "SENSOR_PULSE"
-    "SENSOR_EDGE" "SOUND_CLICK" "SOUND_DOUBLE_BEEP" "SOUND_DOWN" "SOUND_UP" "SOUND_LOW_BEEP"
+    "SENSOR_EDGE" "_SENSOR_CFG" "SOUND_CLICK" "SOUND_DOUBLE_BEEP" "SOUND_DOWN" "SOUND_UP" "SOUND_LOW_BEEP"
     "SOUND_FAST_UP" "DISPLAY_WATCH" "DISPLAY_SENSOR_1" "DISPLAY_SENSOR_2" "DISPLAY_SENSOR_3"
     "DISPLAY_OUT_A" "DISPLAY_OUT_B" "DISPLAY_OUT_C" "TX_POWER_LO" "TX_POWER_HI"))
 

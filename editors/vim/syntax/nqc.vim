@@ -16,7 +16,7 @@ syn keyword nqcBuiltin    __source __source_arg
 syn keyword nqcTodo       contained TODO FIXME XXX NOTE
 syn keyword nqcApiFunction SetOutput SetDirection SetPower On Off Float Fwd Rev Toggle OnFwd OnRev Wait OnFor
   \ ClearTimer OutputStatus UploadDatalog SetWatch SetSensorType SetSensorMode SetSensor ClearSensor PlaySound PlayTone SelectDisplay
-  \ ClearMessage SendMessage SetTxPower CreateDatalog AddToDatalog SetSleepTime SleepNow StopAllTasks Timer Watch
+  \ ClearMessage SendMessage SetTxPower CreateDatalog AddToDatalog SetSleepTime SleepNow StopAllTasks _init Timer Watch
   \ SensorValue SensorType SensorMode SensorValueRaw SensorValueBool Message Random Program
 syn keyword nqcApiConstant T1 T2 T3 T4 OUT_A OUT_B OUT_C OUT_AB OUT_AC OUT_BC OUT_ABC OUT_FLOAT OUT_OFF OUT_ON OUT_REV
   \ OUT_TOGGLE OUT_FWD OUT_LOW OUT_HALF OUT_FULL SENSOR_1 SENSOR_2 SENSOR_3 S1 S2 S3 SENSOR_TYPE_NONE
@@ -25,7 +25,7 @@ syn keyword nqcApiConstant T1 T2 T3 T4 OUT_A OUT_B OUT_C OUT_AB OUT_AC OUT_BC OU
   \ SENSOR_MODE_FAHRENHEIT SENSOR_MODE_ROTATION SENSOR_TOUCH SENSOR_LIGHT SENSOR_ROTATION SENSOR_CELSIUS
   \ SENSOR_FAHRENHEIT SENSOR_PULSE SENSOR_EDGE SOUND_CLICK SOUND_DOUBLE_BEEP SOUND_DOWN SOUND_UP SOUND_LOW_BEEP
   \ SOUND_FAST_UP DISPLAY_WATCH DISPLAY_SENSOR_1 DISPLAY_SENSOR_2 DISPLAY_SENSOR_3 DISPLAY_OUT_A DISPLAY_OUT_B
-  \ DISPLAY_OUT_C TX_POWER_LO TX_POWER_HI
+  \ DISPLAY_OUT_C TX_POWER_LO TX_POWER_HI _SENSOR_CFG
 
 syn match   nqcNumber     "\<\d\+\>"
 syn match   nqcNumber     "\<0[xX]\x\+\>"
