@@ -705,6 +705,16 @@ void yy::Parser::report_syntax_error(const context& ctx) const {
                                      "one (';')");
     return;
   }
+  // `task main(void)`, C's habit, or `task t(int x)`: syntax errors in nqc
+  // too. (`sub s(int x)` has a rule of its own, which names functions.)
+  if (feed.pos >= 4 && feed.tokens[feed.pos - 2].is("(") && !feed.tokens[feed.pos - 1].is(")") &&
+      (feed.tokens[feed.pos - 4].is_identifier("task") || feed.tokens[feed.pos - 4].is_identifier("sub"))) {
+    std::string kind(feed.tokens[feed.pos - 4].text), name(feed.tokens[feed.pos - 3].text);
+    bool c_void = feed.tokens[feed.pos - 1].is_identifier("void");
+    feed.diags.error(ctx.location(), "a " + kind + " takes no parameters: write '" + kind + " " + name + "()'" +
+                                         (c_void ? "" : ", and share values through global variables"));
+    return;
+  }
   // `__nolist task t()`: nqc takes it before an inline function only.
   if (feed.pos >= 2 && feed.tokens[feed.pos - 2].is_identifier("__nolist") && !expects(symbol_kind::S_TASK)) {
     feed.diags.error(ctx.location(), "'__nolist' goes before 'void' only: it keeps an inline function out of "

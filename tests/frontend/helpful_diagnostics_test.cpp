@@ -132,6 +132,22 @@ TEST(HelpfulDiagnostics, AMacroWithoutItsArgumentsSaysItTakesThem) {
       << r.text();
 }
 
+// C's `task main(void)` got "expected ')' before 'void'" (nqc: "syntax
+// error"), which did not say that a task's parentheses stay empty.
+TEST(HelpfulDiagnostics, ATaskOrSubWithParametersSaysItTakesNone) {
+  auto r = run_frontend("task main(void)\n{\n  Wait(1);\n}\nsub beep(void) { PlaySound(1); }\n"
+                        "task other(int speed) { }\n");
+  std::vector<std::string> got;
+  for (const auto& d : r.diags.all())
+    got.push_back(std::to_string(d.span.begin.line) + ":" + std::to_string(d.span.begin.column) + " " + d.message);
+  EXPECT_EQ(got, (std::vector<std::string>{
+                     "1:11 a task takes no parameters: write 'task main()'",
+                     "5:10 a sub takes no parameters: write 'sub beep()'",
+                     "6:12 a task takes no parameters: write 'task other()', and share values through global "
+                     "variables"}))
+      << r.text();
+}
+
 TEST(HelpfulDiagnostics, LabelAtTheEndOfABlockWantsAStatement) {
   // C and nqc both refuse `end: }` and `case 1: }`; "expected an
   // expression" did not say what was missing.
