@@ -170,6 +170,18 @@ ExprPtr encoded_source(frontend::Feed& feed, Expr e, const SourceSpan& s) {
     arg = bin(feed, negate ? BinaryOp::Sub : BinaryOp::Add, std::move(arg), std::move(term), whole);
   return mk(feed, Source{box(mk(feed, IntLit{literal >> 16}, whole)), box(std::move(arg)), 0, 0}, s);
 }
+// Whether the token just handed out sits in a `for (...)` header: the
+// nearest '(' left open before it follows `for`.
+bool in_for_header(const frontend::Feed& feed) {
+  int depth = 0;
+  for (std::size_t i = feed.pos - 1; i-- > 1;) {
+    const frontend::Token& t = feed.tokens[i];
+    if (t.is("{") || t.is("}")) return false;
+    if (t.is(")")) ++depth;
+    if (t.is("(") && depth-- == 0) return feed.tokens[i - 1].is_identifier("for");
+  }
+  return false;
+}
 void note_order(Program& p, SymbolKind kind, std::size_t index) {
   p.order.push_back(TopLevelRef{kind, static_cast<std::uint32_t>(index)});
 }
@@ -392,6 +404,7 @@ stmt
         if (!std::holds_alternative<Empty>($3->node)) init = box(std::move($3));
         $$ = mks(For{std::move(init), OptionalBox<Expr>(std::move($5)), OptionalBox<Expr>(std::move($7)), box(std::move($9))}, @$);
       }
+  | FOR '(' error ')' stmt { $$ = mks(Empty{}, @$); }
   | REPEAT '(' expr ')' stmt
                           { $$ = mks(Repeat{std::move(*$3), box(std::move($5))}, @$); }
   | SWITCH '(' expr ')' stmt
@@ -713,6 +726,13 @@ void yy::Parser::report_syntax_error(const context& ctx) const {
     bool c_void = feed.tokens[feed.pos - 1].is_identifier("void");
     feed.diags.error(ctx.location(), "a " + kind + " takes no parameters: write '" + kind + " " + name + "()'" +
                                          (c_void ? "" : ", and share values through global variables"));
+    return;
+  }
+  // `for (i = 0, j = 0; ...)`: C's comma operator, which NQC lacks (nqc:
+  // syntax error). Said in a for loop's header, where C programs use it.
+  if (feed.last_text == "," && in_for_header(feed)) {
+    feed.diags.error(ctx.location(), "NQC has no comma operator: set the other variables before the for loop, or "
+                                     "in its body");
     return;
   }
   // `__nolist task t()`: nqc takes it before an inline function only.

@@ -148,6 +148,21 @@ TEST(HelpfulDiagnostics, ATaskOrSubWithParametersSaysItTakesNone) {
       << r.text();
 }
 
+// C's comma in a for header got "expected ';' before ','" and a second
+// error at the header's ')' (nqc: one "syntax error"). One message now says
+// what NQC lacks; the rest of the header and the body get no second error.
+TEST(HelpfulDiagnostics, ACommaInAForHeaderSaysNqcHasNoCommaOperator) {
+  auto r = run_frontend("int i, j;\ntask main()\n{\n  for (i = 10, j = 0; i > 0; i--) { j++; }\n"
+                        "  for (i = 0; i < 3; i++, j++) undeclared = 1;\n}\n");
+  std::vector<std::string> got;
+  for (const auto& d : r.diags.all())
+    got.push_back(std::to_string(d.span.begin.line) + ":" + std::to_string(d.span.begin.column) + " " + d.message);
+  EXPECT_EQ(got, (std::vector<std::string>{
+                     "4:14 NQC has no comma operator: set the other variables before the for loop, or in its body",
+                     "5:25 NQC has no comma operator: set the other variables before the for loop, or in its body"}))
+      << r.text();
+}
+
 TEST(HelpfulDiagnostics, LabelAtTheEndOfABlockWantsAStatement) {
   // C and nqc both refuse `end: }` and `case 1: }`; "expected an
   // expression" did not say what was missing.
