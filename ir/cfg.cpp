@@ -123,6 +123,23 @@ void merge_tails(Function& f) {
   }
 }
 
+// Whether sharing the last `length` instructions of `group` empties every
+// member but the last one laid out (which falls into the shared copy): an
+// emptied member's ways in then go straight to the copy and its jump goes
+// too, so no path runs an instruction more and each emptied member saves
+// its copy and its jump (`if (max <= ambient) { Off(OUT_A+OUT_C); return; }`
+// early in an inline function that also ends with `Off(OUT_A+OUT_C);`
+// branches to that end: 6 bytes with the jump over it). Worth it even for
+// a 2-byte copy, where a copy kept jumping to the shared one is not.
+// An emptied member laid out just before the join fell into it: its ways
+// in would need a jump to the copy, so it keeps its own.
+bool emptied_into_last(const Function& f, const std::vector<BlockId>& group, std::size_t length, BlockId join) {
+  BlockId last = *std::max_element(group.begin(), group.end());
+  for (BlockId m : group)
+    if (m != last && (f.blocks[static_cast<std::size_t>(m)].instrs.size() != length || m + 1 == join)) return false;
+  return true;
+}
+
 // Cross-jumping among some of a block's predecessors (merge_tails needs all
 // of them): blocks that jump to the same block and end with the same
 // instructions keep one copy of those, in a new block that jumps on (three
@@ -130,7 +147,7 @@ void merge_tails(Function& f) {
 // block goes right after the last of them, which falls into it, and then
 // jumps where that one jumped (or falls there): no jump more. Done when the
 // copies saved are worth more than the others' jumps growing long.
-void share_tails(Function& f) {
+void share_tails(Function& f, bool short_ends) {
   const std::vector<bool> loop_blocks = repeat_blocks(f);  // of the blocks before any shared tail
   const std::size_t n = f.blocks.size();
   // The blocks jumping to each block, in block order, all in one array:
@@ -182,7 +199,8 @@ void share_tails(Function& f) {
       int bytes = 0;
       for (std::size_t k = 0; k < length; ++k) bytes += instr_size(last(group[0], k));
       auto copies = static_cast<int>(group.size());
-      if ((copies - 1) * bytes <= 2 + copies) continue;
+      bool worth = (copies - 1) * bytes > 2 + copies;
+      if (!worth && !(short_ends && emptied_into_last(f, group, length, static_cast<BlockId>(j)))) continue;
       BlockId shared = add_block(f);
       auto& first = f.blocks[static_cast<std::size_t>(group[0])].instrs;
       Block& tail = f.blocks[static_cast<std::size_t>(shared)];
@@ -277,12 +295,18 @@ std::vector<int> cycle_components(const Function& f) {
   return component;
 }
 
-void simplify_cfg(Function& f) {
+void simplify_cfg(Function& f, bool share_short_ends) {
   if (f.blocks.empty()) return;
   thread_jumps(f);
   remove_unreachable(f);
   merge_tails(f);
-  share_tails(f);
+  share_tails(f, share_short_ends);
+  // In the last clean-up nothing comes after to send the tests into an
+  // emptied branch straight to the shared copy.
+  if (share_short_ends) {
+    thread_jumps(f);
+    remove_unreachable(f);
+  }
   merge_straight_lines(f);
 }
 

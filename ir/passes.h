@@ -175,8 +175,11 @@ void compute_poll_thresholds_once(Program& p, Log& log);
 
 // cfg.cpp: threads jumps through empty blocks, turns branches whose both
 // targets agree into jumps, and deletes blocks no path reaches (dead code
-// after unconditional jumps).
-void simplify_cfg(Function& f);
+// after unconditional jumps). With `share_short_ends` (the last clean-up,
+// once the motor pass has run) also an end as short as one motor command
+// is shared where every other copy is all of its branch: sharing one
+// earlier would keep a command the motor pass drops on one path only.
+void simplify_cfg(Function& f, bool share_short_ends = false);
 
 // rotate.cpp: places the test of a while/for loop (one block or several:
 // `while (a && b)`) after its body, so the body falls into the test and

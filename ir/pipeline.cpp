@@ -112,7 +112,7 @@ bool optimize(Program& p, OptLevel level, Diagnostics& diags, Log& log, const Pa
   assign_loop_counters(p, log);
   if (level != OptLevel::O0)
     for (auto& f : p.functions) {
-      simplify_cfg(f);
+      simplify_cfg(f, true);
       rotate_loops(f);
       enter_past_known_tests(f, p.vars);
       place_branch_targets(f);

@@ -256,6 +256,57 @@ TEST(Cfg, AShortCommonEndIsNotWorthSharing) {
   EXPECT_EQ(count_op(b.fn(0), rcx::Op::PlaySound), 4);
 }
 
+TEST(Cfg, AnEarlyExitThatIsAllTheCommonEndGoesStraightToTheLastCopy) {
+  // while (true) { if (g <= 0) { Off(AC); continue; } Wait(g); Off(AC); }:
+  // the early exit is nothing but the 2-byte end the loop's end has too.
+  // Shared, the test branches to the loop's copy: the exit's copy and its
+  // jump go, and no path runs an instruction more.
+  Builder b;
+  VarId g = b.global("g");
+  FuncId f = b.function("main");
+  b.block(f, {}, Jump{1});
+  b.block(f, {}, Branch{Cmp::LE, V(g), I(0), 2, 3});
+  b.block(f, {out(0x45)}, Jump{1});
+  b.block(f, {wait(V(g)), out(0x45)}, Jump{1});
+  // Not in the clean-ups before the motor pass, which may drop one copy.
+  simplify_cfg(b.fn(f));
+  EXPECT_EQ(count_op(b.fn(f), rcx::Op::SetMotorOnOff), 2);
+  simplify_cfg(b.fn(f), true);
+  simplify_cfg(b.fn(f), true);
+  EXPECT_EQ(count_op(b.fn(f), rcx::Op::SetMotorOnOff), 1);
+  EXPECT_EQ(count_op(b.fn(f), rcx::Op::Wait), 1);
+}
+
+TEST(Cfg, AnEmptiedBranchThatFellIntoTheJoinKeepsItsCopy) {
+  // OnFwd before a loop whose body ends with it too: the copy before the
+  // loop falls into the loop's head. Shared, it would need a jump to the
+  // loop's copy (and the motor pass could no longer drop either one).
+  Builder b;
+  VarId g = b.global("g");
+  FuncId f = b.function("main");
+  b.block(f, {}, Jump{1});
+  b.block(f, {out(0x85)}, Jump{2});
+  b.block(f, {}, Branch{Cmp::NE, V(g), I(0), 3, 4});
+  b.block(f, {sound(1), out(0x85)}, Jump{2});
+  b.block(f, {sound(2)}, Jump{2});
+  simplify_cfg(b.fn(f), true);
+  EXPECT_EQ(count_op(b.fn(f), rcx::Op::SetMotorOnOff), 2);
+}
+
+TEST(Cfg, AShortEndKeptBesideTwoLongerCopiesIsNotShared) {
+  // The same 2-byte end after two blocks that keep code before it: each
+  // would jump to the shared copy, a jump more on its path.
+  Builder b;
+  VarId g = b.global("g");
+  FuncId f = b.function("main");
+  b.block(f, {}, Jump{1});
+  b.block(f, {}, Branch{Cmp::LE, V(g), I(0), 2, 3});
+  b.block(f, {sound(1), out(0x45)}, Jump{1});
+  b.block(f, {wait(V(g)), out(0x45)}, Jump{1});
+  simplify_cfg(b.fn(f), true);
+  EXPECT_EQ(count_op(b.fn(f), rcx::Op::SetMotorOnOff), 2);
+}
+
 TEST(Cfg, RawAsmAtTheEndOfBranchesStaysWhereItWasWritten) {
   // asm bytes may hold an offset branch, which would miss after a move.
   Instr raw = op(rcx::Op::SetVariable, {I(0x27), I(0x02)});
