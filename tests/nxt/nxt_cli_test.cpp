@@ -480,22 +480,31 @@ TEST_P(TetheredExample, GivesTheEmulatorOnlyRunWithinOnePollPeriod) {
   TempDir dir;
   auto alone = run_rcxc({"run", prog, "--report", "json", "--trace", dir.path + "/alone.json"}, "", 60'000);
   ASSERT_EQ(alone.exit_code, 0) << alone.err;
-  NxtBrickProcess brick({"--scenario", prog, "--program", "idle.rxe"});
-  auto tethered =
-      run_rcxc({"run", prog, "--report", "json", "--trace", dir.path + "/tethered.json", "--nxt", brick.path}, "", 60'000);
-  ASSERT_EQ(tethered.exit_code, 0) << tethered.err;
-  auto a = nlohmann::json::parse(alone.out), t = nlohmann::json::parse(tethered.out);
   constexpr double kPollMs = 50.0;      // cli/nxt_tether.h, kTetherPollUs
   constexpr double kReactionMs = 10.0;  // five instructions at 2 ms: the examples' loops are shorter
-  // A busy machine delays a poll past its grid point, and the run says by
-  // how much at worst: a reading then comes that much later. It comes
-  // earlier only by what the brick saw between a grid point and the poll
-  // made for it, never more than a period (a poll further behind is made
-  // at the present instead).
-  std::smatch lag;
-  ASSERT_TRUE(std::regex_search(tethered.err, lag, std::regex("polls up to ([0-9]+) ms behind"))) << tethered.err;
-  const double lag_ms = std::stod(lag[1]) + 1;
-  const double early_ms = std::min(lag_ms, kPollMs);
+  // A busy machine delays a poll (or its reply) past its grid point, and the
+  // run says by how much at worst: a reading then comes that much later, or
+  // earlier by what the brick saw between the grid point and its answer.
+  // Past a period behind, polls are skipped and a short input can be missed
+  // altogether: the run no longer claims the timing this test checks. Such
+  // a run (a loaded machine: two cores with a parallel ctest and builds) is
+  // tried again, up to three times, and the check is made on a run that
+  // kept up; when none does, the test is skipped, saying so.
+  rcxc::test::ProcessResult tethered;
+  double lag_ms = 0;
+  for (int attempt = 0; attempt < 3; ++attempt) {
+    NxtBrickProcess brick({"--scenario", prog, "--program", "idle.rxe"});
+    tethered =
+        run_rcxc({"run", prog, "--report", "json", "--trace", dir.path + "/tethered.json", "--nxt", brick.path}, "", 60'000);
+    ASSERT_EQ(tethered.exit_code, 0) << tethered.err;
+    std::smatch lag;
+    ASSERT_TRUE(std::regex_search(tethered.err, lag, std::regex("polls up to ([0-9]+) ms behind"))) << tethered.err;
+    lag_ms = std::stod(lag[1]) + 1;
+    if (lag_ms <= kPollMs) break;
+  }
+  if (lag_ms > kPollMs) GTEST_SKIP() << "three tethered runs fell more than a poll period behind: " << tethered.err;
+  auto a = nlohmann::json::parse(alone.out), t = nlohmann::json::parse(tethered.out);
+  const double early_ms = lag_ms;
   expect_same_within(nlohmann::json::parse(rcxc::test::read_text_file(dir.path + "/alone.json")),
                      nlohmann::json::parse(rcxc::test::read_text_file(dir.path + "/tethered.json")), true, early_ms,
                      kPollMs + lag_ms);
