@@ -83,10 +83,10 @@ void register_brick(CLI::App& app, int& exit_code) {
   auto* cmd = app.add_subcommand("brick", "Run a virtual RCX that speaks the IR protocol on a pseudo-terminal");
   auto a = std::make_shared<BrickArgs>();
   cmd->add_flag("--pty", a->pty, "Serve on a new pseudo-terminal; its path is printed as the first line");
-  // The range check also refuses an empty value, which would otherwise read
-  // as 0; run_brick refuses NaN, which a range check lets through.
+  // The check also refuses an empty value, which would otherwise read as 0,
+  // and NaN, which a plain range check lets through.
   cmd->add_option("--noise", a->noise, "Lose or corrupt each byte with this probability (0..1)")
-      ->check(CLI::Range(0.0, 1.0));
+      ->check(number_in(0.0, 1.0, "0..1"));
   cmd->add_option("--seed", a->seed, "Seed of the noise")->check(whole_number());
   cmd->add_flag("--fast", a->fast, "Answer at full speed instead of 2400 baud");
   cmd->add_flag("--no-echo", a->no_echo, "Do not echo (behave like a USB tower)");

@@ -324,10 +324,10 @@ void register_compare(CLI::App& app, int& exit_code) {
   cmd->add_option("--nqc-path", o->nqc, "The nqc to compare with (path or name; default: nqc on PATH)")->check(not_empty());
   cmd->add_option("--for", o->for_ms, "Virtual milliseconds per run (default 20000)")
       ->check(whole_number())
-      ->check(CLI::Range(std::int64_t{1}, kMaxRunMs));
+      ->check(in_range(1, kMaxRunMs));
   cmd->add_option("--seed", o->seed, "Random seed for both runs")->check(whole_number());
   cmd->add_option("--instruction-us", o->instruction_us, "Virtual time per instruction (default 10)")
-      ->check(CLI::Range(1, 100000));
+      ->check(in_range(1, 100000));
   cmd->add_flag("--all-rows", o->all_rows,
                 "Show both runs' events side by side in full (default: the rows around the first difference)");
   cmd->callback([&exit_code, o] { exit_code = run(*o); });

@@ -199,7 +199,7 @@ void register_compile(CLI::App& app, int& exit_code) {
       ->check(CLI::IsMember({"text", "json"}));
   add_color_option(cmd, args->color);
   cmd->add_option("--max-errors", args->max_errors, "Stop printing after N errors (default 20, 0: print all)")
-      ->check(CLI::Range(0, 1000000).description(""));
+      ->check(in_range(0, 1000000).description(""));
   cmd->callback([&exit_code, args] {
     if (args->file.empty()) {
       exit_code = missing_source(*args);

@@ -74,7 +74,7 @@ void register_format(CLI::App& app, int& exit_code) {
   cmd->add_flag("--check", args->check,
                 "Change nothing; list the files that formatting would change, and exit 1 if there are any");
   cmd->add_option("--indent", args->indent, "Spaces per level of nesting (default 2)")
-      ->check(CLI::Range(format::kMinIndent, format::kMaxIndent));
+      ->check(in_range(format::kMinIndent, format::kMaxIndent));
   cmd->callback([&exit_code, args] {
     if (args->in_place && args->check) {
       std::cerr << "rcxc format: --in-place and --check do not go together\n";

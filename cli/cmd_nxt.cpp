@@ -247,8 +247,12 @@ std::string table_help() {
 // NXT's inputs 1-3, mailbox 1 and battery see it.
 std::variant<std::vector<nxt::ScenarioInput>, std::string> scenario_from_directives(const std::string& path) {
   auto parsed = rcx::semtest::parse_spec_file(path);
-  if (auto* errors = std::get_if<std::vector<rcx::semtest::SpecError>>(&parsed))
-    return fmt::format("{}:{}: {}", path, errors->front().line, errors->front().message);
+  if (auto* errors = std::get_if<std::vector<rcx::semtest::SpecError>>(&parsed)) {
+    // Line 0: about the whole file (a folder, a file that cannot be read).
+    const auto& first = errors->front();
+    return first.line > 0 ? fmt::format("{}:{}: {}", path, first.line, first.message)
+                          : fmt::format("{}: {}", path, first.message);
+  }
   auto gathered = rcx::semtest::all_inputs(std::get<rcx::semtest::Spec>(parsed), path);
   if (auto* e = std::get_if<std::string>(&gathered)) return *e;
   std::vector<nxt::ScenarioInput> out;
@@ -337,7 +341,7 @@ void register_nxt(CLI::App& app, int& exit_code) {
   nxt_cmd->add_option("--port", a->port, "usb, usb:SERIAL, bt:AA:BB:CC:DD:EE:FF or a tty path (default: NXT_PORT, else usb)")->check(not_empty());
   nxt_cmd->add_flag("--json", a->json, "Print JSON for scripts");
   nxt_cmd->add_flag("-v,--verbose", a->verbose, "Log every telegram decoded on stderr");
-  nxt_cmd->add_option("--timeout", a->timeout_ms, "Milliseconds to wait for a reply")->check(CLI::Range(1, 60000));
+  nxt_cmd->add_option("--timeout", a->timeout_ms, "Milliseconds to wait for a reply")->check(in_range(1, 60000));
   nxt_cmd->require_subcommand(1);
   nxt_cmd->fallthrough();
   const std::string exit_codes =
@@ -396,11 +400,9 @@ void register_nxt(CLI::App& app, int& exit_code) {
   {
     auto* cmd = add("tone", "Play a tone: HZ (200-14000) for MS milliseconds");
     auto hz = std::make_shared<int>(0), ms = std::make_shared<int>(0);
-    cmd->add_option("HZ", *hz, "Frequency, 200-14000 Hz")->required();
-    cmd->add_option("MS", *ms, "Duration, 1-65535 ms")->required();
+    cmd->add_option("HZ", *hz, "Frequency, 200-14000 Hz")->required()->check(in_range(200, 14000));
+    cmd->add_option("MS", *ms, "Duration, 1-65535 ms")->required()->check(in_range(1, 65535));
     run(cmd, [hz, ms]() -> Made {
-      if (*hz < 200 || *hz > 14000) return fmt::format("a tone of {} Hz is outside 200-14000 Hz", *hz);
-      if (*ms < 1 || *ms > 65535) return fmt::format("{} ms is outside 1-65535 ms", *ms);
       return Action([h = *hz, m = *ms](Client& c) {
         return simple(c, "PlayTone", values({std::int64_t{h}, std::int64_t{m}}), "");
       });
@@ -415,11 +417,11 @@ void register_nxt(CLI::App& app, int& exit_code) {
     auto brake = std::make_shared<bool>(false), coast = std::make_shared<bool>(false),
          regulated = std::make_shared<bool>(false);
     cmd->add_option("PORT", *port, "A, B, C or all")->required();
-    cmd->add_option("POWER", *power, "-100..100 (0 stops)")->required()->allow_extra_args(false);
+    cmd->add_option("POWER", *power, "-100..100 (0 stops)")->required()->allow_extra_args(false)->check(in_range(-100, 100));
     // The checks see the text as typed: past 2^63 the number would be read
     // as 2^63 - 1, and a message quoting that would not be what was typed.
     cmd->add_option("--limit", *limit, "Stop after this many degrees (0: run on)")
-        ->check(CLI::Range(0LL, 0xFFFFFFFFLL));
+        ->check(in_range(0, 0xFFFFFFFFLL));
     auto* b = cmd->add_flag("--brake", *brake, "Brake when stopping (hold the position)");
     auto* f = cmd->add_flag("--coast", *coast, "Let the motor float when stopping (default)");
     b->excludes(f);
@@ -427,7 +429,6 @@ void register_nxt(CLI::App& app, int& exit_code) {
     run(cmd, [=]() -> Made {
       auto p = output_port(*port);
       if (!p) return bad_output_port(*port);
-      if (*power < -100 || *power > 100) return fmt::format("power {} is outside -100..100", *power);
       std::uint8_t mode = 0;
       std::uint8_t run_state = nxt::kRunStateIdle;
       // Power 0 with --brake holds the motor; without it the motor floats.
@@ -525,17 +526,13 @@ void register_nxt(CLI::App& app, int& exit_code) {
     auto as_int = std::make_shared<std::optional<long long>>();
     auto as_float = std::make_shared<std::optional<double>>();
     auto* w = mailbox->add_subcommand("write", "Put TEXT, --int N (NXC) or --float X (NXT-G) in mailbox BOX");
-    w->add_option("BOX", *box, "1-10")->required();
+    w->add_option("BOX", *box, "1-10")->required()->check(in_range(1, 10));
     w->add_option("TEXT", *text, "Text, at most 58 characters");
     w->add_option("--int", *as_int, "A 32-bit integer, as NXC sends numbers")
-        ->check(CLI::Range(static_cast<long long>(INT32_MIN), static_cast<long long>(INT32_MAX)));
-    w->add_option("--float", *as_float, "A 32-bit float, as NXT-G sends numbers");
-    auto box_check = [box]() -> std::optional<std::string> {
-      if (*box < 1 || *box > 10) return fmt::format("mailbox {} is not 1-10", *box);
-      return std::nullopt;
-    };
+        ->check(in_range(INT32_MIN, INT32_MAX));
+    w->add_option("--float", *as_float, "A 32-bit float, as NXT-G sends numbers")
+        ->check(number_in(-3.4028234663852886e38, 3.4028234663852886e38, "a float's range, about -3.4e38..3.4e38"));
     run(w, [=]() -> Made {
-      if (auto bad = box_check()) return *bad;
       int given = (text->has_value() ? 1 : 0) + (as_int->has_value() ? 1 : 0) + (as_float->has_value() ? 1 : 0);
       if (given != 1) return std::string("give exactly one of TEXT, --int N, --float X");
       nxt::Bytes message;
@@ -548,7 +545,6 @@ void register_nxt(CLI::App& app, int& exit_code) {
       } else if (*as_int) {
         message = nxt::message_int(static_cast<std::int32_t>(**as_int));
       } else {
-        if (!std::isfinite(**as_float)) return std::string("--float needs a finite number");
         message = nxt::message_float(static_cast<float>(**as_float));
       }
       std::vector<Value> v{std::int64_t{*box - 1}, std::int64_t{0}, message};
@@ -557,10 +553,9 @@ void register_nxt(CLI::App& app, int& exit_code) {
     auto rbox = std::make_shared<int>(0);
     auto keep = std::make_shared<bool>(false);
     auto* r = mailbox->add_subcommand("read", "Take the oldest message from mailbox BOX (1-10, or 11-20: outboxes)");
-    r->add_option("BOX", *rbox, "1-20")->required();
+    r->add_option("BOX", *rbox, "1-20")->required()->check(in_range(1, 20));
     r->add_flag("--keep", *keep, "Leave the message in the mailbox");
     run(r, [=]() -> Made {
-      if (*rbox < 1 || *rbox > 20) return fmt::format("mailbox {} is not 1-20", *rbox);
       std::int64_t q = *rbox - 1;
       return Action([q, k = *keep](Client& c) -> std::variant<Output, Failure> {
         auto res = nxt::call(c, *nxt::find_command("MessageRead"), values({q, q % 10, std::int64_t{k ? 0 : 1}}));
@@ -761,7 +756,7 @@ void register_nxt(CLI::App& app, int& exit_code) {
   {
     auto* cmd = add("bench", "Round-trip latency of GetBatteryLevel: p50, p99");
     auto count = std::make_shared<int>(200);
-    cmd->add_option("--count", *count, "Round trips")->check(CLI::Range(1, 100000));
+    cmd->add_option("--count", *count, "Round trips")->check(in_range(1, 100000));
     run(cmd, [count]() -> Made {
       return Action([n = *count](Client& c) -> std::variant<Output, Failure> {
         std::vector<double> us;

@@ -260,14 +260,14 @@ void register_run(CLI::App& app, int& exit_code) {
   cmd->add_option("--scenario", o->scenario, "TOML file of timed inputs ([[input]] tables)")->check(not_empty());
   cmd->add_option("--for", o->for_ms, "virtual time limit in ms (default 60000, or the source's // @for)")
       ->check(whole_number())
-      ->check(CLI::Range(std::int64_t{1}, kMaxRunMs));
+      ->check(in_range(1, kMaxRunMs));
   cmd->add_option("--seed", o->seed, "seed of the random source (default 1)")->check(whole_number());
   cmd->add_option("--report", o->report, "print a report instead of the timeline: json")->check(CLI::IsMember({"json"}));
   cmd->add_option("--trace", o->trace,
                   "write a trace: F.vcd (GTKWave), F.json (events), F.svg or F.html (the run drawn as a timeline)")
       ->check(not_empty());
   cmd->add_option("--instruction-us", o->instruction_us, "virtual cost of one instruction in microseconds (default 2000)")
-      ->check(CLI::Range(int64_t{1}, int64_t{1'000'000}));
+      ->check(in_range(1, 1'000'000));
   cmd->add_option("--nxt", o->nxt_port,
                   "run in real time with an NXT's motors, sensors and speaker (usb, bt:ADDR, a tty; docs/nxt.md)")
       ->check(not_empty());

@@ -289,7 +289,7 @@ void register_test(CLI::App& app, int& exit_code) {
   cmd->add_option("--junit", o->junit, "also write the results to FILE as a JUnit XML report (for CI and grading)")
       ->check(not_empty());
   cmd->add_option("-j,--jobs", o->jobs, "tests run at once (default: the number of cores); the output order is the same")
-      ->check(CLI::Range(1u, 1024u).description(""));
+      ->check(in_range(1, 1024).description(""));
   cmd->callback([&exit_code, o, use_nqc, nqc_path] {
     if (auto bad = bad_compiler_arguments(o->compiler)) {
       std::cerr << "rcxc test: " << *bad << "\n";

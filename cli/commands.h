@@ -5,6 +5,8 @@
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdlib>
 #include <cstdint>
 #include <string>
 #include <string_view>
@@ -65,6 +67,43 @@ inline CLI::Validator whole_number() {
         return std::string();
       },
       "", "whole number");
+}
+
+// For integer options and arguments: the text must be a whole number from
+// `lo` to `hi`, checked as typed. Without it a number past the variable's
+// type got CLI11's bare "Could not convert", naming no range.
+inline CLI::Validator in_range(long long lo, long long hi) {
+  return CLI::Validator(
+      [lo, hi](std::string& v) {
+        std::string range = std::to_string(lo) + ".." + std::to_string(hi);
+        std::size_t sign = v.starts_with('-') || v.starts_with('+') ? 1 : 0;
+        bool digits = v.size() > sign && v.find_first_not_of("0123456789", sign) == std::string::npos;
+        if (!digits) return "'" + v + "' is not a whole number (" + range + ")";
+        // Leading zeros and a sign cannot make the digits' count lie about size.
+        std::string_view n = std::string_view(v).substr(sign);
+        n.remove_prefix(std::min(n.find_first_not_of('0'), n.size() - 1));
+        bool negative = v[0] == '-' && n != "0";
+        bool beyond = n.size() > 18;  // 19 digits may not fit a long long
+        long long value = beyond ? 0 : std::stoll(std::string(n));
+        if (beyond || (negative ? -value < lo : value > hi) || (negative ? -value > hi : value < lo))
+          return "'" + v + "' is outside " + range;
+        return std::string();
+      },
+      "", "whole number");
+}
+
+// For options that take any real number from `lo` to `hi` (the ends
+// included), as typed: "abc" or "" is no number, "nan" none in a range.
+inline CLI::Validator number_in(double lo, double hi, const std::string& range) {
+  return CLI::Validator(
+      [lo, hi, range](std::string& v) {
+        char* end = nullptr;
+        double d = v.empty() ? 0 : std::strtod(v.c_str(), &end);
+        if (v.empty() || end != v.c_str() + v.size() || std::isnan(d)) return "'" + v + "' is not a number (" + range + ")";
+        if (d < lo || d > hi) return "'" + v + "' is outside " + range;
+        return std::string();
+      },
+      "", "number");
 }
 
 // An option that may be given many times, one value each time (-I, -D,

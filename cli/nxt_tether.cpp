@@ -339,6 +339,9 @@ std::string run_tethered(rcx::Machine& machine, nxt::Client& client, const Tethe
       if (to_us == next_poll_us) {
         stats.worst_poll_lag_us = std::max(stats.worst_poll_lag_us, wall_us - next_poll_us);
         poll_everything();
+        // What the brick answered it saw when it answered: a reply that came
+        // late under load is as far behind as a poll made late.
+        stats.worst_poll_lag_us = std::max(stats.worst_poll_lag_us, t.elapsed_us() - next_poll_us);
         next_poll_us += kTetherPollUs;
         if (next_poll_us < wall_us) next_poll_us = wall_us;
       }

@@ -880,7 +880,9 @@ std::string lay_out(std::string_view source, const std::vector<Piece>& pieces, c
   }
   lay_out_pieces(pr, i, pieces.size());
   too_large = pr.too_large;
-  if (!pr.out.empty()) pr.out += '\n';
+  // A file ending in a directive's '\\' with no newline after it: a final
+  // newline would make that backslash a line continuation (new tokens).
+  if (!pr.out.empty() && pr.out.back() != '\\') pr.out += '\n';
   return std::move(pr.out);
 }
 

@@ -7,12 +7,14 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cctype>
 #include <cerrno>
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <string_view>
 #include <thread>
 
 namespace rcx::semtest {
@@ -38,6 +40,34 @@ std::string shown_log(const std::string& log) {
       out += fmt::format("\\x{:02x}", c);
     else
       out += ch;
+  }
+  return out;
+}
+
+// The command as a shell would take it back: words with anything but
+// letters, digits and -_./=+:, in single quotes, control bytes as \xNN.
+std::string shown_command(const std::vector<char*>& argv) {
+  std::string out;
+  for (const char* arg : argv) {
+    if (!arg) break;
+    std::string_view a(arg);
+    bool plain = !a.empty();
+    for (char c : a)
+      if (!std::isalnum(static_cast<unsigned char>(c)) && std::string_view("-_./=+:,").find(c) == std::string_view::npos)
+        plain = false;
+    if (!out.empty()) out += ' ';
+    if (plain) {
+      out += a;
+      continue;
+    }
+    out += '\'';
+    for (char c : a) {
+      auto u = static_cast<unsigned char>(c);
+      if (c == '\'') out += "'\\''";
+      else if (u < 0x20 || u == 0x7f) out += fmt::format("\\x{:02x}", u);
+      else out += c;
+    }
+    out += '\'';
   }
   return out;
 }
@@ -180,7 +210,11 @@ ExternalCompile compile_with_nqc(const std::string& nqc, const std::string& file
       if (auto* img = std::get_if<rcx::Image>(&image)) result.image = std::move(*img);
       else result.failure = "nqc wrote an unreadable image: " + std::get<rcx::ImageError>(image).message;
     } else if (result.messages.empty()) {
-      result.failure = "nqc failed: " + shown_log(log);
+      // Nothing nqc said can be shown as its messages: say what ran and how it ended.
+      result.failure = fmt::format("nqc failed with exit status {} and {} (the command was: {})",
+                                   WEXITSTATUS(status), log.empty() ? "printed nothing" : "printed no message in nqc's form",
+                                   shown_command(argv));
+      if (!log.empty()) result.failure += "; it printed:\n" + shown_log(log);
     }
   }
   std::error_code ec;

@@ -4,6 +4,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <string>
 #include <utility>
 #include <vector>
@@ -174,4 +175,67 @@ TEST(Cli, AnLspStdlibDirThatIsAFileIsAUsageError) {
   auto r = run_rcxc({"lsp", "--stdlib-dir", file});
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_NE(r.err.find(file + " is a file, not a folder"), std::string::npos) << r.err;
+}
+
+// Every whole-number option and argument of every command, given a value out
+// of range, past 32 and 64 bits, no number or nothing: a usage error naming
+// the option and what it takes. A number past the variable's type got
+// CLI11's bare "Could not convert: HZ = 99999999999", naming no range.
+TEST(Cli, EveryNumberOptionNamesItselfAndItsRangeForABadValue) {
+  rcxc::test::TempDir d;
+  std::string p = d.write("p.nqc", "task main() { On(OUT_A); }\n");
+  const std::string nowhere = "/dev/no-such-port";
+  // {arguments with X where the value goes, the name the message starts with}
+  const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+      {{"run", p, "--for", "X"}, "--for"},
+      {{"run", p, "--instruction-us", "X"}, "--instruction-us"},
+      {{"run", p, "--seed", "X"}, "--seed"},
+      {{"compare", p, "--for", "X"}, "--for"},
+      {{"compare", p, "--instruction-us", "X"}, "--instruction-us"},
+      {{"compare", p, "--seed", "X"}, "--seed"},
+      {{"compile", p, "-o", "/dev/null", "--max-errors", "X"}, "--max-errors"},
+      {{"download", p, "--port", nowhere, "--program", "X"}, "--program"},
+      {{"download", p, "--port", nowhere, "--retries", "X"}, "--retries"},
+      {{"remote", "--port", nowhere, "--retries", "X", "alive"}, "--retries"},
+      {{"format", p, "--indent", "X"}, "--indent"},
+      {{"test", p, "-j", "X"}, "--jobs"},
+      {{"brick", "--pty", "--seed", "X"}, "--seed"},
+      {{"nxt", "--port", nowhere, "--timeout", "X", "battery"}, "--timeout"},
+      {{"nxt", "--port", nowhere, "tone", "X", "100"}, "HZ"},
+      {{"nxt", "--port", nowhere, "tone", "440", "X"}, "MS"},
+      {{"nxt", "--port", nowhere, "motor", "A", "X"}, "POWER"},
+      {{"nxt", "--port", nowhere, "motor", "A", "50", "--limit", "X"}, "--limit"},
+      {{"nxt", "--port", nowhere, "mailbox", "write", "X", "text"}, "BOX"},
+      {{"nxt", "--port", nowhere, "mailbox", "write", "1", "--int", "X"}, "--int"},
+      {{"nxt", "--port", nowhere, "mailbox", "read", "X"}, "BOX"},
+      {{"nxt", "--port", nowhere, "bench", "--count", "X"}, "--count"},
+      {{"brick", "--pty", "--noise", "X"}, "--noise"},
+  };
+  for (const auto& [shape, name] : cases)
+    for (const std::string value : {"99999999999", "-99999999999", "99999999999999999999", "-1e3", "1e999", "abc", ""}) {
+      // The 64-bit ones (--for up to 2^40 ms, --seed) take 99999999999.
+      if (value == "99999999999" && (name == "--for" || name == "--seed")) continue;
+      std::vector<std::string> args = shape;
+      std::replace(args.begin(), args.end(), std::string("X"), value);
+      auto r = run_rcxc(args, "", 10000);
+      std::string call;
+      for (const auto& a : args) call += " '" + a + "'";
+      EXPECT_EQ(r.exit_code, 2) << call << ": " << r.err;
+      EXPECT_TRUE(r.out.empty()) << call << ": " << r.out;
+      EXPECT_EQ(r.err.find("Could not convert"), std::string::npos) << call << ": " << r.err;
+      // The first line names the option and says what it takes.
+      std::string first = r.err.substr(0, r.err.find('\n'));
+      EXPECT_NE(first.find(name + ": '" + value + "' is "), std::string::npos) << call << ": " << first;
+      bool says_what = first.find(" is outside ") != std::string::npos ||
+                       first.find(" is not a whole number") != std::string::npos ||
+                       first.find(" is not a number") != std::string::npos ||
+                       first.find(" is more than ") != std::string::npos;
+      EXPECT_TRUE(says_what) << call << ": " << first;
+    }
+  // A float's range: 1e39 was converted to float, which is undefined behaviour.
+  for (const std::string value : {"1e39", "-1e999", "abc", "nan", ""}) {
+    auto r = run_rcxc({"nxt", "--port", nowhere, "mailbox", "write", "1", "--float", value}, "", 10000);
+    EXPECT_EQ(r.exit_code, 2) << value << ": " << r.err;
+    EXPECT_EQ(r.err.find("rcxc: --float: '" + value + "' is "), 0u) << value << ": " << r.err;
+  }
 }

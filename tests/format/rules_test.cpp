@@ -201,6 +201,12 @@ TEST(FormatRules, DirectiveBoundsStayWhereTheLexerPutsThem) {
   EXPECT_EQ(fmt("#define A 1 \\\n\nint x;\n"), "#define A 1 \\\n\nint x;\n");
   // A '#' inside code is no directive and must not start a line.
   EXPECT_EQ(fmt("task main()\n{#\n}\n"), "task main()\n{#\n}\n");
+  // A file that ends in a directive's '\\' (found by fuzz_format, minimised
+  // to "#\\"): the final newline made it a continuation, and the formatter
+  // refused its own layout as "a formatter bug".
+  EXPECT_EQ(fmt("#\\"), "#\\");
+  EXPECT_EQ(fmt("int x;\n#define A 1 \\"), "int x;\n#define A 1 \\");
+  EXPECT_EQ(fmt(fmt("#define A 1 \\")), "#define A 1 \\");
 }
 
 TEST(FormatRules, EachConditionalBranchStartsFromTheSameNesting) {

@@ -163,19 +163,19 @@ TEST(NxtCli, BadValuesAreRefusedBeforeAnythingIsSent) {
     EXPECT_EQ(r.exit_code, 2) << args[0] << ": " << r.err;
     EXPECT_NE(r.err.find(says), std::string::npos) << r.err;
   };
-  check({"tone", "150", "100"}, "a tone of 150 Hz is outside 200-14000 Hz");
-  check({"tone", "440", "0"}, "0 ms is outside 1-65535 ms");
+  check({"tone", "150", "100"}, "HZ: '150' is outside 200..14000");
+  check({"tone", "440", "0"}, "MS: '0' is outside 1..65535");
   check({"motor", "D", "50"}, "\"D\" is not a motor port (A, B, C or all)");
-  check({"motor", "A", "101"}, "power 101 is outside -100..100");
-  check({"motor", "A", "50", "--limit", "-1"}, "-1 not in range 0 to 4294967295");
+  check({"motor", "A", "101"}, "POWER: '101' is outside -100..100");
+  check({"motor", "A", "50", "--limit", "-1"}, "--limit: '-1' is outside 0..4294967295");
   // Past 2^63 the message quoted 9223372036854775807, not what was typed.
-  check({"motor", "A", "50", "--limit", "99999999999999999999"}, "99999999999999999999 not in range");
-  check({"mailbox", "write", "1", "--int", "99999999999999999999"}, "99999999999999999999 not in range");
-  check({"mailbox", "write", "1", "--int", "2147483648"}, "2147483648 not in range");
+  check({"motor", "A", "50", "--limit", "99999999999999999999"}, "'99999999999999999999' is outside 0..4294967295");
+  check({"mailbox", "write", "1", "--int", "99999999999999999999"}, "--int: '99999999999999999999' is outside -2147483648..2147483647");
+  check({"mailbox", "write", "1", "--int", "2147483648"}, "--int: '2147483648' is outside -2147483648..2147483647");
   check({"sensor", "5", "SWITCH"}, "\"5\" is not a sensor port (1-4)");
   check({"sensor", "1", "TOUCH"}, "\"TOUCH\" is not a sensor type (NO_SENSOR, SWITCH,");
   check({"sensor", "1", "SWITCH", "FAST"}, "\"FAST\" is not a sensor mode (RAWMODE, BOOLEANMODE,");
-  check({"mailbox", "write", "11", "x"}, "mailbox 11 is not 1-10");
+  check({"mailbox", "write", "11", "x"}, "BOX: '11' is outside 1..10");
   check({"mailbox", "write", "1", std::string(59, 'x')}, "the message is 59 bytes; at most 58 fit");
   check({"mailbox", "write", "1"}, "give exactly one of TEXT, --int N, --float X");
   check({"start", "a_very_long_name.rxe"}, "is not an NXT file name: at most 15 characters");
@@ -398,6 +398,13 @@ TEST(NxtTether, ScenarioAndNxtDoNotGoTogether) {
       "", 10'000);
   EXPECT_EQ(bad_input.exit_code, 1);
   EXPECT_NE(bad_input.err.find("b.nqc:1: "), std::string::npos) << bad_input.err;
+  // A folder named like a program: its error is about the whole file, which
+  // was shown as line 0 ("d.nqc:0: cannot read ...").
+  std::filesystem::create_directory(dir.path + "/d.nqc");
+  auto folder = run_rcxc({"nxt", "brick", "--pty", "--scenario", dir.path + "/d.nqc"}, "", 10'000);
+  EXPECT_EQ(folder.exit_code, 1);
+  EXPECT_EQ(folder.err.find(":0:"), std::string::npos) << folder.err;
+  EXPECT_EQ(folder.err.find("rcxc nxt brick: " + dir.path + "/d.nqc: "), 0u) << folder.err;
   auto bad = run_rcxc({"nxt", "brick", "--pty", "--program", "notes.txt"}, "", 10'000);
   EXPECT_EQ(bad.exit_code, 2);
   EXPECT_NE(bad.err.find("--program: \"notes.txt\" is not a program (.rxe)"), std::string::npos) << bad.err;
@@ -473,22 +480,31 @@ TEST_P(TetheredExample, GivesTheEmulatorOnlyRunWithinOnePollPeriod) {
   TempDir dir;
   auto alone = run_rcxc({"run", prog, "--report", "json", "--trace", dir.path + "/alone.json"}, "", 60'000);
   ASSERT_EQ(alone.exit_code, 0) << alone.err;
-  NxtBrickProcess brick({"--scenario", prog, "--program", "idle.rxe"});
-  auto tethered =
-      run_rcxc({"run", prog, "--report", "json", "--trace", dir.path + "/tethered.json", "--nxt", brick.path}, "", 60'000);
-  ASSERT_EQ(tethered.exit_code, 0) << tethered.err;
-  auto a = nlohmann::json::parse(alone.out), t = nlohmann::json::parse(tethered.out);
   constexpr double kPollMs = 50.0;      // cli/nxt_tether.h, kTetherPollUs
   constexpr double kReactionMs = 10.0;  // five instructions at 2 ms: the examples' loops are shorter
-  // A busy machine delays a poll past its grid point, and the run says by
-  // how much at worst: a reading then comes that much later. It comes
-  // earlier only by what the brick saw between a grid point and the poll
-  // made for it, never more than a period (a poll further behind is made
-  // at the present instead).
-  std::smatch lag;
-  ASSERT_TRUE(std::regex_search(tethered.err, lag, std::regex("polls up to ([0-9]+) ms behind"))) << tethered.err;
-  const double lag_ms = std::stod(lag[1]) + 1;
-  const double early_ms = std::min(lag_ms, kPollMs);
+  // A busy machine delays a poll (or its reply) past its grid point, and the
+  // run says by how much at worst: a reading then comes that much later, or
+  // earlier by what the brick saw between the grid point and its answer.
+  // Past a period behind, polls are skipped and a short input can be missed
+  // altogether: the run no longer claims the timing this test checks. Such
+  // a run (a loaded machine: two cores with a parallel ctest and builds) is
+  // tried again, up to three times, and the check is made on a run that
+  // kept up; when none does, the test is skipped, saying so.
+  rcxc::test::ProcessResult tethered;
+  double lag_ms = 0;
+  for (int attempt = 0; attempt < 3; ++attempt) {
+    NxtBrickProcess brick({"--scenario", prog, "--program", "idle.rxe"});
+    tethered =
+        run_rcxc({"run", prog, "--report", "json", "--trace", dir.path + "/tethered.json", "--nxt", brick.path}, "", 60'000);
+    ASSERT_EQ(tethered.exit_code, 0) << tethered.err;
+    std::smatch lag;
+    ASSERT_TRUE(std::regex_search(tethered.err, lag, std::regex("polls up to ([0-9]+) ms behind"))) << tethered.err;
+    lag_ms = std::stod(lag[1]) + 1;
+    if (lag_ms <= kPollMs) break;
+  }
+  if (lag_ms > kPollMs) GTEST_SKIP() << "three tethered runs fell more than a poll period behind: " << tethered.err;
+  auto a = nlohmann::json::parse(alone.out), t = nlohmann::json::parse(tethered.out);
+  const double early_ms = lag_ms;
   expect_same_within(nlohmann::json::parse(rcxc::test::read_text_file(dir.path + "/alone.json")),
                      nlohmann::json::parse(rcxc::test::read_text_file(dir.path + "/tethered.json")), true, early_ms,
                      kPollMs + lag_ms);

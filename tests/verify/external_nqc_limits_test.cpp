@@ -47,7 +47,7 @@ TEST(NqcLimits, NqcRunsUnderTheMemoryLimit) {
   // The script prints its own limits as nqc's "log".
   FakeNqc fake("echo \"as $(ulimit -v) cpu $(ulimit -t)\"; exit 1");
   auto r = compile_with_nqc(fake.script, fake.source, {}, NqcLimits{7, 256});
-  EXPECT_EQ(r.failure, "nqc failed: as 262144 cpu 7\n");
+  EXPECT_TRUE(r.failure.ends_with("; it printed:\nas 262144 cpu 7\n")) << r.failure;
 }
 
 TEST(NqcLimits, AMissingNqcIsSaidSo) {
@@ -60,5 +60,25 @@ TEST(NqcLimits, AMissingNqcIsSaidSo) {
 TEST(NqcLimits, WhatAFailingNqcPrintedIsShownWithoutControlBytes) {
   FakeNqc fake("printf 'bad\\033[2J\\007\\tend\\n'; exit 1");
   auto r = compile_with_nqc(fake.script, fake.source, {}, NqcLimits{7, 256});
-  EXPECT_EQ(r.failure, "nqc failed: bad\\x1b[2J\\x07\tend\n");
+  EXPECT_TRUE(r.failure.ends_with("; it printed:\nbad\\x1b[2J\\x07\tend\n")) << r.failure;
+}
+
+// `rcxc compare --nqc-path /bin/false` said "nqc failed: " and nothing more.
+TEST(NqcLimits, AnNqcThatFailsSilentlyIsSaidSoWithItsExitStatusAndCommand) {
+  FakeNqc fake("exit 3");
+  auto r = compile_with_nqc(fake.script, fake.source, {"-DX=a b"}, NqcLimits{7, 256});
+  EXPECT_FALSE(r.image);
+  EXPECT_TRUE(r.failure.starts_with("nqc failed with exit status 3 and printed nothing (the command was: " + fake.script +
+                                    " -Trcx -I" + fake.dir.string() + " -O"))
+      << r.failure;
+  EXPECT_TRUE(r.failure.ends_with("/out.rcx '-DX=a b' " + fake.source + ")")) << r.failure;
+}
+
+TEST(NqcLimits, WhatAFailingNqcPrintedComesWithItsExitStatus) {
+  FakeNqc fake("echo 'something odd'; exit 4");
+  auto r = compile_with_nqc(fake.script, fake.source, {}, NqcLimits{7, 256});
+  EXPECT_TRUE(r.failure.starts_with("nqc failed with exit status 4 and printed no message in nqc's form (the command "
+                                    "was: " + fake.script))
+      << r.failure;
+  EXPECT_TRUE(r.failure.ends_with("; it printed:\nsomething odd\n")) << r.failure;
 }
