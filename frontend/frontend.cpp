@@ -31,7 +31,8 @@ std::optional<std::uint32_t> load(const std::string& path, SourceManager& sm, Di
       case rcx::FileProblem::Directory: diags.error({}, "'" + name + "' is a directory, not a source file").file = name; break;
       case rcx::FileProblem::TooLarge: diags.error({}, rcx::too_large_message(name, rcx::kSourceFile)).file = name; break;
       case rcx::FileProblem::CannotOpen: case rcx::FileProblem::ReadError:
-        diags.error({}, piped ? "cannot read the standard input" : "cannot open '" + name + "'").file = name;
+        diags.error({}, piped ? "cannot read the standard input"
+                              : "cannot open '" + name + "': " + rcx::cannot_open_reason(path)).file = name;
     }
     return std::nullopt;
   }

@@ -2,6 +2,11 @@
 
 #include <fmt/format.h>
 
+#include <unistd.h>
+
+#include <cctype>
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 
@@ -25,6 +30,20 @@ std::variant<std::string, FileProblem> read_stream(std::istream& in, FileKind ki
   }
   if (in.bad()) return FileProblem::ReadError;
   return bytes;
+}
+
+std::string cannot_open_reason(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::exists(std::filesystem::symlink_status(path, ec)))
+    return path.empty() ? "no file name" : "no such file";
+  if (!std::filesystem::exists(path, ec)) return "a symbolic link to nothing";
+  if (::access(path.c_str(), R_OK) != 0) {
+    if (errno == EACCES) return "permission denied";
+    std::string why = std::strerror(errno);
+    if (!why.empty()) why[0] = static_cast<char>(std::tolower(static_cast<unsigned char>(why[0])));
+    return why;
+  }
+  return "it could not be read";
 }
 
 std::string too_large_message(const std::string& path, FileKind kind) {

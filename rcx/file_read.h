@@ -44,6 +44,11 @@ std::variant<std::string, FileProblem> read_stream(std::istream& in, FileKind ki
 bool starts_as_image(std::string_view bytes);
 bool holds_binary_data(std::string_view bytes);  // an image, or a NUL in the first 4 KiB
 
+// Why `path` could not be opened, in a few words for after "cannot open
+// P": "no such file", "permission denied". Asked after the failure, so a
+// file that changed in between may give a reason of its own.
+std::string cannot_open_reason(const std::string& path);
+
 // "P: larger than a source file may be (1 MiB); is it the right file?"
 std::string too_large_message(const std::string& path, FileKind kind);
 

@@ -162,7 +162,7 @@ std::variant<Image, ImageError> read_image_file(const std::string& path) {
   if (const auto* problem = std::get_if<FileProblem>(&file)) {
     switch (*problem) {
       case FileProblem::Directory: return ImageError{fmt::format("{}: is a directory, not an .rcx image", path)};
-      case FileProblem::CannotOpen: return ImageError{fmt::format("{}: cannot open file", path)};
+      case FileProblem::CannotOpen: return ImageError{fmt::format("{}: cannot open file: {}", path, cannot_open_reason(path))};
       case FileProblem::ReadError: return ImageError{fmt::format("{}: read error", path)};
       case FileProblem::TooLarge: return ImageError{too_large_message(path, kImageFile)};
     }

@@ -84,7 +84,7 @@ std::variant<std::vector<TimedInput>, ScenarioError> read_scenario_file(const st
   if (const auto* problem = std::get_if<FileProblem>(&file)) {
     switch (*problem) {
       case FileProblem::Directory: return ScenarioError{fmt::format("{}: is a directory, not a scenario file", path)};
-      case FileProblem::CannotOpen: return ScenarioError{fmt::format("{}: cannot open scenario file", path)};
+      case FileProblem::CannotOpen: return ScenarioError{fmt::format("{}: cannot open scenario file: {}", path, cannot_open_reason(path))};
       case FileProblem::ReadError: return ScenarioError{fmt::format("{}: read error", path)};
       case FileProblem::TooLarge: return ScenarioError{too_large_message(path, kScenarioFile)};
     }

@@ -262,7 +262,10 @@ TEST(HelpfulDiagnostics, ErrorsWithoutAPositionNameTheFile) {
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_EQ(r.err.rfind(nomain + ": error: the program has no 'task main()'", 0), 0u) << r.err;
   auto missing = run_rcxc({"compile", d.path + "/missing.nqc"});
-  EXPECT_EQ(missing.err.rfind(d.path + "/missing.nqc: error: cannot open", 0), 0u) << missing.err;
+  EXPECT_EQ(missing.err.rfind(d.path + "/missing.nqc: error: cannot open '" + d.path + "/missing.nqc': no such file",
+                             0),
+            0u)
+      << missing.err;
 }
 
 TEST(HelpfulDiagnostics, ColourOnlyWhenAskedOrOnATerminal) {

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <filesystem>
 #include <fstream>
 
@@ -27,6 +29,26 @@ TEST(FileRead, DirectoryAndMissingFileAreProblems) {
   auto missing = read_file((dir / "no-such-file").string(), kSourceFile);
   ASSERT_TRUE(std::holds_alternative<FileProblem>(missing));
   EXPECT_EQ(std::get<FileProblem>(missing), FileProblem::CannotOpen);
+}
+
+// "cannot open 'P'" alone left the user to guess between a mistyped name
+// and a file they may not read.
+TEST(FileRead, AFileThatCannotBeOpenedSaysWhy) {
+  auto dir = std::filesystem::temp_directory_path() / "rcxc-file-read-reason";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  EXPECT_EQ(cannot_open_reason((dir / "missing.nqc").string()), "no such file");
+  std::filesystem::create_symlink(dir / "nowhere", dir / "dangling.nqc");
+  EXPECT_EQ(cannot_open_reason((dir / "dangling.nqc").string()), "a symbolic link to nothing");
+  auto locked = dir / "locked.nqc";
+  std::ofstream(locked) << "task main() {}\n";
+  std::filesystem::permissions(locked, std::filesystem::perms::none);
+  // root reads any file, so the refusal shows only to other users.
+  if (::geteuid() != 0) {
+    EXPECT_TRUE(std::holds_alternative<FileProblem>(read_file(locked.string(), kSourceFile)));
+    EXPECT_EQ(cannot_open_reason(locked.string()), "permission denied");
+  }
+  std::filesystem::remove_all(dir);
 }
 
 TEST(FileRead, EndlessDevicesStopAtTheCap) {
