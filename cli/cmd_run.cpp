@@ -142,6 +142,11 @@ int run(const RunOptions& o) {
     std::cerr << "rcxc run: --trace file must end in .vcd, .json, .svg or .html: " << o.trace << "\n";
     return kExitUsage;
   }
+  // Said before the run, which may take minutes of virtual time.
+  if (auto unwritable = o.trace.empty() ? std::nullopt : savefile::check_writable(o.trace)) {
+    std::cerr << "rcxc run: cannot write trace file " << o.trace << ": " << *unwritable << "\n";
+    return kExitFailure;
+  }
   if (auto bad = bad_compiler_arguments(o.compiler)) {
     std::cerr << "rcxc run: " << *bad << "\n";
     return kExitUsage;

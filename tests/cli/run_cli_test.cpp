@@ -151,6 +151,7 @@ TEST(RunCli, TracesAreWritten) {
   r = run_rcxc({"run", p, "--trace", d.path + "/no/such/dir/t.json"});
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("cannot write trace"), std::string::npos);
+  EXPECT_EQ(r.out, "") << "the trace's folder is checked before the run, which reports on stdout";
 }
 
 TEST(RunCli, DrawnTracesAreWrittenAndStaySmallForLongRuns) {
