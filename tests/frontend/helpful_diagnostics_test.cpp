@@ -17,6 +17,14 @@ using rcxc::test::run_frontend;
 using rcxc::test::run_rcxc;
 using rcxc::test::TempDir;
 
+// Each message as "line:column message", in the order given.
+std::vector<std::string> placed_messages(const rcxc::Diagnostics& diags) {
+  std::vector<std::string> out;
+  for (const auto& d : diags.all())
+    out.push_back(std::to_string(d.span.begin.line) + ":" + std::to_string(d.span.begin.column) + " " + d.message);
+  return out;
+}
+
 TEST(Spelling, DistanceCountsEditsAndIgnoresCase) {
   using rcxc::frontend::spelling_distance;
   EXPECT_EQ(spelling_distance("Wiat", "Wait"), 1u);  // two neighbours swapped
@@ -102,10 +110,7 @@ TEST(HelpfulDiagnostics, APrototypeSaysNqcNeedsNone) {
   auto r = run_frontend("void turn(int t);\nsub beep();\ntask other();\nint twice(int x);\ntask main()\n{\n"
                         "  turn(3); beep(); start other; undeclared = 1;\n}\nvoid turn(int t) { Wait(t); }\n"
                         "sub beep() { PlaySound(1); }\ntask other() { }\n");
-  std::vector<std::string> got;
-  for (const auto& d : r.diags.all())
-    got.push_back(std::to_string(d.span.begin.line) + ":" + std::to_string(d.span.begin.column) + " " + d.message);
-  EXPECT_EQ(got, (std::vector<std::string>{
+  EXPECT_EQ(placed_messages(r.diags), (std::vector<std::string>{
                      "1:17 NQC has no declarations without a body: define the function 'turn' here with its body, "
                      "or leave this line out (a function may be used above its definition)",
                      "2:11 NQC has no declarations without a body: define the sub 'beep' here with its body, or "
@@ -137,10 +142,7 @@ TEST(HelpfulDiagnostics, AMacroWithoutItsArgumentsSaysItTakesThem) {
 TEST(HelpfulDiagnostics, ATaskOrSubWithParametersSaysItTakesNone) {
   auto r = run_frontend("task main(void)\n{\n  Wait(1);\n}\nsub beep(void) { PlaySound(1); }\n"
                         "task other(int speed) { }\n");
-  std::vector<std::string> got;
-  for (const auto& d : r.diags.all())
-    got.push_back(std::to_string(d.span.begin.line) + ":" + std::to_string(d.span.begin.column) + " " + d.message);
-  EXPECT_EQ(got, (std::vector<std::string>{
+  EXPECT_EQ(placed_messages(r.diags), (std::vector<std::string>{
                      "1:11 a task takes no parameters: write 'task main()'",
                      "5:10 a sub takes no parameters: write 'sub beep()'",
                      "6:12 a task takes no parameters: write 'task other()', and share values through global "
@@ -154,10 +156,7 @@ TEST(HelpfulDiagnostics, ATaskOrSubWithParametersSaysItTakesNone) {
 TEST(HelpfulDiagnostics, ACommaInAForHeaderSaysNqcHasNoCommaOperator) {
   auto r = run_frontend("int i, j;\ntask main()\n{\n  for (i = 10, j = 0; i > 0; i--) { j++; }\n"
                         "  for (i = 0; i < 3; i++, j++) undeclared = 1;\n}\n");
-  std::vector<std::string> got;
-  for (const auto& d : r.diags.all())
-    got.push_back(std::to_string(d.span.begin.line) + ":" + std::to_string(d.span.begin.column) + " " + d.message);
-  EXPECT_EQ(got, (std::vector<std::string>{
+  EXPECT_EQ(placed_messages(r.diags), (std::vector<std::string>{
                      "4:14 NQC has no comma operator: set the other variables before the for loop, or in its body",
                      "5:25 NQC has no comma operator: set the other variables before the for loop, or in its body"}))
       << r.text();
