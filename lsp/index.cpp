@@ -651,6 +651,48 @@ std::optional<CallSite> call_at(const Index& index, const Place& where) {
   return open_call(tokens, static_cast<std::size_t>(first_after - tokens.begin()));
 }
 
+std::vector<CallArguments> calls_in(const Index& index, std::uint32_t file) {
+  Diagnostics ignored;
+  std::vector<frontend::Token> tokens = frontend::lex(index.sm.text(file), file, ignored);
+  std::vector<CallArguments> calls;
+  // The calls still open, by their index in `calls`; a '(' that only
+  // groups is kNotACall, so its ')' closes nothing of theirs.
+  constexpr std::size_t kNotACall = static_cast<std::size_t>(-1);
+  std::vector<std::size_t> open;
+  std::vector<std::size_t> argument_of_open;  // the argument each open '(' is in
+  bool argument_starts = false;
+  for (std::size_t i = 0; i < tokens.size() && tokens[i].kind != frontend::TokenKind::End; ++i) {
+    const frontend::Token& t = tokens[i];
+    // A directive's line ends what it opened: `#define F(x) G(x` leaves
+    // nothing open into the program.
+    if (t.line_start && t.is("#")) open.clear(), argument_of_open.clear(), argument_starts = false;
+    if (argument_starts && !t.is(")") && !t.is(",")) {
+      CallArgument a{argument_of_open.back(), place_of(t.span.begin), {}};
+      bool alone = i + 1 < tokens.size() && (tokens[i + 1].is(",") || tokens[i + 1].is(")"));
+      if (t.kind == frontend::TokenKind::Identifier && alone) a.only_name = std::string(t.text);
+      calls[open.back()].arguments.push_back(std::move(a));
+    }
+    argument_starts = false;
+    if (t.is("(")) {
+      bool call = i > 0 && tokens[i - 1].kind == frontend::TokenKind::Identifier && !frontend::is_keyword(tokens[i - 1].text);
+      if (call) calls.push_back({std::string(tokens[i - 1].text), place_of(tokens[i - 1].span.begin), {}});
+      open.push_back(call ? calls.size() - 1 : kNotACall);
+      argument_of_open.push_back(0);
+      argument_starts = call;
+    } else if (t.is(")") && !open.empty()) {
+      open.pop_back();
+      argument_of_open.pop_back();
+    } else if (t.is(",") && !open.empty() && open.back() != kNotACall) {
+      ++argument_of_open.back();
+      argument_starts = true;
+    } else if (t.is(";") || t.is("{") || t.is("}")) {
+      open.clear();  // a statement's end closes what a typo left open
+      argument_of_open.clear();
+    }
+  }
+  return calls;
+}
+
 std::optional<ParameterList> parameter_list(const Definition& def) {
   if (def.kind != DefKind::Function && def.kind != DefKind::Sub && def.kind != DefKind::Macro) return std::nullopt;
   auto open = list_opening(def);

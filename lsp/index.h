@@ -170,6 +170,21 @@ struct CallSite {
 };
 std::optional<CallSite> call_at(const Index& index, const Place& where);
 
+// Every call in `file` (a name followed by '(' as call_at reads one, the
+// declaring name of a function or macro included), with where each
+// argument begins; an empty argument (`f(, x)`) is left out.
+struct CallArgument {
+  std::size_t position = 0;  // from 0
+  Place at;                  // its first token
+  std::string only_name;     // the argument when it is one name, else empty
+};
+struct CallArguments {
+  std::string callee;
+  Place callee_at;
+  std::vector<CallArgument> arguments;
+};
+std::vector<CallArguments> calls_in(const Index& index, std::uint32_t file);
+
 // The parameter list of a function's, sub's or function-like macro's
 // signature: each parameter as a byte range [begin, end) of `signature`,
 // and the offset of the ')' that closes the list. None for other names.

@@ -497,6 +497,51 @@ json signature_help(Request& r) {
           {"activeParameter", call->argument}};
 }
 
+// ---------------------------------------------------------- inlay hints --
+
+// The name a parameter's text declares: its last word ("const int &sensor"
+// is "sensor"); empty when that is a keyword (a list cut short at "int").
+std::string parameter_name(std::string_view text) {
+  auto word = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; };
+  std::size_t end = text.size();
+  while (end > 0 && !word(text[end - 1])) --end;
+  std::size_t begin = end;
+  while (begin > 0 && word(text[begin - 1])) --begin;
+  std::string name(text.substr(begin, end - begin));
+  return is_plain_name(name) ? name : std::string();
+}
+
+// Each argument of a call in the range gets its parameter's name before it
+// (`PlayTone(frequency: 440, duration: 50)`), the way editors show C's; an
+// argument that is a variable of the parameter's own name gets none.
+bool placed_before(const Place& a, const Place& b) { return a.line < b.line || (a.line == b.line && a.column < b.column); }
+
+json inlay_hints(Request& r) {
+  auto first = place_of(*r.doc, r.params.at("range").at("start"));
+  auto last = place_of(*r.doc, r.params.at("range").at("end"));
+  json hints = json::array();
+  if (!first || !last || r.doc->text.size() > kMaxDocument) return hints;
+  const Index& index = r.doc->index;
+  for (const CallArguments& call : calls_in(index, index.main_file)) {
+    if (call.arguments.empty()) continue;
+    const Definition* def = resolve(index, call.callee, call.callee_at);
+    // A function's or macro's own declaration lists parameters, not arguments.
+    if (!def || (def->at.begin.file == call.callee_at.file && def->at.begin.line == call.callee_at.line &&
+                 def->at.begin.column == call.callee_at.column))
+      continue;
+    auto list = parameter_list(*def);
+    if (!list) continue;
+    for (const CallArgument& a : call.arguments) {
+      if (a.position >= list->params.size() || placed_before(a.at, *first) || !placed_before(a.at, *last)) continue;
+      auto [begin, end] = list->params[a.position];
+      std::string name = parameter_name(std::string_view(def->signature).substr(begin, end - begin));
+      if (name.empty() || name == a.only_name) continue;
+      hints.push_back({{"position", place_json(index, a.at)}, {"label", name + ":"}, {"kind", 2}, {"paddingRight", true}});
+    }
+  }
+  return hints;
+}
+
 // ---------------------------------------------------------------- rename --
 
 // Longer new names are refused: each edit carries the name, and no one
@@ -765,6 +810,7 @@ json initialize_result(Server& server, const json& params) {
       {"workspaceSymbolProvider", true},
       {"semanticTokensProvider", {{"legend", {{"tokenTypes", kTokenTypes}, {"tokenModifiers", kTokenModifiers}}}, {"full", true}}},
       {"documentFormattingProvider", true},
+      {"inlayHintProvider", true},
   };
   return {{"capabilities", capabilities}, {"serverInfo", {{"name", "rcxc"}, {"version", server.version}}}};
 }
@@ -860,6 +906,7 @@ json answer(Server& server, const std::string& method, const json& params) {
       {"textDocument/documentLink", document_links},
       {"textDocument/semanticTokens/full", semantic_tokens},
       {"textDocument/formatting", formatting},
+      {"textDocument/inlayHint", inlay_hints},
   };
   if (method == "workspace/symbol") return workspace_symbols(server, params);
   auto h = handlers.find(method);

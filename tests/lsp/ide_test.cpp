@@ -583,13 +583,15 @@ TEST(LspRobustness, RandomEditsAndTheNewRequestsAlwaysGetOneGoodReply) {
   const std::string alphabet = "abx_09 ;{}()#/*\"'\n\r\t=+&|\xc3\xa9\xf0\x9f\x98\x80\xff";
   std::string text = start;
   const char* methods[] = {"textDocument/foldingRange", "textDocument/semanticTokens/full", "workspace/symbol",
-                           "textDocument/documentHighlight", "textDocument/documentLink", "textDocument/definition"};
+                           "textDocument/documentHighlight", "textDocument/documentLink", "textDocument/definition",
+                           "textDocument/inlayHint"};
   for (int round = 0; round < 300; ++round) {
     random_edits(text, rng, alphabet, 6);
     handle(s.server, note("textDocument/didChange", {{"textDocument", {{"uri", s.uri}, {"version", round}}},
                                                     {"contentChanges", json::array({{{"text", text}}})}}));
-    json params = {{"textDocument", {{"uri", s.uri}}}, {"query", text.substr(0, 2)}, {"position", pos(below(12), below(20))}};
-    auto out = handle(s.server, request(round, methods[below(6)], params));
+    json params = {{"textDocument", {{"uri", s.uri}}}, {"query", text.substr(0, 2)}, {"position", pos(below(12), below(20))},
+                   {"range", {{"start", pos(below(12), below(20))}, {"end", pos(12 + below(12), below(20))}}}};
+    auto out = handle(s.server, request(round, methods[below(7)], params));
     ASSERT_EQ(out.size(), 1u);
     ASSERT_TRUE(out[0].contains("result")) << out[0].dump();
     const json& result = out[0]["result"];

@@ -2,7 +2,8 @@
 -- tests/lsp/nvim_test.cpp. g:rcxc_config names a JSON file with: rcxc (the
 -- binary), file (the program to open), stdlib_dir, out (where the findings
 -- go as JSON), the 0-based positions to ask about, rename_to, the new
--- name for the rename at `rename`, and symbol_query, a workspace symbol search. Written for the
+-- name for the rename at `rename`, and symbol_query, a workspace symbol search (inlay hints are
+-- asked over the whole buffer). Written for the
 -- vim.lsp API of Neovim 0.7 (Debian 12) and later.
 local result = {}
 local function run()
@@ -48,6 +49,15 @@ local function run()
 
   local help = ask('textDocument/signatureHelp', at(cfg.signature))
   result.signature = help and help.signatures[1] and help.signatures[1].label or vim.NIL
+
+  -- Inlay hints over the whole buffer. Neovim 0.7 shows none itself, so
+  -- the request is sent as a newer client sends it.
+  local hints = ask('textDocument/inlayHint', { textDocument = vim.lsp.util.make_text_document_params(),
+    range = { start = { line = 0, character = 0 }, ['end'] = { line = vim.api.nvim_buf_line_count(0), character = 0 } } })
+  result.hints = {}
+  for _, h in ipairs(hints or {}) do
+    table.insert(result.hints, { line = h.position.line, character = h.position.character, label = h.label })
+  end
 
   -- Workspace symbols as a user asks for them: the client's handler fills
   -- the quickfix list and opens its window, closed again for what follows.

@@ -1,6 +1,6 @@
 // `rcxc lsp` under a real LSP client: headless Neovim opens a program,
 // attaches the server and asks for diagnostics, hover, completion,
-// definition and signature help, searches workspace symbols with
+// definition, signature help and inlay hints, searches workspace symbols with
 // vim.lsp.buf.workspace_symbol, and renames a sub with vim.lsp.buf.rename
 // (tests/lsp/nvim_client.lua). Skipped when nvim is absent.
 #include <gtest/gtest.h>
@@ -91,6 +91,10 @@ TEST(NvimClient, DiagnosticsHoverCompletionDefinitionSignatureSymbolsAndRename) 
   EXPECT_EQ(result["definition"]["character"], 4);
 
   EXPECT_EQ(result["signature"], "void Wait(const int &ticks)");
+
+  // OnRev(OUT_A) on line 3 and Wait(50) on line 4, each argument's start.
+  EXPECT_EQ(result["hints"], json::parse(R"([{"line": 3, "character": 8, "label": "outputs:"},
+                                             {"line": 4, "character": 7, "label": "ticks:"}])"));
 
   // vim.lsp.buf.workspace_symbol: the client lists 'back_off' (line 1,
   // character 4 as LSP counts, 1-based in the quickfix list), nothing of rcx.nqh.
