@@ -542,6 +542,96 @@ json inlay_hints(Request& r) {
   return hints;
 }
 
+// -------------------------------------------------------- call hierarchy --
+// Who calls whom among tasks, subs and functions (`start t;` and `stop t;`
+// count as calls of task t). An item carries the document it was found in and its
+// name, all a later request needs: top-level names are unique in NQC.
+
+bool callable(const Definition& d) {
+  return !d.scope && (d.kind == DefKind::Task || d.kind == DefKind::Sub || d.kind == DefKind::Function);
+}
+
+json call_item(Request& r, const Definition& d) {
+  json at = location(r.server, *r.doc, r.uri, d.at);
+  if (at.is_null()) return nullptr;
+  return {{"name", d.name},
+          {"kind", symbol_kind(d)},
+          {"detail", d.signature},
+          {"uri", at["uri"]},
+          {"range", range_json(r.doc->index, d.extent)},
+          {"selectionRange", at["range"]},
+          {"data", {{"document", r.uri}, {"name", d.name}}}};
+}
+
+json prepare_call_hierarchy(Request& r) {
+  auto at = place_of(*r.doc, r.params.at("position"));
+  if (!at) return nullptr;
+  const Definition* def = definition_at(r, *at);
+  if (!def || !callable(*def)) return nullptr;
+  json item = call_item(r, *def);
+  return item.is_null() ? json(nullptr) : json::array({item});
+}
+
+// The calls of one item in the other's body: the item, and the ranges of
+// the names that call, in the order first met.
+struct CallsOf {
+  const Definition* other = nullptr;
+  json ranges = json::array();
+};
+
+void add_call(std::vector<CallsOf>& calls, const Definition* other, json range) {
+  auto it = std::find_if(calls.begin(), calls.end(), [&](const CallsOf& c) { return c.other == other; });
+  if (it == calls.end()) it = calls.insert(calls.end(), CallsOf{other});
+  it->ranges.push_back(std::move(range));
+}
+
+json call_list(Request& r, const std::vector<CallsOf>& calls, const char* other_key) {
+  json list = json::array();
+  for (const CallsOf& c : calls) {
+    json item = call_item(r, *c.other);
+    if (!item.is_null()) list.push_back({{other_key, item}, {"fromRanges", c.ranges}});
+  }
+  return list;
+}
+
+json incoming_calls(Request& r, const Definition& callee) {
+  const Index& index = r.doc->index;
+  std::vector<CallsOf> calls;
+  for (const Range& use : references(index, callee, false))
+    for (const Definition& d : index.defs)
+      if (callable(d) && contains(d.extent, use.begin)) {
+        add_call(calls, &d, range_json(index, use));
+        break;
+      }
+  return call_list(r, calls, "from");
+}
+
+json outgoing_calls(Request& r, const Definition& caller) {
+  const Index& index = r.doc->index;
+  std::vector<CallsOf> calls;
+  for (const auto& [occ, def] : resolve_file(index, caller.extent.begin.file)) {
+    const Place& p = occ->at.begin;
+    bool own_name = p.line == caller.at.begin.line && p.column == caller.at.begin.column;
+    if (def && callable(*def) && contains(caller.extent, p) && !own_name) add_call(calls, def, range_json(index, occ->at));
+  }
+  return call_list(r, calls, "to");
+}
+
+json calls_of_item(Server& server, const std::string& method, const json& params) {
+  // A client that drops `data` still sends the item's name and file.
+  const json& item = params.at("item");
+  const json& data = item.contains("data") ? item["data"] : item;
+  Request r{server, params, data.value("document", item.at("uri").get<std::string>())};
+  auto it = server.documents.find(r.uri);
+  if (it == server.documents.end()) return nullptr;  // closed since
+  r.doc = &it->second;
+  std::string name = data.at("name").get<std::string>();
+  for (const Definition& d : r.doc->index.defs)
+    if (d.name == name && callable(d))
+      return method == "callHierarchy/incomingCalls" ? incoming_calls(r, d) : outgoing_calls(r, d);
+  return nullptr;  // renamed or deleted since
+}
+
 // ---------------------------------------------------------------- rename --
 
 // Longer new names are refused: each edit carries the name, and no one
@@ -811,6 +901,7 @@ json initialize_result(Server& server, const json& params) {
       {"semanticTokensProvider", {{"legend", {{"tokenTypes", kTokenTypes}, {"tokenModifiers", kTokenModifiers}}}, {"full", true}}},
       {"documentFormattingProvider", true},
       {"inlayHintProvider", true},
+      {"callHierarchyProvider", true},
   };
   return {{"capabilities", capabilities}, {"serverInfo", {{"name", "rcxc"}, {"version", server.version}}}};
 }
@@ -907,8 +998,11 @@ json answer(Server& server, const std::string& method, const json& params) {
       {"textDocument/semanticTokens/full", semantic_tokens},
       {"textDocument/formatting", formatting},
       {"textDocument/inlayHint", inlay_hints},
+      {"textDocument/prepareCallHierarchy", prepare_call_hierarchy},
   };
   if (method == "workspace/symbol") return workspace_symbols(server, params);
+  if (method == "callHierarchy/incomingCalls" || method == "callHierarchy/outgoingCalls")
+    return calls_of_item(server, method, params);
   auto h = handlers.find(method);
   if (h == handlers.end()) throw UnknownMethod{};
   Request r{server, params, text_document_uri(params)};

@@ -584,14 +584,14 @@ TEST(LspRobustness, RandomEditsAndTheNewRequestsAlwaysGetOneGoodReply) {
   std::string text = start;
   const char* methods[] = {"textDocument/foldingRange", "textDocument/semanticTokens/full", "workspace/symbol",
                            "textDocument/documentHighlight", "textDocument/documentLink", "textDocument/definition",
-                           "textDocument/inlayHint"};
+                           "textDocument/inlayHint", "textDocument/prepareCallHierarchy"};
   for (int round = 0; round < 300; ++round) {
     random_edits(text, rng, alphabet, 6);
     handle(s.server, note("textDocument/didChange", {{"textDocument", {{"uri", s.uri}, {"version", round}}},
                                                     {"contentChanges", json::array({{{"text", text}}})}}));
     json params = {{"textDocument", {{"uri", s.uri}}}, {"query", text.substr(0, 2)}, {"position", pos(below(12), below(20))},
                    {"range", {{"start", pos(below(12), below(20))}, {"end", pos(12 + below(12), below(20))}}}};
-    auto out = handle(s.server, request(round, methods[below(7)], params));
+    auto out = handle(s.server, request(round, methods[below(8)], params));
     ASSERT_EQ(out.size(), 1u);
     ASSERT_TRUE(out[0].contains("result")) << out[0].dump();
     const json& result = out[0]["result"];

@@ -3,7 +3,7 @@
 -- binary), file (the program to open), stdlib_dir, out (where the findings
 -- go as JSON), the 0-based positions to ask about, rename_to, the new
 -- name for the rename at `rename`, and symbol_query, a workspace symbol search (inlay hints are
--- asked over the whole buffer). Written for the
+-- asked over the whole buffer), callers, where to ask for incoming calls. Written for the
 -- vim.lsp API of Neovim 0.7 (Debian 12) and later.
 local result = {}
 local function run()
@@ -68,6 +68,18 @@ local function run()
   result.symbols = {}
   for _, item in ipairs(vim.fn.getqflist()) do
     table.insert(result.symbols, { lnum = item.lnum, col = item.col, text = item.text })
+  end
+
+  -- Incoming calls as a user asks for them: the client prepares the item
+  -- under the cursor, asks for its callers and fills the quickfix list.
+  vim.fn.setqflist({}, 'r')
+  vim.api.nvim_win_set_cursor(0, { cfg.callers[1] + 1, cfg.callers[2] })
+  vim.lsp.buf.incoming_calls()
+  vim.wait(10000, function() return #vim.fn.getqflist() > 0 end, 20)
+  vim.cmd('cclose')
+  result.callers = {}
+  for _, item in ipairs(vim.fn.getqflist()) do
+    table.insert(result.callers, { lnum = item.lnum, col = item.col, text = item.text })
   end
 
   -- Rename as a user does it: the client asks prepareRename, then rename,

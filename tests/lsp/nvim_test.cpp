@@ -1,6 +1,7 @@
 // `rcxc lsp` under a real LSP client: headless Neovim opens a program,
 // attaches the server and asks for diagnostics, hover, completion,
-// definition, signature help and inlay hints, searches workspace symbols with
+// definition, signature help and inlay hints, lists a sub's callers with
+// vim.lsp.buf.incoming_calls, searches workspace symbols with
 // vim.lsp.buf.workspace_symbol, and renames a sub with vim.lsp.buf.rename
 // (tests/lsp/nvim_client.lua). Skipped when nvim is absent.
 #include <gtest/gtest.h>
@@ -65,6 +66,7 @@ TEST(NvimClient, DiagnosticsHoverCompletionDefinitionSignatureSymbolsAndRename) 
                                  {"rename", {8, 4}},       // back_off
                                  {"rename_to", "retreat"},
                                  {"symbol_query", "BACK"},
+                                 {"callers", {1, 4}},      // back_off's definition
                                  {"jump", {3, 4}}});       // OnRev, into the library
   ASSERT_FALSE(result.is_discarded());
   ASSERT_FALSE(result.contains("error")) << result["error"];
@@ -102,6 +104,13 @@ TEST(NvimClient, DiagnosticsHoverCompletionDefinitionSignatureSymbolsAndRename) 
   EXPECT_EQ(result["symbols"][0]["lnum"], 2);
   EXPECT_EQ(result["symbols"][0]["col"], 5);
   EXPECT_EQ(result["symbols"][0]["text"], "[Method] back_off");
+
+  // vim.lsp.buf.incoming_calls(): main calls back_off on line 8 (9 in the
+  // quickfix list), column 3.
+  ASSERT_EQ(result["callers"].size(), 1u) << result["callers"].dump();
+  EXPECT_EQ(result["callers"][0]["lnum"], 9);
+  EXPECT_EQ(result["callers"][0]["col"], 3);
+  EXPECT_EQ(result["callers"][0]["text"], "main");
 
   ASSERT_EQ(result["renamed"].size(), 12u) << result["renamed"].dump();
   EXPECT_EQ(result["renamed"][1], "sub retreat()");
