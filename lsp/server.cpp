@@ -14,6 +14,7 @@
 #include "format/format.h"
 #include "frontend/parse.h"
 #include "lsp/jsonrpc.h"
+#include "lsp/line_diff.h"
 #include "lsp/outline.h"
 #include "savefile/savefile.h"
 #include "stdlib/stdlib.h"
@@ -858,23 +859,74 @@ json semantic_tokens(Request& r) {
 // The document formatted (docs/format.md) as one edit of the whole text, or
 // no edit when it already is; a text the formatter refuses (a lexical
 // error) is an error with its message. The editor's tab size is the indent.
-json formatting(Request& r) {
+// The document as the formatter lays it out, with the editor's tab size
+// (1 to 8) as the indent; a text the formatter refuses is an error with its
+// message.
+std::string formatted_text(Request& r) {
   format::Style style;
   const json& options = r.params.contains("options") ? r.params["options"] : json::object();
   if (options.is_object() && options.contains("tabSize"))
     style.indent = static_cast<int>(std::clamp<std::int64_t>(integer_field(options, "tabSize"), format::kMinIndent,
                                                              format::kMaxIndent));
-  const std::string& text = r.doc->text;
-  auto formatted = format::format_source(text, style);
+  auto formatted = format::format_source(r.doc->text, style);
   if (auto* refusal = std::get_if<format::Refusal>(&formatted)) throw Refused(refusal->message);
-  std::string& out = std::get<std::string>(formatted);
+  return std::move(std::get<std::string>(formatted));
+}
+
+// Where line `line` (from 0) of `lines` starts, as an LSP position; past the
+// last line, the end of the text.
+json line_start(const std::vector<std::string_view>& lines, std::size_t line) {
+  if (line < lines.size()) return {{"line", line}, {"character", 0}};
+  if (lines.empty()) return {{"line", 0}, {"character", 0}};
+  std::string_view last = lines.back();
+  if (last.back() == '\n' || last.back() == '\r') return {{"line", lines.size()}, {"character", 0}};
+  return {{"line", lines.size() - 1}, {"character", utf16_of_byte_column(last, static_cast<std::uint32_t>(last.size() + 1))}};
+}
+
+json formatting(Request& r) {
+  const std::string& text = r.doc->text;
+  std::string out = formatted_text(r);
   if (out == text) return json::array();
-  std::size_t last_newline = text.rfind('\n');
-  std::string_view last_line = last_newline == std::string::npos ? std::string_view(text) : std::string_view(text).substr(last_newline + 1);
-  json end = {{"line", std::count(text.begin(), text.end(), '\n')},
-              {"character", utf16_of_byte_column(last_line, static_cast<std::uint32_t>(last_line.size() + 1))}};
-  json range = {{"start", {{"line", 0}, {"character", 0}}}, {"end", end}};
+  json range = {{"start", {{"line", 0}, {"character", 0}}}, {"end", line_start(split_lines(text), SIZE_MAX)}};
   return json::array({{{"range", range}, {"newText", std::move(out)}}});
+}
+
+// "Format Selection": the lines of the whole document's formatting that
+// change a line the range touches. A line laid out again is an edit of its
+// own; where the formatter splits or joins lines, the whole run of changed
+// lines is one edit, taken whole when it crosses the range's edge.
+json range_formatting(Request& r) {
+  const json& range = r.params.at("range");
+  std::int64_t first = integer_field(range.at("start"), "line");
+  std::int64_t last = integer_field(range.at("end"), "line");
+  if (first < 0 || last < first) throw BadParams("the range must not end before it starts");
+  // A selection of whole lines ends at the start of the line after them.
+  if (last > first && integer_field(range.at("end"), "character") == 0) --last;
+  const std::string& text = r.doc->text;
+  std::string out = formatted_text(r);
+  std::vector<std::string_view> old_lines = split_lines(text), new_lines = split_lines(out);
+  json edits = json::array();
+  auto add = [&](const Hunk& h) {
+    auto begin = static_cast<std::int64_t>(h.old_begin), end = static_cast<std::int64_t>(h.old_end);
+    bool touches = begin == end ? first <= begin && begin <= last + 1 : begin <= last && end > first;
+    if (!touches) return;
+    std::string new_text;
+    for (std::size_t i = h.new_begin; i < h.new_end; ++i) new_text += new_lines[i];
+    edits.push_back({{"range", {{"start", line_start(old_lines, h.old_begin)}, {"end", line_start(old_lines, h.old_end)}}},
+                     {"newText", std::move(new_text)}});
+  };
+  for (const Hunk& h : line_hunks(old_lines, new_lines)) {
+    // As many lines as before (indents, spaces): each line is its own edit,
+    // so the lines beside the selection keep their layout.
+    if (h.old_end - h.old_begin != h.new_end - h.new_begin) {
+      add(h);
+      continue;
+    }
+    for (std::size_t i = 0; i < h.old_end - h.old_begin; ++i)
+      if (old_lines[h.old_begin + i] != new_lines[h.new_begin + i])
+        add({h.old_begin + i, h.old_begin + i + 1, h.new_begin + i, h.new_begin + i + 1});
+  }
+  return edits;
 }
 
 json initialize_result(Server& server, const json& params) {
@@ -900,6 +952,7 @@ json initialize_result(Server& server, const json& params) {
       {"workspaceSymbolProvider", true},
       {"semanticTokensProvider", {{"legend", {{"tokenTypes", kTokenTypes}, {"tokenModifiers", kTokenModifiers}}}, {"full", true}}},
       {"documentFormattingProvider", true},
+      {"documentRangeFormattingProvider", true},
       {"inlayHintProvider", true},
       {"callHierarchyProvider", true},
   };
@@ -997,6 +1050,7 @@ json answer(Server& server, const std::string& method, const json& params) {
       {"textDocument/documentLink", document_links},
       {"textDocument/semanticTokens/full", semantic_tokens},
       {"textDocument/formatting", formatting},
+      {"textDocument/rangeFormatting", range_formatting},
       {"textDocument/inlayHint", inlay_hints},
       {"textDocument/prepareCallHierarchy", prepare_call_hierarchy},
   };

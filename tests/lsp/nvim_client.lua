@@ -3,7 +3,8 @@
 -- binary), file (the program to open), stdlib_dir, out (where the findings
 -- go as JSON), the 0-based positions to ask about, rename_to, the new
 -- name for the rename at `rename`, and symbol_query, a workspace symbol search (inlay hints are
--- asked over the whole buffer), callers, where to ask for incoming calls. Written for the
+-- asked over the whole buffer), callers, where to ask for incoming calls, and untidy, the
+-- first of two lines made untidy before the second is range-formatted. Written for the
 -- vim.lsp API of Neovim 0.7 (Debian 12) and later.
 local result = {}
 local function run()
@@ -90,6 +91,15 @@ local function run()
   vim.lsp.buf.rename(cfg.rename_to)
   vim.wait(10000, function() return table.concat(vim.api.nvim_buf_get_lines(0, 0, -1, false), '\n') ~= before end, 20)
   result.renamed = vim.api.nvim_buf_get_lines(0, 0, -1, false)
+
+  -- Format selection as a user does it: two lines made untidy, only the
+  -- second selected; the client applies the server's edits.
+  vim.api.nvim_buf_set_lines(0, cfg.untidy, cfg.untidy + 2, false, { 'OnRev( OUT_A );', 'Wait(  50 );' })
+  local untidy = table.concat(vim.api.nvim_buf_get_lines(0, 0, -1, false), '\n')
+  vim.bo.shiftwidth = 2  -- sent as the tab size, the indent (without it: 8)
+  vim.lsp.buf.range_formatting({}, { cfg.untidy + 2, 0 }, { cfg.untidy + 2, 0 })
+  vim.wait(10000, function() return table.concat(vim.api.nvim_buf_get_lines(0, 0, -1, false), '\n') ~= untidy end, 20)
+  result.range_formatted = vim.api.nvim_buf_get_lines(0, cfg.untidy, cfg.untidy + 2, false)
 
   -- Go to definition as a user does it: the client's own handler jumps.
   vim.api.nvim_win_set_cursor(0, { cfg.jump[1] + 1, cfg.jump[2] })

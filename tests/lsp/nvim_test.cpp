@@ -1,7 +1,7 @@
 // `rcxc lsp` under a real LSP client: headless Neovim opens a program,
 // attaches the server and asks for diagnostics, hover, completion,
 // definition, signature help and inlay hints, lists a sub's callers with
-// vim.lsp.buf.incoming_calls, searches workspace symbols with
+// vim.lsp.buf.incoming_calls, formats one line with vim.lsp.buf.range_formatting, searches workspace symbols with
 // vim.lsp.buf.workspace_symbol, and renames a sub with vim.lsp.buf.rename
 // (tests/lsp/nvim_client.lua). Skipped when nvim is absent.
 #include <gtest/gtest.h>
@@ -67,6 +67,7 @@ TEST(NvimClient, DiagnosticsHoverCompletionDefinitionSignatureSymbolsAndRename) 
                                  {"rename_to", "retreat"},
                                  {"symbol_query", "BACK"},
                                  {"callers", {1, 4}},      // back_off's definition
+                                 {"untidy", 3},            // OnRev and Wait
                                  {"jump", {3, 4}}});       // OnRev, into the library
   ASSERT_FALSE(result.is_discarded());
   ASSERT_FALSE(result.contains("error")) << result["error"];
@@ -116,6 +117,9 @@ TEST(NvimClient, DiagnosticsHoverCompletionDefinitionSignatureSymbolsAndRename) 
   EXPECT_EQ(result["renamed"][1], "sub retreat()");
   EXPECT_EQ(result["renamed"][8], "  retreat();");
   EXPECT_EQ(result["renamed"][0], "int hits;");
+
+  // vim.lsp.buf.range_formatting() of the Wait line: OnRev's stays untidy.
+  EXPECT_EQ(result["range_formatted"], json::array({"OnRev( OUT_A );", "  Wait(50);"}));
 
   EXPECT_EQ(result["jump"]["file"], dir.path + "/stdlib/rcx.nqh");
   EXPECT_NE(result["jump"]["text"].get<std::string>().find("void OnRev("), std::string::npos) << result["jump"];
