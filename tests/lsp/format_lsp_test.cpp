@@ -44,6 +44,15 @@ TEST(LspFormatting, OneEditReplacesTheWholeDocument) {
   EXPECT_EQ(edits[0]["range"], json::parse(R"({"start":{"line":0,"character":0},"end":{"line":3,"character":9}})"));
 }
 
+TEST(LspFormatting, TheEditReachesTheEndOfATextWithLoneCarriageReturns) {
+  // Four lines as LSP counts them (a lone CR ends a line); the last, "}",
+  // ends at character 1 of line 3. Counting LFs alone put the end on line 0.
+  json reply = format_reply("task main()\r{\rWait(1);\r}");
+  ASSERT_TRUE(reply.contains("result")) << reply.dump();
+  ASSERT_EQ(reply["result"].size(), 1u);
+  EXPECT_EQ(reply["result"][0]["range"], json::parse(R"({"start":{"line":0,"character":0},"end":{"line":3,"character":1}})"));
+}
+
 TEST(LspFormatting, TheEditorsTabSizeIsTheIndent) {
   json reply = format_reply("task main()\n{\nWait(1);\n}\n", {{"tabSize", 4}, {"insertSpaces", true}});
   EXPECT_EQ(reply["result"][0]["newText"], "task main()\n{\n    Wait(1);\n}\n");
