@@ -8,6 +8,7 @@
 #include <set>
 #include <string>
 #include <unordered_map>
+#include <unordered_set>
 
 #include "frontend/fold.h"
 #include "frontend/parse.h"
@@ -108,6 +109,7 @@ class Checker {
     check_function_recursion();
     check_pragmas();
     record_calling_tasks();
+    report_tasks_never_started();
   }
 
  private:
@@ -120,6 +122,7 @@ class Checker {
   // the variable where a value is meant and the callee in a call or start.
   std::unordered_map<std::string, SymbolId> shadowing_variables_;
   std::vector<std::unordered_map<std::string, SymbolId>> scopes_;  // innermost last
+  std::unordered_set<SymbolId> started_tasks_;  // named by a `start`
   SymbolId owner_ = kNoSymbol;
   // The first symbol declared in the body being checked: its locals all
   // come after, so the unused-variable report reads only those.
@@ -297,6 +300,19 @@ class Checker {
       statements(b->stmts, false);
     } else {
       stmt(body);
+    }
+  }
+
+  // A task no `start` names never runs (only main starts by itself): the
+  // forgotten `start t;` is a classroom's commonest multitasking bug, and
+  // nqc says nothing of it. Not said beside errors: a `start` the parser
+  // lost, or a missing main, would make every task look forgotten.
+  void report_tasks_never_started() {
+    if (diags_.has_errors()) return;
+    for (const auto& t : prog_.tasks) {
+      const Symbol& s = prog_.symbols[t.symbol];
+      if (s.name != "main" && !started_tasks_.count(t.symbol))
+        diags_.warning(s.span, "task '" + s.name + "' is never started: nothing in the program says 'start " + s.name + ";'");
     }
   }
 
@@ -501,7 +517,10 @@ class Checker {
     symbol = *id;
     prog_.symbols[*id].used = true;
   }
-  void visit_stmt(StartTask& n, Stmt& s) { task_ref(n.task, n.symbol, s, "start"); }
+  void visit_stmt(StartTask& n, Stmt& s) {
+    task_ref(n.task, n.symbol, s, "start");
+    if (n.symbol != kNoSymbol) started_tasks_.insert(n.symbol);
+  }
   void visit_stmt(StopTask& n, Stmt& s) { task_ref(n.task, n.symbol, s, "stop"); }
   void visit_stmt(Asm& n, Stmt&) {
     for (auto& item : n.items) std::visit([&](auto& i) { asm_item(i); }, item);

@@ -121,6 +121,17 @@ const BadProgram kCases[] = {
     {"LiteralJustUnderTwoToTheSixtyTwoIsNamed", "int g;\ntask main()\n{\n  g = 4611686018427387903;\n}\n",
      {"4:7: warning: integer constant 4611686018427387903 does not fit in 16 bits; it becomes -1"}},
     {"UnusedLocal", "task main()\n{\n  int spare;\n}\n", {"3:7: warning: unused variable 'spare'"}},
+    {"TaskNeverStarted", "task helper()\n{\n}\ntask main()\n{\n  stop helper;\n}\n",
+     {"1:6: warning: task 'helper' is never started: nothing in the program says 'start helper;'"}},
+    // Started from a sub, from an inline function, from another task (even
+    // one started later in the file): none is forgotten.
+    {"TasksStartedAnywhereAreNotForgotten",
+     "task c() { }\ntask b() { start c; }\nsub s() { start b; }\nvoid f() { start d; }\ntask d() { }\n"
+     "task main() { s(); f(); }\n",
+     {}},
+    // Beside an error (here the misspelled start) every task may look forgotten.
+    {"NeverStartedIsNotSaidBesideErrors", "task helper() { }\ntask main() { start helpr; }\n",
+     {"2:15: error: cannot start 'helpr': there is no task of that name"}},
     {"UnreachableAfterBreak", "task main()\n{\n  int x;\n  while (true)\n  {\n    break;\n    x++;\n  }\n}\n",
      {"7:5: warning: unreachable code"}},
     {"LabelMakesCodeReachable", "task main()\n{\n  goto b;\n  b: ;\n}\n", {}},
