@@ -208,6 +208,11 @@ json diagnostic_json(Server& server, const Document& doc, const std::string& doc
             {"severity", d.severity == Severity::Error ? 1 : d.severity == Severity::Warning ? 2 : 3},
             {"source", "rcxc"},
             {"message", d.message}};
+  // Code that does nothing: editors grey it out (DiagnosticTag Unnecessary).
+  // The compiler's diagnostics carry no kind, so the message says which;
+  // tests/lsp/lsp_test.cpp pins both wordings.
+  if (d.severity == Severity::Warning && (d.message.rfind("unused variable '", 0) == 0 || d.message == "unreachable code"))
+    j["tags"] = json::array({1});
   json related = json::array();
   for (const auto& r : d.related) {
     if (r.path.empty()) continue;

@@ -2,6 +2,9 @@
 // on real programs (diagnostics, hover, completion, definition, references,
 // symbols, quick fixes), plus robustness against bad input.
 #include <gtest/gtest.h>
+
+#include <algorithm>
+#include <tuple>
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -233,6 +236,18 @@ TEST(LspDiagnostics, WarningsAndSyntaxErrors) {
   bool syntax = false;
   for (const auto& d : s.diagnostics) syntax |= d["severity"] == 1 && d["range"]["start"]["line"].get<int>() >= 3;
   EXPECT_TRUE(syntax) << s.diagnostics.dump();
+}
+
+TEST(LspDiagnostics, CodeThatDoesNothingIsTaggedUnnecessary) {
+  Session s("task helper() { }\ntask main()\n{\n  int spare;\n  return;\n  Wait(10);\n}\n");
+  std::vector<std::tuple<int, std::string, json>> seen;
+  for (const auto& d : s.diagnostics) seen.emplace_back(d["range"]["start"]["line"], d["message"], d.value("tags", json()));
+  std::sort(seen.begin(), seen.end(), [](const auto& a, const auto& b) { return std::get<0>(a) < std::get<0>(b); });
+  EXPECT_EQ(seen, (std::vector<std::tuple<int, std::string, json>>{
+                      {0, "task 'helper' is never started: nothing in the program says 'start helper;'", json()},
+                      {3, "unused variable 'spare'", json::array({1})},
+                      {5, "unreachable code", json::array({1})}}))
+      << s.diagnostics.dump();
 }
 
 TEST(LspDiagnostics, ColumnsAreUtf16) {
