@@ -693,6 +693,13 @@ std::vector<CallArguments> calls_in(const Index& index, std::uint32_t file) {
   return calls;
 }
 
+std::optional<Place> body_opening(const Index& index, const Definition& def) {
+  Diagnostics ignored;
+  for (const frontend::Token& t : frontend::lex(index.sm.text(def.at.begin.file), def.at.begin.file, ignored))
+    if (t.is("{") && before(def.at.begin, place_of(t.span.begin))) return place_of(t.span.begin);
+  return std::nullopt;
+}
+
 std::optional<ParameterList> parameter_list(const Definition& def) {
   if (def.kind != DefKind::Function && def.kind != DefKind::Sub && def.kind != DefKind::Macro) return std::nullopt;
   auto open = list_opening(def);

@@ -185,6 +185,10 @@ struct CallArguments {
 };
 std::vector<CallArguments> calls_in(const Index& index, std::uint32_t file);
 
+// Where the body of `def` (a task, sub or function of `file`) opens: the
+// first '{' after its name; none when the text has no such brace.
+std::optional<Place> body_opening(const Index& index, const Definition& def);
+
 // The parameter list of a function's, sub's or function-like macro's
 // signature: each parameter as a byte range [begin, end) of `signature`,
 // and the offset of the ')' that closes the list. None for other names.

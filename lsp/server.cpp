@@ -440,6 +440,42 @@ std::string suggested_name(const std::string& message) {
 }
 
 // "did you mean" quick fixes for the names the compiler does not know.
+// TASK of "task 'TASK' is never started...", else "".
+std::string unstarted_task(const std::string& message) {
+  const std::string_view lead = "task '", tail = "' is never started";
+  if (message.rfind(lead, 0) != 0) return "";
+  auto end = message.find('\'', lead.size());
+  if (end == std::string::npos || message.compare(end, tail.size(), tail) != 0) return "";
+  std::string name = message.substr(lead.size(), end - lead.size());
+  return is_identifier(name) ? name : "";
+}
+
+// "Start 'watch' at the top of main": `start watch;` as main's first
+// statement, indented as the line after main's '{' is (two spaces more
+// than the brace's line when that line holds no statement).
+json start_task_action(Request& r, const DocDiagnostic& d, const std::string& task) {
+  const Index& index = r.doc->index;
+  const Definition* main = nullptr;
+  for (const auto& def : index.defs)
+    if (def.kind == DefKind::Task && def.name == "main" && def.at.begin.file == index.main_file) main = &def;
+  if (!main) return nullptr;
+  auto brace = body_opening(index, *main);
+  if (!brace) return nullptr;
+  auto indent_of = [](std::string_view line) { return std::string(line.substr(0, line.find_first_not_of(" \t"))); };
+  std::string_view next = doc_line(*r.doc, brace->line + 1);
+  bool statement_next = !next.empty() && next.find_first_not_of(" \t") != std::string_view::npos &&
+                        next[next.find_first_not_of(" \t")] != '}';
+  std::string indent = statement_next ? indent_of(next) : indent_of(doc_line(*r.doc, brace->line)) + "  ";
+  Place after{brace->file, brace->line, brace->column + 1};
+  json edit = {{"range", {{"start", place_json(index, after)}, {"end", place_json(index, after)}}},
+               {"newText", "\n" + indent + "start " + task + ";"}};
+  return {{"title", "Start '" + task + "' at the top of main"},
+          {"kind", "quickfix"},
+          {"isPreferred", true},
+          {"diagnostics", json::array({diagnostic_json(r.server, *r.doc, r.uri, d)})},
+          {"edit", {{"changes", {{r.uri, json::array({edit})}}}}}};
+}
+
 json code_actions(Request& r) {
   const Index& index = r.doc->index;
   auto first = place_of(*r.doc, r.params.at("range").at("start"));
@@ -447,11 +483,17 @@ json code_actions(Request& r) {
   if (!first || !last) return nullptr;
   json actions = json::array();
   for (const auto& d : index.diagnostics) {
-    std::string name = undeclared_name(d.message);
-    if (d.line == 0 || name.empty()) continue;
+    if (d.line == 0) continue;
     // The request's range must touch the diagnostic's.
     if (d.end_line < first->line || (d.end_line == first->line && d.end_column < first->column)) continue;
     if (d.line > last->line || (d.line == last->line && d.column > last->column)) continue;
+    if (std::string task = unstarted_task(d.message); !task.empty()) {
+      json action = start_task_action(r, d, task);
+      if (!action.is_null()) actions.push_back(std::move(action));
+      continue;
+    }
+    std::string name = undeclared_name(d.message);
+    if (name.empty()) continue;
     const Occurrence* occ = nullptr;
     for (const auto& o : index.occurrences)
       if (o.name == name && o.at.begin.file == index.main_file && o.at.begin.line == d.line &&

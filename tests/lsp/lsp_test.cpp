@@ -534,6 +534,26 @@ TEST(LspCodeAction, DidYouMeanFixesAMisspeltName) {
   EXPECT_TRUE(s.ask("textDocument/codeAction", {{"range", {{"start", pos(0, 0)}, {"end", pos(0, 3)}}}}).empty());
 }
 
+TEST(LspCodeAction, ATaskNeverStartedIsStartedAtTheTopOfMain) {
+  Session s("task watch()\n{\n}\ntask main()\n{\n    Wait(10);\n}\n");
+  json actions = s.ask("textDocument/codeAction", {{"range", {{"start", pos(0, 6)}, {"end", pos(0, 6)}}},
+                                                   {"context", {{"diagnostics", json::array()}}}});
+  ASSERT_EQ(actions.size(), 1u) << actions.dump();
+  EXPECT_EQ(actions[0]["title"], "Start 'watch' at the top of main");
+  EXPECT_EQ(actions[0]["diagnostics"][0]["message"], "task 'watch' is never started: nothing in the program says 'start watch;'");
+  // After main's '{' (line 4, character 1), indented as the Wait below it.
+  const json& edit = actions[0]["edit"]["changes"][s.uri][0];
+  EXPECT_EQ(edit["range"], range_at(4, 1, 1));
+  EXPECT_EQ(edit["newText"], "\n    start watch;");
+  // A main whose '{' ends its header line and whose body is empty: two
+  // spaces more than the header.
+  Session t("task watch() { }\ntask main() {\n}\n");
+  actions = t.ask("textDocument/codeAction", {{"range", {{"start", pos(0, 6)}, {"end", pos(0, 6)}}}});
+  ASSERT_EQ(actions.size(), 1u) << actions.dump();
+  EXPECT_EQ(actions[0]["edit"]["changes"][t.uri][0]["range"], range_at(1, 13, 13));
+  EXPECT_EQ(actions[0]["edit"]["changes"][t.uri][0]["newText"], "\n  start watch;");
+}
+
 TEST(LspCodeAction, SimilarNamesPreferCaseSlips) {
   EXPECT_EQ(edit_distance("OnFwd", "OnFwd"), 0u);
   EXPECT_EQ(edit_distance("OnFwd", "OnFdw"), 1u);  // a transposition is one edit
