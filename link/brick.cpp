@@ -154,6 +154,9 @@ std::optional<Bytes> execute(Brick& b, std::span<const std::uint8_t> request) {
     case Op::DeleteFirmware:
       if (!key_is(request, kVersionsKey)) return reply_with(request);  // wrong key: nothing happens
       b.vm.set_firmware_present(false);
+      // A task or subroutine download the firmware had open goes with it.
+      b.vm.end_download();
+      b.protocol.target = DownloadTarget::None;
       b.protocol.firmware_ready = false;
       return reply_with(request);
     case Op::StartFirmwareDownload:
