@@ -107,6 +107,27 @@ TEST_F(PtyBrick, NoisyLineStillVerifiesOrFailsCleanly) {
   }
 }
 
+// Send message broadcasts a Set message request over the infrared link
+// (seed): a host at the tower hears the packet, framed like any other.
+TEST_F(PtyBrick, AProgramsSendMessageReachesTheTowerAsSetMessage) {
+  Image image;
+  image.fragments.push_back({FragmentType::Task, 0, {0xB2, 0x02, 42}});  // send message 42
+  ASSERT_FALSE(brick.vm.load(brick.vm.program(), image));
+  brick.vm.start_program();
+  start();
+  auto port = host();
+  ASSERT_TRUE(port);
+  Bytes heard;
+  const Bytes expected = frame(Bytes{0xF7, 42});
+  for (int i = 0; i < 100 && heard.size() < expected.size(); ++i) {
+    auto got = port->read(Millis(10));
+    ASSERT_TRUE(std::holds_alternative<Bytes>(got));
+    const auto& bytes = std::get<Bytes>(got);
+    heard.insert(heard.end(), bytes.begin(), bytes.end());
+  }
+  EXPECT_EQ(heard, expected);
+}
+
 TEST(LinkPort, ResolvesAliasesAndTheEnvironment) {
   EXPECT_EQ(resolve_port(std::nullopt, std::nullopt).path, kUsbTowerPath);
   EXPECT_EQ(resolve_port(std::nullopt, std::nullopt).kind, PortKind::Usb);
