@@ -154,6 +154,9 @@ std::optional<Bytes> execute(Brick& b, std::span<const std::uint8_t> request) {
     case Op::DeleteFirmware:
       if (!key_is(request, kVersionsKey)) return reply_with(request);  // wrong key: nothing happens
       b.vm.set_firmware_present(false);
+      // A task or subroutine download the firmware had open goes with it.
+      b.vm.end_download();
+      b.protocol.target = DownloadTarget::None;
       b.protocol.firmware_ready = false;
       return reply_with(request);
     case Op::StartFirmwareDownload:
@@ -251,6 +254,18 @@ Bytes hear(Brick& b, std::span<const std::uint8_t> heard) {
       Bytes framed = frame(*reply);
       out.insert(out.end(), framed.begin(), framed.end());
     }
+  }
+  return out;
+}
+
+Bytes broadcasts(const Brick& b, std::size_t first) {
+  Bytes out;
+  const auto& events = b.vm.state().events;
+  for (std::size_t i = first; i < events.size(); ++i) {
+    if (events[i].kind != EventKind::MessageSent) continue;
+    Bytes payload{info(Op::SetMessage).code, static_cast<std::uint8_t>(events[i].value)};
+    Bytes framed = frame(payload);
+    out.insert(out.end(), framed.begin(), framed.end());
   }
   return out;
 }

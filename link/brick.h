@@ -69,4 +69,9 @@ std::optional<Bytes> answer(Brick& brick, std::span<const std::uint8_t> request)
 // Bytes in, bytes out: decodes `heard` and returns the framed replies.
 Bytes hear(Brick& brick, std::span<const std::uint8_t> heard);
 
+// What the brick transmits on its own: a program's Send message broadcasts a
+// Set message request over the infrared link (seed). The framed packets for
+// the machine's events from index `first` on (the caller keeps its place).
+Bytes broadcasts(const Brick& brick, std::size_t first);
+
 }  // namespace rcx

@@ -54,7 +54,10 @@ std::optional<TransportError> serve(Brick& brick, Transport& port, const ServeOp
     auto& heard = std::get<Bytes>(got);
     auto wall = std::chrono::duration_cast<std::chrono::microseconds>(Clock::now() - start).count();
     brick.vm.run_until(vm_start + wall);
+    Bytes sent = broadcasts(brick, 0);
     brick.vm.forget_events();  // nobody reads them here; a brick serving for days must not grow
+    if (!sent.empty())
+      if (auto err = emit(port, apply_noise(noise, sent), options.pace)) return err;
     if (heard.empty()) continue;
     if (options.echo)
       if (auto err = emit(port, heard, options.pace)) return err;
@@ -67,12 +70,18 @@ std::optional<TransportError> serve(Brick& brick, Transport& port, const ServeOp
 }
 
 BrickWire::BrickWire(Brick& brick, double noise, std::uint64_t seed, bool echo)
-    : brick_(brick), noise_(make_noise(noise, seed)), echo_(echo) {}
+    : brick_(brick), noise_(make_noise(noise, seed)), echo_(echo), events_seen_(brick.vm.state().events.size()) {}
 
 void BrickWire::advance(Micros us) {
   elapsed_us_ += us;
   since_write_us_ += us;
   brick_.vm.run_until(brick_.vm.now_us() + us);
+  const std::size_t events = brick_.vm.state().events.size();
+  if (events_seen_ > events) events_seen_ = 0;  // the owner forgot them
+  Bytes sent = broadcasts(brick_, events_seen_);
+  events_seen_ = events;
+  Bytes noisy = apply_noise(noise_, sent);
+  inbox_.insert(inbox_.end(), noisy.begin(), noisy.end());
 }
 
 std::optional<TransportError> BrickWire::write(std::span<const std::uint8_t> bytes) {

@@ -51,6 +51,7 @@ class BrickWire final : public Transport {
   Bytes inbox_;
   Micros elapsed_us_ = 0;
   Micros since_write_us_ = 0;  // line time since the last write (a read timeout counts from the write)
+  std::size_t events_seen_ = 0;  // the machine's events already looked at for broadcasts
 };
 
 }  // namespace rcx

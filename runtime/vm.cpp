@@ -234,7 +234,10 @@ void Machine::delete_sub(int sub) {
   if (sub < 0 || sub >= kMaxSubroutines) return;
   for (int i = 0; i < kMaxTasks; ++i) {
     const TaskState& t = tasks_[static_cast<std::size_t>(i)];
-    if (t.active && t.sub == sub) end_task(i);
+    // A sub that called another is still being executed: the task's return
+    // address points into it (call_depth 2).
+    bool returns_into = t.call_depth == 2 && t.return_sub == sub;
+    if (t.active && (t.sub == sub || returns_into)) end_task(i);
   }
   slots_[static_cast<std::size_t>(state_.program)].subs[static_cast<std::size_t>(sub)].reset();
   invalidate_code();

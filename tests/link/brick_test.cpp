@@ -200,6 +200,35 @@ TEST(LinkBrick, FirmwareWithTheWrongChecksumIsError4AndStaysLocked) {
   EXPECT_FALSE(b.vm.firmware_present());
 }
 
+// Delete firmware with a wrong key does nothing (seed: "Otherwise, do
+// nothing") and is answered; Unlock firmware with a wrong key is not answered
+// and leaves the firmware locked.
+TEST(LinkBrick, WrongKeysChangeNothing) {
+  Brick b = make_brick();
+  Host host{b};
+  EXPECT_EQ(host(req(Op::DeleteFirmware, {1, 3, 5, 7, 12})), Bytes{});
+  EXPECT_TRUE(b.vm.firmware_present());
+  ASSERT_TRUE(host(req(Op::DeleteFirmware, {1, 3, 5, 7, 11})));
+  ASSERT_EQ(host(req(Op::StartFirmwareDownload, {0x8000, 3, 0})), (Bytes{0}));
+  ASSERT_EQ(host(transfer_payload(0, Bytes{1, 2})), (Bytes{0}));
+  EXPECT_EQ(host(req(Op::UnlockFirmware, {76, 69, 71, 79, 175})), std::nullopt);
+  EXPECT_FALSE(b.vm.firmware_present());
+  EXPECT_TRUE(host(req(Op::UnlockFirmware, {76, 69, 71, 79, 174})));
+  EXPECT_TRUE(b.vm.firmware_present());
+}
+
+// Delete firmware stops everything: a task download the firmware had open
+// is gone with it, and the ROM, which knows only firmware downloads, answers
+// a block with 6 (no download started) instead of writing it into the task.
+TEST(LinkBrick, DeletingTheFirmwareEndsAnOpenTaskDownload) {
+  Brick b = make_brick();
+  Host host{b};
+  ASSERT_EQ(host(req(Op::StartTaskDownload, {0, 0, 2})), (Bytes{0}));
+  ASSERT_TRUE(host(req(Op::DeleteFirmware, {1, 3, 5, 7, 11})));
+  EXPECT_EQ(host(transfer_payload(1, Bytes{0x50, 0x50})), (Bytes{6}));
+  EXPECT_EQ(*b.vm.slot(b.vm.program()).tasks[0], (Bytes{0, 0}));
+}
+
 TEST(LinkBrick, FirmwareBlockChecksumErrorAdvancesTheSequence) {
   // The ROM bug of the seed: after error 3 the host must number the resent
   // block one higher.

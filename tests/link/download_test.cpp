@@ -71,6 +71,45 @@ TEST(LinkDownload, CleanLineDeliversEveryByteAndPlaysTheSound) {
   EXPECT_FALSE(brick.vm.any_task_active());
 }
 
+// In memory as on a pty: a program's Send message is heard at the tower as
+// a Set message request (seed), once, when the program sends it.
+TEST(LinkWire, AProgramsSendMessageIsHeardAsSetMessage) {
+  Brick brick = make_brick();
+  Image image;
+  image.fragments.push_back({FragmentType::Task, 0, {0x43, 0x02, 10, 0x00,    // wait 10/100 s
+                                                     0xB2, 0x02, 42}});       // send message 42
+  ASSERT_FALSE(brick.vm.load(brick.vm.program(), image));
+  brick.vm.start_program();
+  BrickWire wire(brick, 0.0, 1);
+  wire.pause(Millis(50));
+  EXPECT_EQ(std::get<Bytes>(wire.read(Millis(0))), Bytes{});
+  wire.pause(Millis(100));
+  EXPECT_EQ(std::get<Bytes>(wire.read(Millis(0))), frame(Bytes{0xF7, 42}));
+  wire.pause(Millis(100));
+  EXPECT_EQ(std::get<Bytes>(wire.read(Millis(0))), Bytes{});
+}
+
+// A host waiting for its reply skips the brick's broadcasts: a program that
+// sends a message every 1/100 s does not disturb a request.
+TEST(LinkWire, BroadcastsBetweenRepliesDoNotDisturbTheHost) {
+  Brick brick = make_brick();
+  Image image;
+  image.fragments.push_back({FragmentType::Task, 0, {0x14, 0x03, 0x02, 0x07, 0x00,   // var 3 = 7
+                                                     0xB2, 0x02, 42,                  // send message 42
+                                                     0x43, 0x02, 1, 0x00,             // wait 1/100 s
+                                                     0x27, 0x88}});                   // back to the send
+  ASSERT_FALSE(brick.vm.load(brick.vm.program(), image));
+  brick.vm.start_program();
+  BrickWire wire(brick, 0.0, 1);
+  Link link = make_link(wire);
+  for (int i = 0; i < 5; ++i) {
+    auto r = run_remote(link, {"get", "var", "3"});
+    ASSERT_TRUE(std::holds_alternative<std::string>(r)) << std::get<RemoteError>(r).message;
+    EXPECT_EQ(std::get<std::string>(r), "7\n");
+  }
+  EXPECT_EQ(link.stats.attempts, link.stats.requests);  // no retries
+}
+
 TEST(LinkDownload, RunStartsTaskZero) {
   Brick brick = make_brick();
   BrickWire wire(brick, 0.0, 1, /*echo=*/true);  // a serial tower: echo skipped

@@ -107,6 +107,50 @@ TEST_F(PtyBrick, NoisyLineStillVerifiesOrFailsCleanly) {
   }
 }
 
+// Send message broadcasts a Set message request over the infrared link
+// (seed): a host at the tower hears the packet, framed like any other.
+TEST_F(PtyBrick, AProgramsSendMessageReachesTheTowerAsSetMessage) {
+  Image image;
+  image.fragments.push_back({FragmentType::Task, 0, {0xB2, 0x02, 42}});  // send message 42
+  ASSERT_FALSE(brick.vm.load(brick.vm.program(), image));
+  brick.vm.start_program();
+  start();
+  auto port = host();
+  ASSERT_TRUE(port);
+  Bytes heard;
+  const Bytes expected = frame(Bytes{0xF7, 42});
+  for (int i = 0; i < 100 && heard.size() < expected.size(); ++i) {
+    auto got = port->read(Millis(10));
+    ASSERT_TRUE(std::holds_alternative<Bytes>(got));
+    const auto& bytes = std::get<Bytes>(got);
+    heard.insert(heard.end(), bytes.begin(), bytes.end());
+  }
+  EXPECT_EQ(heard, expected);
+}
+
+// A host at a serial tower (which echoes its bytes) still gets its replies at
+// the first try while a program broadcasts a message every 1/100 s.
+TEST_F(PtyBrick, BroadcastsDoNotCostTheHostRetries) {
+  Image image;
+  image.fragments.push_back({FragmentType::Task, 0, {0x14, 0x03, 0x02, 0x07, 0x00,   // var 3 = 7
+                                                     0xB2, 0x02, 42,                  // send message 42
+                                                     0x43, 0x02, 1, 0x00,             // wait 1/100 s
+                                                     0x27, 0x88}});                   // back to the send
+  ASSERT_FALSE(brick.vm.load(brick.vm.program(), image));
+  brick.vm.start_program();
+  start();
+  auto port = host();
+  ASSERT_TRUE(port);
+  Link link = make_link(*port);
+  for (int i = 0; i < 40; ++i) {  // about 200 ms: some 20 broadcasts
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    auto r = run_remote(link, {"get", "var", "3"});
+    ASSERT_TRUE(std::holds_alternative<std::string>(r)) << std::get<RemoteError>(r).message;
+    EXPECT_EQ(std::get<std::string>(r), "7\n");
+  }
+  EXPECT_EQ(link.stats.attempts, link.stats.requests);
+}
+
 TEST(LinkPort, ResolvesAliasesAndTheEnvironment) {
   EXPECT_EQ(resolve_port(std::nullopt, std::nullopt).path, kUsbTowerPath);
   EXPECT_EQ(resolve_port(std::nullopt, std::nullopt).kind, PortKind::Usb);

@@ -149,6 +149,34 @@ TEST(VirtualNxt, ProgramsStartOnlyFromExistingFilesAndResetTheMotors) {
   EXPECT_EQ(m.number("tacho_count"), 0);
 }
 
+// spec/nxt.md: starting or stopping a program resets all motors and sensors.
+TEST(VirtualNxt, StartingAndStoppingAProgramResetMotorsAndSensors) {
+  Rig rig;
+  auto configure = [&] {
+    rig.status_of("SetInputMode", {n(1), n(0x01), n(0x20)});  // SWITCH, BOOLEANMODE
+    rig.status_of("SetOutputState", {n(2), n(-40), n(0x01), n(0), n(0), n(0x20), n(0)});
+    rig.advance_ms(50);
+    ASSERT_EQ(rig.reply("GetInputValues", {n(1)}).number("type"), 0x01);
+    ASSERT_EQ(rig.reply("GetOutputState", {n(2)}).number("power"), -40);
+  };
+  auto expect_reset = [&](const char* when) {
+    auto in = rig.reply("GetInputValues", {n(1)});
+    EXPECT_EQ(in.number("type"), 0) << when;
+    EXPECT_EQ(in.number("mode"), 0) << when;
+    auto out = rig.reply("GetOutputState", {n(2)});
+    EXPECT_EQ(out.number("power"), 0) << when;
+    EXPECT_EQ(out.number("mode"), 0) << when;
+    EXPECT_EQ(out.number("run_state"), 0) << when;
+    EXPECT_EQ(out.number("tacho_count"), 0) << when;
+  };
+  configure();
+  rig.start_program();
+  expect_reset("after StartProgram");
+  configure();
+  ASSERT_EQ(rig.status_of("StopProgram"), 0);
+  expect_reset("after StopProgram");
+}
+
 TEST(VirtualNxt, MailboxesNeedAProgramAndHoldFiveMessages) {
   Rig rig;
   EXPECT_EQ(rig.status_of("MessageWrite", {n(0), n(0), message_text("a")}), status::kNoProgram);
@@ -244,6 +272,14 @@ TEST(VirtualNxt, SensorsFollowTheScenarioAfterTheValidDelay) {
   EXPECT_EQ(rig.reply("GetInputValues", {n(2)}).number("valid"), 0);
   rig.advance_ms(1);
   EXPECT_EQ(rig.reply("GetInputValues", {n(2)}).number("valid"), 1);
+  // Colour sensors (types 0x0D-0x11) take 400 ms.
+  for (int type = 0x0D; type <= 0x11; ++type) {
+    rig.status_of("SetInputMode", {n(3), n(type), n(0)});
+    rig.advance_ms(399);
+    EXPECT_EQ(rig.reply("GetInputValues", {n(3)}).number("valid"), 0) << type;
+    rig.advance_ms(1);
+    EXPECT_EQ(rig.reply("GetInputValues", {n(3)}).number("valid"), 1) << type;
+  }
 }
 
 TEST(VirtualNxt, AnAngleSensorCountsRotationSinceItsModeWasSet) {

@@ -266,6 +266,20 @@ TEST(VmEdges, IndicesOutsideTheReferenceRangesReadZeroAndWriteNothing) {
   EXPECT_EQ(var(m, 4), 1);
 }
 
+TEST(VmEdges, TaskSubroutineSlotAndSensorTypeOutsideTheirRangesAreIgnoredByAProgram) {
+  // Call 8, Start/Stop/Delete task 10, Delete subroutine 8, Set program
+  // number 5, a sensor type 5 and a sensor 3 do nothing; the run goes on.
+  auto m = run(image({{0, code({call(8), start(10), stop(10), deltask(10), delsub(8), program(5), senstype(0, 5),
+                                senstype(3, 1), sensmode(3, 0x20), setv(1, SENSTYPE, 0), set(0, 1)})}},
+                     {{0, code({set(2, 1)})}}));
+  EXPECT_EQ(m.stop().kind, rcx::StopKind::Ended);
+  EXPECT_EQ(m.program(), 0);
+  EXPECT_EQ(var(m, 0), 1);
+  EXPECT_EQ(var(m, 1), 0);  // sensor 1 is still raw
+  EXPECT_EQ(var(m, 2), 0);  // sub 0 was not called in place of 8
+  EXPECT_TRUE(m.slot(0).subs[0].has_value());
+}
+
 TEST(VmEdges, SetMessageInAProgramIsNoArrival) {
   // Set message (0xf7) run by the program fills the buffer, as the reference
   // says, but nothing came in by infrared: no message_received event. One that

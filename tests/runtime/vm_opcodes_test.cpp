@@ -325,6 +325,36 @@ TEST(VmTask, DeletingASubStopsTheTaskRunningIt) {
   EXPECT_EQ(var(m, 1), 0);
 }
 
+// Sub 0 called sub 1, so the task's one return address points into sub 0:
+// sub 0 is still being executed, and deleting it stops the task at once
+// (seed, Delete subroutine) rather than letting sub 1 finish and return into
+// code that is gone, or into whatever a new download put there.
+TEST(VmTask, DeletingTheSubAnInnerSubReturnsIntoStopsTheTask) {
+  auto img = image({{0, code({start(1), wait(5), delsub(0), set(0, 1)})}, {1, call(0)}},
+                   {{0, code({call(1), set(2, 1)})}, {1, code({wait(100), set(1, 1)})}});
+  auto m = run(img);
+  EXPECT_EQ(var(m, 0), 1);
+  EXPECT_EQ(var(m, 1), 0);
+  EXPECT_EQ(var(m, 2), 0);
+  EXPECT_FALSE(m.task(1).active);
+}
+
+TEST(VmTask, ReplacingTheSubAnInnerSubReturnsIntoStopsTheTask) {
+  rcx::Machine m(ms_config());
+  m.load(0, image({{0, call(0)}}, {{0, code({call(1), set(2, 1)})}, {1, code({wait(100), set(1, 1)})}}));
+  m.start_program();
+  m.run_until(10 * rcx::kMicrosPerMs);
+  ASSERT_EQ(m.task(0).sub, 1);
+  Bytes replacement = code({set(3, 3), set(3, 4), set(3, 5)});  // sub 0's return address lands inside these
+  ASSERT_EQ(m.begin_sub_download(0, static_cast<int>(replacement.size())), rcx::DownloadStatus::Ok);
+  ASSERT_TRUE(m.write_download(replacement));
+  m.end_download();
+  m.run(5000 * rcx::kMicrosPerMs);
+  EXPECT_EQ(var(m, 1), 0);
+  EXPECT_EQ(var(m, 3), 0);
+  EXPECT_EQ(m.stop().kind, StopKind::Ended);
+}
+
 TEST(VmTask, ReturnInATaskBodyEndsTheTask) {
   auto m = run_task(code({ret(), set(0, 1)}));
   EXPECT_EQ(var(m, 0), 0);
