@@ -326,6 +326,14 @@ int estimate_size(const Function& f);
 // variable for every call, as in nqc, at every optimisation level.
 void warn_reads_before_writes(const Program& p, Diagnostics& diags, LivenessCache* cache = nullptr);
 
+// sensor_setup.cpp: warns, once per sensor, where a program first reads the
+// value of a sensor that nothing in it gives a type or mode: a beginner's
+// `if (SENSOR_1 == 1)` without SetSensor compares the raw reading (about
+// 1023 for an open touch sensor) and never holds. The setting persists on
+// the brick, so an earlier program may have made it, which the message
+// says. Programs with asm bytes are not judged.
+void warn_unconfigured_sensors(const Program& p, Diagnostics& diags);
+
 // slots.cpp: binds every variable to one of the 32 slots. Each global has
 // the slot nqc gives it (the lowest free one in declaration order, used or
 // not). Other variables share a slot only when they are never live at once

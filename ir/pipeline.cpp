@@ -51,6 +51,7 @@ bool optimize(Program& p, OptLevel level, Diagnostics& diags, Log& log, const Pa
   // Before any pass, so every level reports the same reads (-O0 runs no
   // pass that would reuse its liveness).
   warn_reads_before_writes(p, diags, level != OptLevel::O0 ? &liveness : nullptr);
+  warn_unconfigured_sensors(p, diags);
   if (!resolve_calls(p, level, diags, log)) return false;
   if (shrinks_without_slowing(level) && passes.tail_starts)
     run_tail_started_tasks_in_main(p, log, trades_time_for_size(level));
