@@ -957,6 +957,20 @@ struct Lowerer {
           break;
         }
         case ast::ParamKind::Const:
+          // Sema lets through an argument made of the caller's `const int &`
+          // parameters, known only here (nqc: "argument must be a constant"
+          // for `g(q)` when q's own argument is a variable). Said of the
+          // call written, so `PlaySound(s)` names PlaySound's parameter, not
+          // the asm operand the library's body passes it to.
+          if (!constant(arg)) {
+            const auto* n = ast::as<ast::Name>(arg);
+            error(arg.span, fmt::format("argument for 'const int {}' of '{}' must be a constant expression, and {} "
+                                        "is not one at this call",
+                                        p.name, f.name, n ? "'" + n->name + "'" : std::string("the argument")));
+            return;
+          }
+          bound.push_back({p.symbol, Binding{-1, &arg}});
+          break;
         case ast::ParamKind::ConstReference: bound.push_back({p.symbol, Binding{-1, &arg}}); break;
       }
     }
