@@ -735,6 +735,32 @@ void yy::Parser::report_syntax_error(const context& ctx) const {
                                      "in its body");
     return;
   }
+  // `x = 1--1`: the lexer reads `--` as one token, as C does, so this is
+  // `1--` followed by `1`. On a constant the decrement is the mistake (nqc:
+  // "not a legal target for assignment"; gcc: "lvalue required"); after a
+  // variable the value that follows is. Either way say how `--` was read.
+  // Only where the value follows the sign directly: `x--` with a name on
+  // the next line is a missing ';'.
+  if (feed.pos >= 3 && (feed.tokens[feed.pos - 2].is("--") || feed.tokens[feed.pos - 2].is("++")) &&
+      (ctx.token() == symbol_kind::S_NUMBER || ctx.token() == symbol_kind::S_IDENT) &&
+      !feed.tokens[feed.pos - 1].space_before && !feed.tokens[feed.pos - 1].line_start) {
+    const Token& op = feed.tokens[feed.pos - 2];
+    const Token& before = feed.tokens[feed.pos - 3];
+    std::string ops(op.text), sign(1, op.text[0]), value(feed.last_text);
+    std::string verb = sign == "-" ? "decrement" : "increment";
+    std::string spaced = std::string(sign == "-" ? "for a minus sign" : "for a plus sign") + ", put a space: '";
+    if (before.kind == TokenKind::Number || before.kind == TokenKind::Char) {
+      std::string b(before.text);
+      feed.diags.error({before.span.begin, op.span.end},
+                       "cannot " + verb + " '" + b + "': it is a constant, not a variable ('" + b + ops + value +
+                           "' reads as '" + b + ops + " " + value + "'; " + spaced + b + " " + sign + " " + sign +
+                           value + "')");
+    } else {
+      feed.diags.error(ctx.location(), "expected ';' before '" + value + "': '" + ops + "' here " + verb +
+                                           "s what comes before it (" + spaced + sign + " " + sign + value + "')");
+    }
+    return;
+  }
   // `__nolist task t()`: nqc takes it before an inline function only.
   if (feed.pos >= 2 && feed.tokens[feed.pos - 2].is_identifier("__nolist") && !expects(symbol_kind::S_TASK)) {
     feed.diags.error(ctx.location(), "'__nolist' goes before 'void' only: it keeps an inline function out of "

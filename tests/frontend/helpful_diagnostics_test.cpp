@@ -162,6 +162,28 @@ TEST(HelpfulDiagnostics, ACommaInAForHeaderSaysNqcHasNoCommaOperator) {
       << r.text();
 }
 
+// `1--1` is `1--` then `1`, as in C: on a constant the decrement is the
+// mistake (nqc: "not a legal target for assignment", gcc: "lvalue required"),
+// said where it is; after a variable the value after it is. Both say how
+// `--` was read, where they said "expected ';' before '1'".
+TEST(HelpfulDiagnostics, ADoubleSignBetweenValuesSaysHowItWasRead) {
+  auto r = run_frontend("int x, y;\ntask main()\n{\n  x = 1--1;\n  y = 5++2;\n  x = y--1;\n  y = x++y;\n}\n");
+  EXPECT_EQ(placed_messages(r.diags),
+            (std::vector<std::string>{
+                "4:7 cannot decrement '1': it is a constant, not a variable ('1--1' reads as '1-- 1'; for a minus "
+                "sign, put a space: '1 - -1')",
+                "5:7 cannot increment '5': it is a constant, not a variable ('5++2' reads as '5++ 2'; for a plus "
+                "sign, put a space: '5 + +2')",
+                "6:10 expected ';' before '1': '--' here decrements what comes before it (for a minus sign, put a "
+                "space: '- -1')",
+                "7:10 expected ';' before 'y': '++' here increments what comes before it (for a plus sign, put a "
+                "space: '+ +y')"}))
+      << r.text();
+  // `x--` and then a statement on the next line is a missing ';'.
+  auto missing = run_frontend("int x;\ntask main()\n{\n  x--\n  x = 2;\n}\n");
+  EXPECT_EQ(placed_messages(missing.diags), (std::vector<std::string>{"4:6 expected ';' before 'x'"})) << missing.text();
+}
+
 TEST(HelpfulDiagnostics, LabelAtTheEndOfABlockWantsAStatement) {
   // C and nqc both refuse `end: }` and `case 1: }`; "expected an
   // expression" did not say what was missing.
