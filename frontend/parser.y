@@ -676,6 +676,36 @@ void yy::Parser::report_syntax_error(const context& ctx) const {
                   feed.tokens[i - 1].is("(");
     return is && starts ? &t : nullptr;
   };
+  // A C cast, `(int)x` or `(float)x`: the parse fails at the type after the
+  // '(' (a keyword there is no expression) or, for a name the grammar took
+  // as a value, at what follows the ')'. nqc: syntax error.
+  auto type_word = [&](const Token& t) {
+    return t.is_identifier("int") || t.is_identifier("const") ||
+           (t.kind == TokenKind::Identifier &&
+            std::find(std::begin(kCTypes), std::end(kCTypes), t.text) != std::end(kCTypes));
+  };
+  auto cast_at = [&](std::size_t open) -> std::optional<SourceSpan> {
+    if (!feed.tokens[open].is("(")) return std::nullopt;
+    std::size_t i = open + 1;
+    while (i < feed.tokens.size() && type_word(feed.tokens[i])) ++i;
+    if (i == open + 1 || i >= feed.tokens.size() || !feed.tokens[i].is(")")) return std::nullopt;
+    return SourceSpan{feed.tokens[open].span.begin, feed.tokens[i].span.end};
+  };
+  // The cast's '(' is before the type words that end at `last`.
+  auto cast_ending = [&](std::size_t last) -> std::optional<SourceSpan> {
+    std::size_t open = last;
+    while (open > 0 && type_word(feed.tokens[open])) --open;
+    return cast_at(open);
+  };
+  std::optional<SourceSpan> cast;
+  if (feed.pos >= 2 && type_word(feed.tokens[feed.pos - 1])) cast = cast_ending(feed.pos - 1);
+  if (!cast && feed.pos >= 4 && feed.tokens[feed.pos - 2].is(")") && type_word(feed.tokens[feed.pos - 3]))
+    cast = cast_ending(feed.pos - 3);
+  if (cast) {
+    feed.diags.error(*cast, "NQC has no casts: every value is an int already, a 16-bit whole number (-32768 to "
+                            "32767), so the cast can go");
+    return;
+  }
   const Token* type = nullptr;
   if (ctx.token() == symbol_kind::S_IDENT && expects(symbol_kind::S_TASK)) type = c_type(1);
   if (!type && (ctx.token() == symbol_kind::S_IDENT || ctx.token() == symbol_kind::S_INT)) type = c_type(2);

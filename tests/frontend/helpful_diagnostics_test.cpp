@@ -184,6 +184,22 @@ TEST(HelpfulDiagnostics, ADoubleSignBetweenValuesSaysHowItWasRead) {
   EXPECT_EQ(placed_messages(missing.diags), (std::vector<std::string>{"4:6 expected ';' before 'x'"})) << missing.text();
 }
 
+// C's casts (nqc: syntax error) said "expected an expression before 'int'"
+// or, for a type the grammar took as a name, "expected ';' before 'x'".
+TEST(HelpfulDiagnostics, ACastSaysNqcHasNone) {
+  auto r = run_frontend("int x;\ntask main()\n{\n  x = (int)x + 1;\n  x = 2 * (float) x;\n"
+                        "  x = (unsigned int)(x / 2);\n  Wait((const int)3);\n}\n");
+  const std::string says = " NQC has no casts: every value is an int already, a 16-bit whole number (-32768 to "
+                           "32767), so the cast can go";
+  EXPECT_EQ(placed_messages(r.diags), (std::vector<std::string>{"4:7" + says, "5:11" + says, "6:7" + says,
+                                                                "7:8" + says}))
+      << r.text();
+  // A parameter without a name is no cast.
+  auto unnamed = run_frontend("void f(int) { }\ntask main() { }\n");
+  ASSERT_FALSE(unnamed.diags.all().empty());
+  EXPECT_EQ(unnamed.diags.all().front().message.find("cast"), std::string::npos) << unnamed.text();
+}
+
 TEST(HelpfulDiagnostics, LabelAtTheEndOfABlockWantsAStatement) {
   // C and nqc both refuse `end: }` and `case 1: }`; "expected an
   // expression" did not say what was missing.
