@@ -182,6 +182,30 @@ bool in_for_header(const frontend::Feed& feed) {
   }
   return false;
 }
+// A ',' where C's comma operator would stand: in a statement, or inside
+// its parentheses, but not in a case label (`case 1, 2:`) nor in the one
+// value of abs(), sign() and the intrinsics, which have a message of
+// their own. (Where a list is allowed, the parser took the comma.)
+bool comma_operator(const frontend::Feed& feed) {
+  static constexpr std::string_view kOneValue[] = {"abs", "sign", "__type", "__sensor", "__source", "__source_arg"};
+  int depth = 0;
+  bool innermost = true;
+  for (std::size_t i = feed.pos - 1; i-- > 0;) {
+    const frontend::Token& t = feed.tokens[i];
+    if (t.is(";") || t.is("{") || t.is("}")) return !feed.tokens[i + 1].is_identifier("case");
+    if (t.is(")")) {
+      ++depth;
+    } else if (t.is("(") && depth > 0) {
+      --depth;
+    } else if (t.is("(") && innermost) {
+      innermost = false;
+      if (i > 0 && feed.tokens[i - 1].kind == frontend::TokenKind::Identifier &&
+          std::find(std::begin(kOneValue), std::end(kOneValue), feed.tokens[i - 1].text) != std::end(kOneValue))
+        return false;
+    }
+  }
+  return false;
+}
 void note_order(Program& p, SymbolKind kind, std::size_t index) {
   p.order.push_back(TopLevelRef{kind, static_cast<std::uint32_t>(index)});
 }
@@ -763,6 +787,13 @@ void yy::Parser::report_syntax_error(const context& ctx) const {
   if (feed.last_text == "," && in_for_header(feed)) {
     feed.diags.error(ctx.location(), "NQC has no comma operator: set the other variables before the for loop, or "
                                      "in its body");
+    return;
+  }
+  // `x = 1, y = 2;` or `x = (y = 3, 4);`: C's comma operator elsewhere
+  // (nqc: syntax error).
+  if (feed.last_text == "," && (expects_punct("';'") || expects_punct("')'")) && comma_operator(feed)) {
+    feed.diags.error(ctx.location(), "NQC has no comma operator: make each part a statement of its own, ending "
+                                     "with ';'");
     return;
   }
   // `x = 1--1`: the lexer reads `--` as one token, as C does, so this is

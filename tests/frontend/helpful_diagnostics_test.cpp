@@ -200,6 +200,24 @@ TEST(HelpfulDiagnostics, ACastSaysNqcHasNone) {
   EXPECT_EQ(unnamed.diags.all().front().message.find("cast"), std::string::npos) << unnamed.text();
 }
 
+// The comma operator outside a for header said "expected ';' before ','"
+// (after the statement's first part) or "expected ')' before ','".
+TEST(HelpfulDiagnostics, ACommaOperatorAnywhereSaysNqcHasNone) {
+  auto r = run_frontend("int x, y;\ntask main()\n{\n  x = 1, y = 2;\n  x = (y = 3, 4);\n  while (x++, y) y--;\n"
+                        "  Wait(100), Off(OUT_A);\n}\n");
+  const std::string says = " NQC has no comma operator: make each part a statement of its own, ending with ';'";
+  EXPECT_EQ(placed_messages(r.diags), (std::vector<std::string>{"4:8" + says, "5:13" + says, "6:13" + says,
+                                                                "7:12" + says}))
+      << r.text();
+  // abs() takes one value, and `case 1, 2:` wants two labels: not the comma operator.
+  for (const char* body : {"int x, y;\ntask main() { x = abs(x, y); }\n",
+                           "int x;\ntask main() { switch (x) { case 1, 2: x = 0; } }\n"}) {
+    auto other = run_frontend(body);
+    ASSERT_FALSE(other.diags.all().empty());
+    EXPECT_EQ(other.diags.all().front().message.find("comma"), std::string::npos) << other.text();
+  }
+}
+
 TEST(HelpfulDiagnostics, LabelAtTheEndOfABlockWantsAStatement) {
   // C and nqc both refuse `end: }` and `case 1: }`; "expected an
   // expression" did not say what was missing.
