@@ -789,6 +789,18 @@ void yy::Parser::report_syntax_error(const context& ctx) const {
                                      "in its body");
     return;
   }
+  // `case 1, 2:`, as Pascal and Basic write it (C and nqc: syntax error).
+  if (feed.last_text == "," && feed.pos >= 2) {
+    std::size_t i = feed.pos - 1;
+    while (i > 0 && !feed.tokens[i - 1].is(":") && !feed.tokens[i - 1].is(";") && !feed.tokens[i - 1].is("{") &&
+           !feed.tokens[i - 1].is("}"))
+      --i;
+    if (feed.tokens[i].is_identifier("case")) {
+      feed.diags.error(ctx.location(), "a case label takes one value: give each value a label of its own, as in "
+                                       "'case 1: case 2:'");
+      return;
+    }
+  }
   // `x = 1, y = 2;` or `x = (y = 3, 4);`: C's comma operator elsewhere
   // (nqc: syntax error).
   if (feed.last_text == "," && (expects_punct("';'") || expects_punct("')'")) && comma_operator(feed)) {

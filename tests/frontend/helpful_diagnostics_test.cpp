@@ -218,6 +218,15 @@ TEST(HelpfulDiagnostics, ACommaOperatorAnywhereSaysNqcHasNone) {
   }
 }
 
+// `case 1, 2:` said "syntax error at ','".
+TEST(HelpfulDiagnostics, ACaseWithTwoValuesSaysEachNeedsALabel) {
+  auto r = run_frontend("int x;\ntask main()\n{\n  switch (x) {\n    case 0: case 1, 2: x = 0; break;\n"
+                        "    case 3 + 1, 5: x = 1;\n  }\n}\n");
+  const std::string says = " a case label takes one value: give each value a label of its own, as in 'case 1: "
+                           "case 2:'";
+  EXPECT_EQ(placed_messages(r.diags), (std::vector<std::string>{"5:19" + says, "6:15" + says})) << r.text();
+}
+
 TEST(HelpfulDiagnostics, LabelAtTheEndOfABlockWantsAStatement) {
   // C and nqc both refuse `end: }` and `case 1: }`; "expected an
   // expression" did not say what was missing.
