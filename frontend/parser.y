@@ -206,6 +206,18 @@ bool comma_operator(const frontend::Feed& feed) {
   }
   return false;
 }
+// Inside an inline function's parameter list (`void f(` ...) up to the
+// token found, which is not its ')'.
+bool in_parameter_list(const frontend::Feed& feed) {
+  for (std::size_t i = feed.pos - 1; i-- > 0;) {
+    const frontend::Token& t = feed.tokens[i];
+    if (t.is(")") || t.is(";") || t.is("{") || t.is("}")) return false;
+    if (t.is("("))
+      return i >= 2 && feed.tokens[i - 1].kind == frontend::TokenKind::Identifier &&
+             feed.tokens[i - 2].is_identifier("void");
+  }
+  return false;
+}
 void note_order(Program& p, SymbolKind kind, std::size_t index) {
   p.order.push_back(TopLevelRef{kind, static_cast<std::uint32_t>(index)});
 }
@@ -788,6 +800,28 @@ void yy::Parser::report_syntax_error(const context& ctx) const {
     feed.diags.error(ctx.location(), "NQC has no comma operator: set the other variables before the for loop, or "
                                      "in its body");
     return;
+  }
+  // C and C++ habits in an inline function's parameters (nqc: syntax error).
+  if (feed.pos >= 2 && in_parameter_list(feed)) {
+    const Token& found_token = feed.tokens[feed.pos - 1];
+    const Token& prev = feed.tokens[feed.pos - 2];
+    std::string message;
+    bool c_type_name = std::find(std::begin(kCTypes), std::end(kCTypes), found_token.text) != std::end(kCTypes);
+    if (found_token.kind == TokenKind::Identifier && c_type_name)
+      message = "'" + std::string(found_token.text) + "' is not a type in NQC: every parameter is an int (write "
+                "'int', 'int &', 'const int' or 'const int &')";
+    else if (found_token.kind == TokenKind::Identifier && (prev.is("(") || prev.is(",")))
+      message = "a parameter needs its kind: write 'int " + std::string(found_token.text) + "' (or 'int &" +
+                std::string(found_token.text) + "', 'const int " + std::string(found_token.text) + "', 'const int &" +
+                std::string(found_token.text) + "')";
+    else if (found_token.is("="))
+      message = "a parameter has no default value in NQC: every call gives every argument";
+    else if (found_token.is_identifier("const") && prev.is_identifier("int"))
+      message = "'const' goes before 'int' in NQC: write 'const int' (or 'const int &')";
+    if (!message.empty()) {
+      feed.diags.error(ctx.location(), message);
+      return;
+    }
   }
   // `case 1, 2:`, as Pascal and Basic write it (C and nqc: syntax error).
   if (feed.last_text == "," && feed.pos >= 2) {

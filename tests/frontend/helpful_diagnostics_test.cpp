@@ -227,6 +227,27 @@ TEST(HelpfulDiagnostics, ACaseWithTwoValuesSaysEachNeedsALabel) {
   EXPECT_EQ(placed_messages(r.diags), (std::vector<std::string>{"5:19" + says, "6:15" + says})) << r.text();
 }
 
+// C and C++ habits in an inline function's parameters (nqc: syntax error)
+// said "expected ')' before 'x'", "expected ')' before '='" or "expected
+// identifier, '&' or '*' before 'const'".
+TEST(HelpfulDiagnostics, ParametersWrittenAsInCSayWhatNqcWants) {
+  auto placed_first = [](const char* text) {
+    auto r = run_frontend(text);
+    return r.diags.all().empty() ? std::string("none") : placed_messages(r.diags).front();
+  };
+  EXPECT_EQ(placed_first("void f(x) { }\ntask main() { }\n"),
+            "1:8 a parameter needs its kind: write 'int x' (or 'int &x', 'const int x', 'const int &x')");
+  EXPECT_EQ(placed_first("void f(int a, b) { }\ntask main() { }\n"),
+            "1:15 a parameter needs its kind: write 'int b' (or 'int &b', 'const int b', 'const int &b')");
+  EXPECT_EQ(placed_first("void f(float x) { }\ntask main() { }\n"),
+            "1:8 'float' is not a type in NQC: every parameter is an int (write 'int', 'int &', 'const int' or "
+            "'const int &')");
+  EXPECT_EQ(placed_first("void f(int x = 3) { }\ntask main() { }\n"),
+            "1:14 a parameter has no default value in NQC: every call gives every argument");
+  EXPECT_EQ(placed_first("void f(int const &x) { }\ntask main() { }\n"),
+            "1:12 'const' goes before 'int' in NQC: write 'const int' (or 'const int &')");
+}
+
 TEST(HelpfulDiagnostics, LabelAtTheEndOfABlockWantsAStatement) {
   // C and nqc both refuse `end: }` and `case 1: }`; "expected an
   // expression" did not say what was missing.
