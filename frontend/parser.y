@@ -218,6 +218,22 @@ bool in_parameter_list(const frontend::Feed& feed) {
   }
   return false;
 }
+// Token `i` is the first of a statement: after ';', a brace, a label's ':',
+// an `else`, or the ')' that closes an if/while/for head (any ')' will do:
+// a name right after a call's ')' is no statement either way).
+bool starts_statement(const frontend::Feed& feed, std::size_t i) {
+  if (i == 0) return false;
+  const frontend::Token& t = feed.tokens[i - 1];
+  return t.is(";") || t.is("{") || t.is("}") || t.is(":") || t.is(")") || t.is_identifier("else");
+}
+// The '*' just before the one at `star`, with nothing between: `y ** 2`.
+bool doubled_star(const frontend::Feed& feed, const SourceSpan& star) {
+  for (std::size_t i = std::min(feed.pos, feed.tokens.size()); i-- > 1;) {
+    if (!(feed.tokens[i].span.begin == star.begin)) continue;
+    return feed.tokens[i - 1].is("*") && !feed.tokens[i].space_before && !feed.tokens[i].line_start;
+  }
+  return false;
+}
 void note_order(Program& p, SymbolKind kind, std::size_t index) {
   p.order.push_back(TopLevelRef{kind, static_cast<std::uint32_t>(index)});
 }
@@ -562,7 +578,11 @@ expr
       }
   | '*' expr %prec UNARY
       {
-        feed.diags.error(@$, "the RCX has no pointers, so nothing can be dereferenced").parsed_past = true;
+        // `y ** 2` reads as `y * (*2)`: a power, as Python and Basic write it.
+        feed.diags.error(@$, doubled_star(feed, @1) ? "NQC has no power operator '**': multiply instead ('y * y' for "
+                                                      "y squared)"
+                                                    : "the RCX has no pointers, so nothing can be dereferenced")
+            .parsed_past = true;
         $$ = std::move($2);
       }
   | '&' expr %prec UNARY
@@ -820,6 +840,32 @@ void yy::Parser::report_syntax_error(const context& ctx) const {
       message = "'const' goes before 'int' in NQC: write 'const int' (or 'const int &')";
     if (!message.empty()) {
       feed.diags.error(ctx.location(), message);
+      return;
+    }
+  }
+  // `Wait 100;` or `Off OUT_A;`: a call written without its parentheses
+  // (nqc: "undefined variable 'Wait'"). Only before a number, where no name
+  // could be a misspelt type (`itn x;`).
+  if (feed.pos >= 3 && ctx.token() == symbol_kind::S_NUMBER &&
+      feed.tokens[feed.pos - 2].kind == TokenKind::Identifier && starts_statement(feed, feed.pos - 2)) {
+    const Token& callee = feed.tokens[feed.pos - 2];
+    const Token& value = feed.tokens[feed.pos - 1];
+    std::string argument = value.span.begin.expansion != 0 ? "..." : std::string(value.text);
+    feed.diags.error(ctx.location(), "a call needs parentheses around its arguments: write '" +
+                                         std::string(callee.text) + "(" + argument + ")'");
+    return;
+  }
+  // Comparisons as Basic and Pascal write them: `<>`, `=<`, `=>`.
+  if (feed.pos >= 3 && (feed.last_text == ">" || feed.last_text == "<")) {
+    const Token& first = feed.tokens[feed.pos - 2];
+    const Token& second = feed.tokens[feed.pos - 1];
+    bool adjacent = !second.space_before && !second.line_start;
+    std::string written = std::string(first.text) + std::string(second.text), meant;
+    if (written == "<>") meant = "'not equal' is written '!='";
+    if (written == "=<") meant = "'less than or equal' is written '<='";
+    if (written == "=>") meant = "'greater than or equal' is written '>='";
+    if (adjacent && !meant.empty()) {
+      feed.diags.error({first.span.begin, second.span.end}, "'" + written + "' is not an operator in NQC: " + meant);
       return;
     }
   }

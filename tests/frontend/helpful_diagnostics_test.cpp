@@ -248,6 +248,31 @@ TEST(HelpfulDiagnostics, ParametersWrittenAsInCSayWhatNqcWants) {
             "1:12 'const' goes before 'int' in NQC: write 'const int' (or 'const int &')");
 }
 
+// Slips of other languages' habits said "expected ';' before '100'",
+// "expected an expression before '>'" and, for `**`, that the RCX has no
+// pointers (nqc: "undefined variable 'Wait'", syntax errors).
+TEST(HelpfulDiagnostics, OtherLanguagesCallsAndOperatorsSayWhatNqcWrites) {
+  auto r = run_frontend("int x, y;\ntask main()\n{\n  Wait 100;\n  if (x) Off 1;\n  if (x <> y) x = 1;\n"
+                        "  if (x =< y) x = 2;\n  if (x => y) x = 3;\n  x = y ** 2;\n}\n");
+  EXPECT_EQ(placed_messages(r.diags),
+            (std::vector<std::string>{
+                "4:8 a call needs parentheses around its arguments: write 'Wait(100)'",
+                "5:14 a call needs parentheses around its arguments: write 'Off(1)'",
+                "6:9 '<>' is not an operator in NQC: 'not equal' is written '!='",
+                "7:9 '=<' is not an operator in NQC: 'less than or equal' is written '<='",
+                "8:9 '=>' is not an operator in NQC: 'greater than or equal' is written '>='",
+                "9:10 NQC has no power operator '**': multiply instead ('y * y' for y squared)"}))
+      << r.text();
+  // A macro's value is not shown as if the user had written it.
+  auto macro = run_frontend("task main()\n{\n  Off OUT_A;\n}\n");
+  ASSERT_EQ(macro.diags.all().size(), 1u) << macro.text();
+  EXPECT_EQ(macro.diags.all().front().message, "a call needs parentheses around its arguments: write 'Off(...)'");
+  // A name after a name is no call: `itn x;` may be a misspelt type.
+  auto typo = run_frontend("task main()\n{\n  itn x;\n}\n");
+  ASSERT_FALSE(typo.diags.all().empty());
+  EXPECT_EQ(typo.diags.all().front().message.find("parentheses"), std::string::npos) << typo.text();
+}
+
 TEST(HelpfulDiagnostics, LabelAtTheEndOfABlockWantsAStatement) {
   // C and nqc both refuse `end: }` and `case 1: }`; "expected an
   // expression" did not say what was missing.
