@@ -398,7 +398,12 @@ class Checker {
     if (const auto* u = as<Unary>(e.expr))
       effect = u->op == UnaryOp::PreInc || u->op == UnaryOp::PreDec || u->op == UnaryOp::PostInc ||
                u->op == UnaryOp::PostDec;
-    if (!effect) diags_.warning(e.expr.span, "expression result unused");
+    // `x == 1;` for `x = 1;` (clang: "equality comparison result unused").
+    const auto* b = as<Binary>(e.expr);
+    if (!effect && b && b->op == BinaryOp::Eq && as<Name>(*b->lhs))
+      diags_.warning(e.expr.span, "expression result unused: '==' compares; did you mean '=' to assign?");
+    else if (!effect)
+      diags_.warning(e.expr.span, "expression result unused");
   }
   void visit_stmt(If& n, Stmt&) {
     condition(n.cond);

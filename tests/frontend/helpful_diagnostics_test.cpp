@@ -273,6 +273,16 @@ TEST(HelpfulDiagnostics, OtherLanguagesCallsAndOperatorsSayWhatNqcWrites) {
   EXPECT_EQ(typo.diags.all().front().message.find("parentheses"), std::string::npos) << typo.text();
 }
 
+// `x == 1;` as a statement is an assignment mistyped (clang: "equality
+// comparison result unused").
+TEST(HelpfulDiagnostics, AnUnusedEqualityAsksWhetherAnAssignmentWasMeant) {
+  auto r = run_frontend("int x;\ntask main()\n{\n  x == 1;\n  x < 1;\n}\n");
+  EXPECT_EQ(placed_messages(r.diags),
+            (std::vector<std::string>{"4:3 expression result unused: '==' compares; did you mean '=' to assign?",
+                                      "5:3 expression result unused"}))
+      << r.text();
+}
+
 TEST(HelpfulDiagnostics, LabelAtTheEndOfABlockWantsAStatement) {
   // C and nqc both refuse `end: }` and `case 1: }`; "expected an
   // expression" did not say what was missing.
