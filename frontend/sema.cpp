@@ -1051,10 +1051,25 @@ class Checker {
 
   // ------------------------------------------------------------ program --
 
+  // C's `void main()`, a sub of that name, or `task Main()`: said where it
+  // is, rather than of the program as a whole.
+  void missing_main() {
+    const std::string why = ": the RCX starts a program at task main, so write 'task main()'";
+    for (const auto& f : prog_.functions)
+      if (f.name == "main") return void(diags_.error(f.span, "'main' is an inline function here" + why));
+    for (const auto& sub : prog_.subs)
+      if (sub.name == "main") return void(diags_.error(sub.span, "'main' is a sub here" + why));
+    for (const auto& t : prog_.tasks)
+      if (spelling_distance(t.name, "main") == 0)
+        return void(diags_.error(t.span, "the program has no 'task main()', and names tell capitals apart: '" +
+                                             t.name + "' is another task" + why));
+    diags_.error({}, "the program has no 'task main()': the RCX starts a program at task main");
+  }
+
   void check_limits() {
     bool has_main = false;
     for (const auto& t : prog_.tasks) has_main = has_main || t.name == "main";
-    if (!has_main) diags_.error({}, "the program has no 'task main()': the RCX starts a program at task main");
+    if (!has_main) missing_main();
     if (prog_.tasks.size() > static_cast<std::size_t>(kMaxTasks)) {
       auto& d = diags_.error(prog_.tasks[kMaxTasks].span,
                              "too many tasks: " + std::to_string(prog_.tasks.size()) + " (the RCX runs at most " +

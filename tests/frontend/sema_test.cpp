@@ -40,6 +40,15 @@ const BadProgram kCases[] = {
      {"4:3: error: 'a' is not declared"}},
     {"MissingMain", "task other() { }\n",
      {"0:0: error: the program has no 'task main()': the RCX starts a program at task main"}},
+    // C's `void main()`, a sub, or capitals: said where it is.
+    {"MainAsAnInlineFunction", "void main() { }\n",
+     {"1:6: error: 'main' is an inline function here: the RCX starts a program at task main, so write 'task "
+      "main()'"}},
+    {"MainAsASub", "sub main() { }\n",
+     {"1:5: error: 'main' is a sub here: the RCX starts a program at task main, so write 'task main()'"}},
+    {"MainWithCapitals", "task Main() { }\n",
+     {"1:6: error: the program has no 'task main()', and names tell capitals apart: 'Main' is another task: the "
+      "RCX starts a program at task main, so write 'task main()'"}},
     {"TooManyTasks",
      "task main() { }\ntask t1() { }\ntask t2() { }\ntask t3() { }\ntask t4() { }\ntask t5() { }\n"
      "task t6() { }\ntask t7() { }\ntask t8() { }\ntask t9() { }\ntask t10() { }\n",
