@@ -393,7 +393,10 @@ class Checker {
     }
   }
   void visit_stmt(ExprStmt& e, Stmt&) {
+    std::size_t errors_before = diags_.error_count();
     expr(e.expr, Use::Discarded);
+    // A statement already in error (`f;` for `f();`) needs no warning besides.
+    if (diags_.error_count() != errors_before) return;
     bool effect = as<Assign>(e.expr) || as<Call>(e.expr);
     if (const auto* u = as<Unary>(e.expr))
       effect = u->op == UnaryOp::PreInc || u->op == UnaryOp::PreDec || u->op == UnaryOp::PostInc ||
@@ -689,7 +692,11 @@ class Checker {
     }
     const Symbol& s = prog_.symbols[*id];
     if (!is_variable(s)) {
-      diags_.error(e.span, "'" + n.name + "' is a " + kind_name(s.kind) + ", not a variable");
+      // `f;` or `x = f;`: a call without its parentheses, or a task used as one.
+      std::string how;
+      if (s.kind == SymbolKind::Function || s.kind == SymbolKind::Sub) how = " (a call is written '" + n.name + "()')";
+      if (s.kind == SymbolKind::Task) how = " (a task is run with 'start " + n.name + ";')";
+      diags_.error(e.span, "'" + n.name + "' is a " + kind_name(s.kind) + ", not a variable" + how);
       return;
     }
     if (initialising_global_ && s.kind == SymbolKind::Global && s.index > *initialising_global_) {

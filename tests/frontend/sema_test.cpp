@@ -102,7 +102,11 @@ const BadProgram kCases[] = {
      {"5:7: error: 's' does not return a value; call it as a statement"}},
     {"CallingATask", "task main()\n{\n  main();\n}\n", {"3:3: error: 'main' is a task: use 'start main;' to run it"}},
     {"TaskUsedAsVariable", "task main()\n{\n  int x;\n  x = main;\n}\n",
-     {"4:7: error: 'main' is a task, not a variable"}},
+     {"4:7: error: 'main' is a task, not a variable (a task is run with 'start main;')"}},
+    // `f;` for `f();`, which nqc calls an undefined variable.
+    {"FunctionWithoutParentheses", "void f() { }\nsub s() { }\ntask main()\n{\n  f;\n  s;\n}\n",
+     {"5:3: error: 'f' is a function, not a variable (a call is written 'f()')",
+      "6:3: error: 's' is a sub, not a variable (a call is written 's()')"}},
     {"AssignToNonVariable", "task main()\n{\n  int x;\n  x + 1 = 2;\n}\n",
      {"4:3: error: cannot assign to this expression: it is not a variable"}},
     {"AssignToMacroShowsTheOperator", "#define LEFT x + 1\ntask main()\n{\n  int x;\n  if (LEFT = 2) x++;\n}\n",
