@@ -238,6 +238,13 @@ class Checker {
                              "(...)'");
       return;
     }
+    // `TRUE`, `False`: the constants are keywords, which no list of names holds.
+    if (!callee && (spelling_distance(name, "true") == 0 || spelling_distance(name, "false") == 0)) {
+      std::string lower = spelling_distance(name, "true") == 0 ? "true" : "false";
+      diags_.error(span, "'" + name + "' is not declared; did you mean '" + lower + "'? (NQC's truth values are "
+                                                                                  "written in lower case)");
+      return;
+    }
     auto candidates = spelling_candidates(callee);
     auto meant = closest_name(name, candidates);
     if (!meant) meant = name_with_prefix(name, candidates);

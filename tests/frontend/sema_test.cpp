@@ -103,6 +103,9 @@ const BadProgram kCases[] = {
     {"CallingATask", "task main()\n{\n  main();\n}\n", {"3:3: error: 'main' is a task: use 'start main;' to run it"}},
     {"TaskUsedAsVariable", "task main()\n{\n  int x;\n  x = main;\n}\n",
      {"4:7: error: 'main' is a task, not a variable (a task is run with 'start main;')"}},
+    {"TruthValuesInCapitals", "int x;\ntask main()\n{\n  x = TRUE;\n  x = False;\n}\n",
+     {"4:7: error: 'TRUE' is not declared; did you mean 'true'? (NQC's truth values are written in lower case)",
+      "5:7: error: 'False' is not declared; did you mean 'false'? (NQC's truth values are written in lower case)"}},
     // `f;` for `f();`, which nqc calls an undefined variable.
     {"FunctionWithoutParentheses", "void f() { }\nsub s() { }\ntask main()\n{\n  f;\n  s;\n}\n",
      {"5:3: error: 'f' is a function, not a variable (a call is written 'f()')",
