@@ -846,8 +846,15 @@ void yy::Parser::report_syntax_error(const context& ctx) const {
   // `Wait 100;` or `Off OUT_A;`: a call written without its parentheses
   // (nqc: "undefined variable 'Wait'"). Only before a number, where no name
   // could be a misspelt type (`itn x;`).
+  static constexpr std::string_view kStatementKeywords[] = {"start", "stop", "goto", "return", "case", "int",
+                                                             "const", "else", "do", "asm", "void", "inline"};
+  auto keyword = [&](const Token& t) {
+    return std::find(std::begin(kStatementKeywords), std::end(kStatementKeywords), t.text) !=
+           std::end(kStatementKeywords);
+  };
   if (feed.pos >= 3 && ctx.token() == symbol_kind::S_NUMBER &&
-      feed.tokens[feed.pos - 2].kind == TokenKind::Identifier && starts_statement(feed, feed.pos - 2)) {
+      feed.tokens[feed.pos - 2].kind == TokenKind::Identifier && !keyword(feed.tokens[feed.pos - 2]) &&
+      starts_statement(feed, feed.pos - 2)) {
     const Token& callee = feed.tokens[feed.pos - 2];
     const Token& value = feed.tokens[feed.pos - 1];
     std::string argument = value.span.begin.expansion != 0 ? "..." : std::string(value.text);
@@ -868,6 +875,30 @@ void yy::Parser::report_syntax_error(const context& ctx) const {
       feed.diags.error({first.span.begin, second.span.end}, "'" + written + "' is not an operator in NQC: " + meant);
       return;
     }
+  }
+  // `x = c ? 1;`: the '?' without its ':' (nqc: syntax error).
+  if (expects_punct("':'") && (feed.last_text == ";" || feed.last_text == ")") && feed.pos >= 2) {
+    bool question = false;
+    std::size_t i = feed.pos - 1;
+    while (i > 0 && !feed.tokens[i - 1].is(";") && !feed.tokens[i - 1].is("{") && !feed.tokens[i - 1].is("}")) {
+      --i;
+      question = question || feed.tokens[i].is("?");
+    }
+    if (question && !feed.tokens[i].is_identifier("case")) {
+      feed.diags.error(ctx.location(), "expected ':' before '" + std::string(feed.last_text) +
+                                           "': a '?' needs ':' and the value for when the condition is false "
+                                           "('c ? a : b')");
+      return;
+    }
+  }
+  // `stop;` and `start;` without a task (nqc: syntax error).
+  if (feed.pos >= 2 && (feed.tokens[feed.pos - 2].is_identifier("stop") ||
+                        feed.tokens[feed.pos - 2].is_identifier("start")) &&
+      !expects(symbol_kind::S_TASK) && ctx.token() != symbol_kind::S_IDENT) {
+    std::string verb(feed.tokens[feed.pos - 2].text);
+    feed.diags.error(ctx.location(), "'" + verb + "' needs the name of a task: write '" + verb + " NAME;'" +
+                                         (verb == "stop" ? " (StopAllTasks() stops every task)" : ""));
+    return;
   }
   // `case 1, 2:`, as Pascal and Basic write it (C and nqc: syntax error).
   if (feed.last_text == "," && feed.pos >= 2) {

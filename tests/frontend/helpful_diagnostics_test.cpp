@@ -283,6 +283,32 @@ TEST(HelpfulDiagnostics, AnUnusedEqualityAsksWhetherAnAssignmentWasMeant) {
       << r.text();
 }
 
+// A '?' without its ':' said "syntax error at ';'"; a case label without
+// its ':' keeps its own message.
+TEST(HelpfulDiagnostics, AConditionalWithoutItsColonSaysSo) {
+  auto r = run_frontend("int x, y;\ntask main()\n{\n  x = (y > 1) ? 1;\n  Wait(y ? 10);\n}\n");
+  const std::string says = "': a '?' needs ':' and the value for when the condition is false ('c ? a : b')";
+  EXPECT_EQ(placed_messages(r.diags), (std::vector<std::string>{"4:18 expected ':' before ';" + says,
+                                                                "5:14 expected ':' before ')" + says}))
+      << r.text();
+  auto label = run_frontend("int x;\ntask main()\n{\n  switch (x) { case 1; x = 2; }\n}\n");
+  ASSERT_FALSE(label.diags.all().empty());
+  EXPECT_EQ(label.diags.all().front().message.find("'?'"), std::string::npos) << label.text();
+}
+
+// `stop;` said "expected identifier before ';'".
+TEST(HelpfulDiagnostics, StartOrStopWithoutATaskSaysItNeedsOne) {
+  auto stop = run_frontend("task main()\n{\n  stop;\n}\n");
+  EXPECT_EQ(placed_messages(stop.diags),
+            (std::vector<std::string>{
+                "3:7 'stop' needs the name of a task: write 'stop NAME;' (StopAllTasks() stops every task)"}))
+      << stop.text();
+  auto start = run_frontend("task main()\n{\n  start 3;\n}\n");
+  EXPECT_EQ(placed_messages(start.diags),
+            (std::vector<std::string>{"3:9 'start' needs the name of a task: write 'start NAME;'"}))
+      << start.text();
+}
+
 TEST(HelpfulDiagnostics, LabelAtTheEndOfABlockWantsAStatement) {
   // C and nqc both refuse `end: }` and `case 1: }`; "expected an
   // expression" did not say what was missing.
