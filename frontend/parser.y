@@ -182,6 +182,58 @@ bool in_for_header(const frontend::Feed& feed) {
   }
   return false;
 }
+// A ',' where C's comma operator would stand: in a statement, or inside
+// its parentheses, but not in a case label (`case 1, 2:`) nor in the one
+// value of abs(), sign() and the intrinsics, which have a message of
+// their own. (Where a list is allowed, the parser took the comma.)
+bool comma_operator(const frontend::Feed& feed) {
+  static constexpr std::string_view kOneValue[] = {"abs", "sign", "__type", "__sensor", "__source", "__source_arg"};
+  int depth = 0;
+  bool innermost = true;
+  for (std::size_t i = feed.pos - 1; i-- > 0;) {
+    const frontend::Token& t = feed.tokens[i];
+    if (t.is(";") || t.is("{") || t.is("}")) return !feed.tokens[i + 1].is_identifier("case");
+    if (t.is(")")) {
+      ++depth;
+    } else if (t.is("(") && depth > 0) {
+      --depth;
+    } else if (t.is("(") && innermost) {
+      innermost = false;
+      if (i > 0 && feed.tokens[i - 1].kind == frontend::TokenKind::Identifier &&
+          std::find(std::begin(kOneValue), std::end(kOneValue), feed.tokens[i - 1].text) != std::end(kOneValue))
+        return false;
+    }
+  }
+  return false;
+}
+// Inside an inline function's parameter list (`void f(` ...) up to the
+// token found, which is not its ')'.
+bool in_parameter_list(const frontend::Feed& feed) {
+  for (std::size_t i = feed.pos - 1; i-- > 0;) {
+    const frontend::Token& t = feed.tokens[i];
+    if (t.is(")") || t.is(";") || t.is("{") || t.is("}")) return false;
+    if (t.is("("))
+      return i >= 2 && feed.tokens[i - 1].kind == frontend::TokenKind::Identifier &&
+             feed.tokens[i - 2].is_identifier("void");
+  }
+  return false;
+}
+// Token `i` is the first of a statement: after ';', a brace, a label's ':',
+// an `else`, or the ')' that closes an if/while/for head (any ')' will do:
+// a name right after a call's ')' is no statement either way).
+bool starts_statement(const frontend::Feed& feed, std::size_t i) {
+  if (i == 0) return false;
+  const frontend::Token& t = feed.tokens[i - 1];
+  return t.is(";") || t.is("{") || t.is("}") || t.is(":") || t.is(")") || t.is_identifier("else");
+}
+// The '*' just before the one at `star`, with nothing between: `y ** 2`.
+bool doubled_star(const frontend::Feed& feed, const SourceSpan& star) {
+  for (std::size_t i = std::min(feed.pos, feed.tokens.size()); i-- > 1;) {
+    if (!(feed.tokens[i].span.begin == star.begin)) continue;
+    return feed.tokens[i - 1].is("*") && !feed.tokens[i].space_before && !feed.tokens[i].line_start;
+  }
+  return false;
+}
 void note_order(Program& p, SymbolKind kind, std::size_t index) {
   p.order.push_back(TopLevelRef{kind, static_cast<std::uint32_t>(index)});
 }
@@ -526,7 +578,11 @@ expr
       }
   | '*' expr %prec UNARY
       {
-        feed.diags.error(@$, "the RCX has no pointers, so nothing can be dereferenced").parsed_past = true;
+        // `y ** 2` reads as `y * (*2)`: a power, as Python and Basic write it.
+        feed.diags.error(@$, doubled_star(feed, @1) ? "NQC has no power operator '**': multiply instead ('y * y' for "
+                                                      "y squared)"
+                                                    : "the RCX has no pointers, so nothing can be dereferenced")
+            .parsed_past = true;
         $$ = std::move($2);
       }
   | '&' expr %prec UNARY
@@ -676,6 +732,36 @@ void yy::Parser::report_syntax_error(const context& ctx) const {
                   feed.tokens[i - 1].is("(");
     return is && starts ? &t : nullptr;
   };
+  // A C cast, `(int)x` or `(float)x`: the parse fails at the type after the
+  // '(' (a keyword there is no expression) or, for a name the grammar took
+  // as a value, at what follows the ')'. nqc: syntax error.
+  auto type_word = [&](const Token& t) {
+    return t.is_identifier("int") || t.is_identifier("const") ||
+           (t.kind == TokenKind::Identifier &&
+            std::find(std::begin(kCTypes), std::end(kCTypes), t.text) != std::end(kCTypes));
+  };
+  auto cast_at = [&](std::size_t open) -> std::optional<SourceSpan> {
+    if (!feed.tokens[open].is("(")) return std::nullopt;
+    std::size_t i = open + 1;
+    while (i < feed.tokens.size() && type_word(feed.tokens[i])) ++i;
+    if (i == open + 1 || i >= feed.tokens.size() || !feed.tokens[i].is(")")) return std::nullopt;
+    return SourceSpan{feed.tokens[open].span.begin, feed.tokens[i].span.end};
+  };
+  // The cast's '(' is before the type words that end at `last`.
+  auto cast_ending = [&](std::size_t last) -> std::optional<SourceSpan> {
+    std::size_t open = last;
+    while (open > 0 && type_word(feed.tokens[open])) --open;
+    return cast_at(open);
+  };
+  std::optional<SourceSpan> cast;
+  if (feed.pos >= 2 && type_word(feed.tokens[feed.pos - 1])) cast = cast_ending(feed.pos - 1);
+  if (!cast && feed.pos >= 4 && feed.tokens[feed.pos - 2].is(")") && type_word(feed.tokens[feed.pos - 3]))
+    cast = cast_ending(feed.pos - 3);
+  if (cast) {
+    feed.diags.error(*cast, "NQC has no casts: every value is an int already, a 16-bit whole number (-32768 to "
+                            "32767), so the cast can go");
+    return;
+  }
   const Token* type = nullptr;
   if (ctx.token() == symbol_kind::S_IDENT && expects(symbol_kind::S_TASK)) type = c_type(1);
   if (!type && (ctx.token() == symbol_kind::S_IDENT || ctx.token() == symbol_kind::S_INT)) type = c_type(2);
@@ -733,6 +819,130 @@ void yy::Parser::report_syntax_error(const context& ctx) const {
   if (feed.last_text == "," && in_for_header(feed)) {
     feed.diags.error(ctx.location(), "NQC has no comma operator: set the other variables before the for loop, or "
                                      "in its body");
+    return;
+  }
+  // C and C++ habits in an inline function's parameters (nqc: syntax error).
+  if (feed.pos >= 2 && in_parameter_list(feed)) {
+    const Token& found_token = feed.tokens[feed.pos - 1];
+    const Token& prev = feed.tokens[feed.pos - 2];
+    std::string message;
+    bool c_type_name = std::find(std::begin(kCTypes), std::end(kCTypes), found_token.text) != std::end(kCTypes);
+    if (found_token.kind == TokenKind::Identifier && c_type_name)
+      message = "'" + std::string(found_token.text) + "' is not a type in NQC: every parameter is an int (write "
+                "'int', 'int &', 'const int' or 'const int &')";
+    else if (found_token.kind == TokenKind::Identifier && (prev.is("(") || prev.is(",")))
+      message = "a parameter needs its kind: write 'int " + std::string(found_token.text) + "' (or 'int &" +
+                std::string(found_token.text) + "', 'const int " + std::string(found_token.text) + "', 'const int &" +
+                std::string(found_token.text) + "')";
+    else if (found_token.is("="))
+      message = "a parameter has no default value in NQC: every call gives every argument";
+    else if (found_token.is_identifier("const") && prev.is_identifier("int"))
+      message = "'const' goes before 'int' in NQC: write 'const int' (or 'const int &')";
+    if (!message.empty()) {
+      feed.diags.error(ctx.location(), message);
+      return;
+    }
+  }
+  // `Wait 100;` or `Off OUT_A;`: a call written without its parentheses
+  // (nqc: "undefined variable 'Wait'"). Only before a number, where no name
+  // could be a misspelt type (`itn x;`).
+  static constexpr std::string_view kStatementKeywords[] = {"start", "stop", "goto", "return", "case", "int",
+                                                             "const", "else", "do", "asm", "void", "inline"};
+  auto keyword = [&](const Token& t) {
+    return std::find(std::begin(kStatementKeywords), std::end(kStatementKeywords), t.text) !=
+           std::end(kStatementKeywords);
+  };
+  if (feed.pos >= 3 && ctx.token() == symbol_kind::S_NUMBER &&
+      feed.tokens[feed.pos - 2].kind == TokenKind::Identifier && !keyword(feed.tokens[feed.pos - 2]) &&
+      starts_statement(feed, feed.pos - 2)) {
+    const Token& callee = feed.tokens[feed.pos - 2];
+    const Token& value = feed.tokens[feed.pos - 1];
+    std::string argument = value.span.begin.expansion != 0 ? "..." : std::string(value.text);
+    feed.diags.error(ctx.location(), "a call needs parentheses around its arguments: write '" +
+                                         std::string(callee.text) + "(" + argument + ")'");
+    return;
+  }
+  // Comparisons as Basic and Pascal write them: `<>`, `=<`, `=>`.
+  if (feed.pos >= 3 && (feed.last_text == ">" || feed.last_text == "<")) {
+    const Token& first = feed.tokens[feed.pos - 2];
+    const Token& second = feed.tokens[feed.pos - 1];
+    bool adjacent = !second.space_before && !second.line_start;
+    std::string written = std::string(first.text) + std::string(second.text), meant;
+    if (written == "<>") meant = "'not equal' is written '!='";
+    if (written == "=<") meant = "'less than or equal' is written '<='";
+    if (written == "=>") meant = "'greater than or equal' is written '>='";
+    if (adjacent && !meant.empty()) {
+      feed.diags.error({first.span.begin, second.span.end}, "'" + written + "' is not an operator in NQC: " + meant);
+      return;
+    }
+  }
+  // `x = c ? 1;`: the '?' without its ':' (nqc: syntax error).
+  if (expects_punct("':'") && (feed.last_text == ";" || feed.last_text == ")") && feed.pos >= 2) {
+    bool question = false;
+    std::size_t i = feed.pos - 1;
+    while (i > 0 && !feed.tokens[i - 1].is(";") && !feed.tokens[i - 1].is("{") && !feed.tokens[i - 1].is("}")) {
+      --i;
+      question = question || feed.tokens[i].is("?");
+    }
+    if (question && !feed.tokens[i].is_identifier("case")) {
+      feed.diags.error(ctx.location(), "expected ':' before '" + std::string(feed.last_text) +
+                                           "': a '?' needs ':' and the value for when the condition is false "
+                                           "('c ? a : b')");
+      return;
+    }
+  }
+  // `stop;` and `start;` without a task (nqc: syntax error).
+  if (feed.pos >= 2 && (feed.tokens[feed.pos - 2].is_identifier("stop") ||
+                        feed.tokens[feed.pos - 2].is_identifier("start")) &&
+      !expects(symbol_kind::S_TASK) && ctx.token() != symbol_kind::S_IDENT) {
+    std::string verb(feed.tokens[feed.pos - 2].text);
+    feed.diags.error(ctx.location(), "'" + verb + "' needs the name of a task: write '" + verb + " NAME;'" +
+                                         (verb == "stop" ? " (StopAllTasks() stops every task)" : ""));
+    return;
+  }
+  // `case 1, 2:`, as Pascal and Basic write it (C and nqc: syntax error).
+  if (feed.last_text == "," && feed.pos >= 2) {
+    std::size_t i = feed.pos - 1;
+    while (i > 0 && !feed.tokens[i - 1].is(":") && !feed.tokens[i - 1].is(";") && !feed.tokens[i - 1].is("{") &&
+           !feed.tokens[i - 1].is("}"))
+      --i;
+    if (feed.tokens[i].is_identifier("case")) {
+      feed.diags.error(ctx.location(), "a case label takes one value: give each value a label of its own, as in "
+                                       "'case 1: case 2:'");
+      return;
+    }
+  }
+  // `x = 1, y = 2;` or `x = (y = 3, 4);`: C's comma operator elsewhere
+  // (nqc: syntax error).
+  if (feed.last_text == "," && (expects_punct("';'") || expects_punct("')'")) && comma_operator(feed)) {
+    feed.diags.error(ctx.location(), "NQC has no comma operator: make each part a statement of its own, ending "
+                                     "with ';'");
+    return;
+  }
+  // `x = 1--1`: the lexer reads `--` as one token, as C does, so this is
+  // `1--` followed by `1`. On a constant the decrement is the mistake (nqc:
+  // "not a legal target for assignment"; gcc: "lvalue required"); after a
+  // variable the value that follows is. Either way say how `--` was read.
+  // Only where the value follows the sign directly: `x--` with a name on
+  // the next line is a missing ';'.
+  if (feed.pos >= 3 && (feed.tokens[feed.pos - 2].is("--") || feed.tokens[feed.pos - 2].is("++")) &&
+      (ctx.token() == symbol_kind::S_NUMBER || ctx.token() == symbol_kind::S_IDENT) &&
+      !feed.tokens[feed.pos - 1].space_before && !feed.tokens[feed.pos - 1].line_start) {
+    const Token& op = feed.tokens[feed.pos - 2];
+    const Token& before = feed.tokens[feed.pos - 3];
+    std::string ops(op.text), sign(1, op.text[0]), value(feed.last_text);
+    std::string verb = sign == "-" ? "decrement" : "increment";
+    std::string spaced = std::string(sign == "-" ? "for a minus sign" : "for a plus sign") + ", put a space: '";
+    if (before.kind == TokenKind::Number || before.kind == TokenKind::Char) {
+      std::string b(before.text);
+      feed.diags.error({before.span.begin, op.span.end},
+                       "cannot " + verb + " '" + b + "': it is a constant, not a variable ('" + b + ops + value +
+                           "' reads as '" + b + ops + " " + value + "'; " + spaced + b + " " + sign + " " + sign +
+                           value + "')");
+    } else {
+      feed.diags.error(ctx.location(), "expected ';' before '" + value + "': '" + ops + "' here " + verb +
+                                           "s what comes before it (" + spaced + sign + " " + sign + value + "')");
+    }
     return;
   }
   // `__nolist task t()`: nqc takes it before an inline function only.

@@ -241,6 +241,13 @@ class Checker {
                              "(...)'");
       return;
     }
+    // `TRUE`, `False`: the constants are keywords, which no list of names holds.
+    if (!callee && (spelling_distance(name, "true") == 0 || spelling_distance(name, "false") == 0)) {
+      std::string lower = spelling_distance(name, "true") == 0 ? "true" : "false";
+      diags_.error(span, "'" + name + "' is not declared; did you mean '" + lower + "'? (NQC's truth values are "
+                                                                                  "written in lower case)");
+      return;
+    }
     auto candidates = spelling_candidates(callee);
     auto meant = closest_name(name, candidates);
     if (!meant) meant = name_with_prefix(name, candidates);
@@ -409,12 +416,20 @@ class Checker {
     }
   }
   void visit_stmt(ExprStmt& e, Stmt&) {
+    std::size_t errors_before = diags_.error_count();
     expr(e.expr, Use::Discarded);
+    // A statement already in error (`f;` for `f();`) needs no warning besides.
+    if (diags_.error_count() != errors_before) return;
     bool effect = as<Assign>(e.expr) || as<Call>(e.expr);
     if (const auto* u = as<Unary>(e.expr))
       effect = u->op == UnaryOp::PreInc || u->op == UnaryOp::PreDec || u->op == UnaryOp::PostInc ||
                u->op == UnaryOp::PostDec;
-    if (!effect) diags_.warning(e.expr.span, "expression result unused");
+    // `x == 1;` for `x = 1;` (clang: "equality comparison result unused").
+    const auto* b = as<Binary>(e.expr);
+    if (!effect && b && b->op == BinaryOp::Eq && as<Name>(*b->lhs))
+      diags_.warning(e.expr.span, "expression result unused: '==' compares; did you mean '=' to assign?");
+    else if (!effect)
+      diags_.warning(e.expr.span, "expression result unused");
   }
   void visit_stmt(If& n, Stmt&) {
     condition(n.cond);
@@ -703,7 +718,11 @@ class Checker {
     }
     const Symbol& s = prog_.symbols[*id];
     if (!is_variable(s)) {
-      diags_.error(e.span, "'" + n.name + "' is a " + kind_name(s.kind) + ", not a variable");
+      // `f;` or `x = f;`: a call without its parentheses, or a task used as one.
+      std::string how;
+      if (s.kind == SymbolKind::Function || s.kind == SymbolKind::Sub) how = " (a call is written '" + n.name + "()')";
+      if (s.kind == SymbolKind::Task) how = " (a task is run with 'start " + n.name + ";')";
+      diags_.error(e.span, "'" + n.name + "' is a " + kind_name(s.kind) + ", not a variable" + how);
       return;
     }
     if (initialising_global_ && s.kind == SymbolKind::Global && s.index > *initialising_global_) {
@@ -1065,10 +1084,25 @@ class Checker {
 
   // ------------------------------------------------------------ program --
 
+  // C's `void main()`, a sub of that name, or `task Main()`: said where it
+  // is, rather than of the program as a whole.
+  void missing_main() {
+    const std::string why = ": the RCX starts a program at task main, so write 'task main()'";
+    for (const auto& f : prog_.functions)
+      if (f.name == "main") return void(diags_.error(f.span, "'main' is an inline function here" + why));
+    for (const auto& sub : prog_.subs)
+      if (sub.name == "main") return void(diags_.error(sub.span, "'main' is a sub here" + why));
+    for (const auto& t : prog_.tasks)
+      if (spelling_distance(t.name, "main") == 0)
+        return void(diags_.error(t.span, "the program has no 'task main()', and names tell capitals apart: '" +
+                                             t.name + "' is another task" + why));
+    diags_.error({}, "the program has no 'task main()': the RCX starts a program at task main");
+  }
+
   void check_limits() {
     bool has_main = false;
     for (const auto& t : prog_.tasks) has_main = has_main || t.name == "main";
-    if (!has_main) diags_.error({}, "the program has no 'task main()': the RCX starts a program at task main");
+    if (!has_main) missing_main();
     if (prog_.tasks.size() > static_cast<std::size_t>(kMaxTasks)) {
       auto& d = diags_.error(prog_.tasks[kMaxTasks].span,
                              "too many tasks: " + std::to_string(prog_.tasks.size()) + " (the RCX runs at most " +

@@ -384,7 +384,7 @@ struct Lowerer {
     if (const auto* s = ast::as<ast::Source>(e)) {
       auto type = constant(*s->type), arg = constant(*s->arg);
       if (!type || !arg || *type < 0 || *type > 15) {
-        error(e.span, "__source needs a constant source type (0..15) and argument");
+        error(e.span, non_constant_source(*s, type));
         return Operand::imm(0);
       }
       return Operand::src(*type, *arg);
@@ -392,6 +392,31 @@ struct Lowerer {
     VarId t = temp();
     into(t, e);
     return Operand::var(t);
+  }
+
+  // A source whose argument comes from a `const int &` parameter (the only
+  // way sema lets one through) that is no constant at this call: said in
+  // the words of the call written (Timer(t), Random(m), SensorValueRaw(s)),
+  // as sema says it of a variable written there.
+  static std::string non_constant_source(const ast::Source& s, std::optional<int> type) {
+    if (!type || *type < 0 || *type > 15) return "__source needs a constant source type (0..15) and argument";
+    const ast::Expr* arg = s.arg.get();
+    bool sensor = false;
+    if (const auto* sa = ast::as<ast::SourceArg>(*arg)) {
+      sensor = sa->or_constant_byte;
+      arg = sa->operand.get();
+    }
+    const auto* n = ast::as<ast::Name>(*arg);
+    std::string which = n ? "'" + n->name + "'" : std::string("the argument");
+    std::string what = "the argument of __source must be a constant expression";
+    if (sensor) {
+      what = "the argument must be a sensor (SENSOR_1, SENSOR_2 or SENSOR_3)";
+    } else if (*type == static_cast<int>(rcx::Source::Random)) {
+      what = "the maximum of Random(n) must be a constant expression";
+    } else if (auto range = rcx::source_argument_range(*type); range && !range->noun.empty()) {
+      what = fmt::format("the {} number must be a constant expression", range->noun);
+    }
+    return what + ", and " + which + " is not one at this call";
   }
 
   // An operand `op` accepts at `slot`, through a temporary if needed.
@@ -957,6 +982,20 @@ struct Lowerer {
           break;
         }
         case ast::ParamKind::Const:
+          // Sema lets through an argument made of the caller's `const int &`
+          // parameters, known only here (nqc: "argument must be a constant"
+          // for `g(q)` when q's own argument is a variable). Said of the
+          // call written, so `PlaySound(s)` names PlaySound's parameter, not
+          // the asm operand the library's body passes it to.
+          if (!constant(arg)) {
+            const auto* n = ast::as<ast::Name>(arg);
+            error(arg.span, fmt::format("argument for 'const int {}' of '{}' must be a constant expression, and {} "
+                                        "is not one at this call",
+                                        p.name, f.name, n ? "'" + n->name + "'" : std::string("the argument")));
+            return;
+          }
+          bound.push_back({p.symbol, Binding{-1, &arg}});
+          break;
         case ast::ParamKind::ConstReference: bound.push_back({p.symbol, Binding{-1, &arg}}); break;
       }
     }

@@ -162,6 +162,153 @@ TEST(HelpfulDiagnostics, ACommaInAForHeaderSaysNqcHasNoCommaOperator) {
       << r.text();
 }
 
+// `1--1` is `1--` then `1`, as in C: on a constant the decrement is the
+// mistake (nqc: "not a legal target for assignment", gcc: "lvalue required"),
+// said where it is; after a variable the value after it is. Both say how
+// `--` was read, where they said "expected ';' before '1'".
+TEST(HelpfulDiagnostics, ADoubleSignBetweenValuesSaysHowItWasRead) {
+  auto r = run_frontend("int x, y;\ntask main()\n{\n  x = 1--1;\n  y = 5++2;\n  x = y--1;\n  y = x++y;\n}\n");
+  EXPECT_EQ(placed_messages(r.diags),
+            (std::vector<std::string>{
+                "4:7 cannot decrement '1': it is a constant, not a variable ('1--1' reads as '1-- 1'; for a minus "
+                "sign, put a space: '1 - -1')",
+                "5:7 cannot increment '5': it is a constant, not a variable ('5++2' reads as '5++ 2'; for a plus "
+                "sign, put a space: '5 + +2')",
+                "6:10 expected ';' before '1': '--' here decrements what comes before it (for a minus sign, put a "
+                "space: '- -1')",
+                "7:10 expected ';' before 'y': '++' here increments what comes before it (for a plus sign, put a "
+                "space: '+ +y')"}))
+      << r.text();
+  // `x--` and then a statement on the next line is a missing ';'.
+  auto missing = run_frontend("int x;\ntask main()\n{\n  x--\n  x = 2;\n}\n");
+  EXPECT_EQ(placed_messages(missing.diags), (std::vector<std::string>{"4:6 expected ';' before 'x'"})) << missing.text();
+}
+
+// C's casts (nqc: syntax error) said "expected an expression before 'int'"
+// or, for a type the grammar took as a name, "expected ';' before 'x'".
+TEST(HelpfulDiagnostics, ACastSaysNqcHasNone) {
+  auto r = run_frontend("int x;\ntask main()\n{\n  x = (int)x + 1;\n  x = 2 * (float) x;\n"
+                        "  x = (unsigned int)(x / 2);\n  Wait((const int)3);\n}\n");
+  const std::string says = " NQC has no casts: every value is an int already, a 16-bit whole number (-32768 to "
+                           "32767), so the cast can go";
+  EXPECT_EQ(placed_messages(r.diags), (std::vector<std::string>{"4:7" + says, "5:11" + says, "6:7" + says,
+                                                                "7:8" + says}))
+      << r.text();
+  // A parameter without a name is no cast.
+  auto unnamed = run_frontend("void f(int) { }\ntask main() { }\n");
+  ASSERT_FALSE(unnamed.diags.all().empty());
+  EXPECT_EQ(unnamed.diags.all().front().message.find("cast"), std::string::npos) << unnamed.text();
+}
+
+// The comma operator outside a for header said "expected ';' before ','"
+// (after the statement's first part) or "expected ')' before ','".
+TEST(HelpfulDiagnostics, ACommaOperatorAnywhereSaysNqcHasNone) {
+  auto r = run_frontend("int x, y;\ntask main()\n{\n  x = 1, y = 2;\n  x = (y = 3, 4);\n  while (x++, y) y--;\n"
+                        "  Wait(100), Off(OUT_A);\n}\n");
+  const std::string says = " NQC has no comma operator: make each part a statement of its own, ending with ';'";
+  EXPECT_EQ(placed_messages(r.diags), (std::vector<std::string>{"4:8" + says, "5:13" + says, "6:13" + says,
+                                                                "7:12" + says}))
+      << r.text();
+  // abs() takes one value, and `case 1, 2:` wants two labels: not the comma operator.
+  for (const char* body : {"int x, y;\ntask main() { x = abs(x, y); }\n",
+                           "int x;\ntask main() { switch (x) { case 1, 2: x = 0; } }\n"}) {
+    auto other = run_frontend(body);
+    ASSERT_FALSE(other.diags.all().empty());
+    EXPECT_EQ(other.diags.all().front().message.find("comma"), std::string::npos) << other.text();
+  }
+}
+
+// `case 1, 2:` said "syntax error at ','".
+TEST(HelpfulDiagnostics, ACaseWithTwoValuesSaysEachNeedsALabel) {
+  auto r = run_frontend("int x;\ntask main()\n{\n  switch (x) {\n    case 0: case 1, 2: x = 0; break;\n"
+                        "    case 3 + 1, 5: x = 1;\n  }\n}\n");
+  const std::string says = " a case label takes one value: give each value a label of its own, as in 'case 1: "
+                           "case 2:'";
+  EXPECT_EQ(placed_messages(r.diags), (std::vector<std::string>{"5:19" + says, "6:15" + says})) << r.text();
+}
+
+// C and C++ habits in an inline function's parameters (nqc: syntax error)
+// said "expected ')' before 'x'", "expected ')' before '='" or "expected
+// identifier, '&' or '*' before 'const'".
+TEST(HelpfulDiagnostics, ParametersWrittenAsInCSayWhatNqcWants) {
+  auto placed_first = [](const char* text) {
+    auto r = run_frontend(text);
+    return r.diags.all().empty() ? std::string("none") : placed_messages(r.diags).front();
+  };
+  EXPECT_EQ(placed_first("void f(x) { }\ntask main() { }\n"),
+            "1:8 a parameter needs its kind: write 'int x' (or 'int &x', 'const int x', 'const int &x')");
+  EXPECT_EQ(placed_first("void f(int a, b) { }\ntask main() { }\n"),
+            "1:15 a parameter needs its kind: write 'int b' (or 'int &b', 'const int b', 'const int &b')");
+  EXPECT_EQ(placed_first("void f(float x) { }\ntask main() { }\n"),
+            "1:8 'float' is not a type in NQC: every parameter is an int (write 'int', 'int &', 'const int' or "
+            "'const int &')");
+  EXPECT_EQ(placed_first("void f(int x = 3) { }\ntask main() { }\n"),
+            "1:14 a parameter has no default value in NQC: every call gives every argument");
+  EXPECT_EQ(placed_first("void f(int const &x) { }\ntask main() { }\n"),
+            "1:12 'const' goes before 'int' in NQC: write 'const int' (or 'const int &')");
+}
+
+// Slips of other languages' habits said "expected ';' before '100'",
+// "expected an expression before '>'" and, for `**`, that the RCX has no
+// pointers (nqc: "undefined variable 'Wait'", syntax errors).
+TEST(HelpfulDiagnostics, OtherLanguagesCallsAndOperatorsSayWhatNqcWrites) {
+  auto r = run_frontend("int x, y;\ntask main()\n{\n  Wait 100;\n  if (x) Off 1;\n  if (x <> y) x = 1;\n"
+                        "  if (x =< y) x = 2;\n  if (x => y) x = 3;\n  x = y ** 2;\n}\n");
+  EXPECT_EQ(placed_messages(r.diags),
+            (std::vector<std::string>{
+                "4:8 a call needs parentheses around its arguments: write 'Wait(100)'",
+                "5:14 a call needs parentheses around its arguments: write 'Off(1)'",
+                "6:9 '<>' is not an operator in NQC: 'not equal' is written '!='",
+                "7:9 '=<' is not an operator in NQC: 'less than or equal' is written '<='",
+                "8:9 '=>' is not an operator in NQC: 'greater than or equal' is written '>='",
+                "9:10 NQC has no power operator '**': multiply instead ('y * y' for y squared)"}))
+      << r.text();
+  // A macro's value is not shown as if the user had written it.
+  auto macro = run_frontend("task main()\n{\n  Off OUT_A;\n}\n");
+  ASSERT_EQ(macro.diags.all().size(), 1u) << macro.text();
+  EXPECT_EQ(macro.diags.all().front().message, "a call needs parentheses around its arguments: write 'Off(...)'");
+  // A name after a name is no call: `itn x;` may be a misspelt type.
+  auto typo = run_frontend("task main()\n{\n  itn x;\n}\n");
+  ASSERT_FALSE(typo.diags.all().empty());
+  EXPECT_EQ(typo.diags.all().front().message.find("parentheses"), std::string::npos) << typo.text();
+}
+
+// `x == 1;` as a statement is an assignment mistyped (clang: "equality
+// comparison result unused").
+TEST(HelpfulDiagnostics, AnUnusedEqualityAsksWhetherAnAssignmentWasMeant) {
+  auto r = run_frontend("int x;\ntask main()\n{\n  x == 1;\n  x < 1;\n}\n");
+  EXPECT_EQ(placed_messages(r.diags),
+            (std::vector<std::string>{"4:3 expression result unused: '==' compares; did you mean '=' to assign?",
+                                      "5:3 expression result unused"}))
+      << r.text();
+}
+
+// A '?' without its ':' said "syntax error at ';'"; a case label without
+// its ':' keeps its own message.
+TEST(HelpfulDiagnostics, AConditionalWithoutItsColonSaysSo) {
+  auto r = run_frontend("int x, y;\ntask main()\n{\n  x = (y > 1) ? 1;\n  Wait(y ? 10);\n}\n");
+  const std::string says = "': a '?' needs ':' and the value for when the condition is false ('c ? a : b')";
+  EXPECT_EQ(placed_messages(r.diags), (std::vector<std::string>{"4:18 expected ':' before ';" + says,
+                                                                "5:14 expected ':' before ')" + says}))
+      << r.text();
+  auto label = run_frontend("int x;\ntask main()\n{\n  switch (x) { case 1; x = 2; }\n}\n");
+  ASSERT_FALSE(label.diags.all().empty());
+  EXPECT_EQ(label.diags.all().front().message.find("'?'"), std::string::npos) << label.text();
+}
+
+// `stop;` said "expected identifier before ';'".
+TEST(HelpfulDiagnostics, StartOrStopWithoutATaskSaysItNeedsOne) {
+  auto stop = run_frontend("task main()\n{\n  stop;\n}\n");
+  EXPECT_EQ(placed_messages(stop.diags),
+            (std::vector<std::string>{
+                "3:7 'stop' needs the name of a task: write 'stop NAME;' (StopAllTasks() stops every task)"}))
+      << stop.text();
+  auto start = run_frontend("task main()\n{\n  start 3;\n}\n");
+  EXPECT_EQ(placed_messages(start.diags),
+            (std::vector<std::string>{"3:9 'start' needs the name of a task: write 'start NAME;'"}))
+      << start.text();
+}
+
 TEST(HelpfulDiagnostics, LabelAtTheEndOfABlockWantsAStatement) {
   // C and nqc both refuse `end: }` and `case 1: }`; "expected an
   // expression" did not say what was missing.

@@ -40,6 +40,15 @@ const BadProgram kCases[] = {
      {"4:3: error: 'a' is not declared"}},
     {"MissingMain", "task other() { }\n",
      {"0:0: error: the program has no 'task main()': the RCX starts a program at task main"}},
+    // C's `void main()`, a sub, or capitals: said where it is.
+    {"MainAsAnInlineFunction", "void main() { }\n",
+     {"1:6: error: 'main' is an inline function here: the RCX starts a program at task main, so write 'task "
+      "main()'"}},
+    {"MainAsASub", "sub main() { }\n",
+     {"1:5: error: 'main' is a sub here: the RCX starts a program at task main, so write 'task main()'"}},
+    {"MainWithCapitals", "task Main() { }\n",
+     {"1:6: error: the program has no 'task main()', and names tell capitals apart: 'Main' is another task: the "
+      "RCX starts a program at task main, so write 'task main()'"}},
     {"TooManyTasks",
      "task main() { }\ntask t1() { }\ntask t2() { }\ntask t3() { }\ntask t4() { }\ntask t5() { }\n"
      "task t6() { }\ntask t7() { }\ntask t8() { }\ntask t9() { }\ntask t10() { }\n",
@@ -93,7 +102,14 @@ const BadProgram kCases[] = {
      {"5:7: error: 's' does not return a value; call it as a statement"}},
     {"CallingATask", "task main()\n{\n  main();\n}\n", {"3:3: error: 'main' is a task: use 'start main;' to run it"}},
     {"TaskUsedAsVariable", "task main()\n{\n  int x;\n  x = main;\n}\n",
-     {"4:7: error: 'main' is a task, not a variable"}},
+     {"4:7: error: 'main' is a task, not a variable (a task is run with 'start main;')"}},
+    {"TruthValuesInCapitals", "int x;\ntask main()\n{\n  x = TRUE;\n  x = False;\n}\n",
+     {"4:7: error: 'TRUE' is not declared; did you mean 'true'? (NQC's truth values are written in lower case)",
+      "5:7: error: 'False' is not declared; did you mean 'false'? (NQC's truth values are written in lower case)"}},
+    // `f;` for `f();`, which nqc calls an undefined variable.
+    {"FunctionWithoutParentheses", "void f() { }\nsub s() { }\ntask main()\n{\n  f;\n  s;\n}\n",
+     {"5:3: error: 'f' is a function, not a variable (a call is written 'f()')",
+      "6:3: error: 's' is a sub, not a variable (a call is written 's()')"}},
     {"AssignToNonVariable", "task main()\n{\n  int x;\n  x + 1 = 2;\n}\n",
      {"4:3: error: cannot assign to this expression: it is not a variable"}},
     {"AssignToMacroShowsTheOperator", "#define LEFT x + 1\ntask main()\n{\n  int x;\n  if (LEFT = 2) x++;\n}\n",
