@@ -72,6 +72,11 @@ std::optional<std::int64_t> int_key(const toml::table& t, std::string_view key, 
 
 std::variant<toml::table, TomlError> read_toml(std::string_view text, std::string_view path,
                                                std::string_view what_it_holds) {
+  // Binary bytes (an .rxe or .rcx file, random data) would be told as
+  // their first byte past ASCII: say what the file is instead. No text
+  // file has a NUL, and an image or program has one early.
+  if (text.substr(0, 4096).find('\0') != std::string_view::npos)
+    return TomlError{fmt::format("{}: holds binary data, not a scenario ({})", path, what_it_holds)};
   if (auto trap = toml_trap(text))
     return TomlError{fmt::format("{}:{}: {} ({})", path, trap->line, trap->what, what_it_holds)};
   try {

@@ -29,7 +29,8 @@ std::optional<std::int64_t> int_key(const toml::table& t, std::string_view key, 
 
 // The table `text` holds, or what is wrong with it. `what_it_holds` ends
 // the message for text refused before parsing ("a scenario is [[input]]
-// tables of keys and numbers").
+// tables of keys and numbers"): binary data (a NUL in the first 4 KiB),
+// and what toml++ would fault on.
 std::variant<toml::table, TomlError> read_toml(std::string_view text, std::string_view path,
                                                std::string_view what_it_holds);
 
