@@ -158,8 +158,21 @@ struct Palette {
   }
 };
 
-void render_one(std::string& out, Severity sev, const SourceSpan& span, const std::string& message,
+// A message may quote the file (#error's text, an #include name): its
+// control bytes are shown as \xNN, as the quoted line shows them as '?'.
+std::string shown_message(std::string_view message) {
+  std::string out;
+  for (char c : message) {
+    auto byte = static_cast<unsigned char>(c);
+    if ((byte < 0x20 && c != '\n' && c != '\t') || byte == 0x7f) out += fmt::format("\\x{:02x}", byte);
+    else out += c;
+  }
+  return out;
+}
+
+void render_one(std::string& out, Severity sev, const SourceSpan& span, const std::string& raw_message,
                 const SourceManager& sm, const Palette& palette, const std::string& unplaced = "") {
+  const std::string message = shown_message(raw_message);
   const SourceLoc& b = span.begin;
   if (!b.valid()) {
     out += fmt::format("{} {} {}\n", palette.paint("1", (unplaced.empty() ? std::string("rcxc") : unplaced) + ":"),
