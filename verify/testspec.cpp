@@ -4,6 +4,7 @@
 #include <fmt/ranges.h>
 
 #include "rcx/file_read.h"
+#include "rcx/image.h"
 #include "runtime/scenario.h"
 
 #include <algorithm>
@@ -557,7 +558,9 @@ std::variant<Spec, std::vector<SpecError>> parse_spec(std::string_view source) {
       try {
         parse_directive(*d, line, spec);
       } catch (const ParseFail& f) {
-        errors.push_back({line, f.message});
+        // The message quotes the file's text: its control bytes (an escape
+        // sequence, a NUL) are shown, not sent to the terminal.
+        errors.push_back({line, printable_name(f.message)});
       }
     }
     pos = end + 1;
@@ -588,7 +591,7 @@ std::vector<Failure> check_diagnostics(const Spec& spec, const std::vector<Compi
     for (const auto& m : messages)
       got += fmt::format("\n      line {}: {}: {}", m.line, m.error ? "error" : "warning", m.message);
     failures.push_back({d.line, fmt::format("expected {} {}'{}'; the compiler said:{}", d.error ? "error" : "warning",
-                                            d.at_line ? fmt::format("at line {} ", *d.at_line) : "", d.text,
+                                            d.at_line ? fmt::format("at line {} ", *d.at_line) : "", printable_name(d.text),
                                             got.empty() ? " nothing" : got)});
   }
   if (!spec.expects_compile_error()) {
