@@ -24,7 +24,7 @@ ScenarioInput one_input(const toml::table& t, std::string_view path) {
     if (std::find(std::begin(kKeys), std::end(kKeys), key.str()) == std::end(kKeys))
       throw TomlError{fmt::format("{}: unknown key '{}' (the NXT brick reads at_ms, sensor, raw, distance_cm, "
                                   "rotation, battery_mv, message, mailbox)",
-                                  where(path, node), key.str())};
+                                  where(path, node), rcxc::toml_read::shown_key(key.str()))};
   }
   auto when = int_key(t, "at_ms", 0, INT64_MAX / 1000, path);
   if (!when) throw TomlError{fmt::format("{}: input without 'at_ms'", where(path, t))};

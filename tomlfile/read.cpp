@@ -57,6 +57,16 @@ std::string where(std::string_view path, const toml::node& node) {
   return fmt::format("{}:{}", path, node.source().begin.line);
 }
 
+std::string shown_key(std::string_view key) {
+  std::string out;
+  for (char c : key) {
+    auto byte = static_cast<unsigned char>(c);
+    if (byte < 0x20 || byte == 0x7f) out += fmt::format("\\x{:02x}", byte);
+    else out += c;
+  }
+  return out;
+}
+
 std::optional<std::int64_t> int_key(const toml::table& t, std::string_view key, std::int64_t lo, std::int64_t hi,
                                     std::string_view path, bool open_above) {
   const toml::node* node = t.get(key);

@@ -20,6 +20,11 @@ struct TomlError {
 // "PATH:LINE" of a node, to begin a message about it.
 std::string where(std::string_view path, const toml::node& node);
 
+// A key's name as a message quotes it: a quoted key may spell any
+// character ("at\u001b[2J"), and a control character would reach the
+// terminal as itself; each is shown as \xNN.
+std::string shown_key(std::string_view key);
+
 // An integer key of `t` in [lo, hi], or nullopt when absent; a value of
 // another type or out of range throws TomlError. `open_above`: hi only
 // keeps the value from overflowing later, so a value below lo is told

@@ -301,6 +301,14 @@ TEST(NxtScenario, TextThatTomlPlusPlusCannotTakeIsRefusedFirst) {
   EXPECT_EQ(std::get<std::vector<ScenarioInput>>(in).size(), 1u);
 }
 
+// A quoted key spelt with an escape was quoted raw in "unknown key".
+TEST(NxtScenario, AKeysControlCharactersAreShownNotSent) {
+  auto r = parse_scenario("[[input]]\n\"at\\u001b[2J\" = 5\nmessage = 3\n", "s.toml");
+  ASSERT_TRUE(std::holds_alternative<ScenarioError>(r));
+  EXPECT_NE(std::get<ScenarioError>(r).message.find("s.toml:2: unknown key 'at\\x1b[2J' "), std::string::npos)
+      << std::get<ScenarioError>(r).message;
+}
+
 // Binary bytes given as an NXT scenario (an .rxe program, random data)
 // said "a letter that is not ASCII" where an RCX scenario says it holds
 // binary data; both name the file for what it is now.
