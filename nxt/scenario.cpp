@@ -1,6 +1,9 @@
 #include "nxt/scenario.h"
 
 #include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -56,6 +59,12 @@ ScenarioInput one_input(const toml::table& t, std::string_view path) {
   return in;
 }
 
+// "Permission denied" as the middle of a sentence.
+std::string lowercase_first(std::string text) {
+  if (!text.empty()) text[0] = static_cast<char>(std::tolower(static_cast<unsigned char>(text[0])));
+  return text;
+}
+
 }  // namespace
 
 std::variant<std::vector<ScenarioInput>, ScenarioError> parse_scenario(std::string_view text, std::string_view path) {
@@ -82,7 +91,14 @@ std::variant<std::vector<ScenarioInput>, ScenarioError> read_scenario_file(const
   if (std::filesystem::is_directory(path, ec))
     return ScenarioError{fmt::format("{}: is a directory, not a scenario file", path)};
   std::ifstream in(path, std::ios::binary);
-  if (!in) return ScenarioError{fmt::format("{}: cannot read the scenario file", path)};
+  if (!in) {
+    // Why, as an RCX scenario says it: a mistyped name and a file of
+    // another user's read alike as "cannot read".
+    int why = errno;
+    bool missing = !std::filesystem::exists(std::filesystem::symlink_status(path, ec));
+    return ScenarioError{fmt::format("{}: cannot open the scenario file: {}", path,
+                                     missing ? std::string("no such file") : lowercase_first(std::strerror(why)))};
+  }
   // One byte past the cap is enough to refuse: /dev/zero or an endless
   // pipe ends with a message, not with the machine's memory.
   std::string text(kMaxScenarioBytes + 1, '\0');

@@ -573,9 +573,14 @@ std::variant<Spec, std::vector<SpecError>> parse_spec(std::string_view source) {
 
 std::variant<Spec, std::vector<SpecError>> parse_spec_file(const std::string& path) {
   auto file = read_file(path, kSourceFile);
-  if (const auto* problem = std::get_if<FileProblem>(&file))
-    return std::vector<SpecError>{
-        {0, *problem == FileProblem::TooLarge ? too_large_message(path, kSourceFile) : "cannot read " + path}};
+  // Line 0, about the whole file; the caller names the file.
+  if (const auto* problem = std::get_if<FileProblem>(&file)) {
+    std::string why = *problem == FileProblem::TooLarge    ? too_large_reason(kSourceFile)
+                      : *problem == FileProblem::Directory ? "is a directory, not a file"
+                      : *problem == FileProblem::CannotOpen ? "cannot open it: " + cannot_open_reason(path)
+                                                            : std::string("cannot read it");
+    return std::vector<SpecError>{{0, why}};
+  }
   return parse_spec(std::get<std::string>(file));
 }
 
