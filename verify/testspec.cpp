@@ -4,7 +4,7 @@
 #include <fmt/ranges.h>
 
 #include "rcx/file_read.h"
-#include "rcx/image.h"
+#include "rcx/printable_text.h"
 #include "runtime/scenario.h"
 
 #include <algorithm>
@@ -560,7 +560,7 @@ std::variant<Spec, std::vector<SpecError>> parse_spec(std::string_view source) {
       } catch (const ParseFail& f) {
         // The message quotes the file's text: its control bytes (an escape
         // sequence, a NUL) are shown, not sent to the terminal.
-        errors.push_back({line, printable_name(f.message)});
+        errors.push_back({line, printable_text(f.message)});
       }
     }
     pos = end + 1;
@@ -594,14 +594,15 @@ std::vector<Failure> check_diagnostics(const Spec& spec, const std::vector<Compi
     if (found) continue;
     std::string got;
     for (const auto& m : messages)
-      got += fmt::format("\n      line {}: {}: {}", m.line, m.error ? "error" : "warning", m.message);
+      got += fmt::format("\n      line {}: {}: {}", m.line, m.error ? "error" : "warning", printable_text(m.message));
     failures.push_back({d.line, fmt::format("expected {} {}'{}'; the compiler said:{}", d.error ? "error" : "warning",
-                                            d.at_line ? fmt::format("at line {} ", *d.at_line) : "", printable_name(d.text),
+                                            d.at_line ? fmt::format("at line {} ", *d.at_line) : "",
+                                            printable_text(d.text),
                                             got.empty() ? " nothing" : got)});
   }
   if (!spec.expects_compile_error()) {
     for (const auto& m : messages)
-      if (m.error) failures.push_back({m.line, fmt::format("unexpected compile error: {}", m.message)});
+      if (m.error) failures.push_back({m.line, fmt::format("unexpected compile error: {}", printable_text(m.message))});
   }
   return failures;
 }

@@ -422,9 +422,11 @@ TEST(NxtCli, ABrickScenarioOrProgramItCannotServeFromIsRefused) {
   };
   auto brick = [&](const std::string& scenario) { return refused({"nxt", "brick", "--pty", "--scenario", scenario}); };
   std::string binary = dir.write("b.nqc", std::string("task main() {}\n\0\x01\x02", 18));
-  EXPECT_EQ(brick(binary), "1 rcxc nxt brick: " + binary + ": binary data, not an NQC program whose // @input lines to replay\n");
+  EXPECT_EQ(brick(binary),
+            "1 rcxc nxt brick: " + binary + ": binary data, not an NQC program whose // @input lines to replay\n");
   std::string huge = dir.write("h.nqc", std::string((1 << 20) + 10, ' '));
-  EXPECT_EQ(brick(huge), "1 rcxc nxt brick: " + huge + ": larger than a source file may be (1 MiB); is it the right file?\n");
+  EXPECT_EQ(brick(huge),
+            "1 rcxc nxt brick: " + huge + ": larger than a source file may be (1 MiB); is it the right file?\n");
   std::filesystem::create_directory(dir.path + "/d.nqc");
   EXPECT_EQ(brick(dir.path + "/d.nqc"), "1 rcxc nxt brick: " + dir.path + "/d.nqc: is a directory, not a file\n");
   EXPECT_EQ(brick(dir.path + "/m.nqc"), "1 rcxc nxt brick: " + dir.path + "/m.nqc: cannot open it: no such file\n");

@@ -202,6 +202,14 @@ TEST(TestSpec, MessagesShowControlBytesOfTheFileEscaped) {
   auto failures = check_diagnostics(s, {});
   ASSERT_EQ(failures.size(), 1u);
   EXPECT_NE(failures[0].message.find("'no \\x1b]0;title\\x07 here'"), std::string::npos) << failures[0].message;
+  // The compiler's own messages quote the file too (#error's text), and a
+  // backslash stays itself.
+  auto unexpected = check_diagnostics(parse_ok(""), {{true, 1, "#error a\\b \x1b[2J"}});
+  ASSERT_EQ(unexpected.size(), 1u);
+  EXPECT_EQ(unexpected[0].message, "unexpected compile error: #error a\\b \\x1b[2J");
+  auto listed = check_diagnostics(s, {{true, 1, "#error \x1b[2J"}});
+  ASSERT_EQ(listed.size(), 1u);
+  EXPECT_NE(listed[0].message.find("line 1: error: #error \\x1b[2J"), std::string::npos) << listed[0].message;
 }
 
 TEST(TestSpec, NanAndInfinityAreNotTimes) {
