@@ -17,6 +17,7 @@
 
 #include "cli/commands.h"
 #include "cli/nxt_tether.h"
+#include "cli/program_loader.h"
 #include "savefile/savefile.h"
 #include "nxt/client.h"
 #include "nxt/commands.h"
@@ -192,6 +193,7 @@ std::string read_file_bytes(const std::string& path, nxt::Bytes& out) {
     switch (*problem) {
       case rcx::FileProblem::Directory: return fmt::format("{}: is a directory, not a file to upload", path);
       case rcx::FileProblem::TooLarge: return rcx::too_large_message(path, kNxtUpload);
+      case rcx::FileProblem::CannotOpen: return fmt::format("cannot read {}: {}", path, rcx::cannot_open_reason(path));
       default: return fmt::format("cannot read {}", path);
     }
   }
@@ -273,6 +275,9 @@ std::variant<std::vector<nxt::ScenarioInput>, std::string> read_brick_scenario(c
   std::string lower = path;
   std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return std::tolower(c); });
   if (lower.ends_with(".nqc")) {
+    // As `rcxc test` says of it: binary data has no directives to read.
+    if (is_nqc_source(path) == false)
+      return fmt::format("{}: {}, not an NQC program whose // @input lines to replay", path, non_source_kind(path));
     auto inputs = scenario_from_directives(path);
     if (auto* list = std::get_if<std::vector<nxt::ScenarioInput>>(&inputs); list && list->empty())
       std::cerr << "rcxc nxt brick: " << path << " has no // @input lines: the inputs stay as they are\n";
@@ -787,7 +792,8 @@ void register_nxt(CLI::App& app, int& exit_code) {
         ->check(not_empty());
     cmd->add_option("--program", *program,
                     "Start with program NAME.rxe running (made empty if absent), as if started on the brick: "
-                    "mailboxes need one");
+                    "mailboxes need one")
+        ->check(not_empty());
     cmd->callback([&exit_code, a, pty, scenario, program] {
       exit_code = serve_brick(*pty, *scenario, *program, a->verbose);
     });

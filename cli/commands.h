@@ -8,6 +8,8 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstdint>
+#include <limits>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -26,17 +28,40 @@ inline constexpr int kExitNotComparable = 5;  // compare: nqc is missing or refu
 // 1000 must still fit the emulator's 64-bit microsecond clock.
 inline constexpr std::int64_t kMaxRunMs = std::int64_t{1} << 40;
 
+// Whole-number text as typed: an optional sign where one may be typed, then
+// digits and nothing else. Its value is told by its digits with the leading
+// zeros dropped ("0" for zero), so no conversion can overflow or read octal.
+struct WholeNumberText {
+  bool negative = false;    // a '-' before digits that are not all zeros
+  std::size_t sign = 0;     // 1 when the text starts with '-' or '+'
+  std::string_view digits;  // no leading zeros; "0" for zero
+};
+
+inline std::optional<WholeNumberText> read_whole_number(std::string_view v, bool sign_allowed) {
+  WholeNumberText t;
+  t.sign = sign_allowed && (v.starts_with('-') || v.starts_with('+')) ? 1 : 0;
+  if (v.size() == t.sign || v.find_first_not_of("0123456789", t.sign) != std::string_view::npos) return std::nullopt;
+  t.digits = v.substr(t.sign);
+  t.digits.remove_prefix(std::min(t.digits.find_first_not_of('0'), t.digits.size() - 1));
+  t.negative = v[0] == '-' && t.digits != "0";
+  return t;
+}
+
+// Whether `digits` (no leading zeros) is a larger number than `limit` (the same).
+inline bool digits_exceed(std::string_view digits, std::string_view limit) {
+  return digits.size() != limit.size() ? digits.size() > limit.size() : digits > limit;
+}
+
 // CLI11 reads a whole number with a leading zero as octal: `--for 010` ran
 // 8 ms and `--seed 010` was seed 8, without a word. Every integer option
 // and argument of `app` and its commands is read as decimal (the zeros
 // dropped before any check sees the value); 0x stays hexadecimal.
 inline void read_integers_as_decimal(CLI::App& app) {
   auto decimal = [](const std::string& v) -> std::string {
-    std::size_t sign = v.starts_with('-') || v.starts_with('+') ? 1 : 0;
-    bool digits = v.size() > sign && v.find_first_not_of("0123456789", sign) == std::string::npos;
-    std::size_t first = v.find_first_not_of('0', sign);  // npos: all zeros, which octal reads right
-    if (!digits || first == std::string::npos || first == sign) return v;
-    return v.substr(0, sign).append(v, first);
+    auto number = read_whole_number(v, true);
+    // All zeros read the same in octal, and are quoted as typed.
+    if (!number || number->digits == "0" || number->sign + number->digits.size() == v.size()) return v;
+    return v.substr(0, number->sign).append(number->digits);
   };
   for (CLI::Option* option : app.get_options()) {
     std::string type = option->get_type_name();
@@ -53,17 +78,15 @@ inline CLI::Validator not_empty() {
                         "", "not empty");
 }
 
-// For unsigned options (seeds): CLI11 would take "-1" as 2^64 - 1.
+// For unsigned options (seeds): CLI11 would take "-1" as 2^64 - 1, and a
+// number past 64 bits as 2^64 - 1 without a word.
 inline CLI::Validator whole_number() {
   return CLI::Validator(
       [](std::string& v) {
-        bool digits = !v.empty() && v.find_first_not_of("0123456789") == std::string::npos;
-        if (!digits) return "'" + v + "' is not a whole number 0 or more";
-        // Past 64 bits the conversion gives 2^64 - 1 without a word.
         constexpr std::string_view kMost = "18446744073709551615";
-        std::string_view n = std::string_view(v).substr(std::min(v.find_first_not_of('0'), v.size() - 1));
-        if (n.size() > kMost.size() || (n.size() == kMost.size() && n > kMost))
-          return "'" + v + "' is more than " + std::string(kMost);
+        auto number = read_whole_number(v, false);
+        if (!number) return "'" + v + "' is not a whole number 0 or more";
+        if (digits_exceed(number->digits, kMost)) return "'" + v + "' is more than " + std::string(kMost);
         return std::string();
       },
       "", "whole number");
@@ -76,16 +99,13 @@ inline CLI::Validator in_range(long long lo, long long hi) {
   return CLI::Validator(
       [lo, hi](std::string& v) {
         std::string range = std::to_string(lo) + ".." + std::to_string(hi);
-        std::size_t sign = v.starts_with('-') || v.starts_with('+') ? 1 : 0;
-        bool digits = v.size() > sign && v.find_first_not_of("0123456789", sign) == std::string::npos;
-        if (!digits) return "'" + v + "' is not a whole number (" + range + ")";
-        // Leading zeros and a sign cannot make the digits' count lie about size.
-        std::string_view n = std::string_view(v).substr(sign);
-        n.remove_prefix(std::min(n.find_first_not_of('0'), n.size() - 1));
-        bool negative = v[0] == '-' && n != "0";
-        bool beyond = n.size() > 18;  // 19 digits may not fit a long long
-        long long value = beyond ? 0 : std::stoll(std::string(n));
-        if (beyond || (negative ? -value < lo : value > hi) || (negative ? -value > hi : value < lo))
+        auto number = read_whole_number(v, true);
+        if (!number) return "'" + v + "' is not a whole number (" + range + ")";
+        // Past the largest long long it is past every range (and -2^63 past every lo in use).
+        if (digits_exceed(number->digits, std::to_string(std::numeric_limits<long long>::max())))
+          return "'" + v + "' is outside " + range;
+        long long value = std::stoll(std::string(number->digits));
+        if (number->negative ? -value < lo || -value > hi : value < lo || value > hi)
           return "'" + v + "' is outside " + range;
         return std::string();
       },

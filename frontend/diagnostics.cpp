@@ -6,6 +6,8 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "rcx/printable_text.h"
+
 namespace rcxc {
 
 std::string with_lone_crs_as_lf(std::string text) {
@@ -158,8 +160,11 @@ struct Palette {
   }
 };
 
-void render_one(std::string& out, Severity sev, const SourceSpan& span, const std::string& message,
+void render_one(std::string& out, Severity sev, const SourceSpan& span, const std::string& raw_message,
                 const SourceManager& sm, const Palette& palette, const std::string& unplaced = "") {
+  // A message may quote the file (#error's text, an #include name): its
+  // control bytes are shown as \xNN, as the quoted line shows them as '?'.
+  const std::string message = rcx::printable_text(raw_message);
   const SourceLoc& b = span.begin;
   if (!b.valid()) {
     out += fmt::format("{} {} {}\n", palette.paint("1", (unplaced.empty() ? std::string("rcxc") : unplaced) + ":"),

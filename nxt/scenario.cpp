@@ -1,6 +1,9 @@
 #include "nxt/scenario.h"
 
 #include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -24,7 +27,7 @@ ScenarioInput one_input(const toml::table& t, std::string_view path) {
     if (std::find(std::begin(kKeys), std::end(kKeys), key.str()) == std::end(kKeys))
       throw TomlError{fmt::format("{}: unknown key '{}' (the NXT brick reads at_ms, sensor, raw, distance_cm, "
                                   "rotation, battery_mv, message, mailbox)",
-                                  where(path, node), key.str())};
+                                  where(path, node), rcxc::toml_read::shown_key(key.str()))};
   }
   auto when = int_key(t, "at_ms", 0, INT64_MAX / 1000, path);
   if (!when) throw TomlError{fmt::format("{}: input without 'at_ms'", where(path, t))};
@@ -56,6 +59,12 @@ ScenarioInput one_input(const toml::table& t, std::string_view path) {
   return in;
 }
 
+// "Permission denied" as the middle of a sentence.
+std::string lowercase_first(std::string text) {
+  if (!text.empty()) text[0] = static_cast<char>(std::tolower(static_cast<unsigned char>(text[0])));
+  return text;
+}
+
 }  // namespace
 
 std::variant<std::vector<ScenarioInput>, ScenarioError> parse_scenario(std::string_view text, std::string_view path) {
@@ -82,7 +91,14 @@ std::variant<std::vector<ScenarioInput>, ScenarioError> read_scenario_file(const
   if (std::filesystem::is_directory(path, ec))
     return ScenarioError{fmt::format("{}: is a directory, not a scenario file", path)};
   std::ifstream in(path, std::ios::binary);
-  if (!in) return ScenarioError{fmt::format("{}: cannot read the scenario file", path)};
+  if (!in) {
+    // Why, as an RCX scenario says it: a mistyped name and a file of
+    // another user's read alike as "cannot read".
+    int why = errno;
+    bool missing = !std::filesystem::exists(std::filesystem::symlink_status(path, ec));
+    return ScenarioError{fmt::format("{}: cannot open the scenario file: {}", path,
+                                     missing ? std::string("no such file") : lowercase_first(std::strerror(why)))};
+  }
   // One byte past the cap is enough to refuse: /dev/zero or an endless
   // pipe ends with a message, not with the machine's memory.
   std::string text(kMaxScenarioBytes + 1, '\0');

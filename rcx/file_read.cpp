@@ -46,12 +46,16 @@ std::string cannot_open_reason(const std::string& path) {
   return "it could not be read";
 }
 
-std::string too_large_message(const std::string& path, FileKind kind) {
+std::string too_large_reason(FileKind kind) {
   std::size_t cap = kind.max_bytes;
   std::string size = cap % (1u << 20) == 0 ? fmt::format("{} MiB", cap >> 20)
                      : cap % 1024 == 0     ? fmt::format("{} KiB", cap >> 10)
                                            : fmt::format("{} bytes", cap);
-  return fmt::format("{}: larger than a {} may be ({}); is it the right file?", path, kind.noun, size);
+  return fmt::format("larger than a {} may be ({}); is it the right file?", kind.noun, size);
+}
+
+std::string too_large_message(const std::string& path, FileKind kind) {
+  return fmt::format("{}: {}", path, too_large_reason(kind));
 }
 
 bool starts_as_image(std::string_view bytes) { return bytes.substr(0, 4) == "RCXI"; }

@@ -51,5 +51,7 @@ std::string cannot_open_reason(const std::string& path);
 
 // "P: larger than a source file may be (1 MiB); is it the right file?"
 std::string too_large_message(const std::string& path, FileKind kind);
+// The same without "P: ", for a caller that names the file itself.
+std::string too_large_reason(FileKind kind);
 
 }  // namespace rcx

@@ -27,7 +27,7 @@ TimedInput parse_input(const toml::table& t, std::string_view path) {
     for (auto k : kKeys) known = known || key.str() == k;
     if (!known)
       throw TomlError{fmt::format("{}: unknown key '{}' (expected at_ms, sensor, raw, rotation, message, battery_mv)",
-                                  where(path, node), key.str())};
+                                  where(path, node), rcxc::toml_read::shown_key(key.str()))};
   }
   std::string here = where(path, t);
   auto at = int_key(t, "at_ms", 0, kNoUpperBound, path, true);
@@ -66,7 +66,7 @@ std::variant<std::vector<TimedInput>, ScenarioError> parse_scenario(std::string_
     for (const auto& [key, node] : root) {
       if (key.str() != "input")
         throw TomlError{fmt::format("{}: unknown key '{}' (a scenario is a list of [[input]] tables)",
-                                    where(path, node), key.str())};
+                                    where(path, node), rcxc::toml_read::shown_key(key.str()))};
       const toml::array* list = node.as_array();
       if (list == nullptr || !list->is_array_of_tables())
         throw TomlError{fmt::format("{}: 'input' must be written as [[input]] tables", where(path, node))};

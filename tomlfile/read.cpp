@@ -57,6 +57,16 @@ std::string where(std::string_view path, const toml::node& node) {
   return fmt::format("{}:{}", path, node.source().begin.line);
 }
 
+std::string shown_key(std::string_view key) {
+  std::string out;
+  for (char c : key) {
+    auto byte = static_cast<unsigned char>(c);
+    if (byte < 0x20 || byte == 0x7f) out += fmt::format("\\x{:02x}", byte);
+    else out += c;
+  }
+  return out;
+}
+
 std::optional<std::int64_t> int_key(const toml::table& t, std::string_view key, std::int64_t lo, std::int64_t hi,
                                     std::string_view path, bool open_above) {
   const toml::node* node = t.get(key);
@@ -72,6 +82,11 @@ std::optional<std::int64_t> int_key(const toml::table& t, std::string_view key, 
 
 std::variant<toml::table, TomlError> read_toml(std::string_view text, std::string_view path,
                                                std::string_view what_it_holds) {
+  // Binary bytes (an .rxe or .rcx file, random data) would be told as
+  // their first byte past ASCII: say what the file is instead. No text
+  // file has a NUL, and an image or program has one early.
+  if (text.substr(0, 4096).find('\0') != std::string_view::npos)
+    return TomlError{fmt::format("{}: holds binary data, not a scenario ({})", path, what_it_holds)};
   if (auto trap = toml_trap(text))
     return TomlError{fmt::format("{}:{}: {} ({})", path, trap->line, trap->what, what_it_holds)};
   try {

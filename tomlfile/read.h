@@ -20,6 +20,11 @@ struct TomlError {
 // "PATH:LINE" of a node, to begin a message about it.
 std::string where(std::string_view path, const toml::node& node);
 
+// A key's name as a message quotes it: a quoted key may spell any
+// character ("at\u001b[2J"), and a control character would reach the
+// terminal as itself; each is shown as \xNN.
+std::string shown_key(std::string_view key);
+
 // An integer key of `t` in [lo, hi], or nullopt when absent; a value of
 // another type or out of range throws TomlError. `open_above`: hi only
 // keeps the value from overflowing later, so a value below lo is told
@@ -29,7 +34,8 @@ std::optional<std::int64_t> int_key(const toml::table& t, std::string_view key, 
 
 // The table `text` holds, or what is wrong with it. `what_it_holds` ends
 // the message for text refused before parsing ("a scenario is [[input]]
-// tables of keys and numbers").
+// tables of keys and numbers"): binary data (a NUL in the first 4 KiB),
+// and what toml++ would fault on.
 std::variant<toml::table, TomlError> read_toml(std::string_view text, std::string_view path,
                                                std::string_view what_it_holds);
 

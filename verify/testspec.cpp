@@ -4,6 +4,7 @@
 #include <fmt/ranges.h>
 
 #include "rcx/file_read.h"
+#include "rcx/printable_text.h"
 #include "runtime/scenario.h"
 
 #include <algorithm>
@@ -557,7 +558,9 @@ std::variant<Spec, std::vector<SpecError>> parse_spec(std::string_view source) {
       try {
         parse_directive(*d, line, spec);
       } catch (const ParseFail& f) {
-        errors.push_back({line, f.message});
+        // The message quotes the file's text: its control bytes (an escape
+        // sequence, a NUL) are shown, not sent to the terminal.
+        errors.push_back({line, printable_text(f.message)});
       }
     }
     pos = end + 1;
@@ -570,9 +573,14 @@ std::variant<Spec, std::vector<SpecError>> parse_spec(std::string_view source) {
 
 std::variant<Spec, std::vector<SpecError>> parse_spec_file(const std::string& path) {
   auto file = read_file(path, kSourceFile);
-  if (const auto* problem = std::get_if<FileProblem>(&file))
-    return std::vector<SpecError>{
-        {0, *problem == FileProblem::TooLarge ? too_large_message(path, kSourceFile) : "cannot read " + path}};
+  // Line 0, about the whole file; the caller names the file.
+  if (const auto* problem = std::get_if<FileProblem>(&file)) {
+    std::string why = *problem == FileProblem::TooLarge    ? too_large_reason(kSourceFile)
+                      : *problem == FileProblem::Directory ? "is a directory, not a file"
+                      : *problem == FileProblem::CannotOpen ? "cannot open it: " + cannot_open_reason(path)
+                                                            : std::string("cannot read it");
+    return std::vector<SpecError>{{0, why}};
+  }
   return parse_spec(std::get<std::string>(file));
 }
 
@@ -586,14 +594,15 @@ std::vector<Failure> check_diagnostics(const Spec& spec, const std::vector<Compi
     if (found) continue;
     std::string got;
     for (const auto& m : messages)
-      got += fmt::format("\n      line {}: {}: {}", m.line, m.error ? "error" : "warning", m.message);
+      got += fmt::format("\n      line {}: {}: {}", m.line, m.error ? "error" : "warning", printable_text(m.message));
     failures.push_back({d.line, fmt::format("expected {} {}'{}'; the compiler said:{}", d.error ? "error" : "warning",
-                                            d.at_line ? fmt::format("at line {} ", *d.at_line) : "", d.text,
+                                            d.at_line ? fmt::format("at line {} ", *d.at_line) : "",
+                                            printable_text(d.text),
                                             got.empty() ? " nothing" : got)});
   }
   if (!spec.expects_compile_error()) {
     for (const auto& m : messages)
-      if (m.error) failures.push_back({m.line, fmt::format("unexpected compile error: {}", m.message)});
+      if (m.error) failures.push_back({m.line, fmt::format("unexpected compile error: {}", printable_text(m.message))});
   }
   return failures;
 }

@@ -97,7 +97,9 @@ struct SpecError {
 // Parses every `@` directive in `source`. All malformed directives are
 // reported (not just the first).
 std::variant<Spec, std::vector<SpecError>> parse_spec(std::string_view source);
-// The same for the file at `path` (an unreadable file is one SpecError, line 0).
+// The same for the file at `path`. A file that cannot be read is one
+// SpecError, line 0, whose message does not name it ("is a directory, not
+// a file", "cannot open it: no such file"): the caller does.
 std::variant<Spec, std::vector<SpecError>> parse_spec_file(const std::string& path);
 
 // A diagnostic the compiler produced, reduced to what expectations match.

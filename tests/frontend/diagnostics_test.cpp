@@ -128,6 +128,22 @@ TEST(QuotedLine, ControlCharactersAreQuotedAsQuestionMarks) {
   EXPECT_EQ(q.lead_in, std::string(12, ' '));
 }
 
+// The message quoted the file raw where the line under it did not:
+// `#error`, `#warning`, an #include name or a #pragma holding ESC [2J
+// cleared the terminal of whoever compiled. Control bytes in the message
+// show as \xNN (as "stray character '\x1b'" does); JSON escapes its own.
+TEST(Diagnostics, ControlBytesInTheMessageAreShownNotSent) {
+  SourceManager sm;
+  auto f = sm.add("a.nqc", "#error hi \x1b[2J there\n");
+  Diagnostics diags;
+  diags.error({{f, 1, 1}, {f, 1, 7}}, "#error hi \x1b[2J there\x07\x7f");
+  diags.warning({}, "cannot read 'a\x1b]0;t\x07" "b'");
+  std::string text = render_all(diags, sm, {});
+  EXPECT_NE(text.find("a.nqc:1:1: error: #error hi \\x1b[2J there\\x07\\x7f\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("warning: cannot read 'a\\x1b]0;t\\x07b'\n"), std::string::npos) << text;
+  EXPECT_EQ(text.find_first_of("\x1b\x07\x7f"), std::string::npos) << text;
+}
+
 TEST(QuotedLine, ALongLineShowsAWindowCentredOnTheColumn) {
   std::string line(400, 'a');
   line[200] = 'X';

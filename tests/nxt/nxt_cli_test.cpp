@@ -197,7 +197,7 @@ TEST(NxtCli, AnUnreadableUploadIsSaidBeforeThePortIsOpened) {
   const std::string nowhere = "/dev/no-such-nxt";
   auto missing = nxt(nowhere, {"upload", dir.path + "/none.rxe"});
   EXPECT_EQ(missing.exit_code, 1) << missing.err;
-  EXPECT_EQ(missing.err, "rcxc nxt upload: cannot read " + dir.path + "/none.rxe\n");
+  EXPECT_EQ(missing.err, "rcxc nxt upload: cannot read " + dir.path + "/none.rxe: no such file\n");
   std::filesystem::create_directory(dir.path + "/folder.rxe");
   auto folder = nxt(nowhere, {"upload", dir.path + "/folder.rxe"});
   EXPECT_EQ(folder.exit_code, 1) << folder.err;
@@ -408,6 +408,33 @@ TEST(NxtTether, ScenarioAndNxtDoNotGoTogether) {
   auto bad = run_rcxc({"nxt", "brick", "--pty", "--program", "notes.txt"}, "", 10'000);
   EXPECT_EQ(bad.exit_code, 2);
   EXPECT_NE(bad.err.find("--program: \"notes.txt\" is not a program (.rxe)"), std::string::npos) << bad.err;
+}
+
+// What the virtual NXT cannot serve from is refused, each file named once
+// with why: binary bytes named .nqc were served as "no // @input lines",
+// a missing file gave no reason, a too large one its path twice, a folder
+// "cannot read" twice over; --program '' served as if not given.
+TEST(NxtCli, ABrickScenarioOrProgramItCannotServeFromIsRefused) {
+  TempDir dir;
+  auto refused = [](const std::vector<std::string>& args) {
+    auto r = run_rcxc(args, "", 5'000);
+    return std::to_string(r.exit_code) + " " + r.err;
+  };
+  auto brick = [&](const std::string& scenario) { return refused({"nxt", "brick", "--pty", "--scenario", scenario}); };
+  std::string binary = dir.write("b.nqc", std::string("task main() {}\n\0\x01\x02", 18));
+  EXPECT_EQ(brick(binary),
+            "1 rcxc nxt brick: " + binary + ": binary data, not an NQC program whose // @input lines to replay\n");
+  std::string huge = dir.write("h.nqc", std::string((1 << 20) + 10, ' '));
+  EXPECT_EQ(brick(huge),
+            "1 rcxc nxt brick: " + huge + ": larger than a source file may be (1 MiB); is it the right file?\n");
+  std::filesystem::create_directory(dir.path + "/d.nqc");
+  EXPECT_EQ(brick(dir.path + "/d.nqc"), "1 rcxc nxt brick: " + dir.path + "/d.nqc: is a directory, not a file\n");
+  EXPECT_EQ(brick(dir.path + "/m.nqc"), "1 rcxc nxt brick: " + dir.path + "/m.nqc: cannot open it: no such file\n");
+  EXPECT_EQ(brick(dir.path + "/m.toml"),
+            "1 rcxc nxt brick: " + dir.path + "/m.toml: cannot open the scenario file: no such file\n");
+  std::string program = refused({"nxt", "brick", "--pty", "--program", ""});
+  EXPECT_EQ(program.rfind("2 ", 0), 0u) << program;
+  EXPECT_NE(program.find("--program: needs a value, not ''"), std::string::npos) << program;
 }
 
 TEST(NxtTether, ABrickThatDoesNotAnswerFailsTheRun) {

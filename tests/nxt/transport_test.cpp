@@ -301,5 +301,28 @@ TEST(NxtScenario, TextThatTomlPlusPlusCannotTakeIsRefusedFirst) {
   EXPECT_EQ(std::get<std::vector<ScenarioInput>>(in).size(), 1u);
 }
 
+// A quoted key spelt with an escape was quoted raw in "unknown key".
+TEST(NxtScenario, AKeysControlCharactersAreShownNotSent) {
+  auto r = parse_scenario("[[input]]\n\"at\\u001b[2J\" = 5\nmessage = 3\n", "s.toml");
+  ASSERT_TRUE(std::holds_alternative<ScenarioError>(r));
+  EXPECT_NE(std::get<ScenarioError>(r).message.find("s.toml:2: unknown key 'at\\x1b[2J' "), std::string::npos)
+      << std::get<ScenarioError>(r).message;
+}
+
+// Binary bytes given as an NXT scenario (an .rxe program, random data)
+// said "a letter that is not ASCII" where an RCX scenario says it holds
+// binary data; both name the file for what it is now.
+TEST(NxtScenario, ABinaryFileIsNamedAsSuchNotAsALetter) {
+  const std::string expected =
+      "s.toml: holds binary data, not a scenario (an NXT scenario is [[input]] tables of keys and numbers)";
+  auto error = [](const std::string& text) {
+    auto r = parse_scenario(text, "s.toml");
+    return std::holds_alternative<ScenarioError>(r) ? std::get<ScenarioError>(r).message : std::string("accepted");
+  };
+  EXPECT_EQ(error(std::string("MindstormsNXT\0\x05\x00\xff\xfe", 18)), expected);
+  EXPECT_EQ(error(std::string("[[input]]\n\0at_ms = 1\n", 20)), expected);
+  EXPECT_EQ(error(std::string("\x93\x11\0\xc8", 4)), expected);
+}
+
 }  // namespace
 }  // namespace nxt

@@ -78,6 +78,14 @@ TEST(Scenario, ErrorsNameTheLine) {
   EXPECT_EQ(error("[[input]\n").rfind("s.toml:1:", 0), 0u);  // TOML syntax error
 }
 
+// A quoted key spelt with an escape ("at\u001b[2J") was quoted raw in
+// "unknown key": the escape sequence reached the terminal.
+TEST(Scenario, AKeysControlCharactersAreShownNotSent) {
+  EXPECT_EQ(error("[[input]]\n\"at\\u001b[2J\" = 5\nmessage = 3\n"),
+            "s.toml:2: unknown key 'at\\x1b[2J' (expected at_ms, sensor, raw, rotation, message, battery_mv)");
+  EXPECT_EQ(error("\"\\u0007\" = 1\n"), "s.toml:1: unknown key '\\x07' (a scenario is a list of [[input]] tables)");
+}
+
 TEST(Scenario, ABinaryFileIsNamedAsSuchNotAsBadUtf8) {
   const std::string expected = "s.toml: holds binary data, not a scenario (a scenario is a TOML file of [[input]] tables)";
   EXPECT_EQ(error(std::string("RCXI\x01\x02", 6)), expected);

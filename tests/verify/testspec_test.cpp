@@ -6,6 +6,7 @@
 
 using namespace rcx;
 using namespace rcx::semtest;
+using namespace std::string_literals;
 
 namespace {
 
@@ -183,6 +184,32 @@ TEST(TestSpec, DiagnosticsMatchByLineAndText) {
   Spec none = parse_ok("");
   EXPECT_EQ(check_diagnostics(none, {{true, 2, "syntax error"}}).size(), 1u);
   EXPECT_TRUE(check_diagnostics(none, {{false, 2, "unused variable 'z'"}}).empty());
+}
+
+// A bad directive's message quoted its text raw: an escape sequence in a
+// test file (ESC [2J clears the screen) reached the terminal of whoever ran
+// `rcxc test`, and a NUL its output. Control bytes are shown as \xNN, in
+// what the compiler was expected to say too.
+TEST(TestSpec, MessagesShowControlBytesOfTheFileEscaped) {
+  auto errors = parse_bad("// @for 1\x1b[2J0ms\n// @bogus\x1b[31m\n// @input at 5\0ms: message 3\n"s);
+  ASSERT_EQ(errors.size(), 3u);
+  EXPECT_NE(errors[0].message.find("found '1\\x1b[2J0ms'"), std::string::npos) << errors[0].message;
+  EXPECT_NE(errors[1].message.find("'@bogus\\x1b[31m'"), std::string::npos) << errors[1].message;
+  EXPECT_NE(errors[2].message.find("found '5\\x00ms'"), std::string::npos) << errors[2].message;
+  for (const auto& e : errors)
+    EXPECT_EQ(e.message.find_first_of("\x1b\0"s), std::string::npos) << e.message;
+  Spec s = parse_ok("// @expect-error no \x1b]0;title\x07 here\n");
+  auto failures = check_diagnostics(s, {});
+  ASSERT_EQ(failures.size(), 1u);
+  EXPECT_NE(failures[0].message.find("'no \\x1b]0;title\\x07 here'"), std::string::npos) << failures[0].message;
+  // The compiler's own messages quote the file too (#error's text), and a
+  // backslash stays itself.
+  auto unexpected = check_diagnostics(parse_ok(""), {{true, 1, "#error a\\b \x1b[2J"}});
+  ASSERT_EQ(unexpected.size(), 1u);
+  EXPECT_EQ(unexpected[0].message, "unexpected compile error: #error a\\b \\x1b[2J");
+  auto listed = check_diagnostics(s, {{true, 1, "#error \x1b[2J"}});
+  ASSERT_EQ(listed.size(), 1u);
+  EXPECT_NE(listed[0].message.find("line 1: error: #error \\x1b[2J"), std::string::npos) << listed[0].message;
 }
 
 TEST(TestSpec, NanAndInfinityAreNotTimes) {
