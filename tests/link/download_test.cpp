@@ -8,6 +8,7 @@
 #include "link/brick_server.h"
 #include "link/download.h"
 #include "link/remote.h"
+#include "tests/link/broadcasting_program.h"
 
 namespace rcx {
 namespace {
@@ -93,12 +94,7 @@ TEST(LinkWire, AProgramsSendMessageIsHeardAsSetMessage) {
 // sends a message every 1/100 s does not disturb a request.
 TEST(LinkWire, BroadcastsBetweenRepliesDoNotDisturbTheHost) {
   Brick brick = make_brick();
-  Image image;
-  image.fragments.push_back({FragmentType::Task, 0, {0x14, 0x03, 0x02, 0x07, 0x00,   // var 3 = 7
-                                                     0xB2, 0x02, 42,                  // send message 42
-                                                     0x43, 0x02, 1, 0x00,             // wait 1/100 s
-                                                     0x27, 0x88}});                   // back to the send
-  ASSERT_FALSE(brick.vm.load(brick.vm.program(), image));
+  ASSERT_FALSE(brick.vm.load(brick.vm.program(), test::broadcasting_program()));
   brick.vm.start_program();
   BrickWire wire(brick, 0.0, 1);
   Link link = make_link(wire);

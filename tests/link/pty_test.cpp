@@ -10,6 +10,7 @@
 #include "link/download.h"
 #include "link/remote.h"
 #include "tests/support/served_thread.h"
+#include "tests/link/broadcasting_program.h"
 
 namespace rcx {
 namespace {
@@ -131,12 +132,7 @@ TEST_F(PtyBrick, AProgramsSendMessageReachesTheTowerAsSetMessage) {
 // A host at a serial tower (which echoes its bytes) still gets its replies at
 // the first try while a program broadcasts a message every 1/100 s.
 TEST_F(PtyBrick, BroadcastsDoNotCostTheHostRetries) {
-  Image image;
-  image.fragments.push_back({FragmentType::Task, 0, {0x14, 0x03, 0x02, 0x07, 0x00,   // var 3 = 7
-                                                     0xB2, 0x02, 42,                  // send message 42
-                                                     0x43, 0x02, 1, 0x00,             // wait 1/100 s
-                                                     0x27, 0x88}});                   // back to the send
-  ASSERT_FALSE(brick.vm.load(brick.vm.program(), image));
+  ASSERT_FALSE(brick.vm.load(brick.vm.program(), test::broadcasting_program()));
   brick.vm.start_program();
   start();
   auto port = host();

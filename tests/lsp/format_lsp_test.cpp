@@ -20,16 +20,22 @@ json message(const std::string& method, json params, std::optional<int> id = std
   return m;
 }
 
+const std::string kUri = "file:///tmp/formatting-test.nqc";
+
+// A server that says it has `capability` and has `text` open as kUri.
+void open_document(Server& server, const std::string& text, const char* capability) {
+  auto init = handle(server, message("initialize", {{"capabilities", json::object()}}, 1));
+  EXPECT_EQ(init.at(0)["result"]["capabilities"][capability], true);
+  handle(server, message("initialized", json::object()));
+  handle(server, message("textDocument/didOpen",
+                         {{"textDocument", {{"uri", kUri}, {"languageId", "nqc"}, {"version", 1}, {"text", text}}}}));
+}
+
 // The reply to textDocument/formatting of `text` (opened as a document).
 json format_reply(const std::string& text, json options = {{"tabSize", 2}, {"insertSpaces", true}}) {
   Server server;
-  auto init = handle(server, message("initialize", {{"capabilities", json::object()}}, 1));
-  EXPECT_EQ(init.at(0)["result"]["capabilities"]["documentFormattingProvider"], true);
-  handle(server, message("initialized", json::object()));
-  const std::string uri = "file:///tmp/formatting-test.nqc";
-  handle(server, message("textDocument/didOpen",
-                         {{"textDocument", {{"uri", uri}, {"languageId", "nqc"}, {"version", 1}, {"text", text}}}}));
-  auto out = handle(server, message("textDocument/formatting", {{"textDocument", {{"uri", uri}}}, {"options", options}}, 2));
+  open_document(server, text, "documentFormattingProvider");
+  auto out = handle(server, message("textDocument/formatting", {{"textDocument", {{"uri", kUri}}}, {"options", options}}, 2));
   EXPECT_EQ(out.size(), 1u);
   return out.empty() ? json() : out[0];
 }
@@ -79,15 +85,10 @@ TEST(LspFormatting, BadOptionsAreInvalidParams) {
 // start of the line after `last`).
 json range_format_reply(const std::string& text, int first, int last) {
   Server server;
-  auto init = handle(server, message("initialize", {{"capabilities", json::object()}}, 1));
-  EXPECT_EQ(init.at(0)["result"]["capabilities"]["documentRangeFormattingProvider"], true);
-  handle(server, message("initialized", json::object()));
-  const std::string uri = "file:///tmp/formatting-test.nqc";
-  handle(server, message("textDocument/didOpen",
-                         {{"textDocument", {{"uri", uri}, {"languageId", "nqc"}, {"version", 1}, {"text", text}}}}));
+  open_document(server, text, "documentRangeFormattingProvider");
   json range = {{"start", {{"line", first}, {"character", 0}}}, {"end", {{"line", last + 1}, {"character", 0}}}};
   auto out = handle(server, message("textDocument/rangeFormatting",
-                                    {{"textDocument", {{"uri", uri}}}, {"range", range}, {"options", {{"tabSize", 2}}}}, 2));
+                                    {{"textDocument", {{"uri", kUri}}}, {"range", range}, {"options", {{"tabSize", 2}}}}, 2));
   EXPECT_EQ(out.size(), 1u);
   return out.empty() ? json() : out[0];
 }
