@@ -666,7 +666,8 @@ std::vector<CallArguments> calls_in(const Index& index, std::uint32_t file) {
     // A directive's line ends what it opened: `#define F(x) G(x` leaves
     // nothing open into the program.
     if (t.line_start && t.is("#")) open.clear(), argument_of_open.clear(), argument_starts = false;
-    if (argument_starts && !t.is(")") && !t.is(",")) {
+    bool ends_statement = t.is(";") || t.is("{") || t.is("}");
+    if (argument_starts && !t.is(")") && !t.is(",") && !ends_statement) {
       CallArgument a{argument_of_open.back(), place_of(t.span.begin), {}};
       bool alone = i + 1 < tokens.size() && (tokens[i + 1].is(",") || tokens[i + 1].is(")"));
       if (t.kind == frontend::TokenKind::Identifier && alone) a.only_name = std::string(t.text);
@@ -685,7 +686,7 @@ std::vector<CallArguments> calls_in(const Index& index, std::uint32_t file) {
     } else if (t.is(",") && !open.empty() && open.back() != kNotACall) {
       ++argument_of_open.back();
       argument_starts = true;
-    } else if (t.is(";") || t.is("{") || t.is("}")) {
+    } else if (ends_statement) {
       open.clear();  // a statement's end closes what a typo left open
       argument_of_open.clear();
     }

@@ -80,8 +80,9 @@ TEST(LspInlayHints, ExtraEmptyAndBrokenArgumentsGetNone) {
       "  Off(OUT_A);\n"                 // 5
       "  unknown(3);\n"                 // 6: nothing known of it
       "  if (Random(4) > 1) Wait((2));\n"  // 7: a grouping '(' is no call
-      "}\n");                           // 8
-  EXPECT_EQ(hints(s, whole(9)), (Hints{{2, 11, "frequency:"},
+      "  Wait(;\n"                       // 8: a statement's end is no argument
+      "}\n");                           // 9
+  EXPECT_EQ(hints(s, whole(10)), (Hints{{2, 11, "frequency:"},
                                        {2, 16, "duration:"},
                                        {3, 13, "duration:"},
                                        // What the typo leaves open takes Off's call as
