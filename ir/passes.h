@@ -331,7 +331,7 @@ void warn_reads_before_writes(const Program& p, Diagnostics& diags, LivenessCach
 // `if (SENSOR_1 == 1)` without SetSensor compares the raw reading (about
 // 1023 for an open touch sensor) and never holds. The setting persists on
 // the brick, so an earlier program may have made it, which the message
-// says. Programs with asm bytes are not judged.
+// says. A program whose asm bytes may set a sensor up is not judged.
 void warn_unconfigured_sensors(const Program& p, Diagnostics& diags);
 
 // slots.cpp: binds every variable to one of the 32 slots. Each global has

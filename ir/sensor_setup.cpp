@@ -22,8 +22,14 @@ void warn_unconfigured_sensors(const Program& p, Diagnostics& diags) {
   for (const Function& f : p.functions)
     for (const Block& b : f.blocks) {
       for (const Instr& in : b.instrs) {
-        // asm bytes may set a sensor up in ways not read here: no claim.
-        if (in.raw) return;
+        // asm bytes that may hold a Set sensor type or mode (either toggle
+        // form) may set a sensor up: no claim then. Others (UploadDatalog's)
+        // set none.
+        if (in.raw) {
+          for (const Operand& o : in.args)
+            if (o.is_imm() && (o.value == 0x32 || o.value == 0x3a || o.value == 0x42 || o.value == 0x4a)) return;
+          continue;
+        }
         if ((in.op == rcx::Op::SetSensorType || in.op == rcx::Op::SetSensorMode) && !in.args.empty()) {
           const Operand& sensor = in.args[0];
           if (sensor.is_imm() && sensor.value >= 0 && sensor.value < static_cast<int>(kSensors))

@@ -62,10 +62,13 @@ TEST(SensorSetup, SetUpAnywhereByTypeOrModeOrInAFunctionOrAnotherTask) {
   for (auto level : kLevels) EXPECT_EQ(unset_sensors(text, level), std::vector<std::string>{});
 }
 
-TEST(SensorSetup, AProgramWithAsmBytesIsNotJudged) {
+TEST(SensorSetup, AProgramWhoseAsmBytesMaySetASensorUpIsNotJudged) {
   // The bytes may set SENSOR_1 up (here they do: senstype 0, 1).
   const std::string text = "int x;\ntask main()\n{\n  asm { 0x32, 0, 1 };\n  x = SENSOR_1;\n}\n";
   EXPECT_EQ(unset_sensors(text, ir::OptLevel::O2), std::vector<std::string>{});
+  // UploadDatalog is asm bytes too, none of them a sensor's set-up.
+  const std::string upload = "int x;\ntask main()\n{\n  UploadDatalog(0, 1);\n  x = SENSOR_1;\n}\n";
+  EXPECT_EQ(unset_sensors(upload, ir::OptLevel::O2), std::vector<std::string>{"5:3 SENSOR_1"});
 }
 
 }  // namespace
