@@ -20,8 +20,6 @@ namespace {
 Place place_of(const SourceLoc& loc) { return {loc.file, loc.line, loc.column}; }
 Range range_of(const SourceSpan& span) { return {place_of(span.begin), place_of(span.end)}; }
 
-bool before(const Place& a, const Place& b) { return a.line < b.line || (a.line == b.line && a.column < b.column); }
-
 std::string trim(std::string_view s) {
   auto b = s.find_first_not_of(" \t\r");
   if (b == std::string_view::npos) return "";
@@ -650,6 +648,8 @@ std::optional<CallSite> call_at(const Index& index, const Place& where) {
   });
   return open_call(tokens, static_cast<std::size_t>(first_after - tokens.begin()));
 }
+
+bool before(const Place& a, const Place& b) { return a.line < b.line || (a.line == b.line && a.column < b.column); }
 
 std::vector<CallArguments> calls_in(const Index& index, std::uint32_t file) {
   Diagnostics ignored;

@@ -122,6 +122,9 @@ Index build_index(const std::string& path, const std::string& text, const fronte
 // The identifier at (line, column) of `file`, if the position is on one.
 const Occurrence* occurrence_at(const Index& index, std::uint32_t file, std::uint32_t line, std::uint32_t column);
 
+// Whether `a` comes before `b` in their file (the file is not compared).
+bool before(const Place& a, const Place& b);
+
 // Whether `p` lies in `r` (its end excluded).
 bool contains(const Range& r, const Place& p);
 

@@ -562,8 +562,6 @@ std::string parameter_name(std::string_view text) {
 // Each argument of a call in the range gets its parameter's name before it
 // (`PlayTone(frequency: 440, duration: 50)`), the way editors show C's; an
 // argument that is a variable of the parameter's own name gets none.
-bool placed_before(const Place& a, const Place& b) { return a.line < b.line || (a.line == b.line && a.column < b.column); }
-
 json inlay_hints(Request& r) {
   auto first = place_of(*r.doc, r.params.at("range").at("start"));
   auto last = place_of(*r.doc, r.params.at("range").at("end"));
@@ -580,7 +578,7 @@ json inlay_hints(Request& r) {
     auto list = parameter_list(*def);
     if (!list) continue;
     for (const CallArgument& a : call.arguments) {
-      if (a.position >= list->params.size() || placed_before(a.at, *first) || !placed_before(a.at, *last)) continue;
+      if (a.position >= list->params.size() || before(a.at, *first) || !before(a.at, *last)) continue;
       auto [begin, end] = list->params[a.position];
       std::string name = parameter_name(std::string_view(def->signature).substr(begin, end - begin));
       if (name.empty() || name == a.only_name) continue;
