@@ -23,7 +23,7 @@ struct CompileArgs {
   std::string file;
   std::optional<std::string> output;
   CompilerArgs compiler;                   // -I -D -U -n -O
-  std::vector<std::string> warning_flags;  // -Werror
+  std::vector<std::string> warning_flags;  // -Werror, -Wno-NAME, ... in order
   std::string diagnostics = "text";
   std::string color = "auto";
   std::size_t max_errors = kDefaultMaxErrors;
@@ -143,13 +143,12 @@ int run_compile(const CompileArgs& a) {
   SourceManager sm;
   Diagnostics diags;
   for (const auto& w : a.warning_flags) {
-    if (w != "error") {
-      std::cerr << "rcxc compile: unknown warning option '-W" << w << "' (only -Werror exists)\n";
+    if (auto bad = apply_warning_option(diags.policy, w)) {
+      std::cerr << "rcxc compile: " << *bad << "\n";
       return kExitUsage;
     }
-    diags.warnings_as_errors = true;
   }
-  diags.suppress_warnings = a.no_warnings;
+  diags.policy.none = a.no_warnings;
   const CompileRequest request = compile_request(a.compiler);
   if (a.preprocess_only) {
     auto text = frontend::preprocess_file(a.file, request.frontend, sm, diags);
@@ -189,7 +188,10 @@ void register_compile(CLI::App& app, int& exit_code) {
   cmd->add_option("-o,--output", args->output, "Output .rcx image (default: FILE with .rcx; - writes the standard output)");
   add_compiler_options(cmd, args->compiler);
   cmd->add_flag("-E", args->preprocess_only, "Print the preprocessed source (to -o FILE if given) and stop (nqc's -E<file> writes errors; here they go to stderr)");
-  add_repeatable(cmd, "-W", args->warning_flags, "-Werror: treat warnings as errors");
+  add_repeatable(cmd, "-W", args->warning_flags,
+                 "-Werror: treat warnings as errors; -Wno-NAME: do not give warning NAME; -Werror=NAME: make it an "
+                 "error (-Wno-error=NAME: not even with -Werror); -Wall: every warning (the default). NAME, as "
+                 "shown after each warning: " + warning_names_list());
   cmd->add_flag("-w", args->no_warnings, "Do not report warnings");
   cmd->add_option("--listing", args->listing, "Write a listing to FILE (or standard output without =FILE)")
       ->expected(0, 1)

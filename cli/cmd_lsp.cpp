@@ -15,6 +15,7 @@ struct LspArgs {
   std::vector<std::string> include_dirs;
   std::vector<std::string> defines;
   std::vector<std::string> undefines;
+  std::vector<std::string> warning_flags;  // -Wno-NAME, -Werror, ... as rcxc compile takes them
   bool no_stdlib = false;
   bool stdio = false;
   std::string stdlib_dir;
@@ -27,6 +28,9 @@ void register_lsp(CLI::App& app, int& exit_code) {
   add_repeatable(cmd, "-I", args->include_dirs, "Add a folder to the #include search path");
   add_repeatable(cmd, "-D", args->defines, "Define a macro: -DNAME or -DNAME=VALUE");
   add_repeatable(cmd, "-U", args->undefines, "Undefine a macro");
+  add_repeatable(cmd, "-W", args->warning_flags,
+                 "Warnings as rcxc compile takes them: -Wno-NAME leaves warning NAME out of the editor's "
+                 "diagnostics (also initializationOptions.warnings: [\"no-NAME\", ...])");
   cmd->add_flag("-n", args->no_stdlib, "Do not read the standard library rcx.nqh");
   // Language clients (VS Code's among them) pass --stdio; it is the only transport.
   cmd->add_flag("--stdio", args->stdio, "Talk over standard input and output (the default and only transport)");
@@ -52,6 +56,13 @@ void register_lsp(CLI::App& app, int& exit_code) {
       return;
     }
     lsp::Server server;
+    for (const auto& w : args->warning_flags) {
+      if (auto bad = apply_warning_option(server.warnings, w)) {
+        std::cerr << "rcxc lsp: " << *bad << "\n";
+        exit_code = kExitUsage;
+        return;
+      }
+    }
     server.options.include_dirs = args->include_dirs;
     for (const auto& d : args->defines) server.options.define(d);
     server.options.undefines = args->undefines;

@@ -14,6 +14,6 @@ set(RCXC_LAYERS
   "backend:rcx,frontend,ir"
   "verify:rcx,runtime"
   "format:rcx,frontend"
-  "lsp:stdlib,frontend,format,savefile"
+  "lsp:stdlib,frontend,ir,backend,format,savefile"
   "nxt:tomlfile"
   "cli:rcx,savefile,runtime,link,stdlib,frontend,format,ir,backend,verify,nxt,lsp,cli")

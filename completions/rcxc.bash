@@ -22,7 +22,7 @@ _rcxc() {
   local command=${words[1]} options="" files=""
   case $command in
     compile)
-      options="-o --output -I -D -U -n -E -Werror -w -O0 -O1 -O2 -Os --listing -v --verbose --diagnostics --max-errors --color --help"
+      options="-o --output -I -D -U -n -E -Werror -Wno- -Werror= -w -O0 -O1 -O2 -Os --listing -v --verbose --diagnostics --max-errors --color --help"
       files="!*.@(nqc|nqh)" ;;
     run)
       options="--scenario --for --seed --report --trace --instruction-us --nxt -I -D -U -n -O0 -O1 -O2 -Os --help"
@@ -54,7 +54,7 @@ _rcxc() {
         return
       fi ;;
     lsp)
-      options="-I -D -U -n --stdio --stdlib-dir --help" ;;
+      options="-I -D -U -n -Wno- --stdio --stdlib-dir --help" ;;
     format)
       options="-i --in-place --check --indent --help"
       files="!*.@(nqc|nqh)" ;;

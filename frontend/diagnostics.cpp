@@ -107,23 +107,24 @@ std::string_view severity_name(Severity s) {
 }
 
 Diagnostic& Diagnostics::error(SourceSpan span, std::string message) {
-  list_.push_back({Severity::Error, span, std::move(message), {}, false, {}});
+  list_.push_back({Severity::Error, span, std::move(message), {}, false, {}, {}});
   return list_.back();
 }
 
-Diagnostic& Diagnostics::warning(SourceSpan span, std::string message) {
-  if (suppress_warnings) {
+Diagnostic& Diagnostics::warning(SourceSpan span, WarningKind kind, std::string message) {
+  if (!policy.gives(kind)) {
     discarded_ = {};
     return discarded_;
   }
-  list_.push_back({warnings_as_errors ? Severity::Error : Severity::Warning, span, std::move(message), {}, false, {}});
+  Severity severity = policy.as_error_for(kind) ? Severity::Error : Severity::Warning;
+  list_.push_back({severity, span, std::move(message), {}, false, {}, kind});
   return list_.back();
 }
 
 void Diagnostics::add(Diagnostic d) {
-  if (d.severity == Severity::Warning) {
-    if (suppress_warnings) return;
-    if (warnings_as_errors) d.severity = Severity::Error;
+  if (d.severity == Severity::Warning && d.warning) {
+    if (!policy.gives(*d.warning)) return;
+    if (policy.as_error_for(*d.warning)) d.severity = Severity::Error;
   }
   list_.push_back(std::move(d));
 }
@@ -263,11 +264,16 @@ std::vector<const Diagnostic*> in_source_order(const Diagnostics& diags, const S
   return ordered;
 }
 
+std::string warning_option_tag(const Diagnostic& d) {
+  if (!d.warning) return "";
+  return fmt::format(" [-W{}{}]", d.severity == Severity::Error ? "error=" : "", warning_name(*d.warning));
+}
+
 std::string render_text(const Diagnostic& shown, const SourceManager& sm, bool color) {
   const Diagnostic d = as_reported(shown, sm);
   std::string out;
   Palette palette{color};
-  render_one(out, d.severity, d.span, d.message, sm, palette, unplaced_file(d, sm));
+  render_one(out, d.severity, d.span, d.message + warning_option_tag(d), sm, palette, unplaced_file(d, sm));
   for (const auto& n : all_notes(d, sm)) render_one(out, Severity::Note, n.span, n.message, sm, palette);
   return out;
 }
@@ -278,6 +284,7 @@ std::string render_json(const Diagnostic& shown, const SourceManager& sm) {
   if (!d.span.begin.valid()) j["file"] = unplaced_file(d, sm);
   j["severity"] = severity_name(d.severity);
   j["message"] = d.message;
+  if (d.warning) j["code"] = warning_name(*d.warning);
   j["notes"] = nlohmann::json::array();
   for (const auto& n : all_notes(d, sm)) {
     nlohmann::json nj = location_json(n.span, sm);
@@ -329,7 +336,7 @@ std::string render_all(const Diagnostics& diags, const SourceManager& sm, const 
     const Diagnostic& d = *in_order;
     if (d.severity == Severity::Error && options.max_errors != 0 && errors == options.max_errors) {
       Diagnostic rest{Severity::Note, {}, fmt::format("{} more errors not shown (--max-errors=0 shows every error)",
-                                                       diags.error_count() - errors), {}, false, {}};
+                                                       diags.error_count() - errors), {}, false, {}, {}};
       return out + render(rest);
     }
     if (d.severity == Severity::Error) ++errors;

@@ -4,9 +4,12 @@
 
 #include <cstdint>
 #include <deque>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
+
+#include "frontend/warnings.h"
 
 namespace rcxc {
 
@@ -129,17 +132,19 @@ struct Diagnostic {
   // The file a diagnostic without a position is about, when it is not the
   // program being compiled (which is the default: SourceManager's file 0).
   std::string file;
+  // Which warning this is (kept when -Werror makes it an error), so users
+  // can turn it off by name and editors can tell kinds apart.
+  std::optional<WarningKind> warning;
 };
 
-// Collects diagnostics of one compilation. Warnings can be silenced (-w) or
-// promoted to errors (-Werror) here, once, for every stage.
+// Collects diagnostics of one compilation. Warnings are silenced (-w,
+// -Wno-NAME) or promoted to errors (-Werror) here, once, for every stage.
 class Diagnostics {
  public:
-  bool warnings_as_errors = false;
-  bool suppress_warnings = false;
+  WarningPolicy policy;
 
   Diagnostic& error(SourceSpan span, std::string message);
-  Diagnostic& warning(SourceSpan span, std::string message);
+  Diagnostic& warning(SourceSpan span, WarningKind kind, std::string message);
   void add(Diagnostic d);
 
   const std::vector<Diagnostic>& all() const { return list_; }
@@ -160,8 +165,11 @@ Diagnostic as_reported(const Diagnostic& d, const SourceManager& sm);
 // under the span, then each note the same way.
 // With `color`, ANSI colours as gcc prints them on a terminal.
 std::string render_text(const Diagnostic& d, const SourceManager& sm, bool color = false);
+// " [-Wunused-variable]" for a warning ("[-Werror=...]" once promoted), as
+// gcc and clang name the option that turns it off; "" for other messages.
+std::string warning_option_tag(const Diagnostic& d);
 // One JSON object (a single line) with file, line, column, end, severity,
-// message and notes, for IDEs.
+// message, code (a warning's name) and notes, for IDEs.
 std::string render_json(const Diagnostic& d, const SourceManager& sm);
 
 // The diagnostics in the order of the text they are about, as a reader meets

@@ -176,8 +176,7 @@ std::optional<ast::Program> parse_reached(const std::vector<Token>& tokens, cons
   auto reached = without_unreached_library_functions(tokens, sm, pragmas);
   if (!reached) return std::nullopt;
   Diagnostics trial;
-  trial.warnings_as_errors = diags.warnings_as_errors;
-  trial.suppress_warnings = diags.suppress_warnings;
+  trial.policy = diags.policy;
   ast::Program program = parse_tokens(std::move(*reached), trial);
   program.pragmas = pragmas;  // sema checks what `#pragma init` names
   if (!trial.has_errors()) check(program, trial);

@@ -749,7 +749,8 @@ class Preprocessor {
       return;
     }
     if (d == "warning") {
-      diags_.warning({hash.span.begin, line.back().span.end}, "#warning " + spell(line, 1));
+      diags_.warning({hash.span.begin, line.back().span.end}, WarningKind::WarningDirective,
+                     "#warning " + spell(line, 1));
       return;
     }
     if (d == "pragma") return do_pragma(line);
@@ -758,7 +759,7 @@ class Preprocessor {
 
   void extra_tokens(const std::vector<Token>& line, std::size_t from) {
     if (line.size() > from)
-      diags_.warning(span_of(line, from, line[0].span),
+      diags_.warning(span_of(line, from, line[0].span), WarningKind::ExtraTokens,
                      "extra tokens after #" + std::string(line[0].text) + " are ignored");
   }
 
@@ -863,8 +864,9 @@ class Preprocessor {
         // nqc takes such a macro and substitutes the first parameter of the
         // name (param_index finds the first); so does rcxc, with a warning.
         if (std::find(m.params.begin(), m.params.end(), line[i].text) != m.params.end())
-          diags_.warning(line[i].span, "duplicate macro parameter '" + std::string(line[i].text) +
-                                           "': its uses take the first one's argument, as in nqc");
+          diags_.warning(line[i].span, WarningKind::MacroDefinition,
+                         "duplicate macro parameter '" + std::string(line[i].text) +
+                             "': its uses take the first one's argument, as in nqc");
         m.params.emplace_back(line[i].text);
         ++i;
         if (i < line.size() && line[i].is(")")) {
@@ -879,7 +881,7 @@ class Preprocessor {
       // nqc defines nothing then and says nothing; a use of the name
       // fails later ("undefined variable"). A warning says why.
       if (!ok) {
-        diags_.warning(i < line.size() ? line[i].span : line.back().span,
+        diags_.warning(i < line.size() ? line[i].span : line.back().span, WarningKind::MacroDefinition,
                        "expected a parameter name or ')' in the parameter list of macro '" + m.name +
                            "': the #define is ignored");
         return;
@@ -903,10 +905,11 @@ class Preprocessor {
       break;
     }
     if (const Macro* old = find_macro(m.name); old && old->statement) {
-      diags_.warning(m.span, "macro '" + m.name + "' redefined (nqc refuses this: it predefines " + m.name +
-                                 "(c) as while (!(c)))");
+      diags_.warning(m.span, WarningKind::MacroRedefined,
+                     "macro '" + m.name + "' redefined (nqc refuses this: it predefines " + m.name +
+                         "(c) as while (!(c)))");
     } else if (old && !same_definition(*old, m)) {
-      auto& w = diags_.warning(m.span, "macro '" + m.name + "' redefined");
+      auto& w = diags_.warning(m.span, WarningKind::MacroRedefined, "macro '" + m.name + "' redefined");
       if (old->span.begin.valid()) w.notes.push_back({old->span, "the previous definition is here"});
     }
     set_macro(std::move(m));
@@ -1024,7 +1027,7 @@ class Preprocessor {
 
   void do_pragma(const std::vector<Token>& line) {
     if (line.size() < 2) {
-      diags_.warning(line[0].span, "empty #pragma ignored");
+      diags_.warning(line[0].span, WarningKind::Pragma, "empty #pragma ignored");
       return;
     }
     const Token& what = line[1];
@@ -1040,7 +1043,8 @@ class Preprocessor {
     // changes nothing; so it is here, so that such a program still builds.
     if (what.is_identifier("init")) {
       if (line.size() < 3 || line[2].kind != TokenKind::Identifier) {
-        diags_.warning(what.span, "#pragma init needs the name of a sub or function; the #pragma is ignored");
+        diags_.warning(what.span, WarningKind::Pragma,
+                       "#pragma init needs the name of a sub or function; the #pragma is ignored");
         return;
       }
       out_.pragmas.noinit = false;
@@ -1056,20 +1060,22 @@ class Preprocessor {
         std::int64_t v = 0;
         if (t.is(",")) continue;
         if (!number_value(t, v)) {
-          diags_.warning(t.span, "#pragma reserve expects numbers: #pragma reserve LO [HI]; the #pragma is ignored");
+          diags_.warning(t.span, WarningKind::Pragma,
+                         "#pragma reserve expects numbers: #pragma reserve LO [HI]; the #pragma is ignored");
           return;
         }
         values.push_back(v);
       }
       if (values.empty()) {
-        diags_.warning(what.span,
+        diags_.warning(what.span, WarningKind::Pragma,
                        "#pragma reserve expects one or two slot numbers: #pragma reserve LO [HI]; the #pragma is ignored");
         return;
       }
       if (values.size() > 2) {
         // nqc reserves the first two and says nothing of the rest.
-        diags_.warning(what.span, "#pragma reserve takes at most two slot numbers: the ones after " +
-                                      std::to_string(values[1]) + " are ignored");
+        diags_.warning(what.span, WarningKind::Pragma,
+                       "#pragma reserve takes at most two slot numbers: the ones after " +
+                           std::to_string(values[1]) + " are ignored");
         values.resize(2);
       }
       std::int64_t lo = values[0], hi = values.size() == 2 ? values[1] : values[0];
@@ -1081,7 +1087,7 @@ class Preprocessor {
       out_.pragmas.reserve.push_back({static_cast<int>(lo), static_cast<int>(hi), span_of(line, 0, what.span)});
       return;
     }
-    diags_.warning(what.span, "unknown #pragma '" + std::string(what.text) + "' ignored");
+    diags_.warning(what.span, WarningKind::Pragma, "unknown #pragma '" + std::string(what.text) + "' ignored");
   }
 
   // ------------------------------------------------------ #if evaluation --

@@ -109,7 +109,7 @@ class RangeCheck {
       if (!range || e.constant) continue;  // constant operands were checked where they are written
       auto v = fold_with(e, b);
       if (!v || (*v >= range->lo && *v <= range->hi)) continue;
-      auto& d = diags_.warning(call_, "'" + name + "' passes " + std::to_string(*v) + " as " +
+      auto& d = diags_.warning(call_, WarningKind::Range, "'" + name + "' passes " + std::to_string(*v) + " as " +
                                           describe_operand(in.mnemonic, o.name, *range) + outside_range(*range));
       d.notes.push_back({e.span, "the operand is here"});
     }

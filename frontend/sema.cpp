@@ -319,7 +319,8 @@ class Checker {
     for (const auto& t : prog_.tasks) {
       const Symbol& s = prog_.symbols[t.symbol];
       if (s.name != "main" && !started_tasks_.count(t.symbol))
-        diags_.warning(s.span, "task '" + s.name + "' is never started: nothing in the program says 'start " + s.name + ";'");
+        diags_.warning(s.span, WarningKind::UnstartedTask,
+                       "task '" + s.name + "' is never started: nothing in the program says 'start " + s.name + ";'");
     }
   }
 
@@ -327,7 +328,7 @@ class Checker {
     for (SymbolId id = body_symbols_begin_; id < prog_.symbols.size(); ++id) {
       const Symbol& s = prog_.symbols[id];
       if (s.owner == owner_ && s.kind == SymbolKind::Local && !s.used)
-        diags_.warning(s.span, "unused variable '" + s.name + "'");
+        diags_.warning(s.span, WarningKind::UnusedVariable, "unused variable '" + s.name + "'");
     }
   }
 
@@ -378,7 +379,7 @@ class Checker {
     for (auto& s : list) {
       if (is_jump_target(s)) dead = false;
       if (dead && !warned && !as<Empty>(s)) {
-        diags_.warning(s.span, "unreachable code");
+        diags_.warning(s.span, WarningKind::UnreachableCode, "unreachable code");
         warned = true;
       }
       stmt(s);
@@ -390,7 +391,7 @@ class Checker {
   void condition(Expr& e) {
     expr(e, Use::Condition);
     if (const auto* a = as<Assign>(e); a && a->op == AssignOp::Assign)
-      diags_.warning(at_operator(*a, e.span), "assignment used as a condition; did you mean '=='?");
+      diags_.warning(at_operator(*a, e.span), WarningKind::AssignInCondition, "assignment used as a condition; did you mean '=='?");
   }
 
   void loop_body(Stmt& body) {
@@ -427,9 +428,9 @@ class Checker {
     // `x == 1;` for `x = 1;` (clang: "equality comparison result unused").
     const auto* b = as<Binary>(e.expr);
     if (!effect && b && b->op == BinaryOp::Eq && as<Name>(*b->lhs))
-      diags_.warning(e.expr.span, "expression result unused: '==' compares; did you mean '=' to assign?");
+      diags_.warning(e.expr.span, WarningKind::UnusedValue, "expression result unused: '==' compares; did you mean '=' to assign?");
     else if (!effect)
-      diags_.warning(e.expr.span, "expression result unused");
+      diags_.warning(e.expr.span, WarningKind::UnusedValue, "expression result unused");
   }
   void visit_stmt(If& n, Stmt&) {
     condition(n.cond);
@@ -622,7 +623,7 @@ class Checker {
     // the one meant, so it is a warning, as for other byte operands.
     int v = *b.value.constant;
     if (v < -128 || v > 255)
-      diags_.warning(b.value.span, "asm byte value " + std::to_string(v) + " does not fit in a byte; its low byte " +
+      diags_.warning(b.value.span, WarningKind::Overflow, "asm byte value " + std::to_string(v) + " does not fit in a byte; its low byte " +
                                        std::to_string(v & 0xff) + " is used, as nqc does");
   }
 
@@ -691,7 +692,7 @@ class Checker {
     if (!range || !e.constant) return;
     int v = *e.constant;
     if (v < range->lo || v > range->hi)
-      diags_.warning(e.span,
+      diags_.warning(e.span, WarningKind::Range,
                      describe_operand(in.mnemonic, o.name, *range) + " is " + std::to_string(v) + outside_range(*range));
   }
 
@@ -704,7 +705,7 @@ class Checker {
   void visit_expr(IntLit& n, Expr& e, Use) {
     if (n.value > 0xFFFF || n.value < -0x8000) {
       std::string number = n.value >= kLiteralPastRange ? "" : std::to_string(n.value) + " ";
-      diags_.warning(e.span, "integer constant " + number + "does not fit in 16 bits; it becomes " +
+      diags_.warning(e.span, WarningKind::Overflow, "integer constant " + number + "does not fit in 16 bits; it becomes " +
                                  std::to_string(wrap16(n.value)));
     }
     e.constant = wrap16(n.value);
@@ -761,7 +762,7 @@ class Checker {
     if (a && n.op == BinaryOp::LogAnd && *a == 0) e.constant = 0;
     if (a && n.op == BinaryOp::LogOr && *a != 0) e.constant = 1;
     if (divides && b && *b == 0)
-      diags_.warning(n.rhs->span, "division by zero (at run time the firmware leaves the value unchanged)");
+      diags_.warning(n.rhs->span, WarningKind::DivisionByZero, "division by zero (at run time the firmware leaves the value unchanged)");
   }
 
   // `Wait(60 * 1000 / 10)`: 60000 wraps to -5536 in 16 bits, as the brick
@@ -800,7 +801,7 @@ class Checker {
     if (wrap16(wide) == folded) return;
     std::int64_t exact = wrapped == n.lhs.get() ? *x : *y;
     const char* what = n.op == BinaryOp::Div ? "division" : n.op == BinaryOp::Mod ? "remainder" : "comparison";
-    diags_.warning(wrapped->span, fmt::format("{} does not fit in 16 bits: it wraps to {}, so the {} gives {} (nqc, "
+    diags_.warning(wrapped->span, WarningKind::Overflow, fmt::format("{} does not fit in 16 bits: it wraps to {}, so the {} gives {} (nqc, "
                                               "which computes constants in 32 bits, gives {})",
                                               exact, wrap16(exact), what, folded, wide));
   }
@@ -810,7 +811,7 @@ class Checker {
     expr(*n.target, Use::Value);
     require_writable(*n.target, "assign to", at_operator(n, n.target->span));
     if ((n.op == AssignOp::Div || n.op == AssignOp::Mod) && n.value->constant && *n.value->constant == 0)
-      diags_.warning(n.value->span, "division by zero (at run time the firmware leaves the value unchanged)");
+      diags_.warning(n.value->span, WarningKind::DivisionByZero, "division by zero (at run time the firmware leaves the value unchanged)");
   }
 
   // `preferred` unless it begins inside a macro's body (SENSOR_1 = 1: the
@@ -1012,7 +1013,7 @@ class Checker {
     // nqc emits the CyberMaster sources for -Trcx too, so a program using them
     // compiles; the RCX has nothing behind them (docs/emulator.md, "Sources").
     if (type >= 5 && type <= 7)
-      diags_.warning(n.type->span, "source type " + std::to_string(type) +
+      diags_.warning(n.type->span, WarningKind::Source, "source type " + std::to_string(type) +
                                        " is a CyberMaster source; on the RCX it reads 0");
     n.type_value = static_cast<std::int16_t>(type);
     n.arg_value = *n.arg->constant;
@@ -1024,10 +1025,10 @@ class Checker {
     if (const auto* sa = as<SourceArg>(*arg); sa && sa->or_constant_byte) arg = sa->operand.get();
     if (auto range = rcx::source_argument_range(type); range && (n.arg_value < range->lo || n.arg_value > range->hi)) {
       if (range->lo == range->hi)
-        diags_.warning(arg->span, fmt::format("the {} source takes argument {}, not {}", rcx::source_name(type),
+        diags_.warning(arg->span, WarningKind::Source, fmt::format("the {} source takes argument {}, not {}", rcx::source_name(type),
                                               range->lo, n.arg_value));
       else
-        diags_.warning(arg->span, fmt::format("{} {} does not exist: the RCX has {}s {} to {}{}", range->noun,
+        diags_.warning(arg->span, WarningKind::Range, fmt::format("{} {} does not exist: the RCX has {}s {} to {}{}", range->noun,
                                               n.arg_value, range->noun, range->lo, range->hi,
                                               range->noun == "sensor" ? " (SENSOR_1 to SENSOR_3)" : ""));
     }

@@ -86,8 +86,8 @@ struct Lowerer {
 
   Function& fn() { return out.functions[static_cast<std::size_t>(fid)]; }
 
-  void error(SourceSpan at, std::string message) { report(Severity::Error, at, std::move(message)); }
-  void warning(SourceSpan at, std::string message) { report(Severity::Warning, at, std::move(message)); }
+  void error(SourceSpan at, std::string message) { report(std::nullopt, at, std::move(message)); }
+  void warning(SourceSpan at, WarningKind kind, std::string message) { report(kind, at, std::move(message)); }
 
   static bool inside(const SourceSpan& inner, const SourceSpan& outer) {
     return inner.begin.file == outer.begin.file && !before(inner.begin, outer.begin) && !before(outer.end, inner.end);
@@ -97,13 +97,16 @@ struct Lowerer {
   // (the outermost one), with notes down to the line where it arose: a
   // library function's line means little to someone who only called it,
   // and an IDE should mark the line the user wrote.
-  void report(Severity severity, SourceSpan at, std::string message) {
+  // `warning`: which warning it is; none for an error.
+  void report(std::optional<WarningKind> warning, SourceSpan at, std::string message) {
+    auto say = [&](SourceSpan where) -> Diagnostic& {
+      return warning ? diags.warning(where, *warning, std::move(message)) : diags.error(where, std::move(message));
+    };
     if (call_sites.empty() || inside(at, call_sites.front())) {
-      severity == Severity::Error ? diags.error(at, std::move(message)) : diags.warning(at, std::move(message));
+      say(at);
       return;
     }
-    Diagnostic& d = severity == Severity::Error ? diags.error(call_sites.front(), std::move(message))
-                                                : diags.warning(call_sites.front(), std::move(message));
+    Diagnostic& d = say(call_sites.front());
     for (std::size_t i = 1; i < call_sites.size(); ++i)
       d.notes.push_back({call_sites[i], fmt::format("in inline function '{}', which calls it here",
                                                     ast.symbol(expanding[i - 1]).name)});
@@ -1337,7 +1340,7 @@ struct Lowerer {
           // variable's value, so a constant outside it is that byte, as in
           // nqc's code, not a temporary holding the whole number.
           if (auto c = constant(e); c && *in.op == Op::SendMessage && (*c < 0 || *c > 255)) {
-            warning(e.span, fmt::format("a message is one byte: {} is sent as {}", *c, *c & 0xff));
+            warning(e.span, WarningKind::Overflow, fmt::format("a message is one byte: {} is sent as {}", *c, *c & 0xff));
             args.push_back(Operand::imm(*c & 0xff));
             break;
           }
@@ -1352,7 +1355,7 @@ struct Lowerer {
           if (!c) return error(e.span, fmt::format("operand '{}' of {} must be a constant", slots[i]->name, in.mnemonic));
           if (!fits_field(slots[i]->type, *c) && rcx::field_size(slots[i]->type) == 1) {
             // As nqc does, a byte field keeps the low byte of the value.
-            warning(e.span, fmt::format("operand '{}' of {} is {}, which does not fit a byte: using {}",
+            warning(e.span, WarningKind::Overflow, fmt::format("operand '{}' of {} is {}, which does not fit a byte: using {}",
                                               slots[i]->name, in.mnemonic, *c, *c & 0xff));
             c = *c & 0xff;
           }

@@ -44,7 +44,7 @@ void warn_unconfigured_sensors(const Program& p, Diagnostics& diags) {
     }
   for (std::size_t s = 0; s < kSensors; ++s)
     if (read[s] && !configured[s])
-      diags.warning(p.span(first_read[s]),
+      diags.warning(p.span(first_read[s]), WarningKind::UnconfiguredSensor,
                     fmt::format("SENSOR_{0} is read but never set up (SetSensor(SENSOR_{0}, SENSOR_TOUCH), "
                                 "SENSOR_LIGHT, ...): it reads the raw value, 0 to 1023, unless a program run before "
                                 "set it up",

@@ -124,7 +124,7 @@ void warn_shared_sub_variables(const Program& p, const std::vector<TaskMask>& ru
     std::string tasks;
     for (std::size_t t = 0; t < task_names.size() && t < 64; ++t)
       if ((running[f] >> t) & 1) tasks += (tasks.empty() ? "'" : ", '") + task_names[t] + "'";
-    diags.warning(fn.span, fmt::format("subroutine '{}' is run by tasks {} and keeps a local or temporary value in "
+    diags.warning(fn.span, WarningKind::SharedSubroutine, fmt::format("subroutine '{}' is run by tasks {} and keeps a local or temporary value in "
                                        "one variable slot for all of them: tasks running it at the same time "
                                        "overwrite each other's value",
                                        fn.name, tasks));

@@ -46,7 +46,7 @@ void warn_reads_before_writes(const Program& p, Diagnostics& diags, LivenessCach
       if (reported[static_cast<std::size_t>(v)]) return;
       reported[static_cast<std::size_t>(v)] = true;
       const Var& var = p.vars[static_cast<std::size_t>(v)];
-      auto& d = diags.warning(at, fmt::format("'{}' is read before it is written: it holds what it held when the code "
+      auto& d = diags.warning(at, WarningKind::Uninitialized, fmt::format("'{}' is read before it is written: it holds what it held when the code "
                                               "last ran (one variable serves every call of a subroutine or inline "
                                               "function), and at first whatever its slot held",
                                               var.name));

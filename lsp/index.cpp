@@ -8,6 +8,7 @@
 #include <tuple>
 #include <unordered_map>
 
+#include "backend/compile.h"
 #include "frontend/parse.h"
 #include "frontend/preprocess.h"
 #include "frontend/spelling.h"
@@ -346,19 +347,26 @@ DocDiagnostic::Related related_of(const Note& n, const SourceManager& sm) {
   return r;
 }
 
-// The compiler's diagnostics, each placed in the document: in an included
+// The compiler's diagnostics, each placed in the document: an included
 // file's problem at its #include line, in the standard library's at the top.
 std::vector<DocDiagnostic> compile_diagnostics(const std::string& path, const std::string& text,
-                                               const frontend::Options& options) {
+                                               const frontend::Options& options, const WarningPolicy& warnings) {
   SourceManager sm;
   Diagnostics diags;
-  frontend::parse_source(path, text, options, sm, diags);
+  diags.policy = warnings;
+  // The whole compiler at the default level, not the frontend alone: the
+  // editor shows what `rcxc compile` says, the passes' warnings (a sensor
+  // never set up, a local read before it is written) and the back end's
+  // errors (no variable slot left, a program too large) included.
+  ir::Log log;
+  backend::compile_source(path, text, options, ir::OptLevel::O2, sm, diags, log);
   std::vector<DocDiagnostic> out;
   const std::uint32_t main = 0;  // parse_source adds the document first
   for (const auto& d : diags.all()) {
     DocDiagnostic dd;
     dd.severity = d.severity;
     dd.message = d.message;
+    dd.warning = d.warning;
     SourceSpan span = outside_macros(d.span, sm);
     if (span.begin.valid() && span.begin.file != main) {
       dd.related.push_back(related_of({span, d.message}, sm));
@@ -399,7 +407,8 @@ std::string_view def_kind_name(DefKind k) {
   return "name";
 }
 
-Index build_index(const std::string& path, const std::string& text, const frontend::Options& options) {
+Index build_index(const std::string& path, const std::string& text, const frontend::Options& options,
+                  const WarningPolicy& warnings) {
   Index index;
   if (text.size() > kMaxDocument) {
     // The compiler's work and memory grow with the text (a 1 MiB document
@@ -414,7 +423,7 @@ Index build_index(const std::string& path, const std::string& text, const fronte
     index.diagnostics.push_back(std::move(d));
     return index;
   }
-  index.diagnostics = compile_diagnostics(path, text, options);
+  index.diagnostics = compile_diagnostics(path, text, options, warnings);
 
   Diagnostics ignored;
   index.main_file = index.sm.add(path, text);

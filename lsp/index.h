@@ -62,6 +62,7 @@ struct DocDiagnostic {
   std::uint32_t end_line = 0;
   std::uint32_t end_column = 0;
   std::string message;
+  std::optional<WarningKind> warning;  // which warning, for the code editors show and filter by
   struct Related {
     std::string path;  // "" when the note has no position
     std::uint32_t line = 0, column = 0, end_line = 0, end_column = 0;
@@ -117,7 +118,10 @@ inline constexpr std::size_t kMaxDocument = std::size_t{1} << 20;
 
 // Compiles `text` as the file at `path` (includes are searched next to it
 // and in options.include_dirs) and indexes what it defines and uses.
-Index build_index(const std::string& path, const std::string& text, const frontend::Options& options);
+// `warnings`: which warnings the document's diagnostics give (the client's
+// initializationOptions.warnings, as -W options).
+Index build_index(const std::string& path, const std::string& text, const frontend::Options& options,
+                  const WarningPolicy& warnings = {});
 
 // The identifier at (line, column) of `file`, if the position is on one.
 const Occurrence* occurrence_at(const Index& index, std::uint32_t file, std::uint32_t line, std::uint32_t column);

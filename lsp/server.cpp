@@ -208,10 +208,9 @@ json diagnostic_json(Server& server, const Document& doc, const std::string& doc
             {"severity", d.severity == Severity::Error ? 1 : d.severity == Severity::Warning ? 2 : 3},
             {"source", "rcxc"},
             {"message", d.message}};
+  if (d.warning) j["code"] = warning_name(*d.warning);
   // Code that does nothing: editors grey it out (DiagnosticTag Unnecessary).
-  // The compiler's diagnostics carry no kind, so the message says which;
-  // tests/lsp/lsp_test.cpp pins both wordings.
-  if (d.severity == Severity::Warning && (d.message.rfind("unused variable '", 0) == 0 || d.message == "unreachable code"))
+  if (d.warning == WarningKind::UnusedVariable || d.warning == WarningKind::UnreachableCode)
     j["tags"] = json::array({1});
   json related = json::array();
   for (const auto& r : d.related) {
@@ -252,7 +251,9 @@ json publish(Server& server, const std::string& uri, const Document* doc) {
   return notification("textDocument/publishDiagnostics", params);
 }
 
-void reindex(const Server& server, Document& doc) { doc.index = build_index(doc.path, doc.text, server.options); }
+void reindex(const Server& server, Document& doc) {
+  doc.index = build_index(doc.path, doc.text, server.options, server.warnings);
+}
 
 // --------------------------------------------------------------- requests --
 
@@ -487,7 +488,8 @@ json code_actions(Request& r) {
     // The request's range must touch the diagnostic's.
     if (d.end_line < first->line || (d.end_line == first->line && d.end_column < first->column)) continue;
     if (d.line > last->line || (d.line == last->line && d.column > last->column)) continue;
-    if (std::string task = unstarted_task(d.message); !task.empty()) {
+    if (std::string task = d.warning == WarningKind::UnstartedTask ? unstarted_task(d.message) : "";
+        !task.empty()) {
       json action = start_task_action(r, d, task);
       if (!action.is_null()) actions.push_back(std::move(action));
       continue;
@@ -980,6 +982,14 @@ json initialize_result(Server& server, const json& params) {
     if (init.is_object() && init.contains("includeDirs") && init["includeDirs"].is_array())
       for (const auto& d : init["includeDirs"])
         if (d.is_string()) server.options.include_dirs.push_back(d.get<std::string>());
+    // As -W options: "no-unused-variable", "error=range". One it does not
+    // know is left out: the editor's settings should not stop the server.
+    if (init.is_object() && init.contains("warnings") && init["warnings"].is_array())
+      for (const auto& w : init["warnings"])
+        if (w.is_string()) {
+          WarningPolicy tried = server.warnings;
+          if (!apply_warning_option(tried, w.get<std::string>())) server.warnings = tried;
+        }
   }
   json capabilities = {
       {"textDocumentSync", {{"openClose", true}, {"change", 1}, {"save", {{"includeText", false}}}}},

@@ -25,6 +25,7 @@ struct Document {
 
 struct Server {
   frontend::Options options;  // -I, -D as `rcxc lsp` was started (and initializationOptions.includeDirs)
+  WarningPolicy warnings;     // -W options as `rcxc lsp` was started (and initializationOptions.warnings)
   std::string version;        // reported in serverInfo
   // Where go to definition shows the standard library: the compiler embeds
   // it, so a copy is written here when first needed ("" = a cache folder).

@@ -81,6 +81,35 @@ TEST_F(CompileCli, WarningsDoNotFailButWerrorDoesAndMinusWSilences) {
   EXPECT_EQ(quiet.err.find("unused"), std::string::npos) << quiet.err;
 }
 
+TEST_F(CompileCli, WarningsAreNamedAndTurnedOffOrPromotedByName) {
+  auto f = write("two.nqc", "task main()\n{\n  int unused;\n  PlaySound(9);\n}\n");
+  auto plain = run_rcxc({"compile", f});
+  EXPECT_NE(plain.err.find(":3:7: warning: unused variable 'unused' [-Wunused-variable]\n"), std::string::npos) << plain.err;
+  EXPECT_NE(plain.err.find(":4:3: warning: 'PlaySound' passes 9"), std::string::npos) << plain.err;
+
+  auto no_unused = run_rcxc({"compile", "-Wno-unused-variable", f});
+  EXPECT_EQ(no_unused.exit_code, 0) << no_unused.err;
+  EXPECT_EQ(no_unused.err.find("unused"), std::string::npos) << no_unused.err;
+  EXPECT_NE(no_unused.err.find("[-Wrange]"), std::string::npos) << no_unused.err;
+
+  auto range_error = run_rcxc({"compile", "-Werror=range", f});
+  EXPECT_EQ(range_error.exit_code, 1);
+  EXPECT_NE(range_error.err.find("warning: unused variable 'unused' [-Wunused-variable]"), std::string::npos);
+  EXPECT_NE(range_error.err.find(":4:3: error: 'PlaySound' passes 9"), std::string::npos) << range_error.err;
+  EXPECT_NE(range_error.err.find("[-Werror=range]"), std::string::npos) << range_error.err;
+
+  auto json = run_rcxc({"compile", "--diagnostics=json", "-Wno-range", f});
+  EXPECT_NE(json.err.find("\"code\":\"unused-variable\""), std::string::npos) << json.err;
+  EXPECT_EQ(json.err.find("PlaySound"), std::string::npos) << json.err;
+
+  auto misspelt = run_rcxc({"compile", "-Wno-unused-varaible", f});
+  EXPECT_EQ(misspelt.exit_code, 2);
+  EXPECT_NE(misspelt.err.find("rcxc compile: unknown warning option '-Wno-unused-varaible'; did you mean "
+                              "'unused-variable'?"),
+            std::string::npos)
+      << misspelt.err;
+}
+
 TEST_F(CompileCli, UnknownWarningOptionIsAUsageError) {
   auto f = write("ok.nqc", "task main() { }\n");
   auto r = run_rcxc({"compile", "-Wfrob", f});

@@ -43,13 +43,13 @@ TEST(Diagnostics, JsonCarriesEveryField) {
 
 TEST(Diagnostics, WarningsCanBePromotedOrSilenced) {
   Diagnostics promote;
-  promote.warnings_as_errors = true;
-  promote.warning({}, "unused variable");
+  promote.policy.all_as_errors = true;
+  promote.warning({}, WarningKind::UnusedVariable, "unused variable");
   EXPECT_EQ(promote.error_count(), 1u);
 
   Diagnostics quiet;
-  quiet.suppress_warnings = true;
-  quiet.warning({}, "unused variable").message = "still discarded";
+  quiet.policy.none = true;
+  quiet.warning({}, WarningKind::UnusedVariable, "unused variable").message = "still discarded";
   EXPECT_TRUE(quiet.all().empty());
 }
 
@@ -80,7 +80,7 @@ TEST(Diagnostics, ErrorLimitStopsAtTheErrorPastTheLimit) {
   Diagnostics diags;
   diags.error({{f, 1, 1}, {f, 1, 2}}, "first");
   diags.error({{f, 2, 1}, {f, 2, 2}}, "second");
-  diags.warning({{f, 3, 1}, {f, 3, 2}}, "a warning");
+  diags.warning({{f, 3, 1}, {f, 3, 2}}, WarningKind::UnusedValue, "a warning");
   diags.error({{f, 4, 1}, {f, 4, 2}}, "third");
   std::string limited = render_all(diags, sm, RenderOptions{false, 2});
   EXPECT_NE(limited.find("second"), std::string::npos);
@@ -137,10 +137,10 @@ TEST(Diagnostics, ControlBytesInTheMessageAreShownNotSent) {
   auto f = sm.add("a.nqc", "#error hi \x1b[2J there\n");
   Diagnostics diags;
   diags.error({{f, 1, 1}, {f, 1, 7}}, "#error hi \x1b[2J there\x07\x7f");
-  diags.warning({}, "cannot read 'a\x1b]0;t\x07" "b'");
+  diags.warning({}, WarningKind::WarningDirective, "cannot read 'a\x1b]0;t\x07" "b'");
   std::string text = render_all(diags, sm, {});
   EXPECT_NE(text.find("a.nqc:1:1: error: #error hi \\x1b[2J there\\x07\\x7f\n"), std::string::npos) << text;
-  EXPECT_NE(text.find("warning: cannot read 'a\\x1b]0;t\\x07b'\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("warning: cannot read 'a\\x1b]0;t\\x07b' [-Wwarning-directive]\n"), std::string::npos) << text;
   EXPECT_EQ(text.find_first_of("\x1b\x07\x7f"), std::string::npos) << text;
 }
 

@@ -720,6 +720,7 @@ TEST(Slots, AVariableSeveralTasksUseGetsASlotOfItsOwnAndAWarning) {
   EXPECT_FALSE(d.has_errors());
   ASSERT_EQ(d.all().size(), 1u);
   EXPECT_NE(d.all()[0].message.find("'both'"), std::string::npos);
+  EXPECT_EQ(d.all()[0].warning, WarningKind::SharedSubroutine);
 }
 
 TEST(Slots, ReservedSlotsAreSkipped) {

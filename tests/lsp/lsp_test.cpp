@@ -250,6 +250,66 @@ TEST(LspDiagnostics, CodeThatDoesNothingIsTaggedUnnecessary) {
       << s.diagnostics.dump();
 }
 
+TEST(LspDiagnostics, EachWarningsCodeIsItsName) {
+  Session s("task helper() { }\ntask main()\n{\n  int spare;\n  x = 1;\n}\n");
+  std::vector<std::pair<std::string, json>> seen;
+  for (const auto& d : s.diagnostics) seen.emplace_back(d["message"], d.value("code", json()));
+  std::sort(seen.begin(), seen.end());
+  EXPECT_EQ(seen, (std::vector<std::pair<std::string, json>>{{"'x' is not declared", json()},
+                                                              {"unused variable 'spare'", "unused-variable"}}))
+      << s.diagnostics.dump();
+  Session w("task helper() { }\ntask main()\n{\n  int spare;\n}\n");
+  seen.clear();
+  for (const auto& d : w.diagnostics) seen.emplace_back(d["message"], d.value("code", json()));
+  std::sort(seen.begin(), seen.end());
+  EXPECT_EQ(seen, (std::vector<std::pair<std::string, json>>{
+                      {"task 'helper' is never started: nothing in the program says 'start helper;'", "unstarted-task"},
+                      {"unused variable 'spare'", "unused-variable"}}))
+      << w.diagnostics.dump();
+}
+
+// The editor shows what rcxc compile says, the passes' and the back end's
+// diagnostics too, not only the frontend's.
+TEST(LspDiagnostics, TheWholeCompilersDiagnostics) {
+  Session sensor("task main()\n{\n  if (SENSOR_2 == 1) Off(OUT_A);\n}\n");
+  ASSERT_EQ(sensor.diagnostics.size(), 1u) << sensor.diagnostics.dump();
+  EXPECT_EQ(sensor.diagnostics[0]["code"], "unconfigured-sensor");
+  EXPECT_EQ(sensor.diagnostics[0]["range"]["start"]["line"], 2);
+  std::string globals;
+  for (int i = 0; i < 33; ++i) globals += "int g" + std::to_string(i) + ";\n";
+  std::string uses;
+  for (int i = 0; i < 33; ++i) uses += "  g" + std::to_string(i) + " = Random(" + std::to_string(i + 1) + ");\n";
+  Session slots(globals + "task main()\n{\n" + uses + "}\n");
+  ASSERT_FALSE(slots.diagnostics.empty());
+  EXPECT_EQ(slots.diagnostics[0]["severity"], 1);
+  EXPECT_NE(slots.diagnostics[0]["message"].get<std::string>().find("all are taken"), std::string::npos)
+      << slots.diagnostics.dump();
+}
+
+// initializationOptions.warnings takes -W options; one the server does not
+// know is passed over and the rest still apply.
+TEST(LspDiagnostics, TheClientChoosesWarningsAsWOptions) {
+  test::TempDir dir;
+  Server server;
+  server.stdlib_dir = dir.path + "/stdlib-copy";
+  json init = {{"capabilities", json::object()},
+               {"initializationOptions", {{"warnings", json::array({"no-unused-variable", "no-such-thing", 7,
+                                                                    "error=unstarted-task"})}}}};
+  ASSERT_EQ(handle(server, request(1, "initialize", init)).size(), 1u);
+  std::string text = "task helper() { }\ntask main()\n{\n  int spare;\n  return;\n  Wait(10);\n}\n";
+  std::string uri = path_to_uri(dir.write("p.nqc", text));
+  auto out = handle(server, note("textDocument/didOpen",
+                                 {{"textDocument", {{"uri", uri}, {"languageId", "nqc"}, {"version", 1}, {"text", text}}}}));
+  ASSERT_EQ(out.size(), 1u);
+  std::vector<std::tuple<std::string, int, json>> seen;
+  for (const auto& d : out[0]["params"]["diagnostics"]) seen.emplace_back(d["message"], d["severity"], d.value("code", json()));
+  std::sort(seen.begin(), seen.end());
+  EXPECT_EQ(seen, (std::vector<std::tuple<std::string, int, json>>{
+                      {"task 'helper' is never started: nothing in the program says 'start helper;'", 1, "unstarted-task"},
+                      {"unreachable code", 2, "unreachable-code"}}))
+      << out[0].dump();
+}
+
 TEST(LspDiagnostics, ColumnsAreUtf16) {
   // "é" is two bytes but one UTF-16 unit; "𝄞" four bytes, two units.
   Session s("task main()\n{\n  /*é𝄞*/ x = 1;\n}\n");
