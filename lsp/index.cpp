@@ -446,8 +446,7 @@ Index build_index(const std::string& path, const std::string& text, const fronte
 const Occurrence* occurrence_at(const Index& index, std::uint32_t file, std::uint32_t line, std::uint32_t column) {
   Place p{file, line, column};
   for (const auto& o : index.occurrences)
-    if (contains(o.at, p) || (o.at.end.file == file && o.at.end.line == line && o.at.end.column == column))
-      return &o;
+    if (contains(o.at, p) || o.at.end == p) return &o;
   return nullptr;
 }
 

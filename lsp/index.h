@@ -29,6 +29,7 @@ struct Place {
   std::uint32_t file = 0;
   std::uint32_t line = 0;
   std::uint32_t column = 0;
+  bool operator==(const Place&) const = default;
 };
 
 struct Range {

@@ -659,7 +659,7 @@ json outgoing_calls(Request& r, const Definition& caller) {
   std::vector<CallsOf> calls;
   for (const auto& [occ, def] : resolve_file(index, caller.extent.begin.file)) {
     const Place& p = occ->at.begin;
-    bool own_name = p.line == caller.at.begin.line && p.column == caller.at.begin.column;
+    bool own_name = p == caller.at.begin;
     if (def && callable(*def) && contains(caller.extent, p) && !own_name) add_call(calls, def, range_json(index, occ->at));
   }
   return call_list(r, calls, "to");
@@ -781,8 +781,7 @@ json document_highlight(Request& r) {
   json list = json::array();
   for (const Range& use : references(index, *def, true)) {
     if (use.begin.file != index.main_file) continue;
-    bool declaration = use.begin.line == def->at.begin.line && use.begin.column == def->at.begin.column &&
-                       use.begin.file == def->at.begin.file;
+    bool declaration = use.begin == def->at.begin;
     int kind = !variable ? 1 : declaration ? 3 : access_kind(index, use);  // 1 Text, 3 Write
     list.push_back({{"range", range_json(index, use)}, {"kind", kind}});
   }
@@ -871,8 +870,7 @@ std::pair<std::uint32_t, std::uint32_t> token_type(const Index& index, const Def
     case DefKind::Macro: type = macro; break;
   }
   if (in_stdlib(index, d.at.begin.file)) mods |= library;
-  if (o.at.begin.file == d.at.begin.file && o.at.begin.line == d.at.begin.line && o.at.begin.column == d.at.begin.column)
-    mods |= declaration;
+  if (o.at.begin == d.at.begin) mods |= declaration;
   return {type, mods};
 }
 
