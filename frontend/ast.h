@@ -303,6 +303,9 @@ struct VarDecl {
   SourceSpan span;  // the name
   OptionalBox<Expr> init;
   SymbolId symbol = kNoSymbol;
+  // C's `const int K = 5;`: refused where it is written, but its uses read
+  // K's value, so they draw no errors of their own (`PlayTone(K, 10)`).
+  bool refused_const = false;
 };
 
 struct Block {

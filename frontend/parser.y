@@ -333,6 +333,7 @@ top
       {
         feed.diags.error(@1, kNoConstVariables).parsed_past = true;
         for (auto& v : $3) {
+          v.refused_const = true;
           note_order(feed.program, SymbolKind::Global, feed.program.globals.size());
           feed.program.globals.push_back(std::move(v));
         }
@@ -434,6 +435,7 @@ stmt
   | CONST INT declarators ';'
       {
         feed.diags.error(@1, kNoConstVariables).parsed_past = true;
+        for (auto& v : $3) v.refused_const = true;
         $$ = mks(DeclStmt{std::move($3)}, @$);
       }
   | expr ';'              { $$ = mks(ExprStmt{std::move(*$1)}, @$); }

@@ -132,6 +132,7 @@ class Checker {
   bool in_const_argument_ = false;  // reading the argument of a `const int` parameter (see TypeOf)
   // The global whose initial value is being checked (see check_global).
   std::optional<std::uint32_t> initialising_global_;
+  std::unordered_map<SymbolId, std::int16_t> refused_constants_;  // see VarDecl::refused_const
   std::unordered_map<std::string, SymbolId> labels_;
   std::set<std::string> reported_undefined_;
   int loop_depth_ = 0;
@@ -269,6 +270,12 @@ class Checker {
     initialising_global_ = prog_.symbols[g.symbol].index;
     expr(*g.init, Use::Value);
     initialising_global_.reset();
+    note_refused_constant(g);
+  }
+
+  // See VarDecl::refused_const.
+  void note_refused_constant(const VarDecl& v) {
+    if (v.refused_const && v.init && (*v.init).constant) refused_constants_[v.symbol] = *(*v.init).constant;
   }
 
   void begin_body(SymbolId owner) {
@@ -413,6 +420,7 @@ class Checker {
     for (auto& v : d.vars) {
       v.symbol = declare_local(SymbolKind::Local, v.name, v.span, 0);
       if (v.init) expr(*v.init, Use::Value);
+      note_refused_constant(v);
     }
   }
   void visit_stmt(ExprStmt& e, Stmt&) {
@@ -733,6 +741,7 @@ class Checker {
     }
     n.symbol = *id;
     prog_.symbols[*id].used = true;
+    if (auto k = refused_constants_.find(*id); k != refused_constants_.end()) e.constant = k->second;
   }
 
   void visit_expr(Unary& n, Expr& e, Use) {

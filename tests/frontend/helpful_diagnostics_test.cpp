@@ -123,6 +123,21 @@ TEST(HelpfulDiagnostics, APrototypeSaysNqcNeedsNone) {
       << r.text();
 }
 
+// C's `const int K = 5;` is refused once; its uses where a constant is
+// needed (a tone, a case, a `const int` parameter) drew errors of their own
+// before, each saying K is no constant, which only repeated the first.
+TEST(HelpfulDiagnostics, AConstVariableIsRefusedOnceNotAtEachUse) {
+  auto r = run_frontend("const int K = 5;\nvoid f(const int n) { Wait(n); }\nint x;\ntask main()\n{\n"
+                        "  const int L = K * 2;\n  PlayTone(K, 10);\n  PlaySound(L - 9);\n  f(L);\n"
+                        "  x = Timer(K - 5);\n  switch (x) { case K: x = L; }\n}\n");
+  EXPECT_EQ(placed_messages(r.diags), (std::vector<std::string>{
+                     "1:1 NQC has no constant variables: write '#define NAME value' for a named constant ('const' "
+                     "belongs to function parameters only)",
+                     "6:3 NQC has no constant variables: write '#define NAME value' for a named constant ('const' "
+                     "belongs to function parameters only)"}))
+      << r.text();
+}
+
 // `x = Message;` names an API macro that takes arguments; "'Message' is not
 // declared" told a beginner that the API has no Message (nqc: "wrong number
 // of arguments to 'Message'"). A macro of the program's own is named alike.
