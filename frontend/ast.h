@@ -498,6 +498,8 @@ struct Program {
   // The macros defined at the end of the program (OUT_A, SENSOR_TOUCH, the
   // program's own), for "did you mean" when a name is not declared.
   std::vector<std::string> macro_names;
+  // The macros an #undef removed for good, each with the name in the #undef.
+  std::vector<std::pair<std::string, SourceSpan>> undefined_macros;
 
   const Symbol& symbol(SymbolId id) const { return symbols.at(id); }
 };

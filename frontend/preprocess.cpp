@@ -273,6 +273,7 @@ class Preprocessor {
       out_.macro_names.push_back(name);
       if (macros_[id].function_like && !macros_[id].statement) out_.function_macro_names.push_back(name);
     }
+    out_.undefined_macros.assign(undefined_at_.begin(), undefined_at_.end());
     return std::move(out_);
   }
 
@@ -281,6 +282,7 @@ class Preprocessor {
   Diagnostics& diags_;
   std::vector<Macro> macros_;                          // by id; ids are never reused
   MacroIds defined_;  // name -> id
+  std::map<std::string, SourceSpan> undefined_at_;  // see Preprocessed::undefined_macros
   std::vector<OpenFile> files_;
   // The largest token list of a file already read, kept for the next file
   // to be lexed into (lex's `room`).
@@ -337,6 +339,7 @@ class Preprocessor {
     std::string name = m.name;
     macros_.push_back(std::move(m));
     defined_[name] = static_cast<std::uint32_t>(macros_.size() - 1);
+    undefined_at_.erase(name);
   }
 
   const Macro* find_macro(std::string_view name) const {
@@ -926,7 +929,10 @@ class Preprocessor {
       return;
     }
     if (not_a_macro_name(line[1], "#undef")) return;
-    if (auto it = defined_.find(line[1].text); it != defined_.end()) defined_.erase(it);
+    if (auto it = defined_.find(line[1].text); it != defined_.end()) {
+      defined_.erase(it);
+      undefined_at_[std::string(line[1].text)] = line[1].span;
+    }
     extra_tokens(line, 2);
   }
 

@@ -242,6 +242,13 @@ class Checker {
                              "(...)'");
       return;
     }
+    // `#undef OUT_A` then `On(OUT_A)`: a near name (DISPLAY_OUT_A) is no help.
+    for (const auto& [gone, where] : prog_.undefined_macros) {
+      if (gone != name) continue;
+      auto& d = diags_.error(span, "'" + name + "' is not declared: the macro was removed by an #undef");
+      d.notes.push_back({where, "'" + name + "' is #undef'd here"});
+      return;
+    }
     // `TRUE`, `False`: the constants are keywords, which no list of names holds.
     if (!callee && (spelling_distance(name, "true") == 0 || spelling_distance(name, "false") == 0)) {
       std::string lower = spelling_distance(name, "true") == 0 ? "true" : "false";

@@ -138,6 +138,24 @@ TEST(HelpfulDiagnostics, AConstVariableIsRefusedOnceNotAtEachUse) {
       << r.text();
 }
 
+// `#undef OUT_A` then `On(OUT_A)` suggested DISPLAY_OUT_A, the nearest name
+// left; the name was not misspelt but removed, so the note shows where.
+TEST(HelpfulDiagnostics, AMacroRemovedByUndefSaysWhere) {
+  auto r = run_frontend("#define SPEED 3\n#undef OUT_A\n#undef SPEED\ntask main()\n{\n  On(OUT_A);\n"
+                        "  SetPower(OUT_C, SPEED);\n}\n");
+  ASSERT_EQ(placed_messages(r.diags), (std::vector<std::string>{
+                                          "6:6 'OUT_A' is not declared: the macro was removed by an #undef",
+                                          "7:19 'SPEED' is not declared: the macro was removed by an #undef"}))
+      << r.text();
+  const auto& notes = r.diags.all()[0].notes;
+  ASSERT_EQ(notes.size(), 1u);
+  EXPECT_EQ(notes[0].message, "'OUT_A' is #undef'd here");
+  EXPECT_EQ(notes[0].span.begin.line, 2u);
+  // Defined again after the #undef, it is an ordinary name again.
+  auto again = run_frontend("#undef OUT_A\n#define OUT_A 1\n#undef OUT_A\n#define OUT_A 2\ntask main() { On(OUT_A); }\n");
+  EXPECT_TRUE(again.diags.all().empty()) << again.text();
+}
+
 // `x = Message;` names an API macro that takes arguments; "'Message' is not
 // declared" told a beginner that the API has no Message (nqc: "wrong number
 // of arguments to 'Message'"). A macro of the program's own is named alike.
