@@ -780,6 +780,17 @@ class Checker {
       diags_.warning(n.rhs->span, "division by zero (at run time the firmware leaves the value unchanged)");
   }
 
+  // `Wait(65535 + 2)` passes 1, as `Wait(65537)` does, whose literal warns:
+  // so does the expression (nqc refuses both for Wait, and wraps both for
+  // PlayTone). Only where nothing inside has said so already.
+  void warn_wide_argument(const Expr& arg) {
+    if (!arg.constant || as<IntLit>(arg)) return;
+    auto exact = exact_constant(arg);
+    if (!exact || (*exact >= -0x8000 && *exact <= 0xFFFF)) return;
+    diags_.warning(arg.span, fmt::format("the argument's value {} does not fit in 16 bits; it becomes {}", *exact,
+                                         *arg.constant));
+  }
+
   // `Wait(60 * 1000 / 10)`: 60000 wraps to -5536 in 16 bits, as the brick
   // would compute it, so the wait is -553, where nqc (32-bit constants) and
   // a C reader expect 6000. + - and * wrap to the same low 16 bits either
@@ -867,8 +878,10 @@ class Checker {
                                  : nullptr;
     for (std::size_t i = 0; i < n.args.size(); ++i) {
       in_const_argument_ = callee && i < callee->params.size() && callee->params[i].kind == ParamKind::Const;
+      std::size_t said_before = diags_.all().size();
       expr(n.args[i], Use::Value);
       in_const_argument_ = false;
+      if (diags_.all().size() == said_before) warn_wide_argument(n.args[i]);
     }
     bool args_ok = diags_.error_count() == errors_before;
     if (!id) {

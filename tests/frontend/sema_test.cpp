@@ -236,6 +236,16 @@ const BadProgram kCases[] = {
       "4:16: warning: operand 'source' (the power level) of 'pwr' is 8, outside the RCX's range 0..7; the RCX ignores "
       "the command"},
      true},
+    // `Wait(65537)` warned that the literal wraps to 1; `Wait(65535 + 2)`,
+    // which passes the same 1, said nothing (nqc refuses both for Wait).
+    {"AnArgumentComputedPast16BitsWarnsAsALiteralDoes",
+     "task main()\n{\n  Wait(65535 + 2);\n  Wait(65537);\n  PlayTone(70000 - 1, 10);\n  Wait(-32768 - 0);\n"
+     "  Wait(65535 + 0);\n  Wait(-65535);\n}\n",
+     {"3:8: warning: the argument's value 65537 does not fit in 16 bits; it becomes 1",
+      "4:8: warning: integer constant 65537 does not fit in 16 bits; it becomes 1",
+      "5:12: warning: integer constant 70000 does not fit in 16 bits; it becomes 4464",
+      "8:8: warning: the argument's value -65535 does not fit in 16 bits; it becomes 1"},
+     true},
     {"Rcx2StatementsAreNamedOnce",
      "int x;\ntask main()\n{\n  monitor (1) {\n    x = 1;\n  } catch (2) {\n    x = 2;\n  }\n  acquire (4) { x = 3; }\n}\n",
      {"4:3: error: 'monitor' is an RCX 2 statement (event monitoring); the RCX firmware has no events",
