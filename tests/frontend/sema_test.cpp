@@ -250,6 +250,16 @@ const BadProgram kCases[] = {
      "int x;\ntask main()\n{\n  monitor (1) {\n    x = 1;\n  } catch (2) {\n    x = 2;\n  }\n  acquire (4) { x = 3; }\n}\n",
      {"4:3: error: 'monitor' is an RCX 2 statement (event monitoring); the RCX firmware has no events",
       "9:3: error: 'acquire' is an RCX 2 statement (resource access); the RCX firmware has none"}},
+    // A `catch` that follows no `monitor` or `acquire` was dropped in
+    // silence, and its block ran as a plain one (nqc: syntax error).
+    {"ACatchWithoutItsRcx2StatementIsRefused",
+     "int x;\ntask main()\n{\n  { x = 1; } catch { x = 2; }\n  catch (1) { x = 3; }\n  if (x) x = 4; catch { }\n}\n",
+     {"4:14: error: 'catch' belongs to the RCX 2 firmware's 'monitor' and 'acquire' statements; the RCX firmware has "
+      "neither",
+      "5:3: error: 'catch' belongs to the RCX 2 firmware's 'monitor' and 'acquire' statements; the RCX firmware has "
+      "neither",
+      "6:17: error: 'catch' belongs to the RCX 2 firmware's 'monitor' and 'acquire' statements; the RCX firmware has "
+      "neither"}},
     // The parser reads past these errors, so the rest of the body is still
     // checked: one run names every problem.
     {"BodyIsCheckedPastRcx2StatementsAndBadNumbers",
