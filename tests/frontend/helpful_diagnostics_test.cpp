@@ -138,6 +138,26 @@ TEST(HelpfulDiagnostics, AConstVariableIsRefusedOnceNotAtEachUse) {
       << r.text();
 }
 
+// Three slips that got only "expected ';' before ..." or "expected
+// identifier" (nqc: syntax error): a value macro called, two values side by
+// side, and a line number after goto.
+TEST(HelpfulDiagnostics, ACalledValueTwoValuesAndANumberedGotoSayWhatToWrite) {
+  const std::string called = "expected ';' before '(': the name before it is a macro that stands for a value, not a "
+                             "function, so it takes no '()': leave them out";
+  const std::string side_by_side = "two values stand side by side; write the operator between them (as in '1 + 2')";
+  for (const auto& [statement, expected] : std::vector<std::pair<std::string, std::string>>{
+           {"x = SENSOR_1();", "4:15 " + called},
+           {"x = LIMIT(2);", "4:12 " + called},
+           {"x = 1 2;", "4:9 expected an operator or ';' before '2': " + side_by_side},
+           {"x = (x) 4;", "4:11 expected an operator or ';' before '4': " + side_by_side},
+           {"goto 5;", "4:8 'goto' needs the name of a label, not a number: write 'goto done;' and put 'done:' "
+                       "before the statement to go to"},
+       }) {
+    auto r = run_frontend("int x;\n#define LIMIT (3)\ntask main() {\n  " + statement + "\n}\n");
+    EXPECT_EQ(placed_messages(r.diags), std::vector<std::string>{expected}) << r.text();
+  }
+}
+
 // `#undef OUT_A` then `On(OUT_A)` suggested DISPLAY_OUT_A, the nearest name
 // left; the name was not misspelt but removed, so the note shows where.
 TEST(HelpfulDiagnostics, AMacroRemovedByUndefSaysWhere) {
