@@ -1022,7 +1022,11 @@ class Preprocessor {
       std::string chain;
       for (std::size_t j = i; j < files_.size(); ++j) chain += sm_.path(files_[j].file) + " -> ";
       chain += sm_.path(files_[i].file);
-      diags_.error(where, "#include cycle: " + chain);
+      // nqc reads such a file 16 deep and then skips the #include without a
+      // word, so one that declares nothing compiles; anything else it holds
+      // is declared again, 15 times over. Nothing is meant by it: a guard is.
+      diags_.error(where, "#include cycle: " + chain + ": a file that may be included again needs an include guard "
+                          "('#ifndef NAME' and '#define NAME' at its top, '#endif' at its end)");
       return false;
     }
     return true;
