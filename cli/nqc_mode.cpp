@@ -23,6 +23,7 @@
 #include "cli/program_loader.h"
 #include "cli/version.h"
 #include "frontend/frontend.h"
+#include "frontend/parse.h"
 #include "frontend/preprocess.h"
 #include "link/download.h"
 #include "link/remote.h"
@@ -132,6 +133,9 @@ std::string read_option(const std::string& word, NqcOptions& o) {
     case 'D': {
       std::string name = value.substr(0, value.find('='));
       if (name.empty()) return "-D needs a macro name (-DNAME or -DNAME=VALUE)";
+      // nqc takes -Dtask=1 and never expands it (its lexer reads keywords
+      // first); defined here it would replace every `task`.
+      if (frontend::not_a_macro_name(name)) return "";
       // nqc defines -DNAME as empty, not as 1.
       o.frontend.defines.emplace_back(name, value.find('=') == std::string::npos ? "" : value.substr(name.size() + 1));
       return "";

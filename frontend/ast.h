@@ -303,6 +303,9 @@ struct VarDecl {
   SourceSpan span;  // the name
   OptionalBox<Expr> init;
   SymbolId symbol = kNoSymbol;
+  // C's `const int K = 5;`: refused where it is written, but its uses read
+  // K's value, so they draw no errors of their own (`PlayTone(K, 10)`).
+  bool refused_const = false;
 };
 
 struct Block {
@@ -495,6 +498,8 @@ struct Program {
   // The macros defined at the end of the program (OUT_A, SENSOR_TOUCH, the
   // program's own), for "did you mean" when a name is not declared.
   std::vector<std::string> macro_names;
+  // The macros an #undef removed for good, each with the name in the #undef.
+  std::vector<std::pair<std::string, SourceSpan>> undefined_macros;
 
   const Symbol& symbol(SymbolId id) const { return symbols.at(id); }
 };

@@ -220,6 +220,7 @@ std::optional<ast::Program> run(std::uint32_t file, const std::string& dir, cons
   if (!cache && !options.whole_library && !diags.has_errors() && pp.tokens.size() <= kTrialTokenLimit) {
     if (auto program = parse_reached(pp.tokens, pp.pragmas, sm, diags)) {
       program->macro_names = std::move(pp.macro_names);
+      program->undefined_macros = std::move(pp.undefined_macros);
       return program;
     }
   }
@@ -227,6 +228,7 @@ std::optional<ast::Program> run(std::uint32_t file, const std::string& dir, cons
                                : parse_tokens(std::move(pp.tokens), diags);
   program.pragmas = std::move(pp.pragmas);
   program.macro_names = std::move(pp.macro_names);
+  program.undefined_macros = std::move(pp.undefined_macros);
   if (diags.has_errors()) {
     check_around_syntax_errors(program, diags, pp.function_macro_names);
     return std::nullopt;

@@ -135,14 +135,17 @@ std::size_t past_parentheses(const std::vector<Token>& tokens, std::size_t open)
 // holds, and a copy of it would double that.
 void drop_rcx2_statements(std::vector<Token>& tokens, Diagnostics& diags) {
   std::size_t kept = 0;
+  bool head_reported = false;  // a `catch` after it belongs to it and is dropped in silence
   for (std::size_t i = 0; i < tokens.size(); ++i) {
     const Token& t = tokens[i];
     const Token* last_kept = kept > 0 ? &tokens[kept - 1] : nullptr;
     // The token is looked at first: the one before it matters only for
     // `monitor` and `acquire`, and this runs over every token.
-    bool head = (t.is_identifier("monitor") || t.is_identifier("acquire")) &&
-                !(last_kept && (last_kept->is_identifier("void") || last_kept->is_identifier("sub") ||
-                                last_kept->is_identifier("task") || last_kept->is_identifier("inline")));
+    auto declared = [&] {  // `void catch()`: a name nqc reserves, which sema reports
+      return last_kept && (last_kept->is_identifier("void") || last_kept->is_identifier("sub") ||
+                           last_kept->is_identifier("task") || last_kept->is_identifier("inline"));
+    };
+    bool head = (t.is_identifier("monitor") || t.is_identifier("acquire")) && !declared();
     if (head && i + 1 < tokens.size() && tokens[i + 1].is("(")) {
       std::size_t after = past_parentheses(tokens, i + 1);
       if (after > i + 1 && after < tokens.size() && tokens[after].is("{")) {
@@ -151,13 +154,22 @@ void drop_rcx2_statements(std::vector<Token>& tokens, Diagnostics& diags) {
                                ? "'monitor' is an RCX 2 statement (event monitoring); the RCX firmware has no events"
                                : "'acquire' is an RCX 2 statement (resource access); the RCX firmware has none")
             .parsed_past = true;
+        head_reported = true;
         i = after - 1;
         continue;
       }
     }
-    if (t.is_identifier("catch") && last_kept && last_kept->is("}") && i + 1 < tokens.size()) {
+    // A `catch` with no `monitor` or `acquire` before it (`{ ... } catch
+    // { ... }`, or one on its own) was dropped in silence, so its block ran
+    // as a plain one (nqc: syntax error).
+    if (t.is_identifier("catch") && i + 1 < tokens.size() && !declared()) {
       std::size_t after = tokens[i + 1].is("(") ? past_parentheses(tokens, i + 1) : i + 1;
       if (after < tokens.size() && tokens[after].is("{")) {
+        if (!head_reported || !last_kept || !last_kept->is("}"))
+          diags
+              .error(t.span, "'catch' belongs to the RCX 2 firmware's 'monitor' and 'acquire' statements; the "
+                             "RCX firmware has neither")
+              .parsed_past = true;
         i = after - 1;
         continue;
       }

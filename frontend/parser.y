@@ -333,6 +333,7 @@ top
       {
         feed.diags.error(@1, kNoConstVariables).parsed_past = true;
         for (auto& v : $3) {
+          v.refused_const = true;
           note_order(feed.program, SymbolKind::Global, feed.program.globals.size());
           feed.program.globals.push_back(std::move(v));
         }
@@ -434,6 +435,7 @@ stmt
   | CONST INT declarators ';'
       {
         feed.diags.error(@1, kNoConstVariables).parsed_past = true;
+        for (auto& v : $3) v.refused_const = true;
         $$ = mks(DeclStmt{std::move($3)}, @$);
       }
   | expr ';'              { $$ = mks(ExprStmt{std::move(*$1)}, @$); }
@@ -949,6 +951,30 @@ void yy::Parser::report_syntax_error(const context& ctx) const {
   if (feed.pos >= 2 && feed.tokens[feed.pos - 2].is_identifier("__nolist") && !expects(symbol_kind::S_TASK)) {
     feed.diags.error(ctx.location(), "'__nolist' goes before 'void' only: it keeps an inline function out of "
                                      "nqc's listings");
+    return;
+  }
+  // `goto 5;`: BASIC's line numbers (nqc: syntax error).
+  if (feed.pos >= 2 && ctx.token() == symbol_kind::S_NUMBER && feed.tokens[feed.pos - 2].is_identifier("goto")) {
+    feed.diags.error(ctx.location(), "'goto' needs the name of a label, not a number: write 'goto done;' and put "
+                                     "'done:' before the statement to go to");
+    return;
+  }
+  // `x = SENSOR_1();`: a macro that stands for a value, called (nqc: syntax
+  // error). The value came out of the macro; the '(' is the user's own.
+  if (feed.pos >= 2 && feed.last_text == "(" && feed.tokens[feed.pos - 1].span.begin.expansion == 0 &&
+      feed.tokens[feed.pos - 2].span.begin.expansion != 0 &&
+      (feed.tokens[feed.pos - 2].is(")") || feed.tokens[feed.pos - 2].kind == TokenKind::Number)) {
+    feed.diags.error(ctx.location(), "expected ';' before '(': the name before it is a macro that stands for a "
+                                     "value, not a function, so it takes no '()': leave them out");
+    return;
+  }
+  // `x = 1 2;`: two values side by side on one line, an operator left out.
+  if (feed.pos >= 2 && (ctx.token() == symbol_kind::S_NUMBER || ctx.token() == symbol_kind::S_IDENT) &&
+      expects_punct("';'") && !feed.tokens[feed.pos - 1].line_start &&
+      (feed.tokens[feed.pos - 2].kind == TokenKind::Number || feed.tokens[feed.pos - 2].is(")"))) {
+    feed.diags.error(ctx.location(), "expected an operator or ';' before '" + std::string(feed.last_text) +
+                                         "': two values stand side by side; write the operator between them (as "
+                                         "in '1 + 2')");
     return;
   }
   std::string want;

@@ -273,6 +273,7 @@ class Preprocessor {
       out_.macro_names.push_back(name);
       if (macros_[id].function_like && !macros_[id].statement) out_.function_macro_names.push_back(name);
     }
+    out_.undefined_macros.assign(undefined_at_.begin(), undefined_at_.end());
     return std::move(out_);
   }
 
@@ -281,6 +282,7 @@ class Preprocessor {
   Diagnostics& diags_;
   std::vector<Macro> macros_;                          // by id; ids are never reused
   MacroIds defined_;  // name -> id
+  std::map<std::string, SourceSpan> undefined_at_;  // see Preprocessed::undefined_macros
   std::vector<OpenFile> files_;
   // The largest token list of a file already read, kept for the next file
   // to be lexed into (lex's `room`).
@@ -337,6 +339,7 @@ class Preprocessor {
     std::string name = m.name;
     macros_.push_back(std::move(m));
     defined_[name] = static_cast<std::uint32_t>(macros_.size() - 1);
+    undefined_at_.erase(name);
   }
 
   const Macro* find_macro(std::string_view name) const {
@@ -929,7 +932,10 @@ class Preprocessor {
       return;
     }
     if (not_a_macro_name(line[1], "#undef")) return;
-    if (auto it = defined_.find(line[1].text); it != defined_.end()) defined_.erase(it);
+    if (auto it = defined_.find(line[1].text); it != defined_.end()) {
+      defined_.erase(it);
+      undefined_at_[std::string(line[1].text)] = line[1].span;
+    }
     extra_tokens(line, 2);
   }
 
@@ -1019,7 +1025,11 @@ class Preprocessor {
       std::string chain;
       for (std::size_t j = i; j < files_.size(); ++j) chain += sm_.path(files_[j].file) + " -> ";
       chain += sm_.path(files_[i].file);
-      diags_.error(where, "#include cycle: " + chain);
+      // nqc reads such a file 16 deep and then skips the #include without a
+      // word, so one that declares nothing compiles; anything else it holds
+      // is declared again, 15 times over. Nothing is meant by it: a guard is.
+      diags_.error(where, "#include cycle: " + chain + ": a file that may be included again needs an include guard "
+                          "('#ifndef NAME' and '#define NAME' at its top, '#endif' at its end)");
       return false;
     }
     return true;

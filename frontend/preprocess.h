@@ -23,6 +23,9 @@ struct Preprocessed {
   bool complete = true;
   std::vector<std::string> macro_names;  // defined at the end, for "did you mean"
   std::vector<std::string> function_macro_names;  // those of them that take arguments
+  // The macros an #undef removed and nothing defined again, each with the
+  // name in the #undef: a later use is told where it went.
+  std::vector<std::pair<std::string, SourceSpan>> undefined_macros;
 };
 
 // Preprocesses file `file` (already added to `sm`, with `dir` as the folder

@@ -132,6 +132,7 @@ class Checker {
   bool in_const_argument_ = false;  // reading the argument of a `const int` parameter (see TypeOf)
   // The global whose initial value is being checked (see check_global).
   std::optional<std::uint32_t> initialising_global_;
+  std::unordered_map<SymbolId, std::int16_t> refused_constants_;  // see VarDecl::refused_const
   std::unordered_map<std::string, SymbolId> labels_;
   std::set<std::string> reported_undefined_;
   int loop_depth_ = 0;
@@ -241,6 +242,13 @@ class Checker {
                              "(...)'");
       return;
     }
+    // `#undef OUT_A` then `On(OUT_A)`: a near name (DISPLAY_OUT_A) is no help.
+    for (const auto& [gone, where] : prog_.undefined_macros) {
+      if (gone != name) continue;
+      auto& d = diags_.error(span, "'" + name + "' is not declared: the macro was removed by an #undef");
+      d.notes.push_back({where, "'" + name + "' is #undef'd here"});
+      return;
+    }
     // `TRUE`, `False`: the constants are keywords, which no list of names holds.
     if (!callee && (spelling_distance(name, "true") == 0 || spelling_distance(name, "false") == 0)) {
       std::string lower = spelling_distance(name, "true") == 0 ? "true" : "false";
@@ -269,6 +277,12 @@ class Checker {
     initialising_global_ = prog_.symbols[g.symbol].index;
     expr(*g.init, Use::Value);
     initialising_global_.reset();
+    note_refused_constant(g);
+  }
+
+  // See VarDecl::refused_const.
+  void note_refused_constant(const VarDecl& v) {
+    if (v.refused_const && v.init && (*v.init).constant) refused_constants_[v.symbol] = *(*v.init).constant;
   }
 
   void begin_body(SymbolId owner) {
@@ -414,6 +428,7 @@ class Checker {
     for (auto& v : d.vars) {
       v.symbol = declare_local(SymbolKind::Local, v.name, v.span, 0);
       if (v.init) expr(*v.init, Use::Value);
+      note_refused_constant(v);
     }
   }
   void visit_stmt(ExprStmt& e, Stmt&) {
@@ -734,6 +749,7 @@ class Checker {
     }
     n.symbol = *id;
     prog_.symbols[*id].used = true;
+    if (auto k = refused_constants_.find(*id); k != refused_constants_.end()) e.constant = k->second;
   }
 
   void visit_expr(Unary& n, Expr& e, Use) {
@@ -763,6 +779,17 @@ class Checker {
     if (a && n.op == BinaryOp::LogOr && *a != 0) e.constant = 1;
     if (divides && b && *b == 0)
       diags_.warning(n.rhs->span, WarningKind::DivisionByZero, "division by zero (at run time the firmware leaves the value unchanged)");
+  }
+
+  // `Wait(65535 + 2)` passes 1, as `Wait(65537)` does, whose literal warns:
+  // so does the expression (nqc refuses both for Wait, and wraps both for
+  // PlayTone). Only where nothing inside has said so already.
+  void warn_wide_argument(const Expr& arg) {
+    if (!arg.constant || as<IntLit>(arg)) return;
+    auto exact = exact_constant(arg);
+    if (!exact || (*exact >= -0x8000 && *exact <= 0xFFFF)) return;
+    diags_.warning(arg.span, fmt::format("the argument's value {} does not fit in 16 bits; it becomes {}", *exact,
+                                         *arg.constant));
   }
 
   // `Wait(60 * 1000 / 10)`: 60000 wraps to -5536 in 16 bits, as the brick
@@ -852,8 +879,10 @@ class Checker {
                                  : nullptr;
     for (std::size_t i = 0; i < n.args.size(); ++i) {
       in_const_argument_ = callee && i < callee->params.size() && callee->params[i].kind == ParamKind::Const;
+      std::size_t said_before = diags_.all().size();
       expr(n.args[i], Use::Value);
       in_const_argument_ = false;
+      if (diags_.all().size() == said_before) warn_wide_argument(n.args[i]);
     }
     bool args_ok = diags_.error_count() == errors_before;
     if (!id) {

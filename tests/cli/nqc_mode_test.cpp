@@ -160,6 +160,9 @@ TEST(NqcMode, CompilingBehavesAsNqc) {
            {{"-DLEVEL=2", "-DX", "defs.nqc"}},
            {{"-DLEVEL=2", "-DX", "-UX", "defs.nqc"}},
            {{"-DX", "if_defined.nqc"}},  // nqc's -DX is empty, so `#if X` has no value
+           // nqc takes a keyword as a -D name and never expands it.
+           {{"-Dtask=1", "-Oout.rcx", "ok.nqc"}},
+           {{"-Dint", "-Dacquire=2", "-Utask", "ok.nqc"}},
            {{"-Iinc", "inc.nqc"}},
            {{"inc.nqc"}, "NQC_INCLUDE=inc"},
            {{"ok.nqc"}, "NQC_OPTIONS=-Lq.lst"},

@@ -123,6 +123,59 @@ TEST(HelpfulDiagnostics, APrototypeSaysNqcNeedsNone) {
       << r.text();
 }
 
+// C's `const int K = 5;` is refused once; its uses where a constant is
+// needed (a tone, a case, a `const int` parameter) drew errors of their own
+// before, each saying K is no constant, which only repeated the first.
+TEST(HelpfulDiagnostics, AConstVariableIsRefusedOnceNotAtEachUse) {
+  auto r = run_frontend("const int K = 5;\nvoid f(const int n) { Wait(n); }\nint x;\ntask main()\n{\n"
+                        "  const int L = K * 2;\n  PlayTone(K, 10);\n  PlaySound(L - 9);\n  f(L);\n"
+                        "  x = Timer(K - 5);\n  switch (x) { case K: x = L; }\n}\n");
+  EXPECT_EQ(placed_messages(r.diags), (std::vector<std::string>{
+                     "1:1 NQC has no constant variables: write '#define NAME value' for a named constant ('const' "
+                     "belongs to function parameters only)",
+                     "6:3 NQC has no constant variables: write '#define NAME value' for a named constant ('const' "
+                     "belongs to function parameters only)"}))
+      << r.text();
+}
+
+// Three slips that got only "expected ';' before ..." or "expected
+// identifier" (nqc: syntax error): a value macro called, two values side by
+// side, and a line number after goto.
+TEST(HelpfulDiagnostics, ACalledValueTwoValuesAndANumberedGotoSayWhatToWrite) {
+  const std::string called = "expected ';' before '(': the name before it is a macro that stands for a value, not a "
+                             "function, so it takes no '()': leave them out";
+  const std::string side_by_side = "two values stand side by side; write the operator between them (as in '1 + 2')";
+  for (const auto& [statement, expected] : std::vector<std::pair<std::string, std::string>>{
+           {"x = SENSOR_1();", "4:15 " + called},
+           {"x = LIMIT(2);", "4:12 " + called},
+           {"x = 1 2;", "4:9 expected an operator or ';' before '2': " + side_by_side},
+           {"x = (x) 4;", "4:11 expected an operator or ';' before '4': " + side_by_side},
+           {"goto 5;", "4:8 'goto' needs the name of a label, not a number: write 'goto done;' and put 'done:' "
+                       "before the statement to go to"},
+       }) {
+    auto r = run_frontend("int x;\n#define LIMIT (3)\ntask main() {\n  " + statement + "\n}\n");
+    EXPECT_EQ(placed_messages(r.diags), std::vector<std::string>{expected}) << r.text();
+  }
+}
+
+// `#undef OUT_A` then `On(OUT_A)` suggested DISPLAY_OUT_A, the nearest name
+// left; the name was not misspelt but removed, so the note shows where.
+TEST(HelpfulDiagnostics, AMacroRemovedByUndefSaysWhere) {
+  auto r = run_frontend("#define SPEED 3\n#undef OUT_A\n#undef SPEED\ntask main()\n{\n  On(OUT_A);\n"
+                        "  SetPower(OUT_C, SPEED);\n}\n");
+  ASSERT_EQ(placed_messages(r.diags), (std::vector<std::string>{
+                                          "6:6 'OUT_A' is not declared: the macro was removed by an #undef",
+                                          "7:19 'SPEED' is not declared: the macro was removed by an #undef"}))
+      << r.text();
+  const auto& notes = r.diags.all()[0].notes;
+  ASSERT_EQ(notes.size(), 1u);
+  EXPECT_EQ(notes[0].message, "'OUT_A' is #undef'd here");
+  EXPECT_EQ(notes[0].span.begin.line, 2u);
+  // Defined again after the #undef, it is an ordinary name again.
+  auto again = run_frontend("#undef OUT_A\n#define OUT_A 1\n#undef OUT_A\n#define OUT_A 2\ntask main() { On(OUT_A); }\n");
+  EXPECT_TRUE(again.diags.all().empty()) << again.text();
+}
+
 // `x = Message;` names an API macro that takes arguments; "'Message' is not
 // declared" told a beginner that the API has no Message (nqc: "wrong number
 // of arguments to 'Message'"). A macro of the program's own is named alike.

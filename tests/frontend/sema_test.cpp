@@ -236,10 +236,30 @@ const BadProgram kCases[] = {
       "4:16: warning: operand 'source' (the power level) of 'pwr' is 8, outside the RCX's range 0..7; the RCX ignores "
       "the command"},
      true},
+    // `Wait(65537)` warned that the literal wraps to 1; `Wait(65535 + 2)`,
+    // which passes the same 1, said nothing (nqc refuses both for Wait).
+    {"AnArgumentComputedPast16BitsWarnsAsALiteralDoes",
+     "task main()\n{\n  Wait(65535 + 2);\n  Wait(65537);\n  PlayTone(70000 - 1, 10);\n  Wait(-32768 - 0);\n"
+     "  Wait(65535 + 0);\n  Wait(-65535);\n}\n",
+     {"3:8: warning: the argument's value 65537 does not fit in 16 bits; it becomes 1",
+      "4:8: warning: integer constant 65537 does not fit in 16 bits; it becomes 1",
+      "5:12: warning: integer constant 70000 does not fit in 16 bits; it becomes 4464",
+      "8:8: warning: the argument's value -65535 does not fit in 16 bits; it becomes 1"},
+     true},
     {"Rcx2StatementsAreNamedOnce",
      "int x;\ntask main()\n{\n  monitor (1) {\n    x = 1;\n  } catch (2) {\n    x = 2;\n  }\n  acquire (4) { x = 3; }\n}\n",
      {"4:3: error: 'monitor' is an RCX 2 statement (event monitoring); the RCX firmware has no events",
       "9:3: error: 'acquire' is an RCX 2 statement (resource access); the RCX firmware has none"}},
+    // A `catch` that follows no `monitor` or `acquire` was dropped in
+    // silence, and its block ran as a plain one (nqc: syntax error).
+    {"ACatchWithoutItsRcx2StatementIsRefused",
+     "int x;\ntask main()\n{\n  { x = 1; } catch { x = 2; }\n  catch (1) { x = 3; }\n  if (x) x = 4; catch { }\n}\n",
+     {"4:14: error: 'catch' belongs to the RCX 2 firmware's 'monitor' and 'acquire' statements; the RCX firmware has "
+      "neither",
+      "5:3: error: 'catch' belongs to the RCX 2 firmware's 'monitor' and 'acquire' statements; the RCX firmware has "
+      "neither",
+      "6:17: error: 'catch' belongs to the RCX 2 firmware's 'monitor' and 'acquire' statements; the RCX firmware has "
+      "neither"}},
     // The parser reads past these errors, so the rest of the body is still
     // checked: one run names every problem.
     {"BodyIsCheckedPastRcx2StatementsAndBadNumbers",
