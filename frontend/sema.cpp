@@ -788,7 +788,7 @@ class Checker {
     if (!arg.constant || as<IntLit>(arg)) return;
     auto exact = exact_constant(arg);
     if (!exact || (*exact >= -0x8000 && *exact <= 0xFFFF)) return;
-    diags_.warning(arg.span, fmt::format("the argument's value {} does not fit in 16 bits; it becomes {}", *exact,
+    diags_.warning(arg.span, WarningKind::Overflow, fmt::format("the argument's value {} does not fit in 16 bits; it becomes {}", *exact,
                                          *arg.constant));
   }
 
