@@ -100,7 +100,9 @@ void rotate_loops(Function& f) {
   // rotated on its own latch: its pass runs no jump, the outer latch still
   // jumps to the test, and the test's way out falls into what follows the
   // inner loop as before. Only when the block before the test is on no
-  // loop with it, so the jump in that the rotation may add runs once.
+  // loop with it, so the jump in that the rotation may add runs once; and
+  // never in a subroutine, whose way in runs on each call, maybe from a
+  // loop of its caller's, maybe to leave before the loop turns once.
   const std::vector<int> component = cycle_components(f);
   auto on_a_loop_with = [&](int p, int q) {
     return component[static_cast<std::size_t>(o.order[static_cast<std::size_t>(p)])] ==
@@ -109,7 +111,7 @@ void rotate_loops(Function& f) {
   for (int h = 1; h < static_cast<int>(f.blocks.size()); ++h) {
     std::vector<int> latches = r.latches_of(h);
     if (latches.empty() || r.rotate(h, latches[0])) continue;
-    if (r.leaves_loop(h, latches[0]) || on_a_loop_with(h - 1, h)) continue;
+    if (f.kind != FuncKind::Task || r.leaves_loop(h, latches[0]) || on_a_loop_with(h - 1, h)) continue;
     for (std::size_t i = 1; i < latches.size(); ++i)
       if (r.rotate(h, latches[i])) break;
   }

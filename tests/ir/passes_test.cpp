@@ -429,6 +429,24 @@ TEST(Rotate, AnInnerLoopSharingItsTestWithAnEndlessOneMovesItsTestDown) {
   EXPECT_EQ(std::get<Jump>(blocks[3].term).target, 2);
 }
 
+TEST(Rotate, NoInnerLoopIsRotatedInASubroutine) {
+  // The first test's shape in a subroutine: the jump in would run on every
+  // call, from wherever the caller loops, and the side that returns may
+  // be taken before the inner loop turns once. Nothing moves.
+  Builder b;
+  VarId g = b.global("g");
+  FuncId f = b.function("s", FuncKind::Sub);
+  b.block(f, {sound(0)}, Jump{1});
+  b.block(f, {}, Branch{Cmp::NE, V(g), I(0), 2, 3});
+  b.block(f, {sound(1)}, Jump{1});
+  b.block(f, {sound(2)}, Jump{1});
+  rotate_loops(b.fn(f));
+  const auto& blocks = b.fn(f).blocks;
+  ASSERT_EQ(blocks.size(), 4u);
+  EXPECT_TRUE(blocks[1].instrs.empty());  // the test stays second
+  EXPECT_EQ(std::get<Branch>(blocks[1].term).then, 2);
+}
+
 TEST(Rotate, NoInnerLoopIsRotatedWhereTheJumpInWouldRunOnALoop) {
   // As above, but the block before the test is itself on a loop with it
   // (block 4 goes back to it): rotating would add a jump to that loop's
