@@ -18,13 +18,15 @@ struct Rotation {
     return f.blocks[static_cast<std::size_t>(o.order[static_cast<std::size_t>(p)])].term;
   }
 
-  // The position of the last block after p that jumps back to it; -1 when
-  // there is none.
-  int latch_of(int p) const {
-    int latch = -1;
+  // The positions of the blocks after p that jump back to it, the last
+  // first: the loop's own latch, then those of loops that share its test
+  // (`while (true) { while (c) ...; ... }` jumps to c from both ends).
+  std::vector<int> latches_of(int p) const {
+    std::vector<int> latches;
     for (BlockId b : jumps_to[static_cast<std::size_t>(o.order[static_cast<std::size_t>(p)])])
-      if (o.position(b) > p) latch = std::max(latch, o.position(b));
-    return latch;
+      if (o.position(b) > p) latches.push_back(o.position(b));
+    std::sort(latches.rbegin(), latches.rend());
+    return latches;
   }
 
   // Whether a loop counter test in positions [first, last] has its body or
@@ -59,8 +61,8 @@ struct Rotation {
   // add up to fewer; at equal bytes only when the blocks moved are a test
   // ending in a branch into the body (the jump in then spans only the
   // body, so it stays a near jump longer).
-  void rotate(int h, int latch) {
-    if (!leaves_loop(h, latch)) return;
+  bool rotate(int h, int latch) {
+    if (!leaves_loop(h, latch)) return false;
     auto at = [&](int p) { return o.order[static_cast<std::size_t>(p)]; };
     // Tried in this order so that at equal bytes the whole test of a
     // `while (a && b)` moves rather than its first block alone.
@@ -79,7 +81,9 @@ struct Rotation {
         best_k = k;
       }
     }
-    if (best_k >= 0) o.rotate(h, best_k, latch + 1);
+    if (best_k < 0) return false;
+    o.rotate(h, best_k, latch + 1);
+    return true;
   }
 };
 
@@ -91,8 +95,26 @@ void rotate_loops(Function& f) {
   for (std::size_t b = 0; b < f.blocks.size(); ++b)
     if (const auto* j = std::get_if<Jump>(&f.blocks[b].term))
       r.jumps_to[static_cast<std::size_t>(j->target)].push_back(static_cast<BlockId>(b));
-  for (int h = 1; h < static_cast<int>(f.blocks.size()); ++h)
-    if (int latch = r.latch_of(h); latch > h) r.rotate(h, latch);
+  // A loop sharing its test with an outer one that has no test of its own
+  // (`while (true) { while (c) ...; ... }`: both latches jump to c) is
+  // rotated on its own latch: its pass runs no jump, the outer latch still
+  // jumps to the test, and the test's way out falls into what follows the
+  // inner loop as before. Only when the block before the test is on no
+  // loop with it, so the jump in that the rotation may add runs once; and
+  // never in a subroutine, whose way in runs on each call, maybe from a
+  // loop of its caller's, maybe to leave before the loop turns once.
+  const std::vector<int> component = cycle_components(f);
+  auto on_a_loop_with = [&](int p, int q) {
+    return component[static_cast<std::size_t>(o.order[static_cast<std::size_t>(p)])] ==
+           component[static_cast<std::size_t>(o.order[static_cast<std::size_t>(q)])];
+  };
+  for (int h = 1; h < static_cast<int>(f.blocks.size()); ++h) {
+    std::vector<int> latches = r.latches_of(h);
+    if (latches.empty() || r.rotate(h, latches[0])) continue;
+    if (f.kind != FuncKind::Task || r.leaves_loop(h, latches[0]) || on_a_loop_with(h - 1, h)) continue;
+    for (std::size_t i = 1; i < latches.size(); ++i)
+      if (r.rotate(h, latches[i])) break;
+  }
   o.apply(f);
 }
 

@@ -403,6 +403,71 @@ TEST(Rotate, ATwoBlockTestMovesAtEqualBytes) {
   EXPECT_EQ(std::get<Branch>(blocks[3].term).then, 1);
 }
 
+TEST(Rotate, AnInnerLoopSharingItsTestWithAnEndlessOneMovesItsTestDown) {
+  // while (true) { while (g != 0) sound 1; sound 2; }: both loops' latches
+  // jump to the test. The outer one leaves through no test, so only the
+  // inner one can be rotated: its pass was test, body, jump (3) and is
+  // body, test (2). The outer latch still jumps to the test; the jump in
+  // is the entry's alone (laid out: entry, body, test, rest).
+  Builder b;
+  VarId g = b.global("g");
+  FuncId f = b.function("main");
+  b.block(f, {sound(0)}, Jump{1});                    // entry
+  b.block(f, {}, Branch{Cmp::NE, V(g), I(0), 2, 3});  // test
+  b.block(f, {sound(1)}, Jump{1});                    // inner body
+  b.block(f, {sound(2)}, Jump{1});                    // rest of the outer body
+  rotate_loops(b.fn(f));
+  const auto& blocks = b.fn(f).blocks;
+  ASSERT_EQ(blocks.size(), 4u);
+  ASSERT_EQ(blocks[1].instrs.size(), 1u);
+  EXPECT_EQ(blocks[1].instrs[0].args, sound(1).args);  // the inner body first
+  EXPECT_EQ(std::get<Jump>(blocks[0].term).target, 2);
+  EXPECT_EQ(std::get<Jump>(blocks[1].term).target, 2);  // falls into the test
+  const auto& br = std::get<Branch>(blocks[2].term);
+  EXPECT_EQ(br.then, 1);
+  EXPECT_EQ(br.otherwise, 3);  // falls into the rest
+  EXPECT_EQ(std::get<Jump>(blocks[3].term).target, 2);
+}
+
+TEST(Rotate, NoInnerLoopIsRotatedInASubroutine) {
+  // The first test's shape in a subroutine: the jump in would run on every
+  // call, from wherever the caller loops, and the side that returns may
+  // be taken before the inner loop turns once. Nothing moves.
+  Builder b;
+  VarId g = b.global("g");
+  FuncId f = b.function("s", FuncKind::Sub);
+  b.block(f, {sound(0)}, Jump{1});
+  b.block(f, {}, Branch{Cmp::NE, V(g), I(0), 2, 3});
+  b.block(f, {sound(1)}, Jump{1});
+  b.block(f, {sound(2)}, Jump{1});
+  rotate_loops(b.fn(f));
+  const auto& blocks = b.fn(f).blocks;
+  ASSERT_EQ(blocks.size(), 4u);
+  EXPECT_TRUE(blocks[1].instrs.empty());  // the test stays second
+  EXPECT_EQ(std::get<Branch>(blocks[1].term).then, 2);
+}
+
+TEST(Rotate, NoInnerLoopIsRotatedWhereTheJumpInWouldRunOnALoop) {
+  // As above, but the block before the test is itself on a loop with it
+  // (block 4 goes back to it): rotating would add a jump to that loop's
+  // path each time round. Nothing moves.
+  Builder b;
+  VarId g = b.global("g"), k = b.global("k");
+  FuncId f = b.function("main");
+  b.block(f, {sound(0)}, Jump{1});
+  b.block(f, {sound(5)}, Jump{2});                        // falls into the test
+  b.block(f, {}, Branch{Cmp::NE, V(g), I(0), 3, 4});      // test
+  b.block(f, {sound(1)}, Jump{2});                        // inner body
+  b.block(f, {sound(2)}, Branch{Cmp::NE, V(k), I(0), 5, 1});
+  b.block(f, {sound(3)}, Jump{2});                        // outer latch, to the test
+  rotate_loops(b.fn(f));
+  const auto& blocks = b.fn(f).blocks;
+  ASSERT_EQ(blocks.size(), 6u);
+  EXPECT_TRUE(blocks[2].instrs.empty());  // the test stays third
+  EXPECT_EQ(std::get<Branch>(blocks[2].term).then, 3);
+  EXPECT_EQ(blocks[3].instrs[0].args, sound(1).args);
+}
+
 TEST(Layout, TheFalseSideFollowsATestThatOnlyBranchesWhenTrue) {
   // if (a <= b) x = 1; else x = 0; with a, b variables: the negation
   // a > b has no one-instruction test, so the else block moves after it.
