@@ -170,6 +170,11 @@ TEST(LinkCli, MissingPortIsExit3) {
   EXPECT_NE(d.err.find("does not exist"), std::string::npos) << d.err;
   auto r = run_rcxc({"remote", "--port", "/dev/no-such-tower", "alive"});
   EXPECT_EQ(r.exit_code, 3);
+  // A device that is no tower is a port that cannot be used, not a silent
+  // RCX ("USB tower /dev/null was closed", exit 4).
+  auto null = run_rcxc({"remote", "--port", "/dev/null", "alive"});
+  EXPECT_EQ(null.exit_code, 3) << null.err;
+  EXPECT_NE(null.err.find("rcxc remote: /dev/null is not a tower"), std::string::npos) << null.err;
 }
 
 TEST(LinkCli, SilentBrickIsExit4) {

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <filesystem>
 #include <thread>
 
 #include "link/brick_server.h"
@@ -163,6 +164,22 @@ TEST(LinkPort, MissingDeviceSaysWhatToCheck) {
   EXPECT_NE(std::get<TransportError>(r).message.find("does not exist"), std::string::npos);
   // nqc mode names the port with -S, not --port.
   EXPECT_NE(std::get<TransportError>(r).message.find("--port, -S in nqc mode, or RCX_PORT"), std::string::npos);
+}
+
+// /dev/null opened as a USB tower "was closed" at the first read (exit 4,
+// the RCX did not answer); /dev/zero talked until the retries ran out. Both
+// are character devices, neither a terminal nor the tower driver's.
+TEST(LinkPort, ACharacterDeviceThatIsNoTowerIsRefusedWhenOpened) {
+  for (const char* path : {"/dev/null", "/dev/zero"}) {
+    if (!std::filesystem::exists(path)) continue;
+    for (PortKind kind : {PortKind::Usb, PortKind::Serial}) {
+      auto r = open_port({path, kind});
+      ASSERT_TRUE(std::holds_alternative<TransportError>(r)) << path;
+      EXPECT_NE(std::get<TransportError>(r).message.find(std::string(path) + " is not a tower: a character device"),
+                std::string::npos)
+          << std::get<TransportError>(r).message;
+    }
+  }
 }
 
 TEST(LinkPort, APtyNobodyServesTimesOutCleanly) {
