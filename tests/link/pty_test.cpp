@@ -22,6 +22,7 @@ struct PtyBrick : ::testing::Test {
   Pty pty;
   rcxc::test::ServedThread server;
   std::optional<TransportError> server_error;
+  std::vector<std::string> logged;  // the brick's log lines (`rcxc brick -v`); read after TearDown
 
   void start(double noise = 0.0) {
     auto opened = open_pty();
@@ -33,6 +34,7 @@ struct PtyBrick : ::testing::Test {
       options.noise = noise;
       options.seed = 11;
       options.stop_fd = stop_fd;
+      options.on_log = [this](const std::string& line) { logged.push_back(line); };
       server_error = serve(brick, *pty.master, options);
     }));
   }
@@ -128,6 +130,27 @@ TEST_F(PtyBrick, AProgramsSendMessageReachesTheTowerAsSetMessage) {
     heard.insert(heard.end(), bytes.begin(), bytes.end());
   }
   EXPECT_EQ(heard, expected);
+}
+
+// `rcxc brick -v` logs every request and reply; a program's broadcasts went
+// out unlogged (and a log line waited for the next request to be handed on).
+TEST_F(PtyBrick, ATracedBrickLogsTheBroadcastsItSends) {
+  Image image;
+  image.fragments.push_back({FragmentType::Task, 0, {0xB2, 0x02, 42}});  // send message 42
+  ASSERT_FALSE(brick.vm.load(brick.vm.program(), image));
+  brick.vm.start_program();
+  brick.trace = true;
+  start();
+  auto port = host();
+  ASSERT_TRUE(port);
+  Bytes heard;
+  for (int i = 0; i < 100 && heard.size() < frame(Bytes{0xF7, 42}).size(); ++i) {
+    auto got = port->read(Millis(10));
+    ASSERT_TRUE(std::holds_alternative<Bytes>(got));
+    heard.insert(heard.end(), std::get<Bytes>(got).begin(), std::get<Bytes>(got).end());
+  }
+  TearDown();  // stop the server before reading its log
+  EXPECT_EQ(logged, (std::vector<std::string>{"send    f7 2a (the program's Send message)"}));
 }
 
 // A host at a serial tower (which echoes its bytes) still gets its replies at
