@@ -241,7 +241,7 @@ TEST(LinkCli, DownloadingADirectoryIsExit1) {
   rcxc::test::TempDir d;
   auto r = run_rcxc({"download", "--port", "/dev/no-such-tower", d.path});
   EXPECT_EQ(r.exit_code, 1) << r.err;
-  EXPECT_NE(r.err.find(d.path + ": is a directory, not an .rcx image"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(d.path + ": is a directory, not a source file or an .rcx image"), std::string::npos) << r.err;
 }
 
 }  // namespace
