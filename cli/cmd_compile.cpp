@@ -191,16 +191,23 @@ void register_compile(CLI::App& app, int& exit_code) {
   cmd->add_flag("-E", args->preprocess_only, "Print the preprocessed source (to -o FILE if given) and stop (nqc's -E<file> writes errors; here they go to stderr)");
   add_repeatable(cmd, "-W", args->warning_flags, "-Werror: treat warnings as errors");
   cmd->add_flag("-w", args->no_warnings, "Do not report warnings");
-  cmd->add_option("--listing", args->listing, "Write a listing to FILE (or standard output without =FILE)")
-      ->expected(0, 1)
-      ->default_str("-");
+  auto* listing = cmd->add_option("--listing", args->listing, "Write a listing to FILE (or standard output without =FILE)")
+                      ->expected(0, 1)
+                      ->default_str("-");
   cmd->add_flag("-v,--verbose", args->verbose, "Report what the optimiser did (inlining, loop counters, sizes)");
   cmd->add_option("--diagnostics", args->diagnostics, "Diagnostics format: text (default) or json")
       ->check(CLI::IsMember({"text", "json"}));
   add_color_option(cmd, args->color);
   cmd->add_option("--max-errors", args->max_errors, "Stop printing after N errors (default 20, 0: print all)")
       ->check(in_range(0, 1000000).description(""));
-  cmd->callback([&exit_code, args] {
+  cmd->callback([&exit_code, args, listing] {
+    // CLI11 runs no check on an empty value of an option whose value is
+    // optional: `--listing ''` wrote no listing with exit 0.
+    if (listing->count() > 0 && args->listing.empty()) {
+      std::cerr << "rcxc: --listing: needs a value, not '' (--listing alone prints the listing)\n";
+      exit_code = kExitUsage;
+      return;
+    }
     if (args->file.empty()) {
       exit_code = missing_source(*args);
       return;
