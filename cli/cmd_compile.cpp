@@ -1,5 +1,9 @@
 // `rcxc compile`: runs the frontend (preprocessor, parser, checks) on an NQC
 // file and reports its diagnostics; with -E prints the preprocessed text.
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -113,6 +117,19 @@ int write_preprocessed(const CompileArgs& a, const std::string& text, const Sour
   return kExitOk;
 }
 
+// "-" when the standard output is a terminal, or a path to one (-o /dev/tty,
+// -o /dev/stdout on a terminal).
+bool names_a_terminal(const std::string& path) {
+  if (path == "-") return ::isatty(STDOUT_FILENO) != 0;
+  struct stat st{};
+  if (::stat(path.c_str(), &st) != 0 || !S_ISCHR(st.st_mode)) return false;
+  int fd = ::open(path.c_str(), O_WRONLY | O_NOCTTY | O_NONBLOCK);
+  if (fd < 0) return false;
+  bool tty = ::isatty(fd) != 0;
+  ::close(fd);
+  return tty;
+}
+
 // Command-line values the option parser cannot judge: macro names and an
 // empty output name.
 std::optional<std::string> bad_arguments(const CompileArgs& a) {
@@ -128,6 +145,11 @@ std::optional<std::string> bad_arguments(const CompileArgs& a) {
   if (a.output == "-" && a.listing == "-")
     return "the image (-o -) and the listing (--listing) would both go to the standard output: write one of them "
            "to a file (--listing=FILE)";
+  // The image's bytes on a terminal are garbage at best, and an escape
+  // sequence among them is acted on (ESC c resets the terminal).
+  if (a.output && names_a_terminal(*a.output))
+    return "-o " + *a.output + " would write the binary image to the terminal: send the standard output to a file "
+           "or a pipe, or name the image with -o FILE";
   return std::nullopt;
 }
 
