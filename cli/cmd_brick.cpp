@@ -90,7 +90,8 @@ void register_brick(CLI::App& app, int& exit_code) {
   cmd->add_option("--seed", a->seed, "Seed of the noise")->check(whole_number());
   cmd->add_flag("--fast", a->fast, "Answer at full speed instead of 2400 baud");
   cmd->add_flag("--no-echo", a->no_echo, "Do not echo (behave like a USB tower)");
-  cmd->add_flag("-v,--verbose", a->verbose, "Log every request and reply, and why requests were rejected or not answered");
+  cmd->add_flag("-v,--verbose", a->verbose,
+                "Log every request, reply and broadcast, and why requests were rejected or not answered");
   cmd->callback([&exit_code, a] { exit_code = run_brick(*a); });
 }
 

@@ -318,12 +318,11 @@ int run(const CompareOptions& o) {
 void register_compare(CLI::App& app, int& exit_code) {
   auto* cmd = app.add_subcommand("compare", "Run a program as rcxc and as nqc compile it; report behaviour differences");
   auto o = std::make_shared<CompareOptions>();
-  cmd->add_option("FILE", o->file, "NQC source file")->required();
+  cmd->add_option("FILE", o->file, "NQC source file")->required()->check(not_empty());
   add_compiler_options(cmd, o->compiler);
   add_repeatable(cmd, "--scenario", o->scenarios, "Scenario TOML file (repeatable); default: built-in scenarios")->check(not_empty());
   cmd->add_option("--nqc-path", o->nqc, "The nqc to compare with (path or name; default: nqc on PATH)")->check(not_empty());
   cmd->add_option("--for", o->for_ms, "Virtual milliseconds per run (default 20000)")
-      ->check(whole_number())
       ->check(in_range(1, kMaxRunMs));
   cmd->add_option("--seed", o->seed, "Random seed for both runs")->check(whole_number());
   cmd->add_option("--instruction-us", o->instruction_us, "Virtual time per instruction (default 10)")

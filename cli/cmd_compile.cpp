@@ -1,5 +1,9 @@
 // `rcxc compile`: runs the frontend (preprocessor, parser, checks) on an NQC
 // file and reports its diagnostics; with -E prints the preprocessed text.
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -113,6 +117,19 @@ int write_preprocessed(const CompileArgs& a, const std::string& text, const Sour
   return kExitOk;
 }
 
+// "-" when the standard output is a terminal, or a path to one (-o /dev/tty,
+// -o /dev/stdout on a terminal).
+bool names_a_terminal(const std::string& path) {
+  if (path == "-") return ::isatty(STDOUT_FILENO) != 0;
+  struct stat st{};
+  if (::stat(path.c_str(), &st) != 0 || !S_ISCHR(st.st_mode)) return false;
+  int fd = ::open(path.c_str(), O_WRONLY | O_NOCTTY | O_NONBLOCK);
+  if (fd < 0) return false;
+  bool tty = ::isatty(fd) != 0;
+  ::close(fd);
+  return tty;
+}
+
 // Command-line values the option parser cannot judge: macro names and an
 // empty output name.
 std::optional<std::string> bad_arguments(const CompileArgs& a) {
@@ -128,6 +145,11 @@ std::optional<std::string> bad_arguments(const CompileArgs& a) {
   if (a.output == "-" && a.listing == "-")
     return "the image (-o -) and the listing (--listing) would both go to the standard output: write one of them "
            "to a file (--listing=FILE)";
+  // The image's bytes on a terminal are garbage at best, and an escape
+  // sequence among them is acted on (ESC c resets the terminal).
+  if (a.output && names_a_terminal(*a.output))
+    return "-o " + *a.output + " would write the binary image to the terminal: send the standard output to a file "
+           "or a pipe, or name the image with -o FILE";
   return std::nullopt;
 }
 
@@ -193,16 +215,23 @@ void register_compile(CLI::App& app, int& exit_code) {
                  "error (-Wno-error=NAME: not even with -Werror); -Wall: every warning (the default). NAME, as "
                  "shown after each warning: " + warning_names_list());
   cmd->add_flag("-w", args->no_warnings, "Do not report warnings");
-  cmd->add_option("--listing", args->listing, "Write a listing to FILE (or standard output without =FILE)")
-      ->expected(0, 1)
-      ->default_str("-");
+  auto* listing = cmd->add_option("--listing", args->listing, "Write a listing to FILE (or standard output without =FILE)")
+                      ->expected(0, 1)
+                      ->default_str("-");
   cmd->add_flag("-v,--verbose", args->verbose, "Report what the optimiser did (inlining, loop counters, sizes)");
   cmd->add_option("--diagnostics", args->diagnostics, "Diagnostics format: text (default) or json")
       ->check(CLI::IsMember({"text", "json"}));
   add_color_option(cmd, args->color);
   cmd->add_option("--max-errors", args->max_errors, "Stop printing after N errors (default 20, 0: print all)")
       ->check(in_range(0, 1000000).description(""));
-  cmd->callback([&exit_code, args] {
+  cmd->callback([&exit_code, args, listing] {
+    // CLI11 runs no check on an empty value of an option whose value is
+    // optional: `--listing ''` wrote no listing with exit 0.
+    if (listing->count() > 0 && args->listing.empty()) {
+      std::cerr << "rcxc: --listing: needs a value, not '' (--listing alone prints the listing)\n";
+      exit_code = kExitUsage;
+      return;
+    }
     if (args->file.empty()) {
       exit_code = missing_source(*args);
       return;

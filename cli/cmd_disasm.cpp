@@ -14,7 +14,7 @@ void register_disasm(CLI::App& app, int& exit_code) {
   auto* cmd = app.add_subcommand("disasm", "List the bytecode of an .rcx image (or of NQC source, compiled in memory)");
   auto file = std::make_shared<std::string>();
   auto compiler = std::make_shared<CompilerArgs>();
-  cmd->add_option("FILE", *file, ".rcx image or NQC source")->required();
+  cmd->add_option("FILE", *file, ".rcx image or NQC source")->required()->check(not_empty());
   add_compiler_options(cmd, *compiler);
   cmd->callback([&exit_code, file, compiler] {
     if (auto bad = bad_compiler_arguments(*compiler)) {

@@ -97,7 +97,7 @@ int run_download(const DownloadArgs& a) {
 void register_download(CLI::App& app, int& exit_code) {
   auto* cmd = app.add_subcommand("download", "Compile if needed and download a program into the RCX over the IR tower");
   auto a = std::make_shared<DownloadArgs>();
-  cmd->add_option("FILE", a->file, "NQC source (compiled first) or .rcx image")->required();
+  cmd->add_option("FILE", a->file, "NQC source (compiled first) or .rcx image")->required()->check(not_empty());
   add_compiler_options(cmd, a->compiler);
   cmd->add_option("--port", a->port, "Tower device: usb, serial, a path (default: RCX_PORT, else usb)")->check(not_empty());
   cmd->add_option("--program", a->program, "Program slot 1..5")->check(in_range(1, 5));

@@ -260,11 +260,10 @@ int run(const RunOptions& o) {
 void register_run(CLI::App& app, int& exit_code) {
   auto* cmd = app.add_subcommand("run", "Run a program on the RCX emulator in virtual time");
   auto o = std::make_shared<RunOptions>();
-  cmd->add_option("FILE", o->file, ".rcx image or NQC source (compiled in memory)")->required();
+  cmd->add_option("FILE", o->file, ".rcx image or NQC source (compiled in memory)")->required()->check(not_empty());
   add_compiler_options(cmd, o->compiler);
   cmd->add_option("--scenario", o->scenario, "TOML file of timed inputs ([[input]] tables)")->check(not_empty());
   cmd->add_option("--for", o->for_ms, "virtual time limit in ms (default 60000, or the source's // @for)")
-      ->check(whole_number())
       ->check(in_range(1, kMaxRunMs));
   cmd->add_option("--seed", o->seed, "seed of the random source (default 1)")->check(whole_number());
   cmd->add_option("--report", o->report, "print a report instead of the timeline: json")->check(CLI::IsMember({"json"}));

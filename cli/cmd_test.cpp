@@ -276,7 +276,9 @@ int run(const TestOptions& o) {
 void register_test(CLI::App& app, int& exit_code) {
   auto* cmd = app.add_subcommand("test", "Run semantic tests: .nqc programs with // @expect directives");
   auto o = std::make_shared<TestOptions>();
-  cmd->add_option("PATHS", o->paths, "NQC test programs, or folders to search for .nqc files")->required();
+  cmd->add_option("PATHS", o->paths, "NQC test programs, or folders to search for .nqc files")
+      ->required()
+      ->check(not_empty());
   add_compiler_options(cmd, o->compiler);
   auto use_nqc = std::make_shared<bool>(false);
   auto nqc_path = std::make_shared<std::string>("nqc");

@@ -96,6 +96,11 @@ int main(int argc, char** argv) {
   // every output reports, and the temporary it went to is removed; the
   // signal's default would kill rcxc there and leave the temporary behind.
   std::signal(SIGXFSZ, SIG_IGN);
+  // A reader that goes away (`rcxc compile f.nqc -o - | head -c1`) killed
+  // rcxc without a word (exit 141) when a write came after it left, or let
+  // it end 1 with the message below when the write came at the end: the
+  // write now fails with EPIPE, and the command says so as for a full disk.
+  std::signal(SIGPIPE, SIG_IGN);
   int exit_code = rcxc::cli::kExitFailure;
   if (rcxc::cli::compiles_once(argc, argv)) rcxc::cli::tune_allocator_for_one_compile();
   rcxc::cli::run_with_stack(rcxc::cli::kWorkStackBytes, [&] { exit_code = run_main(argc, argv); });

@@ -192,12 +192,27 @@ std::optional<std::string> file_head(const std::string& path) {
 
 }  // namespace
 
-bool named_as_image(const std::string& path) {
+namespace {
+
+bool has_extension(const std::string& path, std::string_view lower_ext) {
   std::string ext = std::filesystem::path(path).extension().string();
-  std::string_view rcx = ".rcx";
-  return std::equal(ext.begin(), ext.end(), rcx.begin(), rcx.end(),
+  return std::equal(ext.begin(), ext.end(), lower_ext.begin(), lower_ext.end(),
                     [](char a, char b) { return std::tolower(static_cast<unsigned char>(a)) == b; });
 }
+
+// A folder given as the program: in the words `rcxc compile` uses for a
+// folder named like a source, so `download DIR.nqc` and `compile DIR.nqc`
+// say the same; the image reader's words for DIR.rcx; both for other names.
+std::string folder_as_program(const std::string& path) {
+  if (has_extension(path, ".nqc") || has_extension(path, ".nqh"))
+    return fmt::format("{}: is a directory, not a source file", path);
+  if (named_as_image(path)) return fmt::format("{}: is a directory, not an .rcx image", path);
+  return fmt::format("{}: is a directory, not a source file or an .rcx image", path);
+}
+
+}  // namespace
+
+bool named_as_image(const std::string& path) { return has_extension(path, ".rcx"); }
 
 std::string non_source_kind(const std::string& path) {
   auto head = file_head(path);
@@ -262,10 +277,12 @@ std::optional<std::string> unused_compiler_options(const std::string& path, cons
 }
 
 std::variant<rcx::Image, std::string> load_program(const std::string& path, const CompileRequest& request) {
-  // A file that cannot be read (missing, a folder) is the image reader's to
-  // explain: it names the file and the reason.
+  // A file that cannot be read (missing, unreadable) is the image reader's
+  // to explain: it names the file and the reason.
   if (path == frontend::kStandardInput) return load_standard_input(request);
   if (auto problem = special_file_problem(path, Takes::Files, "give an NQC source file or an .rcx image, or '-' for the standard input")) return *problem;
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) return folder_as_program(path);
   if (is_nqc_source(path).value_or(false)) {
     CompileResult compiled = compile_file(path, request);
     std::cerr << render_all(compiled.diagnostics, compiled.sources, {});

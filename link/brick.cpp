@@ -258,12 +258,13 @@ Bytes hear(Brick& b, std::span<const std::uint8_t> heard) {
   return out;
 }
 
-Bytes broadcasts(const Brick& b, std::size_t first) {
+Bytes broadcasts(Brick& b, std::size_t first) {
   Bytes out;
   const auto& events = b.vm.state().events;
   for (std::size_t i = first; i < events.size(); ++i) {
     if (events[i].kind != EventKind::MessageSent) continue;
     Bytes payload{info(Op::SetMessage).code, static_cast<std::uint8_t>(events[i].value)};
+    if (b.trace) note(b, "send    " + hex(payload) + " (the program's Send message)");
     Bytes framed = frame(payload);
     out.insert(out.end(), framed.begin(), framed.end());
   }

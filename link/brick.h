@@ -57,7 +57,7 @@ struct Brick {
   Decoder decoder = request_decoder();
   BrickCounters counters;
   std::vector<std::string> log;  // why requests were rejected/unanswered (bounded)
-  bool trace = false;            // also log every request and reply
+  bool trace = false;            // also log every request, reply and broadcast
 };
 
 Brick make_brick(Config config = {});
@@ -72,6 +72,7 @@ Bytes hear(Brick& brick, std::span<const std::uint8_t> heard);
 // What the brick transmits on its own: a program's Send message broadcasts a
 // Set message request over the infrared link (seed). The framed packets for
 // the machine's events from index `first` on (the caller keeps its place).
-Bytes broadcasts(const Brick& brick, std::size_t first);
+// Traced as "send" lines in the brick's log, beside the requests and replies.
+Bytes broadcasts(Brick& brick, std::size_t first);
 
 }  // namespace rcx

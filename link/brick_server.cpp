@@ -58,11 +58,13 @@ std::optional<TransportError> serve(Brick& brick, Transport& port, const ServeOp
     brick.vm.forget_events();  // nobody reads them here; a brick serving for days must not grow
     if (!sent.empty())
       if (auto err = emit(port, apply_noise(noise, sent), options.pace)) return err;
-    if (heard.empty()) continue;
-    if (options.echo)
-      if (auto err = emit(port, heard, options.pace)) return err;
-    Bytes reply = hear(brick, apply_noise(noise, heard));
-    if (auto err = emit(port, apply_noise(noise, reply), options.pace)) return err;
+    if (!heard.empty()) {
+      if (options.echo)
+        if (auto err = emit(port, heard, options.pace)) return err;
+      Bytes reply = hear(brick, apply_noise(noise, heard));
+      if (auto err = emit(port, apply_noise(noise, reply), options.pace)) return err;
+    }
+    // Broadcasts are logged while nobody talks to the brick too.
     if (options.on_log)
       for (const auto& line : brick.log) options.on_log(line);
     brick.log.clear();  // handed on; a brick serving for days must not grow

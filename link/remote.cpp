@@ -206,11 +206,14 @@ Outcome get_value(Link& link, const Words& w) {
   auto source = parse_source(w[1]);
   auto arg = number(w[2], -128, 255);
   if (!source) return usage(fmt::format("'{}' is not a source (var, timer, sensor, clock, message, ... or 0..15)", w[1]));
-  if (!arg) return usage(fmt::format("'{}' is not an argument 0..255", w[2]));
   if (!allows(info(Op::GetValue).operands[0].allowed, *source))
     return usage(fmt::format("source {} cannot be read with Get value", source_name(*source)));
-  if (auto range = source_argument_range(*source); range && (*arg < range->lo || *arg > range->hi))
+  // The source's own range for any bad argument: `get var 99999999999999999999`
+  // said "0..255" where `get var 40` says 0..31.
+  auto range = source_argument_range(*source);
+  if (range && (!arg || *arg < range->lo || *arg > range->hi))
     return usage(fmt::format("{} {}: the argument of {} is {}..{}", w[1], w[2], source_name(*source), range->lo, range->hi));
+  if (!arg) return usage(fmt::format("'{}' is not an argument -128..255", w[2]));
   auto r = call(link, Op::GetValue, {*source, *arg});
   if (auto* e = std::get_if<RemoteError>(&r)) return *e;
   return fmt::format("{}\n", reply_field(info(Op::GetValue), std::get<Bytes>(r), "value"));

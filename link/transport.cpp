@@ -3,6 +3,9 @@
 #include <fcntl.h>
 #include <poll.h>
 #include <sys/stat.h>
+#ifdef __linux__
+#include <sys/sysmacros.h>
+#endif
 #include <termios.h>
 #include <unistd.h>
 
@@ -118,6 +121,24 @@ std::string open_advice(const std::string& path) {
   return fmt::format("cannot open {}: {}", path, errno_text());
 }
 
+// Linux gives the USB tower driver (legousbtower) a device of the USB
+// major number; a character device that is neither that nor a terminal
+// (/dev/null, /dev/zero, a sound card) is no tower: /dev/null read as a
+// tower that hung up, /dev/zero as one that never stops talking.
+constexpr unsigned kUsbMajor = 180;
+
+std::optional<TransportError> not_a_tower_device(int fd, const struct stat& st, const PortSpec& spec) {
+#ifdef __linux__
+  if (!S_ISCHR(st.st_mode) || ::isatty(fd) != 0 || major(st.st_rdev) == kUsbMajor) return std::nullopt;
+  return TransportError{fmt::format("{} is not a tower: a character device (major {}, minor {}) that is neither a "
+                                    "serial port nor the USB tower's driver (legousbtower, major {})",
+                                    spec.path, major(st.st_rdev), minor(st.st_rdev), kUsbMajor)};
+#else
+  (void)fd, (void)st, (void)spec;
+  return std::nullopt;
+#endif
+}
+
 }  // namespace
 
 PortSpec resolve_port(const std::optional<std::string>& option, const std::optional<std::string>& environment) {
@@ -150,6 +171,10 @@ std::variant<std::unique_ptr<Transport>, TransportError> open_port(const PortSpe
     return TransportError{fmt::format("{} is {}, not a tower (a character device, socket or pseudo-terminal)",
                                       spec.path, S_ISREG(st.st_mode) ? "a regular file" : S_ISDIR(st.st_mode) ? "a directory"
                                                                      : S_ISFIFO(st.st_mode) ? "a FIFO" : "not a device")};
+  }
+  if (auto err = not_a_tower_device(fd, st, spec)) {
+    ::close(fd);
+    return *err;
   }
   if (spec.kind == PortKind::Serial) {
     if (auto err = configure_tty(fd, spec.path, true)) {

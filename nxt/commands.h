@@ -113,6 +113,7 @@ inline constexpr std::uint8_t kRunStateRunning = 0x20;
 
 // Sensor types the firmware treats specially.
 inline constexpr std::uint8_t kNoSensor = 0x00;
+inline constexpr std::uint8_t kTemperatureSensor = 0x02;  // the RCX temperature sensor (converter cable)
 inline constexpr std::uint8_t kSoundDb = 0x07;
 inline constexpr std::uint8_t kSoundDba = 0x08;
 inline constexpr std::uint8_t kLowSpeed = 0x0A;

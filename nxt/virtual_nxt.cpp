@@ -139,16 +139,55 @@ auto next_match(Handle& h, const Range& range, NameOf name_of) -> decltype(&*ran
   return nullptr;
 }
 
+// The RCX temperature sensor in tenths of a degree Celsius, from its raw
+// value. The NXT firmware looks the raw value, held to 290..928, up in a
+// table of its own spanning 70.0 to -20.0 °C; the RCX firmware's
+// piecewise-linear curve (runtime/sensors.cpp, docs/emulator.md: nxt/ may
+// not include runtime/, so the segments are repeated here and a test holds
+// the two equal) follows that table within half a degree.
+int temperature_tenths(int raw) {
+  struct Segment {
+    int upto, scale, offset;
+  };
+  constexpr Segment kCurve[] = {
+      {340, -261, 145200}, {390, -194, 123000}, {478, -144, 103500}, {520, -123, 93600},
+      {790, -107, 85200},  {886, -134, 106600}, {929, -175, 142600},
+  };
+  raw = std::clamp(raw, 290, 928);
+  for (const auto& seg : kCurve)
+    if (raw < seg.upto) return (raw * seg.scale + seg.offset) / 100;
+  return -200;  // not reached: 928 is in the last segment
+}
+
+// The normalized value: the raw value, except for the temperature sensor,
+// which the firmware turns into its temperature mapped onto 0..1023
+// ((tenths + 200) x 1023 / 900). Every mode below works from it.
+int normalized(const Sensor& s) {
+  if (s.type == kTemperatureSensor) return (temperature_tenths(s.raw) + 200) * 1023 / 900;
+  return s.raw;
+}
+
+// CELSIUSMODE: the normalized value back to tenths of a degree (-20.0..70.0).
+int celsius_tenths(int norm) { return norm * 900 / 1023 - 200; }
+
+// FAHRENHEITMODE: the firmware computes 180 x Celsius / 100 + 320 in
+// unsigned 32-bit arithmetic and keeps the low 16 bits, so below 0 °C the
+// reading wraps (-10.0 °C reads 23732); done the same way here.
+int fahrenheit_tenths(int norm) {
+  auto celsius = static_cast<std::uint32_t>(static_cast<std::int32_t>(celsius_tenths(norm)));
+  std::uint32_t f = 180u * celsius / 100u + 320u;
+  return static_cast<std::int16_t>(static_cast<std::uint16_t>(f));
+}
+
 int scaled(const Sensor& s) {
-  int norm = s.raw;
+  int norm = normalized(s);
   switch (s.mode & 0xE0) {
     case 0x20: return s.boolean ? 1 : 0;
     case 0x40: return s.transitions;
     case 0x60: return s.transitions / 2;
     case 0x80: return (1023 - norm) * 100 / 1023;
-    // Temperature in tenths of a degree, with the RCX sensor's formula.
-    case 0xA0: return (785 - norm) * 10 / 8;
-    case 0xC0: return (785 - norm) * 10 / 8 * 9 / 5 + 320;
+    case 0xA0: return celsius_tenths(norm);
+    case 0xC0: return fahrenheit_tenths(norm);
     // ANGLESTEPSMODE: an RCX rotation sensor's count, 16 a turn.
     case 0xE0: return s.rotation - s.rotation_base;
     default: return norm;
@@ -158,8 +197,9 @@ int scaled(const Sensor& s) {
 void set_raw(Sensor& s, int raw) {
   s.raw = raw;
   bool was = s.boolean;
-  if (raw < kBooleanTrueBelow) s.boolean = true;
-  else if (raw > kBooleanFalseAbove) s.boolean = false;
+  int norm = normalized(s);  // the firmware's thresholds apply to the normalized value
+  if (norm < kBooleanTrueBelow) s.boolean = true;
+  else if (norm > kBooleanFalseAbove) s.boolean = false;
   if (was != s.boolean) ++s.transitions;
 }
 
@@ -251,7 +291,8 @@ Outcome direct(VirtualNxt& n, const Decoded& d) {
       const Sensor& s = n.sensors[static_cast<std::size_t>(port)];
       bool valid = n.now_us >= s.valid_at;
       return ok({port, std::int64_t{valid}, std::int64_t{0}, std::int64_t{s.type}, std::int64_t{s.mode},
-                 std::int64_t{s.raw}, std::int64_t{s.raw}, std::int64_t{scaled(s)}, std::int64_t{s.raw}});
+                 std::int64_t{s.raw}, std::int64_t{normalized(s)}, std::int64_t{scaled(s)},
+                 std::int64_t{normalized(s)}});
     }
     case 0x08: {  // ResetInputScaledValue
       std::int64_t port = num(d, "port");

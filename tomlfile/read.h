@@ -22,7 +22,11 @@ std::string where(std::string_view path, const toml::node& node);
 
 // A key's name as a message quotes it: a quoted key may spell any
 // character ("at\u001b[2J"), and a control character would reach the
-// terminal as itself; each is shown as \xNN.
+// terminal as itself; each is shown as \xNN. Not rcx::printable_text:
+// tomlfile/ includes nothing of ours (runtime/ and nxt/ both read TOML
+// through it, and nxt/ may not reach rcx/), and a key is shown on one
+// line, so a newline and a tab are escaped here where printable_text keeps
+// them for multi-line messages.
 std::string shown_key(std::string_view key);
 
 // An integer key of `t` in [lo, hi], or nullopt when absent; a value of

@@ -138,6 +138,7 @@ Child run_limited(std::vector<char*>& argv, const std::string& log_path, const N
     struct rlimit as{memory, memory}, cpu_limit{cpu, cpu + 1};
     if (kLimitAddressSpace) ::setrlimit(RLIMIT_AS, &as);
     ::setrlimit(RLIMIT_CPU, &cpu_limit);
+    ::signal(SIGPIPE, SIG_DFL);  // rcxc ignores it; an ignored signal stays ignored across exec
     ::dup2(log, 1);
     ::dup2(log, 2);
     ::execvp(argv[0], argv.data());

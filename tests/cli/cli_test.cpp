@@ -101,6 +101,11 @@ TEST(Cli, AnEmptyValueOrANegativeSeedIsAUsageError) {
       {"compare", p, "--scenario", ""},  {"compare", p, "--nqc-path", ""}, {"test", p, "--nqc-path", ""},
       {"remote", "--port", "", "alive"}, {"download", p, "--port", ""},   {"nxt", "--port", "", "info"},
       {"nxt", "brick", "--pty", "--scenario", ""},
+      // `compile --listing ''` wrote no listing with exit 0; an empty FILE
+      // said "rcxc disasm: : cannot open file", a PATH of test "no such file
+      // or folder: " with nothing after it.
+      {"compile", p, "--listing", ""},   {"disasm", ""},                  {"run", ""},
+      {"download", "--port", "/dev/no-such-tower", ""}, {"compare", ""}, {"test", p, ""},
       {"run", p, "--seed", "-1"},        {"compare", p, "--seed", "-1"},   {"brick", "--pty", "--seed", "-2"}};
   for (const auto& args : calls) {
     auto r = run_rcxc(args, "", 10000);

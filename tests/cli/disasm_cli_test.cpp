@@ -92,7 +92,31 @@ TEST(DisasmCli, DirectoryIsAnErrorNotACrash) {
   for (const char* command : {"disasm", "run"}) {
     auto r = run_rcxc({command, d.path});
     EXPECT_EQ(r.exit_code, 1) << command << ": " << r.err;
-    EXPECT_NE(r.err.find(d.path + ": is a directory, not an .rcx image"), std::string::npos) << command << ": " << r.err;
+    EXPECT_NE(r.err.find(d.path + ": is a directory, not a source file or an .rcx image"), std::string::npos)
+        << command << ": " << r.err;
+  }
+}
+
+// A folder named like a source was "not an .rcx image" to run, disasm and
+// download, where compile says it is not a source file; a folder named .rcx
+// is still "not an .rcx image".
+TEST(DisasmCli, AFolderIsRefusedInTheWordsItsNameCallsFor) {
+  rcxc::test::TempDir d;
+  for (const char* name : {"/prog.nqc", "/LIB.NQH", "/prog.rcx"}) {
+    std::string folder = d.path + name;
+    std::filesystem::create_directory(folder);
+    std::string kind = std::string(name).ends_with(".rcx") ? "an .rcx image" : "a source file";
+    for (std::string command : {"disasm", "run", "download"}) {
+      std::vector<std::string> args{command, folder};
+      if (command == "download") args = {command, "--port", "/dev/no-such-tower", folder};
+      auto r = run_rcxc(args);
+      EXPECT_EQ(r.exit_code, 1) << command << " " << name << ": " << r.err;
+      EXPECT_EQ(r.err, "rcxc " + command + ": " + folder + ": is a directory, not " + kind + "\n") << command;
+    }
+    if (kind == "a source file") {
+      auto compiled = run_rcxc({"compile", folder});
+      EXPECT_NE(compiled.err.find("is a directory, not a source file"), std::string::npos) << compiled.err;
+    }
   }
 }
 

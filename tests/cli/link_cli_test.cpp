@@ -170,6 +170,11 @@ TEST(LinkCli, MissingPortIsExit3) {
   EXPECT_NE(d.err.find("does not exist"), std::string::npos) << d.err;
   auto r = run_rcxc({"remote", "--port", "/dev/no-such-tower", "alive"});
   EXPECT_EQ(r.exit_code, 3);
+  // A device that is no tower is a port that cannot be used, not a silent
+  // RCX ("USB tower /dev/null was closed", exit 4).
+  auto null = run_rcxc({"remote", "--port", "/dev/null", "alive"});
+  EXPECT_EQ(null.exit_code, 3) << null.err;
+  EXPECT_NE(null.err.find("rcxc remote: /dev/null is not a tower"), std::string::npos) << null.err;
 }
 
 TEST(LinkCli, SilentBrickIsExit4) {
@@ -236,7 +241,7 @@ TEST(LinkCli, DownloadingADirectoryIsExit1) {
   rcxc::test::TempDir d;
   auto r = run_rcxc({"download", "--port", "/dev/no-such-tower", d.path});
   EXPECT_EQ(r.exit_code, 1) << r.err;
-  EXPECT_NE(r.err.find(d.path + ": is a directory, not an .rcx image"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(d.path + ": is a directory, not a source file or an .rcx image"), std::string::npos) << r.err;
 }
 
 }  // namespace

@@ -13,8 +13,10 @@
 #include <iterator>
 #include <string>
 #include <utility>
+#include <variant>
 #include <vector>
 
+#include "link/transport.h"
 #include "tests/support/process.h"
 
 using rcxc::test::run_rcxc;
@@ -194,6 +196,49 @@ TEST(OutputFileCli, AStandardOutputThatCannotBeWrittenIsAFailure) {
   // Written in full, the same commands succeed.
   EXPECT_EQ(rcxc::test::run_process({"/bin/sh", "-c", "'" RCXC_BINARY "' disasm '" + src + "' > /dev/null"}).exit_code,
             0);
+}
+
+// `-o -` on a terminal wrote the image's bytes to it (exit 0): garbage on
+// the screen, and an escape sequence among them acted on. The same to a
+// pipe or a file still works.
+TEST(OutputFileCli, AnImageIsNotWrittenToATerminal) {
+  auto opened = rcx::open_pty();
+  ASSERT_TRUE(std::holds_alternative<rcx::Pty>(opened)) << std::get<rcx::TransportError>(opened).message;
+  auto& pty = std::get<rcx::Pty>(opened);
+  TempDir d;
+  std::string src = d.write("p.nqc", kProgram);
+  auto r = rcxc::test::run_process(
+      {"/bin/sh", "-c", "'" RCXC_BINARY "' compile '" + src + "' -o - > '" + pty.slave_path + "'"});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_EQ(r.err, "rcxc compile: -o - would write the binary image to the terminal: send the standard output to a "
+                   "file or a pipe, or name the image with -o FILE\n");
+  auto named = run_rcxc({"compile", src, "-o", pty.slave_path});
+  EXPECT_EQ(named.exit_code, 2) << named.err;
+  EXPECT_NE(named.err.find("-o " + pty.slave_path + " would write the binary image to the terminal"), std::string::npos)
+      << named.err;
+  rcx::close_pty(pty);
+  auto piped = run_rcxc({"compile", src, "-o", "-"});
+  EXPECT_EQ(piped.exit_code, 0) << piped.err;
+  EXPECT_EQ(piped.out.substr(0, 4), "RCXI");
+}
+
+// A reader that leaves before the output is written (`... | head -c1`):
+// rcxc was killed by SIGPIPE (exit 141, not a word) or, when the write came
+// at the end, ended 1 with the message: now always the latter. The output
+// is larger than a pipe holds, so the write meets the closed pipe whenever
+// the reader closes it.
+TEST(OutputFileCli, AReaderThatLeavesEarlyIsAFailureWithAMessage) {
+  TempDir d;
+  std::string lines = "int x;\ntask main() {\n";
+  for (int i = 0; i < 20000; ++i) lines += "  x = " + std::to_string(i) + ";\n";
+  std::string src = d.write("long.nqc", lines + "}\n");
+  for (const std::string& command : {"format '" + src + "'", "compile -E -n '" + src + "'"}) {
+    // rcxc's exit status goes to stderr: the pipeline's own is the reader's.
+    auto status = rcxc::test::run_process(
+        {"/bin/sh", "-c", "{ '" RCXC_BINARY "' " + command + "; echo \"exit $?\" >&2; } | { exec 0<&-; sleep 1; }"});
+    EXPECT_NE(status.err.find("rcxc: cannot write the standard output"), std::string::npos) << command << ": " << status.err;
+    EXPECT_NE(status.err.find("exit 1\n"), std::string::npos) << command << ": " << status.err;
+  }
 }
 
 // -E printed to the standard output whatever -o said, and took --listing

@@ -258,6 +258,20 @@ TEST(RunCli, AnNxtPortThatCannotBeOpenedPrintsNoTimeline) {
   EXPECT_EQ(r.out, "");
 }
 
+// A --for past 64 bits was "more than 18446744073709551615" and a negative
+// one "not a whole number 0 or more", where 0 said "outside 1..2^40": each
+// names the range the option takes now.
+TEST(RunCli, AForOutOfRangeNamesTheRangeItTakes) {
+  TempDir d;
+  std::string image = d.write("p.rcx", program_bytes());
+  for (const std::string value : {"99999999999999999999", "-5", "0", "1099511627777"})
+    for (const std::string command : {"run", "compare"}) {
+      auto r = run_rcxc({command, image, "--for", value});
+      EXPECT_EQ(r.exit_code, 2) << command << " " << value << ": " << r.err;
+      EXPECT_NE(r.err.find("--for: '" + value + "' is outside 1..1099511627776"), std::string::npos) << r.err;
+    }
+}
+
 // `--for abc` (or 1e3, 1.5) was "Value abc not in range 1 to ...", as if
 // abc were a number too large; it is no number at all.
 TEST(RunCli, AForThatIsNoWholeNumberSaysSo) {

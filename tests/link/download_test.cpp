@@ -293,6 +293,18 @@ TEST_F(RemoteFixture, UsageErrorsSendNothing) {
   EXPECT_EQ(link.stats.attempts, 0);
 }
 
+// A bad argument of a source with a range names that range whatever the
+// text: `get var 99999999999999999999` said "0..255" where `get var 40`
+// says 0..31.
+TEST_F(RemoteFixture, ABadGetArgumentNamesTheSourcesRange) {
+  for (const char* arg : {"40", "-1", "99999999999999999999", "x"}) {
+    auto r = run_remote(link, {"get", "var", arg});
+    ASSERT_TRUE(std::holds_alternative<RemoteError>(r)) << arg;
+    EXPECT_EQ(std::get<RemoteError>(r).message, std::string("var ") + arg + ": the argument of var is 0..31") << arg;
+  }
+  EXPECT_EQ(link.stats.attempts, 0);
+}
+
 std::string srec_line(char type, int address, const Bytes& data) {
   Bytes rec{static_cast<std::uint8_t>(2 + data.size() + 1), static_cast<std::uint8_t>(address >> 8),
             static_cast<std::uint8_t>(address & 0xff)};

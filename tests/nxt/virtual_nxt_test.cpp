@@ -3,6 +3,7 @@
 // spec/nxt.md describes (expected values are the spec's, not the brick's).
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <map>
 #include <set>
 
@@ -10,6 +11,7 @@
 
 #include "nxt/client.h"
 #include "nxt/virtual_nxt.h"
+#include "runtime/sensors.h"
 #include "tests/nxt/round_trips.h"
 
 namespace nxt {
@@ -279,6 +281,57 @@ TEST(VirtualNxt, SensorsFollowTheScenarioAfterTheValidDelay) {
     EXPECT_EQ(rig.reply("GetInputValues", {n(3)}).number("valid"), 0) << type;
     rig.advance_ms(1);
     EXPECT_EQ(rig.reply("GetInputValues", {n(3)}).number("valid"), 1) << type;
+  }
+}
+
+// An RCX temperature sensor on an NXT (type TEMPERATURE): the firmware holds
+// the raw value to 290..928, converts it to tenths of a degree, maps that
+// onto the normalized 0..1023 ((t + 200) x 1023 / 900) and works every mode
+// from there. The virtual NXT used the line (785 - raw) / 8 on the raw
+// value, up to 8 degrees off, read 63.1 °C for an open input and passed raw
+// values outside the sensor's range through.
+TEST(VirtualNxt, ARcxTemperatureSensorReadsAsTheNxtFirmwareConvertsIt) {
+  Rig rig({raw_at(100, 1, 290), raw_at(200, 1, 600), raw_at(300, 1, 100)});
+  rig.status_of("SetInputMode", {n(1), n(0x02), n(0xA0)});  // TEMPERATURE, CELSIUSMODE
+  rig.advance_ms(20);
+  auto open = rig.reply("GetInputValues", {n(1)});  // raw 1023, held to 928: -19.8 °C
+  EXPECT_EQ(open.number("raw"), 1023);
+  EXPECT_EQ(open.number("normalized"), 2);
+  EXPECT_EQ(open.number("scaled"), -199);
+  rig.advance_ms(100);
+  auto hot = rig.reply("GetInputValues", {n(1)});  // 69.5 °C
+  EXPECT_EQ(hot.number("normalized"), 1017);
+  EXPECT_EQ(hot.number("calibrated_value"), 1017);
+  EXPECT_EQ(hot.number("scaled"), 694);
+  rig.advance_ms(100);
+  EXPECT_EQ(rig.reply("GetInputValues", {n(1)}).number("scaled"), 209);  // 21.0 °C, 20.9 after the mapping
+  rig.status_of("SetInputMode", {n(1), n(0x02), n(0xC0)});  // FAHRENHEITMODE
+  rig.advance_ms(20);
+  EXPECT_EQ(rig.reply("GetInputValues", {n(1)}).number("scaled"), 696);  // 69.6 °F
+  rig.advance_ms(100);  // raw 100, held to 290
+  EXPECT_EQ(rig.reply("GetInputValues", {n(1)}).number("scaled"), 1569);
+}
+
+// Below 0 °C the firmware's Fahrenheit sum, done in unsigned 32-bit
+// arithmetic and kept to 16 bits, wraps: the NXT reads thousands of degrees.
+TEST(VirtualNxt, FahrenheitBelowFreezingWrapsAsTheFirmwaresSumDoes) {
+  Rig rig;
+  rig.status_of("SetInputMode", {n(0), n(0x02), n(0xC0)});  // open input: -19.9 °C after the mapping
+  rig.advance_ms(20);
+  EXPECT_EQ(rig.reply("GetInputValues", {n(0)}).number("scaled"), 23554);
+}
+
+// Every raw value in the sensor's range reads within two tenths of a degree
+// of what the RCX emulator reads for it (the same curve; the NXT's mapping
+// onto 0..1023 and back loses up to two tenths).
+TEST(VirtualNxt, TheTemperatureCurveIsTheRcxEmulatorsOne) {
+  for (int raw = 290; raw <= 928; raw += 1) {
+    Rig rig({raw_at(10, 0, raw)});
+    rig.status_of("SetInputMode", {n(0), n(0x02), n(0xA0)});
+    rig.advance_ms(20);
+    int nxt_tenths = static_cast<int>(rig.reply("GetInputValues", {n(0)}).number("scaled").value_or(-9999));
+    int rcx_tenths = rcx::celsius_tenths_of_raw(raw);
+    EXPECT_LE(std::abs(nxt_tenths - rcx_tenths), 2) << "raw " << raw << ": " << nxt_tenths << " vs " << rcx_tenths;
   }
 }
 
