@@ -788,8 +788,9 @@ class Checker {
     if (!arg.constant || as<IntLit>(arg)) return;
     auto exact = exact_constant(arg);
     if (!exact || (*exact >= -0x8000 && *exact <= 0xFFFF)) return;
-    diags_.warning(arg.span, WarningKind::Overflow, fmt::format("the argument's value {} does not fit in 16 bits; it becomes {}", *exact,
-                                         *arg.constant));
+    diags_.warning(arg.span, WarningKind::Overflow,
+                   fmt::format("the argument's value {} does not fit in 16 bits; it becomes {}", *exact,
+                               *arg.constant));
   }
 
   // `Wait(60 * 1000 / 10)`: 60000 wraps to -5536 in 16 bits, as the brick
