@@ -1188,6 +1188,12 @@ int serve(Server& server, std::istream& in, std::ostream& out, std::ostream& log
     }
     if (!frame.error.empty()) log << "rcxc lsp: " << frame.error << "\n";
     for (const auto& reply : handle_text(server, frame.body)) write_message(out, reply);
+    // The client closed our output (rcxc ignores SIGPIPE, so the write
+    // failed instead of killing us): nothing said from here would arrive.
+    if (!out) {
+      log << "rcxc lsp: cannot write to the client (the standard output is closed); stopping\n";
+      return 1;
+    }
   }
   return server.shutdown && server.exited ? 0 : 1;
 }

@@ -96,6 +96,20 @@ TEST(LspFraming, AContentLengthGivenTwice) {
   EXPECT_EQ(read_frame(replies).kind, Frame::Kind::End);
 }
 
+// A client that closed its end of our output: the server stops at the
+// first reply it cannot write, instead of reading on with no one to answer.
+TEST(LspFraming, AnOutputThatCannotBeWrittenStopsTheServer) {
+  Server server;
+  std::string input = framed(request(1, "initialize"));
+  for (int i = 0; i < 50; ++i) input += framed(request(2 + i, "shutdown"));
+  std::istringstream in(input);
+  std::ostringstream out, log;
+  out.setstate(std::ios::badbit);
+  EXPECT_EQ(serve(server, in, out, log), 1);
+  EXPECT_EQ(log.str(), "rcxc lsp: cannot write to the client (the standard output is closed); stopping\n");
+  EXPECT_FALSE(server.shutdown);  // the requests after the first were never run
+}
+
 TEST(LspFraming, ATruncatedBodyEndsTheStream) {
   std::istringstream in("Content-Length: 50\r\n\r\n{\"a\":");
   EXPECT_EQ(read_frame(in).kind, Frame::Kind::End);
