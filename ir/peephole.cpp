@@ -95,29 +95,40 @@ struct Settings {
   }
 };
 
-// The outputs of each value in `m` as (value, output mask), in increasing
-// order of value.
+// The outputs of each value in `m` as (value, output mask), in the order the
+// window first set them (`at`: the index of each output's first setting):
+// `OnFwd(OUT_A); OnRev(OUT_C);` keeps A's direction first, so A changes as
+// early as in the code as written (and as in nqc's), where ordering by
+// value put C's first.
 struct ValueMasks {
   std::array<std::pair<int, int>, kOutputs> items{};
   std::size_t size = 0;
   const std::pair<int, int>* begin() const { return items.data(); }
   const std::pair<int, int>* end() const { return items.data() + size; }
 };
-ValueMasks group(const PerOutput<int>& m) {
+ValueMasks group(const PerOutput<int>& m, const PerOutput<std::size_t>& at) {
   ValueMasks g;
+  std::array<std::size_t, kOutputs> first{};  // per group: its earliest setting
   for (int o = 0; o < kOutputs; ++o) {
     const auto& v = m[static_cast<std::size_t>(o)];
     if (!v) continue;
+    std::size_t when = at[static_cast<std::size_t>(o)].value_or(0);
     std::size_t k = 0;
-    while (k < g.size && g.items[k].first < *v) ++k;
-    if (k < g.size && g.items[k].first == *v) {
+    while (k < g.size && g.items[k].first != *v) ++k;
+    if (k < g.size) {
       g.items[k].second |= 1 << o;
-      continue;
+      first[k] = std::min(first[k], when);
+    } else {
+      g.items[g.size] = {*v, 1 << o};
+      first[g.size++] = when;
     }
-    for (std::size_t j = g.size; j > k; --j) g.items[j] = g.items[j - 1];
-    g.items[k] = {*v, 1 << o};
-    ++g.size;
   }
+  // Insertion sort by first setting; a stable order keeps output order for ties.
+  for (std::size_t i = 1; i < g.size; ++i)
+    for (std::size_t j = i; j > 0 && first[j] < first[j - 1]; --j) {
+      std::swap(g.items[j], g.items[j - 1]);
+      std::swap(first[j], first[j - 1]);
+    }
   return g;
 }
 
@@ -180,14 +191,14 @@ std::optional<std::vector<Instr>> net_commands(const std::vector<const Instr*>& 
   std::vector<Instr> out;
   SpanId span = window.back()->span;
   auto switches = [&](const PerOutput<int>& m) {
-    for (auto [v, mask] : group(m)) out.push_back(Instr{Op::SetMotorOnOff, {Operand::imm(mask | v)}, false, span});
+    for (auto [v, mask] : group(m, mode_at)) out.push_back(Instr{Op::SetMotorOnOff, {Operand::imm(mask | v)}, false, span});
   };
   auto powers = [&] {
-    for (auto [v, mask] : group(power))
+    for (auto [v, mask] : group(power, power_at))
       out.push_back(Instr{Op::SetMotorPower, {Operand::imm(mask), Operand::imm(v)}, false, span});
   };
   auto directions = [&] {
-    for (auto [v, mask] : group(dir)) out.push_back(Instr{Op::SetMotorDirection, {Operand::imm(mask | v)}, false, span});
+    for (auto [v, mask] : group(dir, dir_at)) out.push_back(Instr{Op::SetMotorDirection, {Operand::imm(mask | v)}, false, span});
   };
   switches(early);
   if (direction_first) {

@@ -1053,6 +1053,36 @@ TEST(Motors, RunsOfCommandsMerge) {
   EXPECT_EQ(instrs[3].op, rcx::Op::Wait);
 }
 
+// The merged directions, powers and switches come in the order the window
+// first set each output, so an output written first changes first, as in
+// the code as written and nqc's: ordered by value, C's reverse (0x00) went
+// before A's forward (0x80) and A's direction came an instruction later.
+TEST(Motors, MergedCommandsKeepTheOrderTheOutputsWereWritten) {
+  Builder b;
+  FuncId f = b.function("main");
+  // Fwd(A); Rev(C); SetPower(C, 5); SetPower(A, 2); On(A + C); then the
+  // same with A on first: OnFwd(A); OnRev(C) (one direction each, one on).
+  b.block(f, {dir(0x81), dir(0x04), pwr(4, 5), pwr(1, 2), out(0x85), wait(I(5)), dir(0x81), out(0x81), dir(0x04),
+              out(0x84), wait(I(5))});
+  merge_motor_commands(b.fn(f), b.p.vars);
+  const auto& instrs = b.at(f, 0).instrs;
+  ASSERT_EQ(instrs.size(), 10u);
+  // directions first (each output's direction came before its power)
+  EXPECT_EQ(instrs[0].op, rcx::Op::SetMotorDirection);
+  EXPECT_EQ(instrs[0].args[0], I(0x81));  // A forward first
+  EXPECT_EQ(instrs[1].args[0], I(0x04));  // then C reverse
+  EXPECT_EQ(instrs[2].op, rcx::Op::SetMotorPower);
+  EXPECT_EQ(instrs[2].args[0], I(4));  // C's power was set first
+  EXPECT_EQ(instrs[3].args[0], I(1));
+  EXPECT_EQ(instrs[4].op, rcx::Op::SetMotorOnOff);
+  EXPECT_EQ(instrs[4].args[0], I(0x85));
+  EXPECT_EQ(instrs[6].op, rcx::Op::SetMotorDirection);
+  EXPECT_EQ(instrs[6].args[0], I(0x81));  // A forward first
+  EXPECT_EQ(instrs[7].args[0], I(0x04));
+  EXPECT_EQ(instrs[8].op, rcx::Op::SetMotorOnOff);
+  EXPECT_EQ(instrs[8].args[0], I(0x85));
+}
+
 TEST(Motors, MergedBlocksKeepEveryOtherInstructionInOrder) {
   // The block is rewritten in place: the startup code stays first as it
   // is, a window's neutral instructions come before its merged commands,
