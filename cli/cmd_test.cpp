@@ -244,6 +244,12 @@ int run(const TestOptions& o) {
               << " (choose another name)\n";
     return kExitUsage;
   }
+  // Said before the tests run: a class's thousand programs took their time
+  // and then the report was lost ("Is a directory").
+  if (auto unwritable = o.junit.empty() ? std::nullopt : savefile::check_writable(o.junit)) {
+    std::cerr << "rcxc test: cannot write the report " << o.junit << ": " << *unwritable << "\n";
+    return kExitFailure;
+  }
   for (const auto& m : problems) std::cerr << "rcxc test: " << m << "\n";
   if (files.empty() && problems.empty()) std::cerr << "rcxc test: no .nqc files found\n";
   std::vector<rcx::semtest::JUnitCase> report;

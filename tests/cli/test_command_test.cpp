@@ -225,6 +225,12 @@ TEST(TestCommand, JunitWritesTheResultsAsAReport) {
   auto nowhere = run_rcxc({"test", ok, "--junit", d.path + "/no/such/folder/r.xml"});
   EXPECT_EQ(nowhere.exit_code, 1);
   EXPECT_NE(nowhere.err.find("cannot write the report"), std::string::npos) << nowhere.err;
+  // Said before any test runs, not after all of them.
+  EXPECT_EQ(nowhere.out.find("PASS"), std::string::npos) << nowhere.out;
+  auto folder = run_rcxc({"test", ok, "--junit", d.path});
+  EXPECT_EQ(folder.exit_code, 1);
+  EXPECT_NE(folder.err.find("cannot write the report " + d.path), std::string::npos) << folder.err;
+  EXPECT_EQ(folder.out.find("PASS"), std::string::npos) << folder.out;
 }
 
 // A test's @scenario file is an input too: a report named as it replaced
