@@ -111,13 +111,14 @@ Diagnostic& Diagnostics::error(SourceSpan span, std::string message) {
   return list_.back();
 }
 
+// One place applies the policy: add(), which a trial's warnings pass too.
 Diagnostic& Diagnostics::warning(SourceSpan span, WarningKind kind, std::string message) {
-  if (!policy.gives(kind)) {
+  const std::size_t before = list_.size();
+  add({Severity::Warning, span, std::move(message), {}, false, {}, kind});
+  if (list_.size() == before) {
     discarded_ = {};
     return discarded_;
   }
-  Severity severity = policy.as_error_for(kind) ? Severity::Error : Severity::Warning;
-  list_.push_back({severity, span, std::move(message), {}, false, {}, kind});
   return list_.back();
 }
 

@@ -51,7 +51,8 @@ std::optional<std::string> apply_warning_option(WarningPolicy& policy, std::stri
   };
   static constexpr Form forms[] = {
       {"no-error=", [](WarningPolicy& p, std::size_t i) { p.as_error[i] = false, p.not_as_error[i] = true; }},
-      {"error=", [](WarningPolicy& p, std::size_t i) { p.as_error[i] = true, p.not_as_error[i] = false, p.off[i] = false; }},
+      {"error=",
+       [](WarningPolicy& p, std::size_t i) { p.as_error[i] = true, p.not_as_error[i] = false, p.off[i] = false; }},
       {"no-", [](WarningPolicy& p, std::size_t i) { p.off[i] = true; }},
       {"", [](WarningPolicy& p, std::size_t i) { p.off[i] = false; }},
   };

@@ -191,14 +191,16 @@ std::optional<std::vector<Instr>> net_commands(const std::vector<const Instr*>& 
   std::vector<Instr> out;
   SpanId span = window.back()->span;
   auto switches = [&](const PerOutput<int>& m) {
-    for (auto [v, mask] : group(m, mode_at)) out.push_back(Instr{Op::SetMotorOnOff, {Operand::imm(mask | v)}, false, span});
+    for (auto [v, mask] : group(m, mode_at))
+      out.push_back(Instr{Op::SetMotorOnOff, {Operand::imm(mask | v)}, false, span});
   };
   auto powers = [&] {
     for (auto [v, mask] : group(power, power_at))
       out.push_back(Instr{Op::SetMotorPower, {Operand::imm(mask), Operand::imm(v)}, false, span});
   };
   auto directions = [&] {
-    for (auto [v, mask] : group(dir, dir_at)) out.push_back(Instr{Op::SetMotorDirection, {Operand::imm(mask | v)}, false, span});
+    for (auto [v, mask] : group(dir, dir_at))
+      out.push_back(Instr{Op::SetMotorDirection, {Operand::imm(mask | v)}, false, span});
   };
   switches(early);
   if (direction_first) {
