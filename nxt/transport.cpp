@@ -7,14 +7,17 @@
 #include <termios.h>
 #include <unistd.h>
 
-#include <libusb.h>
 
 #include <algorithm>
+#include <array>
+#include <charconv>
 #include <cctype>
 #include <cerrno>
 #include <cstring>
 
 #include <fmt/format.h>
+
+#include "nxt/usb_library.h"
 
 #ifdef RCXC_HAVE_BLUEZ
 #include <bluetooth/bluetooth.h>
@@ -118,12 +121,12 @@ class FramedFdTransport final : public Transport {
 
 class UsbTransport final : public Transport {
  public:
-  UsbTransport(libusb_context* ctx, libusb_device_handle* handle, std::string name, int stop_fd)
-      : ctx_(ctx), handle_(handle), name_(std::move(name)), stop_fd_(stop_fd) {}
+  UsbTransport(UsbLibrary usb, libusb_context* ctx, libusb_device_handle* handle, std::string name, int stop_fd)
+      : usb_(std::move(usb)), ctx_(ctx), handle_(handle), name_(std::move(name)), stop_fd_(stop_fd) {}
   ~UsbTransport() override {
-    libusb_release_interface(handle_, 0);
-    libusb_close(handle_);
-    libusb_exit(ctx_);
+    usb_.release_interface(handle_, 0);
+    usb_.close(handle_);
+    usb_.exit(ctx_);
   }
   UsbTransport(const UsbTransport&) = delete;
   UsbTransport& operator=(const UsbTransport&) = delete;
@@ -131,9 +134,9 @@ class UsbTransport final : public Transport {
   std::optional<LinkError> send(std::span<const std::uint8_t> telegram) override {
     Bytes data(telegram.begin(), telegram.end());
     int done = 0;
-    int rc = libusb_bulk_transfer(handle_, kUsbOut, data.data(), static_cast<int>(data.size()), &done, 1000);
+    int rc = usb_.bulk_transfer(handle_, kUsbOut, data.data(), static_cast<int>(data.size()), &done, 1000);
     if (rc != 0 || done != static_cast<int>(data.size()))
-      return LinkError{LinkError::Kind::Lost, fmt::format("cannot write to {}: {}", name_, libusb_strerror(rc))};
+      return LinkError{LinkError::Kind::Lost, fmt::format("cannot write to {}: {}", name_, usb_.strerror(rc))};
     return std::nullopt;
   }
 
@@ -144,10 +147,10 @@ class UsbTransport final : public Transport {
       std::uint8_t buf[64];
       int got = 0;
       auto slice = std::clamp(remaining(deadline), Millis(1), kSlice);
-      int rc = libusb_bulk_transfer(handle_, kUsbIn, buf, sizeof buf, &got, static_cast<unsigned>(slice.count()));
+      int rc = usb_.bulk_transfer(handle_, kUsbIn, buf, sizeof buf, &got, static_cast<unsigned>(slice.count()));
       if (got > 0) return std::optional<Bytes>(Bytes(buf, buf + got));
       if (rc != 0 && rc != LIBUSB_ERROR_TIMEOUT)
-        return LinkError{LinkError::Kind::Lost, fmt::format("cannot read from {}: {}", name_, libusb_strerror(rc))};
+        return LinkError{LinkError::Kind::Lost, fmt::format("cannot read from {}: {}", name_, usb_.strerror(rc))};
     } while (Clock::now() < deadline);
     return std::optional<Bytes>{};
   }
@@ -155,6 +158,7 @@ class UsbTransport final : public Transport {
   std::string describe() const override { return name_; }
 
  private:
+  UsbLibrary usb_;
   libusb_context* ctx_;
   libusb_device_handle* handle_;
   std::string name_;
@@ -177,51 +181,55 @@ constexpr const char* kUdevHint =
 
 std::variant<std::unique_ptr<Transport>, LinkError> open_usb(const std::string& serial, int stop_fd) {
   auto fail = [](std::string message) { return LinkError{LinkError::Kind::Open, std::move(message)}; };
+  auto loaded = load_usb_library();
+  if (auto* why = std::get_if<std::string>(&loaded)) return fail(*why);
+  UsbLibrary usb = std::get<UsbLibrary>(std::move(loaded));
   libusb_context* ctx = nullptr;
-  if (int rc = libusb_init(&ctx); rc != 0) return fail(fmt::format("cannot start libusb: {}", libusb_strerror(rc)));
+  if (int rc = usb.init(&ctx); rc != 0) return fail(fmt::format("cannot start libusb: {}", usb.strerror(rc)));
   libusb_device** list = nullptr;
-  ssize_t count = libusb_get_device_list(ctx, &list);
+  ssize_t count = usb.get_device_list(ctx, &list);
   std::vector<std::string> seen;
   bool denied = false;
   libusb_device_handle* chosen = nullptr;
   std::string chosen_serial;
   for (ssize_t i = 0; i < count && !chosen; ++i) {
     libusb_device_descriptor desc{};
-    if (libusb_get_device_descriptor(list[i], &desc) != 0) continue;
+    if (usb.get_device_descriptor(list[i], &desc) != 0) continue;
     if (desc.idVendor != kLegoVendor || desc.idProduct != kNxtProduct) continue;
     libusb_device_handle* h = nullptr;
-    int rc = libusb_open(list[i], &h);
+    int rc = usb.open(list[i], &h);
     if (rc == LIBUSB_ERROR_ACCESS) {
       denied = true;
       continue;
     }
     if (rc != 0) continue;
     unsigned char text[64] = {};
-    int n = desc.iSerialNumber ? libusb_get_string_descriptor_ascii(h, desc.iSerialNumber, text, sizeof text) : 0;
+    int n = desc.iSerialNumber ? usb.get_string_descriptor_ascii(h, desc.iSerialNumber, text, sizeof text) : 0;
     std::string this_serial = n > 0 ? std::string(reinterpret_cast<char*>(text), static_cast<std::size_t>(n)) : "";
     seen.push_back(this_serial);
     if (!serial.empty() && plain_address(this_serial) != plain_address(serial)) {
-      libusb_close(h);
+      usb.close(h);
       continue;
     }
-    libusb_set_auto_detach_kernel_driver(h, 1);
-    rc = libusb_claim_interface(h, 0);
+    usb.set_auto_detach_kernel_driver(h, 1);
+    rc = usb.claim_interface(h, 0);
     if (rc != 0) {
-      libusb_close(h);
-      libusb_free_device_list(list, 1);
-      libusb_exit(ctx);
+      usb.close(h);
+      usb.free_device_list(list, 1);
+      usb.exit(ctx);
       if (rc == LIBUSB_ERROR_BUSY) return fail("the NXT on USB is in use by another program");
       if (rc == LIBUSB_ERROR_ACCESS) return fail(fmt::format("no permission to claim the NXT on USB: {}", kUdevHint));
-      return fail(fmt::format("cannot claim the NXT on USB: {}", libusb_strerror(rc)));
+      return fail(fmt::format("cannot claim the NXT on USB: {}", usb.strerror(rc)));
     }
     chosen = h;
     chosen_serial = this_serial;
   }
-  libusb_free_device_list(list, 1);
+  usb.free_device_list(list, 1);
   if (chosen)
     return std::unique_ptr<Transport>(std::make_unique<UsbTransport>(
-        ctx, chosen, fmt::format("NXT on USB{}", chosen_serial.empty() ? "" : " " + chosen_serial), stop_fd));
-  libusb_exit(ctx);
+        std::move(usb), ctx, chosen, fmt::format("NXT on USB{}", chosen_serial.empty() ? "" : " " + chosen_serial),
+        stop_fd));
+  usb.exit(ctx);
   if (denied) return fail(fmt::format("found an NXT on USB but have no permission to open it: {}", kUdevHint));
   if (!serial.empty() && !seen.empty())
     return fail(fmt::format("no NXT with serial {} on USB (found: {})", serial, fmt::join(seen, ", ")));
@@ -245,7 +253,8 @@ std::variant<std::unique_ptr<Transport>, LinkError> open_bluetooth(const std::st
   sockaddr_rc addr{};
   addr.rc_family = AF_BLUETOOTH;
   addr.rc_channel = 1;  // the NXT's serial port profile
-  str2ba(address.c_str(), &addr.rc_bdaddr);
+  std::array<std::uint8_t, 6> bytes = bluetooth_address_bytes(address);
+  std::copy(bytes.begin(), bytes.end(), addr.rc_bdaddr.b);
   if (::connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0 && errno != EINPROGRESS) {
     std::string why = errno_text();
     ::close(fd);
@@ -315,6 +324,16 @@ std::variant<std::unique_ptr<Transport>, LinkError> open_path(const std::string&
 }
 
 }  // namespace
+
+std::array<std::uint8_t, 6> bluetooth_address_bytes(std::string_view address) {
+  std::array<std::uint8_t, 6> bytes{};
+  for (std::size_t i = 0; i < bytes.size() && i * 3 + 2 <= address.size(); ++i) {
+    unsigned value = 0;
+    std::from_chars(address.data() + i * 3, address.data() + i * 3 + 2, value, 16);
+    bytes[bytes.size() - 1 - i] = static_cast<std::uint8_t>(value);
+  }
+  return bytes;
+}
 
 Bytes frame(std::span<const std::uint8_t> telegram) {
   Bytes out;

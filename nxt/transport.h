@@ -8,6 +8,7 @@
 // CLI's signalfd for SIGINT), so Ctrl-C ends any wait within 50 ms.
 #pragma once
 
+#include <array>
 #include <chrono>
 #include <cstdint>
 #include <deque>
@@ -16,6 +17,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <variant>
 #include <vector>
 
@@ -71,6 +73,12 @@ std::variant<std::unique_ptr<Transport>, LinkError> open_port(const PortSpec& sp
 
 // A length-framed transport over a descriptor it owns (tty, pty, socket).
 std::unique_ptr<Transport> framed_fd_transport(int fd, std::string name, int stop_fd);
+
+// A Bluetooth address "AA:BB:CC:DD:EE:FF" as BlueZ's sockets take it: the
+// bytes last first (FF first). It does BlueZ's str2ba's work so that rcxc
+// needs BlueZ's headers but not its library. `address` is one parse_port
+// accepted; a shorter one leaves the missing bytes 0.
+std::array<std::uint8_t, 6> bluetooth_address_bytes(std::string_view address);
 
 // Is this build able to open RFCOMM sockets (BlueZ headers at build time)?
 bool have_bluetooth_sockets();

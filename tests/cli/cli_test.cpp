@@ -19,6 +19,16 @@ TEST(Cli, VersionPrintsNameAndVersion) {
   EXPECT_EQ(r.out.rfind("rcxc ", 0), 0u) << r.out;
 }
 
+TEST(Cli, StartingLoadsNoUsbOrBluetoothLibrary) {
+  // libusb (with libudev) is loaded when an NXT's USB port is opened, and of
+  // BlueZ's library nothing is used: loading them cost every compile (docs/compiler.md).
+  auto r = rcxc::test::run_process({"/bin/sh", "-c", std::string("LD_DEBUG=files exec '") + RCXC_BINARY +
+                                                          "' compile - -o /dev/null < /dev/null"});
+  EXPECT_NE(r.err.find("libc.so"), std::string::npos) << "LD_DEBUG said nothing: " << r.err.substr(0, 300);
+  for (const char* library : {"libusb", "libudev", "libbluetooth"})
+    EXPECT_EQ(r.err.find(library), std::string::npos) << library << "\n" << r.err.substr(0, 2000);
+}
+
 TEST(Cli, HelpListsSubcommands) {
   auto r = run_rcxc({"--help"});
   EXPECT_EQ(r.exit_code, 0);

@@ -12,6 +12,7 @@
 #include "nxt/client.h"
 #include "nxt/scenario.h"
 #include "nxt/transport.h"
+#include "nxt/usb_library.h"
 #include "nxt/virtual_nxt.h"
 #include "tests/nxt/round_trips.h"
 #include "tests/support/served_thread.h"
@@ -62,6 +63,34 @@ TEST(NxtPort, Syntax) {
   EXPECT_EQ(std::get<PortSpec>(parse_port(std::string("usb"), std::string("/dev/rfcomm0"))).kind, PortKind::Usb);
   EXPECT_TRUE(std::holds_alternative<LinkError>(parse_port(std::string("bt:00:16:53"), std::nullopt)));
   EXPECT_TRUE(std::holds_alternative<LinkError>(parse_port(std::string(""), std::nullopt)));
+}
+
+TEST(NxtPort, BluetoothAddressesGoToTheSocketLastByteFirst) {
+  // The byte order BlueZ's str2ba gives (checked against it): a wrong one
+  // would page another brick, or none.
+  using B = std::array<std::uint8_t, 6>;
+  EXPECT_EQ(bluetooth_address_bytes("00:16:53:0A:0B:0C"), (B{0x0C, 0x0B, 0x0A, 0x53, 0x16, 0x00}));
+  EXPECT_EQ(bluetooth_address_bytes("fe:dc:BA:98:76:54"), (B{0x54, 0x76, 0x98, 0xBA, 0xDC, 0xFE}));
+}
+
+TEST(NxtUsb, LibusbIsLoadedWhenAUsbPortIsOpenedWithEveryFunctionTheTransportCalls) {
+  auto loaded = load_usb_library();
+  ASSERT_TRUE(std::holds_alternative<UsbLibrary>(loaded)) << std::get<std::string>(loaded);
+  const auto& usb = std::get<UsbLibrary>(loaded);
+  EXPECT_TRUE(usb.handle && usb.init && usb.exit && usb.strerror && usb.get_device_list && usb.free_device_list &&
+              usb.get_device_descriptor && usb.open && usb.close && usb.get_string_descriptor_ascii &&
+              usb.set_auto_detach_kernel_driver && usb.claim_interface && usb.release_interface && usb.bulk_transfer);
+  EXPECT_STREQ(usb.strerror(LIBUSB_ERROR_TIMEOUT), "Operation timed out");
+}
+
+TEST(NxtUsb, AMissingOrWrongLibusbSaysWhatIsMissing) {
+  auto missing = load_usb_library("libno-such-usb.so.0");
+  ASSERT_TRUE(std::holds_alternative<std::string>(missing));
+  EXPECT_NE(std::get<std::string>(missing).find("cannot load libno-such-usb.so.0"), std::string::npos);
+  EXPECT_NE(std::get<std::string>(missing).find("apt-get install libusb-1.0-0"), std::string::npos);
+  auto wrong = load_usb_library("libm.so.6");
+  ASSERT_TRUE(std::holds_alternative<std::string>(wrong));
+  EXPECT_EQ(std::get<std::string>(wrong), "libm.so.6 has no libusb_init: USB needs libusb-1.0.16 or later");
 }
 
 TEST(NxtPort, AMissingTtySaysWhatToCheck) {
