@@ -2,6 +2,7 @@
 
 #include <pthread.h>
 #include <signal.h>
+#include <sys/resource.h>
 
 #include <exception>
 
@@ -26,6 +27,15 @@ void* run_job(void* arg) {
 }
 
 }  // namespace
+
+bool let_main_stack_grow_to(std::size_t bytes) {
+  rlimit limit{};
+  if (::getrlimit(RLIMIT_STACK, &limit) != 0) return false;
+  if (limit.rlim_cur == RLIM_INFINITY || limit.rlim_cur >= bytes) return true;
+  if (limit.rlim_max != RLIM_INFINITY && limit.rlim_max < bytes) return false;
+  limit.rlim_cur = bytes;
+  return ::setrlimit(RLIMIT_STACK, &limit) == 0;
+}
 
 void run_with_stack(std::size_t bytes, const std::function<void()>& body) {
   // The waiting thread blocks every signal, so a signal sent to the process

@@ -103,7 +103,10 @@ int main(int argc, char** argv) {
   std::signal(SIGPIPE, SIG_IGN);
   int exit_code = rcxc::cli::kExitFailure;
   if (rcxc::cli::compiles_once(argc, argv)) rcxc::cli::tune_allocator_for_one_compile();
-  rcxc::cli::run_with_stack(rcxc::cli::kWorkStackBytes, [&] { exit_code = run_main(argc, argv); });
+  if (rcxc::cli::let_main_stack_grow_to(rcxc::cli::kWorkStackBytes))
+    exit_code = run_main(argc, argv);
+  else
+    rcxc::cli::run_with_stack(rcxc::cli::kWorkStackBytes, [&] { exit_code = run_main(argc, argv); });
   // What a command printed must have arrived: a listing, a report or an
   // image sent to a full disk is a failure, not a success with nothing in
   // the file.

@@ -130,11 +130,12 @@ TEST(HostileInput, ReasonableNestingStillCompiles) {
 
 TEST(HostileInput, TheDeepestNestingAllowedIsCompiledWhateverTheCallersStack) {
   // Close to the limit of 3200 levels, in each shape the compiler recurses
-  // over, with a 256 KB main-thread stack: the work runs on a thread with
-  // its own stack (cli/large_stack.h), so the limit does not depend on the
-  // caller's `ulimit -s`. On the main thread each of these overflows it (a
-  // level takes 250 bytes to 1 KB). The programs are too long for the RCX:
-  // the compiler must get as far as saying so.
+  // over, with a 256 KB main-thread stack, so the limit does not depend on
+  // the caller's `ulimit -s` (cli/large_stack.h): under a soft limit rcxc
+  // raises it and works on the main thread; under a hard one it works on a
+  // thread with a stack of its own. With a 256 KB stack each of these
+  // overflows it (a level takes 250 bytes to 1 KB). The programs are too
+  // long for the RCX: the compiler must get as far as saying so.
   TempDir d;
   const std::vector<std::string> programs = {
       "int x; task main() { x = x" + repeat("+x", 3190) + "; }\n",
@@ -142,15 +143,17 @@ TEST(HostileInput, TheDeepestNestingAllowedIsCompiledWhateverTheCallersStack) {
       "int x; task main() { " + repeat("if (x) ", 3190) + "x = 1; }\n",
       "int x; task main() { " + repeat("while (x) {", 1590) + "x = 1;" + repeat("}", 1590) + " }\n",
   };
-  for (std::size_t i = 0; i < programs.size(); ++i) {
-    std::string src = d.write(fmt::format("p{}.nqc", i), programs[i]);
-    auto r = run_process({"/bin/sh", "-c", fmt::format("ulimit -s 256; exec '{}' compile -O2 '{}' -o '{}/p.rcx'",
-                                                       RCXC_BINARY, src, d.path)},
-                         "", kHangMs * 4);
-    EXPECT_FALSE(r.timed_out) << i;
-    EXPECT_EQ(r.exit_code, 1) << i << ": " << r.err.substr(0, 300);
-    EXPECT_NE(r.err.find("bytes of program memory; the RCX has 6144"), std::string::npos) << i << ": "
-                                                                                          << r.err.substr(0, 300);
+  for (std::string limit : {"-S -s 256", "-s 256"}) {
+    for (std::size_t i = 0; i < programs.size(); ++i) {
+      std::string src = d.write(fmt::format("p{}.nqc", i), programs[i]);
+      auto r = run_process({"/bin/sh", "-c", fmt::format("ulimit {}; exec '{}' compile -O2 '{}' -o '{}/p.rcx'", limit,
+                                                         RCXC_BINARY, src, d.path)},
+                           "", kHangMs * 4);
+      EXPECT_FALSE(r.timed_out) << limit << " " << i;
+      EXPECT_EQ(r.exit_code, 1) << limit << " " << i << ": " << r.err.substr(0, 300);
+      EXPECT_NE(r.err.find("bytes of program memory; the RCX has 6144"), std::string::npos)
+          << limit << " " << i << ": " << r.err.substr(0, 300);
+    }
   }
 }
 
