@@ -233,7 +233,11 @@ namespace {
 // FILE "-": an image or NQC source on the standard input, told apart as
 // files are (the signature "RCXI"), after reading it once.
 std::variant<rcx::Image, std::string> load_standard_input(const CompileRequest& request) {
-  auto [name, read] = frontend::read_source(std::string(frontend::kStandardInput));
+  // Named members, not a structured binding: clang before 16 cannot capture
+  // a binding in the lambda below.
+  frontend::SourceRead source = frontend::read_source(std::string(frontend::kStandardInput));
+  const std::string& name = source.name;
+  auto& read = source.bytes;
   if (auto* problem = std::get_if<rcx::FileProblem>(&read))
     return *problem == rcx::FileProblem::TooLarge ? rcx::too_large_message(name, rcx::kSourceFile)
                                                   : "cannot read the standard input";
