@@ -281,6 +281,10 @@ const BadProgram kCases[] = {
       "can read and not assign",
       "4:3: error: cannot assign to this expression: it is not a variable but the value of a timer, which a program "
       "can read and not assign"}},
+    // `__res 3 { ... }` (nqc's Spybot resources) was taken for a call
+    // without its parentheses: "write '__res(3)'".
+    {"ASpybotResourceBlockSaysTheWordIsReserved", "task main()\n{\n  __res 3 { 1, 2 };\n}\n",
+     {"3:3: error: '__res' is reserved by nqc (an intrinsic of other targets); the RCX has no use for it"}},
     // nqc reserves the word (syntax error); the call is not taken for the
     // RCX 2 statement either.
     {"SubsNamedLikeRcx2StatementsAreRefusedByName", "int x;\nsub monitor() { x = 1; }\ntask main()\n{\n  monitor();\n}\n",
