@@ -877,10 +877,19 @@ class Checker {
   static std::string source_noun(const Expr& e) {
     const auto* s = as<Source>(e);
     if (!s || !s->type->constant) return "";
-    auto range = rcx::source_argument_range(*s->type->constant);
-    if (!range || range->noun.empty()) return "";
-    return " but the value of " + std::string(range->noun == "output" ? "an " : "a ") + std::string(range->noun) +
-           ", which a program can read and not assign";
+    std::string what;
+    switch (static_cast<rcx::Source>(*s->type->constant)) {
+      case rcx::Source::Random: what = "a random number"; break;
+      case rcx::Source::Program: what = "the program number"; break;
+      case rcx::Source::Clock: what = "the clock"; break;
+      case rcx::Source::Message: what = "the message buffer"; break;
+      default: {
+        auto range = rcx::source_argument_range(*s->type->constant);
+        if (!range || range->noun.empty()) return "";
+        what = std::string(range->noun == "output" ? "an " : "a ") + std::string(range->noun);
+      }
+    }
+    return " but the value of " + what + ", which a program can read and not assign";
   }
 
   void visit_expr(Conditional& n, Expr& e, Use) {

@@ -276,11 +276,16 @@ const BadProgram kCases[] = {
      "int a;\nvoid f(int &x) { x = 1; }\ntask main()\n{\n  @0 = 1;\n  @(0) += 2;\n  ++@0;\n  (@0)--;\n  f(@0);\n"
      "  asm { set @0, 4; }\n}\n",
      {}},
-    {"ATimerIsReadNotAssigned", "task main()\n{\n  __source(1, 0) = 3;\n  @0x10002 += 1;\n}\n",
+    {"ATimerIsReadNotAssigned",
+     "task main()\n{\n  __source(1, 0) = 3;\n  @0x10002 += 1;\n  __source(4, 5) = 1;\n  @0xf0000 = 2;\n}\n",
      {"3:3: error: cannot assign to this expression: it is not a variable but the value of a timer, which a program "
       "can read and not assign",
       "4:3: error: cannot assign to this expression: it is not a variable but the value of a timer, which a program "
-      "can read and not assign"}},
+      "can read and not assign",
+      "5:3: error: cannot assign to this expression: it is not a variable but the value of a random number, which a "
+      "program can read and not assign",
+      "6:3: error: cannot assign to this expression: it is not a variable but the value of the message buffer, which "
+      "a program can read and not assign"}},
     // `__res 3 { ... }` (nqc's Spybot resources) was taken for a call
     // without its parentheses: "write '__res(3)'".
     {"ASpybotResourceBlockSaysTheWordIsReserved", "task main()\n{\n  __res 3 { 1, 2 };\n}\n",
