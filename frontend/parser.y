@@ -24,6 +24,7 @@
 #include "frontend/ast.h"
 #include "frontend/diagnostics.h"
 #include "frontend/nesting.h"
+#include "frontend/parse.h"
 #include "frontend/token.h"
 
 namespace rcxc::frontend {
@@ -859,6 +860,12 @@ void yy::Parser::report_syntax_error(const context& ctx) const {
       starts_statement(feed, feed.pos - 2)) {
     const Token& callee = feed.tokens[feed.pos - 2];
     const Token& value = feed.tokens[feed.pos - 1];
+    // `__res 3 { ... }` is nqc's resource block of the Spybot, no call.
+    if (const char* why = reserved_by_nqc(callee.text)) {
+      feed.diags.error(callee.span, "'" + std::string(callee.text) + "' is reserved by nqc (" + why +
+                                        "); the RCX has no use for it");
+      return;
+    }
     std::string argument = value.span.begin.expansion != 0 ? "..." : std::string(value.text);
     feed.diags.error(ctx.location(), "a call needs parentheses around its arguments: write '" +
                                          std::string(callee.text) + "(" + argument + ")'");

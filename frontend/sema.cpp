@@ -91,6 +91,14 @@ bool is_writable(const Symbol& s) {
   return s.kind == SymbolKind::Global || s.kind == SymbolKind::Local;
 }
 
+// nqc's `@N` with source type 0: variable slot N, which nqc lets a program
+// assign, step and pass to an `int &` parameter. Lowering finds the
+// variable in the slot (or refuses a slot that holds none).
+bool is_variable_slot(const Expr& e) {
+  const auto* s = as<Source>(e);
+  return s && s->type->constant && *s->type->constant == static_cast<int>(rcx::Source::Variable) && s->arg->constant;
+}
+
 // How an expression's value is used, for call and condition checks.
 enum class Use { Value, Discarded, Condition };
 
@@ -684,6 +692,7 @@ class Checker {
     }
     if (o.role == rcx::Role::Variable) {
       const auto* n = as<Name>(e);
+      if (is_variable_slot(e)) return;
       if (!n || n->symbol == kNoSymbol || !is_writable(prog_.symbols[n->symbol]))
         diags_.error(e.span, what + " must be a variable");
       return;
@@ -852,14 +861,35 @@ class Checker {
 
   // `where`: where to show that the target is no variable.
   void require_writable(const Expr& target, const std::string& verb, const SourceSpan& where) {
+    if (is_variable_slot(target)) return;
     const auto* n = as<Name>(target);
     if (!n) {
-      diags_.error(where, "cannot " + verb + " this expression: it is not a variable");
+      diags_.error(where, "cannot " + verb + " this expression: it is not a variable" + source_noun(target));
       return;
     }
     if (n->symbol == kNoSymbol) return;  // already reported
     const Symbol& s = prog_.symbols[n->symbol];
     if (!is_writable(s)) diags_.error(target.span, "cannot " + verb + " '" + s.name + "': it is a constant parameter");
+  }
+
+  // What a source other than a variable reads, said after "it is not a
+  // variable": Timer(0) = 3 is a timer's value, which no instruction sets.
+  static std::string source_noun(const Expr& e) {
+    const auto* s = as<Source>(e);
+    if (!s || !s->type->constant) return "";
+    std::string what;
+    switch (static_cast<rcx::Source>(*s->type->constant)) {
+      case rcx::Source::Random: what = "a random number"; break;
+      case rcx::Source::Program: what = "the program number"; break;
+      case rcx::Source::Clock: what = "the clock"; break;
+      case rcx::Source::Message: what = "the message buffer"; break;
+      default: {
+        auto range = rcx::source_argument_range(*s->type->constant);
+        if (!range || range->noun.empty()) return "";
+        what = std::string(range->noun == "output" ? "an " : "a ") + std::string(range->noun);
+      }
+    }
+    return " but the value of " + what + ", which a program can read and not assign";
   }
 
   void visit_expr(Conditional& n, Expr& e, Use) {
@@ -998,6 +1028,7 @@ class Checker {
       if (n && n->symbol != kNoSymbol && prog_.symbols[n->symbol].kind == SymbolKind::Param &&
           prog_.symbols[n->symbol].param_kind == ParamKind::ConstReference)
         return;
+      if (is_variable_slot(arg)) return;
       if (!n || (n->symbol != kNoSymbol && !is_writable(prog_.symbols[n->symbol]))) {
         auto& d = diags_.error(arg.span, "argument for 'int &" + p.name + "' of '" + f.name + "' must be a variable");
         d.notes.push_back({p.span, "parameter declared here"});

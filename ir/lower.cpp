@@ -1,6 +1,7 @@
 #include "ir/lower.h"
 
 #include <algorithm>
+#include <bit>
 #include <deque>
 #include <map>
 #include <unordered_map>
@@ -328,7 +329,77 @@ struct Lowerer {
       if (b->expr) return var_of(*b->expr);
       return b->var;
     }
+    if (auto slot = variable_slot(e)) return slot_global(*slot);
     return std::nullopt;
+  }
+
+  // nqc's `@N` (source type 0) is variable slot N, which nqc lets a program
+  // read, assign, step and pass to an `int &` parameter as a variable. N
+  // when e is one.
+  std::optional<int> variable_slot(const ast::Expr& e) {
+    const ast::Source* s = source_of(e);
+    if (!s) return std::nullopt;
+    auto type = constant(*s->type), arg = constant(*s->arg);
+    if (!type || *type != static_cast<int>(rcx::Source::Variable) || !arg) return std::nullopt;
+    return *arg;
+  }
+
+  // The global in slot N. The globals take the lowest free slots in
+  // declaration order, past the reserved ones, used or not (slots.cpp), so
+  // this is known before slots are given out.
+  std::optional<VarId> slot_global(int slot) {
+    std::uint32_t taken = out.reserved_slots;
+    for (VarId g : globals) {
+      if (taken == 0xffffffffu) break;
+      int s = std::countr_one(taken);
+      if (s == slot) return g;
+      taken |= 1u << s;
+    }
+    return std::nullopt;
+  }
+
+  // A slot `#pragma reserve` keeps that `@N` names as a target: no variable
+  // of the program is there, so the instruction names the slot itself.
+  std::optional<int> reserved_slot_target(const ast::Expr& e) {
+    auto slot = variable_slot(e);
+    if (!slot || *slot < 0 || *slot > 31 || slot_global(*slot) || !((out.reserved_slots >> *slot) & 1u))
+      return std::nullopt;
+    return slot;
+  }
+
+  // Why `@N` cannot be written here, when e is such an @N: it holds no
+  // global, and where rcxc puts locals and temporaries is its own choice.
+  std::optional<std::string> unwritable_slot(const ast::Expr& e) {
+    auto slot = variable_slot(e);
+    if (!slot) return std::nullopt;
+    if (*slot < 0 || *slot > 31)
+      return fmt::format("variable slot {} does not exist: the RCX has slots 0 to 31", *slot);
+    if ((out.reserved_slots >> *slot) & 1u)
+      return fmt::format("variable slot {} is one #pragma reserve keeps: no variable of the program is there, so it "
+                         "is assigned by number and cannot stand for one",
+                         *slot);
+    return fmt::format("variable slot {} holds no global variable: rcxc chooses the slots of locals and temporaries "
+                       "itself; name the variable, or keep the slot with #pragma reserve",
+                       *slot);
+  }
+
+  // `op slot, value` as a raw instruction (the passes leave it where it is
+  // and assume nothing about it), for a slot no variable of the program holds.
+  void emit_slot_instr(Op op, int slot, Operand v) {
+    std::vector<Operand> bytes{Operand::imm(rcx::info(op).code), Operand::imm(slot)};
+    if (v.is_var())
+      bytes.insert(bytes.end(), {Operand::imm(0), v, Operand::imm(0)});
+    else
+      bytes.insert(bytes.end(),
+                   {Operand::imm(v.source), Operand::imm(v.value & 0xff), Operand::imm((v.value >> 8) & 0xff)});
+    fn().blocks[static_cast<std::size_t>(cur)].instrs.push_back(Instr{Op::SetVariable, bytes, true, span_id()});
+  }
+
+  // A temporary holding what slot N holds now.
+  VarId read_slot(int slot) {
+    VarId t = temp();
+    set(t, Operand::src(static_cast<int>(rcx::Source::Variable), slot));
+    return t;
   }
 
   // Whether evaluating `e` reads variable `v` (through substitutions too).
@@ -352,6 +423,7 @@ struct Lowerer {
     if (const auto* a = ast::as<ast::Assign>(e)) return reads(*a->target, v) || reads(*a->value, v);
     if (const auto* c = ast::as<ast::Conditional>(e))
       return reads(*c->cond, v) || reads(*c->then_value, v) || reads(*c->else_value, v);
+    if (auto slot = variable_slot(e)) return slot_global(*slot) == v;
     return false;
   }
 
@@ -390,6 +462,9 @@ struct Lowerer {
         error(e.span, non_constant_source(*s, type));
         return Operand::imm(0);
       }
+      // @N where a global is: that global, so the passes see it read.
+      if (*type == static_cast<int>(rcx::Source::Variable))
+        if (auto g = slot_global(*arg)) return Operand::var(*g);
       return Operand::src(*type, *arg);
     }
     VarId t = temp();
@@ -680,7 +755,13 @@ struct Lowerer {
       case ast::UnaryOp::PostInc:
       case ast::UnaryOp::PostDec: {
         auto v = var_of(*u.operand);
-        if (!v) return error(e.span, "++ and -- need a variable");
+        if (auto slot = reserved_slot_target(*u.operand)) {
+          set(d, Operand::src(static_cast<int>(rcx::Source::Variable), *slot));
+          emit_slot_instr(u.op == ast::UnaryOp::PostInc ? Op::AddToVariable : Op::SubtractFromVariable, *slot,
+                          Operand::imm(1));
+          return;
+        }
+        if (!v) return error(e.span, unwritable_slot(*u.operand).value_or("++ and -- need a variable"));
         set(d, Operand::var(*v));
         step(u, e.span);
         return;
@@ -689,14 +770,20 @@ struct Lowerer {
   }
 
   // ++x / --x / x++ / x-- as a statement; returns the variable.
-  std::optional<VarId> step(const ast::Unary& u, SourceSpan at) {
+  std::optional<VarId> step(const ast::Unary& u, SourceSpan at, bool wanted = true) {
+    bool inc = u.op == ast::UnaryOp::PreInc || u.op == ast::UnaryOp::PostInc;
+    Op op = inc ? Op::AddToVariable : Op::SubtractFromVariable;
     auto v = var_of(*u.operand);
     if (!v) {
-      error(at, "++ and -- need a variable");
+      if (auto slot = reserved_slot_target(*u.operand)) {
+        emit_slot_instr(op, *slot, Operand::imm(1));
+        if (!wanted) return std::nullopt;
+        return read_slot(*slot);
+      }
+      error(at, unwritable_slot(*u.operand).value_or("++ and -- need a variable"));
       return std::nullopt;
     }
-    bool inc = u.op == ast::UnaryOp::PreInc || u.op == ast::UnaryOp::PostInc;
-    arith(inc ? Op::AddToVariable : Op::SubtractFromVariable, *v, Operand::imm(1));
+    arith(op, *v, Operand::imm(1));
     return v;
   }
 
@@ -825,26 +912,16 @@ struct Lowerer {
 
   // Performs `target op= value`; returns the target variable.
   VarId assign(const ast::Assign& a, SourceSpan at) {
+    if (auto slot = reserved_slot_target(*a.target)) {
+      assign_reserved_slot(*slot, a, at);
+      return read_slot(*slot);
+    }
     auto v = var_of(*a.target);
     if (!v) {
-      error(at, "the left side of an assignment must be a variable");
+      error(at, unwritable_slot(*a.target).value_or("the left side of an assignment must be a variable"));
       return temp();
     }
-    auto binary_op = [&]() -> std::optional<ast::BinaryOp> {
-      switch (a.op) {
-        case ast::AssignOp::Add: return ast::BinaryOp::Add;
-        case ast::AssignOp::Sub: return ast::BinaryOp::Sub;
-        case ast::AssignOp::Mul: return ast::BinaryOp::Mul;
-        case ast::AssignOp::Div: return ast::BinaryOp::Div;
-        case ast::AssignOp::Mod: return ast::BinaryOp::Mod;
-        case ast::AssignOp::BitAnd: return ast::BinaryOp::BitAnd;
-        case ast::AssignOp::BitOr: return ast::BinaryOp::BitOr;
-        case ast::AssignOp::BitXor: return ast::BinaryOp::BitXor;
-        case ast::AssignOp::Shl: return ast::BinaryOp::Shl;
-        case ast::AssignOp::Shr: return ast::BinaryOp::Shr;
-        default: return std::nullopt;
-      }
-    }();
+    auto binary_op = compound_op(a.op);
     switch (a.op) {
       case ast::AssignOp::Assign: into(*v, *a.value); break;
       case ast::AssignOp::Abs: arith(Op::AbsoluteValue, *v, stepped_value(*a.value)); break;
@@ -863,16 +940,53 @@ struct Lowerer {
     return *v;
   }
 
+  // `@N op= value` for a slot #pragma reserve keeps (no variable of the
+  // program is there): one instruction naming the slot where the firmware
+  // has one, else the value computed in a temporary and set.
+  void assign_reserved_slot(int slot, const ast::Assign& a, SourceSpan at) {
+    auto binary_op = compound_op(a.op);
+    std::optional<Op> op = a.op == ast::AssignOp::Assign ? Op::SetVariable
+                           : a.op == ast::AssignOp::Abs  ? Op::AbsoluteValue
+                           : a.op == ast::AssignOp::Sign ? Op::SignVariable
+                                                         : direct_op(*binary_op);
+    if (op == Op::SetVariable) return emit_slot_instr(*op, slot, value(*a.value));
+    if (op) return emit_slot_instr(*op, slot, stepped_value(*a.value));
+    const ast::Expr& whole =
+        synthesized.emplace_back(ast::Expr{ast::Binary{*binary_op, *a.target, *a.value}, at, std::nullopt});
+    VarId t = temp();
+    into(t, whole);
+    emit_slot_instr(Op::SetVariable, slot, Operand::var(t));
+  }
+
+  static std::optional<ast::BinaryOp> compound_op(ast::AssignOp op) {
+    switch (op) {
+      case ast::AssignOp::Add: return ast::BinaryOp::Add;
+      case ast::AssignOp::Sub: return ast::BinaryOp::Sub;
+      case ast::AssignOp::Mul: return ast::BinaryOp::Mul;
+      case ast::AssignOp::Div: return ast::BinaryOp::Div;
+      case ast::AssignOp::Mod: return ast::BinaryOp::Mod;
+      case ast::AssignOp::BitAnd: return ast::BinaryOp::BitAnd;
+      case ast::AssignOp::BitOr: return ast::BinaryOp::BitOr;
+      case ast::AssignOp::BitXor: return ast::BinaryOp::BitXor;
+      case ast::AssignOp::Shl: return ast::BinaryOp::Shl;
+      case ast::AssignOp::Shr: return ast::BinaryOp::Shr;
+      default: return std::nullopt;
+    }
+  }
+
   // Evaluates e for its side effects only.
   void effect(const ast::Expr& e) {
     if (expanding.empty()) span = e.span;
     if (const auto* a = ast::as<ast::Assign>(e)) {
-      assign(*a, e.span);
+      if (auto slot = reserved_slot_target(*a->target))
+        assign_reserved_slot(*slot, *a, e.span);  // nothing reads it back
+      else
+        assign(*a, e.span);
     } else if (const auto* u = ast::as<ast::Unary>(e); u && u->op != ast::UnaryOp::Negate &&
                                                        u->op != ast::UnaryOp::BitNot && u->op != ast::UnaryOp::LogNot &&
                                                        u->op != ast::UnaryOp::Plus && u->op != ast::UnaryOp::Abs &&
                                                        u->op != ast::UnaryOp::Sign) {
-      step(*u, e.span);
+      step(*u, e.span, false);
     } else if (const auto* c = ast::as<ast::Call>(e)) {
       call(*c, e.span);
     } else if (const auto* k = ast::as<ast::Conditional>(e)) {
@@ -978,7 +1092,10 @@ struct Lowerer {
         case ast::ParamKind::Reference: {
           auto v = var_of(arg);
           if (!v) {
-            error(arg.span, fmt::format("argument for 'int &{}' of '{}' must be a variable", p.name, f.name));
+            if (auto why = unwritable_slot(arg))
+              error(arg.span, fmt::format("argument for 'int &{}' of '{}': {}", p.name, f.name, *why));
+            else
+              error(arg.span, fmt::format("argument for 'int &{}' of '{}' must be a variable", p.name, f.name));
             return;
           }
           bound.push_back({p.symbol, Binding{*v, nullptr}});

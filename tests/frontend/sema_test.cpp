@@ -269,6 +269,27 @@ const BadProgram kCases[] = {
       "6:7: error: the RCX has no pointers: 'p' must be a plain int",
       "4:3: error: 'SetEvent' is not declared (it belongs to the RCX 2 firmware's API; this target is the RCX)",
       "5:3: error: 'y' is not declared", "7:7: error: 'z' is not declared"}},
+    // nqc's `@N` of source type 0 is variable slot N, a variable to nqc:
+    // assigned, stepped, passed to `int &` and named by a mnemonic (nqc -L:
+    // `setv var[0], 1`). Other sources are read, not assigned.
+    {"VariableSlotsAreVariables",
+     "int a;\nvoid f(int &x) { x = 1; }\ntask main()\n{\n  @0 = 1;\n  @(0) += 2;\n  ++@0;\n  (@0)--;\n  f(@0);\n"
+     "  asm { set @0, 4; }\n}\n",
+     {}},
+    {"ATimerIsReadNotAssigned",
+     "task main()\n{\n  __source(1, 0) = 3;\n  @0x10002 += 1;\n  __source(4, 5) = 1;\n  @0xf0000 = 2;\n}\n",
+     {"3:3: error: cannot assign to this expression: it is not a variable but the value of a timer, which a program "
+      "can read and not assign",
+      "4:3: error: cannot assign to this expression: it is not a variable but the value of a timer, which a program "
+      "can read and not assign",
+      "5:3: error: cannot assign to this expression: it is not a variable but the value of a random number, which a "
+      "program can read and not assign",
+      "6:3: error: cannot assign to this expression: it is not a variable but the value of the message buffer, which "
+      "a program can read and not assign"}},
+    // `__res 3 { ... }` (nqc's Spybot resources) was taken for a call
+    // without its parentheses: "write '__res(3)'".
+    {"ASpybotResourceBlockSaysTheWordIsReserved", "task main()\n{\n  __res 3 { 1, 2 };\n}\n",
+     {"3:3: error: '__res' is reserved by nqc (an intrinsic of other targets); the RCX has no use for it"}},
     // nqc reserves the word (syntax error); the call is not taken for the
     // RCX 2 statement either.
     {"SubsNamedLikeRcx2StatementsAreRefusedByName", "int x;\nsub monitor() { x = 1; }\ntask main()\n{\n  monitor();\n}\n",
