@@ -242,6 +242,8 @@ int run(const CompareOptions& o) {
       return kExitFailure;
     }
     scenarios.push_back({path, std::get<std::vector<rcx::TimedInput>>(std::move(parsed))});
+    if (scenarios.back().inputs.empty())
+      std::cerr << "rcxc compare: note: " << path << " holds no [[input]] tables: its runs have no inputs\n";
   }
   if (scenarios.empty()) scenarios = rcx::builtin_scenarios();
 

@@ -285,6 +285,8 @@ std::variant<std::vector<nxt::ScenarioInput>, std::string> read_brick_scenario(c
   }
   auto parsed = nxt::read_scenario_file(path);
   if (auto* e = std::get_if<nxt::ScenarioError>(&parsed)) return e->message;
+  if (std::get<std::vector<nxt::ScenarioInput>>(parsed).empty())
+    std::cerr << "rcxc nxt brick: " << path << " holds no [[input]] tables: the inputs stay as they are\n";
   return std::get<std::vector<nxt::ScenarioInput>>(std::move(parsed));
 }
 

@@ -203,6 +203,10 @@ int run(const RunOptions& o) {
       return kExitFailure;
     }
     inputs = std::get<std::vector<rcx::TimedInput>>(std::move(parsed));
+    // Accepted (`--scenario /dev/null` leaves a source's own inputs out), but
+    // an empty file given by mistake should not pass for a run with inputs.
+    if (inputs.empty())
+      std::cerr << "rcxc run: note: " << o.scenario << " holds no [[input]] tables: the run has no inputs\n";
   }
   std::int64_t run_ms = o.for_ms;
   if (o.scenario.empty() && spec) {

@@ -293,6 +293,11 @@ std::variant<rcx::Image, std::string> load_program(const std::string& path, cons
     if (!compiled.output) return fmt::format("{}: the program does not compile", path);
     return std::move(compiled.output->image);
   }
+  // Binary bytes that neither are named .rcx nor start as an image: "offset
+  // 0: not an RCX image" of a file named prog.nqc read as if it had been
+  // taken for an image on purpose. As for the standard input.
+  if (auto head = file_head(path); head && !named_as_image(path) && !rcx::starts_as_image(*head))
+    return fmt::format("{}: binary data, neither NQC source nor an .rcx image", path);
   auto image = rcx::read_image_file(path);
   if (auto* e = std::get_if<rcx::ImageError>(&image)) return e->message;
   return std::get<rcx::Image>(std::move(image));

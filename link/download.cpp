@@ -114,9 +114,12 @@ std::optional<DownloadError> check_image(const Image& image, const DownloadOptio
   if (options.program < 1 || options.program > 5)
     return DownloadError{DownloadFailure::BadInput, fmt::format("program slot {} is not 1..5", options.program)};
   if (image.fragments.empty()) return DownloadError{DownloadFailure::BadInput, "the image has no tasks"};
+  // Start task/subroutine download carries the length in 15 bits.
   for (const auto& f : image.fragments)
     if (f.code.size() > 0x7fff)
-      return DownloadError{DownloadFailure::BadInput, fmt::format("fragment {} is too large", f.index)};
+      return DownloadError{DownloadFailure::BadInput,
+                           fmt::format("{} {} is {} bytes, more than the 32767 a download can carry",
+                                       f.type == FragmentType::Task ? "task" : "subroutine", f.index, f.code.size())};
   if (options.min_block < 1 || options.max_block < options.min_block || options.max_block > kMaxTransferBlock)
     return DownloadError{DownloadFailure::BadInput, "block sizes are out of range"};
   if (options.block_attempts < 1 || options.fragment_attempts < 1)

@@ -810,6 +810,9 @@ void Machine::loop(Micros until_us, bool stop_when_idle) {
     stop_.kind = StopKind::Running;
   const Micros cost = config_.instruction_cost_us;
   while (stop_.kind == StopKind::Running) {
+    // The last instruction ended past `until_us`: what comes at its end
+    // (inputs that arrived while it ran, sounds due) is the next call's.
+    if (now_us_ > until_us) return;
     Micros next_input = next_input_ < inputs_.size() ? inputs_[next_input_].at_us : INT64_MAX;
     if (next_input <= now_us_) apply_due_inputs();
     if (!sound_queue_.empty() && sound_free_us_ <= now_us_) start_due_sounds();
@@ -854,6 +857,15 @@ const StopInfo& Machine::run_until(Micros until_us) {
 const StopInfo& Machine::run(Micros limit_us) {
   loop(limit_us, true);
   if (stop_.kind == StopKind::Running) stop_.kind = StopKind::TimeLimit;
+  // An instruction that began before the limit runs whole (its effects are
+  // dated at its start), but the run asked for ends at the limit: with 1 s
+  // instructions, a 10 ms run is one instruction and stops at 10 ms, not at
+  // 1000 ms; a program whose last instruction was still going then had not
+  // ended, and inputs that came during it are not applied.
+  if (now_us_ > limit_us && (stop_.kind == StopKind::TimeLimit || stop_.kind == StopKind::Ended)) {
+    stop_.kind = StopKind::TimeLimit;
+    now_us_ = limit_us;
+  }
   // Sounds still queued when the program ends keep playing on a real brick:
   // log them at the times they start (up to the limit).
   if (stop_.kind != StopKind::TimeLimit) {

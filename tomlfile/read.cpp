@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <optional>
+#include <string>
 
 #include <fmt/format.h>
 
@@ -29,12 +30,61 @@ bool header_with_a_bad_key(std::string_view row) {
   return !bare_key_character(row[at]) && row[at] != '"' && row[at] != '\'';
 }
 
+// The end of the string that opens at `at` (a quote), or npos: basic strings
+// take backslash escapes, literal ones none; a triple quote runs over lines.
+std::size_t string_end(std::string_view text, std::size_t at, int& line) {
+  const char quote = text[at];
+  const bool triple = text.substr(at, 3) == std::string(3, quote);
+  for (std::size_t i = at + (triple ? 3 : 1); i < text.size(); ++i) {
+    if (quote == '"' && text[i] == '\\') {
+      if (i + 1 < text.size() && text[i + 1] == '\n') ++line;  // a line-ending backslash
+      ++i;
+      continue;
+    }
+    if (text[i] == '\n') {
+      if (!triple) return std::string_view::npos;  // toml++ says what is wrong
+      ++line;
+    }
+    if (triple ? text.substr(i, 3) == std::string(3, quote) : text[i] == quote) return i + (triple ? 2 : 0);
+  }
+  return std::string_view::npos;
+}
+
+// The line of a '}' where an array expects a value ("x = [}", "[1, }", with
+// blanks, line ends or comments between): toml++ 3.3 assumes none is there
+// (TOML_ASSERT_ASSUME in parse_value: an abort in Debug builds, an
+// assumption clang may build on in release), which the fuzzer found. No
+// TOML text has a '}' right after a '[' or a ',' outside strings.
+std::optional<int> brace_where_a_value_goes(std::string_view text) {
+  int line = 1;
+  char last = 0;  // the last character outside blanks, comments and strings
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    char c = text[i];
+    if (c == '\n') ++line;
+    if (c == ' ' || c == '\t' || c == '\r' || c == '\n') continue;
+    if (c == '#') {
+      i = std::min(text.find('\n', i), text.size()) - 1;
+      continue;
+    }
+    if (c == '"' || c == '\'') {
+      i = string_end(text, i, line);
+      if (i == std::string_view::npos) return std::nullopt;
+      last = c;
+      continue;
+    }
+    if (c == '}' && (last == '[' || last == ',')) return line;
+    last = c;
+  }
+  return std::nullopt;
+}
+
 // What in a TOML file of keys and numbers would reach a fault of
 // toml++ 3.3, which the fuzzer found: it classifies some letters (U+0441,
 // U+0411) as whitespace or not through __builtin_unreachable (undefined
 // behaviour), and asserts on a table header whose key starts with another
 // character than a letter, digit, '_', '-' or a quote ("[+", "[[/"): an
-// abort in Debug builds. Such text is refused before the parser sees it.
+// abort in Debug builds. Such text is refused before the parser sees it,
+// as is a '}' where a value goes (above).
 std::optional<TomlTrap> toml_trap(std::string_view text) {
   int line = 1;
   for (std::size_t at = 0; at <= text.size(); ++line) {
@@ -48,6 +98,7 @@ std::optional<TomlTrap> toml_trap(std::string_view text) {
     if (header_with_a_bad_key(code)) return TomlTrap{line, "a table header without a name"};
     at = end + 1;
   }
+  if (auto brace = brace_where_a_value_goes(text)) return TomlTrap{*brace, "a '}' where an array expects a value"};
   return std::nullopt;
 }
 

@@ -8,9 +8,11 @@
 #include "runtime/scenario.h"
 
 #include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <sstream>
 
 namespace rcx::semtest {
@@ -101,18 +103,34 @@ std::optional<int> to_int(std::string_view s) {
   return neg ? -v : v;
 }
 
-int need_int(Cursor& c, std::string_view what) {
+// Digits with at most one sign and a 0x, as to_int reads them, however many:
+// a number, though perhaps too large for any directive.
+bool whole_number_text(std::string_view s) {
+  if (!s.empty() && s[0] == '-') s.remove_prefix(1);
+  bool hex = s.size() > 2 && s[0] == '0' && (s[1] == 'x' || s[1] == 'X');
+  if (hex) s.remove_prefix(2);
+  return !s.empty() && std::all_of(s.begin(), s.end(), [&](char d) {
+    return hex ? std::isxdigit(static_cast<unsigned char>(d)) != 0 : std::isdigit(static_cast<unsigned char>(d)) != 0;
+  });
+}
+
+// A number too large for the range is named as such, not as no number.
+int need_range(Cursor& c, std::string_view what, int lo, int hi) {
   std::string t = c.next();
   auto v = to_int(t);
+  if (!v && whole_number_text(t)) throw ParseFail{fmt::format("{} {} is out of range {}..{}", what, t, lo, hi)};
   if (!v) throw ParseFail{fmt::format("expected {} (a number), found '{}'", what, t)};
+  if (*v < lo || *v > hi) throw ParseFail{fmt::format("{} {} is out of range {}..{}", what, *v, lo, hi)};
   return *v;
 }
 
-int need_range(Cursor& c, std::string_view what, int lo, int hi) {
-  int v = need_int(c, what);
-  if (v < lo || v > hi) throw ParseFail{fmt::format("{} {} is out of range {}..{}", what, v, lo, hi)};
-  return v;
+int need_int(Cursor& c, std::string_view what) {
+  return need_range(c, what, std::numeric_limits<int>::min(), std::numeric_limits<int>::max());
 }
+
+// The latest time a directive may name, in ms: the longest run `rcxc run
+// --for` takes (2^40 ms, about 35 years), whatever the unit.
+constexpr std::int64_t kLongestTimeMs = std::int64_t{1} << 40;
 
 // "500ms", "1.5s", "2s", "750" (milliseconds).
 Micros need_time(Cursor& c, std::string_view what) {
@@ -130,8 +148,18 @@ Micros need_time(Cursor& c, std::string_view what) {
   // from_chars reads "nan" and "inf" too; NaN passes every comparison.
   if (ec == std::errc() && p == s.data() + s.size() && !std::isfinite(v))
     throw ParseFail{fmt::format("expected {} (like 500ms or 2s), found '{}', which is not a finite number", what, t)};
-  if (ec != std::errc() || p != s.data() + s.size() || s.empty() || v < 0 || v > 1e7)
-    throw ParseFail{fmt::format("expected {} (like 500ms or 2s), found '{}'", what, t)};
+  bool number = ec == std::errc() && p == s.data() + s.size() && !s.empty();
+  if (number && v < 0)
+    throw ParseFail{fmt::format("expected {} (like 500ms or 2s), found '{}', which is negative", what, t)};
+  // from_chars says out of range for a number past a double's (or so small
+  // it is 0: "1e-400").
+  bool too_large = ec == std::errc::result_out_of_range && p == s.data() + s.size() && s.front() != '-' &&
+                   s.find("e-") == std::string_view::npos && s.find("E-") == std::string_view::npos;
+  if (too_large || (number && v * scale > static_cast<double>(kLongestTimeMs * kMicrosPerMs)))
+    throw ParseFail{fmt::format(
+        "expected {} (like 500ms or 2s), found '{}', which is later than the longest run ({} ms)", what, t,
+        kLongestTimeMs)};
+  if (!number) throw ParseFail{fmt::format("expected {} (like 500ms or 2s), found '{}'", what, t)};
   return static_cast<Micros>(std::llround(v * scale));
 }
 
@@ -183,24 +211,24 @@ EventPattern need_event(Cursor& c) {
   std::string kind = c.next();
   if (kind == "sound") {
     p.kind = EventKind::Sound;
-    if (!c.done() && to_int(c.peek())) p.value = need_range(c, "sound", 0, 5);
+    if (!c.done() && whole_number_text(c.peek())) p.value = need_range(c, "sound", 0, 5);
   } else if (kind == "tone") {
     p.kind = EventKind::Tone;
-    if (!c.done() && to_int(c.peek())) p.value = need_int(c, "frequency");
-    if (!c.done() && to_int(c.peek())) p.duration = need_int(c, "duration");
+    if (!c.done() && whole_number_text(c.peek())) p.value = need_int(c, "frequency");
+    if (!c.done() && whole_number_text(c.peek())) p.duration = need_int(c, "duration");
   } else if (kind == "output") {
     p.kind = EventKind::Output;
     p.index = need_output(c);
     output_fields(c, p.mode, p.dir, p.power);
   } else if (kind == "display") {
     p.kind = EventKind::Display;
-    if (!c.done() && to_int(c.peek())) p.value = need_range(c, "display", 0, 6);
+    if (!c.done() && whole_number_text(c.peek())) p.value = need_range(c, "display", 0, 6);
   } else if (kind == "send") {
     p.kind = EventKind::MessageSent;
-    if (!c.done() && to_int(c.peek())) p.value = need_range(c, "message", 0, 255);
+    if (!c.done() && whole_number_text(c.peek())) p.value = need_range(c, "message", 0, 255);
   } else if (kind == "datalog") {
     p.kind = EventKind::Datalog;
-    if (!c.done() && to_int(c.peek())) p.value = need_int(c, "datalog value");
+    if (!c.done() && whole_number_text(c.peek())) p.value = need_int(c, "datalog value");
   } else if (kind == "task-start" || kind == "task-stop") {
     p.kind = kind == "task-start" ? EventKind::TaskStart : EventKind::TaskStop;
     std::string t = c.next();

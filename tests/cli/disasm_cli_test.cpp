@@ -161,6 +161,27 @@ TEST(DisasmCli, BinaryBytesOnTheStandardInputAreOneError) {
   }
 }
 
+// The same bytes in a file named prog.nqc (or prog, prog.txt) were read as
+// an image by intent: "offset 0: not an RCX image (signature is not
+// "RCXI")". Named .rcx, or starting "RCXI", they are still the image
+// reader's to judge.
+TEST(DisasmCli, BinaryBytesInAFileNotNamedAsAnImageAreOneError) {
+  rcxc::test::TempDir d;
+  const std::string junk("task main() {\n\0}\n", 17);
+  for (const char* name : {"p.nqc", "p", "p.txt"}) {
+    std::string path = d.write(name, junk);
+    for (const char* command : {"disasm", "run", "download"}) {
+      auto r = run_rcxc({command, path});
+      EXPECT_EQ(r.exit_code, 1) << command << ": " << r.err;
+      EXPECT_EQ(r.err,
+                std::string("rcxc ") + command + ": " + path + ": binary data, neither NQC source nor an .rcx image\n");
+    }
+  }
+  auto image = run_rcxc({"disasm", d.write("p.rcx", junk)});
+  EXPECT_EQ(image.exit_code, 1);
+  EXPECT_NE(image.err.find("not an RCX image (signature is not \"RCXI\")"), std::string::npos) << image.err;
+}
+
 // `rcxc run prog.rcx -O0 -DX` (or disasm, download) has nothing to compile:
 // the options were taken and ignored without a word. A note says so; the
 // command still does its work. Source given the same options gets no note.

@@ -71,6 +71,27 @@ TEST(FormatCli, RefusedFilesAreLeftAsTheyWere) {
   EXPECT_EQ(missing.err, "rcxc format: " + dir.path + "/none.nqc: cannot be opened\n");
 }
 
+// A file that begins with a UTF-8 byte-order mark compiles (the compiler
+// drops the mark) but was refused: "stray character '\xef' in program".
+// The text after the mark is formatted, and the mark kept.
+TEST(FormatCli, AByteOrderMarkIsKeptAndWhatFollowsItFormatted) {
+  TempDir dir;
+  const std::string bom = "\xEF\xBB\xBF";
+  auto messy = dir.write("bom.nqc", bom + kMessy);
+  auto r = run_rcxc({"format", messy});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.out, bom + kTidy);
+  auto tidy = dir.write("tidy.nqc", bom + kTidy);
+  auto check = run_rcxc({"format", "--check", tidy});
+  EXPECT_EQ(check.exit_code, 0) << check.err << check.out;
+  EXPECT_EQ(run_rcxc({"format", "-i", messy}).exit_code, 0);
+  EXPECT_EQ(read_text_file(messy), bom + kTidy);
+  // A mark anywhere else is still a stray character.
+  auto inside = run_rcxc({"format", dir.write("inside.nqc", "int x;\n" + bom + "task main() {}\n")});
+  EXPECT_EQ(inside.exit_code, 1);
+  EXPECT_NE(inside.err.find("line 2, column 1: stray character '\\xef'"), std::string::npos) << inside.err;
+}
+
 TEST(FormatCli, BadCommandLines) {
   TempDir dir;
   std::string messy = dir.write("messy.nqc", kMessy);

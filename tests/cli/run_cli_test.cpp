@@ -71,6 +71,39 @@ TEST(RunCli, ScenarioFeedsInputs) {
   EXPECT_EQ(nlohmann::json::parse(r.out)["vars"][0], 444);
 }
 
+// `--scenario /dev/null` read as a scenario of no inputs without a word. It
+// still is one (so it leaves out a source's own // @input lines), and stderr
+// says so, whatever makes it empty.
+TEST(RunCli, AnEmptyScenarioIsARunWithoutInputsAndSaysSo) {
+  TempDir d;
+  auto src = d.write("p.nqc", "// @input at 10ms: message 7\n// @for 100ms\ntask main() { Wait(5); }\n");
+  for (std::string scenario : {std::string("/dev/null"), d.write("e.toml", ""), d.write("c.toml", "# later\n")}) {
+    auto r = run_rcxc({"run", src, "--scenario", scenario});
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.err.find("rcxc run: note: " + scenario + " holds no [[input]] tables: the run has no inputs"),
+              std::string::npos)
+        << r.err;
+    EXPECT_EQ(r.out.find("message received"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("message: 0"), std::string::npos) << r.out;
+  }
+}
+
+// With 1 s instructions, `--for 10` stopped at 1000 ms (the end of the
+// first instruction) and showed an input of 5 ms there. It stops at 10 ms.
+TEST(RunCli, ARunStopsAtForEvenWhenAnInstructionTakesLonger) {
+  TempDir d;
+  auto scenario = d.write("s.toml", "[[input]]\nat_ms = 5\nmessage = 3\n");
+  auto r = run_rcxc({"run", d.write("p.rcx", program_bytes()), "--instruction-us", "1000000", "--for", "10",
+                     "--scenario", scenario, "--report", "json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["stop"], "time_limit");
+  EXPECT_EQ(j["time_ms"], 10);
+  for (const auto& e : j["events"]) EXPECT_LE(e["t"].get<double>(), 10) << e.dump();
+  r = run_rcxc({"run", d.write("p.rcx", program_bytes()), "--instruction-us", "1000000", "--for", "10"});
+  EXPECT_NE(r.out.find("stopped: time_limit at 10.000 ms"), std::string::npos) << r.out;
+}
+
 TEST(RunCli, ScenarioErrorNamesTheLine) {
   TempDir d;
   auto scenario = d.write("s.toml", "[[input]]\nat_ms = 300\nsensor = 1\nraw = 5000\n");

@@ -178,6 +178,17 @@ TEST(LinkDownload, RejectsBadOptionsBeforeSending) {
   EXPECT_EQ(std::get<DownloadError>(result).kind, DownloadFailure::BadInput);
   EXPECT_EQ(link.stats.attempts, 0);
   EXPECT_TRUE(std::holds_alternative<DownloadError>(download(link, Image{}, {})));
+  // Which fragment, how large and the limit: "fragment 3 is too large" said
+  // neither whether a task or a subroutine, nor by how much.
+  Image huge;
+  huge.fragments.push_back({FragmentType::Task, 0, Bytes(10, 0x90)});
+  huge.fragments.push_back({FragmentType::Subroutine, 3, Bytes(40000, 0x90)});
+  auto refused = download(link, huge, {});
+  ASSERT_TRUE(std::holds_alternative<DownloadError>(refused));
+  EXPECT_EQ(std::get<DownloadError>(refused).kind, DownloadFailure::BadInput);
+  EXPECT_EQ(std::get<DownloadError>(refused).message,
+            "subroutine 3 is 40000 bytes, more than the 32767 a download can carry");
+  EXPECT_EQ(link.stats.attempts, 0);
 }
 
 // The acceptance test of issue 7: 1000 downloads over a line that loses or

@@ -437,6 +437,22 @@ TEST(NxtCli, ABrickScenarioOrProgramItCannotServeFromIsRefused) {
   EXPECT_NE(program.find("--program: needs a value, not ''"), std::string::npos) << program;
 }
 
+// An empty scenario is served (it leaves the inputs as they are), but not
+// in silence: a file emptied by mistake read as a scenario of no inputs.
+TEST(NxtCli, AnEmptyBrickScenarioIsServedWithANote) {
+  TempDir dir;
+  std::string empty = dir.write("e.toml", std::string("# nothing yet\n"));
+  std::string log = dir.path + "/err.txt";
+  {
+    NxtBrickProcess brick({"--scenario", empty}, log);
+    EXPECT_EQ(nxt(brick.path, {"battery"}).exit_code, 0);
+    EXPECT_EQ(brick.stop(), 0);
+  }
+  EXPECT_NE(rcxc::test::read_text_file(log).find(empty + " holds no [[input]] tables: the inputs stay as they are"),
+            std::string::npos)
+      << rcxc::test::read_text_file(log);
+}
+
 TEST(NxtTether, ABrickThatDoesNotAnswerFailsTheRun) {
   auto opened = nxt::open_pty_pair();
   ASSERT_TRUE(std::holds_alternative<nxt::PtyPair>(opened));

@@ -325,6 +325,8 @@ TEST(NxtScenario, TextThatTomlPlusPlusCannotTakeIsRefusedFirst) {
             "numbers)");
   EXPECT_EQ(error("[[input]]\nat_ms = 1\nmessage = 2\n[+\n"),
             "s.toml:4: a table header without a name (an NXT scenario is [[input]] tables of keys and numbers)");
+  EXPECT_EQ(error("[[input]]\nat_ms = 1\nmessage = [\n}\n"),
+            "s.toml:4: a '}' where an array expects a value (an NXT scenario is [[input]] tables of keys and numbers)");
   auto in = parse_scenario("# f\xc3\xbcr den Sensor\n[[input]]\nat_ms = 5\nmessage = 3\n", "s.toml");
   ASSERT_TRUE(std::holds_alternative<std::vector<ScenarioInput>>(in));
   EXPECT_EQ(std::get<std::vector<ScenarioInput>>(in).size(), 1u);

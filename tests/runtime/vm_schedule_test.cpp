@@ -51,6 +51,35 @@ TEST(VmSchedule, WaitingTasksCostNothingAndTimeJumps) {
   EXPECT_EQ(m.now_us(), 10'000 * kMicrosPerMs);
 }
 
+// `rcxc run --instruction-us 1000000 --for 10` said "time_limit at 1000 ms",
+// and the inputs of the run's first 10 ms showed at 1000 ms: the run went on
+// to the end of the instruction that began before the limit. It stops at the
+// limit; that instruction's effects, dated at its start, are in.
+TEST(VmSchedule, ARunStopsAtItsLimitThoughAnInstructionLastsLonger) {
+  rcx::Config c;
+  c.instruction_cost_us = 1'000'000;
+  rcx::Machine m(c);
+  m.load(0, image({{0, code({out(0x81), out(0x82)})}}));
+  m.schedule({5 * kMicrosPerMs, rcx::MessageInput{3}});
+  m.start_program();
+  m.run(10 * kMicrosPerMs);
+  EXPECT_EQ(m.stop().kind, StopKind::TimeLimit);
+  EXPECT_EQ(m.now_us(), 10 * kMicrosPerMs);
+  auto outs = events_of(m, rcx::EventKind::Output);
+  ASSERT_EQ(outs.size(), 1u);
+  EXPECT_EQ(outs[0].t_us, 0);
+  for (const auto& e : m.state().events) EXPECT_LE(e.t_us, 10 * kMicrosPerMs) << static_cast<int>(e.kind);
+  // A program whose one instruction is still going at the limit has not ended.
+  auto one = run(image({{0, out(0x81)}}), 10, c);
+  EXPECT_EQ(one.stop().kind, StopKind::TimeLimit);
+  EXPECT_EQ(one.now_us(), 10 * kMicrosPerMs);
+  // Given the time, it ends (running off the end of the task at 1000 ms
+  // costs nothing).
+  auto exact = run(image({{0, out(0x81)}}), 1001, c);
+  EXPECT_EQ(exact.stop().kind, StopKind::Ended);
+  EXPECT_EQ(exact.now_us(), 1000 * kMicrosPerMs);
+}
+
 TEST(VmSchedule, EndsWhenNoTaskIsActive) {
   auto m = run_task(set(0, 1));
   EXPECT_EQ(m.stop().kind, StopKind::Ended);

@@ -235,6 +235,49 @@ TEST(TestSpec, ANumberHasOneSignAtMost) {
   }
 }
 
+// A time past 10^7 of its unit was refused as no time at all ("expected run
+// length (like 500ms or 2s), found '3000000000ms'"), so `@for 10001s` was
+// taken and `@for 10000001ms`, a shorter run, was not. Times now reach as
+// far as `rcxc run --for` (2^40 ms) in any unit, and a refusal says why.
+TEST(TestSpec, ATimeIsRefusedForWhatItIsAndOnlyPastTheLongestRun) {
+  Spec s = parse_ok("// @for 3000000000ms\n// @input at 2147483648ms: message 1\n"
+                    "// @expect event at 1099511627776ms+-1099511627s: send 1\n");
+  ASSERT_TRUE(s.run_for_us);
+  EXPECT_EQ(*s.run_for_us, std::int64_t{3'000'000'000'000});
+  ASSERT_EQ(s.inputs.size(), 1u);
+  EXPECT_EQ(s.inputs[0].at_us, std::int64_t{2'147'483'648'000});
+  for (const char* value : {"1099511627777ms", "1099511628s", "1e30s", "1e400", "99999999999999999999999999s"}) {
+    auto errors = parse_bad(std::string("// @for ") + value + "\n");
+    ASSERT_EQ(errors.size(), 1u) << value;
+    EXPECT_NE(errors[0].message.find(std::string("found '") + value +
+                                     "', which is later than the longest run (1099511627776 ms)"),
+              std::string::npos)
+        << errors[0].message;
+  }
+  auto negative = parse_bad("// @input at -5s: message 1\n");
+  ASSERT_EQ(negative.size(), 1u);
+  EXPECT_NE(negative[0].message.find("found '-5s', which is negative"), std::string::npos) << negative[0].message;
+}
+
+// A number too large for an int read as no number: "expected variable (a
+// number), found '99999999999'".
+TEST(TestSpec, ANumberTooLargeIsOutOfRangeNotNoNumber) {
+  auto errors = parse_bad("// @expect var 99999999999 == 1\n// @expect count sound >= 99999999999999999999\n"
+                          "// @input at 1ms: message 0x100000000\n// @expect global x == abc\n"
+                          "// @expect event: send 99999999999\n");
+  ASSERT_EQ(errors.size(), 5u);
+  EXPECT_NE(errors[0].message.find("variable 99999999999 is out of range 0..31"), std::string::npos)
+      << errors[0].message;
+  EXPECT_NE(errors[1].message.find("count 99999999999999999999 is out of range -2147483648..2147483647"),
+            std::string::npos)
+      << errors[1].message;
+  EXPECT_NE(errors[2].message.find("message 0x100000000 is out of range 0..255"), std::string::npos)
+      << errors[2].message;
+  EXPECT_NE(errors[3].message.find("expected value (a number), found 'abc'"), std::string::npos) << errors[3].message;
+  EXPECT_NE(errors[4].message.find("message 99999999999 is out of range 0..255"), std::string::npos)
+      << errors[4].message;
+}
+
 // `@for 0ms` ran nothing and passed what held at the start; `rcxc run --for
 // 0` is refused, and so is this.
 TEST(TestSpec, ARunOfNoTimeIsAnError) {
