@@ -42,20 +42,13 @@ Outcome format_one(const std::string& path, const FormatArgs& args) {
     return Outcome::Failed;
   }
   const std::string& text = std::get<std::string>(read);
-  // A UTF-8 byte-order mark is no program text: the compiler drops it
-  // (frontend/diagnostics.cpp), and so the layout is of what follows it. It
-  // was refused as "stray character '\xef'" in a file that compiles. The
-  // mark is written back, as the editor that wrote it wants it.
-  constexpr std::string_view kByteOrderMark = "\xEF\xBB\xBF";
-  const bool marked = text.starts_with(kByteOrderMark);
-  auto formatted = format::format_source(std::string_view(text).substr(marked ? kByteOrderMark.size() : 0),
-                                         {.indent = args.indent});
+  auto formatted = format::format_source(text, {.indent = args.indent});
   if (auto* refusal = std::get_if<format::Refusal>(&formatted)) {
     std::cerr << "rcxc format: " << name << ": " << refusal->message
               << (args.in_place ? "; the file is left as it was\n" : "\n");
     return Outcome::Failed;
   }
-  const std::string out = (marked ? std::string(kByteOrderMark) : std::string()) + std::get<std::string>(formatted);
+  const std::string& out = std::get<std::string>(formatted);
   bool changed = out != text;
   if (args.check) {
     if (changed) std::cout << name << "\n";

@@ -893,6 +893,15 @@ std::variant<std::string, Refusal> format_source(std::string_view input, const S
     return Refusal{"cannot format: larger than a source file may be (" + std::to_string(kMaxSource >> 20) + " MiB)"};
   if (style.indent < kMinIndent || style.indent > kMaxIndent)
     return Refusal{"cannot format: the indent must be " + std::to_string(kMinIndent) + " to " + std::to_string(kMaxIndent) + " spaces"};
+  // A UTF-8 byte-order mark is no program text (the compiler drops it), so
+  // the layout is of what follows it; the mark is written back, as the
+  // editor that wrote it wants it. It was refused as a stray character.
+  constexpr std::string_view kByteOrderMark = "\xEF\xBB\xBF";
+  if (input.starts_with(kByteOrderMark)) {
+    auto rest = format_source(input.substr(kByteOrderMark.size()), style);
+    if (auto* formatted = std::get_if<std::string>(&rest)) formatted->insert(0, kByteOrderMark);
+    return rest;
+  }
   std::string text = with_lone_crs_as_lf(std::string(input));
   Lexed before = lex_pieces(text);
   KeptBranches kept = kept_branches(before.pieces);

@@ -33,7 +33,8 @@ struct Refusal {
 // The formatted text, or why there is none. The result lexes to the same
 // tokens and comments as `text`, with every directive on lines of its own as
 // before (checked on every call: a layout that would break this is refused,
-// not returned), and formatting it again gives it back unchanged.
+// not returned), and formatting it again gives it back unchanged. A UTF-8
+// byte-order mark at the start is kept, and the text after it laid out.
 std::variant<std::string, Refusal> format_source(std::string_view text, const Style& style = {});
 
 }  // namespace rcxc::format

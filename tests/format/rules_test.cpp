@@ -33,6 +33,14 @@ TEST(FormatRules, IndentsByNestingWithBracesOnTheirOwnLines) {
             "}\n");
 }
 
+TEST(FormatRules, AByteOrderMarkIsKeptAndTheTextAfterItLaidOut) {
+  // The compiler drops the mark; the formatter (command line and editor
+  // alike) refused it as a stray character. Elsewhere it still is one.
+  EXPECT_EQ(fmt("\xEF\xBB\xBFtask main() {\nWait(1);\n}\n"), "\xEF\xBB\xBFtask main()\n{\n  Wait(1);\n}\n");
+  EXPECT_EQ(fmt("\xEF\xBB\xBFtask main()\n{\n  Wait(1);\n}\n"), "\xEF\xBB\xBFtask main()\n{\n  Wait(1);\n}\n");
+  EXPECT_NE(refusal("task main() {\xEF\xBB\xBF}\n").find("stray character"), std::string::npos);
+}
+
 TEST(FormatRules, IndentWidthIsAnOption) {
   EXPECT_EQ(fmt("task main()\n{\nWait(1);\n}\n", 4), "task main()\n{\n    Wait(1);\n}\n");
 }
