@@ -226,6 +226,18 @@ void place_exit_last(Function& f);
 // a power, came out 4 bytes over nqc's with its copy).
 void copy_short_jump_targets(Function& f, Log& log, int bytes_to_spend);
 
+// latchtest.cpp (-O2 only): a loop's jump back to its test (a block that
+// is a test alone: `while (c) X;` whose way out is not the next block, so
+// that rotating it would cost a jump on the way in) becomes a copy of the
+// test, branching back to the body in one instruction: `X; test` a pass
+// instead of `test; X; jump`, and no path runs an instruction more (the
+// way out is the copy and a jump where it was the jump and the test). An
+// `until (c);` that ends a loop's body then polls in place. Only where the
+// copy branches to the body directly; each copy adds 5 or 7 bytes, at most
+// `bytes_to_spend` in all (returns what it spent); each is reported in
+// `log`.
+int copy_tests_into_latches(Function& f, Log& log, int bytes_to_spend);
+
 // A block order being decided for `f`, kept as positions so that moving
 // a run of blocks costs its length, not a renumbering of the function.
 struct BlockOrder {
