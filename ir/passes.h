@@ -87,7 +87,9 @@ void merge_consecutive_waits(Function& f);
 // `x != 0` (3 has an inverse modulo 2^16), `10 - x == 4` is `x == 6`, and
 // `~x <= 5` (an order-reversing map that never wraps) is `x >= -6`. The
 // ordered tests only through `~` or a plain copy: `x + 1 <= 0` and `x <=
-// -1` differ at 32767.
+// -1` differ at 32767. A plain copy may be of a source a test reads (`v =
+// SENSOR_2; if (v > 50)` tests the sensor, read once, when the copy read
+// it; not a random number, which a test cannot read).
 void test_before_one_to_one_arithmetic(Program& p, LivenessCache* cache = nullptr);
 
 // joinconst.cpp: a block that begins with constant arithmetic on a

@@ -45,5 +45,19 @@ TEST(LatchTestCompile, AWhileEndingAnOuterLoopsBodyRunsItsBodyAndTestAPass) {
   EXPECT_EQ(c.out->code_bytes, 45);
 }
 
+TEST(LatchTestCompile, ALocalCopiedFromASensorForOneTestIsNotSet) {
+  // `int v = SENSOR_1; if (v == 0) n += 1;` ten times, the touch sensor
+  // released (0): the test reads the sensor where the copy did. pwr, dir,
+  // senstype and the jump into the loop's test (4), ten passes of the
+  // loop's test, the test of v and `n += 1` (30; 40 with the copy), the
+  // test that leaves (1).
+  auto c = test::compile_program(
+      "int n;\ntask main() {\n  SetSensor(SENSOR_1, SENSOR_TOUCH);\n  while (n < 10) {\n    int v = SENSOR_1;\n"
+      "    if (v == 0) n += 1;\n  }\n}\n",
+      ir::OptLevel::O2);
+  ASSERT_TRUE(c.out);
+  EXPECT_EQ(instructions_run(c.out->image, 1000), 4 + 10 * 3 + 1);
+}
+
 }  // namespace
 }  // namespace rcxc
