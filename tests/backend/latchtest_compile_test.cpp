@@ -59,5 +59,19 @@ TEST(LatchTestCompile, ALocalCopiedFromASensorForOneTestIsNotSet) {
   EXPECT_EQ(instructions_run(c.out->image, 1000), 4 + 10 * 3 + 1);
 }
 
+TEST(LatchTestCompile, APowerOutsideAByteIsItsLowByteAsInNqcsCode) {
+  // nqc's `pwr A, 255` (4 bytes) after the 6 of the startup code and `pwr
+  // A, 3` (4): 14. Through a temporary it was 19 at -O1. The brick ignores
+  // it (the power stays 3), and -O2 leaves it out.
+  const std::string text = "task main() {\n  SetPower(OUT_A, 3);\n  SetPower(OUT_A, -1);\n}\n";
+  for (auto [level, bytes] : {std::pair{ir::OptLevel::O1, 14}, std::pair{ir::OptLevel::O2, 10}}) {
+    auto c = test::compile_program(text, level);
+    ASSERT_TRUE(c.out);
+    EXPECT_EQ(c.out->code_bytes, bytes);
+    auto m = test::run_image(c.out->image, 100);
+    EXPECT_EQ(m.state().outputs[0].power, 3);
+  }
+}
+
 }  // namespace
 }  // namespace rcxc
