@@ -1461,6 +1461,13 @@ struct Lowerer {
             args.push_back(Operand::imm(*c & 0xff));
             break;
           }
+          // A power outside a byte whose low byte is no power either (-1 is
+          // 255): the brick ignores the command whichever it reads (sema
+          // says so), and the byte takes no temporary, as in nqc's code.
+          if (auto c = constant(e); c && *in.op == Op::SetMotorPower && (*c < 0 || *c > 255) && (*c & 0xff) > 7) {
+            args.push_back(Operand::imm(*c & 0xff));
+            break;
+          }
           Operand o = operand_for(*in.op, i, e);
           if (!accepts(*in.op, i, o))
             return error(e.span, fmt::format("operand '{}' of {} cannot take this value", slots[i]->name, in.mnemonic));

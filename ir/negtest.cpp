@@ -18,6 +18,17 @@ int inverse_mod_65536(int k) {
 
 bool writes_only(const Instr& in, VarId t) { return !in.raw && in.args.size() == 2 && in.args[0].is_var(t); }
 
+// What `t = x` may hand to the test in t's place: another variable, or a
+// source a test can read (a sensor, a timer, the message; not a random
+// number or the program number, and an argument within a byte). The copy
+// is the block's last computation of t, so the test reads the source when
+// the copy would have: one read, at the same time.
+bool testable_copy(const Operand& x, VarId t) {
+  if (x.is_var()) return !x.is_var(t);
+  return x.kind == Operand::Kind::Src && x.source >= 0 && x.source != static_cast<int>(rcx::Source::Random) &&
+         x.source != static_cast<int>(rcx::Source::Program) && x.value >= -128 && x.value <= 127;
+}
+
 // What the test of t against a constant becomes when the instructions at
 // the end of the block computing t are left out: the operand to test
 // instead, the constant, the comparison, and how many instructions go.
@@ -53,7 +64,7 @@ std::optional<Rewrite> peel(const Block& block, VarId t, Cmp cmp, int c) {
   }
   Rewrite r{Operand::var(t), static_cast<int>(value), cmp, code.size() - k};
   if (k > 0 && writes_only(code[k - 1], t) && code[k - 1].op == rcx::Op::SetVariable &&
-      code[k - 1].args[1].is_var() && !code[k - 1].args[1].is_var(t)) {
+      testable_copy(code[k - 1].args[1], t)) {
     r.tested = code[k - 1].args[1];
     ++r.dropped;
   } else if (k > 1 && writes_only(code[k - 1], t) && code[k - 1].op == rcx::Op::SubtractFromVariable &&

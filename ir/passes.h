@@ -87,7 +87,9 @@ void merge_consecutive_waits(Function& f);
 // `x != 0` (3 has an inverse modulo 2^16), `10 - x == 4` is `x == 6`, and
 // `~x <= 5` (an order-reversing map that never wraps) is `x >= -6`. The
 // ordered tests only through `~` or a plain copy: `x + 1 <= 0` and `x <=
-// -1` differ at 32767.
+// -1` differ at 32767. A plain copy may be of a source a test reads (`v =
+// SENSOR_2; if (v > 50)` tests the sensor, read once, when the copy read
+// it; not a random number, which a test cannot read).
 void test_before_one_to_one_arithmetic(Program& p, LivenessCache* cache = nullptr);
 
 // joinconst.cpp: a block that begins with constant arithmetic on a
@@ -225,6 +227,18 @@ void place_exit_last(Function& f);
 // saved in it: a loop whose code nothing else shortens, an if/else setting
 // a power, came out 4 bytes over nqc's with its copy).
 void copy_short_jump_targets(Function& f, Log& log, int bytes_to_spend);
+
+// latchtest.cpp (-O2 only): a loop's jump back to its test (a block that
+// is a test alone: `while (c) X;` whose way out is not the next block, so
+// that rotating it would cost a jump on the way in) becomes a copy of the
+// test, branching back to the body in one instruction: `X; test` a pass
+// instead of `test; X; jump`, and no path runs an instruction more (the
+// way out is the copy and a jump where it was the jump and the test). An
+// `until (c);` that ends a loop's body then polls in place. Only where the
+// copy branches to the body directly; each copy adds 5 or 7 bytes, at most
+// `bytes_to_spend` in all (returns what it spent); each is reported in
+// `log`.
+int copy_tests_into_latches(Function& f, Log& log, int bytes_to_spend);
 
 // A block order being decided for `f`, kept as positions so that moving
 // a run of blocks costs its length, not a renumbering of the function.

@@ -119,7 +119,11 @@ bool optimize(Program& p, OptLevel level, Diagnostics& diags, Log& log, const Pa
       place_branch_targets(f);
       place_exit_last(f);
       // Bytes for time: -Os keeps the jumps.
-      if (copies_joins) copy_short_jump_targets(f, log, lowered_bytes[f.name] - code_bytes(f));
+      if (copies_joins) {
+        int budget = lowered_bytes[f.name] - code_bytes(f);
+        budget -= copy_tests_into_latches(f, log, budget);
+        copy_short_jump_targets(f, log, budget);
+      }
     }
   // A coin toss runs one loop test more on one of its sides.
   if (trades_time_for_size(level)) toss_coins_on_loop_counter(p, log);

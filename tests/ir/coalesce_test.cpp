@@ -199,6 +199,27 @@ TEST(NegatedTest, OrderedTestsAndValuesReadLaterKeepTheNegation) {
   EXPECT_EQ(b.at(f, 1).instrs.size(), 2u);
 }
 
+TEST(NegatedTest, ALocalCopiedFromASensorIsTheSensorTested) {
+  // v = SENSOR_2; if (v > 50): one read, the test's, where the copy's was;
+  // a random number or a value read after the test keeps its copy.
+  Builder b;
+  FuncId f = b.function("main");
+  VarId v = b.local("v"), r = b.local("r"), w = b.local("w");
+  Operand sensor = Operand::src(static_cast<int>(rcx::Source::SensorValue), 1);
+  b.block(f, {set(v, sensor)}, Branch{Cmp::GT, V(v), I(50), 1, 1});
+  b.block(f, {set(r, Operand::src(static_cast<int>(rcx::Source::Random), 5))}, Branch{Cmp::EQ, V(r), I(3), 2, 2});
+  b.block(f, {set(w, sensor)}, Branch{Cmp::EQ, V(w), I(1), 3, 3});
+  b.block(f, {add(w, I(1)), sound(1)}, Jump{0});
+  test_before_one_to_one_arithmetic(b.p);
+  ASSERT_EQ(b.at(f, 0).instrs.size(), 0u);
+  const auto& br = std::get<Branch>(b.at(f, 0).term);
+  EXPECT_EQ(br.a, sensor);
+  EXPECT_EQ(br.b, I(50));
+  EXPECT_EQ(br.cmp, Cmp::GT);
+  EXPECT_EQ(b.at(f, 1).instrs.size(), 1u);
+  EXPECT_EQ(b.at(f, 2).instrs.size(), 1u);
+}
+
 TEST(JoinConstant, ArithmeticAtAJoinMovesIntoTheConstantsReachingIt) {
   // t = 0; if (a < b) t = 1; t *= 3; t -= 1; g = t.
   Builder b;
