@@ -960,9 +960,11 @@ void yy::Parser::report_syntax_error(const context& ctx) const {
                                      "nqc's listings");
     return;
   }
-  // `goto 5;`: BASIC's line numbers (nqc: syntax error).
-  if (feed.pos >= 2 && ctx.token() == symbol_kind::S_NUMBER && feed.tokens[feed.pos - 2].is_identifier("goto")) {
-    feed.diags.error(ctx.location(), "'goto' needs the name of a label, not a number: write 'goto done;' and put "
+  // `goto 5;`: BASIC's line numbers; `goto;`: the label left out (nqc:
+  // syntax error, and rcxc said "expected identifier").
+  if (feed.pos >= 2 && feed.tokens[feed.pos - 2].is_identifier("goto")) {
+    std::string what = ctx.token() == symbol_kind::S_NUMBER ? ", not a number" : " after it";
+    feed.diags.error(ctx.location(), "'goto' needs the name of a label" + what + ": write 'goto done;' and put "
                                      "'done:' before the statement to go to");
     return;
   }

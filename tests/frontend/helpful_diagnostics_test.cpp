@@ -140,7 +140,7 @@ TEST(HelpfulDiagnostics, AConstVariableIsRefusedOnceNotAtEachUse) {
 
 // Three slips that got only "expected ';' before ..." or "expected
 // identifier" (nqc: syntax error): a value macro called, two values side by
-// side, and a line number after goto.
+// side, and a line number (or nothing) after goto.
 TEST(HelpfulDiagnostics, ACalledValueTwoValuesAndANumberedGotoSayWhatToWrite) {
   const std::string called = "expected ';' before '(': the name before it is a macro that stands for a value, not a "
                              "function, so it takes no '()': leave them out";
@@ -152,6 +152,8 @@ TEST(HelpfulDiagnostics, ACalledValueTwoValuesAndANumberedGotoSayWhatToWrite) {
            {"x = (x) 4;", "4:11 expected an operator or ';' before '4': " + side_by_side},
            {"goto 5;", "4:8 'goto' needs the name of a label, not a number: write 'goto done;' and put 'done:' "
                        "before the statement to go to"},
+           {"goto;", "4:7 'goto' needs the name of a label after it: write 'goto done;' and put 'done:' "
+                     "before the statement to go to"},
        }) {
     auto r = run_frontend("int x;\n#define LIMIT (3)\ntask main() {\n  " + statement + "\n}\n");
     EXPECT_EQ(placed_messages(r.diags), std::vector<std::string>{expected}) << r.text();
