@@ -15,12 +15,7 @@ namespace rcxc {
 namespace {
 
 std::int64_t instructions_run(const rcx::Image& image, std::int64_t ms) {
-  rcx::Machine m;
-  EXPECT_FALSE(m.load(0, image).has_value());
-  std::int64_t before = m.instructions_executed();
-  m.start_program();
-  m.run(ms * rcx::kMicrosPerMs);
-  return m.instructions_executed() - before;
+  return test::run_image(image, ms).instructions_executed();
 }
 
 TEST(LatchTestCompile, AWhileEndingAnOuterLoopsBodyRunsItsBodyAndTestAPass) {

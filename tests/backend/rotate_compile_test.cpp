@@ -24,13 +24,9 @@ TEST(RotateCompile, AWhileFirstInAnEndlessLoopRunsNoJumpAPass) {
       "    if (m == 2) StopAllTasks();\n    n = 0;\n  }\n}\n",
       ir::OptLevel::O2);
   ASSERT_TRUE(c.out);
-  rcx::Machine m;
-  ASSERT_FALSE(m.load(0, c.out->image).has_value());
-  std::int64_t before = m.instructions_executed();
-  m.start_program();
-  m.run(2000 * rcx::kMicrosPerMs);
+  rcx::Machine m = test::run_image(c.out->image, 2000);
   EXPECT_EQ(test::global_value(m, c.out->image, "m"), 2);
-  EXPECT_EQ(m.instructions_executed() - before, 212);
+  EXPECT_EQ(m.instructions_executed(), 212);
 }
 
 }  // namespace
