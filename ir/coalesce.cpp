@@ -1,5 +1,6 @@
 // Computing into the assigned variable instead of into a temporary that is
 // then copied (see passes.h).
+#include <optional>
 #include <vector>
 
 #include "ir/liveness.h"
@@ -49,8 +50,45 @@ std::vector<bool> second_operand_dies(const Program& p, const Block& block, cons
   return dies;
 }
 
+bool adds_or_subtracts(const Instr& in) {
+  return is_op(in, Op::AddToVariable) || is_op(in, Op::SubtractFromVariable);
+}
+
+// What `t = X; t ±= Y...; V ±= t` at code[i] becomes, and where the code
+// after it starts.
+struct Spread {
+  std::vector<Instr> instrs;
+  std::size_t next = 0;
+};
+
+std::optional<Spread> spread_sum_into(const std::vector<Instr>& code, std::size_t i, const std::vector<bool>& dies) {
+  const Operand t = code[i].args[0];
+  std::size_t k = i + 1;
+  while (k < code.size() && adds_or_subtracts(code[k]) && code[k].args[0] == t && !(code[k].args[1] == t)) ++k;
+  if (k == i + 1 || k == code.size()) return std::nullopt;
+  const Instr& use = code[k];
+  if (!adds_or_subtracts(use) || !(use.args[1] == t) || use.args[0] == t || !dies[k]) return std::nullopt;
+  const Operand v = use.args[0];
+  auto flipped = [](Op op) { return op == Op::AddToVariable ? Op::SubtractFromVariable : Op::AddToVariable; };
+  Spread s;
+  Instr first = use;
+  first.args = {v, code[i].args[1]};
+  if (!accepts(first.op, 1, first.args[1])) return std::nullopt;
+  s.instrs.push_back(std::move(first));
+  for (std::size_t j = i + 1; j < k; ++j) {
+    if (code[j].args[1] == v) return std::nullopt;
+    Instr in = code[j];
+    in.args[0] = v;
+    if (use.op == Op::SubtractFromVariable) in.op = flipped(in.op);
+    if (!accepts(in.op, 1, in.args[1])) return std::nullopt;
+    s.instrs.push_back(std::move(in));
+  }
+  s.next = k + 1;
+  return s;
+}
+
 // One scan of a function; returns whether anything changed.
-bool coalesce_in(const Program& p, Function& f, const CallEffects& calls, LivenessCache& cache) {
+bool coalesce_in(const Program& p, Function& f, const CallEffects& calls, LivenessCache& cache, bool other_tasks) {
   // A function without a candidate block needs no liveness.
   std::vector<bool> candidate(f.blocks.size());
   bool any = false;
@@ -63,6 +101,11 @@ bool coalesce_in(const Program& p, Function& f, const CallEffects& calls, Livene
     const Var& v = p.vars[static_cast<std::size_t>(o.value)];
     return v.kind != VarKind::Global && !v.slot;
   };
+  // A rewrite into V of more than one instruction shows another task a
+  // value V never takes in the source (`v = x - v` as `v -= x; v *= -1`
+  // holds v - x for an instruction; a task waiting for v < 0 would see
+  // it): only into what no other task can read.
+  auto steps_may_show = [&](const Operand& v) { return other_tasks && !private_var(v); };
   for (std::size_t b = 0; b < f.blocks.size(); ++b) {
     if (!candidate[b]) continue;
     Block& block = f.blocks[b];
@@ -111,7 +154,7 @@ bool coalesce_in(const Program& p, Function& f, const CallEffects& calls, Livene
           n1->args[1].is_var()) {
         Operand x = a->args[1], v = n1->args[1];
         auto into = copies_t_into(n2, i + 2);
-        if (into && *into == v && !x.is_var(t) && !(x == v) && !reads_random(x) &&
+        if (into && *into == v && !x.is_var(t) && !(x == v) && !reads_random(x) && !steps_may_show(v) &&
             accepts(Op::SubtractFromVariable, 1, x)) {
           Instr sub = *n1, neg = *n1;
           sub.args = {v, x};
@@ -130,7 +173,7 @@ bool coalesce_in(const Program& p, Function& f, const CallEffects& calls, Livene
           n1->args[1] == Operand::imm(-1)) {
         Operand x = a->args[1];
         auto into = copies_t_into(n2, i + 2);
-        if (into && !x.is_var(t) && (x == *into || accepts(Op::SetVariable, 1, x))) {
+        if (into && !x.is_var(t) && (x == *into || (accepts(Op::SetVariable, 1, x) && !steps_may_show(*into)))) {
           Instr sub = *a;
           sub.args = {*into, Operand::var(t)};
           if (!(x == *into)) {
@@ -159,6 +202,18 @@ bool coalesce_in(const Program& p, Function& f, const CallEffects& calls, Livene
           continue;
         }
       }
+      // `t = X; t ±= Y...; V ±= t` with t read nowhere after -> `V ±= X;
+      // V ±= Y...` (V - (X + Y) is V - X - Y): one instruction less. No Y
+      // may be V, which changes before they are read; X is read first.
+      if (a->op == Op::SetVariable && !a->args[1].is_var(t)) {
+        auto spread = spread_sum_into(code, i, dies);
+        if (spread && !steps_may_show(spread->instrs.front().args[0])) {
+          for (auto& in : spread->instrs) out.push_back(std::move(in));
+          i = spread->next;
+          changed = true;
+          continue;
+        }
+      }
       // `t = X; V op= t` with t read nowhere after -> `V op= X`.
       if (a->op == Op::SetVariable && n1 && n1->args.size() == 2 && n1->args[1].is_var(t) && dies[i + 1]) {
         out.push_back(*a);
@@ -178,12 +233,13 @@ bool coalesce_in(const Program& p, Function& f, const CallEffects& calls, Livene
 
 void compute_into_targets(Program& p, LivenessCache* cache) {
   auto calls = call_effects(p);
+  const bool other_tasks = runs_several_tasks(p);
   LivenessCache own;
   for (auto& f : p.functions) {
     if (f.blocks.empty()) continue;
     // Each rewrite can make the next one possible (`t = X; t += V; V = t`
     // becomes `t = X; V += t`, then `V += X`).
-    for (int round = 0; round < 4 && coalesce_in(p, f, calls, cache ? *cache : own); ++round) {
+    for (int round = 0; round < 4 && coalesce_in(p, f, calls, cache ? *cache : own, other_tasks); ++round) {
     }
   }
 }

@@ -71,8 +71,10 @@ void shorten_complements(Function& f);
 // after: `t op= V; V = t` (op one of + * & |) becomes `V op= t`, `t -= V;
 // t *= -1; V = t` (V - t, the end of a `%`) becomes `V -= t`, `t -= X;
 // t *= -1; V = t` becomes `V = X; V -= t`, `t = X; t -= V; V = t` becomes
-// `V -= X; V *= -1`, and `t = X; V op= t` becomes `V op= X`. Each is fewer
-// instructions on the same path.
+// `V -= X; V *= -1`, `t = X; V op= t` becomes `V op= X`, and `t = X; t ±=
+// Y...; V ±= t` becomes `V ±= X; V ±= Y...`. Each is fewer instructions on
+// the same path. Rewrites that take V through a value the source never
+// gives it are made only where no other task can read V.
 void compute_into_targets(Program& p, LivenessCache* cache = nullptr);
 
 // waits.cpp: consecutive constant waits in a block become one wait of
