@@ -115,8 +115,9 @@ void apply_constants_in_predecessors(Program& p);
 // nonzero.cpp: `d = (v != 0)` as lowered (`d = 0;`, a test of v against
 // 0, `d = 1;` on the nonzero side) becomes `d = abs(v); d = sign(d);`:
 // two instructions on every path instead of two or three, 10 bytes
-// instead of 17.
-void compute_nonzero_by_sign(Function& f);
+// instead of 17. d holds |v| for an instruction, which nqc's code never
+// shows: not into a global another task may read (`other_tasks`).
+void compute_nonzero_by_sign(Function& f, const std::vector<Var>& vars, bool other_tasks);
 
 // shiftright.cpp: `d >>= 15` as lowered (a test of d's sign, `d = 1` on
 // one side and `d = 0` on the other) becomes `d &= -32768; d /= -32768`:

@@ -69,6 +69,7 @@ bool optimize(Program& p, OptLevel level, Diagnostics& diags, Log& log, const Pa
     // Up to three rounds, each finding what the last one's removals
     // exposed; a round that changes nothing ends them.
     std::uint64_t before = code_hash(p);
+    const bool several_tasks = runs_several_tasks(p);
     for (int round = 0; round < 3; ++round) {
       fold_constants(p, &liveness);
       remove_dead_stores(p, &liveness);
@@ -77,7 +78,7 @@ bool optimize(Program& p, OptLevel level, Diagnostics& diags, Log& log, const Pa
         test_before_one_to_one_arithmetic(p, &liveness);
         for (auto& f : p.functions) {
           push_constant_ops_into_predecessors(f, p.vars);
-          compute_nonzero_by_sign(f);
+          compute_nonzero_by_sign(f, p.vars, several_tasks);
         }
         apply_constants_in_predecessors(p);
       }

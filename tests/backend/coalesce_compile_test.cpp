@@ -113,6 +113,31 @@ task main() {
   }
 }
 
+// `d = (v != 0)` as `d = abs(v); d = sign(d)` held |v| (5) in d for an
+// instruction, and a task waiting for d > 1 switched output B on, where
+// nqc's code (d = 0, then 1) never does. With a second task running, a
+// global keeps the test.
+TEST(NonZeroCompile, AnotherTaskNeverSeesTheAbsoluteValue) {
+  const char* text = R"(
+int d, v;
+task watch() { until (d > 1); OnFwd(OUT_B); }
+task main() {
+  start watch;
+  v = Timer(0) + 5;  // 0 so early, but not known to the optimiser
+  Wait(10);
+  d = (v != 0);
+  Wait(10);
+}
+)";
+  for (auto level : {ir::OptLevel::O1, ir::OptLevel::O2, ir::OptLevel::Os}) {
+    auto c = test::compile_program(text, level);
+    ASSERT_TRUE(c.out);
+    auto m = test::run_image(c.out->image, 500);
+    EXPECT_EQ(test::global_value(m, c.out->image, "d"), 1);
+    EXPECT_NE(m.state().outputs[1].mode, rcx::OutputMode::On) << static_cast<int>(level);
+  }
+}
+
 // The 16-bit edges: a reverse subtraction done as a negation wraps as the
 // subtraction does.
 TEST(Coalesce, ANegatedSubtractionWrapsLikeTheSubtraction) {

@@ -301,7 +301,7 @@ TEST(NonZero, AComparisonWithZeroIsTheSignOfTheAbsoluteValue) {
   b.block(f, {set(d, I(0))}, Branch{Cmp::EQ, I(0), V(v), 2, 1});
   b.block(f, {set(d, I(1))}, Jump{2});
   b.block(f, {sound(1)});
-  compute_nonzero_by_sign(b.fn(f));
+  compute_nonzero_by_sign(b.fn(f), b.p.vars, false);
   const auto& code = b.at(f, 0).instrs;
   ASSERT_EQ(code.size(), 2u);
   EXPECT_EQ(code[0].op, Op::AbsoluteValue);
@@ -309,6 +309,24 @@ TEST(NonZero, AComparisonWithZeroIsTheSignOfTheAbsoluteValue) {
   EXPECT_EQ(code[1].op, Op::SignVariable);
   ASSERT_TRUE(std::holds_alternative<Jump>(b.at(f, 0).term));
   EXPECT_EQ(std::get<Jump>(b.at(f, 0).term).target, 2);
+}
+
+TEST(NonZero, NotIntoAGlobalAnotherTaskMayRead) {
+  // The same shape with other tasks running: d would hold |v| for an
+  // instruction, which a task waiting for d > 1 sees. A local is still
+  // rewritten.
+  Builder b;
+  VarId v = b.global("v"), d = b.global("d"), l = b.local("l");
+  FuncId f = b.function("main");
+  b.block(f, {set(d, I(0))}, Branch{Cmp::EQ, I(0), V(v), 2, 1});
+  b.block(f, {set(d, I(1))}, Jump{2});
+  b.block(f, {set(l, I(0))}, Branch{Cmp::EQ, I(0), V(v), 4, 3});
+  b.block(f, {set(l, I(1))}, Jump{4});
+  b.block(f, {sound(1)});
+  compute_nonzero_by_sign(b.fn(f), b.p.vars, true);
+  EXPECT_TRUE(std::holds_alternative<Branch>(b.at(f, 0).term));
+  ASSERT_TRUE(std::holds_alternative<Jump>(b.at(f, 2).term));
+  EXPECT_EQ(b.at(f, 2).instrs.back().op, Op::SignVariable);
 }
 
 TEST(NonZero, OtherValuesOrOtherSidesStay) {
@@ -322,7 +340,7 @@ TEST(NonZero, OtherValuesOrOtherSidesStay) {
   b.block(f, {set(d, I(0))}, Branch{Cmp::EQ, I(0), V(v), 4, 3});
   b.block(f, {set(d, I(1)), sound(2)}, Jump{4});
   b.block(f, {sound(1)});
-  compute_nonzero_by_sign(b.fn(f));
+  compute_nonzero_by_sign(b.fn(f), b.p.vars, false);
   EXPECT_TRUE(std::holds_alternative<Branch>(b.at(f, 0).term));
   EXPECT_TRUE(std::holds_alternative<Branch>(b.at(f, 2).term));
 }
