@@ -469,10 +469,15 @@ class Preprocessor {
       if (!next_is_lparen(s)) return false;
       Token rparen;
       if (!collect_args(s, t, m, args, rparen)) return true;
-      if (!m.unusable.empty()) {
-        auto& d =
-            diags_.error({t.span.begin, rparen.span.end}, "macro '" + m.name + "' cannot be used: " + m.unusable);
-        d.notes.push_back({m.unusable_at, "in the definition of macro '" + m.name + "'"});
+      if (args.size() != m.params.size() || !m.unusable.empty()) {
+        report_unexpandable(t, rparen, m, args.size());
+        // The call stands as a 0 the parser reads past: `x = F(1);` is then
+        // the one error above, not a second "expected an expression".
+        Token zero = t;
+        zero.kind = TokenKind::Number;
+        zero.text = "0";
+        zero.span = {t.span.begin, rparen.span.end};
+        s.stack.push_back(zero);
         return true;
       }
       hide = hide_sets_.intersect(t.hide, rparen.hide);
@@ -534,15 +539,24 @@ class Preprocessor {
     if (s.stack.capacity() > 4 * s.stack.size() + 256) s.stack.shrink_to_fit();
     // `F()` passes no argument to a macro without parameters.
     if (m.params.empty() && args.size() == 1 && args[0].empty()) args.clear();
-    if (args.size() != m.params.size()) {
-      auto& d = diags_.error({name.span.begin, rparen.span.end},
-                             "macro '" + m.name + "' takes " + std::to_string(m.params.size()) + " argument" +
-                                 (m.params.size() == 1 ? "" : "s") + ", but " + std::to_string(args.size()) +
-                                 (args.size() == 1 ? " was" : " were") + " given");
-      d.notes.push_back({m.span, "macro '" + m.name + "' is defined here"});
-      return false;
-    }
     return true;
+  }
+
+  // A call of `m` with `given` arguments that cannot be expanded: the wrong
+  // number of them, or a body that cannot be used. The error is read past.
+  void report_unexpandable(const Token& name, const Token& rparen, const Macro& m, std::size_t given) {
+    SourceSpan call{name.span.begin, rparen.span.end};
+    if (given != m.params.size()) {
+      auto& d = diags_.error(call, "macro '" + m.name + "' takes " + std::to_string(m.params.size()) + " argument" +
+                                       (m.params.size() == 1 ? "" : "s") + ", but " + std::to_string(given) +
+                                       (given == 1 ? " was" : " were") + " given");
+      d.notes.push_back({m.span, "macro '" + m.name + "' is defined here"});
+      d.parsed_past = true;
+      return;
+    }
+    auto& d = diags_.error(call, "macro '" + m.name + "' cannot be used: " + m.unusable);
+    d.notes.push_back({m.unusable_at, "in the definition of macro '" + m.name + "'"});
+    d.parsed_past = true;
   }
 
   // Fully expands a token list on its own (a macro argument, an #if line).
@@ -1260,11 +1274,16 @@ class Preprocessor {
     // that are a mistake there, and so does rcxc: a function-like macro
     // without its arguments (`#if DEBUG` meant `#ifdef DEBUG`; nqc: "wrong
     // number of arguments") and a keyword or reserved word (nqc: "syntax
-    // error in expression"). `true` is 1 and `false` 0, an extension.
+    // error in expression"). `true` and `false` are keywords like the
+    // others: C would count them as 0 (before C23), C++ as 1 and 0; the
+    // error says which number to write.
     std::int64_t name_value(const Token& t) {
-      if (t.text == "true") return 1;
-      if (t.text == "false") return 0;
       std::string name(t.text);
+      if (t.text == "true" || t.text == "false") {
+        fail(t, "'" + name + "' is a keyword, not a value: #if takes numbers and macros; write " +
+                    (t.text == "true" ? "1" : "0") + " (nqc refuses it too)");
+        return 0;
+      }
       if (const Macro* m = pp.find_macro(t.text); m && m->function_like) {
         fail(t, "'" + name + "' is a function-like macro: #if needs its arguments, '" + name +
                     "(...)'; to ask whether it is defined, write 'defined(" + name + ")'");

@@ -505,4 +505,20 @@ TEST(HelpfulDiagnostics, AMacroThatExpandsToNothingInsideAnErrorIsNamed) {
   EXPECT_EQ(r.err.find("'FAST'"), std::string::npos) << r.err;
 }
 
+// A macro called with too few or too many arguments was followed by a
+// second error on the same line ("expected an expression before ';'"),
+// since the call left nothing behind; the call now stands as a 0 the
+// parser reads past, so each call is one error, and the program around it
+// is still checked (the undeclared name below).
+TEST(HelpfulDiagnostics, AMacroCalledWithTheWrongArgumentsIsOneError) {
+  auto r = run_frontend("#define F(a, b) ((a) + (b))\nint x;\ntask main()\n{\n  x = F(1);\n  x = F(1, 2, 3);\n"
+                        "  F(4);\n  Wait(F(5) + 1);\n  y = 2;\n}\n");
+  EXPECT_EQ(placed_messages(r.diags), (std::vector<std::string>{"5:7 macro 'F' takes 2 arguments, but 1 was given",
+                                                               "6:7 macro 'F' takes 2 arguments, but 3 were given",
+                                                               "7:3 macro 'F' takes 2 arguments, but 1 was given",
+                                                               "8:8 macro 'F' takes 2 arguments, but 1 was given",
+                                                               "9:3 'y' is not declared"}))
+      << r.text();
+}
+
 }  // namespace

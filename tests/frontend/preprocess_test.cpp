@@ -211,12 +211,27 @@ TEST(Preprocessor, IfRefusesWhatNqcRefuses) {
   EXPECT_EQ(p.diags.all()[0].span.begin.line, 4u);
   EXPECT_EQ(p.diags.all()[0].span.begin.column, 5u);
   // What nqc takes stays as it was: F with its arguments, defined(F), an
-  // unknown name, a name C leaves alone, true and false, and `inline`,
-  // which nqc does not reserve.
-  auto ok =
-      run_pp("#define F(x) x\n#if F(2) == 2 && defined(F) && !UNKNOWN && !inline && true && !false\nyes\n#endif\n");
+  // unknown name, a name C leaves alone, and `inline`, which nqc does not
+  // reserve.
+  auto ok = run_pp("#define F(x) x\n#if F(2) == 2 && defined(F) && !UNKNOWN && !inline\nyes\n#endif\n");
   EXPECT_TRUE(ok.diags.all().empty()) << ok.diags.all()[0].message;
   EXPECT_EQ(ok.joined, "yes");
+}
+
+// `#if true` compiled in silence as 1, where nqc refuses it ("syntax error
+// in expression") and C before C23 counts it as 0: a keyword like the
+// others, refused with the number to write. An unknown name stays 0.
+TEST(Preprocessor, IfRefusesTrueAndFalseAsKeywords) {
+  auto p = run_pp("#if true\na\n#endif\n#if 0\n#elif (false)\nb\n#endif\n#if !NOT_DEFINED\nc\n#endif\n");
+  EXPECT_EQ(messages(p.diags),
+            (std::vector<std::string>{
+                "'true' is a keyword, not a value: #if takes numbers and macros; write 1 (nqc refuses it too)",
+                "'false' is a keyword, not a value: #if takes numbers and macros; write 0 (nqc refuses it too)"}));
+  ASSERT_EQ(p.diags.all().size(), 2u);
+  EXPECT_EQ(p.diags.all()[0].span.begin.line, 1u);
+  EXPECT_EQ(p.diags.all()[0].span.begin.column, 5u);
+  EXPECT_EQ(p.diags.all()[1].span.begin.line, 5u);
+  EXPECT_EQ(p.diags.all()[1].span.begin.column, 8u);
 }
 
 // nqc compiles a program holding a #define it cannot use as long as the
@@ -244,7 +259,9 @@ TEST(Preprocessor, BrokenDefinitionsFailOnlyWhereNqcFails) {
   EXPECT_EQ(used.diags.all()[1].span.begin.column, 6u);
   ASSERT_EQ(used.diags.all()[1].notes.size(), 1u);
   EXPECT_EQ(used.diags.all()[1].notes[0].span.begin.line, 2u);
-  EXPECT_EQ(used.joined, "A ( 1 ) D");  // A was never defined; D without '(' is a name
+  // A was never defined; the calls that fail stand as 0s the parser reads
+  // past; D without '(' is a name.
+  EXPECT_EQ(used.joined, "A ( 1 ) 0 0 D");
   // An object-like macro has no call to wait for: the #define fails, as in nqc.
   EXPECT_EQ(messages(run_pp("#define H ## b\n").diags),
             (std::vector<std::string>{"'##' cannot appear at either end of a macro body"}));
