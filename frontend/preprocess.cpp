@@ -493,6 +493,8 @@ class Preprocessor {
     hide = hide_sets_.with(hide, id);
     std::uint32_t exp = sm_.add_expansion({m.name, t.span});
     std::vector<Token> result = substitute(m, args, hide, exp, depth);
+    for (const Token& r : result)  // from the body (see directive()), each use
+      if (r.kind == TokenKind::Unknown && r.span.begin.expansion == exp) report_unknown(r);
     if (result.empty()) sm_.mark_expansion_empty(exp);
     live_argument_tokens_ -= argument_tokens;
     if (expanded_tokens_ > kExpansionBase + kExpansionPerInputToken * input_tokens_) {
@@ -518,6 +520,10 @@ class Preprocessor {
     for (;;) {
       if (!pull(s, t, false)) {
         diags_.error(name.span, "unterminated argument list invoking macro '" + m.name + "'");
+        // The program's text ended inside the call: what the parser would
+        // say of the end (an expression expected, a '{' not closed) is
+        // about that one missing ')'.
+        if (s.reads_files) aborted_ = true;
         return false;
       }
       if (t.is("(")) ++depth;
@@ -751,14 +757,12 @@ class Preprocessor {
     if (d == "else") return do_else(line, hash);
     if (d == "endif") return do_endif(line, hash);
     if (!active()) return;
-    if (d == "define") {
-      // The body is compiled where the macro is used; the text of #error,
-      // #warning and #pragma is a message (`#warning it's slow`), and an
-      // #if expression says what it cannot read.
-      for (const Token& t : line)
-        if (t.kind == TokenKind::Unknown) report_unknown(t);
-      return do_define(line);
-    }
+    // A #define's body is compiled where the macro is used, so what it
+    // holds that starts no token (`#define S "abc`, never closed) is
+    // reported there (try_expand), as nqc compiles a program that never
+    // uses it; the text of #error, #warning and #pragma is a message
+    // (`#warning it's slow`), and an #if expression says what it cannot read.
+    if (d == "define") return do_define(line);
     if (d == "undef") return do_undef(line);
     if (d == "include") return do_include(line, hash);
     if (d == "error") {

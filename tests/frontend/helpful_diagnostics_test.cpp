@@ -521,4 +521,13 @@ TEST(HelpfulDiagnostics, AMacroCalledWithTheWrongArgumentsIsOneError) {
       << r.text();
 }
 
+// A call whose ')' never comes took the rest of the program as its
+// arguments; the parser then said "expected an expression before end of
+// file" and that the task's '{' was not closed, both about the one ')'.
+TEST(HelpfulDiagnostics, AMacroCallLeftOpenIsOneError) {
+  auto r = run_frontend("#define F(a) ((a) + 1)\nint x;\ntask main() { x = F(2; }\n");
+  EXPECT_EQ(r.brief(), (std::vector<std::string>{"3:19: error: unterminated argument list invoking macro 'F'"}))
+      << r.text();
+}
+
 }  // namespace

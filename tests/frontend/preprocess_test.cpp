@@ -267,6 +267,20 @@ TEST(Preprocessor, BrokenDefinitionsFailOnlyWhereNqcFails) {
             (std::vector<std::string>{"'##' cannot appear at either end of a macro body"}));
 }
 
+// nqc compiles a #define whose quote is never closed as long as nothing
+// uses it; rcxc refused it at the #define. It is an error where it is used.
+TEST(Preprocessor, AnUnclosedQuoteInADefineFailsWhereItIsUsed) {
+  auto unused = run_pp("#define S \"abc\n#define T 'a\n#define U(x) x \"\nok\n");
+  EXPECT_TRUE(unused.diags.all().empty()) << unused.diags.all()[0].message;
+  EXPECT_EQ(unused.joined, "ok");
+  auto used = run_pp("#define S \"abc\n#define U(x) x '\nS U(1)\n");
+  EXPECT_EQ(messages(used.diags), (std::vector<std::string>{"missing terminating \" character",
+                                                            "missing terminating ' character"}));
+  ASSERT_EQ(used.diags.all().size(), 2u);
+  EXPECT_EQ(used.diags.all()[0].span.begin.line, 1u);
+  EXPECT_EQ(used.diags.all()[0].span.begin.column, 11u);
+}
+
 TEST(Preprocessor, ErrorWarningUndefAndUnknownDirectives) {
   auto p = run_pp("#define X 1\n#undef X\n#ifdef X\nbad\n#endif\n#error stop  here\n#warning careful\n#frob\n");
   EXPECT_EQ(messages(p.diags), (std::vector<std::string>{"#error stop here", "#warning careful",
@@ -278,12 +292,14 @@ TEST(Preprocessor, ErrorWarningUndefAndUnknownDirectives) {
 // Text an #if leaves out may hold anything, as in C and nqc: an apostrophe
 // in prose, UTF-8 letters, a stray character. The same text where it is
 // compiled is an error at each place, and so is a stray character in a
-// macro's body; the text of #warning is a message, which may hold anything.
+// macro's body where the macro is used (nqc compiles a #define that holds
+// one as long as nothing uses it); the text of #warning is a message, which
+// may hold anything.
 TEST(Preprocessor, StrayCharactersAreErrorsOnlyWhereTheTextIsNotSkipped) {
   auto skipped = run_pp("#if 0\nIt doesn't work yet: Gr\xc3\xb6\xc3\x9f" "e ` \"x\n#endif\nx;\n");
   EXPECT_FALSE(skipped.diags.has_errors()) << messages(skipped.diags)[0];
   EXPECT_EQ(skipped.joined, "x ;");
-  auto active = run_pp("#if 1\nit's `\n#endif\n#define A ` 1\n");
+  auto active = run_pp("#if 1\nit's `\n#endif\n#define A ` 1\nA\n");
   // The unterminated quote takes the rest of its line, '`' included.
   EXPECT_EQ(messages(active.diags), (std::vector<std::string>{"missing terminating ' character",
                                                               "stray character '`' in program"}));
