@@ -471,13 +471,17 @@ class Preprocessor {
       if (!collect_args(s, t, m, args, rparen)) return true;
       if (args.size() != m.params.size() || !m.unusable.empty()) {
         report_unexpandable(t, rparen, m, args.size());
-        // The call stands as a 0 the parser reads past: `x = F(1);` is then
-        // the one error above, not a second "expected an expression".
-        Token zero = t;
-        zero.kind = TokenKind::Number;
-        zero.text = "0";
-        zero.span = {t.span.begin, rparen.span.end};
-        s.stack.push_back(zero);
+        // Inside an expression the call stands as a 0 the parser reads
+        // past: `x = F(1);` is then the one error above, not a second
+        // "expected an expression". Where a statement or declaration starts
+        // (`MOVE(OUT_A);`, `DECL(x)` at the top), nothing stands there.
+        if (!s.reads_files || (!out_.tokens.empty() && !starts_after(out_.tokens.back()))) {
+          Token zero = t;
+          zero.kind = TokenKind::Number;
+          zero.text = "0";
+          zero.span = {t.span.begin, rparen.span.end};
+          s.stack.push_back(zero);
+        }
         return true;
       }
       hide = hide_sets_.intersect(t.hide, rparen.hide);
@@ -546,6 +550,12 @@ class Preprocessor {
     // `F()` passes no argument to a macro without parameters.
     if (m.params.empty() && args.size() == 1 && args[0].empty()) args.clear();
     return true;
+  }
+
+  // Whether a statement or declaration may start after `t`.
+  static bool starts_after(const Token& t) {
+    return t.is(";") || t.is("{") || t.is("}") || t.is(")") || t.is(":") || t.is_identifier("else") ||
+           t.is_identifier("do");
   }
 
   // A call of `m` with `given` arguments that cannot be expanded: the wrong

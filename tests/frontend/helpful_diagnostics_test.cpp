@@ -511,13 +511,14 @@ TEST(HelpfulDiagnostics, AMacroThatExpandsToNothingInsideAnErrorIsNamed) {
 // parser reads past, so each call is one error, and the program around it
 // is still checked (the undeclared name below).
 TEST(HelpfulDiagnostics, AMacroCalledWithTheWrongArgumentsIsOneError) {
-  auto r = run_frontend("#define F(a, b) ((a) + (b))\nint x;\ntask main()\n{\n  x = F(1);\n  x = F(1, 2, 3);\n"
-                        "  F(4);\n  Wait(F(5) + 1);\n  y = 2;\n}\n");
-  EXPECT_EQ(placed_messages(r.diags), (std::vector<std::string>{"5:7 macro 'F' takes 2 arguments, but 1 was given",
-                                                               "6:7 macro 'F' takes 2 arguments, but 3 were given",
-                                                               "7:3 macro 'F' takes 2 arguments, but 1 was given",
-                                                               "8:8 macro 'F' takes 2 arguments, but 1 was given",
-                                                               "9:3 'y' is not declared"}))
+  auto r = run_frontend("#define F(a, b) ((a) + (b))\n#define DECL(a, b) int a = b;\nDECL(g)\nint x;\ntask main()\n{\n"
+                        "  x = F(1);\n  x = F(1, 2, 3);\n  F(4);\n  Wait(F(5) + 1);\n  y = 2;\n}\n");
+  EXPECT_EQ(placed_messages(r.diags), (std::vector<std::string>{"3:1 macro 'DECL' takes 2 arguments, but 1 was given",
+                                                               "7:7 macro 'F' takes 2 arguments, but 1 was given",
+                                                               "8:7 macro 'F' takes 2 arguments, but 3 were given",
+                                                               "9:3 macro 'F' takes 2 arguments, but 1 was given",
+                                                               "10:8 macro 'F' takes 2 arguments, but 1 was given",
+                                                               "11:3 'y' is not declared"}))
       << r.text();
 }
 
