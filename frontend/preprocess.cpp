@@ -374,12 +374,19 @@ class Preprocessor {
         t = &f.tokens[f.pos];
         return true;
       }
-      for (std::size_t i = conds_.size(); i > f.conds_at_entry; --i)
+      // A comment never closed took the rest of the file: the program is
+      // cut there, and the lexer's error is the one to give (nqc too).
+      bool cut = f.tokens[f.pos].text == kEndInsideComment;
+      for (std::size_t i = conds_.size(); i > f.conds_at_entry && !cut; --i)
         diags_.error(conds_[i - 1].span, "unterminated conditional directive (#endif missing)");
       conds_.resize(f.conds_at_entry);
       last_span_ = f.tokens[f.pos].span;
       if (f.tokens.capacity() > spare_.capacity()) spare_ = std::move(f.tokens);
       files_.pop_back();
+      if (cut) {
+        aborted_ = true;
+        return false;
+      }
     }
     return false;
   }

@@ -531,4 +531,14 @@ TEST(HelpfulDiagnostics, AMacroCallLeftOpenIsOneError) {
       << r.text();
 }
 
+// A /* never closed took the rest of the file, and the preprocessor and the
+// parser then reported what was missing at its end: the #endif of the #if
+// 0 around it, and the task's '}'. The comment is the one error, as with nqc.
+TEST(HelpfulDiagnostics, ACommentNeverClosedIsOneError) {
+  auto r = run_frontend("int x;\ntask main() {\n#if 0\n  /* never closed\n#endif\n  x = 1;\n}\n");
+  EXPECT_EQ(r.brief(), (std::vector<std::string>{"4:3: error: unterminated /* comment"})) << r.text();
+  auto plain = run_frontend("int x;\ntask main() {\n  /* never closed\n  x = 1;\n}\n");
+  EXPECT_EQ(plain.brief(), (std::vector<std::string>{"3:3: error: unterminated /* comment"})) << plain.text();
+}
+
 }  // namespace
