@@ -64,6 +64,7 @@ std::vector<Token> lex_text(std::string_view text, std::uint32_t file, Diagnosti
   out.reserve(text.size() + 1);
   bool line_start = true;
   bool space = false;
+  bool ends_in_comment = false;  // an unterminated /* took the rest of the text
 
   // A file full of stray characters is not NQC (a binary, say): stop after
   // a few dozen reports rather than one per byte.
@@ -122,6 +123,7 @@ std::vector<Token> lex_text(std::string_view text, std::uint32_t file, Diagnosti
         if (start >= c.limit) {
           c.p = start;
           emit(TokenKind::End, start);
+          if (ends_in_comment) out.back().text = kEndInsideComment;
           return out;
         }
         if (defer) {
@@ -138,8 +140,10 @@ std::vector<Token> lex_text(std::string_view text, std::uint32_t file, Diagnosti
       "//" [^\n\x00]* { keep_comment(start, c.loc(start)); space = true; continue; }
       "/*" {
         SourceLoc open = c.loc(start);
-        if (!skip_block_comment(c))
+        if (!skip_block_comment(c)) {
           diags.error({open, c.loc(start + 2)}, "unterminated /* comment");
+          ends_in_comment = true;
+        }
         keep_comment(start, open);
         space = true;
         continue;

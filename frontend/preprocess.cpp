@@ -374,12 +374,19 @@ class Preprocessor {
         t = &f.tokens[f.pos];
         return true;
       }
-      for (std::size_t i = conds_.size(); i > f.conds_at_entry; --i)
+      // A comment never closed took the rest of the file: the program is
+      // cut there, and the lexer's error is the one to give (nqc too).
+      bool cut = f.tokens[f.pos].text == kEndInsideComment;
+      for (std::size_t i = conds_.size(); i > f.conds_at_entry && !cut; --i)
         diags_.error(conds_[i - 1].span, "unterminated conditional directive (#endif missing)");
       conds_.resize(f.conds_at_entry);
       last_span_ = f.tokens[f.pos].span;
       if (f.tokens.capacity() > spare_.capacity()) spare_ = std::move(f.tokens);
       files_.pop_back();
+      if (cut) {
+        aborted_ = true;
+        return false;
+      }
     }
     return false;
   }
@@ -469,10 +476,19 @@ class Preprocessor {
       if (!next_is_lparen(s)) return false;
       Token rparen;
       if (!collect_args(s, t, m, args, rparen)) return true;
-      if (!m.unusable.empty()) {
-        auto& d =
-            diags_.error({t.span.begin, rparen.span.end}, "macro '" + m.name + "' cannot be used: " + m.unusable);
-        d.notes.push_back({m.unusable_at, "in the definition of macro '" + m.name + "'"});
+      if (args.size() != m.params.size() || !m.unusable.empty()) {
+        report_unexpandable(t, rparen, m, args.size());
+        // Inside an expression the call stands as a 0 the parser reads
+        // past: `x = F(1);` is then the one error above, not a second
+        // "expected an expression". Where a statement or declaration starts
+        // (`MOVE(OUT_A);`, `DECL(x)` at the top), nothing stands there.
+        if (!s.reads_files || (!out_.tokens.empty() && !starts_after(out_.tokens.back()))) {
+          Token zero = t;
+          zero.kind = TokenKind::Number;
+          zero.text = "0";
+          zero.span = {t.span.begin, rparen.span.end};
+          s.stack.push_back(zero);
+        }
         return true;
       }
       hide = hide_sets_.intersect(t.hide, rparen.hide);
@@ -488,6 +504,8 @@ class Preprocessor {
     hide = hide_sets_.with(hide, id);
     std::uint32_t exp = sm_.add_expansion({m.name, t.span});
     std::vector<Token> result = substitute(m, args, hide, exp, depth);
+    for (const Token& r : result)  // from the body (see directive()), each use
+      if (r.kind == TokenKind::Unknown && r.span.begin.expansion == exp) report_unknown(r);
     if (result.empty()) sm_.mark_expansion_empty(exp);
     live_argument_tokens_ -= argument_tokens;
     if (expanded_tokens_ > kExpansionBase + kExpansionPerInputToken * input_tokens_) {
@@ -513,6 +531,10 @@ class Preprocessor {
     for (;;) {
       if (!pull(s, t, false)) {
         diags_.error(name.span, "unterminated argument list invoking macro '" + m.name + "'");
+        // The program's text ended inside the call: what the parser would
+        // say of the end (an expression expected, a '{' not closed) is
+        // about that one missing ')'.
+        if (s.reads_files) aborted_ = true;
         return false;
       }
       if (t.is("(")) ++depth;
@@ -534,15 +556,30 @@ class Preprocessor {
     if (s.stack.capacity() > 4 * s.stack.size() + 256) s.stack.shrink_to_fit();
     // `F()` passes no argument to a macro without parameters.
     if (m.params.empty() && args.size() == 1 && args[0].empty()) args.clear();
-    if (args.size() != m.params.size()) {
-      auto& d = diags_.error({name.span.begin, rparen.span.end},
-                             "macro '" + m.name + "' takes " + std::to_string(m.params.size()) + " argument" +
-                                 (m.params.size() == 1 ? "" : "s") + ", but " + std::to_string(args.size()) +
-                                 (args.size() == 1 ? " was" : " were") + " given");
-      d.notes.push_back({m.span, "macro '" + m.name + "' is defined here"});
-      return false;
-    }
     return true;
+  }
+
+  // Whether a statement or declaration may start after `t`.
+  static bool starts_after(const Token& t) {
+    return t.is(";") || t.is("{") || t.is("}") || t.is(")") || t.is(":") || t.is_identifier("else") ||
+           t.is_identifier("do");
+  }
+
+  // A call of `m` with `given` arguments that cannot be expanded: the wrong
+  // number of them, or a body that cannot be used. The error is read past.
+  void report_unexpandable(const Token& name, const Token& rparen, const Macro& m, std::size_t given) {
+    SourceSpan call{name.span.begin, rparen.span.end};
+    if (given != m.params.size()) {
+      auto& d = diags_.error(call, "macro '" + m.name + "' takes " + std::to_string(m.params.size()) + " argument" +
+                                       (m.params.size() == 1 ? "" : "s") + ", but " + std::to_string(given) +
+                                       (given == 1 ? " was" : " were") + " given");
+      d.notes.push_back({m.span, "macro '" + m.name + "' is defined here"});
+      d.parsed_past = true;
+      return;
+    }
+    auto& d = diags_.error(call, "macro '" + m.name + "' cannot be used: " + m.unusable);
+    d.notes.push_back({m.unusable_at, "in the definition of macro '" + m.name + "'"});
+    d.parsed_past = true;
   }
 
   // Fully expands a token list on its own (a macro argument, an #if line).
@@ -737,14 +774,12 @@ class Preprocessor {
     if (d == "else") return do_else(line, hash);
     if (d == "endif") return do_endif(line, hash);
     if (!active()) return;
-    if (d == "define") {
-      // The body is compiled where the macro is used; the text of #error,
-      // #warning and #pragma is a message (`#warning it's slow`), and an
-      // #if expression says what it cannot read.
-      for (const Token& t : line)
-        if (t.kind == TokenKind::Unknown) report_unknown(t);
-      return do_define(line);
-    }
+    // A #define's body is compiled where the macro is used, so what it
+    // holds that starts no token (`#define S "abc`, never closed) is
+    // reported there (try_expand), as nqc compiles a program that never
+    // uses it; the text of #error, #warning and #pragma is a message
+    // (`#warning it's slow`), and an #if expression says what it cannot read.
+    if (d == "define") return do_define(line);
     if (d == "undef") return do_undef(line);
     if (d == "include") return do_include(line, hash);
     if (d == "error") {
@@ -1260,11 +1295,16 @@ class Preprocessor {
     // that are a mistake there, and so does rcxc: a function-like macro
     // without its arguments (`#if DEBUG` meant `#ifdef DEBUG`; nqc: "wrong
     // number of arguments") and a keyword or reserved word (nqc: "syntax
-    // error in expression"). `true` is 1 and `false` 0, an extension.
+    // error in expression"). `true` and `false` are keywords like the
+    // others: C would count them as 0 (before C23), C++ as 1 and 0; the
+    // error says which number to write.
     std::int64_t name_value(const Token& t) {
-      if (t.text == "true") return 1;
-      if (t.text == "false") return 0;
       std::string name(t.text);
+      if (t.text == "true" || t.text == "false") {
+        fail(t, "'" + name + "' is a keyword, not a value: #if takes numbers and macros; write " +
+                    (t.text == "true" ? "1" : "0") + " (nqc refuses it too)");
+        return 0;
+      }
       if (const Macro* m = pp.find_macro(t.text); m && m->function_like) {
         fail(t, "'" + name + "' is a function-like macro: #if needs its arguments, '" + name +
                     "(...)'; to ask whether it is defined, write 'defined(" + name + ")'");

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <functional>
 #include <map>
 #include <optional>
@@ -138,6 +139,7 @@ class Checker {
   bool in_function_ = false;
   bool in_case_value_ = false;  // reading a `case` value (see TypeOf)
   bool in_const_argument_ = false;  // reading the argument of a `const int` parameter (see TypeOf)
+  const Expr* written_ = nullptr;   // the expression being written, if any (see written_expr)
   // The global whose initial value is being checked (see check_global).
   std::optional<std::uint32_t> initialising_global_;
   std::unordered_map<SymbolId, std::int16_t> refused_constants_;  // see VarDecl::refused_const
@@ -439,11 +441,22 @@ class Checker {
       note_refused_constant(v);
     }
   }
+  // Whether an error was reported inside `span` (by the preprocessor or the
+  // parser, which read past it).
+  bool error_within(const SourceSpan& span) const {
+    return std::any_of(diags_.all().begin(), diags_.all().end(), [&](const Diagnostic& d) {
+      const SourceLoc& at = d.span.begin;
+      return d.severity == Severity::Error && at.file == span.begin.file && at.expansion == span.begin.expansion &&
+             !before(at, span.begin) && before(at, span.end);
+    });
+  }
   void visit_stmt(ExprStmt& e, Stmt&) {
     std::size_t errors_before = diags_.error_count();
     expr(e.expr, Use::Discarded);
-    // A statement already in error (`f;` for `f();`) needs no warning besides.
-    if (diags_.error_count() != errors_before) return;
+    // A statement already in error (`f;` for `f();`, or `F(1);` for a macro
+    // of two arguments, which the parser read past as `0;`) needs no
+    // warning besides.
+    if (diags_.error_count() != errors_before || error_within(e.expr.span)) return;
     bool effect = as<Assign>(e.expr) || as<Call>(e.expr);
     if (const auto* u = as<Unary>(e.expr))
       effect = u->op == UnaryOp::PreInc || u->op == UnaryOp::PreDec || u->op == UnaryOp::PostInc ||
@@ -726,6 +739,16 @@ class Checker {
     std::visit([&](auto& n) { visit_expr(n, e, use); }, e.node);
   }
 
+  // An expression the statement writes (an assignment's target, `++x`'s
+  // operand, an `int &` argument): `@32 = 1` is then one error, that slot
+  // 32 cannot be written, not a range warning beside it.
+  void written_expr(Expr& e) {
+    const Expr* outer = written_;
+    written_ = &e;
+    expr(e, Use::Value);
+    written_ = outer;
+  }
+
   void visit_expr(IntLit& n, Expr& e, Use) {
     if (n.value > 0xFFFF || n.value < -0x8000) {
       std::string number = n.value >= kLiteralPastRange ? "" : std::to_string(n.value) + " ";
@@ -762,9 +785,13 @@ class Checker {
   }
 
   void visit_expr(Unary& n, Expr& e, Use) {
-    expr(*n.operand, Use::Value);
-    if (n.op == UnaryOp::PreInc || n.op == UnaryOp::PreDec || n.op == UnaryOp::PostInc ||
-        n.op == UnaryOp::PostDec) {
+    bool steps = n.op == UnaryOp::PreInc || n.op == UnaryOp::PreDec || n.op == UnaryOp::PostInc ||
+                 n.op == UnaryOp::PostDec;
+    if (steps)
+      written_expr(*n.operand);
+    else
+      expr(*n.operand, Use::Value);
+    if (steps) {
       require_writable(*n.operand, n.op == UnaryOp::PreInc || n.op == UnaryOp::PostInc ? "increment" : "decrement",
                        n.operand->span);
       return;
@@ -845,7 +872,7 @@ class Checker {
 
   void visit_expr(Assign& n, Expr&, Use) {
     expr(*n.value, Use::Value);
-    expr(*n.target, Use::Value);
+    written_expr(*n.target);
     require_writable(*n.target, "assign to", at_operator(n, n.target->span));
     if ((n.op == AssignOp::Div || n.op == AssignOp::Mod) && n.value->constant && *n.value->constant == 0)
       diags_.warning(n.value->span, WarningKind::DivisionByZero, "division by zero (at run time the firmware leaves the value unchanged)");
@@ -911,7 +938,10 @@ class Checker {
     for (std::size_t i = 0; i < n.args.size(); ++i) {
       in_const_argument_ = callee && i < callee->params.size() && callee->params[i].kind == ParamKind::Const;
       std::size_t said_before = diags_.all().size();
-      expr(n.args[i], Use::Value);
+      if (callee && i < callee->params.size() && callee->params[i].kind == ParamKind::Reference)
+        written_expr(n.args[i]);
+      else
+        expr(n.args[i], Use::Value);
       in_const_argument_ = false;
       if (diags_.all().size() == said_before) warn_wide_argument(n.args[i]);
     }
@@ -1085,7 +1115,10 @@ class Checker {
     const Expr* arg = n.arg.get();
     if (const auto* sa = as<SourceArg>(*arg); sa && sa->or_constant_byte) arg = sa->operand.get();
     if (auto range = rcx::source_argument_range(type); range && (n.arg_value < range->lo || n.arg_value > range->hi)) {
-      if (range->lo == range->hi)
+      if (&e == written_ && type == static_cast<int>(rcx::Source::Variable))
+        diags_.error(e.span, fmt::format("variable slot {} does not exist: the RCX has slots {} to {}", n.arg_value,
+                                         range->lo, range->hi));
+      else if (range->lo == range->hi)
         diags_.warning(arg->span, WarningKind::Source, fmt::format("the {} source takes argument {}, not {}", rcx::source_name(type),
                                               range->lo, n.arg_value));
       else

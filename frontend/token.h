@@ -43,6 +43,11 @@ struct Token {
 };
 static_assert(std::is_trivially_copyable_v<Token>, "tokens are copied and moved in bulk");
 
+// The text of the End token of a file whose last comment is never closed:
+// the comment took the rest of the file, so what is missing at its end
+// (an #endif, a '}') is that comment's doing, not another mistake.
+inline constexpr std::string_view kEndInsideComment = "/*";
+
 // Splits `text` (file `file` of the SourceManager) into tokens, ending with
 // one End token. The tokens' spellings are views of `text`, which must
 // outlive them. Lexical errors (unterminated comment, stray character) are

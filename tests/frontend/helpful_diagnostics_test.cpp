@@ -505,4 +505,40 @@ TEST(HelpfulDiagnostics, AMacroThatExpandsToNothingInsideAnErrorIsNamed) {
   EXPECT_EQ(r.err.find("'FAST'"), std::string::npos) << r.err;
 }
 
+// A macro called with too few or too many arguments was followed by a
+// second error on the same line ("expected an expression before ';'"),
+// since the call left nothing behind; the call now stands as a 0 the
+// parser reads past, so each call is one error, and the program around it
+// is still checked (the undeclared name below).
+TEST(HelpfulDiagnostics, AMacroCalledWithTheWrongArgumentsIsOneError) {
+  auto r = run_frontend("#define F(a, b) ((a) + (b))\n#define DECL(a, b) int a = b;\nDECL(g)\nint x;\ntask main()\n{\n"
+                        "  x = F(1);\n  x = F(1, 2, 3);\n  F(4);\n  Wait(F(5) + 1);\n  y = 2;\n}\n");
+  EXPECT_EQ(placed_messages(r.diags), (std::vector<std::string>{"3:1 macro 'DECL' takes 2 arguments, but 1 was given",
+                                                               "7:7 macro 'F' takes 2 arguments, but 1 was given",
+                                                               "8:7 macro 'F' takes 2 arguments, but 3 were given",
+                                                               "9:3 macro 'F' takes 2 arguments, but 1 was given",
+                                                               "10:8 macro 'F' takes 2 arguments, but 1 was given",
+                                                               "11:3 'y' is not declared"}))
+      << r.text();
+}
+
+// A call whose ')' never comes took the rest of the program as its
+// arguments; the parser then said "expected an expression before end of
+// file" and that the task's '{' was not closed, both about the one ')'.
+TEST(HelpfulDiagnostics, AMacroCallLeftOpenIsOneError) {
+  auto r = run_frontend("#define F(a) ((a) + 1)\nint x;\ntask main() { x = F(2; }\n");
+  EXPECT_EQ(r.brief(), (std::vector<std::string>{"3:19: error: unterminated argument list invoking macro 'F'"}))
+      << r.text();
+}
+
+// A /* never closed took the rest of the file, and the preprocessor and the
+// parser then reported what was missing at its end: the #endif of the #if
+// 0 around it, and the task's '}'. The comment is the one error, as with nqc.
+TEST(HelpfulDiagnostics, ACommentNeverClosedIsOneError) {
+  auto r = run_frontend("int x;\ntask main() {\n#if 0\n  /* never closed\n#endif\n  x = 1;\n}\n");
+  EXPECT_EQ(r.brief(), (std::vector<std::string>{"4:3: error: unterminated /* comment"})) << r.text();
+  auto plain = run_frontend("int x;\ntask main() {\n  /* never closed\n  x = 1;\n}\n");
+  EXPECT_EQ(plain.brief(), (std::vector<std::string>{"3:3: error: unterminated /* comment"})) << plain.text();
+}
+
 }  // namespace

@@ -211,12 +211,27 @@ TEST(Preprocessor, IfRefusesWhatNqcRefuses) {
   EXPECT_EQ(p.diags.all()[0].span.begin.line, 4u);
   EXPECT_EQ(p.diags.all()[0].span.begin.column, 5u);
   // What nqc takes stays as it was: F with its arguments, defined(F), an
-  // unknown name, a name C leaves alone, true and false, and `inline`,
-  // which nqc does not reserve.
-  auto ok =
-      run_pp("#define F(x) x\n#if F(2) == 2 && defined(F) && !UNKNOWN && !inline && true && !false\nyes\n#endif\n");
+  // unknown name, a name C leaves alone, and `inline`, which nqc does not
+  // reserve.
+  auto ok = run_pp("#define F(x) x\n#if F(2) == 2 && defined(F) && !UNKNOWN && !inline\nyes\n#endif\n");
   EXPECT_TRUE(ok.diags.all().empty()) << ok.diags.all()[0].message;
   EXPECT_EQ(ok.joined, "yes");
+}
+
+// `#if true` compiled in silence as 1, where nqc refuses it ("syntax error
+// in expression") and C before C23 counts it as 0: a keyword like the
+// others, refused with the number to write. An unknown name stays 0.
+TEST(Preprocessor, IfRefusesTrueAndFalseAsKeywords) {
+  auto p = run_pp("#if true\na\n#endif\n#if 0\n#elif (false)\nb\n#endif\n#if !NOT_DEFINED\nc\n#endif\n");
+  EXPECT_EQ(messages(p.diags),
+            (std::vector<std::string>{
+                "'true' is a keyword, not a value: #if takes numbers and macros; write 1 (nqc refuses it too)",
+                "'false' is a keyword, not a value: #if takes numbers and macros; write 0 (nqc refuses it too)"}));
+  ASSERT_EQ(p.diags.all().size(), 2u);
+  EXPECT_EQ(p.diags.all()[0].span.begin.line, 1u);
+  EXPECT_EQ(p.diags.all()[0].span.begin.column, 5u);
+  EXPECT_EQ(p.diags.all()[1].span.begin.line, 5u);
+  EXPECT_EQ(p.diags.all()[1].span.begin.column, 8u);
 }
 
 // nqc compiles a program holding a #define it cannot use as long as the
@@ -244,10 +259,26 @@ TEST(Preprocessor, BrokenDefinitionsFailOnlyWhereNqcFails) {
   EXPECT_EQ(used.diags.all()[1].span.begin.column, 6u);
   ASSERT_EQ(used.diags.all()[1].notes.size(), 1u);
   EXPECT_EQ(used.diags.all()[1].notes[0].span.begin.line, 2u);
-  EXPECT_EQ(used.joined, "A ( 1 ) D");  // A was never defined; D without '(' is a name
+  // A was never defined; the calls that fail leave nothing after a ')'
+  // (see AMacroCalledWithTheWrongArgumentsIsOneError); D without '(' is a name.
+  EXPECT_EQ(used.joined, "A ( 1 ) D");
   // An object-like macro has no call to wait for: the #define fails, as in nqc.
   EXPECT_EQ(messages(run_pp("#define H ## b\n").diags),
             (std::vector<std::string>{"'##' cannot appear at either end of a macro body"}));
+}
+
+// nqc compiles a #define whose quote is never closed as long as nothing
+// uses it; rcxc refused it at the #define. It is an error where it is used.
+TEST(Preprocessor, AnUnclosedQuoteInADefineFailsWhereItIsUsed) {
+  auto unused = run_pp("#define S \"abc\n#define T 'a\n#define U(x) x \"\nok\n");
+  EXPECT_TRUE(unused.diags.all().empty()) << unused.diags.all()[0].message;
+  EXPECT_EQ(unused.joined, "ok");
+  auto used = run_pp("#define S \"abc\n#define U(x) x '\nS U(1)\n");
+  EXPECT_EQ(messages(used.diags), (std::vector<std::string>{"missing terminating \" character",
+                                                            "missing terminating ' character"}));
+  ASSERT_EQ(used.diags.all().size(), 2u);
+  EXPECT_EQ(used.diags.all()[0].span.begin.line, 1u);
+  EXPECT_EQ(used.diags.all()[0].span.begin.column, 11u);
 }
 
 TEST(Preprocessor, ErrorWarningUndefAndUnknownDirectives) {
@@ -261,12 +292,14 @@ TEST(Preprocessor, ErrorWarningUndefAndUnknownDirectives) {
 // Text an #if leaves out may hold anything, as in C and nqc: an apostrophe
 // in prose, UTF-8 letters, a stray character. The same text where it is
 // compiled is an error at each place, and so is a stray character in a
-// macro's body; the text of #warning is a message, which may hold anything.
+// macro's body where the macro is used (nqc compiles a #define that holds
+// one as long as nothing uses it); the text of #warning is a message, which
+// may hold anything.
 TEST(Preprocessor, StrayCharactersAreErrorsOnlyWhereTheTextIsNotSkipped) {
   auto skipped = run_pp("#if 0\nIt doesn't work yet: Gr\xc3\xb6\xc3\x9f" "e ` \"x\n#endif\nx;\n");
   EXPECT_FALSE(skipped.diags.has_errors()) << messages(skipped.diags)[0];
   EXPECT_EQ(skipped.joined, "x ;");
-  auto active = run_pp("#if 1\nit's `\n#endif\n#define A ` 1\n");
+  auto active = run_pp("#if 1\nit's `\n#endif\n#define A ` 1\nA\n");
   // The unterminated quote takes the rest of its line, '`' included.
   EXPECT_EQ(messages(active.diags), (std::vector<std::string>{"missing terminating ' character",
                                                               "stray character '`' in program"}));

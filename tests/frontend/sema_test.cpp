@@ -286,6 +286,17 @@ const BadProgram kCases[] = {
       "program can read and not assign",
       "6:3: error: cannot assign to this expression: it is not a variable but the value of the message buffer, which "
       "a program can read and not assign"}},
+    // A slot past 31 written was refused when the code was generated, with
+    // the range warning beside the error; now one error says it. Read, it
+    // stays a warning (nqc compiles both).
+    {"AVariableSlotPastTheRcxWrittenIsOneError",
+     "int a;\nvoid f(int &x) { x = 1; }\ntask main()\n{\n  @32 = 1;\n  @(-1) += 2;\n  ++@40;\n  f(@33);\n"
+     "  a = @32;\n}\n",
+     {"5:3: error: variable slot 32 does not exist: the RCX has slots 0 to 31",
+      "6:3: error: variable slot -1 does not exist: the RCX has slots 0 to 31",
+      "7:5: error: variable slot 40 does not exist: the RCX has slots 0 to 31",
+      "8:5: error: variable slot 33 does not exist: the RCX has slots 0 to 31",
+      "9:8: warning: variable 32 does not exist: the RCX has variables 0 to 31"}},
     // `__res 3 { ... }` (nqc's Spybot resources) was taken for a call
     // without its parentheses: "write '__res(3)'".
     {"ASpybotResourceBlockSaysTheWordIsReserved", "task main()\n{\n  __res 3 { 1, 2 };\n}\n",
