@@ -34,7 +34,6 @@ struct State {
     else
       consts.insert(it, {v, c});
   }
-  friend bool operator==(const State&, const State&) = default;
 };
 
 // What is known on entry to each block, all in one array: a block's
