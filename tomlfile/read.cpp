@@ -157,6 +157,14 @@ std::optional<std::int64_t> int_key(const toml::table& t, std::string_view key, 
   return v;
 }
 
+std::optional<std::int64_t> at_ms_key(const toml::table& t, std::string_view path) {
+  auto at = int_key(t, "at_ms", 0, INT64_MAX, path, true);
+  if (at && *at > kLatestAtMs)
+    throw TomlError{fmt::format("{}: 'at_ms' = {} is later than the longest run ({} ms, about 35 years)",
+                                where(path, *t.get("at_ms")), *at, kLatestAtMs)};
+  return at;
+}
+
 std::variant<toml::table, TomlError> read_toml(std::string_view text, std::string_view path,
                                                std::string_view what_it_holds) {
   // Binary bytes (an .rxe or .rcx file, random data) would be told as

@@ -67,6 +67,12 @@ TEST(Scenario, ErrorsNameTheLine) {
   EXPECT_NE(error("[[input]]\nat_ms = 1\nsensr = 1\nraw = 3\n").find("s.toml:3: unknown key 'sensr'"), std::string::npos);
   EXPECT_EQ(error("[[input]]\nat_ms = \"soon\"\nmessage = 1\n"), "s.toml:2: 'at_ms' must be an integer");
   EXPECT_EQ(error("[[input]]\nat_ms = -5\nmessage = 1\n"), "s.toml:2: 'at_ms' = -5 must be 0 or more");
+  // The bound is the longest run (it was printed as 9223372036854775, INT64_MAX over 1000).
+  EXPECT_EQ(error("[[input]]\nat_ms = 9223372036854775\nmessage = 1\n"),
+            "s.toml:2: 'at_ms' = 9223372036854775 is later than the longest run (1099511627776 ms, about 35 years)");
+  EXPECT_EQ(error("[[input]]\nat_ms = 1099511627777\nmessage = 1\n"),
+            "s.toml:2: 'at_ms' = 1099511627777 is later than the longest run (1099511627776 ms, about 35 years)");
+  EXPECT_EQ(ok("[[input]]\nat_ms = 1099511627776\nmessage = 1\n").at(0).at_us, 1099511627776'000);
   EXPECT_EQ(error("[[input]]\nat_ms = 1\nmessage = 256\n"), "s.toml:3: 'message' = 256 is out of range 0..255");
   EXPECT_NE(error("[[input]]\nmessage = 1\n").find("s.toml:1: input without 'at_ms'"), std::string::npos);
   EXPECT_NE(error("[[input]]\nat_ms = 1\n").find("exactly one of"), std::string::npos);
