@@ -12,7 +12,7 @@ void register_help(CLI::App& app, int& exit_code) {
   auto* help = app.add_subcommand("help", "Show the usage of rcxc or of one command (rcxc help compile)");
   auto command = std::make_shared<std::string>();
   help->add_option("COMMAND", *command, "The command to describe");
-  help->callback([&app, &exit_code, help, command] {
+  help->callback([&app, &exit_code, command] {
     if (command->empty()) {
       // app.help() would describe the command being run, `help` itself.
       std::cout << app.get_formatter()->make_help(&app, app.get_name(), CLI::AppFormatMode::Normal);

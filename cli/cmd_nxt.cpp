@@ -188,6 +188,10 @@ std::variant<Output, Failure> info(Client& c) {
 constexpr rcx::FileKind kNxtUpload{"file for the NXT", std::size_t{256} << 10};
 
 std::string read_file_bytes(const std::string& path, nxt::Bytes& out) {
+  // /dev/null would go up as an empty file named "null", a pipe be read
+  // once (or wait for a writer for ever), as other commands refuse them.
+  if (auto problem = special_file_problem(path, Takes::Files, "rcxc nxt upload copies a file to the brick"))
+    return *problem;
   auto read = rcx::read_file(path, kNxtUpload);
   if (auto* problem = std::get_if<rcx::FileProblem>(&read)) {
     switch (*problem) {

@@ -40,7 +40,7 @@ struct RunOptions {
 
 // The program on the emulator in real time, its outputs, sensors, sounds and
 // messages an NXT's (cli/nxt_tether.h). 0, or the exit code of a failure.
-int run_on_nxt(rcx::Machine& machine, const rcx::Image& image, const std::string& port, std::int64_t run_ms) {
+int run_on_nxt(rcx::Machine& machine, const rcx::Image& image, const std::string& port, rcx::Micros run_us) {
   auto spec = nxt::parse_port(port, std::nullopt);
   if (auto* e = std::get_if<nxt::LinkError>(&spec)) {
     std::cerr << "rcxc run: " << e->message << "\n";
@@ -56,7 +56,7 @@ int run_on_nxt(rcx::Machine& machine, const rcx::Image& image, const std::string
   auto transport = std::move(std::get<std::unique_ptr<nxt::Transport>>(opened));
   nxt::Client client(*transport);
   TetherOptions options;
-  options.limit_us = run_ms * rcx::kMicrosPerMs;
+  options.limit_us = run_us;
   options.stop_fd = stop;
   options.io = rcx::program_io(image);
   // Bytes that do not decode hide what they read: poll every sensor.
@@ -114,9 +114,11 @@ std::string trace_text(const std::string& path, const rcx::Machine& machine, con
 
 // A program with test directives (docs/testing.md) carries its own inputs:
 // without --scenario they drive the run, and @for sets the time limit unless
-// --for is given. Says so on stderr, so the timeline is never a surprise.
+// --for is given, to the microsecond as `rcxc test` runs it ("@for 0.5ms" is
+// half a millisecond, not none). Says so on stderr, so the timeline is never
+// a surprise.
 bool inputs_from_source(const RunOptions& o, const rcx::semtest::Spec& spec, std::vector<rcx::TimedInput>& inputs,
-                        std::int64_t& run_ms) {
+                        rcx::Micros& run_us) {
   if (spec.inputs.empty() && spec.scenario_file.empty() && !spec.run_for_us) return true;
   auto gathered = rcx::semtest::all_inputs(spec, o.file);
   if (auto* error = std::get_if<std::string>(&gathered)) {
@@ -124,7 +126,7 @@ bool inputs_from_source(const RunOptions& o, const rcx::semtest::Spec& spec, std
     return false;
   }
   inputs = std::get<std::vector<rcx::TimedInput>>(std::move(gathered));
-  if (spec.run_for_us && !o.for_given) run_ms = *spec.run_for_us / rcx::kMicrosPerMs;
+  if (spec.run_for_us && !o.for_given) run_us = *spec.run_for_us;
   if (o.nxt_port && !inputs.empty()) {
     // On an NXT the sensors, messages and battery are the brick's.
     inputs.clear();
@@ -208,9 +210,9 @@ int run(const RunOptions& o) {
     if (inputs.empty())
       std::cerr << "rcxc run: note: " << o.scenario << " holds no [[input]] tables: the run has no inputs\n";
   }
-  std::int64_t run_ms = o.for_ms;
+  rcx::Micros run_us = o.for_ms * rcx::kMicrosPerMs;
   if (o.scenario.empty() && spec) {
-    if (!inputs_from_source(o, *spec, inputs, run_ms)) return kExitFailure;
+    if (!inputs_from_source(o, *spec, inputs, run_us)) return kExitFailure;
   }
   rcx::Config config;
   config.seed = o.seed;
@@ -226,11 +228,11 @@ int run(const RunOptions& o) {
   machine.start_program();
   int tether_code = kExitOk;
   if (o.nxt_port) {
-    tether_code = run_on_nxt(machine, image, *o.nxt_port, run_ms);
+    tether_code = run_on_nxt(machine, image, *o.nxt_port, run_us);
     // Without a port nothing ran: a timeline of time 0 would read as a run.
     if (tether_code == kExitNoPort || tether_code == kExitUsage) return tether_code;
   } else {
-    machine.run(run_ms * rcx::kMicrosPerMs);
+    machine.run(run_us);
   }
 
   rcx::EventNames names = event_names();

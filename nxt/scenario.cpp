@@ -29,7 +29,7 @@ ScenarioInput one_input(const toml::table& t, std::string_view path) {
                                   "rotation, battery_mv, message, mailbox)",
                                   where(path, node), rcxc::toml_read::shown_key(key.str()))};
   }
-  auto when = int_key(t, "at_ms", 0, INT64_MAX / 1000, path);
+  auto when = rcxc::toml_read::at_ms_key(t, path);
   if (!when) throw TomlError{fmt::format("{}: input without 'at_ms'", where(path, t))};
   auto sensor = int_key(t, "sensor", 1, 4, path);
   auto raw = int_key(t, "raw", 0, 1023, path);

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cctype>
 
 namespace rcx {
@@ -153,8 +154,15 @@ nlohmann::json trace_json(const Machine& m, const Image& image) {
 std::string timeline_text(const Machine& m, const Image& image, const EventNames& names) {
   const State& s = m.state();
   std::string out;
+  // As wide as the latest time shown (a run may last 2^40 ms; sounds still
+  // queued at the end are shown when they start, after it), 12 at least so
+  // that short runs keep their usual layout.
+  Micros latest = m.now_us();
+  for (const auto& e : s.events) latest = std::max(latest, e.t_us);
+  const std::size_t width = std::max<std::size_t>(12, format_ms(latest).size());
   for (const auto& e : s.events)
-    if (e.kind != EventKind::Variable) out += fmt::format("{:>12} ms  {}\n", format_ms(e.t_us), event_text(e, image, names));
+    if (e.kind != EventKind::Variable)
+      out += fmt::format("{:>{}} ms  {}\n", format_ms(e.t_us), width, event_text(e, image, names));
   out += fmt::format("stopped: {} at {} ms\n", to_string(m.stop().kind), format_ms(m.now_us()));
   if (m.stop().fault) {
     const Fault& f = *m.stop().fault;

@@ -16,10 +16,6 @@ using rcxc::toml_read::int_key;
 using rcxc::toml_read::TomlError;
 using rcxc::toml_read::where;
 
-// The latest at_ms an input can name (its time in µs still fits): later
-// than any run goes.
-constexpr std::int64_t kNoUpperBound = INT64_MAX / kMicrosPerMs;
-
 TimedInput parse_input(const toml::table& t, std::string_view path) {
   static constexpr std::string_view kKeys[] = {"at_ms", "sensor", "raw", "rotation", "message", "battery_mv"};
   for (const auto& [key, node] : t) {
@@ -30,7 +26,7 @@ TimedInput parse_input(const toml::table& t, std::string_view path) {
                                   where(path, node), rcxc::toml_read::shown_key(key.str()))};
   }
   std::string here = where(path, t);
-  auto at = int_key(t, "at_ms", 0, kNoUpperBound, path, true);
+  auto at = rcxc::toml_read::at_ms_key(t, path);
   if (!at) throw TomlError{fmt::format("{}: input without 'at_ms'", here)};
   auto sensor = int_key(t, "sensor", 1, 3, path);
   auto raw = int_key(t, "raw", 0, 1023, path);

@@ -840,7 +840,10 @@ void Machine::loop(Micros until_us, bool stop_when_idle) {
       now_us_ = std::max(next, now_us_);
       continue;
     }
-    if (step(chosen)) {
+    // A fault is dated at the start of the instruction that faulted, as
+    // every event is, and that instruction never ran: it costs no time, so
+    // the run stops when it began (a fault in the first instruction at 0 ms).
+    if (step(chosen) && stop_.kind != StopKind::Fault) {
       now_us_ += cost;
       ++instructions_executed_;
     }

@@ -218,12 +218,17 @@ TEST(HostileInput, EndlessFilesStopAtTheirCap) {
                "/dev/zero: larger than a scenario file may be (1 MiB)");
 }
 
-TEST(HostileInput, AnEndlessFileForTheNxtStopsAtTheFlashSize) {
+// /dev/zero, endless, is a device, refused before a byte is read (it was
+// read up to the cap); a file past the NXT's whole flash stops at the cap.
+TEST(HostileInput, AFileForTheNxtStopsAtTheFlashSizeAndADeviceIsNone) {
   TempDir d;
   rcxc::test::PtyServer nxt({"nxt", "brick", "--pty"}, {});
   ASSERT_FALSE(nxt.path.empty());
   expect_error(limited({"nxt", "--port", nxt.path, "upload", "/dev/zero", "zero.txt"}),
-               "/dev/zero: larger than a file for the NXT may be (256 KiB)");
+               "/dev/zero: not a file (a device, a pipe or a socket); rcxc nxt upload copies a file to the brick");
+  std::string big = d.write("big.rxe", std::string((std::size_t{256} << 10) + 1, 'x'));
+  expect_error(limited({"nxt", "--port", nxt.path, "upload", big}),
+               big + ": larger than a file for the NXT may be (256 KiB)");
 }
 
 TEST(HostileInput, EndlessStdinPipe) {

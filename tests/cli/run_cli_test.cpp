@@ -155,6 +155,24 @@ TEST(RunCli, FaultExitsWithFailureAndReports) {
   auto j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j["stop"], "fault");
   EXPECT_EQ(j["fault"]["opcode"], 0x27);
+  // Dated at the start of the instruction that faulted, which never ran
+  // (it said 2.000 ms: the time after it).
+  EXPECT_EQ(j["time_ms"], 0);
+  r = run_rcxc({"run", d.write("f.rcx", rcx::write_image(img))});
+  EXPECT_NE(r.out.find("stopped: fault at 0.000 ms\n"), std::string::npos) << r.out;
+}
+
+// A source's @for keeps its fraction of a millisecond, as `rcxc test` does:
+// `rcxc run` cut it to whole milliseconds, so "@for 0.5ms" ran no time at all
+// and "@for 2.5ms" 2 ms.
+TEST(RunCli, ASourcesForKeepsItsFractionOfAMillisecond) {
+  TempDir d;
+  for (auto [given, shown] : {std::pair{"0.5ms", "0.500"}, std::pair{"2.5ms", "2.500"}, std::pair{"0.0125s", "12.500"}}) {
+    auto src = d.write("p.nqc", std::string("// @for ") + given + "\ntask main() { while (true) { PlaySound(1); } }\n");
+    auto r = run_rcxc({"run", src});
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find(std::string("stopped: time_limit at ") + shown + " ms\n"), std::string::npos) << given << r.out;
+  }
 }
 
 TEST(RunCli, BadOptionsAreUsageErrors) {

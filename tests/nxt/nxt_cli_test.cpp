@@ -4,6 +4,7 @@
 #include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -202,6 +203,17 @@ TEST(NxtCli, AnUnreadableUploadIsSaidBeforeThePortIsOpened) {
   auto folder = nxt(nowhere, {"upload", dir.path + "/folder.rxe"});
   EXPECT_EQ(folder.exit_code, 1) << folder.err;
   EXPECT_NE(folder.err.find("is a directory, not a file to upload"), std::string::npos) << folder.err;
+  // A device or a pipe is no file to upload: /dev/null went up as an empty
+  // file named "null" (and a pipe without a writer would wait for ever).
+  auto device = nxt(nowhere, {"upload", "/dev/null"});
+  EXPECT_EQ(device.exit_code, 1) << device.err;
+  EXPECT_EQ(device.err, "rcxc nxt upload: /dev/null: not a file (a device, a pipe or a socket); rcxc nxt upload "
+                        "copies a file to the brick\n");
+  const std::string fifo = dir.path + "/pipe.rxe";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  auto pipe = nxt(nowhere, {"upload", fifo, "pipe.rxe"});
+  EXPECT_EQ(pipe.exit_code, 1) << pipe.err;
+  EXPECT_NE(pipe.err.find(fifo + ": not a file (a device, a pipe or a socket)"), std::string::npos) << pipe.err;
 }
 
 // Where a download cannot be written is said before the port is opened

@@ -312,6 +312,21 @@ mailbox = 2
   EXPECT_NE(bad("[[input]\n").find("s.toml:1"), std::string::npos);
 }
 
+// at_ms named its bound as 9223372036854775 (INT64_MAX over 1000: exact, but
+// no run reaches it), and the NXT reader said a negative one was "out of range
+// 0..9223372036854775". The bound is the longest run, 2^40 ms, as for --for
+// and a test's directives.
+TEST(NxtScenario, AnAtMsOutOfRangeNamesTheLongestRun) {
+  auto error = [](const std::string& text) {
+    auto r = parse_scenario(text, "s.toml");
+    return std::holds_alternative<ScenarioError>(r) ? std::get<ScenarioError>(r).message : std::string("accepted");
+  };
+  EXPECT_EQ(error("[[input]]\nat_ms = 1099511627777\nmessage = 3\n"),
+            "s.toml:2: 'at_ms' = 1099511627777 is later than the longest run (1099511627776 ms, about 35 years)");
+  EXPECT_EQ(error("[[input]]\nat_ms = -1\nmessage = 3\n"), "s.toml:2: 'at_ms' = -1 must be 0 or more");
+  EXPECT_EQ(error("[[input]]\nat_ms = 1099511627776\nmessage = 3\n"), "accepted");
+}
+
 // The text toml++ 3.3 faults on (undefined behaviour on a Cyrillic letter
 // it takes for a blank, an assertion on "[+") is refused before it parses,
 // as in an RCX scenario (tomlfile/read.h).

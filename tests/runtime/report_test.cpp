@@ -147,6 +147,44 @@ TEST(Report, TimelineShowsWhatTheProgramReadsFromASensor) {
       << text;
 }
 
+// The time column was 12 characters wide, so from 10^8 ms on (a run may go
+// to 2^40 ms) the later lines stood out past the earlier ones. It is as wide
+// as the latest time the run shows.
+TEST(Report, TheTimeColumnStaysAlignedPastAThousandMillionMilliseconds) {
+  rcx::Machine m(ms_config());
+  m.load(0, image({{0, code({senstype(0, 1), wait(32767), jmp(133)})}}));  // waits for ever
+  m.schedule({1'234'567'890'000, rcx::SensorRawInput{0, 100}});
+  m.start_program();
+  m.run(1'234'567'891'000);
+  std::string text = rcx::timeline_text(m, image({}));
+  EXPECT_NE(text.find("\n1234567890.000 ms  input: sensor 1 raw 100\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("\n         0.000 ms  SENSOR_1 reads 0\n"), std::string::npos) << text;
+  std::size_t column = text.find(" ms  ");
+  for (std::size_t at = 0; at < text.size() && text.compare(at, 8, "stopped:") != 0; at = text.find('\n', at) + 1)
+    EXPECT_EQ(text.find(" ms  ", at) - at, column) << text;
+}
+
+// A fault is dated at the start of the instruction that faulted, as every
+// event is: that instruction never ran. A fault in a program's first
+// instruction was reported at 2 ms (1 ms here), after the instruction.
+TEST(Report, AFaultIsDatedAtTheStartOfItsInstruction) {
+  auto first = named(image({{0, code({Bytes{0x10}})}}));
+  auto m = run(first);
+  EXPECT_EQ(rcx::report_json(m, first)["time_ms"], 0);
+  EXPECT_NE(rcx::timeline_text(m, first).find("0.000 ms  task 0 (main) stopped\nstopped: fault at 0.000 ms\n"),
+            std::string::npos)
+      << rcx::timeline_text(m, first);
+  EXPECT_EQ(m.instructions_executed(), 0);
+  auto third = named(image({{0, code({set(0, 1), out(0x81), jmp(0x7f)})}}));  // a branch past the code
+  auto n = run(third);
+  ASSERT_EQ(n.stop().kind, rcx::StopKind::Fault);
+  EXPECT_EQ(rcx::report_json(n, third)["time_ms"], 2);
+  EXPECT_NE(rcx::timeline_text(n, third).find("2.000 ms  task 0 (main) stopped\nstopped: fault at 2.000 ms\n"),
+            std::string::npos)
+      << rcx::timeline_text(n, third);
+  EXPECT_EQ(n.instructions_executed(), 2);
+}
+
 TEST(Report, TimelineAndVcdHideCompilerTemporaries) {
   // count (0) and speed (2) are the program's; slot 5 is a temporary.
   rcx::Config c = ms_config();

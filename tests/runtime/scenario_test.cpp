@@ -67,6 +67,12 @@ TEST(Scenario, ErrorsNameTheLine) {
   EXPECT_NE(error("[[input]]\nat_ms = 1\nsensr = 1\nraw = 3\n").find("s.toml:3: unknown key 'sensr'"), std::string::npos);
   EXPECT_EQ(error("[[input]]\nat_ms = \"soon\"\nmessage = 1\n"), "s.toml:2: 'at_ms' must be an integer");
   EXPECT_EQ(error("[[input]]\nat_ms = -5\nmessage = 1\n"), "s.toml:2: 'at_ms' = -5 must be 0 or more");
+  // The bound is the longest run (it was printed as 9223372036854775, INT64_MAX over 1000).
+  EXPECT_EQ(error("[[input]]\nat_ms = 9223372036854775\nmessage = 1\n"),
+            "s.toml:2: 'at_ms' = 9223372036854775 is later than the longest run (1099511627776 ms, about 35 years)");
+  EXPECT_EQ(error("[[input]]\nat_ms = 1099511627777\nmessage = 1\n"),
+            "s.toml:2: 'at_ms' = 1099511627777 is later than the longest run (1099511627776 ms, about 35 years)");
+  EXPECT_EQ(ok("[[input]]\nat_ms = 1099511627776\nmessage = 1\n").at(0).at_us, 1099511627776'000);
   EXPECT_EQ(error("[[input]]\nat_ms = 1\nmessage = 256\n"), "s.toml:3: 'message' = 256 is out of range 0..255");
   EXPECT_NE(error("[[input]]\nmessage = 1\n").find("s.toml:1: input without 'at_ms'"), std::string::npos);
   EXPECT_NE(error("[[input]]\nat_ms = 1\n").find("exactly one of"), std::string::npos);
@@ -92,8 +98,6 @@ TEST(Scenario, ABinaryFileIsNamedAsSuchNotAsBadUtf8) {
   EXPECT_EQ(error(std::string("[[input]]\n\0at_ms = 1\n", 20)), expected);
 }
 
-// A directory used to read as an empty scenario, so `rcxc run P --scenario
-// DIR` ran without inputs and exited 0.
 // Found by fuzz_scenario: toml++ 3.3 meets __builtin_unreachable on some
 // letters (U+0441 after a value) and an assertion on a header such as "[+"
 // (an abort in Debug builds). Both are refused before it parses, with the
@@ -133,6 +137,30 @@ TEST(Scenario, ABraceWhereAnArrayExpectsAValueIsRefusedFirst) {
     EXPECT_EQ(error(text), "s.toml:1: unknown key 'x' (a scenario is a list of [[input]] tables)") << text;
 }
 
+// The guard against table headers without a name used to look at every
+// line, so a line of a multi-line string, or an array's element on a line of
+// its own, that began like such a header ("[}", "[ [1]", "[{") was refused as
+// one. It sees the headers toml++ sees: at a line's start, outside strings
+// and values. Letters past ASCII are still refused in strings, where toml++
+// classifies them, and taken in every comment.
+TEST(Scenario, OnlyRealTableHeadersAreCheckedForAName) {
+  const std::string words = " (a scenario is [[input]] tables of keys and numbers)";
+  const std::string unknown_x = "s.toml:1: unknown key 'x' (a scenario is a list of [[input]] tables)";
+  for (const char* text : {"x = \"\"\"\n[}\n\"\"\"\n", "x = '''\n[+ a\n  [[\n'''\n", "x = \"\"\"a\\\n[}\"\"\"\n",
+                           "x = [\n  [ [1] ],\n  [{a = 1}],\n  [\n    '[}',\n  ],\n]\n", "x = \"a\" # \xd1\x81 \"\n",
+                           "x = [ # \xd1\x81\n]\n"})
+    EXPECT_EQ(error(text), unknown_x) << text;
+  // Headers after a multi-line string or array are still seen, and so are
+  // letters past ASCII in any string, a multi-line one's "comment" included.
+  EXPECT_EQ(error("x = \"\"\"\n[a\n\"\"\"\n[+\n"), "s.toml:4: a table header without a name" + words);
+  EXPECT_EQ(error("x = [\n  1,\n]\n  [[ ]]\n"), "s.toml:4: a table header without a name" + words);
+  EXPECT_EQ(error("x = \"\"\"a\"\"\"\"\n[+\n"), "s.toml:2: a table header without a name" + words);  // a"
+  EXPECT_EQ(error("x = '''\n# \xd1\x81'''\n"), "s.toml:2: a letter that is not ASCII outside a comment" + words);
+  EXPECT_EQ(error("x = 'a\xd1\x81'\n"), "s.toml:1: a letter that is not ASCII outside a comment" + words);
+}
+
+// A directory used to read as an empty scenario, so `rcxc run P --scenario
+// DIR` ran without inputs and exited 0.
 TEST(Scenario, DirectoryIsAnError) {
   auto dir = std::filesystem::temp_directory_path() / "rcxc-scenario-test-dir";
   std::filesystem::create_directories(dir);
