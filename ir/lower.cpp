@@ -54,6 +54,7 @@ struct Lowerer {
   // are an index, not a tree node allocated and freed per parameter.
   std::vector<std::optional<Binding>> env;
   std::vector<VarId> globals;
+  std::map<int, VarId> reserved_vars;  // slot -> the variable standing for it (reserved_var)
   std::vector<LoopContext> loops;
   std::vector<std::vector<BlockId>> switches;
   std::vector<Frame> frames;
@@ -383,23 +384,26 @@ struct Lowerer {
                        *slot);
   }
 
-  // `op slot, value` as a raw instruction (the passes leave it where it is
-  // and assume nothing about it), for a slot no variable of the program holds.
-  void emit_slot_instr(Op op, int slot, Operand v) {
-    std::vector<Operand> bytes{Operand::imm(rcx::info(op).code), Operand::imm(slot)};
-    if (v.is_var())
-      bytes.insert(bytes.end(), {Operand::imm(0), v, Operand::imm(0)});
-    else
-      bytes.insert(bytes.end(),
-                   {Operand::imm(v.source), Operand::imm(v.value & 0xff), Operand::imm((v.value >> 8) & 0xff)});
-    fn().blocks[static_cast<std::size_t>(cur)].instrs.push_back(Instr{Op::SetVariable, bytes, true, span_id()});
+  // The variable standing for a slot `#pragma reserve` keeps, fixed there:
+  // a global without a name (no symbol: no variable of the program is
+  // there), which the passes treat as any global (never dropped as a dead
+  // store, never known constant), so `@11 <<= 2` is one instruction on the
+  // slot, as it is on a global, where a raw instruction kept it apart.
+  VarId reserved_var(int slot) {
+    auto [it, added] = reserved_vars.try_emplace(slot, -1);
+    if (added) {
+      it->second = out.add_var("", VarKind::Global);
+      out.vars[static_cast<std::size_t>(it->second)].slot = slot;
+    }
+    return it->second;
   }
 
-  // A temporary holding what slot N holds now.
-  VarId read_slot(int slot) {
-    VarId t = temp();
-    set(t, Operand::src(static_cast<int>(rcx::Source::Variable), slot));
-    return t;
+  // The variable an assignment or a step to `e` writes: the variable e
+  // names, or a reserved slot's.
+  std::optional<VarId> written_var(const ast::Expr& e) {
+    if (auto v = var_of(e)) return v;
+    if (auto slot = reserved_slot_target(e)) return reserved_var(*slot);
+    return std::nullopt;
   }
 
   // Whether evaluating `e` reads variable `v` (through substitutions too).
@@ -423,7 +427,11 @@ struct Lowerer {
     if (const auto* a = ast::as<ast::Assign>(e)) return reads(*a->target, v) || reads(*a->value, v);
     if (const auto* c = ast::as<ast::Conditional>(e))
       return reads(*c->cond, v) || reads(*c->then_value, v) || reads(*c->else_value, v);
-    if (auto slot = variable_slot(e)) return slot_global(*slot) == v;
+    if (auto slot = variable_slot(e)) {
+      if (slot_global(*slot) == v) return true;
+      auto r = reserved_vars.find(*slot);
+      return r != reserved_vars.end() && r->second == v && reserved_slot_target(e);
+    }
     return false;
   }
 
@@ -463,8 +471,10 @@ struct Lowerer {
         return Operand::imm(0);
       }
       // @N where a global is: that global, so the passes see it read.
-      if (*type == static_cast<int>(rcx::Source::Variable))
+      if (*type == static_cast<int>(rcx::Source::Variable)) {
         if (auto g = slot_global(*arg)) return Operand::var(*g);
+        if (auto r = reserved_slot_target(e)) return Operand::var(reserved_var(*r));
+      }
       return Operand::src(*type, *arg);
     }
     VarId t = temp();
@@ -754,13 +764,7 @@ struct Lowerer {
         return;
       case ast::UnaryOp::PostInc:
       case ast::UnaryOp::PostDec: {
-        auto v = var_of(*u.operand);
-        if (auto slot = reserved_slot_target(*u.operand)) {
-          set(d, Operand::src(static_cast<int>(rcx::Source::Variable), *slot));
-          emit_slot_instr(u.op == ast::UnaryOp::PostInc ? Op::AddToVariable : Op::SubtractFromVariable, *slot,
-                          Operand::imm(1));
-          return;
-        }
+        auto v = written_var(*u.operand);
         if (!v) return error(e.span, unwritable_slot(*u.operand).value_or("++ and -- need a variable"));
         set(d, Operand::var(*v));
         step(u, e.span);
@@ -770,16 +774,11 @@ struct Lowerer {
   }
 
   // ++x / --x / x++ / x-- as a statement; returns the variable.
-  std::optional<VarId> step(const ast::Unary& u, SourceSpan at, bool wanted = true) {
+  std::optional<VarId> step(const ast::Unary& u, SourceSpan at) {
     bool inc = u.op == ast::UnaryOp::PreInc || u.op == ast::UnaryOp::PostInc;
     Op op = inc ? Op::AddToVariable : Op::SubtractFromVariable;
-    auto v = var_of(*u.operand);
+    auto v = written_var(*u.operand);
     if (!v) {
-      if (auto slot = reserved_slot_target(*u.operand)) {
-        emit_slot_instr(op, *slot, Operand::imm(1));
-        if (!wanted) return std::nullopt;
-        return read_slot(*slot);
-      }
       error(at, unwritable_slot(*u.operand).value_or("++ and -- need a variable"));
       return std::nullopt;
     }
@@ -912,11 +911,7 @@ struct Lowerer {
 
   // Performs `target op= value`; returns the target variable.
   VarId assign(const ast::Assign& a, SourceSpan at) {
-    if (auto slot = reserved_slot_target(*a.target)) {
-      assign_reserved_slot(*slot, a, at);
-      return read_slot(*slot);
-    }
-    auto v = var_of(*a.target);
+    auto v = written_var(*a.target);
     if (!v) {
       error(at, unwritable_slot(*a.target).value_or("the left side of an assignment must be a variable"));
       return temp();
@@ -940,24 +935,6 @@ struct Lowerer {
     return *v;
   }
 
-  // `@N op= value` for a slot #pragma reserve keeps (no variable of the
-  // program is there): one instruction naming the slot where the firmware
-  // has one, else the value computed in a temporary and set.
-  void assign_reserved_slot(int slot, const ast::Assign& a, SourceSpan at) {
-    auto binary_op = compound_op(a.op);
-    std::optional<Op> op = a.op == ast::AssignOp::Assign ? Op::SetVariable
-                           : a.op == ast::AssignOp::Abs  ? Op::AbsoluteValue
-                           : a.op == ast::AssignOp::Sign ? Op::SignVariable
-                                                         : direct_op(*binary_op);
-    if (op == Op::SetVariable) return emit_slot_instr(*op, slot, value(*a.value));
-    if (op) return emit_slot_instr(*op, slot, stepped_value(*a.value));
-    const ast::Expr& whole =
-        synthesized.emplace_back(ast::Expr{ast::Binary{*binary_op, *a.target, *a.value}, at, std::nullopt});
-    VarId t = temp();
-    into(t, whole);
-    emit_slot_instr(Op::SetVariable, slot, Operand::var(t));
-  }
-
   static std::optional<ast::BinaryOp> compound_op(ast::AssignOp op) {
     switch (op) {
       case ast::AssignOp::Add: return ast::BinaryOp::Add;
@@ -978,15 +955,12 @@ struct Lowerer {
   void effect(const ast::Expr& e) {
     if (expanding.empty()) span = e.span;
     if (const auto* a = ast::as<ast::Assign>(e)) {
-      if (auto slot = reserved_slot_target(*a->target))
-        assign_reserved_slot(*slot, *a, e.span);  // nothing reads it back
-      else
-        assign(*a, e.span);
+      assign(*a, e.span);
     } else if (const auto* u = ast::as<ast::Unary>(e); u && u->op != ast::UnaryOp::Negate &&
                                                        u->op != ast::UnaryOp::BitNot && u->op != ast::UnaryOp::LogNot &&
                                                        u->op != ast::UnaryOp::Plus && u->op != ast::UnaryOp::Abs &&
                                                        u->op != ast::UnaryOp::Sign) {
-      step(*u, e.span, false);
+      step(*u, e.span);
     } else if (const auto* c = ast::as<ast::Call>(e)) {
       call(*c, e.span);
     } else if (const auto* k = ast::as<ast::Conditional>(e)) {

@@ -293,8 +293,10 @@ CounterDepths counter_depths(const Function& f);
 
 // repeat.cpp: keeps the firmware loop counter for `repeat` loops where it
 // is safe (nesting, counted across subroutine calls, at most 4 deep; no
-// exit other than the loop's end) and rewrites the others to count in a
-// variable.
+// exit other than the loop's end, except in a task no `start` names, where
+// a jump out may leave counters that no loop test reads again, at most
+// once per run and at most four in all with those pushed after) and
+// rewrites the others to count in a variable.
 void assign_loop_counters(Program& p, Log& log);
 // Rewrites one counter loop to a variable counter.
 void demote_repeat(Program& p, Function& f, std::size_t repeat_index);

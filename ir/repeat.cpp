@@ -2,6 +2,9 @@
 // (see passes.h).
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <optional>
+
 #include "ir/liveness.h"
 #include "ir/passes.h"
 
@@ -28,6 +31,116 @@ bool demote_deep(Program& p, Function& f, int limit) {
     }
   }
   return false;
+}
+
+// Whether f may leave counters pushed: a task that no instruction starts
+// (main, which the Run button starts), so it starts each run with an empty
+// counter stack and nothing below its own, with no raw asm (which may push
+// or pop counters the walk cannot see).
+bool may_leave_counters_pushed(const Program& p, const Function& f, FuncId id) {
+  if (f.kind != FuncKind::Task) return false;
+  for (const auto& g : p.functions)
+    for (const auto& b : g.blocks)
+      for (const auto& in : b.instrs) {
+        if (in.raw && &g == &f) return false;
+        if (in.op != rcx::Op::StartTask) continue;
+        for (const auto& a : in.args)
+          if (a.kind != Operand::Kind::Func || a.value == id) return false;  // by number, or f
+      }
+  return true;
+}
+
+// The counter stack where a jump out of counter loops leaves their
+// counters pushed: the counters of the loops still running (which loop
+// pushed each), and below them counters no loop test will read again.
+struct CounterStack {
+  std::vector<int> live;
+  int left = 0;
+  int height() const { return static_cast<int>(live.size()) + left; }
+  friend bool operator==(const CounterStack&, const CounterStack&) = default;
+};
+
+// counter_depths for a function whose counter loops may be left by a jump
+// (std::nullopt where that is unsafe): every loop test must find its own
+// loop's counter on top, and the stack never holds more than the
+// firmware's four. Where two ways into a block differ in the loops they
+// have running, none is running there (all of it is left), so a loop test
+// there needing one fails the walk: a jump out of an inner loop into the
+// body of an outer one leaves the inner counter where the outer test
+// reads. A jump out that can come round again (inside any loop) leaves a
+// counter each time, and the walk fails once they pass four.
+std::optional<CounterDepths> counter_depths_leaving_counters(const Function& f) {
+  std::vector<int> setup_of(f.blocks.size(), -1), head_of(f.blocks.size(), -1);
+  for (std::size_t r = 0; r < f.repeats.size(); ++r)
+    if (f.repeats[r].counter) {
+      setup_of[static_cast<std::size_t>(f.repeats[r].setup)] = static_cast<int>(r);
+      head_of[static_cast<std::size_t>(f.repeats[r].head)] = static_cast<int>(r);
+    }
+  std::vector<std::optional<CounterStack>> at(f.blocks.size());
+  std::vector<BlockId> work;
+  bool ok = true;
+  auto reach = [&](BlockId b, const CounterStack& s) {
+    auto& here = at[static_cast<std::size_t>(b)];
+    CounterStack merged = s;
+    if (here) {
+      if (here->live == s.live) {
+        merged.left = std::max(here->left, s.left);
+      } else {
+        merged.live.clear();
+        merged.left = std::max(here->height(), s.height());
+      }
+      if (merged == *here) return;
+    }
+    if (merged.height() > kLoopCounters) ok = false;
+    here = merged;
+    work.push_back(b);
+  };
+  reach(0, {});
+  CounterDepths d;
+  while (!work.empty() && ok) {
+    BlockId b = work.back();
+    work.pop_back();
+    const Block& block = f.blocks[static_cast<std::size_t>(b)];
+    CounterStack s = *at[static_cast<std::size_t>(b)];
+    for (std::size_t i = 0; i < block.instrs.size(); ++i) {
+      const Instr& in = block.instrs[i];
+      if (in.raw) ok = false;
+      if (is_loopset(in)) {
+        bool known = i + 1 == block.instrs.size() && setup_of[static_cast<std::size_t>(b)] >= 0;
+        s.live.push_back(known ? setup_of[static_cast<std::size_t>(b)] : -1);
+        if (s.height() > kLoopCounters) ok = false;
+      }
+    }
+    if (const auto* l = std::get_if<LoopTest>(&block.term)) {
+      int mine = head_of[static_cast<std::size_t>(b)];
+      if (mine < 0 || s.live.empty() || s.live.back() != mine) {
+        ok = false;
+        break;
+      }
+      reach(l->body, s);
+      s.live.pop_back();
+      reach(l->exit, s);
+    } else if (std::holds_alternative<CoinToss>(block.term)) {
+      ok = false;
+    } else {
+      for (BlockId next : successors(block.term)) reach(next, s);
+    }
+  }
+  if (!ok) return std::nullopt;
+  // What the other passes and the subroutine check read: the height at
+  // each block's start and at each call, counters left included.
+  d.at_block.assign(f.blocks.size(), -1);
+  for (std::size_t b = 0; b < f.blocks.size(); ++b) {
+    if (!at[b]) continue;
+    CounterStack s = *at[b];
+    d.at_block[b] = s.height();
+    d.max = std::max(d.max, s.height());
+    for (const auto& in : f.blocks[b].instrs) {
+      if (is_loopset(in)) d.max = std::max(d.max, ++s.left);
+      if (FuncId g = callee_of(in); g >= 0) d.calls.emplace_back(s.height(), g);
+    }
+  }
+  return d;
 }
 
 }  // namespace
@@ -87,22 +200,34 @@ void demote_repeat(Program& p, Function& f, std::size_t repeat_index) {
 }
 
 void assign_loop_counters(Program& p, Log& log) {
-  for (auto& f : p.functions) {
+  // The depths of the tasks that keep counters a jump leaves pushed.
+  std::vector<std::optional<CounterDepths>> leaving(p.functions.size());
+  for (std::size_t i = 0; i < p.functions.size(); ++i) {
+    Function& f = p.functions[i];
     if (f.blocks.empty()) continue;
+    bool escaping = std::any_of(f.repeats.begin(), f.repeats.end(), [](const Repeat& r) { return r.counter && r.escapes; });
+    if (escaping && may_leave_counters_pushed(p, f, static_cast<FuncId>(i)))
+      leaving[i] = counter_depths_leaving_counters(f);
+    if (leaving[i]) {
+      log.push_back(fmt::format("{}: a jump out of a repeat leaves its counter pushed (no loop test reads it again)",
+                                f.name));
+      continue;
+    }
     for (std::size_t r = 0; r < f.repeats.size(); ++r)
       if (f.repeats[r].counter && f.repeats[r].escapes) demote_repeat(p, f, r);
     if (!counter_depths(f).consistent) demote_all(p, f);
     while (demote_deep(p, f, kLoopCounters)) {
     }
   }
+  auto depths = [&](std::size_t i) { return leaving[i] ? *leaving[i] : counter_depths(p.functions[i]); };
   // A subroutine runs on its caller's counter stack: its own depth plus the
   // depth at any call must fit, else the subroutine counts in variables.
   std::vector<int> max_depth(p.functions.size(), 0);
   for (std::size_t i = 0; i < p.functions.size(); ++i)
-    if (!p.functions[i].blocks.empty()) max_depth[i] = counter_depths(p.functions[i]).max;
+    if (!p.functions[i].blocks.empty()) max_depth[i] = depths(i).max;
   for (std::size_t i = 0; i < p.functions.size(); ++i) {
     if (p.functions[i].blocks.empty()) continue;
-    for (auto [depth, callee] : counter_depths(p.functions[i]).calls) {
+    for (auto [depth, callee] : depths(i).calls) {
       auto c = static_cast<std::size_t>(callee);
       if (depth + max_depth[c] > kLoopCounters) {
         log.push_back(fmt::format("repeat loops of sub {} count in variables (called {} loops deep from {})",

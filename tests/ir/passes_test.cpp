@@ -542,9 +542,11 @@ TEST(Layout, AnExitStaysWhereMovingItSavesNothing) {
   EXPECT_EQ(b.at(f, 2).instrs.at(0).args[0], I(2));
 }
 
+// In a subroutine: a counter left pushed would be read by its caller's
+// loop tests.
 TEST(Repeat, EscapingLoopCountsInAVariable) {
   Builder b;
-  FuncId f = b.function("main");
+  FuncId f = b.function("probe", FuncKind::Sub);
   b.block(f, {loopset(I(5))}, Jump{1});
   b.block(f, {}, LoopTest{0, 2, 3});
   b.block(f, {sound(1)}, Jump{1});
@@ -554,6 +556,28 @@ TEST(Repeat, EscapingLoopCountsInAVariable) {
   assign_loop_counters(b.p, log);
   EXPECT_EQ(count_ops(b.fn(f), rcx::Op::SetLoopCounter), 0u);
   EXPECT_EQ(count_ops(b.fn(f), rcx::Op::SubtractFromVariable), 1u);
+  EXPECT_FALSE(b.fn(f).repeats[0].counter);
+}
+
+// In main, a branch out of the body to code that tests no counter: the
+// counter stays pushed, no loop test reads it, and the loop keeps it.
+TEST(Repeat, MainLeavesTheCounterOfALoopItJumpsOutOf) {
+  Builder b;
+  FuncId f = b.function("main");
+  b.block(f, {loopset(I(5))}, Jump{1});
+  b.block(f, {}, LoopTest{0, 2, 3});
+  b.block(f, {sound(1)}, Branch{Cmp::EQ, Operand::src(1, 0), I(3), 4, 1});
+  b.block(f, {});
+  b.block(f, {sound(2)});
+  b.fn(f).repeats.push_back(Repeat{0, 1, true, true});
+  Log log;
+  assign_loop_counters(b.p, log);
+  EXPECT_EQ(count_ops(b.fn(f), rcx::Op::SetLoopCounter), 1u);
+  EXPECT_TRUE(b.fn(f).repeats[0].counter);
+  // Inside an endless loop (the exit block jumping back to the loopset) the
+  // jump out would leave a counter each time round.
+  b.at(f, 4).term = Jump{0};
+  assign_loop_counters(b.p, log);
   EXPECT_FALSE(b.fn(f).repeats[0].counter);
 }
 
