@@ -228,7 +228,8 @@ struct Lowerer {
   }
   // 0 * x, x * 0, 0 & x, x & 0, -1 | x, x | -1, and 0 / x, 0 % x, 0 << x,
   // 0 >> x (whatever x is, 0 by the firmware's rules included: division by
-  // zero leaves the dividend) are constant when x only reads: `(2/60) * d`
+  // zero leaves the dividend), x << 16 and x >> 16 (shifted out, as
+  // frontend/fold.cpp folds them) are constant when x only reads: `(2/60) * d`
   // is 0. Reading the random source moves it on, so that is not just a read.
   std::optional<int> absorbed(const ast::Binary& b, std::optional<int> l, std::optional<int> r) {
     using Op = ast::BinaryOp;
@@ -245,9 +246,12 @@ struct Lowerer {
         return std::nullopt;
       case Op::Div:
       case Op::Mod:
+        if (is(l, 0) && only_reads(*b.rhs)) return 0;
+        return std::nullopt;
       case Op::Shl:
       case Op::Shr:
         if (is(l, 0) && only_reads(*b.rhs)) return 0;
+        if (r && *r >= 16 && only_reads(*b.lhs)) return 0;
         return std::nullopt;
       default: return std::nullopt;
     }

@@ -249,6 +249,30 @@ TEST(Emulate, AnAbsorbingOperandMakesTheOperationConstantWhenTheOtherOnlyReads) 
   }
 }
 
+TEST(Emulate, AShiftBySixteenOrMoreIsZeroWithoutComputingItsLeftSide) {
+  // Every bit is shifted out, so `d << 16` is `0` when d only reads: one
+  // `set` of 0 (as for `r = 0`), not d copied in and then overwritten. A left
+  // side that changes something still runs (n is incremented).
+  const char* src = R"(
+    int d, n, r, q, k;
+    task main() { d = 12345; n = 4; r = d << 16; q = (d - n) >> 17; k = (n++) << 16; })";
+  const char* zeros = R"(
+    int d, n, r, q, k;
+    task main() { d = 12345; n = 4; r = 0; q = 0; k = n; n = n + 1; k = 0; })";
+  for (auto level : {ir::OptLevel::O0, ir::OptLevel::O2, ir::OptLevel::Os}) {
+    auto c = compile(src, level, true);
+    auto z = compile(zeros, level, true);
+    ASSERT_TRUE(c.out && z.out) << c.messages;
+    auto m = run(c.out->image);
+    EXPECT_EQ(global(m, c.out->image, "r"), 0);
+    EXPECT_EQ(global(m, c.out->image, "q"), 0);
+    EXPECT_EQ(global(m, c.out->image, "k"), 0);
+    EXPECT_EQ(global(m, c.out->image, "n"), 5);
+    EXPECT_LE(c.out->image.find(rcx::FragmentType::Task, 0)->code.size(),
+              z.out->image.find(rcx::FragmentType::Task, 0)->code.size());
+  }
+}
+
 TEST(Emulate, AnUnusedRandomDrawStillMovesTheSourceOn) {
   // `t` is never read, but its draw decides which number `y` gets: the
   // second the brick draws, at every level, as with `x` kept.
