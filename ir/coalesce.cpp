@@ -97,9 +97,7 @@ bool coalesce_in(const Program& p, Function& f, const CallEffects& calls, Livene
   const Liveness& L = cache.of(p, f, calls);
   bool changed = false;
   auto private_var = [&](const Operand& o) {
-    if (!o.is_var()) return false;
-    const Var& v = p.vars[static_cast<std::size_t>(o.value)];
-    return v.kind != VarKind::Global && !v.slot;
+    return o.is_var() && !shared_between_tasks(p.vars[static_cast<std::size_t>(o.value)]);
   };
   // A rewrite into V of more than one instruction shows another task a
   // value V never takes in the source (`v = x - v` as `v -= x; v *= -1`

@@ -91,7 +91,7 @@ void toss_in(const Program& p, Function& f, const CounterDepths& d, int entry, c
     auto draw = coin_draw(block, p.vars, other_tasks);
     if (!draw) continue;
     VarId coin = block.instrs[*draw].args[0].value;
-    if (p.vars[static_cast<std::size_t>(coin)].kind == VarKind::Global || live.live_out[b].has(coin)) continue;
+    if (shared_between_tasks(p.vars[static_cast<std::size_t>(coin)]) || live.live_out[b].has(coin)) continue;
     bool a_coin = br->a.is_var(coin), b_coin = br->b.is_var(coin);
     if (!((a_coin && br->b.is_imm()) || (b_coin && br->a.is_imm()))) continue;
     int depth = entry + d.at_block[b];

@@ -98,7 +98,7 @@ struct Folder {
   const std::vector<VarSet>& footprints;
   std::array<bool, rcx::kOpcodeCount> writing = opcodes_writing();
 
-  bool private_var(VarId v) const { return p.vars[static_cast<std::size_t>(v)].kind != VarKind::Global; }
+  bool private_var(VarId v) const { return !shared_between_tasks(p.vars[static_cast<std::size_t>(v)]); }
 
   std::optional<int> known(const State& s, const Operand& o) const {
     if (o.is_imm()) return o.value;

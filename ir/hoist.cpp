@@ -16,7 +16,7 @@ bool reads_source(const Branch& br, rcx::Source s) {
 // sensor, the next random number).
 bool reads_shared(const Branch& br, const std::vector<Var>& vars) {
   auto shared = [&](const Operand& o) {
-    if (o.is_var()) return vars.at(static_cast<std::size_t>(o.value)).kind == VarKind::Global;
+    if (o.is_var()) return shared_between_tasks(vars.at(static_cast<std::size_t>(o.value)));
     return o.kind == Operand::Kind::Src;
   };
   return shared(br.a) || shared(br.b);

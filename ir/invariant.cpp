@@ -29,7 +29,7 @@ std::size_t invariant_prefix(const std::vector<Instr>& code, const std::vector<V
     const Operand& src = in.args.at(1);
     if (src.kind == Operand::Kind::Src) break;
     if (src.is_var() && !has(prefix_sets, src.value) && other_tasks &&
-        vars.at(static_cast<std::size_t>(src.value)).kind == VarKind::Global)
+        shared_between_tasks(vars.at(static_cast<std::size_t>(src.value))))
       break;
     prefix_sets.push_back(dest);
   }

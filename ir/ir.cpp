@@ -363,8 +363,10 @@ bool seen_by_other_tasks(const Instr& in, const std::vector<Var>& vars) {
   if (is_motor_command(in)) return true;
   if (in.raw || !computes_into_variable(in.op)) return false;
   const Operand& dest = in.args.at(0);
-  return dest.is_var() && vars.at(static_cast<std::size_t>(dest.value)).kind == VarKind::Global;
+  return dest.is_var() && shared_between_tasks(vars.at(static_cast<std::size_t>(dest.value)));
 }
+
+bool shared_between_tasks(const Var& v) { return v.kind == VarKind::Global; }
 
 int instr_size(const Instr& in) {
   return in.raw ? static_cast<int>(in.args.size()) : rcx::command_size(rcx::info(in.op)).value_or(4);

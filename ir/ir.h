@@ -385,8 +385,12 @@ bool is_quick_command(const Instr& in);
 // commands may then be seen, and answered, by another between two of its
 // instructions.
 bool runs_several_tasks(const Program& p);
+// Whether another task can read or write `v` between any two instructions
+// of a task: a global (a `#pragma reserve` slot written by number is one
+// too). Locals and temporaries belong to their task.
+bool shared_between_tasks(const Var& v);
 // Whether another task can see `in` happen: a motor command (through an
-// output's state) or an assignment to a global.
+// output's state) or an assignment to a variable shared between tasks.
 bool seen_by_other_tasks(const Instr& in, const std::vector<Var>& vars);
 
 // Variables an instruction reads and writes (Var operands only).

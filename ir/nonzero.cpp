@@ -34,8 +34,7 @@ void compute_nonzero_by_sign(Function& f, const std::vector<Var>& vars, bool oth
     VarId d = one.instrs[0].args[0].value;
     if (!sets_constant(one.instrs[0], d, 1) || !sets_constant(test.instrs.back(), d, 0) || v->is_var(d)) continue;
     // A task waiting for d > 1 would see |v|; nqc's code shows 0 and 1.
-    const Var& dv = vars.at(static_cast<std::size_t>(d));
-    if (other_tasks && (dv.kind == VarKind::Global || dv.slot)) continue;
+    if (other_tasks && shared_between_tasks(vars.at(static_cast<std::size_t>(d)))) continue;
     // d = |v| then its sign: 0 or 1 (|-32768| is 32767 on the firmware).
     Instr abs = test.instrs.back(), sign = test.instrs.back();
     abs.op = rcx::Op::AbsoluteValue;
