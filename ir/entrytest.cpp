@@ -25,7 +25,7 @@ std::map<VarId, int> constants_left(const Block& b, const std::vector<Var>& vars
     VarId v = static_cast<VarId>(in.args[0].value);
     known.erase(v);
     const Operand& value = in.args.at(1);
-    if (in.op == rcx::Op::SetVariable && value.is_imm() && vars.at(static_cast<std::size_t>(v)).kind != VarKind::Global)
+    if (in.op == rcx::Op::SetVariable && value.is_imm() && !shared_between_tasks(vars.at(static_cast<std::size_t>(v))))
       known[v] = value.value;
   }
   return known;

@@ -125,8 +125,10 @@ void compute_nonzero_by_sign(Function& f, const std::vector<Var>& vars, bool oth
 // `d >>= n` for n in 1..14 (the sign's test, `d &= 32767; d /= 2^n; d |=
 // 2^(15-n)` on the negative side, `d /= 2^n` on the other) becomes `d &=
 // -2^n; d /= 2^n; d &= 2^(16-n) - 1`: 15 bytes instead of 29, three
-// instructions on every path where a non-negative d ran two.
-void shift_right_without_branches(Function& f, bool constant_shifts);
+// instructions on every path where a non-negative d ran two. The steps
+// hold values nqc's code never shows (-32768 for a negative d): not into a
+// variable another task may read (`other_tasks`).
+void shift_right_without_branches(Function& f, const std::vector<Var>& vars, bool other_tasks, bool constant_shifts);
 
 // tailstart.cpp: a task that main starts as the last thing it does before
 // ending (`start a; start b;` at main's end: b), that nothing else starts

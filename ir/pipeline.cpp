@@ -64,12 +64,12 @@ bool optimize(Program& p, OptLevel level, Diagnostics& diags, Log& log, const Pa
     for (const auto& f : p.functions) lowered_bytes[f.name] = code_bytes(f);
   if (level != OptLevel::O0) {
     // Once: the shapes it rewrites come from the lowering alone.
+    const bool several_tasks = runs_several_tasks(p);
     if (shrinks_without_slowing(level))
-      for (auto& f : p.functions) shift_right_without_branches(f, trades_time_for_size(level));
+      for (auto& f : p.functions) shift_right_without_branches(f, p.vars, several_tasks, trades_time_for_size(level));
     // Up to three rounds, each finding what the last one's removals
     // exposed; a round that changes nothing ends them.
     std::uint64_t before = code_hash(p);
-    const bool several_tasks = runs_several_tasks(p);
     for (int round = 0; round < 3; ++round) {
       fold_constants(p, &liveness);
       remove_dead_stores(p, &liveness);

@@ -57,7 +57,7 @@ std::optional<BlockId> only_these(const Function& f, const std::vector<int>& pre
 
 }  // namespace
 
-void shift_right_without_branches(Function& f, bool constant_shifts) {
+void shift_right_without_branches(Function& f, const std::vector<Var>& vars, bool other_tasks, bool constant_shifts) {
   std::vector<int> preds = predecessor_counts(f);
   const std::vector<bool> loop_blocks = repeat_blocks(f);
   for (std::size_t p = 0; p < f.blocks.size(); ++p) {
@@ -68,6 +68,9 @@ void shift_right_without_branches(Function& f, bool constant_shifts) {
         test->other == static_cast<BlockId>(p))
       continue;
     VarId d = test->d;
+    // A task waiting for d == -32768 would see it: the tested form shows
+    // d only as it was and as it ends.
+    if (other_tasks && shared_between_tasks(vars.at(static_cast<std::size_t>(d)))) continue;
     std::vector<Instr> straight;
     std::optional<BlockId> join, join2;
     const Instr& model = f.blocks[static_cast<std::size_t>(test->other)].instrs.empty()

@@ -138,6 +138,35 @@ task main() {
   }
 }
 
+// `d >>= 15` as `d &= -32768; d /= -32768` held -32768 in d for an
+// instruction when d was negative, and a task waiting for d == -32768
+// switched output B on, where nqc's code never does (it shows d & 32767,
+// then 0, then 1). With a second task running, a global keeps the test;
+// at -Os the same for `d >>= 3` (d & -8 for an instruction).
+TEST(ShiftRightCompile, AnotherTaskNeverSeesTheMaskedSign) {
+  const char* text = R"(
+int d, e;
+task watch() { until (d == -32768 || e == -8); OnFwd(OUT_B); }
+task main() {
+  start watch;
+  d = Timer(0) - 7;  // 0 so early, but not known to the optimiser
+  e = d;
+  Wait(10);
+  d >>= 15;
+  e >>= 3;
+  Wait(10);
+}
+)";
+  for (auto level : {ir::OptLevel::O1, ir::OptLevel::O2, ir::OptLevel::Os}) {
+    auto c = test::compile_program(text, level);
+    ASSERT_TRUE(c.out);
+    auto m = test::run_image(c.out->image, 500);
+    EXPECT_EQ(test::global_value(m, c.out->image, "d"), 1);
+    EXPECT_EQ(test::global_value(m, c.out->image, "e"), 8191);
+    EXPECT_NE(m.state().outputs[1].mode, rcx::OutputMode::On) << static_cast<int>(level);
+  }
+}
+
 // The 16-bit edges: a reverse subtraction done as a negation wraps as the
 // subtraction does.
 TEST(Coalesce, ANegatedSubtractionWrapsLikeTheSubtraction) {
