@@ -922,7 +922,7 @@ struct Lowerer {
     }
     auto binary_op = compound_op(a.op);
     switch (a.op) {
-      case ast::AssignOp::Assign: into(*v, *a.value); break;
+      case ast::AssignOp::Assign: into_visible(*v, *a.value); break;
       case ast::AssignOp::Abs: arith(Op::AbsoluteValue, *v, stepped_value(*a.value)); break;
       case ast::AssignOp::Sign: arith(Op::SignVariable, *v, stepped_value(*a.value)); break;
       default:
@@ -933,10 +933,67 @@ struct Lowerer {
           // address, and a freed node's address comes back for the next.
           const ast::Expr& whole =
               synthesized.emplace_back(ast::Expr{ast::Binary{*binary_op, *a.target, *a.value}, at, std::nullopt});
-          into(*v, whole);
+          into_visible(*v, whole);
         }
     }
     return *v;
+  }
+
+  // v = e where another task may watch v: computed in place, v would hold
+  // each step for an instruction. nqc's code computes in place too, as a
+  // chain from the first operand (`g = (a + b) * c`: a, a + b), which rcxc
+  // keeps; the steps it takes otherwise (-x as x then its negation, ~E and
+  // -E, a ^ b as a | b first, an operand computed before the first one)
+  // nqc's code never shows, so those go through a temporary and v takes
+  // only the result. `g = -E` is `g = 0; g -= E`, and `g = ~E` `g = -1;
+  // g -= E`, as nqc's (E in a temporary unless a variable or constant).
+  void into_visible(VarId v, const ast::Expr& whole) {
+    if (ast.tasks.size() < 2 || !shared_between_tasks(out.vars[static_cast<std::size_t>(v)])) return into(v, whole);
+    const ast::Expr& e = chosen(whole);
+    if (constant(e)) return into(v, e);
+    if (const auto* u = ast::as<ast::Unary>(e); u && (u->op == ast::UnaryOp::Negate || u->op == ast::UnaryOp::BitNot)) {
+      if (u->op == ast::UnaryOp::Negate && var_of(*u->operand) == v) return into(v, e);  // v *= -1: one step
+      if (!reads(*u->operand, v)) {
+        Operand x = is_plain_operand(*u->operand) ? arith_value(*u->operand) : Operand::var(computed(*u->operand));
+        set(v, Operand::imm(u->op == ast::UnaryOp::Negate ? 0 : -1));
+        return arith(Op::SubtractFromVariable, v, x);
+      }
+    }
+    if (!steps_unlike_nqcs(e, v)) return into(v, e);
+    VarId t = temp();
+    compute(t, e);
+    set(v, Operand::var(t));
+  }
+
+  VarId computed(const ast::Expr& e) {
+    VarId t = temp();
+    compute(t, e);
+    return t;
+  }
+
+  // Whether computing e in place holds a value nqc's code would not: see
+  // into_visible.
+  bool steps_unlike_nqcs(const ast::Expr& whole, VarId v) {
+    const ast::Expr& e = chosen(whole);
+    if (constant(e)) return false;
+    if (const auto* n = ast::as<ast::Name>(e)) {
+      auto b = binding(*n);
+      return b && b->expr && steps_unlike_nqcs(*b->expr, v);
+    }
+    if (const auto* u = ast::as<ast::Unary>(e)) {
+      if (u->op == ast::UnaryOp::Negate) return true;
+      if (u->op == ast::UnaryOp::BitNot) return !is_plain_operand(*u->operand) || reads(*u->operand, v);
+      return false;
+    }
+    if (const auto* c = ast::as<ast::Conditional>(e))
+      return steps_unlike_nqcs(*c->then_value, v) || steps_unlike_nqcs(*c->else_value, v);
+    if (const auto* b = ast::as<ast::Binary>(e)) {
+      if (b->op == ast::BinaryOp::BitXor) return true;
+      if (direct_op(b->op) && right_first(*b)) return true;
+      if (direct_op(b->op) || b->op == ast::BinaryOp::Shl || b->op == ast::BinaryOp::Shr)
+        return steps_unlike_nqcs(*b->lhs, v);
+    }
+    return false;
   }
 
   static std::optional<ast::BinaryOp> compound_op(ast::AssignOp op) {

@@ -167,6 +167,40 @@ task main() {
   }
 }
 
+// `g = -a` computed in place held a (5) for an instruction, `h = ~(a + 1)`
+// held 6 and -6, `k = a ^ 3` held a | 3 (7), `n = ~n` held -n: a task
+// waiting for any of
+// them switched output B on, where nqc's code (0, then -5; -1, then -7;
+// the result) never does. With a second task running, those go as nqc's
+// or through a temporary.
+TEST(LowerCompile, AnotherTaskNeverSeesStepsNqcsCodeDoesNotShow) {
+  const char* text = R"(
+int a, g, h, k, n;
+task watch() { until (g > 0 || h > 0 || k == 7 || n == -5); OnFwd(OUT_B); }
+task main() {
+  start watch;
+  a = Timer(0) + 5;  // 0 so early, but not known to the optimiser
+  Wait(10);
+  g = -a;
+  h = ~(a + 1);
+  k = a ^ 3;
+  n = a;
+  n = ~n;
+  Wait(10);
+}
+)";
+  for (auto level : {ir::OptLevel::O0, ir::OptLevel::O1, ir::OptLevel::O2, ir::OptLevel::Os}) {
+    auto c = test::compile_program(text, level);
+    ASSERT_TRUE(c.out);
+    auto m = test::run_image(c.out->image, 500);
+    EXPECT_EQ(test::global_value(m, c.out->image, "g"), -5);
+    EXPECT_EQ(test::global_value(m, c.out->image, "h"), -7);
+    EXPECT_EQ(test::global_value(m, c.out->image, "k"), 6);
+    EXPECT_EQ(test::global_value(m, c.out->image, "n"), -6);
+    EXPECT_NE(m.state().outputs[1].mode, rcx::OutputMode::On) << static_cast<int>(level);
+  }
+}
+
 // The 16-bit edges: a reverse subtraction done as a negation wraps as the
 // subtraction does.
 TEST(Coalesce, ANegatedSubtractionWrapsLikeTheSubtraction) {

@@ -11,6 +11,7 @@
 #include <cstdlib>
 #include <map>
 #include <random>
+#include <set>
 #include <sstream>
 
 #include <fmt/format.h>
@@ -524,4 +525,69 @@ TEST(RandomPrograms, ABeginningBothSidesShareRunsBeforeTheTestAsItRanAfter) {
   // A side ending with a motor command that the next statement sets again
   // (ir/overwritten.cpp) drops it: 14 of the first 300.
   EXPECT_GE(agreeing_programs_logging<test::CommonHeadGenerator>("sets it again"), 5) << "of 300 programs";
+}
+
+namespace {
+
+// The random program with a second task started first, which only waits:
+// with it, another task could watch every global between any two of
+// main's instructions.
+std::string with_a_watching_task(const std::string& text) {
+  std::string out = text;
+  std::size_t line_end = out.find('\n');
+  out.insert(line_end + 1, "task watcher() { while (true) Wait(100); }\n");
+  const std::string main_head = "task main() {";
+  std::size_t at = out.find(main_head);
+  if (at != std::string::npos) out.insert(at + main_head.size(), " start watcher;");
+  return out;
+}
+
+// Each global's values, as the run of `image` wrote them, by name.
+std::map<std::string, std::set<int>> values_written(const rcx::Image& image, const std::string& text) {
+  rcx::Config config;
+  config.trace_variables = true;
+  rcx::Machine m(config);
+  std::map<std::string, std::set<int>> seen;
+  if (m.load(0, image)) return seen;
+  m.start_program();
+  m.run(20'000 * rcx::kMicrosPerMs);
+  std::map<int, std::string> names;
+  for (const auto& sym : image.symbols)
+    if (sym.type == rcx::SymbolType::Variable && is_global(text, sym.name)) names[sym.index] = sym.name;
+  for (const auto& e : m.state().events)
+    if (auto it = names.find(e.index); e.kind == rcx::EventKind::Variable && it != names.end())
+      seen[it->second].insert(e.value);
+  return seen;
+}
+
+}  // namespace
+
+// With another task running, a global may only hold values nqc's code
+// also gives it (the steps of a computation in place included): a task
+// waiting for a value would otherwise act where nqc's code never does.
+TEST(RandomPrograms, AnotherTaskSeesOnlyValuesNqcsCodeShows) {
+  std::string nqc = test::find_nqc();
+  if (nqc.empty()) GTEST_SKIP() << "nqc is not installed";
+  test::TempDir dir;
+  int compared = 0;
+  for (unsigned seed = test::seed_offset() + 1; seed <= test::seed_offset() + 400; ++seed) {
+    std::string text = with_a_watching_task(ExpressionGenerator(seed, true).program());
+    auto theirs = nqc_image(nqc, dir, text);
+    if (!theirs) continue;
+    auto nqc_values = values_written(*theirs, text);
+    for (auto level : {ir::OptLevel::O1, ir::OptLevel::O2, ir::OptLevel::Os}) {
+      auto c = test::compile_program(text, level);
+      if (!c.out) continue;
+      ++compared;
+      for (const auto& [name, values] : values_written(c.out->image, text)) {
+        std::string foreign;
+        for (int v : values)
+          if (!nqc_values[name].contains(v)) foreign += fmt::format(" {}", v);
+        EXPECT_EQ(foreign, "") << "seed " << seed << " level " << static_cast<int>(level) << ": " << name
+                               << " took values nqc's code never gives it\n"
+                               << text;
+      }
+    }
+  }
+  EXPECT_GT(compared, 250);
 }
