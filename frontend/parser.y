@@ -54,6 +54,14 @@ struct Feed {
   bool asm_item_start = false;
   int asm_depth = 0;
   std::vector<SourceSpan> open_braces;  // each '{' handed out and not yet closed
+  // Names declared as arrays (`int a[4]`), refused at the declaration: an
+  // index on one of them is that same mistake again, not a new error.
+  std::vector<std::string> refused_arrays{};
+  // The index of the token after the last one the lexer could not read (a
+  // string or character left open, which takes the rest of its line, or a
+  // stray character), already reported: a syntax error found right there is
+  // that mistake again (`PlaySound("click);` lost its `);` to the string).
+  std::size_t after_unreadable = static_cast<std::size_t>(-1);
   // Set when the input nests deeper than the tree may (an expression taller
   // than kMaxNesting, or the parser's stack past what that many levels
   // need): reported once, and the parse ends there, before the tree or the
@@ -386,6 +394,7 @@ declarator
   | IDENT '[' expr ']'
       {
         feed.diags.error(@$, "the RCX has no arrays: '" + std::string($1) + "' must be a plain int");
+        feed.refused_arrays.emplace_back($1);
         $$ = std::make_unique<VarDecl>(VarDecl{std::string($1), @1, std::nullopt, kNoSymbol});
       }
   | '*' declarator
@@ -576,7 +585,10 @@ expr
       }
   | expr '[' expr ']'
       {
-        feed.diags.error(@$, "the RCX has no arrays, so nothing can be indexed");
+        const auto* n = ast::as<ast::Name>(*$1);
+        bool refused = n && std::find(feed.refused_arrays.begin(), feed.refused_arrays.end(), n->name) !=
+                                feed.refused_arrays.end();
+        if (!refused) feed.diags.error(@$, "the RCX has no arrays, so nothing can be indexed");
         $$ = std::move($1);
       }
   | '*' expr %prec UNARY
@@ -705,6 +717,8 @@ const Token* miscased_keyword(const Feed& feed, bool between_declarations) {
 void yy::Parser::report_syntax_error(const context& ctx) const {
   // The parse was cut where it nested too deeply; that is the error.
   if (feed.too_deep) return;
+  std::size_t found_at = ctx.token() == symbol_kind::S_YYEOF ? feed.pos : feed.pos - 1;
+  if (feed.pos > 0 && found_at == feed.after_unreadable) return;
   std::string found = ctx.token() == symbol_kind::S_YYEOF ? "end of file" : "'" + std::string(feed.last_text) + "'";
   symbol_kind_type expected[64];
   int n = ctx.expected_tokens(expected, 64);
@@ -885,8 +899,9 @@ void yy::Parser::report_syntax_error(const context& ctx) const {
       return;
     }
   }
-  // `x = c ? 1;`: the '?' without its ':' (nqc: syntax error).
-  if (expects_punct("':'") && (feed.last_text == ";" || feed.last_text == ")") && feed.pos >= 2) {
+  // `x = c ? 1;` or `x = c ? 1 2;`: the '?' without its ':' (nqc: syntax
+  // error).
+  if (expects_punct("':'") && ctx.token() != symbol_kind::S_YYEOF && feed.pos >= 2) {
     bool question = false;
     std::size_t i = feed.pos - 1;
     while (i > 0 && !feed.tokens[i - 1].is(";") && !feed.tokens[i - 1].is("{") && !feed.tokens[i - 1].is("}")) {

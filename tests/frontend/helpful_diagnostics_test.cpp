@@ -346,6 +346,12 @@ TEST(HelpfulDiagnostics, AConditionalWithoutItsColonSaysSo) {
   EXPECT_EQ(placed_messages(r.diags), (std::vector<std::string>{"4:18 expected ':' before ';" + says,
                                                                 "5:14 expected ':' before ')" + says}))
       << r.text();
+  // A value where the ':' goes said "syntax error at '2'" (the thirteenth
+  // faithfulness round).
+  auto value = run_frontend("int x, y;\ntask main()\n{\n  x = x ? 1 2;\n  y = x ? y x;\n}\n");
+  EXPECT_EQ(placed_messages(value.diags), (std::vector<std::string>{"4:13 expected ':' before '2" + says,
+                                                                    "5:13 expected ':' before 'x" + says}))
+      << value.text();
   auto label = run_frontend("int x;\ntask main()\n{\n  switch (x) { case 1; x = 2; }\n}\n");
   ASSERT_FALSE(label.diags.all().empty());
   EXPECT_EQ(label.diags.all().front().message.find("'?'"), std::string::npos) << label.text();
@@ -542,3 +548,21 @@ TEST(HelpfulDiagnostics, ACommentNeverClosedIsOneError) {
 }
 
 }  // namespace
+
+// A string left open takes the rest of its line, and with it the `);` the
+// call needed: the parse then failed at the next line's '}' and said so, a
+// second error for the one mistake (the thirteenth faithfulness round).
+// A stray character likewise: the syntax error right after it is the same
+// mistake. An error further on is still reported.
+TEST(HelpfulDiagnostics, NoSyntaxErrorRightAfterTextTheLexerCouldNotRead) {
+  auto open_string = run_frontend("task main()\n{\n  PlaySound(\"click);\n}\n");
+  EXPECT_EQ(placed_messages(open_string.diags),
+            (std::vector<std::string>{"3:13 missing terminating \" character"}))
+      << open_string.text();
+  auto stray = run_frontend("int x;\ntask main()\n{\n  x = `;\n  x = 1 2;\n}\n");
+  EXPECT_EQ(placed_messages(stray.diags),
+            (std::vector<std::string>{"4:7 stray character '`' in program",
+                                      "5:9 expected an operator or ';' before '2': two values stand side by side; "
+                                      "write the operator between them (as in '1 + 2')"}))
+      << stray.text();
+}

@@ -304,7 +304,17 @@ TEST(Parser, MissingBraceAtEndOfFile) {
 }
 
 TEST(Parser, ArraysAreRejectedClearly) {
-  auto r = run_frontend("int v[3];\ntask main() { v[1] = 2; }\n", true);
+  auto r = run_frontend("int v[3];\nint w;\ntask main() { w[1] = 2; }\n", true);
   EXPECT_EQ(r.brief(), (std::vector<std::string>{"1:5: error: the RCX has no arrays: 'v' must be a plain int",
-                                                 "2:15: error: the RCX has no arrays, so nothing can be indexed"}));
+                                                 "3:15: error: the RCX has no arrays, so nothing can be indexed"}));
+}
+
+TEST(Parser, AnArrayIsOneErrorAtItsDeclarationNotOneAtEachUse) {
+  // The thirteenth faithfulness round: `int a[4]` and three uses gave five
+  // errors for one mistake (nqc gives one, at the declaration).
+  auto r = run_frontend("int a[4];\ntask main()\n{\n  int t[2];\n  a[0] = 1;\n  a[3] = a[0] + t[1];\n"
+                        "  SendMessage(a[3]);\n}\n",
+                        true);
+  EXPECT_EQ(r.brief(), (std::vector<std::string>{"1:5: error: the RCX has no arrays: 'a' must be a plain int",
+                                                 "4:7: error: the RCX has no arrays: 't' must be a plain int"}));
 }
