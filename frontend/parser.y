@@ -779,6 +779,20 @@ void yy::Parser::report_syntax_error(const context& ctx) const {
                             "32767), so the cast can go");
     return;
   }
+  // `void f(int v[])` or `int a[];`: an array without a size, which the
+  // declarator's own rule (`int a[4]`) does not take (nqc: syntax error).
+  bool bracket_found = feed.last_text == "[" && feed.pos >= 2;
+  bool empty_brackets = feed.last_text == "]" && feed.pos >= 3 && feed.tokens[feed.pos - 2].is("[");
+  if (bracket_found || empty_brackets) {
+    std::size_t at = feed.pos - (bracket_found ? 2 : 3);
+    const Token& name = feed.tokens[at];
+    const Token* before = at > 0 ? &feed.tokens[at - 1] : nullptr;
+    bool declared = before && (before->is_identifier("int") || before->is("&") || before->is(","));
+    if (name.kind == TokenKind::Identifier && declared) {
+      feed.diags.error(ctx.location(), "the RCX has no arrays: '" + std::string(name.text) + "' must be a plain int");
+      return;
+    }
+  }
   const Token* type = nullptr;
   if (ctx.token() == symbol_kind::S_IDENT && expects(symbol_kind::S_TASK)) type = c_type(1);
   if (!type && (ctx.token() == symbol_kind::S_IDENT || ctx.token() == symbol_kind::S_INT)) type = c_type(2);

@@ -309,6 +309,16 @@ TEST(Parser, ArraysAreRejectedClearly) {
                                                  "3:15: error: the RCX has no arrays, so nothing can be indexed"}));
 }
 
+// `int v[]` as a parameter said "expected ')' before '['", and `int a[];`
+// "expected an expression before ']'" (the thirteenth faithfulness round).
+TEST(Parser, AnArrayWithoutASizeIsRefusedAsAnArray) {
+  auto r = run_frontend("int a, b[];\nvoid f(int v[]) { }\ntask main()\n{\n  int c[];\n  a = a[];\n}\n", true);
+  EXPECT_EQ(r.brief(), (std::vector<std::string>{"1:10: error: the RCX has no arrays: 'b' must be a plain int",
+                                                 "2:13: error: the RCX has no arrays: 'v' must be a plain int",
+                                                 "5:9: error: the RCX has no arrays: 'c' must be a plain int",
+                                                 "6:9: error: expected an expression before ']'"}));
+}
+
 TEST(Parser, AnArrayIsOneErrorAtItsDeclarationNotOneAtEachUse) {
   // The thirteenth faithfulness round: `int a[4]` and three uses gave five
   // errors for one mistake (nqc gives one, at the declaration).
