@@ -1015,12 +1015,27 @@ void yy::Parser::report_syntax_error(const context& ctx) const {
                                          "in '1 + 2')");
     return;
   }
+  // Where a statement goes: `else` after an `if` a ';' ended, or `task`
+  // and `sub` inside a body (a '}' left out above, most often).
+  bool statement_wanted = expects(symbol_kind::S_IF) && expects(symbol_kind::S_NUMBER);
+  if (statement_wanted && ctx.token() == symbol_kind::S_ELSE) {
+    feed.diags.error(ctx.location(), "'else' without an 'if' before it: a statement stands between them (an extra "
+                                     "';' is an empty statement, and two statements after an 'if' need braces)");
+    return;
+  }
+  if (statement_wanted && (ctx.token() == symbol_kind::S_TASK || ctx.token() == symbol_kind::S_SUB)) {
+    feed.diags.error(ctx.location(), "'" + std::string(feed.last_text) + "' cannot stand inside a task, sub or "
+                                     "function: is a '}' missing before it?");
+    return;
+  }
   std::string want;
   SourceSpan where = ctx.location();
   if (n >= 1 && n <= 3) {
     for (int i = 0; i < n; ++i) want += (i == 0 ? "" : i + 1 == n ? " or " : ", ") + shown(expected[i]);
   } else if (ctx.token() == symbol_kind::S_YYEOF && expects_punct("'}'")) {
     want = "'}'";
+  } else if (statement_wanted && !expects(symbol_kind::S_TASK)) {
+    want = "a statement";
   } else if (expects(symbol_kind::S_NUMBER) && expects(symbol_kind::S_IDENT) && !expects(symbol_kind::S_TASK)) {
     want = "an expression";
   } else if (expects(symbol_kind::S_TASK)) {

@@ -566,3 +566,24 @@ TEST(HelpfulDiagnostics, NoSyntaxErrorRightAfterTextTheLexerCouldNotRead) {
                                       "write the operator between them (as in '1 + 2')"}))
       << stray.text();
 }
+
+// Where a statement goes the parser said "expected an expression": before
+// a '}' that ends a body a `repeat (3)` still needed, before an `else` an
+// extra ';' parted from its `if`, before a `task` a missing '}' let into a
+// body (the thirteenth faithfulness round).
+TEST(HelpfulDiagnostics, WhereAStatementGoesTheMessageSaysSo) {
+  auto body = run_frontend("task main()\n{\n  repeat (3)\n}\n");
+  EXPECT_EQ(placed_messages(body.diags), (std::vector<std::string>{"4:1 expected a statement before '}'"}))
+      << body.text();
+  auto dangling = run_frontend("int x;\ntask main()\n{\n  if (x) x = 1;;\n  else x = 2;\n}\n");
+  EXPECT_EQ(placed_messages(dangling.diags),
+            (std::vector<std::string>{"5:3 'else' without an 'if' before it: a statement stands between them (an "
+                                      "extra ';' is an empty statement, and two statements after an 'if' need "
+                                      "braces)"}))
+      << dangling.text();
+  auto nested = run_frontend("task main()\n{\n  On(OUT_A);\n\nsub s() { }\n");
+  ASSERT_FALSE(nested.diags.all().empty());
+  EXPECT_EQ(placed_messages(nested.diags).front(),
+            "5:1 'sub' cannot stand inside a task, sub or function: is a '}' missing before it?")
+      << nested.text();
+}
