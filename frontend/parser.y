@@ -710,6 +710,12 @@ const Token* miscased_keyword(const Feed& feed, bool between_declarations) {
   return nullptr;
 }
 
+// Whether a new name follows `t` in a declaration.
+bool declares_next(const Token& t) {
+  return t.is_identifier("int") || t.is_identifier("void") || t.is_identifier("sub") || t.is_identifier("task") ||
+         t.is(",") || t.is("&");
+}
+
 }  // namespace
 
 // gcc-like messages: "expected ';' before 'x'", naming what the grammar
@@ -792,6 +798,16 @@ void yy::Parser::report_syntax_error(const context& ctx) const {
       feed.diags.error(ctx.location(), "the RCX has no arrays: '" + std::string(name.text) + "' must be a plain int");
       return;
     }
+  }
+  // `int repeat;`, `task while()`: a keyword where a new name goes (the
+  // lexer gives keywords as identifiers; the parser took this one as a
+  // keyword). Said as such, rather than "expected identifier or '*'".
+  if (feed.pos >= 2 && expects(symbol_kind::S_IDENT) && ctx.token() != symbol_kind::S_IDENT &&
+      feed.tokens[feed.pos - 1].kind == TokenKind::Identifier && declares_next(feed.tokens[feed.pos - 2]) &&
+      feed.last_text != "const" && feed.last_text != "int" && feed.last_text != "void") {
+    feed.diags.error(ctx.location(), "'" + std::string(feed.last_text) + "' is a keyword of NQC and cannot be a "
+                                     "name: choose another");
+    return;
   }
   const Token* type = nullptr;
   if (ctx.token() == symbol_kind::S_IDENT && expects(symbol_kind::S_TASK)) type = c_type(1);

@@ -587,3 +587,18 @@ TEST(HelpfulDiagnostics, WhereAStatementGoesTheMessageSaysSo) {
             "5:1 'sub' cannot stand inside a task, sub or function: is a '}' missing before it?")
       << nested.text();
 }
+
+// A keyword as a new name said "expected identifier or '*' before 'repeat'"
+// (the '*' of a pointer declarator the RCX refuses anyway; the thirteenth
+// faithfulness round).
+TEST(HelpfulDiagnostics, AKeywordAsANewNameSaysItIsAKeyword) {
+  auto placed_first = [](const char* text) {
+    auto r = run_frontend(text);
+    return r.diags.all().empty() ? std::string("none") : placed_messages(r.diags).front();
+  };
+  const std::string says = " is a keyword of NQC and cannot be a name: choose another";
+  EXPECT_EQ(placed_first("int repeat;\ntask main() { }\n"), "1:5 'repeat'" + says);
+  EXPECT_EQ(placed_first("int a, for;\ntask main() { }\n"), "1:8 'for'" + says);
+  EXPECT_EQ(placed_first("task while() { }\ntask main() { }\n"), "1:6 'while'" + says);
+  EXPECT_EQ(placed_first("void f(int &case) { }\ntask main() { }\n"), "1:13 'case'" + says);
+}
