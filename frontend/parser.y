@@ -61,6 +61,7 @@ struct Feed {
   // string or character left open, which takes the rest of its line, or a
   // stray character), already reported: a syntax error found right there is
   // that mistake again (`PlaySound("click);` lost its `);` to the string).
+  // Likewise the '{' after `task main();`, whose ';' was reported.
   std::size_t after_unreadable = static_cast<std::size_t>(-1);
   // Set when the input nests deeper than the tree may (an expression taller
   // than kMaxNesting, or the parser's stack past what that many levels
@@ -249,6 +250,18 @@ void note_order(Program& p, SymbolKind kind, std::size_t index) {
 // C's `void f();` before the definition (nqc: syntax error). NQC needs none:
 // a name may be used above the line that defines it.
 void prototype(frontend::Feed& feed, const SourceSpan& semicolon, const char* what, std::string_view name) {
+  // `task main();` with the body after it: the ';' is the mistake, and the
+  // '{' that follows is no second one. (The parser may have read the token
+  // after the ';' already, so the ';' is looked up by its place.)
+  std::size_t at = std::min(feed.pos, feed.tokens.size() - 1);
+  while (at > 0 && !(feed.tokens[at].is(";") && feed.tokens[at].span.begin == semicolon.begin)) --at;
+  if (at + 1 < feed.tokens.size() && feed.tokens[at + 1].is("{")) {
+    // Not read past: the body after it is no part of the task.
+    feed.diags.error(semicolon, std::string("the ';' ends the ") + what + " '" + std::string(name) +
+                                    "' before its body: leave it out");
+    feed.after_unreadable = at + 1;
+    return;
+  }
   feed.diags.error(semicolon, std::string("NQC has no declarations without a body: define the ") + what + " '" +
                                   std::string(name) + "' here with its body, or leave this line out (a " + what +
                                   " may be used above its definition)")

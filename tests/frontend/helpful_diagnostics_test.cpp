@@ -602,3 +602,27 @@ TEST(HelpfulDiagnostics, AKeywordAsANewNameSaysItIsAKeyword) {
   EXPECT_EQ(placed_first("task while() { }\ntask main() { }\n"), "1:6 'while'" + says);
   EXPECT_EQ(placed_first("void f(int &case) { }\ntask main() { }\n"), "1:13 'case'" + says);
 }
+
+// One error for each of two mistakes that gave two (the thirteenth
+// faithfulness round): a '}' left out before `task main()` also said the
+// program has no task main (the parser had set main aside); `task main();`
+// with its body after it also said "expected a declaration before '{'".
+TEST(HelpfulDiagnostics, AMainTheParserSetAsideOrASemicolonBeforeABodyIsOneError) {
+  auto open_body = run_frontend("task helper()\n{\n  On(OUT_A);\n\ntask main()\n{\n  start helper;\n}\n");
+  EXPECT_EQ(placed_messages(open_body.diags),
+            (std::vector<std::string>{"5:1 'task' cannot stand inside a task, sub or function: is a '}' missing "
+                                      "before it?"}))
+      << open_body.text();
+  auto semicolon = run_frontend("task main();\n{\n  On(OUT_A);\n}\n");
+  EXPECT_EQ(placed_messages(semicolon.diags),
+            (std::vector<std::string>{"1:12 the ';' ends the task 'main' before its body: leave it out"}))
+      << semicolon.text();
+  auto function = run_frontend("void f();\n{\n}\ntask main() { f(); }\n");
+  EXPECT_EQ(placed_messages(function.diags),
+            (std::vector<std::string>{"1:9 the ';' ends the function 'f' before its body: leave it out"}))
+      << function.text();
+  // Without a body after it, the ';' keeps its message, and the program is
+  // whole: a missing main is still said.
+  auto alone = run_frontend("task t();\ntask t() { }\n");
+  EXPECT_EQ(placed_messages(alone.diags).size(), 2u) << alone.text();
+}
