@@ -482,6 +482,9 @@ stmt
         $$ = mks(For{std::move(init), OptionalBox<Expr>(std::move($5)), OptionalBox<Expr>(std::move($7)), box(std::move($9))}, @$);
       }
   | FOR '(' error ')' stmt { $$ = mks(Empty{}, @$); }
+  // `for (...; i++ {`: the ')' left out. Without this the recovery above
+  // took the ')' of a call in the body, and the body's '}' ended the task.
+  | FOR '(' error block    { $$ = mks(Empty{}, @$); }
   | REPEAT '(' expr ')' stmt
                           { $$ = mks(Repeat{std::move(*$3), box(std::move($5))}, @$); }
   | SWITCH '(' expr ')' stmt

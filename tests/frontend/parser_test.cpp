@@ -328,3 +328,11 @@ TEST(Parser, AnArrayIsOneErrorAtItsDeclarationNotOneAtEachUse) {
   EXPECT_EQ(r.brief(), (std::vector<std::string>{"1:5: error: the RCX has no arrays: 'a' must be a plain int",
                                                  "4:7: error: the RCX has no arrays: 't' must be a plain int"}));
 }
+
+// `for (...; i++ {` with a call in the body: the recovery took the call's
+// ')' for the head's, and the body's '}' then ended the task, so the task's
+// own '}' was a second error (the thirteenth faithfulness round).
+TEST(Parser, AForHeadMissingItsParenthesisBeforeTheBodyIsOneError) {
+  auto r = run_frontend("int i;\ntask main()\n{\n  for (i = 0; i < 3; i++ {\n    Wait(1);\n  }\n  Off(OUT_A);\n}\n", true);
+  EXPECT_EQ(r.brief(), (std::vector<std::string>{"4:26: error: expected ')' before '{'"}));
+}
