@@ -960,6 +960,13 @@ void yy::Parser::report_syntax_error(const context& ctx) const {
                                            "('c ? a : b')");
       return;
     }
+    // `case 1 x = 2;`: the label's ':' left out (said "syntax error at 'x'").
+    if (!question && feed.tokens[i].is_identifier("case") && ctx.token() != symbol_kind::S_YYEOF &&
+        feed.last_text != ",") {  // `case 1, 2:` has a message of its own below
+      feed.diags.error(ctx.location(), "expected ':' before '" + std::string(feed.last_text) +
+                                           "': a case label ends with ':' ('case 1: ...')");
+      return;
+    }
   }
   // `stop;` and `start;` without a task (nqc: syntax error).
   if (feed.pos >= 2 && (feed.tokens[feed.pos - 2].is_identifier("stop") ||

@@ -626,3 +626,16 @@ TEST(HelpfulDiagnostics, AMainTheParserSetAsideOrASemicolonBeforeABodyIsOneError
   auto alone = run_frontend("task t();\ntask t() { }\n");
   EXPECT_EQ(placed_messages(alone.diags).size(), 2u) << alone.text();
 }
+
+// A case label without its ':' said "syntax error at 'x'" (the thirteenth
+// faithfulness round); before a ';' it said "expected ':'" alone.
+TEST(HelpfulDiagnostics, ACaseLabelWithoutItsColonSaysSo) {
+  auto r = run_frontend("int x;\ntask main()\n{\n  switch (x) {\n    case 1 x = 2; break;\n  }\n}\n");
+  EXPECT_EQ(placed_messages(r.diags),
+            (std::vector<std::string>{"5:12 expected ':' before 'x': a case label ends with ':' ('case 1: ...')"}))
+      << r.text();
+  auto semicolon = run_frontend("int x;\ntask main()\n{\n  switch (x) { case 1; x = 2; }\n}\n");
+  EXPECT_EQ(placed_messages(semicolon.diags),
+            (std::vector<std::string>{"4:22 expected ':' before ';': a case label ends with ':' ('case 1: ...')"}))
+      << semicolon.text();
+}
