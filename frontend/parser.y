@@ -1067,6 +1067,14 @@ void yy::Parser::report_syntax_error(const context& ctx) const {
                                      "function: is a '}' missing before it?");
     return;
   }
+  // `task main()` with its '{' left out: said "expected ';' or '{'", and
+  // the ';' would only lead to "no declarations without a body".
+  if (feed.pos >= 2 && expects_punct("'{'") && expects_punct("';'") && n == 2 && feed.tokens[feed.pos - 2].is(")") &&
+      ctx.token() != symbol_kind::S_YYEOF) {
+    feed.diags.error(ctx.location(), "expected '{' before '" + std::string(feed.last_text) +
+                                         "': the body goes between braces after the head");
+    return;
+  }
   std::string want;
   SourceSpan where = ctx.location();
   if (n >= 1 && n <= 3) {

@@ -639,3 +639,16 @@ TEST(HelpfulDiagnostics, ACaseLabelWithoutItsColonSaysSo) {
             (std::vector<std::string>{"4:22 expected ':' before ';': a case label ends with ':' ('case 1: ...')"}))
       << semicolon.text();
 }
+
+// A head without its '{' said "expected ';' or '{'" at the head's end (the
+// thirteenth faithfulness round): a ';' there is no declaration NQC has.
+TEST(HelpfulDiagnostics, AHeadWithoutItsBraceAsksForTheBrace) {
+  auto task = run_frontend("task main()\n  On(OUT_A);\n}\n");
+  EXPECT_EQ(placed_messages(task.diags),
+            (std::vector<std::string>{"2:3 expected '{' before 'On': the body goes between braces after the head"}))
+      << task.text();
+  auto function = run_frontend("void f(int x)\n  x++;\n}\ntask main() { }\n");
+  EXPECT_EQ(placed_messages(function.diags),
+            (std::vector<std::string>{"2:3 expected '{' before 'x': the body goes between braces after the head"}))
+      << function.text();
+}
