@@ -67,8 +67,10 @@ void check_around_syntax_errors(ast::Program& program, Diagnostics& diags,
   for (auto& s : program.subs) bodies.push_back(&s.body);
   for (auto& f : program.functions) bodies.push_back(&f.body);
   std::vector<bool> broken(bodies.size(), false);
+  bool whole = true;  // every error one the parser read past
   for (const auto& d : diags.all()) {
     if (d.severity != Severity::Error || d.parsed_past) continue;
+    whole = false;
     bool placed = false;
     for (std::size_t b = 0; b < bodies.size() && !placed; ++b)
       if (contains(bodies[b]->span, d.span.begin)) placed = broken[b] = true;
@@ -76,7 +78,7 @@ void check_around_syntax_errors(ast::Program& program, Diagnostics& diags,
   }
   for (std::size_t b = 0; b < bodies.size(); ++b)
     if (broken[b]) bodies[b]->node = ast::Block{};
-  check(program, diags, function_macro_names);
+  check(program, diags, function_macro_names, whole);
 }
 
 // An inline function defined at the standard library's top level: its

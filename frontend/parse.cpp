@@ -222,8 +222,10 @@ yy::Parser::symbol_type next_token(Feed& feed, std::size_t stack_size) {
         continue;
       }
       case TokenKind::Unknown:
-      case TokenKind::End:
+        feed.after_unreadable = feed.pos;
         continue;  // already reported by the lexer or the preprocessor
+      case TokenKind::End:
+        continue;
     }
   }
 }

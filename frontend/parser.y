@@ -54,6 +54,15 @@ struct Feed {
   bool asm_item_start = false;
   int asm_depth = 0;
   std::vector<SourceSpan> open_braces;  // each '{' handed out and not yet closed
+  // Names declared as arrays (`int a[4]`), refused at the declaration: an
+  // index on one of them is that same mistake again, not a new error.
+  std::vector<std::string> refused_arrays{};
+  // The index of the token after the last one the lexer could not read (a
+  // string or character left open, which takes the rest of its line, or a
+  // stray character), already reported: a syntax error found right there is
+  // that mistake again (`PlaySound("click);` lost its `);` to the string).
+  // Likewise the '{' after `task main();`, whose ';' was reported.
+  std::size_t after_unreadable = static_cast<std::size_t>(-1);
   // Set when the input nests deeper than the tree may (an expression taller
   // than kMaxNesting, or the parser's stack past what that many levels
   // need): reported once, and the parse ends there, before the tree or the
@@ -241,6 +250,18 @@ void note_order(Program& p, SymbolKind kind, std::size_t index) {
 // C's `void f();` before the definition (nqc: syntax error). NQC needs none:
 // a name may be used above the line that defines it.
 void prototype(frontend::Feed& feed, const SourceSpan& semicolon, const char* what, std::string_view name) {
+  // `task main();` with the body after it: the ';' is the mistake, and the
+  // '{' that follows is no second one. (The parser may have read the token
+  // after the ';' already, so the ';' is looked up by its place.)
+  std::size_t at = std::min(feed.pos, feed.tokens.size() - 1);
+  while (at > 0 && !(feed.tokens[at].is(";") && feed.tokens[at].span.begin == semicolon.begin)) --at;
+  if (at + 1 < feed.tokens.size() && feed.tokens[at + 1].is("{")) {
+    // Not read past: the body after it is no part of the task.
+    feed.diags.error(semicolon, std::string("the ';' ends the ") + what + " '" + std::string(name) +
+                                    "' before its body: leave it out");
+    feed.after_unreadable = at + 1;
+    return;
+  }
   feed.diags.error(semicolon, std::string("NQC has no declarations without a body: define the ") + what + " '" +
                                   std::string(name) + "' here with its body, or leave this line out (a " + what +
                                   " may be used above its definition)")
@@ -386,6 +407,7 @@ declarator
   | IDENT '[' expr ']'
       {
         feed.diags.error(@$, "the RCX has no arrays: '" + std::string($1) + "' must be a plain int");
+        feed.refused_arrays.emplace_back($1);
         $$ = std::make_unique<VarDecl>(VarDecl{std::string($1), @1, std::nullopt, kNoSymbol});
       }
   | '*' declarator
@@ -460,6 +482,9 @@ stmt
         $$ = mks(For{std::move(init), OptionalBox<Expr>(std::move($5)), OptionalBox<Expr>(std::move($7)), box(std::move($9))}, @$);
       }
   | FOR '(' error ')' stmt { $$ = mks(Empty{}, @$); }
+  // `for (...; i++ {`: the ')' left out. Without this the recovery above
+  // took the ')' of a call in the body, and the body's '}' ended the task.
+  | FOR '(' error block    { $$ = mks(Empty{}, @$); }
   | REPEAT '(' expr ')' stmt
                           { $$ = mks(Repeat{std::move(*$3), box(std::move($5))}, @$); }
   | SWITCH '(' expr ')' stmt
@@ -576,7 +601,10 @@ expr
       }
   | expr '[' expr ']'
       {
-        feed.diags.error(@$, "the RCX has no arrays, so nothing can be indexed");
+        const auto* n = ast::as<ast::Name>(*$1);
+        bool refused = n && std::find(feed.refused_arrays.begin(), feed.refused_arrays.end(), n->name) !=
+                                feed.refused_arrays.end();
+        if (!refused) feed.diags.error(@$, "the RCX has no arrays, so nothing can be indexed");
         $$ = std::move($1);
       }
   | '*' expr %prec UNARY
@@ -698,6 +726,12 @@ const Token* miscased_keyword(const Feed& feed, bool between_declarations) {
   return nullptr;
 }
 
+// Whether a new name follows `t` in a declaration.
+bool declares_next(const Token& t) {
+  return t.is_identifier("int") || t.is_identifier("void") || t.is_identifier("sub") || t.is_identifier("task") ||
+         t.is(",") || t.is("&");
+}
+
 }  // namespace
 
 // gcc-like messages: "expected ';' before 'x'", naming what the grammar
@@ -705,6 +739,8 @@ const Token* miscased_keyword(const Feed& feed, bool between_declarations) {
 void yy::Parser::report_syntax_error(const context& ctx) const {
   // The parse was cut where it nested too deeply; that is the error.
   if (feed.too_deep) return;
+  std::size_t found_at = ctx.token() == symbol_kind::S_YYEOF ? feed.pos : feed.pos - 1;
+  if (feed.pos > 0 && found_at == feed.after_unreadable) return;
   std::string found = ctx.token() == symbol_kind::S_YYEOF ? "end of file" : "'" + std::string(feed.last_text) + "'";
   symbol_kind_type expected[64];
   int n = ctx.expected_tokens(expected, 64);
@@ -763,6 +799,30 @@ void yy::Parser::report_syntax_error(const context& ctx) const {
   if (cast) {
     feed.diags.error(*cast, "NQC has no casts: every value is an int already, a 16-bit whole number (-32768 to "
                             "32767), so the cast can go");
+    return;
+  }
+  // `void f(int v[])` or `int a[];`: an array without a size, which the
+  // declarator's own rule (`int a[4]`) does not take (nqc: syntax error).
+  bool bracket_found = feed.last_text == "[" && feed.pos >= 2;
+  bool empty_brackets = feed.last_text == "]" && feed.pos >= 3 && feed.tokens[feed.pos - 2].is("[");
+  if (bracket_found || empty_brackets) {
+    std::size_t at = feed.pos - (bracket_found ? 2 : 3);
+    const Token& name = feed.tokens[at];
+    const Token* before = at > 0 ? &feed.tokens[at - 1] : nullptr;
+    bool declared = before && (before->is_identifier("int") || before->is("&") || before->is(","));
+    if (name.kind == TokenKind::Identifier && declared) {
+      feed.diags.error(ctx.location(), "the RCX has no arrays: '" + std::string(name.text) + "' must be a plain int");
+      return;
+    }
+  }
+  // `int repeat;`, `task while()`: a keyword where a new name goes (the
+  // lexer gives keywords as identifiers; the parser took this one as a
+  // keyword). Said as such, rather than "expected identifier or '*'".
+  if (feed.pos >= 2 && expects(symbol_kind::S_IDENT) && ctx.token() != symbol_kind::S_IDENT &&
+      feed.tokens[feed.pos - 1].kind == TokenKind::Identifier && declares_next(feed.tokens[feed.pos - 2]) &&
+      feed.last_text != "const" && feed.last_text != "int" && feed.last_text != "void") {
+    feed.diags.error(ctx.location(), "'" + std::string(feed.last_text) + "' is a keyword of NQC and cannot be a "
+                                     "name: choose another");
     return;
   }
   const Token* type = nullptr;
@@ -885,8 +945,9 @@ void yy::Parser::report_syntax_error(const context& ctx) const {
       return;
     }
   }
-  // `x = c ? 1;`: the '?' without its ':' (nqc: syntax error).
-  if (expects_punct("':'") && (feed.last_text == ";" || feed.last_text == ")") && feed.pos >= 2) {
+  // `x = c ? 1;` or `x = c ? 1 2;`: the '?' without its ':' (nqc: syntax
+  // error).
+  if (expects_punct("':'") && ctx.token() != symbol_kind::S_YYEOF && feed.pos >= 2) {
     bool question = false;
     std::size_t i = feed.pos - 1;
     while (i > 0 && !feed.tokens[i - 1].is(";") && !feed.tokens[i - 1].is("{") && !feed.tokens[i - 1].is("}")) {
@@ -897,6 +958,13 @@ void yy::Parser::report_syntax_error(const context& ctx) const {
       feed.diags.error(ctx.location(), "expected ':' before '" + std::string(feed.last_text) +
                                            "': a '?' needs ':' and the value for when the condition is false "
                                            "('c ? a : b')");
+      return;
+    }
+    // `case 1 x = 2;`: the label's ':' left out (said "syntax error at 'x'").
+    if (!question && feed.tokens[i].is_identifier("case") && ctx.token() != symbol_kind::S_YYEOF &&
+        feed.last_text != ",") {  // `case 1, 2:` has a message of its own below
+      feed.diags.error(ctx.location(), "expected ':' before '" + std::string(feed.last_text) +
+                                           "': a case label ends with ':' ('case 1: ...')");
       return;
     }
   }
@@ -986,12 +1054,35 @@ void yy::Parser::report_syntax_error(const context& ctx) const {
                                          "in '1 + 2')");
     return;
   }
+  // Where a statement goes: `else` after an `if` a ';' ended, or `task`
+  // and `sub` inside a body (a '}' left out above, most often).
+  bool statement_wanted = expects(symbol_kind::S_IF) && expects(symbol_kind::S_NUMBER);
+  if (statement_wanted && ctx.token() == symbol_kind::S_ELSE) {
+    feed.diags.error(ctx.location(), "'else' without an 'if' before it: a statement stands between them (an extra "
+                                     "';' is an empty statement, and two statements after an 'if' need braces)");
+    return;
+  }
+  if (statement_wanted && (ctx.token() == symbol_kind::S_TASK || ctx.token() == symbol_kind::S_SUB)) {
+    feed.diags.error(ctx.location(), "'" + std::string(feed.last_text) + "' cannot stand inside a task, sub or "
+                                     "function: is a '}' missing before it?");
+    return;
+  }
+  // `task main()` with its '{' left out: said "expected ';' or '{'", and
+  // the ';' would only lead to "no declarations without a body".
+  if (feed.pos >= 2 && expects_punct("'{'") && expects_punct("';'") && n == 2 && feed.tokens[feed.pos - 2].is(")") &&
+      ctx.token() != symbol_kind::S_YYEOF) {
+    feed.diags.error(ctx.location(), "expected '{' before '" + std::string(feed.last_text) +
+                                         "': the body goes between braces after the head");
+    return;
+  }
   std::string want;
   SourceSpan where = ctx.location();
   if (n >= 1 && n <= 3) {
     for (int i = 0; i < n; ++i) want += (i == 0 ? "" : i + 1 == n ? " or " : ", ") + shown(expected[i]);
   } else if (ctx.token() == symbol_kind::S_YYEOF && expects_punct("'}'")) {
     want = "'}'";
+  } else if (statement_wanted && !expects(symbol_kind::S_TASK)) {
+    want = "a statement";
   } else if (expects(symbol_kind::S_NUMBER) && expects(symbol_kind::S_IDENT) && !expects(symbol_kind::S_TASK)) {
     want = "an expression";
   } else if (expects(symbol_kind::S_TASK)) {

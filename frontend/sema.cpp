@@ -105,8 +105,8 @@ enum class Use { Value, Discarded, Condition };
 
 class Checker {
  public:
-  Checker(Program& p, Diagnostics& d, const std::vector<std::string>& function_macro_names)
-      : prog_(p), diags_(d), function_macro_names_(function_macro_names) {}
+  Checker(Program& p, Diagnostics& d, const std::vector<std::string>& function_macro_names, bool whole)
+      : prog_(p), diags_(d), function_macro_names_(function_macro_names), whole_(whole) {}
 
   void run() {
     declare_top_level();
@@ -125,6 +125,7 @@ class Checker {
   Program& prog_;
   Diagnostics& diags_;
   const std::vector<std::string>& function_macro_names_;
+  bool whole_;  // false after syntax errors: a task may be missing from the program
   std::unordered_map<std::string, SymbolId> globals_;
   // Global variables named like a task, sub or function declared before
   // them (`int On;`): nqc keeps variables apart from those, so the name is
@@ -1197,7 +1198,7 @@ class Checker {
   void check_limits() {
     bool has_main = false;
     for (const auto& t : prog_.tasks) has_main = has_main || t.name == "main";
-    if (!has_main) missing_main();
+    if (!has_main && whole_) missing_main();
     if (prog_.tasks.size() > static_cast<std::size_t>(kMaxTasks)) {
       auto& d = diags_.error(prog_.tasks[kMaxTasks].span,
                              "too many tasks: " + std::to_string(prog_.tasks.size()) + " (the RCX runs at most " +
@@ -1273,9 +1274,9 @@ class Checker {
 
 }  // namespace
 
-void check(Program& program, Diagnostics& diags, const std::vector<std::string>& function_macro_names) {
+void check(Program& program, Diagnostics& diags, const std::vector<std::string>& function_macro_names, bool whole) {
   program.symbols.clear();
-  Checker(program, diags, function_macro_names).run();
+  Checker(program, diags, function_macro_names, whole).run();
 }
 
 }  // namespace rcxc::frontend

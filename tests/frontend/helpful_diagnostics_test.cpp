@@ -346,6 +346,12 @@ TEST(HelpfulDiagnostics, AConditionalWithoutItsColonSaysSo) {
   EXPECT_EQ(placed_messages(r.diags), (std::vector<std::string>{"4:18 expected ':' before ';" + says,
                                                                 "5:14 expected ':' before ')" + says}))
       << r.text();
+  // A value where the ':' goes said "syntax error at '2'" (the thirteenth
+  // faithfulness round).
+  auto value = run_frontend("int x, y;\ntask main()\n{\n  x = x ? 1 2;\n  y = x ? y x;\n}\n");
+  EXPECT_EQ(placed_messages(value.diags), (std::vector<std::string>{"4:13 expected ':' before '2" + says,
+                                                                    "5:13 expected ':' before 'x" + says}))
+      << value.text();
   auto label = run_frontend("int x;\ntask main()\n{\n  switch (x) { case 1; x = 2; }\n}\n");
   ASSERT_FALSE(label.diags.all().empty());
   EXPECT_EQ(label.diags.all().front().message.find("'?'"), std::string::npos) << label.text();
@@ -542,3 +548,107 @@ TEST(HelpfulDiagnostics, ACommentNeverClosedIsOneError) {
 }
 
 }  // namespace
+
+// A string left open takes the rest of its line, and with it the `);` the
+// call needed: the parse then failed at the next line's '}' and said so, a
+// second error for the one mistake (the thirteenth faithfulness round).
+// A stray character likewise: the syntax error right after it is the same
+// mistake. An error further on is still reported.
+TEST(HelpfulDiagnostics, NoSyntaxErrorRightAfterTextTheLexerCouldNotRead) {
+  auto open_string = run_frontend("task main()\n{\n  PlaySound(\"click);\n}\n");
+  EXPECT_EQ(placed_messages(open_string.diags),
+            (std::vector<std::string>{"3:13 missing terminating \" character"}))
+      << open_string.text();
+  auto stray = run_frontend("int x;\ntask main()\n{\n  x = `;\n  x = 1 2;\n}\n");
+  EXPECT_EQ(placed_messages(stray.diags),
+            (std::vector<std::string>{"4:7 stray character '`' in program",
+                                      "5:9 expected an operator or ';' before '2': two values stand side by side; "
+                                      "write the operator between them (as in '1 + 2')"}))
+      << stray.text();
+}
+
+// Where a statement goes the parser said "expected an expression": before
+// a '}' that ends a body a `repeat (3)` still needed, before an `else` an
+// extra ';' parted from its `if`, before a `task` a missing '}' let into a
+// body (the thirteenth faithfulness round).
+TEST(HelpfulDiagnostics, WhereAStatementGoesTheMessageSaysSo) {
+  auto body = run_frontend("task main()\n{\n  repeat (3)\n}\n");
+  EXPECT_EQ(placed_messages(body.diags), (std::vector<std::string>{"4:1 expected a statement before '}'"}))
+      << body.text();
+  auto dangling = run_frontend("int x;\ntask main()\n{\n  if (x) x = 1;;\n  else x = 2;\n}\n");
+  EXPECT_EQ(placed_messages(dangling.diags),
+            (std::vector<std::string>{"5:3 'else' without an 'if' before it: a statement stands between them (an "
+                                      "extra ';' is an empty statement, and two statements after an 'if' need "
+                                      "braces)"}))
+      << dangling.text();
+  auto nested = run_frontend("task main()\n{\n  On(OUT_A);\n\nsub s() { }\n");
+  ASSERT_FALSE(nested.diags.all().empty());
+  EXPECT_EQ(placed_messages(nested.diags).front(),
+            "5:1 'sub' cannot stand inside a task, sub or function: is a '}' missing before it?")
+      << nested.text();
+}
+
+// A keyword as a new name said "expected identifier or '*' before 'repeat'"
+// (the '*' of a pointer declarator the RCX refuses anyway; the thirteenth
+// faithfulness round).
+TEST(HelpfulDiagnostics, AKeywordAsANewNameSaysItIsAKeyword) {
+  auto placed_first = [](const char* text) {
+    auto r = run_frontend(text);
+    return r.diags.all().empty() ? std::string("none") : placed_messages(r.diags).front();
+  };
+  const std::string says = " is a keyword of NQC and cannot be a name: choose another";
+  EXPECT_EQ(placed_first("int repeat;\ntask main() { }\n"), "1:5 'repeat'" + says);
+  EXPECT_EQ(placed_first("int a, for;\ntask main() { }\n"), "1:8 'for'" + says);
+  EXPECT_EQ(placed_first("task while() { }\ntask main() { }\n"), "1:6 'while'" + says);
+  EXPECT_EQ(placed_first("void f(int &case) { }\ntask main() { }\n"), "1:13 'case'" + says);
+}
+
+// One error for each of two mistakes that gave two (the thirteenth
+// faithfulness round): a '}' left out before `task main()` also said the
+// program has no task main (the parser had set main aside); `task main();`
+// with its body after it also said "expected a declaration before '{'".
+TEST(HelpfulDiagnostics, AMainTheParserSetAsideOrASemicolonBeforeABodyIsOneError) {
+  auto open_body = run_frontend("task helper()\n{\n  On(OUT_A);\n\ntask main()\n{\n  start helper;\n}\n");
+  EXPECT_EQ(placed_messages(open_body.diags),
+            (std::vector<std::string>{"5:1 'task' cannot stand inside a task, sub or function: is a '}' missing "
+                                      "before it?"}))
+      << open_body.text();
+  auto semicolon = run_frontend("task main();\n{\n  On(OUT_A);\n}\n");
+  EXPECT_EQ(placed_messages(semicolon.diags),
+            (std::vector<std::string>{"1:12 the ';' ends the task 'main' before its body: leave it out"}))
+      << semicolon.text();
+  auto function = run_frontend("void f();\n{\n}\ntask main() { f(); }\n");
+  EXPECT_EQ(placed_messages(function.diags),
+            (std::vector<std::string>{"1:9 the ';' ends the function 'f' before its body: leave it out"}))
+      << function.text();
+  // Without a body after it, the ';' keeps its message, and the program is
+  // whole: a missing main is still said.
+  auto alone = run_frontend("task t();\ntask t() { }\n");
+  EXPECT_EQ(placed_messages(alone.diags).size(), 2u) << alone.text();
+}
+
+// A case label without its ':' said "syntax error at 'x'" (the thirteenth
+// faithfulness round); before a ';' it said "expected ':'" alone.
+TEST(HelpfulDiagnostics, ACaseLabelWithoutItsColonSaysSo) {
+  auto r = run_frontend("int x;\ntask main()\n{\n  switch (x) {\n    case 1 x = 2; break;\n  }\n}\n");
+  EXPECT_EQ(placed_messages(r.diags),
+            (std::vector<std::string>{"5:12 expected ':' before 'x': a case label ends with ':' ('case 1: ...')"}))
+      << r.text();
+  auto semicolon = run_frontend("int x;\ntask main()\n{\n  switch (x) { case 1; x = 2; }\n}\n");
+  EXPECT_EQ(placed_messages(semicolon.diags),
+            (std::vector<std::string>{"4:22 expected ':' before ';': a case label ends with ':' ('case 1: ...')"}))
+      << semicolon.text();
+}
+
+// A head without its '{' said "expected ';' or '{'" at the head's end (the
+// thirteenth faithfulness round): a ';' there is no declaration NQC has.
+TEST(HelpfulDiagnostics, AHeadWithoutItsBraceAsksForTheBrace) {
+  auto task = run_frontend("task main()\n  On(OUT_A);\n}\n");
+  EXPECT_EQ(placed_messages(task.diags),
+            (std::vector<std::string>{"2:3 expected '{' before 'On': the body goes between braces after the head"}))
+      << task.text();
+  auto function = run_frontend("void f(int x)\n  x++;\n}\ntask main() { }\n");
+  EXPECT_EQ(placed_messages(function.diags),
+            (std::vector<std::string>{"2:3 expected '{' before 'x': the body goes between braces after the head"}))
+      << function.text();
+}

@@ -304,7 +304,35 @@ TEST(Parser, MissingBraceAtEndOfFile) {
 }
 
 TEST(Parser, ArraysAreRejectedClearly) {
-  auto r = run_frontend("int v[3];\ntask main() { v[1] = 2; }\n", true);
+  auto r = run_frontend("int v[3];\nint w;\ntask main() { w[1] = 2; }\n", true);
   EXPECT_EQ(r.brief(), (std::vector<std::string>{"1:5: error: the RCX has no arrays: 'v' must be a plain int",
-                                                 "2:15: error: the RCX has no arrays, so nothing can be indexed"}));
+                                                 "3:15: error: the RCX has no arrays, so nothing can be indexed"}));
+}
+
+// `int v[]` as a parameter said "expected ')' before '['", and `int a[];`
+// "expected an expression before ']'" (the thirteenth faithfulness round).
+TEST(Parser, AnArrayWithoutASizeIsRefusedAsAnArray) {
+  auto r = run_frontend("int a, b[];\nvoid f(int v[]) { }\ntask main()\n{\n  int c[];\n  a = a[];\n}\n", true);
+  EXPECT_EQ(r.brief(), (std::vector<std::string>{"1:10: error: the RCX has no arrays: 'b' must be a plain int",
+                                                 "2:13: error: the RCX has no arrays: 'v' must be a plain int",
+                                                 "5:9: error: the RCX has no arrays: 'c' must be a plain int",
+                                                 "6:9: error: expected an expression before ']'"}));
+}
+
+TEST(Parser, AnArrayIsOneErrorAtItsDeclarationNotOneAtEachUse) {
+  // The thirteenth faithfulness round: `int a[4]` and three uses gave five
+  // errors for one mistake (nqc gives one, at the declaration).
+  auto r = run_frontend("int a[4];\ntask main()\n{\n  int t[2];\n  a[0] = 1;\n  a[3] = a[0] + t[1];\n"
+                        "  SendMessage(a[3]);\n}\n",
+                        true);
+  EXPECT_EQ(r.brief(), (std::vector<std::string>{"1:5: error: the RCX has no arrays: 'a' must be a plain int",
+                                                 "4:7: error: the RCX has no arrays: 't' must be a plain int"}));
+}
+
+// `for (...; i++ {` with a call in the body: the recovery took the call's
+// ')' for the head's, and the body's '}' then ended the task, so the task's
+// own '}' was a second error (the thirteenth faithfulness round).
+TEST(Parser, AForHeadMissingItsParenthesisBeforeTheBodyIsOneError) {
+  auto r = run_frontend("int i;\ntask main()\n{\n  for (i = 0; i < 3; i++ {\n    Wait(1);\n  }\n  Off(OUT_A);\n}\n", true);
+  EXPECT_EQ(r.brief(), (std::vector<std::string>{"4:26: error: expected ')' before '{'"}));
 }

@@ -25,7 +25,7 @@ const BadProgram kCases[] = {
      {"2:17: error: argument for 's' of 'f' must be a sensor (SENSOR_1, SENSOR_2 or SENSOR_3)"}, true},
     {"SensorParameterRefusesAVariable", "int x;\nvoid f(__sensor s) { }\ntask main() { f(x); }\n",
      {"3:17: error: argument for 's' of 'f' must be a sensor (SENSOR_1, SENSOR_2 or SENSOR_3)"}},
-    {"AbsAndSignAreKeywordsAsInNqc", "int abs;\ntask main() { }\n", {"1:5: error: expected identifier or '*' before 'abs'"}},
+    {"AbsAndSignAreKeywordsAsInNqc", "int abs;\ntask main() { }\n", {"1:5: error: 'abs' is a keyword of NQC and cannot be a name: choose another"}},
     {"UndefinedVariable", "task main()\n{\n  int x;\n  x = y + 1;\n}\n", {"4:7: error: 'y' is not declared"}},
     {"UndefinedNameReportedOncePerBody", "task main()\n{\n  q = 1;\n  q = 2;\n}\n",
      {"3:3: error: 'q' is not declared"}},
