@@ -65,6 +65,17 @@ std::string rows_around(const std::string& side_by_side, std::size_t first_event
   return out;
 }
 
+// The first event row of a side by side that differs at all, its time
+// included (every row both runs show alike but for the time is unmarked
+// only when the times agree too).
+std::size_t first_marked_row(const std::string& side_by_side) {
+  std::size_t row = 0;
+  for (std::size_t at = side_by_side.find('\n'); at != std::string::npos && at + 1 < side_by_side.size();
+       at = side_by_side.find('\n', at + 1), ++row)
+    if (side_by_side[at + 1] == '*') return row;
+  return row;
+}
+
 rcx::TimeTolerance compare_tolerance(std::int64_t instruction_us) {
   // 5 ms absolute covers 500 instructions of difference at 10 us each; a
   // running output's direction or power held for up to 5 instructions is
@@ -106,6 +117,30 @@ std::string timing_only_note(const rcx::RunComparison& cmp) {
   if (cmp.most_sooner_us > 0) out = "rcxc's code up to " + ms(cmp.most_sooner_us) + " sooner";
   if (cmp.most_later_us > 0) out += (out.empty() ? "rcxc's code up to " : " and up to ") + ms(cmp.most_later_us) + " later";
   return out;
+}
+
+// Runs that differ in timing only, run again at a tenth of the instruction
+// time: does the difference shrink with it, as one of speed does
+// (verify/compare.h, timing_cause)? With the first runs' tolerance, so a
+// difference of speed parts ten times later or not at all.
+rcx::TimingVerdict timing_cause(const rcx::Image& ours, const rcx::Image& theirs, const Scenario& s,
+                                const CompareOptions& o, rcx::TimeTolerance tolerance,
+                                const std::vector<std::string>& globals, const rcx::RunComparison& cmp) {
+  const rcx::Micros tenth = o.instruction_us / 10;
+  if (tenth < 1) return {rcx::TimingCause::Undecided, "--instruction-us below 10 leaves no tenth to run at"};
+  // Only as far as the latest event that parted (and its allowance): at the
+  // shorter time the same events come no later, and a run switching an
+  // output on every pass shows ten times the events in the same time.
+  rcx::Micros parted_us = 0;
+  for (const auto& stream : cmp.streams)
+    if (stream.parted_at) parted_us = std::max({parted_us, stream.parted_times.a_us, stream.parted_times.b_us});
+  const rcx::Micros end = std::min(o.for_ms * rcx::kMicrosPerMs,
+                                   parted_us + tolerance.absolute_us +
+                                       static_cast<rcx::Micros>(tolerance.relative * static_cast<double>(parted_us)) + 1);
+  rcx::Machine a = rcx::run_scenario(ours, s, tenth, o.seed, end);
+  rcx::Machine b = rcx::run_scenario(theirs, s, tenth, o.seed, end);
+  auto shorter = rcx::compare_runs({&a, &ours, "rcxc"}, {&b, &theirs, "nqc"}, tolerance, globals, rcx::SideBySide::Skip);
+  return rcx::timing_cause(cmp, o.instruction_us, shorter, tenth);
 }
 
 // A program that samples an input twice a few instructions apart reacts to a
@@ -294,13 +329,31 @@ int run(const CompareOptions& o) {
         continue;
       }
       ++differing;
-      if (cmp.timing_only) {
+      auto verdict = cmp.timing_only ? timing_cause(our_image, *theirs.image, s, o, tolerance, ours.globals, cmp)
+                                     : rcx::TimingVerdict{};
+      if (cmp.timing_only && verdict.cause != rcx::TimingCause::NotSpeed) {
         // Every line of the side by side would differ in its time alone.
         std::cout << "DIFFERENT " << o.file << " [" << s.name << "] in timing only: the same " << cmp.in_order
                   << " events in the same order, " << timing_only_note(cmp)
                   << "; what this program shows depends on how fast its code runs (an output switched or a "
-                     "sound played on every pass of a loop, a count of passes)\n";
+                     "sound played on every pass of a loop, a count of passes)";
+        if (verdict.cause == rcx::TimingCause::Speed)
+          std::cout << "; at a tenth of the instruction time the difference shrinks, as one of speed does\n";
+        else
+          std::cout << "; whether speed alone explains it is undecided: " << verdict.why << "\n";
         for (const auto& d : cmp.differences) std::cout << "  first: " << d << "\n";
+        continue;
+      }
+      if (cmp.timing_only) {
+        // The same events in the same order, but apart by more than speed
+        // explains: the runs took other paths to them, a difference of logic.
+        std::cout << "DIFFERENT " << o.file << " [" << s.name << "]: the same " << cmp.in_order
+                  << " events in the same order, but not a difference of speed, which shrinks with the instruction "
+                     "time: "
+                  << verdict.why << "\n";
+        for (const auto& d : cmp.differences) std::cout << "  " << d << "\n";
+        cmp = rcx::compare_runs(ours_run, theirs_run, tolerance, ours.globals, rcx::SideBySide::Write);
+        std::cout << (o.all_rows ? cmp.side_by_side : rows_around(cmp.side_by_side, first_marked_row(cmp.side_by_side)));
         continue;
       }
       std::cout << "DIFFERENT " << o.file << " [" << s.name << "]\n";
@@ -325,7 +378,7 @@ void register_compare(CLI::App& app, int& exit_code) {
   add_repeatable(cmd, "--scenario", o->scenarios, "Scenario TOML file (repeatable); default: built-in scenarios")->check(not_empty());
   cmd->add_option("--nqc-path", o->nqc, "The nqc to compare with (path or name; default: nqc on PATH)")->check(not_empty());
   cmd->add_option("--for", o->for_ms, "Virtual milliseconds per run (default 20000)")
-      ->check(in_range(1, kMaxRunMs));
+      ->check(in_range(1, kLongestRunMs));
   cmd->add_option("--seed", o->seed, "Random seed for both runs")->check(whole_number());
   cmd->add_option("--instruction-us", o->instruction_us, "Virtual time per instruction (default 10)")
       ->check(in_range(1, 100000));

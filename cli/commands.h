@@ -14,6 +14,8 @@
 #include <string_view>
 #include <vector>
 
+#include "tomlfile/longest_run.h"
+
 namespace rcxc::cli {
 
 // Exit codes shared by every subcommand (documented in README.md).
@@ -23,10 +25,6 @@ inline constexpr int kExitUsage = 2;    // the command line was bad
 inline constexpr int kExitNoPort = 3;   // IR link: the port could not be opened
 inline constexpr int kExitNoReply = 4;  // IR link: the brick did not answer / the link failed
 inline constexpr int kExitNotComparable = 5;  // compare: nqc is missing or refuses the program
-
-// The longest virtual run --for accepts (about 35 years): milliseconds times
-// 1000 must still fit the emulator's 64-bit microsecond clock.
-inline constexpr std::int64_t kMaxRunMs = std::int64_t{1} << 40;
 
 // Whole-number text as typed: an optional sign where one may be typed, then
 // digits and nothing else. Its value is told by its digits with the leading

@@ -12,8 +12,8 @@ set(RCXC_LAYERS
   "frontend:rcx,stdlib"
   "ir:rcx,frontend"
   "backend:rcx,frontend,ir"
-  "verify:rcx,runtime"
+  "verify:rcx,runtime,tomlfile"
   "format:rcx,frontend"
   "lsp:stdlib,frontend,ir,backend,format,savefile"
   "nxt:tomlfile"
-  "cli:rcx,savefile,runtime,link,stdlib,frontend,format,ir,backend,verify,nxt,lsp,cli")
+  "cli:rcx,tomlfile,savefile,runtime,link,stdlib,frontend,format,ir,backend,verify,nxt,lsp,cli")

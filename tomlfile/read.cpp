@@ -1,5 +1,7 @@
 #include "tomlfile/read.h"
 
+#include "tomlfile/longest_run.h"
+
 #include <algorithm>
 #include <cctype>
 #include <optional>
@@ -159,9 +161,9 @@ std::optional<std::int64_t> int_key(const toml::table& t, std::string_view key, 
 
 std::optional<std::int64_t> at_ms_key(const toml::table& t, std::string_view path) {
   auto at = int_key(t, "at_ms", 0, INT64_MAX, path, true);
-  if (at && *at > kLatestAtMs)
+  if (at && *at > kLongestRunMs)
     throw TomlError{fmt::format("{}: 'at_ms' = {} is later than the longest run ({} ms, about 35 years)",
-                                where(path, *t.get("at_ms")), *at, kLatestAtMs)};
+                                where(path, *t.get("at_ms")), *at, kLongestRunMs)};
   return at;
 }
 

@@ -36,12 +36,7 @@ std::string shown_key(std::string_view key);
 std::optional<std::int64_t> int_key(const toml::table& t, std::string_view key, std::int64_t lo, std::int64_t hi,
                                     std::string_view path, bool open_above = false);
 
-// The latest time a scenario's input may name, in ms: the longest run
-// `rcxc run --for` takes (2^40 ms, about 35 years; its time in µs fits 64
-// bits with room to spare).
-inline constexpr std::int64_t kLatestAtMs = std::int64_t{1} << 40;
-
-// A table's `at_ms` in 0..kLatestAtMs, or nullopt when absent; throws
+// A table's `at_ms` in 0..kLongestRunMs (tomlfile/longest_run.h), or nullopt when absent; throws
 // TomlError as int_key does ("must be 0 or more", "is later than the
 // longest run (1099511627776 ms, about 35 years)").
 std::optional<std::int64_t> at_ms_key(const toml::table& t, std::string_view path);

@@ -84,6 +84,13 @@ std::string what(const Event& e) {
   }
 }
 
+// "1st", "2nd", "3rd", "11th", "42nd".
+std::string ordinal_text(int n) {
+  const int tens = n % 100, ones = n % 10;
+  const char* suffix = tens >= 11 && tens <= 13 ? "th" : ones == 1 ? "st" : ones == 2 ? "nd" : ones == 3 ? "rd" : "th";
+  return fmt::format("{}{}", n, suffix);
+}
+
 Micros allowance(const TimeTolerance& tol, Micros t) {
   return tol.absolute_us + static_cast<Micros>(tol.relative * static_cast<double>(t));
 }
@@ -272,6 +279,57 @@ std::optional<Micros> parting_time(const Machine& a, const Machine& b, Micros fr
   return std::nullopt;
 }
 
+const char* stream_name(int stream) {
+  static constexpr std::array<const char*, kEventStreams> kNames = {"output A", "output B", "output C", "sounds",
+                                                                    "display", "messages sent", "datalog"};
+  return stream >= 0 && stream < kEventStreams ? kNames[static_cast<std::size_t>(stream)] : "events";
+}
+
+namespace {
+
+std::string ms_text(Micros us) { return fmt::format("{:.1f} ms", static_cast<double>(us) / kMicrosPerMs); }
+
+std::string us_text(Micros us) { return fmt::format("{} us an instruction", us); }
+
+}  // namespace
+
+TimingVerdict timing_cause(const RunComparison& at_cost, Micros cost_us, const RunComparison& shorter,
+                           Micros shorter_cost_us) {
+  auto pairing = [](const RunComparison& r, int s) -> const StreamPairing& {
+    return r.streams[static_cast<std::size_t>(s)];
+  };
+  // Only the events are judged: the rerun may have been cut short of the
+  // runs' ends, where their final values and how they stopped are known.
+  for (int s = 0; s < kEventStreams; ++s)
+    if (pairing(shorter, s).unlike)
+      return {TimingCause::Undecided,
+              fmt::format("{}: at {} the runs show other events", stream_name(s), us_text(shorter_cost_us))};
+  // A difference of speed parts later at the shorter time, or never: a stream
+  // that parts as soon or sooner says the difference is not one of speed.
+  for (int s = 0; s < kEventStreams; ++s) {
+    const StreamPairing& slow = pairing(at_cost, s);
+    const StreamPairing& fast = pairing(shorter, s);
+    if (!fast.parted_at || (slow.parted_at ? *fast.parted_at > *slow.parted_at : *fast.parted_at >= slow.pairs))
+      continue;
+    auto apart = [](const StreamPairing& p) { return ms_text(std::llabs(p.parted_times.a_us - p.parted_times.b_us)); };
+    std::string before = slow.parted_at == fast.parted_at ? fmt::format("{} apart at {}", apart(slow), us_text(cost_us))
+                                                          : fmt::format("within the tolerance at {}", us_text(cost_us));
+    return {TimingCause::NotSpeed,
+            fmt::format("{}: the {} event both show ({}) is {} and {} apart at {}", stream_name(s),
+                        ordinal_text(*fast.parted_at + 1), fast.parted_event, before, apart(fast),
+                        us_text(shorter_cost_us))};
+  }
+  for (int s = 0; s < kEventStreams; ++s) {
+    const StreamPairing& slow = pairing(at_cost, s);
+    const StreamPairing& fast = pairing(shorter, s);
+    if (slow.parted_at && !fast.parted_at && fast.pairs <= *slow.parted_at)
+      return {TimingCause::Undecided,
+              fmt::format("{}: at {} the runs show only {} event(s) in the same order, not the {} that parted",
+                          stream_name(s), us_text(shorter_cost_us), fast.pairs, ordinal_text(*slow.parted_at + 1))};
+  }
+  return {TimingCause::Speed, ""};
+}
+
 TimingDifference timing_difference(const std::vector<MatchedEvent>& matched) {
   TimingDifference d;
   double sooner = 0;
@@ -319,6 +377,7 @@ RunComparison compare_runs(const RunView& a, const RunView& b, TimeTolerance tol
         if (end_us != std::numeric_limits<Micros>::max() && extra.t_us >= end_us - allowance(tol, end_us) - drift)
           break;
         r.differences.push_back(fmt::format("only {} has: {}", wa.done() ? b.label : a.label, line_of(extra)));
+        r.streams[static_cast<std::size_t>(s)].unlike = true;
         break;
       }
       const Event& ea = wa.here();
@@ -326,6 +385,7 @@ RunComparison compare_runs(const RunView& a, const RunView& b, TimeTolerance tol
       if (look_of(ea) != look_of(eb)) {
         if (pass_over_glitches(wa, wb)) continue;
         r.differences.push_back(fmt::format("{}: {}  vs  {}: {}", a.label, line_of(ea), b.label, line_of(eb)));
+        r.streams[static_cast<std::size_t>(s)].unlike = true;
         break;
       }
       auto allowed = allowance(tol, std::max(ea.t_us, eb.t_us));
@@ -337,6 +397,13 @@ RunComparison compare_runs(const RunView& a, const RunView& b, TimeTolerance tol
         ++timing_differences;
         parted = true;
       }
+      StreamPairing& pairing = r.streams[static_cast<std::size_t>(s)];
+      if (apart > allowed && !pairing.parted_at) {
+        pairing.parted_at = pairing.pairs;
+        pairing.parted_event = what(ea);
+        pairing.parted_times = {ea.t_us, eb.t_us};
+      }
+      ++pairing.pairs;
       if (!parted) r.matched.push_back({ea.t_us, eb.t_us});
       drift = std::max(drift, apart);
       r.most_sooner_us = std::max(r.most_sooner_us, eb.t_us - ea.t_us);

@@ -4,6 +4,7 @@
 // behaves like nqc's for the same program under the same inputs.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -39,6 +40,23 @@ struct MatchedEvent {
   Micros b_us = 0;
 };
 
+// The streams compare_runs pairs events in: outputs A, B and C, the sound
+// queue (sounds and tones), the display, messages sent, the datalog.
+inline constexpr int kEventStreams = 7;
+const char* stream_name(int stream);  // "output A", "sounds", ...
+
+// One stream as compare_runs walked it: how many events both runs show in
+// the same order, the first of them whose times are further apart than the
+// tolerance (its ordinal among them, what it is, its times in a and b), and
+// whether the walk stopped at events that differ but for the time.
+struct StreamPairing {
+  int pairs = 0;
+  bool unlike = false;
+  std::optional<int> parted_at;
+  std::string parted_event;
+  MatchedEvent parted_times;
+};
+
 struct RunComparison {
   bool same = true;
   std::vector<MatchedEvent> matched;     // the events both runs show, as paired
@@ -54,6 +72,7 @@ struct RunComparison {
   int in_order = 0;
   Micros most_sooner_us = 0;
   Micros most_later_us = 0;
+  std::array<StreamPairing, kEventStreams> streams;
 };
 
 // `globals`: the program's file-scope variables. Given, only they are
@@ -82,6 +101,28 @@ std::vector<std::string> observable_lines(const Machine& machine);
 // are all the other's. Run once with an input change and once without it,
 // this is when the robot first did something the change caused.
 std::optional<Micros> parting_time(const Machine& a, const Machine& b, Micros from_us);
+
+// Whether runs that differ in timing only do so because one code runs faster
+// than the other, judged from the same two images run again with a much
+// shorter instruction time (a tenth or less). A difference of speed is one of
+// instruction counts, so it shrinks with the instruction time: the same
+// events part later in each stream, or not at all. A difference that does not
+// shrink (the same event as far apart, or further, at the shorter time) is
+// not one of speed: the runs took other paths to the same events, as when a
+// task saw a wrong intermediate value and ended its wait early, or one code
+// waits longer. Only the rerun's events are judged (it may be cut short of
+// the runs' ends). Undecided when they differ in more than time (speed
+// changes what this program does) or do not reach the event that parted.
+// Where it can mislead: a program that waits for a timer's tick (or for a
+// sound to end) turns a small speed difference into a whole tick; when that
+// tick survives the shorter instruction time too, the verdict is NotSpeed.
+enum class TimingCause : std::uint8_t { Speed, NotSpeed, Undecided };
+struct TimingVerdict {
+  TimingCause cause = TimingCause::Undecided;
+  std::string why;  // for NotSpeed and Undecided: the event and times that say so
+};
+TimingVerdict timing_cause(const RunComparison& at_cost, Micros cost_us, const RunComparison& at_shorter_cost,
+                           Micros shorter_cost_us);
 
 // How much sooner a's code acted than b's over the matched events: the mean
 // and the worst (largest) lateness of a, in microseconds; zeros without

@@ -6,6 +6,7 @@
 #include "rcx/file_read.h"
 #include "rcx/printable_text.h"
 #include "runtime/scenario.h"
+#include "tomlfile/longest_run.h"
 
 #include <algorithm>
 #include <cctype>
@@ -128,10 +129,6 @@ int need_int(Cursor& c, std::string_view what) {
   return need_range(c, what, std::numeric_limits<int>::min(), std::numeric_limits<int>::max());
 }
 
-// The latest time a directive may name, in ms: the longest run `rcxc run
-// --for` takes (2^40 ms, about 35 years), whatever the unit.
-constexpr std::int64_t kLongestTimeMs = std::int64_t{1} << 40;
-
 // "500ms", "1.5s", "2s", "750" (milliseconds).
 Micros need_time(Cursor& c, std::string_view what) {
   std::string t = c.next();
@@ -155,10 +152,10 @@ Micros need_time(Cursor& c, std::string_view what) {
   // it is 0: "1e-400").
   bool too_large = ec == std::errc::result_out_of_range && p == s.data() + s.size() && s.front() != '-' &&
                    s.find("e-") == std::string_view::npos && s.find("E-") == std::string_view::npos;
-  if (too_large || (number && v * scale > static_cast<double>(kLongestTimeMs * kMicrosPerMs)))
-    throw ParseFail{fmt::format(
-        "expected {} (like 500ms or 2s), found '{}', which is later than the longest run ({} ms)", what, t,
-        kLongestTimeMs)};
+  if (too_large || (number && v * scale > static_cast<double>(rcxc::kLongestRunMs * kMicrosPerMs)))
+    throw ParseFail{fmt::format("expected {} (like 500ms or 2s), found '{}', which is later than the longest run ({} "
+                                "ms, about 35 years)",
+                                what, t, rcxc::kLongestRunMs)};
   if (!number) throw ParseFail{fmt::format("expected {} (like 500ms or 2s), found '{}'", what, t)};
   return static_cast<Micros>(std::llround(v * scale));
 }

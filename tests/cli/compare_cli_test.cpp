@@ -246,8 +246,37 @@ TEST(CompareCli, RunsThatDifferInTimingOnlySaySoInOneLine) {
   EXPECT_NE(r.out.find("[idle] in timing only: the same "), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("events in the same order, rcxc's code up to "), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("  first: output A on"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("; at a tenth of the instruction time the difference shrinks, as one of speed does\n"),
+            std::string::npos) << r.out;
   EXPECT_EQ(r.out.find(" | "), std::string::npos) << "no side by side:\n" << r.out;
   EXPECT_LT(std::count(r.out.begin(), r.out.end(), '\n'), 20) << r.out;
+}
+
+// The same events in the same order, one a second sooner in one run because
+// a task saw a value the other never showed (nqc's stand-in sets x to 2 for a
+// moment before its wait): compare_runs calls that "timing only", but it is
+// as far apart at a tenth of the instruction time, which a difference of
+// speed is not. It used to be reported as timing only, as a buzzing loop is.
+TEST(CompareCli, ASoonerEventCausedByAnotherValueIsNotTimingOnly) {
+  TempDir d;
+  const std::string watcher = "task watcher() { until (x == 2); PlaySound(SOUND_UP); }\n";
+  std::string src = d.write("p.nqc", "int x;\n" + watcher +
+                                         "task main() { start watcher; x = 1; Wait(100); x = 2; }\n");
+  std::string other = d.write("other.nqc", "int x;\n" + watcher +
+                                                "task main() { start watcher; x = 2; Wait(5); x = 1; Wait(100); x = 2; }\n");
+  auto fake = d.write("fake-nqc", "#!/bin/sh\nfor a in \"$@\"; do case \"$a\" in -O*) o=\"${a#-O}\";; esac; done\n"
+                                  "exec '" RCXC_BINARY "' compile -o \"$o\" '" + other + "'\n");
+  chmod(fake.c_str(), 0755);
+  auto r = run_rcxc({"compare", src, "--scenario", d.write("idle.toml", ""), "--nqc-path", fake});
+  EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+  EXPECT_EQ(r.out.find("in timing only"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("DIFFERENT " + src + " [" + d.path + "/idle.toml]: the same 1 events in the same order, but not "
+                       "a difference of speed, which shrinks with the instruction time: sounds: the 1st event both "
+                       "show (sound 3) is 1000.0 ms apart at 10 us an instruction and 1000.0 ms apart at 1 us an "
+                       "instruction\n"),
+            std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find(" | "), std::string::npos) << "a side by side:\n" << r.out;
 }
 
 // When the switches have drifted apart and then a press stops the output,

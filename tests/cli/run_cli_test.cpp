@@ -8,6 +8,7 @@
 
 #include "rcx/image.h"
 #include "tests/support/process.h"
+#include "tomlfile/longest_run.h"
 
 using rcxc::test::run_rcxc;
 using rcxc::test::TempDir;
@@ -321,6 +322,44 @@ TEST(RunCli, AForOutOfRangeNamesTheRangeItTakes) {
       EXPECT_EQ(r.exit_code, 2) << command << " " << value << ": " << r.err;
       EXPECT_NE(r.err.find("--for: '" + value + "' is outside 1..1099511627776"), std::string::npos) << r.err;
     }
+}
+
+// The longest run is one bound (tomlfile/longest_run.h) that every way of
+// naming a run's time meets: --for of run and compare, a scenario's at_ms
+// and a test's @for each take it and refuse a millisecond more, saying so.
+// The three used to be three constants that only agreed by care.
+TEST(RunCli, EveryRunTimeStopsAtTheOneLongestRun) {
+  TempDir d;
+  const std::string longest = std::to_string(rcxc::kLongestRunMs);
+  const std::string beyond = std::to_string(rcxc::kLongestRunMs + 1);
+  std::string image = d.write("p.rcx", program_bytes());
+  for (const std::string command : {"run", "compare"}) {
+    auto r = run_rcxc({command, image, "--for", beyond});
+    EXPECT_EQ(r.exit_code, 2) << command << ": " << r.err;
+    EXPECT_NE(r.err.find("--for: '" + beyond + "' is outside 1.." + longest), std::string::npos) << r.err;
+  }
+  EXPECT_EQ(run_rcxc({"run", image, "--for", longest}).exit_code, 0) << "the program ends at once";
+
+  std::string late = d.write("late.toml", "[[input]]\nat_ms = " + beyond + "\nmessage = 1\n");
+  auto r = run_rcxc({"run", image, "--scenario", late});
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find(late + ":2: 'at_ms' = " + beyond + " is later than the longest run (" + longest +
+                       " ms, about 35 years)"),
+            std::string::npos)
+      << r.err;
+  std::string last = d.write("last.toml", "[[input]]\nat_ms = " + longest + "\nmessage = 1\n");
+  EXPECT_EQ(run_rcxc({"run", image, "--scenario", last}).exit_code, 0);
+
+  std::string test = d.write("t.nqc", "// @for " + beyond + "\ntask main() {}\n");
+  r = run_rcxc({"test", test});
+  EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+  EXPECT_NE((r.out + r.err).find(test + ":1: error: bad directive: expected run length (like 500ms or 2s), found '" + beyond +
+                                 "', which is later than the longest run (" + longest + " ms, about 35 years)"),
+            std::string::npos)
+      << r.out << r.err;
+  std::string ok = d.write("ok.nqc", "// @for " + longest + "\ntask main() {}\n");
+  r = run_rcxc({"test", ok});
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
 }
 
 // `--for abc` (or 1e3, 1.5) was "Value abc not in range 1 to ...", as if

@@ -15,8 +15,12 @@ struct RunResult {
 };
 
 // Each program: an optional prefix, then "A on; wait W; sound 2".
-RunResult run_program(Bytes prefix, int wait_ticks, Micros limit_us = 5'000'000, std::string var_name = "v") {
+RunResult run_program(Bytes prefix, int wait_ticks, Micros limit_us = 5'000'000, std::string var_name = "v",
+                      Micros instruction_us = kDefaultInstructionCostUs) {
   RunResult r;
+  Config config;
+  config.instruction_cost_us = instruction_us;
+  r.machine = Machine(config);
   Bytes code = prefix;
   for (int b : {0x21, 0x81, 0x43, 0x02, wait_ticks & 0xff, wait_ticks >> 8, 0x51, 0x02})
     code.push_back(static_cast<std::uint8_t>(b));
@@ -232,8 +236,11 @@ namespace {
 // A on, then forever: `extra` (instructions that show nothing), flip A's
 // direction, jump back. Every pass shows a switch, so a longer pass shows
 // the same switches later and later.
-RunResult run_flipping(Bytes extra, Micros limit_us) {
+RunResult run_flipping(Bytes extra, Micros limit_us, Micros instruction_us = kDefaultInstructionCostUs) {
   RunResult r;
+  Config config;
+  config.instruction_cost_us = instruction_us;
+  r.machine = Machine(config);
   Bytes code = {0x21, 0x81};  // out A on
   code.insert(code.end(), extra.begin(), extra.end());
   code.insert(code.end(), {0xe1, 0x41});  // dir A flip
@@ -274,6 +281,68 @@ TEST(Compare, ADifferentEventAfterTheDriftIsMoreThanTiming) {
   auto c = compare(fast, slow);
   EXPECT_FALSE(c.same);
   EXPECT_FALSE(c.timing_only);
+}
+
+// Whether a difference in timing only is one of speed: run again at a tenth
+// of the instruction time, the drifting switches part ten times later (a
+// difference of instruction counts shrinks with the instruction time) ...
+TEST(TimingCause, ADriftThatShrinksWithTheInstructionTimeIsSpeed) {
+  Bytes two = kSetVar5;
+  two.insert(two.end(), kSetVar6.begin(), kSetVar6.end());
+  auto at = [&](Micros instruction_us) {
+    RunResult fast = run_flipping(kSetVar5, 1'000'000, instruction_us);
+    RunResult slow = run_flipping(two, 1'000'000, instruction_us);
+    return compare(fast, slow);
+  };
+  RunComparison slow = at(2'000), shorter = at(200);
+  ASSERT_TRUE(slow.timing_only);
+  const StreamPairing& a = slow.streams[0];
+  ASSERT_TRUE(a.parted_at.has_value());
+  EXPECT_EQ(a.parted_event.rfind("output A on ", 0), 0u) << a.parted_event;
+  ASSERT_TRUE(shorter.streams[0].parted_at.has_value());
+  EXPECT_GT(*shorter.streams[0].parted_at, 5 * *a.parted_at);
+  auto verdict = timing_cause(slow, 2'000, shorter, 200);
+  EXPECT_EQ(verdict.cause, TimingCause::Speed) << verdict.why;
+}
+
+// ... while one code waiting 100 ms longer before the same sound (the same
+// events, in the same order: "timing only" as compare_runs sees it) is as
+// far apart at any instruction time: not a difference of speed.
+TEST(TimingCause, ADifferenceThatDoesNotShrinkIsNotSpeed) {
+  auto at = [](Micros instruction_us) {
+    RunResult sooner = run_program(kSetVar5, 100, 5'000'000, "v", instruction_us);
+    RunResult later = run_program(kSetVar5, 110, 5'000'000, "v", instruction_us);
+    return compare(sooner, later);
+  };
+  RunComparison slow = at(2'000), shorter = at(200);
+  ASSERT_TRUE(slow.timing_only) << (slow.differences.empty() ? "" : slow.differences[0]);
+  EXPECT_EQ(slow.streams[3].parted_at, 0);
+  EXPECT_EQ(slow.streams[0].pairs, 1);
+  EXPECT_FALSE(slow.streams[0].parted_at.has_value()) << "A switches on at once in both";
+  auto verdict = timing_cause(slow, 2'000, shorter, 200);
+  EXPECT_EQ(verdict.cause, TimingCause::NotSpeed);
+  EXPECT_EQ(verdict.why, "sounds: the 1st event both show (sound 2) is 100.0 ms apart at 2000 us an instruction and "
+                         "100.0 ms apart at 200 us an instruction");
+}
+
+// Where the shorter instruction time changes what the program shows, or the
+// rerun never reaches the event that parted, nothing is decided.
+TEST(TimingCause, ARerunThatDiffersInMoreThanTimeOrStopsShortDecidesNothing) {
+  RunResult sooner = run_program(kSetVar5, 100), later = run_program(kSetVar5, 110);
+  RunComparison slow = compare(sooner, later);
+  ASSERT_TRUE(slow.timing_only);
+  RunResult other_sound = run_program({0x51, 0x03}, 100);
+  RunComparison more = compare(sooner, other_sound);
+  ASSERT_FALSE(more.same || more.timing_only);
+  EXPECT_EQ(timing_cause(slow, 2'000, more, 200).cause, TimingCause::Undecided);
+  // Cut at 0.5 s, before either sound: no sound is paired at all.
+  RunResult cut_a = run_program(kSetVar5, 100, 500'000), cut_b = run_program(kSetVar5, 110, 500'000);
+  RunComparison cut = compare(cut_a, cut_b);
+  ASSERT_TRUE(cut.same);
+  auto verdict = timing_cause(slow, 2'000, cut, 2'000);
+  EXPECT_EQ(verdict.cause, TimingCause::Undecided);
+  EXPECT_EQ(verdict.why, "sounds: at 2000 us an instruction the runs show only 0 event(s) in the same order, not the "
+                         "1st that parted");
 }
 
 // A run whose event log filled was cut off there, as one at its time limit

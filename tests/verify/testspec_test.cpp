@@ -250,7 +250,7 @@ TEST(TestSpec, ATimeIsRefusedForWhatItIsAndOnlyPastTheLongestRun) {
     auto errors = parse_bad(std::string("// @for ") + value + "\n");
     ASSERT_EQ(errors.size(), 1u) << value;
     EXPECT_NE(errors[0].message.find(std::string("found '") + value +
-                                     "', which is later than the longest run (1099511627776 ms)"),
+                                     "', which is later than the longest run (1099511627776 ms, about 35 years)"),
               std::string::npos)
         << errors[0].message;
   }
