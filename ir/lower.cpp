@@ -732,8 +732,8 @@ struct Lowerer {
     if (false_needs_jump) {
       auto& same = fn().blocks[static_cast<std::size_t>(test)].instrs;
       same.erase(same.begin() + static_cast<std::ptrdiff_t>(zero_at));
+      Branch b = *br;  // before new_block(), which may move the blocks br points into
       BlockId zero = new_block();
-      Branch b = *br;
       (b.then == join ? b.then : b.otherwise) = zero;
       terminate(b);
       return one_or_zero(d, t, zero, join);
