@@ -435,6 +435,11 @@ inline I16 operator&&(I16 a, int b) { return a.v != 0 && b != 0; }
 inline I16 operator&&(int a, I16 b) { return a != 0 && b.v != 0; }
 inline I16 operator||(I16 a, int b) { return a.v != 0 || b != 0; }
 inline I16 operator||(int a, I16 b) { return a != 0 || b.v != 0; }
+// And a bool (`!(-(7)) && g1 < 1`), which clang finds ambiguous otherwise.
+inline I16 operator&&(I16 a, bool b) { return a.v != 0 && b; }
+inline I16 operator&&(bool a, I16 b) { return a && b.v != 0; }
+inline I16 operator||(I16 a, bool b) { return a.v != 0 || b; }
+inline I16 operator||(bool a, I16 b) { return a || b.v != 0; }
 inline I16 operator!(I16 a) { return a.v == 0; }
 inline I16 operator-(I16 a) { return -a.v; }
 inline I16 operator~(I16 a) { return ~a.v; }
