@@ -320,7 +320,13 @@ class StatementGenerator {
           // A constant parameter, beside a variable (nqc folds two constants in 32 bits).
           static const char* ops[] = {"+", "-", "*", "&", "|", "^"};
           std::string v = var(ctx);
-          out << v << " = " << readable(ctx) << " " << one_of(ops) << " "
+          std::string left = readable(ctx);
+          std::string op = one_of(ops);
+          // Not `^` over a `const int &` parameter (readable() above): its
+          // argument may have a side effect, which nqc's code runs twice.
+          // Taken after the draws, so every other program stays as it was.
+          if (op == "^" && std::find(ctx.reads.begin(), ctx.reads.end(), left) != ctx.reads.end()) op = "|";
+          out << v << " = " << left << " " << op << " "
               << ctx.constants[static_cast<std::size_t>(pick(0, static_cast<int>(ctx.constants.size()) - 1))] << ";\n";
           return;
         }
