@@ -244,14 +244,13 @@ struct Lowerer {
         if (is(l, -1) && only_reads(*b.rhs)) return -1;
         if (is(r, -1) && only_reads(*b.lhs)) return -1;
         return std::nullopt;
+      case Op::Shl:
+      case Op::Shr:
+        if (r && *r >= 16 && only_reads(*b.lhs)) return 0;
+        [[fallthrough]];
       case Op::Div:
       case Op::Mod:
         if (is(l, 0) && only_reads(*b.rhs)) return 0;
-        return std::nullopt;
-      case Op::Shl:
-      case Op::Shr:
-        if (is(l, 0) && only_reads(*b.rhs)) return 0;
-        if (r && *r >= 16 && only_reads(*b.lhs)) return 0;
         return std::nullopt;
       default: return std::nullopt;
     }
@@ -954,7 +953,7 @@ struct Lowerer {
     if (const auto* u = ast::as<ast::Unary>(e); u && (u->op == ast::UnaryOp::Negate || u->op == ast::UnaryOp::BitNot)) {
       if (u->op == ast::UnaryOp::Negate && var_of(*u->operand) == v) return into(v, e);  // v *= -1: one step
       if (!reads(*u->operand, v)) {
-        Operand x = is_plain_operand(*u->operand) ? arith_value(*u->operand) : Operand::var(computed(*u->operand));
+        Operand x = arith_value(*u->operand);  // a temporary unless a variable or constant
         set(v, Operand::imm(u->op == ast::UnaryOp::Negate ? 0 : -1));
         return arith(Op::SubtractFromVariable, v, x);
       }
@@ -963,12 +962,6 @@ struct Lowerer {
     VarId t = temp();
     compute(t, e);
     set(v, Operand::var(t));
-  }
-
-  VarId computed(const ast::Expr& e) {
-    VarId t = temp();
-    compute(t, e);
-    return t;
   }
 
   // Whether computing e in place holds a value nqc's code would not: see
