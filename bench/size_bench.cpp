@@ -21,6 +21,7 @@
 #include <regex>
 #include <set>
 #include <sstream>
+#include <string_view>
 
 #include <unistd.h>
 
@@ -83,6 +84,29 @@ bool nqc_code_faults(const fs::path& file) {
   return m.run_until(20'000 * rcx::kMicrosPerMs).kind == rcx::StopKind::Fault;
 }
 
+// The programs larger than nqc's code at each level, by seed or by file
+// name; those whose nqc code faults named apart (nqc_code_faults).
+template <class Name>
+struct Larger {
+  std::vector<Name> o2, os, nqc_wrong;
+
+  void add(const Size& o2_size, const Size& os_size, const Size& theirs, const fs::path& file, const Name& name) {
+    if (o2_size.bytes <= theirs.bytes && os_size.bytes <= theirs.bytes) return;
+    if (nqc_code_faults(file)) return nqc_wrong.push_back(name);
+    if (o2_size.bytes > theirs.bytes) o2.push_back(name);
+    if (os_size.bytes > theirs.bytes) os.push_back(name);
+  }
+
+  // `what` before the names: "seeds " or nothing.
+  void print(std::string_view what) const {
+    if (!o2.empty()) std::cout << fmt::format("larger at -O2: {}{}\n", what, fmt::join(o2, ", "));
+    if (!os.empty()) std::cout << fmt::format("larger at -Os: {}{}\n", what, fmt::join(os, ", "));
+    if (!nqc_wrong.empty())
+      std::cout << fmt::format("larger than nqc's code, which faults (its long-branch bug), not counted as larger: {}{}\n",
+                               what, fmt::join(nqc_wrong, ", "));
+  }
+};
+
 void print_table() {
   int o2_total = 0, os_total = 0, theirs_total = 0, o2_larger = 0, os_larger = 0;
   std::cout << fmt::format("{:<24} {:>6} {:>6} {:>6} {:>6} {:>6} {:>10} {:>10}\n", "program", "-O2", "-Os", "nqc",
@@ -128,7 +152,7 @@ void print_random_totals() {
   fs::path file = dir / "random.nqc";
   long o2_total = 0, os_total = 0, theirs_total = 0;
   int compared = 0;
-  std::vector<unsigned> o2_larger, os_larger, nqc_wrong;
+  Larger<unsigned> larger;
   const unsigned first = rcxc::test::seed_offset() + 1;
   for (unsigned seed = first; seed < first + 400; ++seed) {
     std::ofstream(file) << rcxc::test::ExpressionGenerator(seed, true).program();
@@ -139,12 +163,7 @@ void print_random_totals() {
     o2_total += o2->bytes;
     os_total += a->bytes;
     theirs_total += b->bytes;
-    if ((o2->bytes > b->bytes || a->bytes > b->bytes) && nqc_code_faults(file)) {
-      nqc_wrong.push_back(seed);
-    } else {
-      if (o2->bytes > b->bytes) o2_larger.push_back(seed);
-      if (a->bytes > b->bytes) os_larger.push_back(seed);
-    }
+    larger.add(*o2, *a, *b, file, seed);
     ++compared;
   }
   fs::remove_all(dir);
@@ -153,13 +172,8 @@ void print_random_totals() {
                              "than nqc's: {} at -O2, {} at -Os)\n",
                              "random programs", o2_total, os_total, theirs_total,
                              static_cast<double>(o2_total) / theirs_total, static_cast<double>(os_total) / theirs_total,
-                             compared, first, first + 399, o2_larger.size(), os_larger.size());
-  if (!o2_larger.empty()) std::cout << fmt::format("larger at -O2: seeds {}\n", fmt::join(o2_larger, ", "));
-  if (!os_larger.empty()) std::cout << fmt::format("larger at -Os: seeds {}\n", fmt::join(os_larger, ", "));
-  if (!nqc_wrong.empty())
-    std::cout << fmt::format("larger than nqc's code, which faults (its long-branch bug), not counted as larger: seeds "
-                             "{}\n",
-                             fmt::join(nqc_wrong, ", "));
+                             compared, first, first + 399, larger.o2.size(), larger.os.size());
+  larger.print("seeds ");
 }
 
 // Programs from elsewhere (RCXC_OUTSIDE_DIR): the figure for programs the
@@ -168,7 +182,8 @@ void print_outside_totals() {
   const auto files = rcxc::bench::outside_files();
   if (files.empty()) return;
   long o2_total = 0, os_total = 0, theirs_total = 0;
-  std::vector<std::string> o2_larger, os_larger, left_out, nqc_wrong;
+  Larger<std::string> larger;
+  std::vector<std::string> left_out;
   for (const auto& f : files) {
     auto o2 = ours(f, rcxc::ir::OptLevel::O2);
     auto a = ours(f);
@@ -180,24 +195,15 @@ void print_outside_totals() {
     o2_total += o2->bytes;
     os_total += a->bytes;
     theirs_total += b->bytes;
-    if ((o2->bytes > b->bytes || a->bytes > b->bytes) && nqc_code_faults(f)) {
-      nqc_wrong.push_back(f.filename().string());
-    } else {
-      if (o2->bytes > b->bytes) o2_larger.push_back(f.filename().string());
-      if (a->bytes > b->bytes) os_larger.push_back(f.filename().string());
-    }
+    larger.add(*o2, *a, *b, f, f.filename().string());
   }
   if (theirs_total > 0)
     std::cout << fmt::format("{:<24} {:>6} {:>6} {:>6} {:>7.3f} {:>7.3f}   ({} programs from elsewhere; larger than "
                              "nqc's: {} at -O2, {} at -Os)\n",
                              "from elsewhere", o2_total, os_total, theirs_total,
                              static_cast<double>(o2_total) / theirs_total, static_cast<double>(os_total) / theirs_total,
-                             files.size() - left_out.size(), o2_larger.size(), os_larger.size());
-  if (!o2_larger.empty()) std::cout << fmt::format("larger at -O2: {}\n", fmt::join(o2_larger, ", "));
-  if (!os_larger.empty()) std::cout << fmt::format("larger at -Os: {}\n", fmt::join(os_larger, ", "));
-  if (!nqc_wrong.empty())
-    std::cout << fmt::format("larger than nqc's code, which faults (its long-branch bug), not counted as larger: {}\n",
-                             fmt::join(nqc_wrong, ", "));
+                             files.size() - left_out.size(), larger.o2.size(), larger.os.size());
+  larger.print("");
   if (!left_out.empty())
     std::cout << fmt::format("left out (a compiler refuses them): {}\n", fmt::join(left_out, ", "));
 }
