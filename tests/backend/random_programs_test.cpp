@@ -58,6 +58,14 @@ bool is_global(const std::string& text, const std::string& name) {
   return false;
 }
 
+// The slots of the program's globals in `image`, with their names.
+std::map<int, std::string> global_slots(const rcx::Image& image, const std::string& text) {
+  std::map<int, std::string> names;
+  for (const auto& sym : image.symbols)
+    if (sym.type == rcx::SymbolType::Variable && is_global(text, sym.name)) names[sym.index] = sym.name;
+  return names;
+}
+
 // The globals of two runs, where a global without a slot (no code left
 // touches it) must still hold the emulator's initial 0 in the other run.
 std::string differing_globals(const Observed& a, const Observed& b) {
@@ -112,8 +120,7 @@ std::optional<Observed> observe(const std::string& text, ir::OptLevel level, std
     if (e.kind == rcx::EventKind::Display) seen.at_markers.push_back(describe(outs));
   }
   seen.final = describe(m.state().outputs);
-  for (const auto& sym : out->image.symbols)
-    if (sym.type == rcx::SymbolType::Variable && is_global(text, sym.name)) seen.vars[sym.name] = m.state().vars[sym.index];
+  for (const auto& [slot, name] : global_slots(out->image, text)) seen.vars[name] = m.state().vars[slot];
   return seen;
 }
 
@@ -234,8 +241,7 @@ std::optional<Observed> observe_nqc(const std::string& nqc, const test::TempDir&
   m.run(120'000 * rcx::kMicrosPerMs);
   seen.ended = m.stop().kind == rcx::StopKind::Ended;
   seen.final = describe(m.state().outputs);
-  for (const auto& sym : img.symbols)
-    if (sym.type == rcx::SymbolType::Variable && is_global(text, sym.name)) seen.vars[sym.name] = m.state().vars[sym.index];
+  for (const auto& [slot, name] : global_slots(img, text)) seen.vars[name] = m.state().vars[slot];
   return seen;
 }
 
@@ -556,9 +562,7 @@ std::map<std::string, std::set<int>> values_written(const rcx::Image& image, con
   if (m.load(0, image)) return seen;
   m.start_program();
   m.run(20'000 * rcx::kMicrosPerMs);
-  std::map<int, std::string> names;
-  for (const auto& sym : image.symbols)
-    if (sym.type == rcx::SymbolType::Variable && is_global(text, sym.name)) names[sym.index] = sym.name;
+  const auto names = global_slots(image, text);
   for (const auto& e : m.state().events)
     if (auto it = names.find(e.index); e.kind == rcx::EventKind::Variable && it != names.end())
       seen[it->second].insert(e.value);
