@@ -21,6 +21,7 @@
 #include "tests/support/process.h"
 #include "tests/support/random_programs.h"
 #include "tests/support/statement_programs.h"
+#include "tests/support/watched_values.h"
 #include "verify/compare.h"
 #include "verify/external_nqc.h"
 #include "verify/scenarios.h"
@@ -204,4 +205,32 @@ TEST(StatementPrograms, EveryLevelAndNqcsCodeBehaveAlike) {
     EXPECT_GT(tally.nqc_compiled, static_cast<int>(kPrograms) * 7 / 10);
     EXPECT_GT(tally.compared_with_nqc, static_cast<int>(kPrograms) * 3 / 10);
   }
+}
+
+// With a task watching, every value a global takes in rcxc's run (-O1,
+// -O2, -Os) must be one nqc's run gives it too: loops, switches, calls,
+// inline functions and compound assignments into globals, where the
+// random expression programs (random_programs_test.cpp) have only
+// assignments. Run without inputs; nqc's images with a wrong branch are
+// left out.
+TEST(StatementPrograms, AnotherTaskSeesOnlyValuesNqcsCodeShows) {
+  std::string nqc = test::find_nqc();
+  if (nqc.empty()) GTEST_SKIP() << "nqc is not installed";
+  test::TempDir dir;
+  int compared = 0;
+  for (unsigned seed = test::seed_offset() + 1; seed <= test::seed_offset() + 300; ++seed) {
+    std::string text = test::with_a_watching_task(StatementGenerator(seed).program());
+    auto theirs = rcx::semtest::compile_with_nqc(nqc, dir.write(fmt::format("w{}.nqc", seed), text)).image;
+    if (!theirs || has_wrapped_branch(*theirs)) continue;
+    auto nqc_values = test::values_written(*theirs, text);
+    for (auto level : {ir::OptLevel::O1, ir::OptLevel::O2, ir::OptLevel::Os}) {
+      auto c = compile_rcxc(text, level);
+      if (!c.image) continue;
+      ++compared;
+      EXPECT_EQ(test::foreign_values(test::values_written(*c.image, text), nqc_values), "")
+          << "seed " << seed << " level " << static_cast<int>(level) << ": values nqc's code never gives\n"
+          << text;
+    }
+  }
+  EXPECT_GT(compared, 250);
 }
