@@ -41,7 +41,7 @@ std::optional<int> value_of(const Operand& o, const std::map<VarId, int>& known)
 
 }  // namespace
 
-void enter_past_known_tests(Function& f, const std::vector<Var>& vars) {
+bool enter_past_known_tests(Function& f, const std::vector<Var>& vars) {
   const std::vector<bool> loop_blocks = repeat_blocks(f);
   bool changed = false;
   for (std::size_t x = 0; x < f.blocks.size(); ++x) {
@@ -61,7 +61,10 @@ void enter_past_known_tests(Function& f, const std::vector<Var>& vars) {
     jump->target = to;
     changed = true;
   }
-  if (changed) remove_unreachable(f);
+  if (!changed) return false;
+  const std::size_t blocks = f.blocks.size();
+  remove_unreachable(f);
+  return f.blocks.size() < blocks;
 }
 
 }  // namespace rcxc::ir

@@ -205,8 +205,9 @@ std::vector<int> cycle_components(const Function& f);
 // which no other task writes) goes where the test would go. `int i = 0;
 // while (i < 10) ...`, rotated, enters the body directly instead of
 // jumping to the test at the bottom: one instruction and the jump's bytes
-// less each time the loop is entered. A loop the way in skips is dropped.
-void enter_past_known_tests(Function& f, const std::vector<Var>& vars);
+// less each time the loop is entered. A loop the way in skips is dropped;
+// returns whether a block was, which can leave the constant's `set` dead.
+bool enter_past_known_tests(Function& f, const std::vector<Var>& vars);
 
 // layout.cpp: where a test can only branch when its comparison holds
 // (a < b of two variables has no single-instruction negation) and the

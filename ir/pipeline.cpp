@@ -112,11 +112,12 @@ bool optimize(Program& p, OptLevel level, Diagnostics& diags, Log& log, const Pa
   // Needed at every level: a counter loop left by a jump must not keep its
   // counter pushed.
   assign_loop_counters(p, log);
-  if (level != OptLevel::O0)
+  if (level != OptLevel::O0) {
+    bool dropped_loops = false;
     for (auto& f : p.functions) {
       simplify_cfg(f, true);
       rotate_loops(f);
-      enter_past_known_tests(f, p.vars);
+      dropped_loops |= enter_past_known_tests(f, p.vars);
       place_branch_targets(f);
       place_exit_last(f);
       // Bytes for time: -Os keeps the jumps.
@@ -126,6 +127,10 @@ bool optimize(Program& p, OptLevel level, Diagnostics& diags, Log& log, const Pa
         copy_short_jump_targets(f, log, budget);
       }
     }
+    // `int k = 20; while (k < 10) ...`: the loop gone, so is the reason
+    // for setting k.
+    if (dropped_loops) remove_dead_stores(p);
+  }
   // A coin toss runs one loop test more on one of its sides.
   if (trades_time_for_size(level)) toss_coins_on_loop_counter(p, log);
   return true;
