@@ -244,6 +244,21 @@ bool doubled_star(const frontend::Feed& feed, const SourceSpan& star) {
   }
   return false;
 }
+// The operator just before the '*' at `star` (`3 + * 4`), if one is: an
+// operand left out there, not a dereference.
+const frontend::Token* operator_before(const frontend::Feed& feed, const SourceSpan& star) {
+  static constexpr std::string_view kOperators[] = {"+", "-", "*", "/", "%", "<<", ">>", "<", ">", "<=",
+                                                    ">=", "==", "!=", "&", "^", "|", "&&", "||"};
+  for (std::size_t i = std::min(feed.pos, feed.tokens.size()); i-- > 1;) {
+    if (!(feed.tokens[i].span.begin == star.begin)) continue;
+    const frontend::Token& t = feed.tokens[i - 1];
+    bool is_operator = std::any_of(std::begin(kOperators), std::end(kOperators), [&](std::string_view op) {
+      return t.is(op);
+    });
+    return is_operator ? &t : nullptr;
+  }
+  return nullptr;
+}
 void note_order(Program& p, SymbolKind kind, std::size_t index) {
   p.order.push_back(TopLevelRef{kind, static_cast<std::uint32_t>(index)});
 }
@@ -610,10 +625,14 @@ expr
   | '*' expr %prec UNARY
       {
         // `y ** 2` reads as `y * (*2)`: a power, as Python and Basic write it.
-        feed.diags.error(@$, doubled_star(feed, @1) ? "NQC has no power operator '**': multiply instead ('y * y' for "
-                                                      "y squared)"
-                                                    : "the RCX has no pointers, so nothing can be dereferenced")
-            .parsed_past = true;
+        // After another operator (`3 + * 4`) an operand was left out.
+        std::string message = "the RCX has no pointers, so nothing can be dereferenced";
+        if (doubled_star(feed, @1))
+          message = "NQC has no power operator '**': multiply instead ('y * y' for y squared)";
+        else if (const auto* op = operator_before(feed, @1))
+          message = "expected an expression after '" + std::string(op->text) + "' before '*': two operators stand "
+                    "side by side";
+        feed.diags.error(@$, message).parsed_past = true;
         $$ = std::move($2);
       }
   | '&' expr %prec UNARY
@@ -724,6 +743,20 @@ const Token* miscased_keyword(const Feed& feed, bool between_declarations) {
     if (feed.tokens[i].is("(") && --depth == 0) return miscased(i - 1, true);
   }
   return nullptr;
+}
+
+// Whether no '(' is open before the ')' at `close` in its statement: back to
+// the ';' or brace at the statement's level (a for head's ';' is inside
+// its parentheses).
+bool unmatched_close(const Feed& feed, std::size_t close) {
+  int depth = 0;
+  for (std::size_t i = close; i-- > 0;) {
+    const Token& t = feed.tokens[i];
+    if (t.is(")")) ++depth;
+    if (t.is("(") && --depth < 0) return false;
+    if (depth == 0 && (t.is(";") || t.is("{") || t.is("}"))) return true;
+  }
+  return true;
 }
 
 // Whether a new name follows `t` in a declaration.
@@ -1052,6 +1085,12 @@ void yy::Parser::report_syntax_error(const context& ctx) const {
     feed.diags.error(ctx.location(), "expected an operator or ';' before '" + std::string(feed.last_text) +
                                          "': two values stand side by side; write the operator between them (as "
                                          "in '1 + 2')");
+    return;
+  }
+  // `if (x > 1)) x = 0;`: a ')' with no '(' open before it in its statement
+  // (said "expected a statement before ')'").
+  if (ctx.token() != symbol_kind::S_YYEOF && feed.last_text == ")" && unmatched_close(feed, feed.pos - 1)) {
+    feed.diags.error(ctx.location(), "unmatched ')': no '(' before it is open; leave it out");
     return;
   }
   // Where a statement goes: `else` after an `if` a ';' ended, or `task`
