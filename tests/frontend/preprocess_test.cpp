@@ -99,6 +99,19 @@ TEST(Preprocessor, FunctionMacroNameWithoutParenthesesIsLeftAlone) {
   EXPECT_EQ(p.joined, "F + 1");
 }
 
+// `F(F)`: the argument's F, without a '(' after it, is left alone inside
+// the expansion too, where it carries F's own name in its hide set; that
+// was said as "defined in terms of itself" (faithfulness round 14).
+TEST(Preprocessor, FunctionMacroNameWithoutParenthesesInItsOwnExpansionIsLeftAlone) {
+  auto p = run_pp("#define F(a) ((a) * 2)\nF(F) F(F + 1)\n");
+  EXPECT_EQ(p.joined, "( ( F ) * 2 ) ( ( F + 1 ) * 2 )");
+  EXPECT_FALSE(p.diags.has_errors()) << messages(p.diags).front();
+  // Followed by a '(', it is a recursive call still.
+  auto called = run_pp("#define G(a) G(a)\nG(1)\n");
+  EXPECT_EQ(messages(called.diags),
+            (std::vector<std::string>{"macro 'G' is defined in terms of itself (recursive macros never end)"}));
+}
+
 TEST(Preprocessor, StringizeAndPaste) {
   auto p = run_pp("#define STR(x) #x\n#define CAT(a, b) a##b\n#define XCAT(a, b) CAT(a, b)\n#define N 7\n"
                   "STR(a  +  \"q\") CAT(foo, bar) CAT(N, 1) XCAT(N, 1) CAT(, z)\n");
