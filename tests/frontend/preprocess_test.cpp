@@ -191,6 +191,17 @@ TEST(Preprocessor, ConditionalsWithExpressionsAndDefined) {
   EXPECT_FALSE(p.diags.has_errors()) << p.diags.all()[0].message;
 }
 
+// After a group that was taken, an #elif's expression is not read, as C
+// has it: empty or not an expression, it is no error (nqc: "unexpected end
+// of line" for an empty one; docs/language.md).
+TEST(Preprocessor, AnElifAfterATakenGroupIsNotRead) {
+  auto p = run_pp("#if 1\nyes\n#elif\nno1\n#elif (\nno2\n#endif\n");
+  EXPECT_EQ(p.joined, "yes");
+  EXPECT_FALSE(p.diags.has_errors()) << messages(p.diags).front();
+  auto read = run_pp("#if 0\nno\n#elif\nno2\n#endif\n");
+  EXPECT_EQ(messages(read.diags), (std::vector<std::string>{"#elif needs an expression"}));
+}
+
 TEST(Preprocessor, ConditionalErrors) {
   auto p = run_pp("#if 1 / 0\n#endif\n#else\n#endif\n#if 1\n#else\n#elif 1\n#endif\n#if (1\n#endif\n#if 1\n");
   EXPECT_EQ(messages(p.diags),
