@@ -63,6 +63,10 @@ struct Feed {
   // that mistake again (`PlaySound("click);` lost its `);` to the string).
   // Likewise the '{' after `task main();`, whose ';' was reported.
   std::size_t after_unreadable = static_cast<std::size_t>(-1);
+  // The index of the last number the lexer took that has no value (`3x`),
+  // already reported: a syntax error found at it is that mistake again
+  // (`int 3x;` also said "expected identifier").
+  std::size_t invalid_number = static_cast<std::size_t>(-1);
   // Set when the input nests deeper than the tree may (an expression taller
   // than kMaxNesting, or the parser's stack past what that many levels
   // need): reported once, and the parse ends there, before the tree or the
@@ -360,11 +364,21 @@ top
       }
   | INT IDENT '(' params_opt ')' block
       {
-        // C's `int f()`: no call in NQC returns a value.
-        feed.diags.error(@1, "functions return no value in NQC: write 'void " + std::string($2) +
-                             "(...)' and pass a result back in a global variable or an 'int &' parameter").parsed_past = true;
-        note_order(feed.program, SymbolKind::Function, feed.program.functions.size());
-        feed.program.functions.push_back(Function{std::string($2), @2, std::move($4), std::move(*$6), kNoSymbol});
+        // C's `int main()`: the program's start, which is a task in NQC;
+        // kept as one, so that no "no task main" follows.
+        if (std::string_view($2) == "main") {
+          feed.diags.error(@1, "the RCX starts a program at a task: write 'task main()' for C's 'int main(...)'")
+              .parsed_past = true;
+          note_order(feed.program, SymbolKind::Task, feed.program.tasks.size());
+          feed.program.tasks.push_back(Task{std::string($2), @2, std::move(*$6), kNoSymbol});
+        } else {
+          // C's `int f()`: no call in NQC returns a value.
+          feed.diags.error(@1, "functions return no value in NQC: write 'void " + std::string($2) +
+                               "(...)' and pass a result back in a global variable or an 'int &' parameter")
+              .parsed_past = true;
+          note_order(feed.program, SymbolKind::Function, feed.program.functions.size());
+          feed.program.functions.push_back(Function{std::string($2), @2, std::move($4), std::move(*$6), kNoSymbol});
+        }
       }
   | CONST INT declarators ';'
       {
@@ -773,7 +787,7 @@ void yy::Parser::report_syntax_error(const context& ctx) const {
   // The parse was cut where it nested too deeply; that is the error.
   if (feed.too_deep) return;
   std::size_t found_at = ctx.token() == symbol_kind::S_YYEOF ? feed.pos : feed.pos - 1;
-  if (feed.pos > 0 && found_at == feed.after_unreadable) return;
+  if (feed.pos > 0 && (found_at == feed.after_unreadable || found_at == feed.invalid_number)) return;
   std::string found = ctx.token() == symbol_kind::S_YYEOF ? "end of file" : "'" + std::string(feed.last_text) + "'";
   symbol_kind_type expected[64];
   int n = ctx.expected_tokens(expected, 64);
@@ -1099,6 +1113,13 @@ void yy::Parser::report_syntax_error(const context& ctx) const {
   if (statement_wanted && ctx.token() == symbol_kind::S_ELSE) {
     feed.diags.error(ctx.location(), "'else' without an 'if' before it: a statement stands between them (an extra "
                                      "';' is an empty statement, and two statements after an 'if' need braces)");
+    return;
+  }
+  // `task = 1;`: the keyword as a variable, with no name after it.
+  bool named_next = feed.pos < feed.tokens.size() && feed.tokens[feed.pos].kind == TokenKind::Identifier;
+  if (statement_wanted && (ctx.token() == symbol_kind::S_TASK || ctx.token() == symbol_kind::S_SUB) && !named_next) {
+    feed.diags.error(ctx.location(), "'" + std::string(feed.last_text) + "' is a keyword of NQC and cannot be a "
+                                     "name: choose another");
     return;
   }
   if (statement_wanted && (ctx.token() == symbol_kind::S_TASK || ctx.token() == symbol_kind::S_SUB)) {

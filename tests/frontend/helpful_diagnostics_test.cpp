@@ -727,3 +727,26 @@ TEST(HelpfulDiagnostics, AParenthesisClosedTwiceIsUnmatched) {
   ASSERT_EQ(placed_messages(early.diags).size(), 1u) << early.text();
   EXPECT_EQ(placed_messages(early.diags)[0].find("unmatched"), std::string::npos) << early.text();
 }
+
+// Three mistakes of the fourteenth faithfulness round that were said twice
+// or as another: `int 3x;` also said "expected identifier or '*'" at the
+// number already refused; `int main()` said both "write 'void main(...)'"
+// and "write 'task main()'"; `task = 1;` asked whether a '}' was missing.
+TEST(HelpfulDiagnostics, ANumberANameCannotBeAndCsMainAndAKeywordAsAVariableAreOneErrorEach) {
+  auto number = run_frontend("int 3x;\ntask main()\n{\n}\n");
+  EXPECT_EQ(placed_messages(number.diags), (std::vector<std::string>{"1:5 invalid number '3x'"})) << number.text();
+  auto c_main = run_frontend("int main()\n{\n  On(OUT_A);\n}\n");
+  EXPECT_EQ(placed_messages(c_main.diags),
+            (std::vector<std::string>{"1:1 the RCX starts a program at a task: write 'task main()' for C's 'int "
+                                      "main(...)'"}))
+      << c_main.text();
+  auto keyword = run_frontend("task main()\n{\n  task = 1;\n}\n");
+  EXPECT_EQ(placed_messages(keyword.diags),
+            (std::vector<std::string>{"3:3 'task' is a keyword of NQC and cannot be a name: choose another"}))
+      << keyword.text();
+  // A task head inside a body is still a '}' left out.
+  auto nested = run_frontend("task main()\n{\n  On(OUT_A);\ntask t()\n{\n}\n");
+  ASSERT_FALSE(nested.diags.all().empty());
+  EXPECT_EQ(placed_messages(nested.diags).front(),
+            "4:1 'task' cannot stand inside a task, sub or function: is a '}' missing before it?");
+}
