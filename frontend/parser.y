@@ -974,6 +974,15 @@ void yy::Parser::report_syntax_error(const context& ctx) const {
       return;
     }
     std::string argument = value.span.begin.expansion != 0 ? "..." : std::string(value.text);
+    // `repeat 3 { ... }`, `while 1 ...`: a statement's head, no call.
+    if (callee.is_identifier("repeat") || callee.is_identifier("while") || callee.is_identifier("if") ||
+        callee.is_identifier("until") || callee.is_identifier("switch")) {
+      std::string what = callee.is_identifier("repeat") ? "its count" : callee.is_identifier("switch") ? "its value"
+                                                                                                      : "its condition";
+      feed.diags.error(ctx.location(), "'" + std::string(callee.text) + "' needs " + what + " in parentheses: write '" +
+                                           std::string(callee.text) + " (" + argument + ")'");
+      return;
+    }
     feed.diags.error(ctx.location(), "a call needs parentheses around its arguments: write '" +
                                          std::string(callee.text) + "(" + argument + ")'");
     return;

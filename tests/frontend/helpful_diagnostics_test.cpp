@@ -750,3 +750,21 @@ TEST(HelpfulDiagnostics, ANumberANameCannotBeAndCsMainAndAKeywordAsAVariableAreO
   EXPECT_EQ(placed_messages(nested.diags).front(),
             "4:1 'task' cannot stand inside a task, sub or function: is a '}' missing before it?");
 }
+
+// `repeat 3 { ... }` said "a call needs parentheses around its arguments:
+// write 'repeat(3)'": a statement's head is no call (the fourteenth
+// faithfulness round).
+TEST(HelpfulDiagnostics, AStatementHeadWithoutParenthesesIsNoCall) {
+  auto repeat = run_frontend("int x;\ntask main()\n{\n  repeat 3 { x++; }\n}\n");
+  EXPECT_EQ(placed_messages(repeat.diags),
+            (std::vector<std::string>{"4:10 'repeat' needs its count in parentheses: write 'repeat (3)'"}))
+      << repeat.text();
+  auto loop = run_frontend("int x;\ntask main()\n{\n  while 1 { x++; }\n}\n");
+  EXPECT_EQ(placed_messages(loop.diags),
+            (std::vector<std::string>{"4:9 'while' needs its condition in parentheses: write 'while (1)'"}))
+      << loop.text();
+  auto call = run_frontend("task main()\n{\n  Wait 100;\n}\n");
+  EXPECT_EQ(placed_messages(call.diags),
+            (std::vector<std::string>{"3:8 a call needs parentheses around its arguments: write 'Wait(100)'"}))
+      << call.text();
+}
