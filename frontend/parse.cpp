@@ -210,7 +210,10 @@ yy::Parser::symbol_type next_token(Feed& feed, std::size_t stack_size) {
       case TokenKind::Number:
       case TokenKind::Char: {
         std::int64_t v = 0;
-        if (!number_value(t, v)) feed.diags.error(t.span, invalid_number_message(t.text)).parsed_past = true;
+        if (!number_value(t, v)) {
+          feed.diags.error(t.span, invalid_number_message(t.text)).parsed_past = true;
+          feed.invalid_number = feed.pos - 1;
+        }
         return P::make_NUMBER(v, t.span);
       }
       case TokenKind::String:

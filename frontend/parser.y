@@ -63,6 +63,10 @@ struct Feed {
   // that mistake again (`PlaySound("click);` lost its `);` to the string).
   // Likewise the '{' after `task main();`, whose ';' was reported.
   std::size_t after_unreadable = static_cast<std::size_t>(-1);
+  // The index of the last number the lexer took that has no value (`3x`),
+  // already reported: a syntax error found at it is that mistake again
+  // (`int 3x;` also said "expected identifier").
+  std::size_t invalid_number = static_cast<std::size_t>(-1);
   // Set when the input nests deeper than the tree may (an expression taller
   // than kMaxNesting, or the parser's stack past what that many levels
   // need): reported once, and the parse ends there, before the tree or the
@@ -244,6 +248,21 @@ bool doubled_star(const frontend::Feed& feed, const SourceSpan& star) {
   }
   return false;
 }
+// The operator just before the '*' at `star` (`3 + * 4`), if one is: an
+// operand left out there, not a dereference.
+const frontend::Token* operator_before(const frontend::Feed& feed, const SourceSpan& star) {
+  static constexpr std::string_view kOperators[] = {"+", "-", "*", "/", "%", "<<", ">>", "<", ">", "<=",
+                                                    ">=", "==", "!=", "&", "^", "|", "&&", "||"};
+  for (std::size_t i = std::min(feed.pos, feed.tokens.size()); i-- > 1;) {
+    if (!(feed.tokens[i].span.begin == star.begin)) continue;
+    const frontend::Token& t = feed.tokens[i - 1];
+    bool is_operator = std::any_of(std::begin(kOperators), std::end(kOperators), [&](std::string_view op) {
+      return t.is(op);
+    });
+    return is_operator ? &t : nullptr;
+  }
+  return nullptr;
+}
 void note_order(Program& p, SymbolKind kind, std::size_t index) {
   p.order.push_back(TopLevelRef{kind, static_cast<std::uint32_t>(index)});
 }
@@ -345,11 +364,21 @@ top
       }
   | INT IDENT '(' params_opt ')' block
       {
-        // C's `int f()`: no call in NQC returns a value.
-        feed.diags.error(@1, "functions return no value in NQC: write 'void " + std::string($2) +
-                             "(...)' and pass a result back in a global variable or an 'int &' parameter").parsed_past = true;
-        note_order(feed.program, SymbolKind::Function, feed.program.functions.size());
-        feed.program.functions.push_back(Function{std::string($2), @2, std::move($4), std::move(*$6), kNoSymbol});
+        // C's `int main()`: the program's start, which is a task in NQC;
+        // kept as one, so that no "no task main" follows.
+        if (std::string_view($2) == "main") {
+          feed.diags.error(@1, "the RCX starts a program at a task: write 'task main()' for C's 'int main(...)'")
+              .parsed_past = true;
+          note_order(feed.program, SymbolKind::Task, feed.program.tasks.size());
+          feed.program.tasks.push_back(Task{std::string($2), @2, std::move(*$6), kNoSymbol});
+        } else {
+          // C's `int f()`: no call in NQC returns a value.
+          feed.diags.error(@1, "functions return no value in NQC: write 'void " + std::string($2) +
+                               "(...)' and pass a result back in a global variable or an 'int &' parameter")
+              .parsed_past = true;
+          note_order(feed.program, SymbolKind::Function, feed.program.functions.size());
+          feed.program.functions.push_back(Function{std::string($2), @2, std::move($4), std::move(*$6), kNoSymbol});
+        }
       }
   | CONST INT declarators ';'
       {
@@ -610,10 +639,14 @@ expr
   | '*' expr %prec UNARY
       {
         // `y ** 2` reads as `y * (*2)`: a power, as Python and Basic write it.
-        feed.diags.error(@$, doubled_star(feed, @1) ? "NQC has no power operator '**': multiply instead ('y * y' for "
-                                                      "y squared)"
-                                                    : "the RCX has no pointers, so nothing can be dereferenced")
-            .parsed_past = true;
+        // After another operator (`3 + * 4`) an operand was left out.
+        std::string message = "the RCX has no pointers, so nothing can be dereferenced";
+        if (doubled_star(feed, @1))
+          message = "NQC has no power operator '**': multiply instead ('y * y' for y squared)";
+        else if (const auto* op = operator_before(feed, @1))
+          message = "expected an expression after '" + std::string(op->text) + "' before '*': two operators stand "
+                    "side by side";
+        feed.diags.error(@$, message).parsed_past = true;
         $$ = std::move($2);
       }
   | '&' expr %prec UNARY
@@ -726,6 +759,20 @@ const Token* miscased_keyword(const Feed& feed, bool between_declarations) {
   return nullptr;
 }
 
+// Whether no '(' is open before the ')' at `close` in its statement: back to
+// the ';' or brace at the statement's level (a for head's ';' is inside
+// its parentheses).
+bool unmatched_close(const Feed& feed, std::size_t close) {
+  int depth = 0;
+  for (std::size_t i = close; i-- > 0;) {
+    const Token& t = feed.tokens[i];
+    if (t.is(")")) ++depth;
+    if (t.is("(") && --depth < 0) return false;
+    if (depth == 0 && (t.is(";") || t.is("{") || t.is("}"))) return true;
+  }
+  return true;
+}
+
 // Whether a new name follows `t` in a declaration.
 bool declares_next(const Token& t) {
   return t.is_identifier("int") || t.is_identifier("void") || t.is_identifier("sub") || t.is_identifier("task") ||
@@ -740,7 +787,7 @@ void yy::Parser::report_syntax_error(const context& ctx) const {
   // The parse was cut where it nested too deeply; that is the error.
   if (feed.too_deep) return;
   std::size_t found_at = ctx.token() == symbol_kind::S_YYEOF ? feed.pos : feed.pos - 1;
-  if (feed.pos > 0 && found_at == feed.after_unreadable) return;
+  if (feed.pos > 0 && (found_at == feed.after_unreadable || found_at == feed.invalid_number)) return;
   std::string found = ctx.token() == symbol_kind::S_YYEOF ? "end of file" : "'" + std::string(feed.last_text) + "'";
   symbol_kind_type expected[64];
   int n = ctx.expected_tokens(expected, 64);
@@ -927,6 +974,15 @@ void yy::Parser::report_syntax_error(const context& ctx) const {
       return;
     }
     std::string argument = value.span.begin.expansion != 0 ? "..." : std::string(value.text);
+    // `repeat 3 { ... }`, `while 1 ...`: a statement's head, no call.
+    if (callee.is_identifier("repeat") || callee.is_identifier("while") || callee.is_identifier("if") ||
+        callee.is_identifier("until") || callee.is_identifier("switch")) {
+      std::string what = callee.is_identifier("repeat") ? "its count" : callee.is_identifier("switch") ? "its value"
+                                                                                                      : "its condition";
+      feed.diags.error(ctx.location(), "'" + std::string(callee.text) + "' needs " + what + " in parentheses: write '" +
+                                           std::string(callee.text) + " (" + argument + ")'");
+      return;
+    }
     feed.diags.error(ctx.location(), "a call needs parentheses around its arguments: write '" +
                                          std::string(callee.text) + "(" + argument + ")'");
     return;
@@ -1054,12 +1110,25 @@ void yy::Parser::report_syntax_error(const context& ctx) const {
                                          "in '1 + 2')");
     return;
   }
+  // `if (x > 1)) x = 0;`: a ')' with no '(' open before it in its statement
+  // (said "expected a statement before ')'").
+  if (ctx.token() != symbol_kind::S_YYEOF && feed.last_text == ")" && unmatched_close(feed, feed.pos - 1)) {
+    feed.diags.error(ctx.location(), "unmatched ')': no '(' before it is open; leave it out");
+    return;
+  }
   // Where a statement goes: `else` after an `if` a ';' ended, or `task`
   // and `sub` inside a body (a '}' left out above, most often).
   bool statement_wanted = expects(symbol_kind::S_IF) && expects(symbol_kind::S_NUMBER);
   if (statement_wanted && ctx.token() == symbol_kind::S_ELSE) {
     feed.diags.error(ctx.location(), "'else' without an 'if' before it: a statement stands between them (an extra "
                                      "';' is an empty statement, and two statements after an 'if' need braces)");
+    return;
+  }
+  // `task = 1;`: the keyword as a variable, with no name after it.
+  bool named_next = feed.pos < feed.tokens.size() && feed.tokens[feed.pos].kind == TokenKind::Identifier;
+  if (statement_wanted && (ctx.token() == symbol_kind::S_TASK || ctx.token() == symbol_kind::S_SUB) && !named_next) {
+    feed.diags.error(ctx.location(), "'" + std::string(feed.last_text) + "' is a keyword of NQC and cannot be a "
+                                     "name: choose another");
     return;
   }
   if (statement_wanted && (ctx.token() == symbol_kind::S_TASK || ctx.token() == symbol_kind::S_SUB)) {

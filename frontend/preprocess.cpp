@@ -460,6 +460,9 @@ class Preprocessor {
     std::uint32_t id = it->second;
     const Macro& m = macros_[id];
     if (m.statement) return false;
+    // A function-like macro's name without a '(' after it is left as it is,
+    // also inside its own expansion (`F(F)`), where it is no recursion.
+    if (m.function_like && !next_is_lparen(s)) return false;
     if (hide_sets_.contains(t.hide, id)) {
       if (reported_recursion_.insert(m.name).second)
         diags_.error(t.span, "macro '" + m.name + "' is defined in terms of itself (recursive macros never end)");
@@ -473,7 +476,6 @@ class Preprocessor {
     std::vector<std::vector<Token>> args;
     std::uint32_t hide = t.hide;
     if (m.function_like) {
-      if (!next_is_lparen(s)) return false;
       Token rparen;
       if (!collect_args(s, t, m, args, rparen)) return true;
       if (args.size() != m.params.size() || !m.unusable.empty()) {

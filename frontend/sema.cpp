@@ -146,6 +146,7 @@ class Checker {
   std::unordered_map<SymbolId, std::int16_t> refused_constants_;  // see VarDecl::refused_const
   std::unordered_map<std::string, SymbolId> labels_;
   std::set<std::string> reported_undefined_;
+  bool in_rcx2_call_ = false;  // checking the arguments of an RCX 2 call (see undefined)
   int loop_depth_ = 0;
   int breakable_depth_ = 0;
   std::vector<Switch*> switches_;
@@ -241,6 +242,9 @@ class Checker {
   }
 
   void undefined(const std::string& name, SourceSpan span, const std::string& what, bool callee) {
+    // The arguments of a call of the RCX 2 firmware's API (SetEvent(1,
+    // SENSOR_1, EVENT_TYPE_PRESSED)): the call is the one mistake.
+    if (in_rcx2_call_ && is_rcx2_api_name(name)) return;
     // One report per name and body keeps a misspelt name from flooding.
     if (!reported_undefined_.insert(name).second) return;
     if (is_rcx2_api_name(name)) {
@@ -872,6 +876,9 @@ class Checker {
   }
 
   void visit_expr(Assign& n, Expr&, Use) {
+    // The value is checked first, but an undeclared target is the name's
+    // first use in reading order (`a = a + 1`): said there.
+    if (const auto* t = as<Name>(*n.target); t && !lookup(t->name)) undefined(t->name, n.target->span, "", false);
     expr(*n.value, Use::Value);
     written_expr(*n.target);
     require_writable(*n.target, "assign to", at_operator(n, n.target->span));
@@ -936,6 +943,8 @@ class Checker {
     const Function* callee = id && prog_.symbols[*id].kind == SymbolKind::Function
                                  ? &prog_.functions[prog_.symbols[*id].index]
                                  : nullptr;
+    bool outer_rcx2_call = in_rcx2_call_;
+    in_rcx2_call_ = in_rcx2_call_ || (!id && is_rcx2_api_name(n.callee));
     for (std::size_t i = 0; i < n.args.size(); ++i) {
       in_const_argument_ = callee && i < callee->params.size() && callee->params[i].kind == ParamKind::Const;
       std::size_t said_before = diags_.all().size();
@@ -946,6 +955,7 @@ class Checker {
       in_const_argument_ = false;
       if (diags_.all().size() == said_before) warn_wide_argument(n.args[i]);
     }
+    in_rcx2_call_ = outer_rcx2_call;
     bool args_ok = diags_.error_count() == errors_before;
     if (!id) {
       undefined(n.callee, n.callee_span, " (no sub or function of that name)", true);

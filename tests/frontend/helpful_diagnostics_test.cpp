@@ -4,6 +4,7 @@
 // error, colour.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 
@@ -651,4 +652,119 @@ TEST(HelpfulDiagnostics, AHeadWithoutItsBraceAsksForTheBrace) {
   EXPECT_EQ(placed_messages(function.diags),
             (std::vector<std::string>{"2:3 expected '{' before 'x': the body goes between braces after the head"}))
       << function.text();
+}
+
+// Four mistakes left from the thirteenth faithfulness round, each said once
+// and for what it is (the fourteenth round).
+// A call of the RCX 2 firmware's API with an RCX 2 constant among its
+// arguments said two errors for the one line: the call is the mistake.
+TEST(HelpfulDiagnostics, AnRcx2CallIsOneErrorWithItsRcx2Arguments) {
+  auto r = run_frontend("task main()\n{\n  SetEvent(1, SENSOR_1, EVENT_TYPE_PRESSED);\n}\n");
+  EXPECT_EQ(placed_messages(r.diags),
+            (std::vector<std::string>{"3:3 'SetEvent' is not declared (it belongs to the RCX 2 firmware's API; this "
+                                      "target is the RCX)"}))
+      << r.text();
+  // Apart from such a call, an RCX 2 name is still said; so is a name
+  // misspelt among the call's arguments.
+  auto apart = run_frontend("int x;\ntask main()\n{\n  SetEvent(1, SENSR_1, 2);\n  x = EVENT_TYPE_PRESSED;\n}\n");
+  auto said = placed_messages(apart.diags);
+  auto has = [&](const std::string& start) {
+    return std::any_of(said.begin(), said.end(), [&](const std::string& m) { return m.rfind(start, 0) == 0; });
+  };
+  EXPECT_EQ(said.size(), 3u) << apart.text();
+  EXPECT_TRUE(has("4:3 'SetEvent' is not declared (it belongs to the RCX 2")) << apart.text();
+  EXPECT_TRUE(has("4:15 'SENSR_1' is not declared; did you mean 'SENSOR_1'?")) << apart.text();
+  EXPECT_TRUE(has("5:7 'EVENT_TYPE_PRESSED' is not declared (it belongs to the RCX 2")) << apart.text();
+}
+
+// `x = 3 + * 4;` said "the RCX has no pointers": a '*' right after an
+// operator is an operand left out, as nqc's syntax error there says.
+TEST(HelpfulDiagnostics, AStarRightAfterAnOperatorIsAMissingOperand) {
+  auto r = run_frontend("int x;\ntask main()\n{\n  x = 3 + * 4;\n}\n");
+  EXPECT_EQ(placed_messages(r.diags),
+            (std::vector<std::string>{"4:11 expected an expression after '+' before '*': two operators stand side "
+                                      "by side"}))
+      << r.text();
+  auto shifted = run_frontend("int x;\ntask main()\n{\n  x = x << * 2;\n}\n");
+  EXPECT_EQ(placed_messages(shifted.diags),
+            (std::vector<std::string>{"4:12 expected an expression after '<<' before '*': two operators stand "
+                                      "side by side"}))
+      << shifted.text();
+  // Where a value starts, the '*' is still a dereference.
+  auto deref = run_frontend("int x, p;\ntask main()\n{\n  x = *p;\n}\n");
+  EXPECT_EQ(placed_messages(deref.diags),
+            (std::vector<std::string>{"4:7 the RCX has no pointers, so nothing can be dereferenced"}))
+      << deref.text();
+}
+
+// `a = a + 1;` with `a` never declared said so at the second `a` (the
+// value is checked before the target): once, at the first use, as C does.
+TEST(HelpfulDiagnostics, AnUndeclaredNameIsSaidOnceAtItsFirstUse) {
+  auto r = run_frontend("task main()\n{\n  a = a + 1;\n  a++;\n  b += a + c;\n}\n");
+  EXPECT_EQ(placed_messages(r.diags),
+            (std::vector<std::string>{"3:3 'a' is not declared", "5:3 'b' is not declared",
+                                      "5:12 'c' is not declared"}))
+      << r.text();
+}
+
+// `if (x > 1)) x = 0;` said "expected a statement before ')'": the ')' is
+// one too many.
+TEST(HelpfulDiagnostics, AParenthesisClosedTwiceIsUnmatched) {
+  auto r = run_frontend("int x;\ntask main()\n{\n  if (x > 1)) x = 0;\n  x = 2;\n}\n");
+  EXPECT_EQ(placed_messages(r.diags),
+            (std::vector<std::string>{"4:13 unmatched ')': no '(' before it is open; leave it out"}))
+      << r.text();
+  auto value = run_frontend("int x;\ntask main()\n{\n  x = (x + 1));\n}\n");
+  EXPECT_EQ(placed_messages(value.diags),
+            (std::vector<std::string>{"4:14 unmatched ')': no '(' before it is open; leave it out"}))
+      << value.text();
+  auto loop = run_frontend("int i;\ntask main()\n{\n  for (i = 0; i < 3; i++)) Wait(1);\n}\n");
+  EXPECT_EQ(placed_messages(loop.diags),
+            (std::vector<std::string>{"4:26 unmatched ')': no '(' before it is open; leave it out"}))
+      << loop.text();
+  // A ')' that closes an open '(' too early is another mistake.
+  auto early = run_frontend("int x;\ntask main()\n{\n  Wait(x +);\n}\n");
+  ASSERT_EQ(placed_messages(early.diags).size(), 1u) << early.text();
+  EXPECT_EQ(placed_messages(early.diags)[0].find("unmatched"), std::string::npos) << early.text();
+}
+
+// Three mistakes of the fourteenth faithfulness round that were said twice
+// or as another: `int 3x;` also said "expected identifier or '*'" at the
+// number already refused; `int main()` said both "write 'void main(...)'"
+// and "write 'task main()'"; `task = 1;` asked whether a '}' was missing.
+TEST(HelpfulDiagnostics, ANumberANameCannotBeAndCsMainAndAKeywordAsAVariableAreOneErrorEach) {
+  auto number = run_frontend("int 3x;\ntask main()\n{\n}\n");
+  EXPECT_EQ(placed_messages(number.diags), (std::vector<std::string>{"1:5 invalid number '3x'"})) << number.text();
+  auto c_main = run_frontend("int main()\n{\n  On(OUT_A);\n}\n");
+  EXPECT_EQ(placed_messages(c_main.diags),
+            (std::vector<std::string>{"1:1 the RCX starts a program at a task: write 'task main()' for C's 'int "
+                                      "main(...)'"}))
+      << c_main.text();
+  auto keyword = run_frontend("task main()\n{\n  task = 1;\n}\n");
+  EXPECT_EQ(placed_messages(keyword.diags),
+            (std::vector<std::string>{"3:3 'task' is a keyword of NQC and cannot be a name: choose another"}))
+      << keyword.text();
+  // A task head inside a body is still a '}' left out.
+  auto nested = run_frontend("task main()\n{\n  On(OUT_A);\ntask t()\n{\n}\n");
+  ASSERT_FALSE(nested.diags.all().empty());
+  EXPECT_EQ(placed_messages(nested.diags).front(),
+            "4:1 'task' cannot stand inside a task, sub or function: is a '}' missing before it?");
+}
+
+// `repeat 3 { ... }` said "a call needs parentheses around its arguments:
+// write 'repeat(3)'": a statement's head is no call (the fourteenth
+// faithfulness round).
+TEST(HelpfulDiagnostics, AStatementHeadWithoutParenthesesIsNoCall) {
+  auto repeat = run_frontend("int x;\ntask main()\n{\n  repeat 3 { x++; }\n}\n");
+  EXPECT_EQ(placed_messages(repeat.diags),
+            (std::vector<std::string>{"4:10 'repeat' needs its count in parentheses: write 'repeat (3)'"}))
+      << repeat.text();
+  auto loop = run_frontend("int x;\ntask main()\n{\n  while 1 { x++; }\n}\n");
+  EXPECT_EQ(placed_messages(loop.diags),
+            (std::vector<std::string>{"4:9 'while' needs its condition in parentheses: write 'while (1)'"}))
+      << loop.text();
+  auto call = run_frontend("task main()\n{\n  Wait 100;\n}\n");
+  EXPECT_EQ(placed_messages(call.diags),
+            (std::vector<std::string>{"3:8 a call needs parentheses around its arguments: write 'Wait(100)'"}))
+      << call.text();
 }

@@ -99,6 +99,19 @@ TEST(Preprocessor, FunctionMacroNameWithoutParenthesesIsLeftAlone) {
   EXPECT_EQ(p.joined, "F + 1");
 }
 
+// `F(F)`: the argument's F, without a '(' after it, is left alone inside
+// the expansion too, where it carries F's own name in its hide set; that
+// was said as "defined in terms of itself" (faithfulness round 14).
+TEST(Preprocessor, FunctionMacroNameWithoutParenthesesInItsOwnExpansionIsLeftAlone) {
+  auto p = run_pp("#define F(a) ((a) * 2)\nF(F) F(F + 1)\n");
+  EXPECT_EQ(p.joined, "( ( F ) * 2 ) ( ( F + 1 ) * 2 )");
+  EXPECT_FALSE(p.diags.has_errors()) << messages(p.diags).front();
+  // Followed by a '(', it is a recursive call still.
+  auto called = run_pp("#define G(a) G(a)\nG(1)\n");
+  EXPECT_EQ(messages(called.diags),
+            (std::vector<std::string>{"macro 'G' is defined in terms of itself (recursive macros never end)"}));
+}
+
 TEST(Preprocessor, StringizeAndPaste) {
   auto p = run_pp("#define STR(x) #x\n#define CAT(a, b) a##b\n#define XCAT(a, b) CAT(a, b)\n#define N 7\n"
                   "STR(a  +  \"q\") CAT(foo, bar) CAT(N, 1) XCAT(N, 1) CAT(, z)\n");
@@ -176,6 +189,17 @@ TEST(Preprocessor, ConditionalsWithExpressionsAndDefined) {
       "#if 0\n#if 1\nno7\n#else\nno8\n#endif\n#error not reached\n#endif\n");
   EXPECT_EQ(p.joined, "yes1 yes2 yes3");
   EXPECT_FALSE(p.diags.has_errors()) << p.diags.all()[0].message;
+}
+
+// After a group that was taken, an #elif's expression is not read, as C
+// has it: empty or not an expression, it is no error (nqc: "unexpected end
+// of line" for an empty one; docs/language.md).
+TEST(Preprocessor, AnElifAfterATakenGroupIsNotRead) {
+  auto p = run_pp("#if 1\nyes\n#elif\nno1\n#elif (\nno2\n#endif\n");
+  EXPECT_EQ(p.joined, "yes");
+  EXPECT_FALSE(p.diags.has_errors()) << messages(p.diags).front();
+  auto read = run_pp("#if 0\nno\n#elif\nno2\n#endif\n");
+  EXPECT_EQ(messages(read.diags), (std::vector<std::string>{"#elif needs an expression"}));
 }
 
 TEST(Preprocessor, ConditionalErrors) {
