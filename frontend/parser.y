@@ -872,6 +872,14 @@ void yy::Parser::report_syntax_error(const context& ctx) const {
                                      "name: choose another");
     return;
   }
+  // `int &flag = 1;` in a body or at the top: a reference where only a
+  // parameter may be one. Said as such, rather than "expected identifier or '*'".
+  if (feed.pos >= 2 && expects(symbol_kind::S_IDENT) && feed.tokens[feed.pos - 1].is("&") &&
+      feed.tokens[feed.pos - 2].is_identifier("int")) {
+    feed.diags.error(ctx.location(),
+                     "a '&' reference can only be a parameter (void f(int &x)): a variable is a plain int");
+    return;
+  }
   const Token* type = nullptr;
   if (ctx.token() == symbol_kind::S_IDENT && expects(symbol_kind::S_TASK)) type = c_type(1);
   if (!type && (ctx.token() == symbol_kind::S_IDENT || ctx.token() == symbol_kind::S_INT)) type = c_type(2);

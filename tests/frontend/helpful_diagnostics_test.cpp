@@ -768,3 +768,18 @@ TEST(HelpfulDiagnostics, AStatementHeadWithoutParenthesesIsNoCall) {
             (std::vector<std::string>{"3:8 a call needs parentheses around its arguments: write 'Wait(100)'"}))
       << call.text();
 }
+
+// `int &flag = 1;` in a body (a program from elsewhere that used pointers,
+// rewritten with '&') said "expected identifier or '*' before '&'": the '*'
+// of a pointer the RCX refuses, and nothing about references being for
+// parameters only.
+TEST(HelpfulDiagnostics, AReferenceVariableOutsideAParameterListSaysReferencesAreParameters) {
+  auto placed_first = [](const char* text) {
+    auto r = run_frontend(text);
+    return r.diags.all().empty() ? std::string("none") : placed_messages(r.diags).front();
+  };
+  const std::string says = " a '&' reference can only be a parameter (void f(int &x)): a variable is a plain int";
+  EXPECT_EQ(placed_first("task main()\n{\n  int &flag = 1;\n}\n"), "3:7" + says);
+  EXPECT_EQ(placed_first("int &g;\ntask main() { }\n"), "1:5" + says);
+  EXPECT_EQ(placed_first("void f(int &x) { x = 1; }\ntask main() { int y; f(y); }\n"), "none");
+}
