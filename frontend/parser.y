@@ -995,7 +995,8 @@ void yy::Parser::report_syntax_error(const context& ctx) const {
                                          std::string(callee.text) + "(" + argument + ")'");
     return;
   }
-  // Comparisons as Basic and Pascal write them: `<>`, `=<`, `=>`.
+  // Comparisons as Basic and Pascal write them: `<>`, `=<`, `=>`; and C's
+  // `p->field` (read as `p - > field`).
   if (feed.pos >= 3 && (feed.last_text == ">" || feed.last_text == "<")) {
     const Token& first = feed.tokens[feed.pos - 2];
     const Token& second = feed.tokens[feed.pos - 1];
@@ -1004,6 +1005,7 @@ void yy::Parser::report_syntax_error(const context& ctx) const {
     if (written == "<>") meant = "'not equal' is written '!='";
     if (written == "=<") meant = "'less than or equal' is written '<='";
     if (written == "=>") meant = "'greater than or equal' is written '>='";
+    if (written == "->") meant = "the RCX has no structs or pointers, so there is no member to reach";
     if (adjacent && !meant.empty()) {
       feed.diags.error({first.span.begin, second.span.end}, "'" + written + "' is not an operator in NQC: " + meant);
       return;

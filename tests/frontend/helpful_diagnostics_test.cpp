@@ -305,11 +305,11 @@ TEST(HelpfulDiagnostics, ParametersWrittenAsInCSayWhatNqcWants) {
 }
 
 // Slips of other languages' habits said "expected ';' before '100'",
-// "expected an expression before '>'" and, for `**`, that the RCX has no
+// "expected an expression before '>'" (`->` too) and, for `**`, that the RCX has no
 // pointers (nqc: "undefined variable 'Wait'", syntax errors).
 TEST(HelpfulDiagnostics, OtherLanguagesCallsAndOperatorsSayWhatNqcWrites) {
   auto r = run_frontend("int x, y;\ntask main()\n{\n  Wait 100;\n  if (x) Off 1;\n  if (x <> y) x = 1;\n"
-                        "  if (x =< y) x = 2;\n  if (x => y) x = 3;\n  x = y ** 2;\n}\n");
+                        "  if (x =< y) x = 2;\n  if (x => y) x = 3;\n  x = y ** 2;\n  x = y->next;\n}\n");
   EXPECT_EQ(placed_messages(r.diags),
             (std::vector<std::string>{
                 "4:8 a call needs parentheses around its arguments: write 'Wait(100)'",
@@ -317,7 +317,9 @@ TEST(HelpfulDiagnostics, OtherLanguagesCallsAndOperatorsSayWhatNqcWrites) {
                 "6:9 '<>' is not an operator in NQC: 'not equal' is written '!='",
                 "7:9 '=<' is not an operator in NQC: 'less than or equal' is written '<='",
                 "8:9 '=>' is not an operator in NQC: 'greater than or equal' is written '>='",
-                "9:10 NQC has no power operator '**': multiply instead ('y * y' for y squared)"}))
+                "9:10 NQC has no power operator '**': multiply instead ('y * y' for y squared)",
+                "10:8 '->' is not an operator in NQC: the RCX has no structs or pointers, so there is no member to "
+                "reach"}))
       << r.text();
   // A macro's value is not shown as if the user had written it.
   auto macro = run_frontend("task main()\n{\n  Off OUT_A;\n}\n");
