@@ -531,11 +531,12 @@ TEST(RandomPrograms, AnotherTaskSeesOnlyValuesNqcsCodeShows) {
     auto theirs = nqc_image(nqc, dir, text);
     if (!theirs) continue;
     auto nqc_values = test::values_written(*theirs, text);
+    if (!nqc_values) continue;  // nqc's code outgrew the brick's memory
     for (auto level : {ir::OptLevel::O1, ir::OptLevel::O2, ir::OptLevel::Os}) {
       auto c = test::compile_program(text, level);
       if (!c.out) continue;
       ++compared;
-      EXPECT_EQ(test::foreign_values(test::values_written(c.out->image, text), nqc_values), "")
+      EXPECT_EQ(test::foreign_values(c.out->image, *nqc_values, text), "")
           << "seed " << seed << " level " << static_cast<int>(level) << ": values nqc's code never gives\n"
           << text;
     }

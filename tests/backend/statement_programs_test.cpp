@@ -223,11 +223,12 @@ TEST(StatementPrograms, AnotherTaskSeesOnlyValuesNqcsCodeShows) {
     auto theirs = rcx::semtest::compile_with_nqc(nqc, dir.write(fmt::format("w{}.nqc", seed), text)).image;
     if (!theirs || has_wrapped_branch(*theirs)) continue;
     auto nqc_values = test::values_written(*theirs, text);
+    if (!nqc_values) continue;  // nqc's code outgrew the brick's memory
     for (auto level : {ir::OptLevel::O1, ir::OptLevel::O2, ir::OptLevel::Os}) {
       auto c = compile_rcxc(text, level);
       if (!c.image) continue;
       ++compared;
-      EXPECT_EQ(test::foreign_values(test::values_written(*c.image, text), nqc_values), "")
+      EXPECT_EQ(test::foreign_values(*c.image, *nqc_values, text), "")
           << "seed " << seed << " level " << static_cast<int>(level) << ": values nqc's code never gives\n"
           << text;
     }

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <string>
@@ -52,13 +53,17 @@ inline std::string with_a_watching_task(const std::string& text) {
   return out;
 }
 
-// Each global's values, as 20 s of a run of `image` wrote them, by name.
-inline std::map<std::string, std::set<int>> values_written(const rcx::Image& image, const std::string& text) {
+// Each global's values, as 20 s of a run of `image` wrote them, by name;
+// nothing when the brick refuses the image (nqc's code for a long program
+// can outgrow the memory rcxc's fits in, and an empty run would make every
+// value of the other side look foreign).
+inline std::optional<std::map<std::string, std::set<int>>> values_written(const rcx::Image& image,
+                                                                          const std::string& text) {
   rcx::Config config;
   config.trace_variables = true;
   rcx::Machine m(config);
   std::map<std::string, std::set<int>> seen;
-  if (m.load(0, image)) return seen;
+  if (m.load(0, image)) return std::nullopt;
   m.start_program();
   m.run(20'000 * rcx::kMicrosPerMs);
   const auto names = global_slots(image, text);
@@ -81,6 +86,13 @@ inline std::string foreign_values(const std::map<std::string, std::set<int>>& ou
     if (!here.empty()) foreign += fmt::format("{}{}:{}", foreign.empty() ? "" : "; ", name, here);
   }
   return foreign;
+}
+
+// foreign_values for rcxc's image `ours` run beside nqc's values.
+inline std::string foreign_values(const rcx::Image& ours, const std::map<std::string, std::set<int>>& nqcs,
+                                  const std::string& text) {
+  auto values = values_written(ours, text);
+  return values ? foreign_values(*values, nqcs) : "the brick refuses rcxc's image";
 }
 
 }  // namespace rcxc::test
