@@ -350,8 +350,10 @@ TEST(RandomPrograms, TasksMainEndsByStartingRunAsTheyDidAsTasks) {
   // -Os runs a task main ends by starting in main (ir/tailstart.cpp); -O1
   // starts it as written. The generator declares the tasks in the order
   // main may take them over; a side that ends `start a; start keeper;`
-  // keeps its starts (257 of these 300 move a task).
-  EXPECT_GE(agreeing_programs_logging<test::TailStartGenerator>("runs in main"), 240) << "of 300 programs";
+  // keeps its starts (257 of these 300 move a task; 231 to 248 of 300 at
+  // the seed offsets tried by hand, so the bound only catches a pass that
+  // stopped firing).
+  EXPECT_GE(agreeing_programs_logging<test::TailStartGenerator>("runs in main"), 200) << "of 300 programs";
 }
 
 TEST(RandomPrograms, MotorProgramsShowWhatNqcsCodeShows) {
