@@ -596,8 +596,12 @@ class StatementGenerator {
       if (phase == 0 && beeper_) out << "  start beeper;\n  Wait(60);\n  stop beeper;\n";
       if (phase == 2 && other && handshakes_ == 0) handshake(out);
       // Waiting out the phase: a busy `until` would cost the emulator a
-      // hundred thousand instructions a second.
-      out << "  Wait(" << kPhaseTicks * 10 * (phase + 1) << " - 10 * Timer(3));\n";
+      // hundred thousand instructions a second, so it waits to the tick
+      // before the phase's end and polls only over that last tick. A wait
+      // alone ends as far into a tick as main came into it, so two codes a
+      // few instructions apart across a tick left 99 ms apart.
+      int end_tick = kPhaseTicks * (phase + 1);
+      out << "  Wait(" << (end_tick - 1) * 10 << " - 10 * Timer(3));\n  until (Timer(3) >= " << end_tick << ");\n";
     }
     for (const char* v : {"a", "b", "c", "d", "e"}) out << "  AddToDatalog(" << v << ");\n";
     out << "}\n";
