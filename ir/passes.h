@@ -64,7 +64,9 @@ void merge_motor_commands(Function& f, const std::vector<Var>& vars);
 void drop_redundant_sensor_modes(Function& f);
 // peephole.cpp: `set t, x; mul t, -1; sub t, 1` (~x once x was computed
 // into t) becomes `set t, -1; sub t, x`: one instruction and 5 bytes less.
-void shorten_complements(Function& f);
+// Not where t is a global another task may read (`other_tasks`): it would
+// see -1, which the source never gives t.
+void shorten_complements(Function& f, const std::vector<Var>& vars, bool other_tasks);
 
 // coalesce.cpp: computes into the assigned variable instead of into a
 // temporary copied there at the end, where the temporary is read nowhere

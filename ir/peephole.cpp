@@ -304,7 +304,7 @@ namespace rcxc::ir {
 // `~x` of an expression computed into t is `set t, x; mul t, -1; sub t, 1`
 // (15 bytes); `set t, -1; sub t, x` (10 bytes, one instruction less) is the
 // same 16-bit value and reads x once, as before.
-void shorten_complements(Function& f) {
+void shorten_complements(Function& f, const std::vector<Var>& vars, bool other_tasks) {
   auto is_imm_step = [](const Instr& in, rcx::Op op, VarId t, int value) {
     return !in.raw && in.op == op && in.args.size() == 2 && in.args[0].is_var(t) && in.args[1].is_imm() &&
            in.args[1].value == value;
@@ -317,6 +317,7 @@ void shorten_complements(Function& f) {
       VarId t = set.args[0].value;
       Operand x = set.args[1];
       if (x.is_var(t) || !accepts(rcx::Op::SubtractFromVariable, 1, x)) continue;
+      if (other_tasks && shared_between_tasks(vars.at(static_cast<std::size_t>(t)))) continue;
       if (!is_imm_step(code[i + 1], rcx::Op::MultiplyVariable, t, -1) ||
           !is_imm_step(code[i + 2], rcx::Op::SubtractFromVariable, t, 1))
         continue;

@@ -82,7 +82,7 @@ bool optimize(Program& p, OptLevel level, Diagnostics& diags, Log& log, const Pa
         }
         apply_constants_in_predecessors(p);
       }
-      for (auto& f : p.functions) shorten_complements(f);
+      for (auto& f : p.functions) shorten_complements(f, p.vars, several_tasks);
       if (shrinks_without_slowing(level)) hoist_common_heads(p, log);
       for (auto& f : p.functions) simplify_cfg(f);
       if (shrinks_without_slowing(level)) compute_poll_thresholds_once(p, log);
