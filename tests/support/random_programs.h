@@ -374,28 +374,30 @@ class CoinGenerator : public Generator {
   std::string program() {
     std::ostringstream out;
     out << "int x, y, n, t;\ntask main() {\n  x = 0; y = 0; n = 0;\n";
-    block(out, 5);
+    block(out, 5, 1);
     marker(out);
     out << "}\n";
     return out.str();
   }
 
  private:
-  void block(std::ostringstream& out, int depth) {
+  // `runs`: how many times the enclosing loops run what block writes.
+  void block(std::ostringstream& out, int depth, int runs) {
     int k = pick(1, 3);
     for (int i = 0; i < k; ++i) {
       int r = pick(0, 6);
       if (r <= 1 && depth > 0) {
-        out << "  repeat (" << pick(1, 3) << ") {\n  n += 1;\n";
-        block(out, depth - 1);
+        int count = pick(1, 3);
+        out << "  repeat (" << count << ") {\n  n += 1;\n";
+        block(out, depth - 1, runs * count);
         out << "  }\n";
       } else if (r <= 4) {
         static const char* tests[] = {"Random(1) == 0", "Random(1) != 0", "Random(1) > 0", "Random(1) < 1",
                                       "1 == Random(1)", "Random(1) >= 1", "Random(1) <= 0", "0 < Random(1)"};
         out << "  if (" << tests[pick(0, 7)] << ") { x = x * 2 + 1; ";
-        side(out);
+        side(out, runs);
         out << "} else { x = x * 2; ";
-        side(out);
+        side(out, runs);
         out << "}\n";
       } else if (r == 5) {
         out << "  t = Random(1); if (t == 0) y += 5; y += t;\n";
@@ -405,10 +407,22 @@ class CoinGenerator : public Generator {
     }
   }
 
-  void side(std::ostringstream& out) {
-    if (pick(0, 2) == 0) out << "PlaySound(" << pick(0, 5) << "); ";
+  // A sound only while the program can play no more than the firmware's
+  // queue holds (one playing, eight waiting): a full queue drops sounds,
+  // and which ones depends on the code's speed, which -Os trades.
+  void side(std::ostringstream& out, int runs) {
+    if (pick(0, 2) == 0) {
+      int sound = pick(0, 5);
+      if (sounds_ + runs <= kQueuedSounds) {
+        out << "PlaySound(" << sound << "); ";
+        sounds_ += runs;
+      }
+    }
     if (pick(0, 2) == 0) out << "y += " << pick(1, 9) << "; ";
   }
+
+  static constexpr int kQueuedSounds = 9;
+  int sounds_ = 0;
 };
 
 // if/else statements whose two sides begin alike (a motor command, a
