@@ -86,6 +86,32 @@ TEST(Help, ACommandAloneDescribesItselfAsAmongAll) {
   }
 }
 
+// The help line of an option that takes a number says what it is when left
+// out, as docs/link.md and docs/nxt.md say it; `--retries INT  Retries per
+// request` left a user guessing whether download tries 5 times or 30.
+TEST(Help, NumberOptionsSayTheirDefaults) {
+  struct Expected {
+    std::vector<std::string> command;
+    std::string option;
+    std::string default_text;
+  };
+  const Expected expected[] = {
+      {{"download"}, "--program", "(default 1)"},  {{"download"}, "--retries", "(default 30)"},
+      {{"remote"}, "--retries", "(default 5)"},    {{"nxt"}, "--timeout", "(default 1000)"},
+      {{"compare"}, "--seed", "(default 1)"},      {{"brick"}, "--seed", "(default 1)"},
+      {{"run"}, "--seed", "(default 1)"},          {{"compare"}, "--for", "(default 20000)"},
+  };
+  for (const auto& e : expected) {
+    std::vector<std::string> args = e.command;
+    args.push_back("--help");
+    std::string help = run_rcxc(args).out;
+    auto at = help.find("  " + e.option + " ");
+    ASSERT_NE(at, std::string::npos) << e.command[0] << " " << e.option;
+    std::string line = help.substr(at, help.find('\n', at) - at);
+    EXPECT_NE(line.find(e.default_text), std::string::npos) << e.command[0] << ": " << line;
+  }
+}
+
 TEST(Help, TheManPageCoversEveryCommandAndOption) {
   std::string man = read_text_file(RCXC_SOURCE_DIR "/docs/rcxc.1");
   // groff escapes '-' as '\-' in option names.
