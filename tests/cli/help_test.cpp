@@ -72,6 +72,28 @@ TEST(Help, HelpNqcShowsTheNqcModeSummary) {
   EXPECT_NE(run_rcxc({"help", "compiel"}).err.find("(commands: nqc, compile,"), std::string::npos);
 }
 
+// The NXT's actions are commands of their own (`rcxc nxt brick --help`), and
+// `rcxc help nxt brick` was refused: "The following argument was not
+// expected: brick", exit 2.
+TEST(Help, HelpDescribesAnActionOfACommand) {
+  for (std::vector<std::string> words : {std::vector<std::string>{"nxt", "brick"}, {"nxt", "mailbox", "write"}}) {
+    std::vector<std::string> help_args{"help"};
+    help_args.insert(help_args.end(), words.begin(), words.end());
+    words.push_back("--help");
+    auto r = run_rcxc(help_args);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(r.out, run_rcxc(words).out);
+  }
+  EXPECT_NE(run_rcxc({"help", "nxt", "brick"}).out.find("Usage: rcxc nxt brick"), std::string::npos);
+  auto fly = run_rcxc({"help", "nxt", "fly"});
+  EXPECT_EQ(fly.exit_code, 2);
+  EXPECT_NE(fly.err.find("'rcxc nxt' has no action 'fly' (actions: info, battery,"), std::string::npos) << fly.err;
+  auto none = run_rcxc({"help", "compile", "x"});
+  EXPECT_EQ(none.exit_code, 2);
+  EXPECT_NE(none.err.find("'rcxc compile' has no actions"), std::string::npos) << none.err;
+  EXPECT_EQ(run_rcxc({"help", "nqc", "x"}).exit_code, 2);
+}
+
 // `rcxc COMMAND ...` registers that command alone (cli/main.cpp, for
 // startup time); `rcxc help COMMAND` registers every command. Both must
 // describe the command alike, so no command depends on another's options.
