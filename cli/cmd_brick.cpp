@@ -87,7 +87,7 @@ void register_brick(CLI::App& app, int& exit_code) {
   // and NaN, which a plain range check lets through.
   cmd->add_option("--noise", a->noise, "Lose or corrupt each byte with this probability (0..1)")
       ->check(number_in(0.0, 1.0, "0..1"));
-  cmd->add_option("--seed", a->seed, "Seed of the noise")->check(whole_number());
+  cmd->add_option("--seed", a->seed, "Seed of the noise (default 1)")->check(whole_number());
   cmd->add_flag("--fast", a->fast, "Answer at full speed instead of 2400 baud");
   cmd->add_flag("--no-echo", a->no_echo, "Do not echo (behave like a USB tower)");
   cmd->add_flag("-v,--verbose", a->verbose,

@@ -1,6 +1,6 @@
 // `rcxc compare FILE.nqc`: compiles the program with rcxc and with nqc, runs
 // both images on the emulator under the same scenarios, and reports any
-// difference a robot's owner could see (runtime/compare.h), side by side.
+// difference a robot's owner could see (verify/compare.h), side by side.
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -379,7 +379,7 @@ void register_compare(CLI::App& app, int& exit_code) {
   cmd->add_option("--nqc-path", o->nqc, "The nqc to compare with (path or name; default: nqc on PATH)")->check(not_empty());
   cmd->add_option("--for", o->for_ms, "Virtual milliseconds per run (default 20000)")
       ->check(in_range(1, kLongestRunMs));
-  cmd->add_option("--seed", o->seed, "Random seed for both runs")->check(whole_number());
+  cmd->add_option("--seed", o->seed, "Random seed for both runs (default 1)")->check(whole_number());
   cmd->add_option("--instruction-us", o->instruction_us, "Virtual time per instruction (default 10)")
       ->check(in_range(1, 100000));
   cmd->add_flag("--all-rows", o->all_rows,

@@ -100,9 +100,9 @@ void register_download(CLI::App& app, int& exit_code) {
   cmd->add_option("FILE", a->file, "NQC source (compiled first) or .rcx image")->required()->check(not_empty());
   add_compiler_options(cmd, a->compiler);
   cmd->add_option("--port", a->port, "Tower device: usb, serial, a path (default: RCX_PORT, else usb)")->check(not_empty());
-  cmd->add_option("--program", a->program, "Program slot 1..5")->check(in_range(1, 5));
+  cmd->add_option("--program", a->program, "Program slot 1..5 (default 1)")->check(in_range(1, 5));
   cmd->add_flag("--run", a->run, "Start the program after downloading");
-  cmd->add_option("--retries", a->retries, "Retries per request")->check(in_range(0, 100));
+  cmd->add_option("--retries", a->retries, "Retries per request (default 30)")->check(in_range(0, 100));
   cmd->add_flag("--no-sound", a->no_sound, "Do not play the download-done sound");
   cmd->add_flag("-v,--verbose", a->verbose, "Say why replies were rejected");
   cmd->footer(

@@ -12,6 +12,7 @@
 #include "cli/program_loader.h"
 #include "format/format.h"
 #include "frontend/frontend.h"
+#include "rcx/file_read.h"
 
 namespace rcxc::cli {
 namespace {
@@ -37,8 +38,10 @@ Outcome format_one(const std::string& path, const FormatArgs& args) {
       std::cerr << "rcxc format: " << rcx::too_large_message(name, rcx::kSourceFile) << "\n";
     else if (*problem == rcx::FileProblem::Directory)
       std::cerr << "rcxc format: " << name << ": is a directory, not a source file\n";
+    else if (*problem == rcx::FileProblem::CannotOpen && path != frontend::kStandardInput)
+      std::cerr << "rcxc format: " << name << ": cannot open file: " << rcx::cannot_open_reason(path) << "\n";
     else
-      std::cerr << "rcxc format: " << name << ": cannot be opened\n";
+      std::cerr << "rcxc format: " << name << ": cannot be read\n";
     return Outcome::Failed;
   }
   const std::string& text = std::get<std::string>(read);

@@ -352,7 +352,8 @@ void register_nxt(CLI::App& app, int& exit_code) {
   nxt_cmd->add_option("--port", a->port, "usb, usb:SERIAL, bt:AA:BB:CC:DD:EE:FF or a tty path (default: NXT_PORT, else usb)")->check(not_empty());
   nxt_cmd->add_flag("--json", a->json, "Print JSON for scripts");
   nxt_cmd->add_flag("-v,--verbose", a->verbose, "Log every telegram decoded on stderr");
-  nxt_cmd->add_option("--timeout", a->timeout_ms, "Milliseconds to wait for a reply")->check(in_range(1, 60000));
+  nxt_cmd->add_option("--timeout", a->timeout_ms, "Milliseconds to wait for a reply (default 1000)")
+      ->check(in_range(1, 60000));
   nxt_cmd->require_subcommand(1);
   nxt_cmd->fallthrough();
   const std::string exit_codes =

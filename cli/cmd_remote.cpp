@@ -68,7 +68,7 @@ void register_remote(CLI::App& app, int& exit_code) {
   cmd->add_option("ACTION", a->words, "The action and its arguments")->required();
   cmd->add_option("--port", a->port, "Tower device: usb, serial, a path (default: RCX_PORT, else usb)")->check(not_empty());
   cmd->add_flag("--csv", a->csv, "datalog: print CSV");
-  cmd->add_option("--retries", a->retries, "Retries per request")->check(in_range(0, 100));
+  cmd->add_option("--retries", a->retries, "Retries per request (default 5)")->check(in_range(0, 100));
   cmd->footer(rcx::remote_actions_help() +
               "Exit codes: 0 done; 1 bad file or the RCX refused; 2 bad command line or action;\n"
               "3 the port could not be opened; 4 the RCX did not answer.");

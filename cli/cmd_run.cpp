@@ -166,10 +166,15 @@ int run(const RunOptions& o) {
   std::optional<rcx::semtest::Spec> spec;
   if (is_nqc_source(o.file).value_or(false)) {
     auto parsed = rcx::semtest::parse_spec_file(o.file);
-    if (auto* good = std::get_if<rcx::semtest::Spec>(&parsed)) spec = std::move(*good);
-    else
+    if (auto* good = std::get_if<rcx::semtest::Spec>(&parsed)) {
+      spec = std::move(*good);
+    } else if (std::ranges::any_of(std::get<std::vector<rcx::semtest::SpecError>>(parsed),
+                                   [](const rcx::semtest::SpecError& e) { return e.line > 0; })) {
+      // Line 0 is the file itself (too large, unreadable): the compile
+      // below says so, and there were no directives to blame.
       std::cerr << "rcxc run: note: the // @ directives in " << o.file
                 << " have errors and are not used (rcxc test " << o.file << " names them)\n";
+    }
   }
   // The @scenario file of the source is an input too, though --scenario
   // may stand in for it.

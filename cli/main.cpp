@@ -113,7 +113,11 @@ int main(int argc, char** argv) {
   bool written = static_cast<bool>(std::cout.flush()) && std::fflush(stdout) == 0 && !std::ferror(stdout);
   if (!written && exit_code == rcxc::cli::kExitOk) {
     std::cerr << "rcxc: cannot write the standard output: what it printed is incomplete\n";
-    exit_code = rcxc::cli::kExitFailure;
+    // nqc mode keeps nqc's codes (docs/nqc.md), where 1 means nothing: 243,
+    // as for an -R file that cannot take the text.
+    bool nqc_mode = (argc > 0 && rcxc::cli::started_as_nqc(argv[0])) ||
+                    (argc > 1 && std::string_view(argv[1]) == "nqc");
+    exit_code = nqc_mode ? rcxc::cli::kNqcExitCompile : rcxc::cli::kExitFailure;
   }
   return exit_code;
 }

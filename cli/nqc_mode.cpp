@@ -352,7 +352,10 @@ class Session {
     SourceManager sm;
     Diagnostics diags;
     ir::Log log;
-    auto out = backend::compile_source(name, std::move(text), o_.frontend, ir::OptLevel::Os, sm, diags, log);
+    // rcxc compile's default level (-O2: never slower than nqc's code, never
+    // larger); nqc has no levels. This mode was written when -Os was the
+    // default and kept it, so BricxCC got code that trades time for bytes.
+    auto out = backend::compile_source(name, std::move(text), o_.frontend, CompileRequest{}.level, sm, diags, log);
     bool reported = report_errors(render_nqc(diags, sm));
     if (!out || diags.has_errors() || !reported) return kNqcExitCompile;
     if (int code = write_outputs(s.name, *out, sm); code != kNqcExitOk) return code;

@@ -123,13 +123,21 @@ Outcome clear(Link& link) {
   return calls(link, {{Op::SetDatalogSize, {0}}, {Op::SetProgramNumber, {0}}}, "all programs and the datalog cleared\n");
 }
 
+// Why the firmware file was not read, with the reason: "cannot read x.srec"
+// alone left a misspelt name and a missing permission looking alike.
+std::string firmware_file_problem(const std::string& path, FileProblem problem) {
+  switch (problem) {
+    case FileProblem::Directory: return fmt::format("{}: is a directory, not a firmware file", path);
+    case FileProblem::TooLarge: return too_large_message(path, kFirmwareFile);
+    case FileProblem::CannotOpen: return fmt::format("cannot read {}: {}", path, cannot_open_reason(path));
+    default: return fmt::format("cannot read {}", path);
+  }
+}
+
 Outcome firmware(Link& link, const std::string& path, const RemoteOptions& options) {
   auto file = read_file(path, kFirmwareFile);
   if (const auto* problem = std::get_if<FileProblem>(&file))
-    return RemoteError{RemoteFailure::Input, *problem == FileProblem::Directory
-                                                 ? fmt::format("{}: is a directory, not a firmware file", path)
-                                             : *problem == FileProblem::TooLarge ? too_large_message(path, kFirmwareFile)
-                                                                                 : fmt::format("cannot read {}", path)};
+    return RemoteError{RemoteFailure::Input, firmware_file_problem(path, *problem)};
   auto parsed = parse_srec(std::get<std::string>(file));
   if (auto* e = std::get_if<std::string>(&parsed)) return RemoteError{RemoteFailure::Input, path + ": " + *e};
   return download_firmware(link, std::get<Firmware>(parsed), options);

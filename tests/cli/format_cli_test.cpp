@@ -68,7 +68,9 @@ TEST(FormatCli, RefusedFilesAreLeftAsTheyWere) {
   EXPECT_EQ(read_text_file(messy), kTidy);  // the other file is still formatted
   auto missing = run_rcxc({"format", dir.path + "/none.nqc"});
   EXPECT_EQ(missing.exit_code, 1);
-  EXPECT_EQ(missing.err, "rcxc format: " + dir.path + "/none.nqc: cannot be opened\n");
+  // With the reason, as compile and run give it: "cannot be opened" alone left
+  // a misspelt name and a missing permission looking alike.
+  EXPECT_EQ(missing.err, "rcxc format: " + dir.path + "/none.nqc: cannot open file: no such file\n");
 }
 
 // A file that begins with a UTF-8 byte-order mark compiles (the compiler

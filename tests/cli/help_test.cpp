@@ -72,6 +72,28 @@ TEST(Help, HelpNqcShowsTheNqcModeSummary) {
   EXPECT_NE(run_rcxc({"help", "compiel"}).err.find("(commands: nqc, compile,"), std::string::npos);
 }
 
+// The NXT's actions are commands of their own (`rcxc nxt brick --help`), and
+// `rcxc help nxt brick` was refused: "The following argument was not
+// expected: brick", exit 2.
+TEST(Help, HelpDescribesAnActionOfACommand) {
+  for (std::vector<std::string> words : {std::vector<std::string>{"nxt", "brick"}, {"nxt", "mailbox", "write"}}) {
+    std::vector<std::string> help_args{"help"};
+    help_args.insert(help_args.end(), words.begin(), words.end());
+    words.push_back("--help");
+    auto r = run_rcxc(help_args);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(r.out, run_rcxc(words).out);
+  }
+  EXPECT_NE(run_rcxc({"help", "nxt", "brick"}).out.find("Usage: rcxc nxt brick"), std::string::npos);
+  auto fly = run_rcxc({"help", "nxt", "fly"});
+  EXPECT_EQ(fly.exit_code, 2);
+  EXPECT_NE(fly.err.find("'rcxc nxt' has no action 'fly' (actions: info, battery,"), std::string::npos) << fly.err;
+  auto none = run_rcxc({"help", "compile", "x"});
+  EXPECT_EQ(none.exit_code, 2);
+  EXPECT_NE(none.err.find("'rcxc compile' has no actions"), std::string::npos) << none.err;
+  EXPECT_EQ(run_rcxc({"help", "nqc", "x"}).exit_code, 2);
+}
+
 // `rcxc COMMAND ...` registers that command alone (cli/main.cpp, for
 // startup time); `rcxc help COMMAND` registers every command. Both must
 // describe the command alike, so no command depends on another's options.
@@ -83,6 +105,32 @@ TEST(Help, ACommandAloneDescribesItselfAsAmongAll) {
     auto among_all = run_rcxc({"help", name});
     EXPECT_EQ(alone.exit_code, 0) << name;
     EXPECT_EQ(alone.out, among_all.out) << name;
+  }
+}
+
+// The help line of an option that takes a number says what it is when left
+// out, as docs/link.md and docs/nxt.md say it; `--retries INT  Retries per
+// request` left a user guessing whether download tries 5 times or 30.
+TEST(Help, NumberOptionsSayTheirDefaults) {
+  struct Expected {
+    std::vector<std::string> command;
+    std::string option;
+    std::string default_text;
+  };
+  const Expected expected[] = {
+      {{"download"}, "--program", "(default 1)"},  {{"download"}, "--retries", "(default 30)"},
+      {{"remote"}, "--retries", "(default 5)"},    {{"nxt"}, "--timeout", "(default 1000)"},
+      {{"compare"}, "--seed", "(default 1)"},      {{"brick"}, "--seed", "(default 1)"},
+      {{"run"}, "--seed", "(default 1)"},          {{"compare"}, "--for", "(default 20000)"},
+  };
+  for (const auto& e : expected) {
+    std::vector<std::string> args = e.command;
+    args.push_back("--help");
+    std::string help = run_rcxc(args).out;
+    auto at = help.find("  " + e.option + " ");
+    ASSERT_NE(at, std::string::npos) << e.command[0] << " " << e.option;
+    std::string line = help.substr(at, help.find('\n', at) - at);
+    EXPECT_NE(line.find(e.default_text), std::string::npos) << e.command[0] << ": " << line;
   }
 }
 

@@ -220,6 +220,7 @@ TEST(LinkCli, ABadActionIsExit2EvenWithoutATower) {
   }
   auto missing = run_rcxc({"remote", "--port", "/dev/no-such-tower", "firmware", "/no/such/firmware.srec"});
   EXPECT_EQ(missing.exit_code, 1) << missing.err;
+  EXPECT_NE(missing.err.find("cannot read /no/such/firmware.srec: no such file"), std::string::npos) << missing.err;
   auto dir = run_rcxc({"remote", "--port", "/dev/no-such-tower", "firmware", std::filesystem::temp_directory_path().string()});
   EXPECT_EQ(dir.exit_code, 1) << dir.err;
   EXPECT_NE(dir.err.find("is a directory, not a firmware file"), std::string::npos) << dir.err;

@@ -224,6 +224,26 @@ TEST(NqcMode, SubcommandIsTheSameMode) {
   EXPECT_NE(r.err.find("File \"" + src + "\" ; line 4\n"), std::string::npos) << r.err;
 }
 
+// nqc has no levels; this mode compiles at rcxc compile's default (-O2, never
+// slower than nqc's code). It compiled at -Os, the default when it was
+// written, so BricxCC's programs polled a bumper more slowly than
+// `rcxc compile` made them.
+TEST(NqcMode, CompilesAtRcxcCompilesDefaultLevel) {
+  TempDir d;
+  std::string src = d.write("bump.nqc",
+                            "int bumps;\ntask main()\n{\n  SetSensor(SENSOR_1, SENSOR_TOUCH);\n  while (true)\n  {\n"
+                            "    if (SENSOR_1 == 1)\n    {\n      bumps++;\n      OnRev(OUT_A);\n      Wait(50);\n"
+                            "      Rev(OUT_A);\n      Wait(40);\n      OnFwd(OUT_A);\n    }\n  }\n}\n");
+  ASSERT_EQ(run_rcxc({"compile", src, "-o", d.path + "/native.rcx"}).exit_code, 0);
+  ASSERT_EQ(run_rcxc({"compile", "-Os", src, "-o", d.path + "/small.rcx"}).exit_code, 0);
+  auto r = run_rcxc({"nqc", "-Trcx", "-O" + d.path + "/nqc.rcx", src});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::string native = rcxc::test::read_text_file(d.path + "/native.rcx");
+  ASSERT_NE(native, rcxc::test::read_text_file(d.path + "/small.rcx"))
+      << "the program no longer tells the levels apart";
+  EXPECT_EQ(rcxc::test::read_text_file(d.path + "/nqc.rcx"), native);
+}
+
 // -L is nqc's layout (tests/backend/nqc_listing_test compares it with nqc's
 // own on nqc's images); -s puts each source line above the first
 // instruction made from it, as nqc does.

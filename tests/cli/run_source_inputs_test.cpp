@@ -89,6 +89,19 @@ TEST(RunSourceInputs, BadOptionsDirectiveIsAnErrorAtItsLine) {
 // A directive with a mistake (`@for 3 s`) made the run drop every
 // directive without a word: the inputs never came and the run took the
 // default minute. It still runs without them, and says so.
+// A source over the 1 MiB cap was said to have directives with errors
+// (the directive reader cannot read it either): only the cap is said.
+TEST(RunSourceInputs, AFileTooLargeToReadIsNotBlamedOnItsDirectives) {
+  std::string dir = rcxc::test::make_temp_dir();
+  std::string path = dir + "/big.nqc";
+  std::ofstream(path) << kProgram << std::string(1100 * 1024, '\n');
+  auto r = run_rcxc({"run", path});
+  std::filesystem::remove_all(dir);
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("larger than a source file may be (1 MiB)"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("directives"), std::string::npos) << r.err;
+}
+
 TEST(RunSourceInputs, DirectivesWithErrorsAreNotUsedAndSaidSo) {
   std::string dir = rcxc::test::make_temp_dir();
   std::string path = dir + "/p.nqc";
