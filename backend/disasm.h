@@ -1,5 +1,5 @@
 // The disassembler: turns RCX bytecode back into readable instructions by
-// walking the opcode table (runtime/opcodes.h). `format_instruction` is the
+// walking the opcode table (rcx/opcodes.h). `format_instruction` is the
 // one-instruction formatter the compiler's listing reuses.
 #pragma once
 

@@ -3,7 +3,7 @@
 // A Program is a list of Functions (tasks and subroutines) and a table of
 // variables. Every function is a list of basic blocks; a block is a list of
 // instructions and one terminator. Instructions are RCX opcodes (rows of the
-// opcode table in runtime/opcodes.h) whose operands are Operands: an RCX
+// opcode table in rcx/opcodes.h) whose operands are Operands: an RCX
 // source/argument pair, an immediate, a program variable or compiler temporary
 // that is not yet bound to one of the 32 slots, or a reference to a function.
 // Control flow lives only in terminators, so passes can reorder blocks and the

@@ -4,7 +4,7 @@
 // On the wire a message is `55 FF 00`, then each payload byte followed by its
 // complement, then the sum of the payload bytes (mod 256) and its complement.
 // The decoder never trusts a length it has not checked: the payload length of
-// every request and reply comes from the opcode table (runtime/opcodes.h);
+// every request and reply comes from the opcode table (rcx/opcodes.h);
 // only Transfer data carries a length field, which is bounded before use, and
 // the Upload datalog reply's length comes from the request it answers.
 #pragma once
