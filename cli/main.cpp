@@ -68,12 +68,17 @@ int run_main(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     // Bad command line: say what was wrong, then how to call us, on stderr.
-    std::cerr << "rcxc: " << e.what();
-    // CLI11's "Could not convert: --x = 1e999" for a value no check of ours saw first.
-    if (dynamic_cast<const CLI::ConversionError*>(&e))
-      std::cerr << ": not a value this option or argument can take (its range is in the help below)";
-    std::cerr << "\n";
-    if (auto hint = rcxc::cli::misspelling_hint(app, {argv + 1, argv + argc})) std::cerr << "rcxc: " << *hint << "\n";
+    auto hint = rcxc::cli::misspelling_hint(app, {argv + 1, argv + argc});
+    // CLI11's "A subcommand is required" after an unknown action reads as
+    // if none were given: the hint names the word instead.
+    if (!(hint && dynamic_cast<const CLI::RequiredError*>(&e))) {
+      std::cerr << "rcxc: " << rcxc::cli::parse_error_text(e);
+      // CLI11's "Could not convert: --x = 1e999" for a value no check of ours saw first.
+      if (dynamic_cast<const CLI::ConversionError*>(&e))
+        std::cerr << ": not a value this option or argument can take (its range is in the help below)";
+      std::cerr << "\n";
+    }
+    if (hint) std::cerr << "rcxc: " << *hint << "\n";
     if (auto hint = rcxc::cli::nqc_habit_hint({argv + 1, argv + argc})) std::cerr << "rcxc: " << *hint << "\n";
     std::cerr << "\n";
     const CLI::App* where = &app;

@@ -88,4 +88,20 @@ std::optional<std::string> misspelling_hint(const CLI::App& app, const std::vect
   return std::nullopt;
 }
 
+std::string parse_error_text(const CLI::ParseError& e) {
+  std::string text = e.what();
+  // A command whose actions are subcommands (`rcxc nxt`), given none.
+  if (dynamic_cast<const CLI::RequiredError*>(&e) && text == "A subcommand is required")
+    return "an action is required: the actions are listed below";
+  if (!dynamic_cast<const CLI::ArgumentMismatch*>(&e)) return text;
+  // "NAME: At Most N required but received M", as CLI11 words an option
+  // given more often than it takes.
+  const std::string at_most = ": At Most ", received = " required but received ";
+  std::size_t at = text.find(at_most), got = text.find(received);
+  if (at == std::string::npos || got == std::string::npos || got < at) return text;
+  std::string most = text.substr(at + at_most.size(), got - at - at_most.size());
+  std::string times = text.substr(got + received.size());
+  return text.substr(0, at) + " given " + times + " times: it takes " + (most == "1" ? "one" : "at most " + most);
+}
+
 }  // namespace rcxc::cli

@@ -16,4 +16,9 @@ namespace rcxc::cli {
 // (and of the commands above it) and its actions are the candidates.
 std::optional<std::string> misspelling_hint(const CLI::App& app, const std::vector<std::string>& words);
 
+// CLI11's message for a parse error, in words a user reads at once where
+// its own are cryptic ("--trace: At Most 1 required but received 2" is
+// "--trace given 2 times: it takes one").
+std::string parse_error_text(const CLI::ParseError& e);
+
 }  // namespace rcxc::cli

@@ -254,3 +254,21 @@ TEST(Cli, EveryNumberOptionNamesItselfAndItsRangeForABadValue) {
     EXPECT_EQ(r.err.find("rcxc: --float: '" + value + "' is "), 0u) << value << ": " << r.err;
   }
 }
+
+// An unknown NXT action was "A subcommand is required" and then the hint
+// naming it, as if none had been given and then one; an option given
+// twice was CLI11's "--trace: At Most 1 required but received 2".
+TEST(Cli, AParseErrorIsSaidOnceInPlainWords) {
+  auto action = run_rcxc({"nxt", "zzzzzz"});
+  EXPECT_EQ(action.exit_code, 2);
+  EXPECT_EQ(action.err.find("A subcommand is required"), std::string::npos) << action.err;
+  EXPECT_NE(action.err.find("rcxc: unknown action 'zzzzzz'"), std::string::npos) << action.err;
+  auto twice = run_rcxc({"run", "p.nqc", "--trace", "a.vcd", "--trace", "b.vcd"});
+  EXPECT_EQ(twice.exit_code, 2);
+  EXPECT_NE(twice.err.find("rcxc: --trace given 2 times: it takes one\n"), std::string::npos) << twice.err;
+  EXPECT_EQ(twice.err.find("At Most"), std::string::npos) << twice.err;
+  auto none = run_rcxc({"nxt"});
+  EXPECT_EQ(none.exit_code, 2);
+  EXPECT_NE(none.err.find("rcxc: an action is required: the actions are listed below"), std::string::npos)
+      << none.err;
+}
