@@ -76,7 +76,15 @@ struct Feed {
   // built: together a bound on how deep the tree nests (parse_tokens).
   std::size_t deepest_stack = 0;
   std::uint32_t tallest_expr = 0;
+  // C's `int main() { ... }`: set at the head, then the body from its '{'
+  // to its '}' (end unset while open). A `return 0;` in it is the same C
+  // habit the head's error names, not a second mistake.
+  bool int_main_head = false;
+  SourceSpan int_main_body{};
 };
+
+// Whether `at` lies in the body of C's `int main()` (Feed::int_main_body).
+bool in_int_main_body(const Feed& feed, const SourceLoc& at);
 
 // `stack_size` is the parser's stack as this token is asked for.
 yy::Parser::symbol_type next_token(Feed& feed, std::size_t stack_size);
@@ -525,8 +533,9 @@ stmt
   | RETURN ';'            { $$ = mks(Return{}, @$); }
   | RETURN expr ';'
       {
-        feed.diags.error(@2, "'return' takes no value in NQC: tasks, subs and functions return nothing (pass a "
-                             "result back in a global variable or an 'int &' parameter)").parsed_past = true;
+        if (!in_int_main_body(feed, @1.begin))
+          feed.diags.error(@2, "'return' takes no value in NQC: tasks, subs and functions return nothing (pass a "
+                               "result back in a global variable or an 'int &' parameter)").parsed_past = true;
         $$ = mks(Return{}, @$);
       }
   | GOTO IDENT ';'        { $$ = mks(Goto{std::string($2), kNoSymbol}, @$); }

@@ -785,3 +785,20 @@ TEST(HelpfulDiagnostics, AReferenceVariableOutsideAParameterListSaysReferencesAr
   EXPECT_EQ(placed_first("int &g;\ntask main() { }\n"), "1:5" + says);
   EXPECT_EQ(placed_first("void f(int &x) { x = 1; }\ntask main() { int y; f(y); }\n"), "none");
 }
+
+// C's `int main()` with `return 0;` at its end (faithfulness round 15): the
+// return's value is part of the same C habit, and said "'return' takes no
+// value" a second time. Elsewhere the return's own error stays.
+TEST(HelpfulDiagnostics, CsMainReturningAValueIsOneError) {
+  auto c_main = run_frontend("int main()\n{\n  On(OUT_A);\n  if (1) return 1;\n  return 0;\n}\n");
+  EXPECT_EQ(placed_messages(c_main.diags),
+            (std::vector<std::string>{"1:1 the RCX starts a program at a task: write 'task main()' for C's 'int "
+                                      "main(...)'"}))
+      << c_main.text();
+  auto after = run_frontend("int main()\n{\n  return 0;\n}\nvoid f() { return 2; }\n");
+  ASSERT_EQ(after.diags.all().size(), 2u) << after.text();
+  EXPECT_EQ(placed_messages(after.diags)[1].substr(0, 32), "5:19 'return' takes no value in ") << after.text();
+  auto task = run_frontend("task main()\n{\n  return 0;\n}\n");
+  ASSERT_EQ(task.diags.all().size(), 1u) << task.text();
+  EXPECT_EQ(placed_messages(task.diags)[0].substr(0, 32), "3:10 'return' takes no value in ") << task.text();
+}
