@@ -145,7 +145,14 @@ class Checker {
   std::optional<std::uint32_t> initialising_global_;
   std::unordered_map<SymbolId, std::int16_t> refused_constants_;  // see VarDecl::refused_const
   std::unordered_map<std::string, SymbolId> labels_;
-  std::set<std::string> reported_undefined_;
+  // A name not declared is said once in the program, at its first use in
+  // the source; the first use in another body becomes a note of that error.
+  struct ReportedUndefined {
+    std::size_t diagnostic = 0;  // index in diags_
+    SymbolId owner = kNoSymbol;  // the body it was found in
+    bool noted = false;          // a use in another body is noted already
+  };
+  std::map<std::string, ReportedUndefined> reported_undefined_;
   bool in_rcx2_call_ = false;  // checking the arguments of an RCX 2 call (see undefined)
   int loop_depth_ = 0;
   int breakable_depth_ = 0;
@@ -245,40 +252,54 @@ class Checker {
     // The arguments of a call of the RCX 2 firmware's API (SetEvent(1,
     // SENSOR_1, EVENT_TYPE_PRESSED)): the call is the one mistake.
     if (in_rcx2_call_ && is_rcx2_api_name(name)) return;
-    // One report per name and body keeps a misspelt name from flooding.
-    if (!reported_undefined_.insert(name).second) return;
-    if (is_rcx2_api_name(name)) {
-      diags_.error(span, "'" + name + "' is not declared (it belongs to the RCX 2 firmware's API; this target is the RCX)");
+    // One report per name keeps a misspelt name from flooding, as nqc says
+    // it once; a use in a second body is noted at the error, which stands at
+    // the use that comes first in the source (bodies are checked functions
+    // first, then tasks, then subs).
+    auto seen = reported_undefined_.find(name);
+    if (seen == reported_undefined_.end()) {
+      reported_undefined_[name] = {diags_.all().size(), owner_, false};
+      diags_.add(undefined_diagnostic(name, span, what, callee));
       return;
     }
+    if (seen->second.owner == owner_ || seen->second.noted) return;
+    seen->second.noted = true;
+    const std::string also = "'" + name + "' is also used here (a name not declared is reported once)";
+    Diagnostic& first = diags_.at(seen->second.diagnostic);
+    if (span.begin.file == first.span.begin.file && before(span.begin, first.span.begin)) {
+      Diagnostic earlier = undefined_diagnostic(name, span, what, callee);
+      earlier.notes.push_back({first.span, also});
+      first = std::move(earlier);
+      return;
+    }
+    first.notes.push_back({span, also});
+  }
+
+  Diagnostic undefined_diagnostic(const std::string& name, SourceSpan span, const std::string& what, bool callee) {
+    auto error = [&](std::string message) { return Diagnostic{Severity::Error, span, std::move(message), {}, false, {}, {}}; };
+    if (is_rcx2_api_name(name))
+      return error("'" + name + "' is not declared (it belongs to the RCX 2 firmware's API; this target is the RCX)");
     // nqc: "wrong number of arguments to 'Random'".
-    if (std::find(function_macro_names_.begin(), function_macro_names_.end(), name) != function_macro_names_.end()) {
-      diags_.error(span, "'" + name + "' is not declared: it is a macro that takes arguments, written '" + name +
-                             "(...)'");
-      return;
-    }
+    if (std::find(function_macro_names_.begin(), function_macro_names_.end(), name) != function_macro_names_.end())
+      return error("'" + name + "' is not declared: it is a macro that takes arguments, written '" + name + "(...)'");
     // `#undef OUT_A` then `On(OUT_A)`: a near name (DISPLAY_OUT_A) is no help.
     for (const auto& [gone, where] : prog_.undefined_macros) {
       if (gone != name) continue;
-      auto& d = diags_.error(span, "'" + name + "' is not declared: the macro was removed by an #undef");
+      auto d = error("'" + name + "' is not declared: the macro was removed by an #undef");
       d.notes.push_back({where, "'" + name + "' is #undef'd here"});
-      return;
+      return d;
     }
     // `TRUE`, `False`: the constants are keywords, which no list of names holds.
     if (!callee && (spelling_distance(name, "true") == 0 || spelling_distance(name, "false") == 0)) {
       std::string lower = spelling_distance(name, "true") == 0 ? "true" : "false";
-      diags_.error(span, "'" + name + "' is not declared; did you mean '" + lower + "'? (NQC's truth values are "
-                                                                                  "written in lower case)");
-      return;
+      return error("'" + name + "' is not declared; did you mean '" + lower +
+                   "'? (NQC's truth values are written in lower case)");
     }
     auto candidates = spelling_candidates(callee);
     auto meant = closest_name(name, candidates);
     if (!meant) meant = name_with_prefix(name, candidates);
-    if (meant) {
-      diags_.error(span, "'" + name + "' is not declared; did you mean '" + *meant + "'?");
-      return;
-    }
-    diags_.error(span, "'" + name + "' is not declared" + what);
+    if (meant) return error("'" + name + "' is not declared; did you mean '" + *meant + "'?");
+    return error("'" + name + "' is not declared" + what);
   }
 
   // ------------------------------------------------------ declarations --
@@ -305,7 +326,6 @@ class Checker {
     body_symbols_begin_ = static_cast<SymbolId>(prog_.symbols.size());
     scopes_.assign(1, {});
     labels_.clear();
-    reported_undefined_.clear();
     loop_depth_ = breakable_depth_ = 0;
     switches_.clear();
   }

@@ -802,3 +802,22 @@ TEST(HelpfulDiagnostics, CsMainReturningAValueIsOneError) {
   ASSERT_EQ(task.diags.all().size(), 1u) << task.text();
   EXPECT_EQ(placed_messages(task.diags)[0].substr(0, 32), "3:10 'return' takes no value in ") << task.text();
 }
+
+// A name not declared in two bodies was said once per body (faithfulness
+// round 14's dx40): nqc says it once. One error at the first use in the
+// source, with the first use in another body as a note; the bodies are
+// checked in another order than the source's (tasks before subs), and the
+// error still stands at the sub's use when the sub comes first.
+TEST(HelpfulDiagnostics, ANameNotDeclaredInSeveralBodiesIsOneErrorWithANote) {
+  auto tasks = run_frontend("task left()\n{\n  speed = 3;\n}\ntask main()\n{\n  speed = 5;\n  start left;\n}\n");
+  ASSERT_EQ(tasks.diags.all().size(), 1u) << tasks.text();
+  EXPECT_EQ(placed_messages(tasks.diags)[0], "3:3 'speed' is not declared") << tasks.text();
+  ASSERT_EQ(tasks.diags.all()[0].notes.size(), 1u) << tasks.text();
+  EXPECT_EQ(tasks.diags.all()[0].notes[0].span.begin.line, 7u) << tasks.text();
+  EXPECT_EQ(tasks.diags.all()[0].notes[0].message, "'speed' is also used here (a name not declared is reported once)");
+  auto sub_first = run_frontend("sub s()\n{\n  count = 0;\n}\ntask main()\n{\n  s();\n  count++;\n  count++;\n}\n");
+  ASSERT_EQ(sub_first.diags.all().size(), 1u) << sub_first.text();
+  EXPECT_EQ(placed_messages(sub_first.diags)[0], "3:3 'count' is not declared") << sub_first.text();
+  ASSERT_EQ(sub_first.diags.all()[0].notes.size(), 1u) << sub_first.text();
+  EXPECT_EQ(sub_first.diags.all()[0].notes[0].span.begin.line, 8u) << sub_first.text();
+}
