@@ -12,6 +12,7 @@
 #include <unordered_set>
 
 #include "frontend/fold.h"
+#include "frontend/other_targets.h"
 #include "frontend/parse.h"
 #include "frontend/ranges.h"
 #include "frontend/spelling.h"
@@ -154,6 +155,7 @@ class Checker {
   };
   std::map<std::string, ReportedUndefined> reported_undefined_;
   bool in_rcx2_call_ = false;  // checking the arguments of an RCX 2 call (see undefined)
+  bool in_other_target_call_ = false;  // likewise of a Scout, CyberMaster or Spybot call
   int loop_depth_ = 0;
   int breakable_depth_ = 0;
   std::vector<Switch*> switches_;
@@ -252,6 +254,7 @@ class Checker {
     // The arguments of a call of the RCX 2 firmware's API (SetEvent(1,
     // SENSOR_1, EVENT_TYPE_PRESSED)): the call is the one mistake.
     if (in_rcx2_call_ && is_rcx2_api_name(name)) return;
+    if (in_other_target_call_ && other_target_of(name)) return;
     // One report per name keeps a misspelt name from flooding, as nqc says
     // it once; a use in a second body is noted at the error, which stands at
     // the use that comes first in the source (bodies are checked functions
@@ -279,6 +282,9 @@ class Checker {
     auto error = [&](std::string message) { return Diagnostic{Severity::Error, span, std::move(message), {}, false, {}, {}}; };
     if (is_rcx2_api_name(name))
       return error("'" + name + "' is not declared (it belongs to the RCX 2 firmware's API; this target is the RCX)");
+    if (auto target = other_target_of(name))
+      return error("'" + name + "' is not declared: it is a " + std::string(*target) + (callee ? " function" : " name") +
+                   "; rcxc compiles for the RCX");
     // nqc: "wrong number of arguments to 'Random'".
     if (std::find(function_macro_names_.begin(), function_macro_names_.end(), name) != function_macro_names_.end())
       return error("'" + name + "' is not declared: it is a macro that takes arguments, written '" + name + "(...)'");
@@ -964,7 +970,9 @@ class Checker {
                                  ? &prog_.functions[prog_.symbols[*id].index]
                                  : nullptr;
     bool outer_rcx2_call = in_rcx2_call_;
+    bool outer_other_target_call = in_other_target_call_;
     in_rcx2_call_ = in_rcx2_call_ || (!id && is_rcx2_api_name(n.callee));
+    in_other_target_call_ = in_other_target_call_ || (!id && other_target_of(n.callee));
     for (std::size_t i = 0; i < n.args.size(); ++i) {
       in_const_argument_ = callee && i < callee->params.size() && callee->params[i].kind == ParamKind::Const;
       std::size_t said_before = diags_.all().size();
@@ -976,6 +984,7 @@ class Checker {
       if (diags_.all().size() == said_before) warn_wide_argument(n.args[i]);
     }
     in_rcx2_call_ = outer_rcx2_call;
+    in_other_target_call_ = outer_other_target_call;
     bool args_ok = diags_.error_count() == errors_before;
     if (!id) {
       undefined(n.callee, n.callee_span, " (no sub or function of that name)", true);

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "frontend/other_targets.h"
 #include "frontend/spelling.h"
 #include "tests/frontend/frontend_test_util.h"
 #include "tests/support/process.h"
@@ -820,4 +821,35 @@ TEST(HelpfulDiagnostics, ANameNotDeclaredInSeveralBodiesIsOneErrorWithANote) {
   EXPECT_EQ(placed_messages(sub_first.diags)[0], "3:3 'count' is not declared") << sub_first.text();
   ASSERT_EQ(sub_first.diags.all()[0].notes.size(), 1u) << sub_first.text();
   EXPECT_EQ(sub_first.diags.all()[0].notes[0].span.begin.line, 8u) << sub_first.text();
+}
+
+// The Scout's, CyberMaster's and Spybot's names said only "not declared"
+// (faithfulness round 14's ap29-ap35), or offered an RCX name ('SetScoutMode':
+// "did you mean 'SensorMode'?"); the RCX 2 names already said which firmware
+// has them. The other target's names among such a call's arguments are that
+// one mistake.
+TEST(HelpfulDiagnostics, AnotherTargetsNameSaysWhichTargetHasIt) {
+  EXPECT_TRUE(rcxc::frontend::other_target_lists_are_sorted());
+  auto scout = run_frontend("task main()\n{\n  SetScoutMode(SCOUT_MODE_STANDALONE);\n  SendVLL(3);\n}\n");
+  EXPECT_EQ(placed_messages(scout.diags),
+            (std::vector<std::string>{
+                "3:3 'SetScoutMode' is not declared: it is a Scout function; rcxc compiles for the RCX",
+                "4:3 'SendVLL' is not declared: it is a Scout and Spybot function; rcxc compiles for the RCX"}))
+      << scout.text();
+  auto cm = run_frontend("int c;\ntask main()\n{\n  OnFwd(OUT_L);\n  c = TachoCount(OUT_L);\n}\n");
+  EXPECT_EQ(placed_messages(cm.diags),
+            (std::vector<std::string>{
+                "4:9 'OUT_L' is not declared: it is a CyberMaster name; rcxc compiles for the RCX",
+                "5:7 'TachoCount' is not declared: it is a CyberMaster function; rcxc compiles for the RCX"}))
+      << cm.text();
+  auto spy = run_frontend("task main()\n{\n  PlaySound(SOUND_OUCH);\n}\n");
+  EXPECT_EQ(placed_messages(spy.diags),
+            (std::vector<std::string>{
+                "3:13 'SOUND_OUCH' is not declared: it is a Spybot name; rcxc compiles for the RCX"}))
+      << spy.text();
+  // A name no target has still gets its suggestion.
+  auto typo = run_frontend("task main()\n{\n  PlaySound(SOUND_CLIK);\n}\n");
+  EXPECT_EQ(placed_messages(typo.diags),
+            (std::vector<std::string>{"3:13 'SOUND_CLIK' is not declared; did you mean 'SOUND_CLICK'?"}))
+      << typo.text();
 }
