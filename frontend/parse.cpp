@@ -103,6 +103,10 @@ void track_asm(Feed& feed, const Token& t) {
       feed.asm_stage = 2;
       feed.asm_depth = 1;
       feed.asm_item_start = true;
+      // Mnemonic lines start with a name that no ',' or '}' follows.
+      const Token& first = feed.tokens[feed.pos];
+      const Token& second = feed.tokens[std::min(feed.pos + 1, feed.tokens.size() - 1)];
+      feed.asm_byte_list = first.kind != TokenKind::Identifier || second.is(",") || second.is("}");
     } else {
       feed.asm_stage = 0;
     }
@@ -292,7 +296,7 @@ void cut_at_too_deep_brackets(std::vector<Token>& tokens, Diagnostics& diags) {
 ast::Program parse_tokens(std::vector<Token> tokens, Diagnostics& diags) {
   drop_rcx2_statements(tokens, diags);
   cut_at_too_deep_brackets(tokens, diags);
-  Feed feed{tokens, diags, {}, 0, {}, {}, 0, false, 0, {}};
+  Feed feed{tokens, diags, {}, 0, {}, {}, 0, false, 0, false, {}};
   P parser(feed);
   parser.parse();
   // Walking the whole tree for its depth cost as much as checking it; the

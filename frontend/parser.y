@@ -53,6 +53,7 @@ struct Feed {
   int asm_stage = 0;         // 0 none, 1 saw 'asm', 2 inside its braces
   bool asm_item_start = false;
   int asm_depth = 0;
+  bool asm_byte_list = false;  // the block is a list of bytes (`asm { 0x51, 1 }`), not mnemonic lines
   std::vector<SourceSpan> open_braces;  // each '{' handed out and not yet closed
   // Names declared as arrays (`int a[4]`), refused at the declaration: an
   // index on one of them is that same mistake again, not a new error.
@@ -1119,6 +1120,17 @@ void yy::Parser::report_syntax_error(const context& ctx) const {
     feed.diags.error(ctx.location(), "expected ';' before '(': the name before it is a macro that stands for a "
                                      "value, not a function, so it takes no '()': leave them out");
     return;
+  }
+  // `asm { 0x51 0x01 }`: a byte list's ',' left out (said "expected '}'").
+  bool value_found = ctx.token() == symbol_kind::S_NUMBER || ctx.token() == symbol_kind::S_IDENT;
+  if (feed.pos >= 2 && value_found && feed.asm_stage == 2 && feed.asm_depth == 1 && feed.asm_byte_list) {
+    const Token& before = feed.tokens[feed.pos - 2];
+    if (before.kind == TokenKind::Number || before.kind == TokenKind::Char ||
+        before.kind == TokenKind::Identifier || before.is(")")) {
+      feed.diags.error(ctx.location(), "expected ',' before '" + std::string(feed.last_text) +
+                                           "': the bytes of an asm block are separated by commas (asm { 0x51, 0x01 })");
+      return;
+    }
   }
   // `x = 1 2;`: two values side by side on one line, an operator left out.
   if (feed.pos >= 2 && (ctx.token() == symbol_kind::S_NUMBER || ctx.token() == symbol_kind::S_IDENT) &&

@@ -853,3 +853,20 @@ TEST(HelpfulDiagnostics, AnotherTargetsNameSaysWhichTargetHasIt) {
             (std::vector<std::string>{"3:13 'SOUND_CLIK' is not declared; did you mean 'SOUND_CLICK'?"}))
       << typo.text();
 }
+
+// `asm { 0x51 0x01 }` said "expected '}' before '0x01'" (faithfulness round
+// 14's dx26): the ',' between the bytes is what is missing. Mnemonic lines,
+// which have no commas between them, keep their own message.
+TEST(HelpfulDiagnostics, AnAsmByteListWithoutACommaAsksForTheComma) {
+  const std::string says = " expected ',' before '0x01': the bytes of an asm block are separated by commas "
+                           "(asm { 0x51, 0x01 })";
+  auto two = run_frontend("task main()\n{\n  asm { 0x51 0x01 };\n}\n");
+  EXPECT_EQ(placed_messages(two.diags), (std::vector<std::string>{"3:14" + says})) << two.text();
+  auto later = run_frontend("task main()\n{\n  asm { 0x13, 0x07 0x01, 0x07 };\n}\n");
+  EXPECT_EQ(placed_messages(later.diags), (std::vector<std::string>{"3:20" + says})) << later.text();
+  auto fine = run_frontend("task main()\n{\n  asm { 0x51, 0x01 };\n}\n");
+  EXPECT_TRUE(fine.diags.all().empty()) << fine.text();
+  auto lines = run_frontend("task main()\n{\n  asm { pwr ABC, 7 dir ABC, fwd };\n}\n");
+  ASSERT_FALSE(lines.diags.all().empty());
+  EXPECT_EQ(placed_messages(lines.diags)[0].find("the bytes of an asm block"), std::string::npos) << lines.text();
+}
