@@ -155,6 +155,10 @@ class Checker {
   };
   std::map<std::string, ReportedUndefined> reported_undefined_;
   bool in_rcx2_call_ = false;  // checking the arguments of an RCX 2 call (see undefined)
+  // The `=` that is a whole condition (`if (SENSOR_1 = 1)`), and whether its
+  // target was refused (see condition).
+  const Assign* condition_assign_ = nullptr;
+  bool condition_assign_refused_ = false;
   bool in_other_target_call_ = false;  // likewise of a Scout, CyberMaster or Spybot call
   int loop_depth_ = 0;
   int breakable_depth_ = 0;
@@ -444,9 +448,15 @@ class Checker {
   }
 
   void condition(Expr& e) {
+    const auto* a = as<Assign>(e);
+    condition_assign_ = a && a->op == AssignOp::Assign ? a : nullptr;
+    condition_assign_refused_ = false;
     expr(e, Use::Condition);
-    if (const auto* a = as<Assign>(e); a && a->op == AssignOp::Assign)
+    // `if (SENSOR_1 = 1)`: the error that the sensor cannot be assigned
+    // asks for '==' itself, and the warning would say it again.
+    if (condition_assign_ && !condition_assign_refused_)
       diags_.warning(at_operator(*a, e.span), WarningKind::AssignInCondition, "assignment used as a condition; did you mean '=='?");
+    condition_assign_ = nullptr;
   }
 
   void loop_body(Stmt& body) {
@@ -907,7 +917,11 @@ class Checker {
     if (const auto* t = as<Name>(*n.target); t && !lookup(t->name)) undefined(t->name, n.target->span, "", false);
     expr(*n.value, Use::Value);
     written_expr(*n.target);
-    require_writable(*n.target, "assign to", at_operator(n, n.target->span));
+    bool whole_condition = &n == condition_assign_;
+    if (!require_writable(*n.target, "assign to", at_operator(n, n.target->span),
+                          whole_condition ? "; did you mean '=='?" : "") &&
+        whole_condition)
+      condition_assign_refused_ = true;
     if ((n.op == AssignOp::Div || n.op == AssignOp::Mod) && n.value->constant && *n.value->constant == 0)
       diags_.warning(n.value->span, WarningKind::DivisionByZero, "division by zero (at run time the firmware leaves the value unchanged)");
   }
@@ -920,17 +934,21 @@ class Checker {
     return in_macro && a.op_span.begin.valid() && a.op_span.begin.expansion == 0 ? a.op_span : preferred;
   }
 
-  // `where`: where to show that the target is no variable.
-  void require_writable(const Expr& target, const std::string& verb, const SourceSpan& where) {
-    if (is_variable_slot(target)) return;
+  // `where`: where to show that the target is no variable; `hint` ends the
+  // message. False when the target was refused here.
+  bool require_writable(const Expr& target, const std::string& verb, const SourceSpan& where,
+                        const std::string& hint = "") {
+    if (is_variable_slot(target)) return true;
     const auto* n = as<Name>(target);
     if (!n) {
-      diags_.error(where, "cannot " + verb + " this expression: it is not a variable" + source_noun(target));
-      return;
+      diags_.error(where, "cannot " + verb + " this expression: it is not a variable" + source_noun(target) + hint);
+      return false;
     }
-    if (n->symbol == kNoSymbol) return;  // already reported
+    if (n->symbol == kNoSymbol) return true;  // already reported
     const Symbol& s = prog_.symbols[n->symbol];
-    if (!is_writable(s)) diags_.error(target.span, "cannot " + verb + " '" + s.name + "': it is a constant parameter");
+    if (is_writable(s)) return true;
+    diags_.error(target.span, "cannot " + verb + " '" + s.name + "': it is a constant parameter" + hint);
+    return false;
   }
 
   // What a source other than a variable reads, said after "it is not a

@@ -870,3 +870,24 @@ TEST(HelpfulDiagnostics, AnAsmByteListWithoutACommaAsksForTheComma) {
   ASSERT_FALSE(lines.diags.all().empty());
   EXPECT_EQ(placed_messages(lines.diags)[0].find("the bytes of an asm block"), std::string::npos) << lines.text();
 }
+
+// `if (SENSOR_1 = 1)`, the student's '=' for '==' (faithfulness round 15's
+// rs02, dg09): the error said the sensor cannot be assigned, and only a
+// warning after it asked for '=='. The error asks itself, once.
+TEST(HelpfulDiagnostics, AnAssignmentToASensorAsAConditionAsksForDoubleEquals) {
+  auto sensor = run_frontend("task main()\n{\n  until (SENSOR_1 = 1);\n  if (Timer(0) = 5) Off(OUT_A);\n}\n");
+  ASSERT_EQ(sensor.diags.all().size(), 2u) << sensor.text();
+  for (const auto& d : sensor.diags.all()) {
+    EXPECT_EQ(d.severity, rcxc::Severity::Error) << sensor.text();
+    EXPECT_NE(d.message.find("which a program can read and not assign; did you mean '=='?"), std::string::npos)
+        << sensor.text();
+  }
+  // A variable assigned in a condition is still only a warning.
+  auto variable = run_frontend("int x;\ntask main()\n{\n  if (x = 1) Off(OUT_A);\n}\n");
+  ASSERT_EQ(variable.diags.all().size(), 1u) << variable.text();
+  EXPECT_EQ(variable.diags.all()[0].message, "assignment used as a condition; did you mean '=='?");
+  // An assignment that is not the whole condition gets no hint.
+  auto inner = run_frontend("task main()\n{\n  SENSOR_1 = 1;\n}\n");
+  ASSERT_EQ(inner.diags.all().size(), 1u) << inner.text();
+  EXPECT_EQ(inner.diags.all()[0].message.find("did you mean"), std::string::npos) << inner.text();
+}
