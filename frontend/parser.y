@@ -783,6 +783,26 @@ bool unmatched_close(const Feed& feed, std::size_t close) {
   return true;
 }
 
+// Other languages' `elsif (c)`, `elseif (c)`, `elif (c)` ending at the
+// ')' at `close` and starting a statement: the parse fails after it (it
+// reads as a call with no ';'), and what was meant is `else if (c)`.
+const Token* else_if_word_before(const Feed& feed, std::size_t close) {
+  if (close >= feed.tokens.size() || !feed.tokens[close].is(")")) return nullptr;
+  int depth = 0;
+  for (std::size_t i = close + 1; i-- > 0;) {
+    if (feed.tokens[i].is(")")) ++depth;
+    if (feed.tokens[i].is("(") && --depth == 0) {
+      if (i == 0) return nullptr;
+      const Token& word = feed.tokens[i - 1];
+      bool is = word.is_identifier("elsif") || word.is_identifier("elseif") || word.is_identifier("elif");
+      bool starts = i < 2 || feed.tokens[i - 2].is(";") || feed.tokens[i - 2].is("}") || feed.tokens[i - 2].is("{") ||
+                    feed.tokens[i - 2].is(")");
+      return is && starts ? &word : nullptr;
+    }
+  }
+  return nullptr;
+}
+
 // Whether a new name follows `t` in a declaration.
 bool declares_next(const Token& t) {
   return t.is_identifier("int") || t.is_identifier("void") || t.is_identifier("sub") || t.is_identifier("task") ||
@@ -1129,6 +1149,13 @@ void yy::Parser::report_syntax_error(const context& ctx) const {
         before.kind == TokenKind::Identifier || before.is(")")) {
       feed.diags.error(ctx.location(), "expected ',' before '" + std::string(feed.last_text) +
                                            "': the bytes of an asm block are separated by commas (asm { 0x51, 0x01 })");
+      return;
+    }
+  }
+  // `elsif (x == 1) ...`: the parse fails just after the ')'.
+  if (feed.pos >= 2) {
+    if (const Token* word = else_if_word_before(feed, feed.pos - 2)) {
+      feed.diags.error(word->span, "'" + std::string(word->text) + "' is not NQC: write 'else if (...)'");
       return;
     }
   }

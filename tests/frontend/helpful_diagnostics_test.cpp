@@ -891,3 +891,18 @@ TEST(HelpfulDiagnostics, AnAssignmentToASensorAsAConditionAsksForDoubleEquals) {
   ASSERT_EQ(inner.diags.all().size(), 1u) << inner.text();
   EXPECT_EQ(inner.diags.all()[0].message.find("did you mean"), std::string::npos) << inner.text();
 }
+
+// Other languages' `elsif`/`elseif`/`elif` (faithfulness round 15's rs39,
+// dg08) said "expected an operator or ';' before 'OnRev': two values stand
+// side by side"; what was meant is `else if`.
+TEST(HelpfulDiagnostics, ElsifAsksForElseIf) {
+  for (std::string word : {"elsif", "elseif", "elif"}) {
+    auto r = run_frontend("int x;\ntask main()\n{\n  if (x == 0) On(OUT_A);\n  " + word +
+                          " (x == 1) { Off(OUT_A); }\n  else Off(OUT_C);\n}\n");
+    ASSERT_FALSE(r.diags.all().empty()) << word;
+    EXPECT_EQ(placed_messages(r.diags)[0], "5:3 '" + word + "' is not NQC: write 'else if (...)'") << r.text();
+  }
+  auto same_line = run_frontend("int x;\ntask main()\n{\n  if (x == 0) On(OUT_A); elsif (x == 1) Off(OUT_A);\n}\n");
+  ASSERT_FALSE(same_line.diags.all().empty());
+  EXPECT_EQ(placed_messages(same_line.diags)[0], "4:26 'elsif' is not NQC: write 'else if (...)'") << same_line.text();
+}
