@@ -1152,6 +1152,22 @@ void yy::Parser::report_syntax_error(const context& ctx) const {
       return;
     }
   }
+  // `#define LIMIT 40;` then `if (x > LIMIT)`: the ';' ending the macro's
+  // text is found where the parser wants a ')' or an operator.
+  if (ctx.token() != symbol_kind::S_YYEOF && feed.last_text == ";" && !expects_punct("';'")) {
+    const SourceLoc& at = feed.tokens[feed.pos - 1].span.begin;
+    const SourceLoc& next = feed.tokens[feed.pos].span.begin;
+    if (at.expansion != 0 && next.expansion != at.expansion && n >= 1) {
+      std::string want = expects_punct("')'") ? "')'" : "an operator";
+      if (n <= 3) {
+        want.clear();
+        for (int i = 0; i < n; ++i) want += (i == 0 ? "" : i + 1 == n ? " or " : ", ") + shown(expected[i]);
+      }
+      feed.diags.error(ctx.location(), "expected " + want + " before ';': the ';' ends a macro's text (a #define "
+                                        "needs no ';' at its end)");
+      return;
+    }
+  }
   // `elsif (x == 1) ...`: the parse fails just after the ')'.
   if (feed.pos >= 2) {
     if (const Token* word = else_if_word_before(feed, feed.pos - 2)) {

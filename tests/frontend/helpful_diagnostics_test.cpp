@@ -906,3 +906,23 @@ TEST(HelpfulDiagnostics, ElsifAsksForElseIf) {
   ASSERT_FALSE(same_line.diags.all().empty());
   EXPECT_EQ(placed_messages(same_line.diags)[0], "4:26 'elsif' is not NQC: write 'else if (...)'") << same_line.text();
 }
+
+// `#define THRESHOLD 40;` used in a condition or an argument (faithfulness
+// round 15's rs04, dg07) said "expected ')' before ';'" with the macro as a
+// note: why a ';' stood there was left to the reader.
+TEST(HelpfulDiagnostics, AMacroEndingInASemicolonSaysSo) {
+  auto arg = run_frontend("#define SPEED 5;\ntask main()\n{\n  SetPower(OUT_A, SPEED);\n}\n");
+  ASSERT_FALSE(arg.diags.all().empty());
+  EXPECT_EQ(arg.diags.all()[0].message,
+            "expected ')' before ';': the ';' ends a macro's text (a #define needs no ';' at its end)")
+      << arg.text();
+  auto condition = run_frontend("#define LIMIT 40;\ntask main()\n{\n  if (SENSOR_2 > LIMIT) Off(OUT_A);\n}\n");
+  ASSERT_FALSE(condition.diags.all().empty());
+  EXPECT_EQ(condition.diags.all()[0].message,
+            "expected ')' before ';': the ';' ends a macro's text (a #define needs no ';' at its end)")
+      << condition.text();
+  // A ';' of the user's own where a ')' is missing keeps the plain message.
+  auto own = run_frontend("task main()\n{\n  OnFwd(OUT_A;\n}\n");
+  ASSERT_FALSE(own.diags.all().empty());
+  EXPECT_EQ(own.diags.all()[0].message, "expected ')' before ';'") << own.text();
+}
