@@ -148,6 +148,8 @@ class Diagnostics {
   void add(Diagnostic d);
 
   const std::vector<Diagnostic>& all() const { return list_; }
+  // The `index`th diagnostic, to add a note found later (index < all().size()).
+  Diagnostic& at(std::size_t index) { return list_.at(index); }
   std::size_t error_count() const;
   bool has_errors() const { return error_count() != 0; }
 

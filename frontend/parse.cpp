@@ -103,6 +103,10 @@ void track_asm(Feed& feed, const Token& t) {
       feed.asm_stage = 2;
       feed.asm_depth = 1;
       feed.asm_item_start = true;
+      // Mnemonic lines start with a name that no ',' or '}' follows.
+      const Token& first = feed.tokens[feed.pos];
+      const Token& second = feed.tokens[std::min(feed.pos + 1, feed.tokens.size() - 1)];
+      feed.asm_byte_list = first.kind != TokenKind::Identifier || second.is(",") || second.is("}");
     } else {
       feed.asm_stage = 0;
     }
@@ -182,6 +186,37 @@ void drop_rcx2_statements(std::vector<Token>& tokens, Diagnostics& diags) {
 
 }  // namespace
 
+namespace {
+
+// Follows C's `int main(...) {` at the top level (Feed::int_main_body), as
+// token `t` is handed out and before the braces it opens or closes count.
+void note_int_main(Feed& feed, const Token& t) {
+  if (!feed.open_braces.empty()) {
+    if (t.is("}") && feed.open_braces.size() == 1 && feed.int_main_body.begin.valid() &&
+        !feed.int_main_body.end.valid())
+      feed.int_main_body.end = t.span.end;
+    return;
+  }
+  if (t.is("{")) {
+    feed.int_main_body = feed.int_main_head ? SourceSpan{t.span.begin, {}} : SourceSpan{};
+    feed.int_main_head = false;
+  } else if (t.is(";")) {
+    feed.int_main_head = false;
+  } else if (t.is_identifier("int")) {
+    const auto& next = feed.tokens;
+    std::size_t i = feed.pos;  // the token after `t`
+    feed.int_main_head = i + 1 < next.size() && next[i].is_identifier("main") && next[i + 1].is("(");
+  }
+}
+
+}  // namespace
+
+bool in_int_main_body(const Feed& feed, const SourceLoc& at) {
+  const SourceSpan& body = feed.int_main_body;
+  if (!body.begin.valid() || at.file != body.begin.file || before(at, body.begin)) return false;
+  return !body.end.valid() || before(at, body.end);
+}
+
 yy::Parser::symbol_type next_token(Feed& feed, std::size_t stack_size) {
   feed.deepest_stack = std::max(feed.deepest_stack, stack_size);
   if (stack_size > kMaxParserStack && !feed.too_deep) {
@@ -197,6 +232,7 @@ yy::Parser::symbol_type next_token(Feed& feed, std::size_t stack_size) {
     ++feed.pos;
     feed.prev_end = feed.pos >= 2 ? feed.tokens[feed.pos - 2].span.end : SourceLoc{};
     feed.last_text = t.text;
+    note_int_main(feed, t);
     if (t.is("{")) feed.open_braces.push_back(t.span);
     if (t.is("}") && !feed.open_braces.empty()) feed.open_braces.pop_back();
     bool mnemonic = t.kind == TokenKind::Identifier && is_mnemonic_position(feed, t);
@@ -260,7 +296,7 @@ void cut_at_too_deep_brackets(std::vector<Token>& tokens, Diagnostics& diags) {
 ast::Program parse_tokens(std::vector<Token> tokens, Diagnostics& diags) {
   drop_rcx2_statements(tokens, diags);
   cut_at_too_deep_brackets(tokens, diags);
-  Feed feed{tokens, diags, {}, 0, {}, {}, 0, false, 0, {}};
+  Feed feed{tokens, diags, {}, 0, {}, {}, 0, false, 0, false, {}};
   P parser(feed);
   parser.parse();
   // Walking the whole tree for its depth cost as much as checking it; the

@@ -53,6 +53,7 @@ struct Feed {
   int asm_stage = 0;         // 0 none, 1 saw 'asm', 2 inside its braces
   bool asm_item_start = false;
   int asm_depth = 0;
+  bool asm_byte_list = false;  // the block is a list of bytes (`asm { 0x51, 1 }`), not mnemonic lines
   std::vector<SourceSpan> open_braces;  // each '{' handed out and not yet closed
   // Names declared as arrays (`int a[4]`), refused at the declaration: an
   // index on one of them is that same mistake again, not a new error.
@@ -76,7 +77,15 @@ struct Feed {
   // built: together a bound on how deep the tree nests (parse_tokens).
   std::size_t deepest_stack = 0;
   std::uint32_t tallest_expr = 0;
+  // C's `int main() { ... }`: set at the head, then the body from its '{'
+  // to its '}' (end unset while open). A `return 0;` in it is the same C
+  // habit the head's error names, not a second mistake.
+  bool int_main_head = false;
+  SourceSpan int_main_body{};
 };
+
+// Whether `at` lies in the body of C's `int main()` (Feed::int_main_body).
+bool in_int_main_body(const Feed& feed, const SourceLoc& at);
 
 // `stack_size` is the parser's stack as this token is asked for.
 yy::Parser::symbol_type next_token(Feed& feed, std::size_t stack_size);
@@ -525,8 +534,9 @@ stmt
   | RETURN ';'            { $$ = mks(Return{}, @$); }
   | RETURN expr ';'
       {
-        feed.diags.error(@2, "'return' takes no value in NQC: tasks, subs and functions return nothing (pass a "
-                             "result back in a global variable or an 'int &' parameter)").parsed_past = true;
+        if (!in_int_main_body(feed, @1.begin))
+          feed.diags.error(@2, "'return' takes no value in NQC: tasks, subs and functions return nothing (pass a "
+                               "result back in a global variable or an 'int &' parameter)").parsed_past = true;
         $$ = mks(Return{}, @$);
       }
   | GOTO IDENT ';'        { $$ = mks(Goto{std::string($2), kNoSymbol}, @$); }
@@ -771,6 +781,26 @@ bool unmatched_close(const Feed& feed, std::size_t close) {
     if (depth == 0 && (t.is(";") || t.is("{") || t.is("}"))) return true;
   }
   return true;
+}
+
+// Other languages' `elsif (c)`, `elseif (c)`, `elif (c)` ending at the
+// ')' at `close` and starting a statement: the parse fails after it (it
+// reads as a call with no ';'), and what was meant is `else if (c)`.
+const Token* else_if_word_before(const Feed& feed, std::size_t close) {
+  if (close >= feed.tokens.size() || !feed.tokens[close].is(")")) return nullptr;
+  int depth = 0;
+  for (std::size_t i = close + 1; i-- > 0;) {
+    if (feed.tokens[i].is(")")) ++depth;
+    if (feed.tokens[i].is("(") && --depth == 0) {
+      if (i == 0) return nullptr;
+      const Token& word = feed.tokens[i - 1];
+      bool is = word.is_identifier("elsif") || word.is_identifier("elseif") || word.is_identifier("elif");
+      bool starts = i < 2 || feed.tokens[i - 2].is(";") || feed.tokens[i - 2].is("}") || feed.tokens[i - 2].is("{") ||
+                    feed.tokens[i - 2].is(")");
+      return is && starts ? &word : nullptr;
+    }
+  }
+  return nullptr;
 }
 
 // Whether a new name follows `t` in a declaration.
@@ -1110,6 +1140,40 @@ void yy::Parser::report_syntax_error(const context& ctx) const {
     feed.diags.error(ctx.location(), "expected ';' before '(': the name before it is a macro that stands for a "
                                      "value, not a function, so it takes no '()': leave them out");
     return;
+  }
+  // `asm { 0x51 0x01 }`: a byte list's ',' left out (said "expected '}'").
+  bool value_found = ctx.token() == symbol_kind::S_NUMBER || ctx.token() == symbol_kind::S_IDENT;
+  if (feed.pos >= 2 && value_found && feed.asm_stage == 2 && feed.asm_depth == 1 && feed.asm_byte_list) {
+    const Token& before = feed.tokens[feed.pos - 2];
+    if (before.kind == TokenKind::Number || before.kind == TokenKind::Char ||
+        before.kind == TokenKind::Identifier || before.is(")")) {
+      feed.diags.error(ctx.location(), "expected ',' before '" + std::string(feed.last_text) +
+                                           "': the bytes of an asm block are separated by commas (asm { 0x51, 0x01 })");
+      return;
+    }
+  }
+  // `#define LIMIT 40;` then `if (x > LIMIT)`: the ';' ending the macro's
+  // text is found where the parser wants a ')' or an operator.
+  if (ctx.token() != symbol_kind::S_YYEOF && feed.last_text == ";" && !expects_punct("';'")) {
+    const SourceLoc& at = feed.tokens[feed.pos - 1].span.begin;
+    const SourceLoc& next = feed.tokens[feed.pos].span.begin;
+    if (at.expansion != 0 && next.expansion != at.expansion && n >= 1) {
+      std::string want = expects_punct("')'") ? "')'" : "an operator";
+      if (n <= 3) {
+        want.clear();
+        for (int i = 0; i < n; ++i) want += (i == 0 ? "" : i + 1 == n ? " or " : ", ") + shown(expected[i]);
+      }
+      feed.diags.error(ctx.location(), "expected " + want + " before ';': the ';' ends a macro's text (a #define "
+                                        "needs no ';' at its end)");
+      return;
+    }
+  }
+  // `elsif (x == 1) ...`: the parse fails just after the ')'.
+  if (feed.pos >= 2) {
+    if (const Token* word = else_if_word_before(feed, feed.pos - 2)) {
+      feed.diags.error(word->span, "'" + std::string(word->text) + "' is not NQC: write 'else if (...)'");
+      return;
+    }
   }
   // `x = 1 2;`: two values side by side on one line, an operator left out.
   if (feed.pos >= 2 && (ctx.token() == symbol_kind::S_NUMBER || ctx.token() == symbol_kind::S_IDENT) &&

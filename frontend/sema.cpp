@@ -12,6 +12,7 @@
 #include <unordered_set>
 
 #include "frontend/fold.h"
+#include "frontend/other_targets.h"
 #include "frontend/parse.h"
 #include "frontend/ranges.h"
 #include "frontend/spelling.h"
@@ -145,8 +146,20 @@ class Checker {
   std::optional<std::uint32_t> initialising_global_;
   std::unordered_map<SymbolId, std::int16_t> refused_constants_;  // see VarDecl::refused_const
   std::unordered_map<std::string, SymbolId> labels_;
-  std::set<std::string> reported_undefined_;
+  // A name not declared is said once in the program, at its first use in
+  // the source; the first use in another body becomes a note of that error.
+  struct ReportedUndefined {
+    std::size_t diagnostic = 0;  // index in diags_
+    SymbolId owner = kNoSymbol;  // the body it was found in
+    bool noted = false;          // a use in another body is noted already
+  };
+  std::map<std::string, ReportedUndefined> reported_undefined_;
   bool in_rcx2_call_ = false;  // checking the arguments of an RCX 2 call (see undefined)
+  // The `=` that is a whole condition (`if (SENSOR_1 = 1)`), and whether its
+  // target was refused (see condition).
+  const Assign* condition_assign_ = nullptr;
+  bool condition_assign_refused_ = false;
+  bool in_other_target_call_ = false;  // likewise of a Scout, CyberMaster or Spybot call
   int loop_depth_ = 0;
   int breakable_depth_ = 0;
   std::vector<Switch*> switches_;
@@ -245,40 +258,58 @@ class Checker {
     // The arguments of a call of the RCX 2 firmware's API (SetEvent(1,
     // SENSOR_1, EVENT_TYPE_PRESSED)): the call is the one mistake.
     if (in_rcx2_call_ && is_rcx2_api_name(name)) return;
-    // One report per name and body keeps a misspelt name from flooding.
-    if (!reported_undefined_.insert(name).second) return;
-    if (is_rcx2_api_name(name)) {
-      diags_.error(span, "'" + name + "' is not declared (it belongs to the RCX 2 firmware's API; this target is the RCX)");
+    if (in_other_target_call_ && other_target_of(name)) return;
+    // One report per name keeps a misspelt name from flooding, as nqc says
+    // it once; a use in a second body is noted at the error, which stands at
+    // the use that comes first in the source (bodies are checked functions
+    // first, then tasks, then subs).
+    auto seen = reported_undefined_.find(name);
+    if (seen == reported_undefined_.end()) {
+      reported_undefined_[name] = {diags_.all().size(), owner_, false};
+      diags_.add(undefined_diagnostic(name, span, what, callee));
       return;
     }
+    if (seen->second.owner == owner_ || seen->second.noted) return;
+    seen->second.noted = true;
+    const std::string also = "'" + name + "' is also used here (a name not declared is reported once)";
+    Diagnostic& first = diags_.at(seen->second.diagnostic);
+    if (span.begin.file == first.span.begin.file && before(span.begin, first.span.begin)) {
+      Diagnostic earlier = undefined_diagnostic(name, span, what, callee);
+      earlier.notes.push_back({first.span, also});
+      first = std::move(earlier);
+      return;
+    }
+    first.notes.push_back({span, also});
+  }
+
+  Diagnostic undefined_diagnostic(const std::string& name, SourceSpan span, const std::string& what, bool callee) {
+    auto error = [&](std::string message) { return Diagnostic{Severity::Error, span, std::move(message), {}, false, {}, {}}; };
+    if (is_rcx2_api_name(name))
+      return error("'" + name + "' is not declared (it belongs to the RCX 2 firmware's API; this target is the RCX)");
+    if (auto target = other_target_of(name))
+      return error("'" + name + "' is not declared: it is a " + std::string(*target) + (callee ? " function" : " name") +
+                   "; rcxc compiles for the RCX");
     // nqc: "wrong number of arguments to 'Random'".
-    if (std::find(function_macro_names_.begin(), function_macro_names_.end(), name) != function_macro_names_.end()) {
-      diags_.error(span, "'" + name + "' is not declared: it is a macro that takes arguments, written '" + name +
-                             "(...)'");
-      return;
-    }
+    if (std::find(function_macro_names_.begin(), function_macro_names_.end(), name) != function_macro_names_.end())
+      return error("'" + name + "' is not declared: it is a macro that takes arguments, written '" + name + "(...)'");
     // `#undef OUT_A` then `On(OUT_A)`: a near name (DISPLAY_OUT_A) is no help.
     for (const auto& [gone, where] : prog_.undefined_macros) {
       if (gone != name) continue;
-      auto& d = diags_.error(span, "'" + name + "' is not declared: the macro was removed by an #undef");
+      auto d = error("'" + name + "' is not declared: the macro was removed by an #undef");
       d.notes.push_back({where, "'" + name + "' is #undef'd here"});
-      return;
+      return d;
     }
     // `TRUE`, `False`: the constants are keywords, which no list of names holds.
     if (!callee && (spelling_distance(name, "true") == 0 || spelling_distance(name, "false") == 0)) {
       std::string lower = spelling_distance(name, "true") == 0 ? "true" : "false";
-      diags_.error(span, "'" + name + "' is not declared; did you mean '" + lower + "'? (NQC's truth values are "
-                                                                                  "written in lower case)");
-      return;
+      return error("'" + name + "' is not declared; did you mean '" + lower +
+                   "'? (NQC's truth values are written in lower case)");
     }
     auto candidates = spelling_candidates(callee);
     auto meant = closest_name(name, candidates);
     if (!meant) meant = name_with_prefix(name, candidates);
-    if (meant) {
-      diags_.error(span, "'" + name + "' is not declared; did you mean '" + *meant + "'?");
-      return;
-    }
-    diags_.error(span, "'" + name + "' is not declared" + what);
+    if (meant) return error("'" + name + "' is not declared; did you mean '" + *meant + "'?");
+    return error("'" + name + "' is not declared" + what);
   }
 
   // ------------------------------------------------------ declarations --
@@ -305,7 +336,6 @@ class Checker {
     body_symbols_begin_ = static_cast<SymbolId>(prog_.symbols.size());
     scopes_.assign(1, {});
     labels_.clear();
-    reported_undefined_.clear();
     loop_depth_ = breakable_depth_ = 0;
     switches_.clear();
   }
@@ -418,9 +448,15 @@ class Checker {
   }
 
   void condition(Expr& e) {
+    const auto* a = as<Assign>(e);
+    condition_assign_ = a && a->op == AssignOp::Assign ? a : nullptr;
+    condition_assign_refused_ = false;
     expr(e, Use::Condition);
-    if (const auto* a = as<Assign>(e); a && a->op == AssignOp::Assign)
+    // `if (SENSOR_1 = 1)`: the error that the sensor cannot be assigned
+    // asks for '==' itself, and the warning would say it again.
+    if (condition_assign_ && !condition_assign_refused_)
       diags_.warning(at_operator(*a, e.span), WarningKind::AssignInCondition, "assignment used as a condition; did you mean '=='?");
+    condition_assign_ = nullptr;
   }
 
   void loop_body(Stmt& body) {
@@ -881,7 +917,11 @@ class Checker {
     if (const auto* t = as<Name>(*n.target); t && !lookup(t->name)) undefined(t->name, n.target->span, "", false);
     expr(*n.value, Use::Value);
     written_expr(*n.target);
-    require_writable(*n.target, "assign to", at_operator(n, n.target->span));
+    bool whole_condition = &n == condition_assign_;
+    if (!require_writable(*n.target, "assign to", at_operator(n, n.target->span),
+                          whole_condition ? "; did you mean '=='?" : "") &&
+        whole_condition)
+      condition_assign_refused_ = true;
     if ((n.op == AssignOp::Div || n.op == AssignOp::Mod) && n.value->constant && *n.value->constant == 0)
       diags_.warning(n.value->span, WarningKind::DivisionByZero, "division by zero (at run time the firmware leaves the value unchanged)");
   }
@@ -894,17 +934,21 @@ class Checker {
     return in_macro && a.op_span.begin.valid() && a.op_span.begin.expansion == 0 ? a.op_span : preferred;
   }
 
-  // `where`: where to show that the target is no variable.
-  void require_writable(const Expr& target, const std::string& verb, const SourceSpan& where) {
-    if (is_variable_slot(target)) return;
+  // `where`: where to show that the target is no variable; `hint` ends the
+  // message. False when the target was refused here.
+  bool require_writable(const Expr& target, const std::string& verb, const SourceSpan& where,
+                        const std::string& hint = "") {
+    if (is_variable_slot(target)) return true;
     const auto* n = as<Name>(target);
     if (!n) {
-      diags_.error(where, "cannot " + verb + " this expression: it is not a variable" + source_noun(target));
-      return;
+      diags_.error(where, "cannot " + verb + " this expression: it is not a variable" + source_noun(target) + hint);
+      return false;
     }
-    if (n->symbol == kNoSymbol) return;  // already reported
+    if (n->symbol == kNoSymbol) return true;  // already reported
     const Symbol& s = prog_.symbols[n->symbol];
-    if (!is_writable(s)) diags_.error(target.span, "cannot " + verb + " '" + s.name + "': it is a constant parameter");
+    if (is_writable(s)) return true;
+    diags_.error(target.span, "cannot " + verb + " '" + s.name + "': it is a constant parameter" + hint);
+    return false;
   }
 
   // What a source other than a variable reads, said after "it is not a
@@ -944,7 +988,9 @@ class Checker {
                                  ? &prog_.functions[prog_.symbols[*id].index]
                                  : nullptr;
     bool outer_rcx2_call = in_rcx2_call_;
+    bool outer_other_target_call = in_other_target_call_;
     in_rcx2_call_ = in_rcx2_call_ || (!id && is_rcx2_api_name(n.callee));
+    in_other_target_call_ = in_other_target_call_ || (!id && other_target_of(n.callee));
     for (std::size_t i = 0; i < n.args.size(); ++i) {
       in_const_argument_ = callee && i < callee->params.size() && callee->params[i].kind == ParamKind::Const;
       std::size_t said_before = diags_.all().size();
@@ -956,6 +1002,7 @@ class Checker {
       if (diags_.all().size() == said_before) warn_wide_argument(n.args[i]);
     }
     in_rcx2_call_ = outer_rcx2_call;
+    in_other_target_call_ = outer_other_target_call;
     bool args_ok = diags_.error_count() == errors_before;
     if (!id) {
       undefined(n.callee, n.callee_span, " (no sub or function of that name)", true);

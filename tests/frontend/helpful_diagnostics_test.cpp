@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "frontend/other_targets.h"
 #include "frontend/spelling.h"
 #include "tests/frontend/frontend_test_util.h"
 #include "tests/support/process.h"
@@ -784,4 +785,144 @@ TEST(HelpfulDiagnostics, AReferenceVariableOutsideAParameterListSaysReferencesAr
   EXPECT_EQ(placed_first("task main()\n{\n  int &flag = 1;\n}\n"), "3:7" + says);
   EXPECT_EQ(placed_first("int &g;\ntask main() { }\n"), "1:5" + says);
   EXPECT_EQ(placed_first("void f(int &x) { x = 1; }\ntask main() { int y; f(y); }\n"), "none");
+}
+
+// C's `int main()` with `return 0;` at its end (faithfulness round 15): the
+// return's value is part of the same C habit, and said "'return' takes no
+// value" a second time. Elsewhere the return's own error stays.
+TEST(HelpfulDiagnostics, CsMainReturningAValueIsOneError) {
+  auto c_main = run_frontend("int main()\n{\n  On(OUT_A);\n  if (1) return 1;\n  return 0;\n}\n");
+  EXPECT_EQ(placed_messages(c_main.diags),
+            (std::vector<std::string>{"1:1 the RCX starts a program at a task: write 'task main()' for C's 'int "
+                                      "main(...)'"}))
+      << c_main.text();
+  auto after = run_frontend("int main()\n{\n  return 0;\n}\nvoid f() { return 2; }\n");
+  ASSERT_EQ(after.diags.all().size(), 2u) << after.text();
+  EXPECT_EQ(placed_messages(after.diags)[1].substr(0, 32), "5:19 'return' takes no value in ") << after.text();
+  auto task = run_frontend("task main()\n{\n  return 0;\n}\n");
+  ASSERT_EQ(task.diags.all().size(), 1u) << task.text();
+  EXPECT_EQ(placed_messages(task.diags)[0].substr(0, 32), "3:10 'return' takes no value in ") << task.text();
+}
+
+// A name not declared in two bodies was said once per body (faithfulness
+// round 14's dx40): nqc says it once. One error at the first use in the
+// source, with the first use in another body as a note; the bodies are
+// checked in another order than the source's (tasks before subs), and the
+// error still stands at the sub's use when the sub comes first.
+TEST(HelpfulDiagnostics, ANameNotDeclaredInSeveralBodiesIsOneErrorWithANote) {
+  auto tasks = run_frontend("task left()\n{\n  speed = 3;\n}\ntask main()\n{\n  speed = 5;\n  start left;\n}\n");
+  ASSERT_EQ(tasks.diags.all().size(), 1u) << tasks.text();
+  EXPECT_EQ(placed_messages(tasks.diags)[0], "3:3 'speed' is not declared") << tasks.text();
+  ASSERT_EQ(tasks.diags.all()[0].notes.size(), 1u) << tasks.text();
+  EXPECT_EQ(tasks.diags.all()[0].notes[0].span.begin.line, 7u) << tasks.text();
+  EXPECT_EQ(tasks.diags.all()[0].notes[0].message, "'speed' is also used here (a name not declared is reported once)");
+  auto sub_first = run_frontend("sub s()\n{\n  count = 0;\n}\ntask main()\n{\n  s();\n  count++;\n  count++;\n}\n");
+  ASSERT_EQ(sub_first.diags.all().size(), 1u) << sub_first.text();
+  EXPECT_EQ(placed_messages(sub_first.diags)[0], "3:3 'count' is not declared") << sub_first.text();
+  ASSERT_EQ(sub_first.diags.all()[0].notes.size(), 1u) << sub_first.text();
+  EXPECT_EQ(sub_first.diags.all()[0].notes[0].span.begin.line, 8u) << sub_first.text();
+}
+
+// The Scout's, CyberMaster's and Spybot's names said only "not declared"
+// (faithfulness round 14's ap29-ap35), or offered an RCX name ('SetScoutMode':
+// "did you mean 'SensorMode'?"); the RCX 2 names already said which firmware
+// has them. The other target's names among such a call's arguments are that
+// one mistake.
+TEST(HelpfulDiagnostics, AnotherTargetsNameSaysWhichTargetHasIt) {
+  EXPECT_TRUE(rcxc::frontend::other_target_lists_are_sorted());
+  auto scout = run_frontend("task main()\n{\n  SetScoutMode(SCOUT_MODE_STANDALONE);\n  SendVLL(3);\n}\n");
+  EXPECT_EQ(placed_messages(scout.diags),
+            (std::vector<std::string>{
+                "3:3 'SetScoutMode' is not declared: it is a Scout function; rcxc compiles for the RCX",
+                "4:3 'SendVLL' is not declared: it is a Scout and Spybot function; rcxc compiles for the RCX"}))
+      << scout.text();
+  auto cm = run_frontend("int c;\ntask main()\n{\n  OnFwd(OUT_L);\n  c = TachoCount(OUT_L);\n}\n");
+  EXPECT_EQ(placed_messages(cm.diags),
+            (std::vector<std::string>{
+                "4:9 'OUT_L' is not declared: it is a CyberMaster name; rcxc compiles for the RCX",
+                "5:7 'TachoCount' is not declared: it is a CyberMaster function; rcxc compiles for the RCX"}))
+      << cm.text();
+  auto spy = run_frontend("task main()\n{\n  PlaySound(SOUND_OUCH);\n}\n");
+  EXPECT_EQ(placed_messages(spy.diags),
+            (std::vector<std::string>{
+                "3:13 'SOUND_OUCH' is not declared: it is a Spybot name; rcxc compiles for the RCX"}))
+      << spy.text();
+  // A name no target has still gets its suggestion.
+  auto typo = run_frontend("task main()\n{\n  PlaySound(SOUND_CLIK);\n}\n");
+  EXPECT_EQ(placed_messages(typo.diags),
+            (std::vector<std::string>{"3:13 'SOUND_CLIK' is not declared; did you mean 'SOUND_CLICK'?"}))
+      << typo.text();
+}
+
+// `asm { 0x51 0x01 }` said "expected '}' before '0x01'" (faithfulness round
+// 14's dx26): the ',' between the bytes is what is missing. Mnemonic lines,
+// which have no commas between them, keep their own message.
+TEST(HelpfulDiagnostics, AnAsmByteListWithoutACommaAsksForTheComma) {
+  const std::string says = " expected ',' before '0x01': the bytes of an asm block are separated by commas "
+                           "(asm { 0x51, 0x01 })";
+  auto two = run_frontend("task main()\n{\n  asm { 0x51 0x01 };\n}\n");
+  EXPECT_EQ(placed_messages(two.diags), (std::vector<std::string>{"3:14" + says})) << two.text();
+  auto later = run_frontend("task main()\n{\n  asm { 0x13, 0x07 0x01, 0x07 };\n}\n");
+  EXPECT_EQ(placed_messages(later.diags), (std::vector<std::string>{"3:20" + says})) << later.text();
+  auto fine = run_frontend("task main()\n{\n  asm { 0x51, 0x01 };\n}\n");
+  EXPECT_TRUE(fine.diags.all().empty()) << fine.text();
+  auto lines = run_frontend("task main()\n{\n  asm { pwr ABC, 7 dir ABC, fwd };\n}\n");
+  ASSERT_FALSE(lines.diags.all().empty());
+  EXPECT_EQ(placed_messages(lines.diags)[0].find("the bytes of an asm block"), std::string::npos) << lines.text();
+}
+
+// `if (SENSOR_1 = 1)`, the student's '=' for '==' (faithfulness round 15's
+// rs02, dg09): the error said the sensor cannot be assigned, and only a
+// warning after it asked for '=='. The error asks itself, once.
+TEST(HelpfulDiagnostics, AnAssignmentToASensorAsAConditionAsksForDoubleEquals) {
+  auto sensor = run_frontend("task main()\n{\n  until (SENSOR_1 = 1);\n  if (Timer(0) = 5) Off(OUT_A);\n}\n");
+  ASSERT_EQ(sensor.diags.all().size(), 2u) << sensor.text();
+  for (const auto& d : sensor.diags.all()) {
+    EXPECT_EQ(d.severity, rcxc::Severity::Error) << sensor.text();
+    EXPECT_NE(d.message.find("which a program can read and not assign; did you mean '=='?"), std::string::npos)
+        << sensor.text();
+  }
+  // A variable assigned in a condition is still only a warning.
+  auto variable = run_frontend("int x;\ntask main()\n{\n  if (x = 1) Off(OUT_A);\n}\n");
+  ASSERT_EQ(variable.diags.all().size(), 1u) << variable.text();
+  EXPECT_EQ(variable.diags.all()[0].message, "assignment used as a condition; did you mean '=='?");
+  // An assignment that is not the whole condition gets no hint.
+  auto inner = run_frontend("task main()\n{\n  SENSOR_1 = 1;\n}\n");
+  ASSERT_EQ(inner.diags.all().size(), 1u) << inner.text();
+  EXPECT_EQ(inner.diags.all()[0].message.find("did you mean"), std::string::npos) << inner.text();
+}
+
+// Other languages' `elsif`/`elseif`/`elif` (faithfulness round 15's rs39,
+// dg08) said "expected an operator or ';' before 'OnRev': two values stand
+// side by side"; what was meant is `else if`.
+TEST(HelpfulDiagnostics, ElsifAsksForElseIf) {
+  for (std::string word : {"elsif", "elseif", "elif"}) {
+    auto r = run_frontend("int x;\ntask main()\n{\n  if (x == 0) On(OUT_A);\n  " + word +
+                          " (x == 1) { Off(OUT_A); }\n  else Off(OUT_C);\n}\n");
+    ASSERT_FALSE(r.diags.all().empty()) << word;
+    EXPECT_EQ(placed_messages(r.diags)[0], "5:3 '" + word + "' is not NQC: write 'else if (...)'") << r.text();
+  }
+  auto same_line = run_frontend("int x;\ntask main()\n{\n  if (x == 0) On(OUT_A); elsif (x == 1) Off(OUT_A);\n}\n");
+  ASSERT_FALSE(same_line.diags.all().empty());
+  EXPECT_EQ(placed_messages(same_line.diags)[0], "4:26 'elsif' is not NQC: write 'else if (...)'") << same_line.text();
+}
+
+// `#define THRESHOLD 40;` used in a condition or an argument (faithfulness
+// round 15's rs04, dg07) said "expected ')' before ';'" with the macro as a
+// note: why a ';' stood there was left to the reader.
+TEST(HelpfulDiagnostics, AMacroEndingInASemicolonSaysSo) {
+  auto arg = run_frontend("#define SPEED 5;\ntask main()\n{\n  SetPower(OUT_A, SPEED);\n}\n");
+  ASSERT_FALSE(arg.diags.all().empty());
+  EXPECT_EQ(arg.diags.all()[0].message,
+            "expected ')' before ';': the ';' ends a macro's text (a #define needs no ';' at its end)")
+      << arg.text();
+  auto condition = run_frontend("#define LIMIT 40;\ntask main()\n{\n  if (SENSOR_2 > LIMIT) Off(OUT_A);\n}\n");
+  ASSERT_FALSE(condition.diags.all().empty());
+  EXPECT_EQ(condition.diags.all()[0].message,
+            "expected ')' before ';': the ';' ends a macro's text (a #define needs no ';' at its end)")
+      << condition.text();
+  // A ';' of the user's own where a ')' is missing keeps the plain message.
+  auto own = run_frontend("task main()\n{\n  OnFwd(OUT_A;\n}\n");
+  ASSERT_FALSE(own.diags.all().empty());
+  EXPECT_EQ(own.diags.all()[0].message, "expected ')' before ';'") << own.text();
 }

@@ -113,8 +113,7 @@ const BadProgram kCases[] = {
     {"AssignToNonVariable", "task main()\n{\n  int x;\n  x + 1 = 2;\n}\n",
      {"4:3: error: cannot assign to this expression: it is not a variable"}},
     {"AssignToMacroShowsTheOperator", "#define LEFT x + 1\ntask main()\n{\n  int x;\n  if (LEFT = 2) x++;\n}\n",
-     {"5:12: error: cannot assign to this expression: it is not a variable",
-      "5:12: warning: assignment used as a condition; did you mean '=='?"}},
+     {"5:12: error: cannot assign to this expression: it is not a variable; did you mean '=='?"}},
     {"RecursiveInlineFunctions", "void a() { b(); }\nvoid b() { a(); }\ntask main() { a(); }\n",
      {"1:6: error: inline functions call each other in a cycle: a -> b -> a (they are expanded at each call, so "
       "this never ends)"}},
