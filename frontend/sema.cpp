@@ -284,11 +284,13 @@ class Checker {
 
   Diagnostic undefined_diagnostic(const std::string& name, SourceSpan span, const std::string& what, bool callee) {
     auto error = [&](std::string message) { return Diagnostic{Severity::Error, span, std::move(message), {}, false, {}, {}}; };
-    if (is_rcx2_api_name(name))
-      return error("'" + name + "' is not declared (it belongs to the RCX 2 firmware's API; this target is the RCX)");
+    // The other targets' table holds only names -TRCX2 does not declare, so
+    // it goes first: the RCX 2 prefixes also match a Spybot's ACQUIRE_LED.
     if (auto target = other_target_of(name))
       return error("'" + name + "' is not declared: it is a " + std::string(*target) + (callee ? " function" : " name") +
                    "; rcxc compiles for the RCX");
+    if (is_rcx2_api_name(name))
+      return error("'" + name + "' is not declared (it belongs to the RCX 2 firmware's API; this target is the RCX)");
     // nqc: "wrong number of arguments to 'Random'".
     if (std::find(function_macro_names_.begin(), function_macro_names_.end(), name) != function_macro_names_.end())
       return error("'" + name + "' is not declared: it is a macro that takes arguments, written '" + name + "(...)'");

@@ -847,6 +847,14 @@ TEST(HelpfulDiagnostics, AnotherTargetsNameSaysWhichTargetHasIt) {
             (std::vector<std::string>{
                 "3:13 'SOUND_OUCH' is not declared: it is a Spybot name; rcxc compiles for the RCX"}))
       << spy.text();
+  // The RCX 2 prefix ACQUIRE_ took the Spybot's ACQUIRE_LED for an RCX 2
+  // name; the RCX 2's own resources still say RCX 2.
+  auto led = run_frontend("int r;\ntask main()\n{\n  r = ACQUIRE_LED;\n  r = ACQUIRE_OUT_A;\n}\n");
+  EXPECT_EQ(placed_messages(led.diags),
+            (std::vector<std::string>{
+                "4:7 'ACQUIRE_LED' is not declared: it is a Spybot name; rcxc compiles for the RCX",
+                "5:7 'ACQUIRE_OUT_A' is not declared (it belongs to the RCX 2 firmware's API; this target is the RCX)"}))
+      << led.text();
   // A name no target has still gets its suggestion.
   auto typo = run_frontend("task main()\n{\n  PlaySound(SOUND_CLIK);\n}\n");
   EXPECT_EQ(placed_messages(typo.diags),
