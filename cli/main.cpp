@@ -71,7 +71,9 @@ int run_main(int argc, char** argv) {
     auto hint = rcxc::cli::misspelling_hint(app, {argv + 1, argv + argc});
     // CLI11's "A subcommand is required" after an unknown action reads as
     // if none were given: the hint names the word instead.
-    if (!(hint && dynamic_cast<const CLI::RequiredError*>(&e))) {
+    bool no_action =
+        dynamic_cast<const CLI::RequiredError*>(&e) && std::string_view(e.what()) == "A subcommand is required";
+    if (!(hint && no_action)) {
       std::cerr << "rcxc: " << rcxc::cli::parse_error_text(e);
       // CLI11's "Could not convert: --x = 1e999" for a value no check of ours saw first.
       if (dynamic_cast<const CLI::ConversionError*>(&e))

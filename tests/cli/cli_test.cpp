@@ -267,6 +267,12 @@ TEST(Cli, AParseErrorIsSaidOnceInPlainWords) {
   EXPECT_EQ(twice.exit_code, 2);
   EXPECT_NE(twice.err.find("rcxc: --trace given 2 times: it takes one\n"), std::string::npos) << twice.err;
   EXPECT_EQ(twice.err.find("At Most"), std::string::npos) << twice.err;
+  // A missing FILE is still said beside a misspelt option's hint.
+  auto misspelt = run_rcxc({"run", "--fro"});
+  EXPECT_EQ(misspelt.exit_code, 2);
+  EXPECT_NE(misspelt.err.find("rcxc: unknown option '--fro': did you mean '--for'?"), std::string::npos)
+      << misspelt.err;
+  EXPECT_NE(misspelt.err.find("FILE is required"), std::string::npos) << misspelt.err;
   auto none = run_rcxc({"nxt"});
   EXPECT_EQ(none.exit_code, 2);
   EXPECT_NE(none.err.find("rcxc: an action is required: the actions are listed below"), std::string::npos)
