@@ -14,11 +14,18 @@
 
 namespace {
 
+// How many words before nqc's own options when the command line is nqc's
+// (rcxc linked as `nqc`: 1; `rcxc nqc`: 2), else 0.
+int nqc_command_words(int argc, char** argv) {
+  if (argc > 0 && rcxc::cli::started_as_nqc(argv[0])) return 1;
+  if (argc > 1 && std::string_view(argv[1]) == "nqc") return 2;
+  return 0;
+}
+
 int run_main(int argc, char** argv) {
   // nqc's command line has its own grammar (-Trcx, -O<file>, actions after
   // the file), so it is read by hand, not by CLI11.
-  if (argc > 0 && rcxc::cli::started_as_nqc(argv[0])) return rcxc::cli::run_nqc_mode({argv + 1, argv + argc});
-  if (argc > 1 && std::string_view(argv[1]) == "nqc") return rcxc::cli::run_nqc_mode({argv + 2, argv + argc});
+  if (int words = nqc_command_words(argc, argv)) return rcxc::cli::run_nqc_mode({argv + words, argv + argc});
 
   CLI::App app{"rcxc — NQC compiler and RCX emulator", "rcxc"};
   app.set_version_flag("--version", std::string("rcxc ") + rcxc::kVersion);
@@ -71,9 +78,7 @@ int run_main(int argc, char** argv) {
     auto hint = rcxc::cli::misspelling_hint(app, {argv + 1, argv + argc});
     // CLI11's "A subcommand is required" after an unknown action reads as
     // if none were given: the hint names the word instead.
-    bool no_action =
-        dynamic_cast<const CLI::RequiredError*>(&e) && std::string_view(e.what()) == "A subcommand is required";
-    if (!(hint && no_action)) {
+    if (!(hint && rcxc::cli::is_missing_action(e))) {
       std::cerr << "rcxc: " << rcxc::cli::parse_error_text(e);
       // CLI11's "Could not convert: --x = 1e999" for a value no check of ours saw first.
       if (dynamic_cast<const CLI::ConversionError*>(&e))
@@ -122,9 +127,7 @@ int main(int argc, char** argv) {
     std::cerr << "rcxc: cannot write the standard output: what it printed is incomplete\n";
     // nqc mode keeps nqc's codes (docs/nqc.md), where 1 means nothing: 243,
     // as for an -R file that cannot take the text.
-    bool nqc_mode = (argc > 0 && rcxc::cli::started_as_nqc(argv[0])) ||
-                    (argc > 1 && std::string_view(argv[1]) == "nqc");
-    exit_code = nqc_mode ? rcxc::cli::kNqcExitCompile : rcxc::cli::kExitFailure;
+    exit_code = nqc_command_words(argc, argv) > 0 ? rcxc::cli::kNqcExitCompile : rcxc::cli::kExitFailure;
   }
   return exit_code;
 }

@@ -1,6 +1,7 @@
 #include "cli/usage_hint.h"
 
 #include <algorithm>
+#include <string_view>
 
 #include "frontend/spelling.h"
 
@@ -88,11 +89,13 @@ std::optional<std::string> misspelling_hint(const CLI::App& app, const std::vect
   return std::nullopt;
 }
 
+bool is_missing_action(const CLI::ParseError& e) {
+  return dynamic_cast<const CLI::RequiredError*>(&e) && std::string_view(e.what()) == "A subcommand is required";
+}
+
 std::string parse_error_text(const CLI::ParseError& e) {
+  if (is_missing_action(e)) return "an action is required: the actions are listed below";
   std::string text = e.what();
-  // A command whose actions are subcommands (`rcxc nxt`), given none.
-  if (dynamic_cast<const CLI::RequiredError*>(&e) && text == "A subcommand is required")
-    return "an action is required: the actions are listed below";
   if (!dynamic_cast<const CLI::ArgumentMismatch*>(&e)) return text;
   // "NAME: At Most N required but received M", as CLI11 words an option
   // given more often than it takes.

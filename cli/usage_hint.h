@@ -21,4 +21,8 @@ std::optional<std::string> misspelling_hint(const CLI::App& app, const std::vect
 // "--trace given 2 times: it takes one").
 std::string parse_error_text(const CLI::ParseError& e);
 
+// Whether `e` is CLI11's "A subcommand is required": a command whose actions
+// are subcommands (`rcxc nxt`) given none, or given a word that is none.
+bool is_missing_action(const CLI::ParseError& e);
+
 }  // namespace rcxc::cli
