@@ -476,6 +476,10 @@ struct Pragmas {
   bool noinit = false;                 // `#pragma noinit`: no startup code
   std::optional<std::string> init;     // `#pragma init NAME`: startup calls NAME
   SourceSpan init_span;
+  // Without the standard library (-n) nothing defines the `_init` nqc's
+  // startup code calls: a program that defines its own gets it called, as
+  // with nqc, where the built-in startup would silently replace it.
+  bool program_init = false;
   std::vector<Reserve> reserve;
 };
 

@@ -209,6 +209,7 @@ class Preprocessor {
   Preprocessed run(std::uint32_t file, const std::string& dir) {
     define_builtins();
     push_file(file, dir, sm_.path(file));
+    out_.pragmas.program_init = opts_.no_stdlib;
     if (!opts_.no_stdlib) {
       if (auto text = stdlib::find(kStdlibName)) {
         std::uint32_t id = sm_.add(kStdlibName, std::string(*text));

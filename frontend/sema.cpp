@@ -1292,6 +1292,27 @@ class Checker {
       if (state[f] == 0) dfs(f);
   }
 
+  // Under -n (Pragmas::program_init) the program's own `_init`, a sub or
+  // an inline function, is what the startup code calls, as `#pragma init
+  // _init` would; with neither, the built-in startup stays (nqc refuses).
+  void adopt_program_init() {
+    Pragmas& p = prog_.pragmas;
+    if (!p.program_init || p.noinit || p.init) return;
+    auto it = globals_.find("_init");
+    if (it == globals_.end()) return;
+    const Symbol& f = prog_.symbols[it->second];
+    if (f.kind != SymbolKind::Sub && f.kind != SymbolKind::Function) return;
+    if (f.kind == SymbolKind::Function)
+      if (std::size_t n = prog_.functions[f.index].params.size(); n != 0) {
+        diags_.error(f.span, fmt::format("'_init' takes {} argument{}: without the standard library (-n) the "
+                                         "startup code calls the program's own '_init', with none",
+                                         n, n == 1 ? "" : "s"));
+        return;
+      }
+    p.init = f.name;
+    p.init_span = f.span;
+  }
+
   // Which tasks run each sub, directly or through inline functions and
   // other subs: __taskid in a sub is the number of the one task that does.
   // Task main also runs what `#pragma init` names.
@@ -1313,6 +1334,7 @@ class Checker {
   }
 
   void check_pragmas() {
+    adopt_program_init();
     if (!prog_.pragmas.init) return;
     auto it = globals_.find(*prog_.pragmas.init);
     if (it == globals_.end() || (prog_.symbols[it->second].kind != SymbolKind::Sub &&
