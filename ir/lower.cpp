@@ -605,6 +605,12 @@ struct Lowerer {
     if (const auto* u = ast::as<ast::Unary>(e);
         u && (u->op == ast::UnaryOp::Negate || u->op == ast::UnaryOp::BitNot))
       return unary(d, *u, e);  // x = -x, x = ~(x + 1): in place
+    // One instruction reads its source before it writes d: x = abs(x) is
+    // `abs x, x`, as nqc writes it (a temporary and a copy cost 5 bytes and
+    // an instruction more).
+    if (const auto* u = ast::as<ast::Unary>(e);
+        u && (u->op == ast::UnaryOp::Abs || u->op == ast::UnaryOp::Sign) && is_plain_operand(*u->operand))
+      return unary(d, *u, e);
     if (const auto* c = ast::as<ast::Conditional>(e)) return conditional(d, *c);
     if (is_truth_valued(e)) {
       // x = (x > 3): each branch sets x once the test is done, which needs

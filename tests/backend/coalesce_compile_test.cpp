@@ -484,5 +484,29 @@ task main() {
   }
 }
 
+// x = abs(x) and x = sign(x) are one instruction each, reading x before
+// writing it, at every level (as nqc writes them): a temporary and a copy
+// made them 10 bytes each where nqc's are 5, so a program of them was
+// larger than nqc's (faithfulness round 16's xa14).
+TEST(Coalesce, AbsAndSignOfTheTargetAreOneInstruction) {
+  const char* text = R"(
+int a, b;
+task main() {
+  a = Timer(0) - 9; b = Timer(0) - 4;
+  a = abs(a);
+  b = sign(b);
+}
+)";
+  for (auto level : {ir::OptLevel::O0, ir::OptLevel::O1, ir::OptLevel::O2, ir::OptLevel::Os}) {
+    auto c = test::compile_program(text, level);
+    ASSERT_TRUE(c.out);
+    auto m = test::run_image(c.out->image, 1000);
+    EXPECT_EQ(test::global_value(m, c.out->image, "a"), 9);
+    EXPECT_EQ(test::global_value(m, c.out->image, "b"), -1);
+    // startup 6, two set-and-subtract pairs 20, abs and sgn 5 each.
+    EXPECT_EQ(c.out->code_bytes, 36) << static_cast<int>(level);
+  }
+}
+
 }  // namespace
 }  // namespace rcxc
