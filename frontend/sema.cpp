@@ -286,9 +286,12 @@ class Checker {
     auto error = [&](std::string message) { return Diagnostic{Severity::Error, span, std::move(message), {}, false, {}, {}}; };
     // The other targets' table holds only names -TRCX2 does not declare, so
     // it goes first: the RCX 2 prefixes also match a Spybot's ACQUIRE_LED.
+    // The Swan firmware runs on the RCX brick itself, so "for the RCX" would
+    // not say what is missing.
     if (auto target = other_target_of(name))
       return error("'" + name + "' is not declared: it is a " + std::string(*target) + (callee ? " function" : " name") +
-                   "; rcxc compiles for the RCX");
+                   (*target == "Swan firmware" ? " (nqc -TSwan); rcxc compiles for the RCX's standard firmware"
+                                               : "; rcxc compiles for the RCX"));
     if (is_rcx2_api_name(name))
       return error("'" + name + "' is not declared (it belongs to the RCX 2 firmware's API; this target is the RCX)");
     // nqc: "wrong number of arguments to 'Random'".

@@ -862,6 +862,24 @@ TEST(HelpfulDiagnostics, AnotherTargetsNameSaysWhichTargetHasIt) {
       << typo.text();
 }
 
+// The Swan firmware's names (nqc -TSwan: MessageParam, SetMotorPowerSigned,
+// MTR_A, OUT_D, ...) said only "not declared" (left from faithfulness round
+// 15). The Swan runs on the RCX brick, so the message names the firmware;
+// the Swan names among a Swan call's arguments are that one mistake, and a
+// Swan name the RCX 2 prefix EVENT_TYPE_ would match is still the Swan's.
+TEST(HelpfulDiagnostics, ASwanFirmwareNameSaysItIsTheSwans) {
+  const std::string tail = " (nqc -TSwan); rcxc compiles for the RCX's standard firmware";
+  auto swan = run_frontend(
+      "int p;\ntask main()\n{\n  p = MessageParam();\n  SetMotorPowerSigned(MTR_A, p);\n  On(OUT_D);\n"
+      "  p = EVENT_TYPE_RESET;\n}\n");
+  EXPECT_EQ(placed_messages(swan.diags),
+            (std::vector<std::string>{"4:7 'MessageParam' is not declared: it is a Swan firmware function" + tail,
+                                      "5:3 'SetMotorPowerSigned' is not declared: it is a Swan firmware function" + tail,
+                                      "6:6 'OUT_D' is not declared: it is a Swan firmware name" + tail,
+                                      "7:7 'EVENT_TYPE_RESET' is not declared: it is a Swan firmware name" + tail}))
+      << swan.text();
+}
+
 // `asm { 0x51 0x01 }` said "expected '}' before '0x01'" (faithfulness round
 // 14's dx26): the ',' between the bytes is what is missing. Mnemonic lines,
 // which have no commas between them, keep their own message.
