@@ -157,6 +157,12 @@ ExprPtr mk(frontend::Feed& feed, ExprNode n, const SourceSpan& s) {
 StmtPtr mks(StmtNode n, const SourceSpan& s) { return std::make_unique<Stmt>(Stmt{std::move(n), s}); }
 ExprBox box(ExprPtr e) { return ExprBox(std::move(e)); }
 StmtBox box(StmtPtr s) { return StmtBox(std::move(s)); }
+std::vector<Stmt> stmts_of(StmtPtr a, StmtPtr b = nullptr) {
+  std::vector<Stmt> out;
+  out.push_back(std::move(*a));
+  if (b) out.push_back(std::move(*b));
+  return out;
+}
 ExprPtr bin(frontend::Feed& feed, BinaryOp op, ExprPtr a, ExprPtr b, const SourceSpan& s) {
   return mk(feed, Binary{op, box(std::move(a)), box(std::move(b))}, s);
 }
@@ -505,6 +511,20 @@ stmt
                           { $$ = mks(If{std::move(*$3), box(std::move($5)), std::nullopt}, @$); }
   | IF '(' expr ')' stmt ELSE stmt
                           { $$ = mks(If{std::move(*$3), box(std::move($5)), box(std::move($7))}, @$); }
+  // A condition that does not parse (`#define LIMIT 40;` then `if (x >
+  // LIMIT)`) resumes at its ')', or at the '{' when the ')' is left out, so
+  // the body and its else stay this statement's: the `error ';'` below took
+  // the ';', left `) {...} else` to end the block early, and the task's last
+  // '}' drew a second error. The bodies are parsed as ever, so a syntax
+  // mistake of their own is still said.
+  | IF '(' error ')' stmt %prec LOWER_THAN_ELSE
+                          { $$ = mks(Block{stmts_of(std::move($5))}, @$); }
+  | IF '(' error ')' stmt ELSE stmt
+                          { $$ = mks(Block{stmts_of(std::move($5), std::move($7))}, @$); }
+  | IF '(' error block %prec LOWER_THAN_ELSE
+                          { $$ = mks(Block{stmts_of(std::move($4))}, @$); }
+  | IF '(' error block ELSE stmt
+                          { $$ = mks(Block{stmts_of(std::move($4), std::move($6))}, @$); }
   | WHILE '(' expr ')' stmt
                           { $$ = mks(While{std::move(*$3), box(std::move($5))}, @$); }
   | DO stmt WHILE '(' expr ')' ';'
