@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <type_traits>
@@ -831,6 +832,33 @@ bool declares_next(const Token& t) {
 
 }  // namespace
 
+// `#define BACK OnRev(OUT_A); Wait(20)` then `if (c) BACK; else ...`: the
+// macro's own ';' ended the if's statement, so its second statement and the
+// user's ';' stand before the `else`; with `#define TURN { ... }` the ';'
+// written after TURN is that statement. The error is at the `else`, where
+// the macro is not to be seen: a note points into it (faithfulness round
+// 16's pp07, pp08). `feed.pos - 1` is the `else`.
+static std::optional<Note> macro_that_ended_the_if(const Feed& feed) {
+  if (feed.pos < 3 || !feed.tokens[feed.pos - 2].is(";") || feed.tokens[feed.pos - 2].span.begin.expansion != 0)
+    return std::nullopt;
+  const Token& last = feed.tokens[feed.pos - 3];
+  if (last.span.begin.expansion == 0) return std::nullopt;
+  if (last.is("}"))
+    return Note{last.span, "the macro's text is a block, so the ';' written after it is a statement of its "
+                           "own: leave that ';' out, or define the macro as 'do { ... } while (false)'"};
+  int depth = 0;
+  for (std::size_t j = feed.pos - 3; j > 0 && feed.tokens[j].span.begin.expansion != 0; --j) {
+    const Token& t = feed.tokens[j];
+    if (t.is(")") || t.is("}")) ++depth;
+    if (t.is("(") || t.is("{")) --depth;
+    if (depth == 0 && t.is(";"))
+      return Note{t.span, "this ';' in the macro's text ends the 'if' statement, and what follows it does "
+                          "not belong to the 'if': put braces around the macro's text, or define it as "
+                          "'do { ... } while (false)'"};
+  }
+  return std::nullopt;
+}
+
 // gcc-like messages: "expected ';' before 'x'", naming what the grammar
 // wanted when that is short, or the most useful single expectation.
 void yy::Parser::report_syntax_error(const context& ctx) const {
@@ -1214,8 +1242,10 @@ void yy::Parser::report_syntax_error(const context& ctx) const {
   // and `sub` inside a body (a '}' left out above, most often).
   bool statement_wanted = expects(symbol_kind::S_IF) && expects(symbol_kind::S_NUMBER);
   if (statement_wanted && ctx.token() == symbol_kind::S_ELSE) {
-    feed.diags.error(ctx.location(), "'else' without an 'if' before it: a statement stands between them (an extra "
-                                     "';' is an empty statement, and two statements after an 'if' need braces)");
+    auto& d = feed.diags.error(ctx.location(), "'else' without an 'if' before it: a statement stands between them "
+                                               "(an extra ';' is an empty statement, and two statements after an 'if' "
+                                               "need braces)");
+    if (auto note = macro_that_ended_the_if(feed)) d.notes.push_back(*note);
     return;
   }
   // `task = 1;`: the keyword as a variable, with no name after it.

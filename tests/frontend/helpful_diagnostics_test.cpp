@@ -988,3 +988,27 @@ TEST(HelpfulDiagnostics, AConditionThatDoesNotParseIsOneError) {
   ASSERT_EQ(body.diags.all().size(), 2u) << body.text();
   EXPECT_EQ(placed_messages(body.diags)[1].substr(0, 36), "5:33 expected an operator or ';' bef") << body.text();
 }
+
+// A macro that is two statements (`#define BACKUP OnRev(OUT_A); Wait(20)`)
+// or a block (`#define TURN { ... }`) before an else (faithfulness round 16's
+// pp07, pp08): the error at the else said a statement stood between, and the
+// macro, the cause, was nowhere in it. A note now points into the macro.
+TEST(HelpfulDiagnostics, AMacroThatEndsTheIfBeforeItsElseIsNamed) {
+  auto two = run_frontend("#define BACKUP OnRev(OUT_A); Wait(20)\ntask main()\n{\n  if (SENSOR_1 == 1)\n"
+                          "    BACKUP;\n  else\n    Off(OUT_A);\n}\n");
+  ASSERT_EQ(two.diags.all().size(), 1u) << two.text();
+  EXPECT_EQ(placed_messages(two.diags)[0].substr(0, 47), "6:3 'else' without an 'if' before it: a stateme") << two.text();
+  ASSERT_FALSE(two.diags.all()[0].notes.empty()) << two.text();
+  EXPECT_EQ(two.diags.all()[0].notes[0].message.substr(0, 45), "this ';' in the macro's text ends the 'if' st")
+      << two.text();
+  auto block = run_frontend("#define TURN { OnRev(OUT_A); Wait(10); }\ntask main()\n{\n  if (SENSOR_1 == 1)\n"
+                            "    TURN;\n  else\n    Off(OUT_A);\n}\n");
+  ASSERT_EQ(block.diags.all().size(), 1u) << block.text();
+  ASSERT_FALSE(block.diags.all()[0].notes.empty()) << block.text();
+  EXPECT_EQ(block.diags.all()[0].notes[0].message.substr(0, 42), "the macro's text is a block, so the ';' wr")
+      << block.text();
+  // The user's own two statements, or an extra ';', have no macro to name.
+  auto own = run_frontend("task main()\n{\n  if (SENSOR_1 == 1)\n    OnRev(OUT_A); Wait(20);\n  else\n    Off(OUT_A);\n}\n");
+  ASSERT_EQ(own.diags.all().size(), 1u) << own.text();
+  EXPECT_TRUE(own.diags.all()[0].notes.empty()) << own.text();
+}
