@@ -1144,7 +1144,13 @@ class Checker {
         return;
       if (is_variable_slot(arg)) return;
       if (!n || (n->symbol != kNoSymbol && !is_writable(prog_.symbols[n->symbol]))) {
-        auto& d = diags_.error(arg.span, "argument for 'int &" + p.name + "' of '" + f.name + "' must be a variable");
+        // `f(Timer(0))`: which value of the brick it is, as `Timer(0) = 3`
+        // says (faithfulness round 16's rf12; nqc: "argument must be a
+        // variable").
+        std::string noun = source_noun(arg);
+        if (!noun.empty()) noun = "; this is" + noun.substr(std::string_view(" but").size());
+        auto& d = diags_.error(arg.span, "argument for 'int &" + p.name + "' of '" + f.name + "' must be a variable" +
+                                             noun);
         d.notes.push_back({p.span, "parameter declared here"});
       }
     } else if (p.kind == ParamKind::Const) {

@@ -1012,3 +1012,18 @@ TEST(HelpfulDiagnostics, AMacroThatEndsTheIfBeforeItsElseIsNamed) {
   ASSERT_EQ(own.diags.all().size(), 1u) << own.text();
   EXPECT_TRUE(own.diags.all()[0].notes.empty()) << own.text();
 }
+
+// An `int &` argument that is a value of the brick (`f(Timer(0))`) said only
+// "must be a variable" (faithfulness round 16's rf12; nqc: "argument must
+// be a variable"); it now says which value it is, as `Timer(0) = 3` does.
+TEST(HelpfulDiagnostics, AReferenceGivenAValueOfTheBrickSaysWhichValue) {
+  auto r = run_frontend("void f(int &a) { a = 1; }\ntask main()\n{\n  f(Timer(0));\n  f(SENSOR_2);\n  f(3);\n}\n");
+  ASSERT_EQ(r.diags.all().size(), 3u) << r.text();
+  EXPECT_EQ(r.diags.all()[0].message, "argument for 'int &a' of 'f' must be a variable; this is the value of a timer, "
+                                      "which a program can read and not assign")
+      << r.text();
+  EXPECT_EQ(r.diags.all()[1].message, "argument for 'int &a' of 'f' must be a variable; this is the value of a "
+                                      "sensor, which a program can read and not assign")
+      << r.text();
+  EXPECT_EQ(r.diags.all()[2].message, "argument for 'int &a' of 'f' must be a variable") << r.text();
+}
