@@ -6,8 +6,8 @@
 namespace rcxc::frontend {
 namespace {
 
-// The names `nqc -Tscout`, `-Tcm` and `-Tspy` declare and neither `-Trcx`
-// nor `-TRCX2` does (the RCX 2 names are is_rcx2_api_name's, in sema.cpp),
+// The names `nqc -Tscout`, `-Tcm`, `-Tspy` and `-TSwan` declare and neither
+// `-Trcx` nor `-TRCX2` does (the RCX 2 names are is_rcx2_api_name's, in sema.cpp),
 // each list sorted for a binary search. Functions and constants alike.
 constexpr auto kScout = std::to_array<std::string_view>({
   "CalibrateSensor", "CounterLimit", "EVENT_1_PRESSED", "EVENT_1_RELEASED", "EVENT_2_PRESSED",
@@ -91,6 +91,55 @@ constexpr auto kSpybot = std::to_array<std::string_view>({
   "WorldNote", "WorldRange", "WorldShortID",
 });
 
+// The Swan's (`-TSwan`, a replacement firmware for the RCX brick): its system
+// slots, motor powers, outputs D to F, message parameters and the like. None
+// is also a Scout, CyberMaster or Spybot name.
+constexpr auto kSwan = std::to_array<std::string_view>({
+  "BitClear", "BitSet", "CLR_BREAKPOINTS", "CLR_DATALOG", "CLR_EVENTS", "CLR_INPUTS", "CLR_TASK_STACK", "CLR_TIMERS",
+  "CLR_VARIABLES", "ClearAll", "CommErrorsFraming", "CommErrorsOverrun", "CommErrorsParity", "CommErrorsTimeout",
+  "CurrentTask", "DISPLAY_EXCEPTION", "DatalogSize", "DebugTaskMode", "DefaultSerialComm", "DefaultSerialPacket",
+  "DefaultStackSize", "EST_COUNTER_1", "EST_COUNTER_2", "EST_COUNTER_3", "EST_INFRARED_STATUS", "EST_LAST_IR_MSG",
+  "EST_SENSOR_1", "EST_SENSOR_2", "EST_SENSOR_3", "EST_SENSOR_UNUSED", "EST_TIMER_1", "EST_TIMER_2", "EST_TIMER_3",
+  "EST_TIMER_4", "EST_USER_EVENT_0", "EST_USER_EVENT_1", "EST_USER_EVENT_2", "EST_USER_EVENT_3", "EST_USER_EVENT_4",
+  "EST_VIRTUAL_MOTOR", "EST_VIRTUAL_SENSOR", "EST_WAIT_FOR_MSG", "ES_ABOVE_UPPER", "ES_BELOW_LOWER", "ES_BETWEEN",
+  "ES_UNDETERMINED", "EVENT_TYPE_4", "EVENT_TYPE_5", "EVENT_TYPE_6", "EVENT_TYPE_INFRARED_IDLE", "EVENT_TYPE_RESET",
+  "EVENT_TYPE_VIRTUAL_MOTOR_CHANGE", "EVENT_TYPE_VIRTUAL_MOTOR_POWER", "EVENT_TYPE_VIRTUAL_SENSOR_DEF", "EventCounts",
+  "EventSrc", "EventType", "ExpandedRemoteMessages", "ExpandedSubroutines", "FMT_HHMM", "FMT_MMSS", "FMT_MSSTENTHS",
+  "FloatDuringInactivePWM", "GlobalVar", "IRM_ACCEPT_ALL", "IRM_ACCEPT_USER", "IRM_DISCARD", "IgnoreMessagesCPU",
+  "ImmediateBatteryLevel", "InterCharTimeout", "IntrinsicIndGlobal", "LCDRefreshRate", "MAX_VOLUME", "MPD_FLOAT",
+  "MPD_FWD", "MPD_OFF", "MPD_REV", "MSTimer", "MS_BRAKE", "MS_FLOAT", "MS_FWD", "MS_REV", "MTR_A", "MTR_B",
+  "MTR_BRAKE_POWER_1", "MTR_BRAKE_POWER_2", "MTR_BRAKE_POWER_3", "MTR_BRAKE_POWER_4", "MTR_BRAKE_POWER_5",
+  "MTR_BRAKE_POWER_6", "MTR_BRAKE_POWER_7", "MTR_BRAKE_POWER_8", "MTR_C", "MTR_D", "MTR_E", "MTR_F",
+  "MTR_FLOAT_POWER_1", "MTR_FLOAT_POWER_2", "MTR_FLOAT_POWER_3", "MTR_FLOAT_POWER_4", "MTR_FLOAT_POWER_5",
+  "MTR_FLOAT_POWER_6", "MTR_FLOAT_POWER_7", "MTR_FLOAT_POWER_8", "MTR_FWD_POWER_1", "MTR_FWD_POWER_2",
+  "MTR_FWD_POWER_3", "MTR_FWD_POWER_4", "MTR_FWD_POWER_5", "MTR_FWD_POWER_6", "MTR_FWD_POWER_7", "MTR_FWD_POWER_8",
+  "MTR_REV_POWER_1", "MTR_REV_POWER_2", "MTR_REV_POWER_3", "MTR_REV_POWER_4", "MTR_REV_POWER_5", "MTR_REV_POWER_6",
+  "MTR_REV_POWER_7", "MTR_REV_POWER_8", "MemoryMapAddress", "MessageParam", "MissedSensorADConversions",
+  "MotorBrakePower", "MotorPower128", "MotorPower8", "MotorPowerSigned", "MotorTransitionDelay", "Negate",
+  "NoPowerDownOnAC", "OUT_D", "OUT_E", "OUT_F", "OpcodesPerTimeslice", "PlaySounds", "PowerDownDelay",
+  "QueuedSoundCount", "ResetMSTimer", "RotDebouncedGlitches", "RotErrorsCount", "SENSOR_TYPE_ACTIVE_RAW",
+  "SERIAL_COMM_9600", "SLS_RECEIVING_MSG", "SLS_TRANSMITTING", "SLS_UNKNOWN", "SLS_WAIT_FOR_MSG", "SMOTOR_FWD",
+  "SOUND_EXCEPTION", "SOUND_SHORT_BLIP", "SYS_BATTERY_LEVEL", "SYS_COMM_ERRORS_FRAMING", "SYS_COMM_ERRORS_OVERRUN",
+  "SYS_COMM_ERRORS_PARITY", "SYS_COMM_ERRORS_TIMEOUT", "SYS_CURRENT_TASK", "SYS_DATALOG_SIZE", "SYS_DEBUG_TASK_MODE",
+  "SYS_DEFAULT_TASK_STACK_SIZE", "SYS_EXPANDED_RC_MESSAGES", "SYS_EXPANDED_SUBROUTINES",
+  "SYS_FLOAT_DURING_INACTIVE_PWM", "SYS_IGNORE_MESSAGES_CPU", "SYS_INTER_CHAR_TIMEOUT", "SYS_LCD_REFRESH_RATE",
+  "SYS_MEMORY_MAP_ADDRESS", "SYS_MOTOR_TRANSITION_DELAY", "SYS_NO_POWER_DOWN_ON_AC", "SYS_OPCODES_PER_TIMESLICE",
+  "SYS_PLAY_SOUNDS", "SYS_POWER_DOWN_DELAY", "SYS_PREAMBLE_SIZE", "SYS_QUEUED_SOUND_COUNT",
+  "SYS_ROT_DEBOUNCED_GLITCHES", "SYS_ROT_ERRORS_COUNT", "SYS_SENSOR_DELAY_CYCLES", "SYS_SENSOR_MISSED_CONVERSIONS",
+  "SYS_SENSOR_REFRESH_RATE", "SYS_SENSOR_REFRESH_STATE", "SYS_SENSOR_SCAN_COUNT", "SYS_SENSOR_STARTUP_DELAY",
+  "SYS_SERIAL_LINK_STATUS", "SYS_SOUND_PLAYING", "SYS_TASK_ACQUIRE_PRIORITY", "SYS_TASK_SCHEDULING_PRIORITY",
+  "SYS_TRANSMITTER_RANGE", "SYS_UNSOLICITED_MESSAGES", "SYS_VOLUME", "SYS_WATCH_FORMAT", "SendMessageWithParam",
+  "SensorDelayCycles", "SensorRefreshRate", "SensorRefreshState", "SensorScanCount", "SensorStartupDelay",
+  "SerialLinkStatus", "SetDefaultSerialComm", "SetDefaultSerialPacket", "SetDefaultStackSize", "SetEventCounts",
+  "SetEventSrc", "SetEventType", "SetExpandedRemoteMessages", "SetExpandedSubroutines", "SetFloatDuringInactivePWM",
+  "SetInterCharTimeout", "SetLCDRefreshRate", "SetMessageByteParam", "SetMessageVariableParam", "SetMessageWordParam",
+  "SetMotorBrakePower", "SetMotorPower128", "SetMotorPower8", "SetMotorPowerSigned", "SetMotorTransitionDelay",
+  "SetNoPowerDownOnAC", "SetOpcodesPerTimeslice", "SetPlaySounds", "SetSensorRefreshRate", "SetSensorStartupDelay",
+  "SetSystem", "SetSystemPreambleSize", "SetTaskAcquirePriority", "SetTaskSchedulingPriority", "SetVolume",
+  "SetWatchFormat", "SoundActive", "StackAddress", "StackSize", "System", "SystemPreambleSize", "TaskAcquirePriority",
+  "TaskSchedulingPriority", "TransmitterRange", "UnsolicitedMessages", "Volume", "WaitMS", "WatchFormat",
+});
+
 // Both the Scout's and the Spybot's (their light and VLL).
 constexpr auto kScoutAndSpybot = std::to_array<std::string_view>({
   "LIGHT_OFF", "LIGHT_ON", "SendVLL", "SetLight",
@@ -108,12 +157,13 @@ std::optional<std::string_view> other_target_of(std::string_view name) {
   if (holds(kCyberMaster, name)) return "CyberMaster";
   if (holds(kSpybot, name)) return "Spybot";
   if (holds(kScoutAndSpybot, name)) return "Scout and Spybot";
+  if (holds(kSwan, name)) return "Swan firmware";
   return std::nullopt;
 }
 
 bool other_target_lists_are_sorted() {
   auto sorted = [](const auto& names) { return std::is_sorted(names.begin(), names.end()); };
-  return sorted(kScout) && sorted(kCyberMaster) && sorted(kSpybot) && sorted(kScoutAndSpybot);
+  return sorted(kScout) && sorted(kCyberMaster) && sorted(kSpybot) && sorted(kScoutAndSpybot) && sorted(kSwan);
 }
 
 }  // namespace rcxc::frontend

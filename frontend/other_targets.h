@@ -1,5 +1,5 @@
 // The API names of nqc's other targets (the Scout, the CyberMaster, the
-// Spybot) that the RCX's API lacks: a program written for one of them fails
+// Spybot, the Swan firmware) that the RCX's API lacks: a program written for one of them fails
 // with "not declared", and naming the target saves the reader a search.
 #pragma once
 
@@ -8,8 +8,9 @@
 
 namespace rcxc::frontend {
 
-// "Scout", "CyberMaster", "Spybot" or "Scout and Spybot" when `name` is a
-// name of that target's API and of neither RCX's; otherwise none.
+// "Scout", "CyberMaster", "Spybot", "Scout and Spybot" or "Swan firmware"
+// when `name` is a name of that target's API and of neither RCX's (the RCX
+// 2's included); otherwise none.
 std::optional<std::string_view> other_target_of(std::string_view name);
 
 // Whether the lists are sorted, as other_target_of's search needs (tested).

@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <type_traits>
@@ -157,6 +158,12 @@ ExprPtr mk(frontend::Feed& feed, ExprNode n, const SourceSpan& s) {
 StmtPtr mks(StmtNode n, const SourceSpan& s) { return std::make_unique<Stmt>(Stmt{std::move(n), s}); }
 ExprBox box(ExprPtr e) { return ExprBox(std::move(e)); }
 StmtBox box(StmtPtr s) { return StmtBox(std::move(s)); }
+std::vector<Stmt> stmts_of(StmtPtr a, StmtPtr b = nullptr) {
+  std::vector<Stmt> out;
+  out.push_back(std::move(*a));
+  if (b) out.push_back(std::move(*b));
+  return out;
+}
 ExprPtr bin(frontend::Feed& feed, BinaryOp op, ExprPtr a, ExprPtr b, const SourceSpan& s) {
   return mk(feed, Binary{op, box(std::move(a)), box(std::move(b))}, s);
 }
@@ -505,6 +512,20 @@ stmt
                           { $$ = mks(If{std::move(*$3), box(std::move($5)), std::nullopt}, @$); }
   | IF '(' expr ')' stmt ELSE stmt
                           { $$ = mks(If{std::move(*$3), box(std::move($5)), box(std::move($7))}, @$); }
+  // A condition that does not parse (`#define LIMIT 40;` then `if (x >
+  // LIMIT)`) resumes at its ')', or at the '{' when the ')' is left out, so
+  // the body and its else stay this statement's: the `error ';'` below took
+  // the ';', left `) {...} else` to end the block early, and the task's last
+  // '}' drew a second error. The bodies are parsed as ever, so a syntax
+  // mistake of their own is still said.
+  | IF '(' error ')' stmt %prec LOWER_THAN_ELSE
+                          { $$ = mks(Block{stmts_of(std::move($5))}, @$); }
+  | IF '(' error ')' stmt ELSE stmt
+                          { $$ = mks(Block{stmts_of(std::move($5), std::move($7))}, @$); }
+  | IF '(' error block %prec LOWER_THAN_ELSE
+                          { $$ = mks(Block{stmts_of(std::move($4))}, @$); }
+  | IF '(' error block ELSE stmt
+                          { $$ = mks(Block{stmts_of(std::move($4), std::move($6))}, @$); }
   | WHILE '(' expr ')' stmt
                           { $$ = mks(While{std::move(*$3), box(std::move($5))}, @$); }
   | DO stmt WHILE '(' expr ')' ';'
@@ -810,6 +831,33 @@ bool declares_next(const Token& t) {
 }
 
 }  // namespace
+
+// `#define BACK OnRev(OUT_A); Wait(20)` then `if (c) BACK; else ...`: the
+// macro's own ';' ended the if's statement, so its second statement and the
+// user's ';' stand before the `else`; with `#define TURN { ... }` the ';'
+// written after TURN is that statement. The error is at the `else`, where
+// the macro is not to be seen: a note points into it (faithfulness round
+// 16's pp07, pp08). `feed.pos - 1` is the `else`.
+static std::optional<Note> macro_that_ended_the_if(const Feed& feed) {
+  if (feed.pos < 3 || !feed.tokens[feed.pos - 2].is(";") || feed.tokens[feed.pos - 2].span.begin.expansion != 0)
+    return std::nullopt;
+  const Token& last = feed.tokens[feed.pos - 3];
+  if (last.span.begin.expansion == 0) return std::nullopt;
+  if (last.is("}"))
+    return Note{last.span, "the macro's text is a block, so the ';' written after it is a statement of its "
+                           "own: leave that ';' out, or define the macro as 'do { ... } while (false)'"};
+  int depth = 0;
+  for (std::size_t j = feed.pos - 3; j > 0 && feed.tokens[j].span.begin.expansion != 0; --j) {
+    const Token& t = feed.tokens[j];
+    if (t.is(")") || t.is("}")) ++depth;
+    if (t.is("(") || t.is("{")) --depth;
+    if (depth == 0 && t.is(";"))
+      return Note{t.span, "this ';' in the macro's text ends the 'if' statement, and what follows it does "
+                          "not belong to the 'if': put braces around the macro's text, or define it as "
+                          "'do { ... } while (false)'"};
+  }
+  return std::nullopt;
+}
 
 // gcc-like messages: "expected ';' before 'x'", naming what the grammar
 // wanted when that is short, or the most useful single expectation.
@@ -1194,8 +1242,10 @@ void yy::Parser::report_syntax_error(const context& ctx) const {
   // and `sub` inside a body (a '}' left out above, most often).
   bool statement_wanted = expects(symbol_kind::S_IF) && expects(symbol_kind::S_NUMBER);
   if (statement_wanted && ctx.token() == symbol_kind::S_ELSE) {
-    feed.diags.error(ctx.location(), "'else' without an 'if' before it: a statement stands between them (an extra "
-                                     "';' is an empty statement, and two statements after an 'if' need braces)");
+    auto& d = feed.diags.error(ctx.location(), "'else' without an 'if' before it: a statement stands between them "
+                                               "(an extra ';' is an empty statement, and two statements after an 'if' "
+                                               "need braces)");
+    if (auto note = macro_that_ended_the_if(feed)) d.notes.push_back(*note);
     return;
   }
   // `task = 1;`: the keyword as a variable, with no name after it.

@@ -1153,7 +1153,7 @@ class Preprocessor {
       diags_.error(directive.span, "#" + std::string(directive.text) + " needs an expression");
       return false;
     }
-    CondEval ev{toks, diags_, *this, 0, false, 0};
+    CondEval ev{toks, diags_, *this, 0, false, 0, 0};
     std::int64_t v = ev.ternary();
     if (!ev.failed && ev.pos < toks.size()) ev.fail(toks[ev.pos], "unexpected '" + std::string(toks[ev.pos].text) + "' in #if expression");
     return !ev.failed && v != 0;
@@ -1169,6 +1169,10 @@ class Preprocessor {
     std::size_t pos;
     bool failed;
     int depth;
+    // Above 0 inside an operand that C does not evaluate (the right of `0 &&`
+    // and `1 ||`, the branch `?:` does not take): `#if 0 && (1 / 0)` is 0
+    // there, as gcc has it, where a division by zero counted is an error.
+    int unevaluated;
 
     // Counts one level while alive; false when the limit is passed (then
     // the evaluation has failed with a message at `at`).
@@ -1203,9 +1207,13 @@ class Preprocessor {
       if (!nest.ok(here()) || failed) return 0;
       std::int64_t c = binary(0);
       if (!accept("?")) return c;
+      unevaluated += c ? 0 : 1;
       std::int64_t a = ternary();
+      unevaluated -= c ? 0 : 1;
       if (!accept(":")) fail(here(), "expected ':' in #if expression");
+      unevaluated += c ? 1 : 0;
       std::int64_t b = ternary();
+      unevaluated -= c ? 1 : 0;
       return c ? a : b;
     }
 
@@ -1227,7 +1235,10 @@ class Preprocessor {
         int p = precedence(op);
         if (p < 0 || p < min_prec) return lhs;
         ++pos;
+        bool skipped = (op.text == "&&" && lhs == 0) || (op.text == "||" && lhs != 0);
+        unevaluated += skipped ? 1 : 0;
         std::int64_t rhs = binary(p + 1);
+        unevaluated -= skipped ? 1 : 0;
         lhs = apply(op, lhs, rhs);
       }
     }
@@ -1235,7 +1246,7 @@ class Preprocessor {
     std::int64_t apply(const Token& op, std::int64_t a, std::int64_t b) {
       std::string_view o = op.text;
       if ((o == "/" || o == "%") && b == 0) {
-        fail(op, "division by zero in #if expression");
+        if (unevaluated == 0) fail(op, "division by zero in #if expression");
         return 0;
       }
       auto ua = static_cast<std::uint64_t>(a), ub = static_cast<std::uint64_t>(b);

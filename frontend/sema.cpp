@@ -286,9 +286,12 @@ class Checker {
     auto error = [&](std::string message) { return Diagnostic{Severity::Error, span, std::move(message), {}, false, {}, {}}; };
     // The other targets' table holds only names -TRCX2 does not declare, so
     // it goes first: the RCX 2 prefixes also match a Spybot's ACQUIRE_LED.
+    // The Swan firmware runs on the RCX brick itself, so "for the RCX" would
+    // not say what is missing.
     if (auto target = other_target_of(name))
       return error("'" + name + "' is not declared: it is a " + std::string(*target) + (callee ? " function" : " name") +
-                   "; rcxc compiles for the RCX");
+                   (*target == "Swan firmware" ? " (nqc -TSwan); rcxc compiles for the RCX's standard firmware"
+                                               : "; rcxc compiles for the RCX"));
     if (is_rcx2_api_name(name))
       return error("'" + name + "' is not declared (it belongs to the RCX 2 firmware's API; this target is the RCX)");
     // nqc: "wrong number of arguments to 'Random'".
@@ -852,6 +855,7 @@ class Checker {
       e.constant = fold_binary(n.op, *a, *b);
       if (!e.constant) diags_.error(n.rhs->span, "division by zero in a constant expression");
       if (e.constant) warn_wrapped_operand(n, *e.constant);
+      if (e.constant) warn_folded_shift(n, *e.constant);
       return;
     }
     if (a && n.op == BinaryOp::LogAnd && *a == 0) e.constant = 0;
@@ -887,8 +891,11 @@ class Checker {
     if (!x || !y) return;
     auto fits = [](std::int64_t v) { return v >= -32768 && v <= 32767; };
     const Expr* wrapped = !fits(*x) ? n.lhs.get() : !fits(*y) ? n.rhs.get() : nullptr;
-    // A literal past 16 bits has its own warning already.
-    if (!wrapped || as<IntLit>(*wrapped)) return;
+    // A literal past 65535 has its own warning already; one of 32768 to
+    // 65535 has none (`0xFFFF` is a common way to write -1), and `40000 >
+    // 30000` is 0 here where nqc gives 1 (faithfulness round 16's in12).
+    if (!wrapped) return;
+    if (const auto* lit = as<IntLit>(*wrapped); lit && (lit->value > 0xFFFF || lit->value < -0x8000)) return;
     std::int64_t wide = 0;
     switch (n.op) {
       case BinaryOp::Div:
@@ -911,6 +918,23 @@ class Checker {
     diags_.warning(wrapped->span, WarningKind::Overflow, fmt::format("{} does not fit in 16 bits: it wraps to {}, so the {} gives {} (nqc, "
                                               "which computes constants in 32 bits, gives {})",
                                               exact, wrap16(exact), what, folded, wide));
+  }
+
+  // `-8 >> 1` folds to 32764, as the brick shifts zeros in and as nqc's own
+  // code for `x >> 1` does; nqc folds constants as 32-bit signed numbers and
+  // gives -4 (docs/compiler.md). Said where the two differ, as a wrapped
+  // operand of a division is (faithfulness round 16's in11).
+  void warn_folded_shift(const Binary& n, std::int16_t folded) {
+    if (n.op != BinaryOp::Shr) return;
+    auto x = exact_constant(*n.lhs);
+    auto y = exact_constant(*n.rhs);
+    if (!x || !y || *y < 0 || *y > 31 || *x < -(std::int64_t{1} << 31) || *x >= (std::int64_t{1} << 31)) return;
+    std::int64_t wide = static_cast<std::int64_t>(static_cast<std::int32_t>(*x) >> *y);
+    if (wrap16(wide) == folded) return;
+    diags_.warning(n.lhs->span, WarningKind::Overflow,
+                   fmt::format("{} >> {} gives {}: the brick shifts zeros in, as nqc's code for a variable does (nqc, "
+                               "which computes constants in 32 bits, gives {})",
+                               *x, *y, folded, wrap16(wide)));
   }
 
   void visit_expr(Assign& n, Expr&, Use) {
@@ -1120,7 +1144,13 @@ class Checker {
         return;
       if (is_variable_slot(arg)) return;
       if (!n || (n->symbol != kNoSymbol && !is_writable(prog_.symbols[n->symbol]))) {
-        auto& d = diags_.error(arg.span, "argument for 'int &" + p.name + "' of '" + f.name + "' must be a variable");
+        // `f(Timer(0))`: which value of the brick it is, as `Timer(0) = 3`
+        // says (faithfulness round 16's rf12; nqc: "argument must be a
+        // variable").
+        std::string noun = source_noun(arg);
+        if (!noun.empty()) noun = "; this is" + noun.substr(std::string_view(" but").size());
+        auto& d = diags_.error(arg.span, "argument for 'int &" + p.name + "' of '" + f.name + "' must be a variable" +
+                                             noun);
         d.notes.push_back({p.span, "parameter declared here"});
       }
     } else if (p.kind == ParamKind::Const) {

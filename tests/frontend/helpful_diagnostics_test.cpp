@@ -862,6 +862,24 @@ TEST(HelpfulDiagnostics, AnotherTargetsNameSaysWhichTargetHasIt) {
       << typo.text();
 }
 
+// The Swan firmware's names (nqc -TSwan: MessageParam, SetMotorPowerSigned,
+// MTR_A, OUT_D, ...) said only "not declared" (left from faithfulness round
+// 15). The Swan runs on the RCX brick, so the message names the firmware;
+// the Swan names among a Swan call's arguments are that one mistake, and a
+// Swan name the RCX 2 prefix EVENT_TYPE_ would match is still the Swan's.
+TEST(HelpfulDiagnostics, ASwanFirmwareNameSaysItIsTheSwans) {
+  const std::string tail = " (nqc -TSwan); rcxc compiles for the RCX's standard firmware";
+  auto swan = run_frontend(
+      "int p;\ntask main()\n{\n  p = MessageParam();\n  SetMotorPowerSigned(MTR_A, p);\n  On(OUT_D);\n"
+      "  p = EVENT_TYPE_RESET;\n}\n");
+  EXPECT_EQ(placed_messages(swan.diags),
+            (std::vector<std::string>{"4:7 'MessageParam' is not declared: it is a Swan firmware function" + tail,
+                                      "5:3 'SetMotorPowerSigned' is not declared: it is a Swan firmware function" + tail,
+                                      "6:6 'OUT_D' is not declared: it is a Swan firmware name" + tail,
+                                      "7:7 'EVENT_TYPE_RESET' is not declared: it is a Swan firmware name" + tail}))
+      << swan.text();
+}
+
 // `asm { 0x51 0x01 }` said "expected '}' before '0x01'" (faithfulness round
 // 14's dx26): the ',' between the bytes is what is missing. Mnemonic lines,
 // which have no commas between them, keep their own message.
@@ -933,4 +951,79 @@ TEST(HelpfulDiagnostics, AMacroEndingInASemicolonSaysSo) {
   auto own = run_frontend("task main()\n{\n  OnFwd(OUT_A;\n}\n");
   ASSERT_FALSE(own.diags.all().empty());
   EXPECT_EQ(own.diags.all()[0].message, "expected ')' before ';'") << own.text();
+}
+
+// `#define THRESHOLD 40;` in `if (SENSOR_1 > THRESHOLD) { ... }` inside a
+// loop (left from faithfulness round 15): the first error was right, but the
+// recovery took the ';' as a statement of the enclosing block, the ')' and
+// the if's body after it ended that block early, and the task's last '}'
+// drew "expected a declaration". A condition that does not parse now
+// resumes at its ')', or at the '{' where the ')' is left out, and the body
+// and its else stay the if's. A syntax mistake inside the body is still said.
+TEST(HelpfulDiagnostics, AConditionThatDoesNotParseIsOneError) {
+  const std::string ends = "expected ')' before ';': the ';' ends a macro's text (a #define needs no ';' at its end)";
+  // The shape that drew the second error: no else, in a loop's block.
+  auto looped = run_frontend(
+      "#define THRESHOLD 40;\ntask main()\n{\n  SetSensor(SENSOR_1, SENSOR_LIGHT);\n  while (true) {\n"
+      "    if (SENSOR_1 > THRESHOLD) {\n      OnFwd(OUT_A);\n    }\n  }\n}\ntask other()\n{\n  Off(OUT_A);\n}\n");
+  ASSERT_EQ(looped.diags.all().size(), 1u) << looped.text();
+  EXPECT_EQ(looped.diags.all()[0].message, ends) << looped.text();
+  // With an else, and without braces, it was one error already; so it stays.
+  auto braced = run_frontend(
+      "#define THRESHOLD 40;\ntask main()\n{\n  SetSensor(SENSOR_1, SENSOR_LIGHT);\n  while (true)\n  {\n"
+      "    if (SENSOR_1 > THRESHOLD)\n    {\n      OnFwd(OUT_A);\n    }\n    else\n    {\n      Off(OUT_A);\n"
+      "    }\n  }\n}\n");
+  ASSERT_EQ(braced.diags.all().size(), 1u) << braced.text();
+  EXPECT_EQ(braced.diags.all()[0].message, ends) << braced.text();
+  auto unbraced =
+      run_frontend("#define LIMIT 40;\ntask main()\n{\n  if (SENSOR_2 > LIMIT) Off(OUT_A); else On(OUT_A);\n  Wait(5);\n}\n");
+  ASSERT_EQ(unbraced.diags.all().size(), 1u) << unbraced.text();
+  EXPECT_EQ(unbraced.diags.all()[0].message, ends) << unbraced.text();
+  // The ')' left out: the body's '{' ends the condition, not a ')' in it.
+  auto open = run_frontend("int x;\ntask main()\n{\n  if (x > 3 {\n    OnFwd(OUT_A);\n  }\n  x = 1;\n}\n");
+  ASSERT_EQ(open.diags.all().size(), 1u) << open.text();
+  EXPECT_EQ(placed_messages(open.diags)[0], "4:13 expected ')' before '{'") << open.text();
+  // A mistake of the body's own is still said.
+  auto body = run_frontend("#define LIMIT 40;\nint x;\ntask main()\n{\n  if (SENSOR_2 > LIMIT) { x = 1 2; }\n}\n");
+  ASSERT_EQ(body.diags.all().size(), 2u) << body.text();
+  EXPECT_EQ(placed_messages(body.diags)[1].substr(0, 36), "5:33 expected an operator or ';' bef") << body.text();
+}
+
+// A macro that is two statements (`#define BACKUP OnRev(OUT_A); Wait(20)`)
+// or a block (`#define TURN { ... }`) before an else (faithfulness round 16's
+// pp07, pp08): the error at the else said a statement stood between, and the
+// macro, the cause, was nowhere in it. A note now points into the macro.
+TEST(HelpfulDiagnostics, AMacroThatEndsTheIfBeforeItsElseIsNamed) {
+  auto two = run_frontend("#define BACKUP OnRev(OUT_A); Wait(20)\ntask main()\n{\n  if (SENSOR_1 == 1)\n"
+                          "    BACKUP;\n  else\n    Off(OUT_A);\n}\n");
+  ASSERT_EQ(two.diags.all().size(), 1u) << two.text();
+  EXPECT_EQ(placed_messages(two.diags)[0].substr(0, 47), "6:3 'else' without an 'if' before it: a stateme") << two.text();
+  ASSERT_FALSE(two.diags.all()[0].notes.empty()) << two.text();
+  EXPECT_EQ(two.diags.all()[0].notes[0].message.substr(0, 45), "this ';' in the macro's text ends the 'if' st")
+      << two.text();
+  auto block = run_frontend("#define TURN { OnRev(OUT_A); Wait(10); }\ntask main()\n{\n  if (SENSOR_1 == 1)\n"
+                            "    TURN;\n  else\n    Off(OUT_A);\n}\n");
+  ASSERT_EQ(block.diags.all().size(), 1u) << block.text();
+  ASSERT_FALSE(block.diags.all()[0].notes.empty()) << block.text();
+  EXPECT_EQ(block.diags.all()[0].notes[0].message.substr(0, 42), "the macro's text is a block, so the ';' wr")
+      << block.text();
+  // The user's own two statements, or an extra ';', have no macro to name.
+  auto own = run_frontend("task main()\n{\n  if (SENSOR_1 == 1)\n    OnRev(OUT_A); Wait(20);\n  else\n    Off(OUT_A);\n}\n");
+  ASSERT_EQ(own.diags.all().size(), 1u) << own.text();
+  EXPECT_TRUE(own.diags.all()[0].notes.empty()) << own.text();
+}
+
+// An `int &` argument that is a value of the brick (`f(Timer(0))`) said only
+// "must be a variable" (faithfulness round 16's rf12; nqc: "argument must
+// be a variable"); it now says which value it is, as `Timer(0) = 3` does.
+TEST(HelpfulDiagnostics, AReferenceGivenAValueOfTheBrickSaysWhichValue) {
+  auto r = run_frontend("void f(int &a) { a = 1; }\ntask main()\n{\n  f(Timer(0));\n  f(SENSOR_2);\n  f(3);\n}\n");
+  ASSERT_EQ(r.diags.all().size(), 3u) << r.text();
+  EXPECT_EQ(r.diags.all()[0].message, "argument for 'int &a' of 'f' must be a variable; this is the value of a timer, "
+                                      "which a program can read and not assign")
+      << r.text();
+  EXPECT_EQ(r.diags.all()[1].message, "argument for 'int &a' of 'f' must be a variable; this is the value of a "
+                                      "sensor, which a program can read and not assign")
+      << r.text();
+  EXPECT_EQ(r.diags.all()[2].message, "argument for 'int &a' of 'f' must be a variable") << r.text();
 }
