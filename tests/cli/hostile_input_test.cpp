@@ -206,8 +206,12 @@ TEST(HostileInput, EndlessFilesStopAtTheirCap) {
                "/dev/zero: larger than a scenario file may be (1 MiB)");
   expect_error(limited({"test", d.write("t.nqc", "// @scenario /dev/zero\ntask main() { }\n")}),
                "larger than a scenario file may be");
+  // Firmware too is refused as a device by name; a file past the cap stops there.
   expect_error(limited({"remote", "--port", "/dev/no-such-tower", "firmware", "/dev/zero"}),
-               "/dev/zero: larger than a firmware file may be (1 MiB)");
+               "/dev/zero: not a file (a device, a pipe or a socket)");
+  expect_error(limited({"remote", "--port", "/dev/no-such-tower", "firmware",
+                        d.write("big.srec", std::string((std::size_t{1} << 20) + 1, 'S'))}),
+               "big.srec: larger than a firmware file may be (1 MiB)");
   // nqc's command line and the NXT side read their files with the same caps.
   auto as_nqc = limited({"nqc", "-Trcx", "-O" + d.path + "/p.rcx", "/dev/zero"});
   EXPECT_FALSE(as_nqc.timed_out);
