@@ -270,6 +270,11 @@ TEST(NxtCli, PortsThatCannotBeOpenedOrDoNotAnswer) {
   EXPECT_NE(null.err.find("/dev/null is not a tty"), std::string::npos) << null.err;
   auto badbt = nxt("bt:12:34", {"battery"});
   EXPECT_EQ(badbt.exit_code, 2);
+  // A malformed serial is a bad command line, not a brick missing from USB.
+  auto badserial = nxt("usb:zz", {"battery"});
+  EXPECT_EQ(badserial.exit_code, 2) << badserial.err;
+  EXPECT_NE(badserial.err.find("\"zz\" is not an NXT's USB serial number"), std::string::npos) << badserial.err;
+  EXPECT_EQ(badserial.err.find("no NXT"), std::string::npos) << badserial.err;
   // A pty nobody serves: the brick does not answer.
   auto opened = nxt::open_pty_pair();
   ASSERT_TRUE(std::holds_alternative<nxt::PtyPair>(opened));
