@@ -75,10 +75,16 @@ int run_main(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     // Bad command line: say what was wrong, then how to call us, on stderr.
-    auto hint = rcxc::cli::misspelling_hint(app, {argv + 1, argv + argc});
+    const std::vector<std::string> words(argv + 1, argv + argc);
+    auto hint = rcxc::cli::misspelling_hint(app, words);
+    auto habits = rcxc::cli::nqc_habit_hints(words);
     // CLI11's "A subcommand is required" after an unknown action reads as
-    // if none were given: the hint names the word instead.
-    if (!(hint && rcxc::cli::is_missing_action(e))) {
+    // if none were given: the hint names the word instead. Its "argument
+    // was not expected: -temp.log" for -Etemp.log names a word nobody typed:
+    // the nqc habit's hint says what was meant.
+    bool habit_says_all = !habits.empty() && dynamic_cast<const CLI::ExtrasError*>(&e) &&
+                          rcxc::cli::nqc_habits_explain(app.remaining(true), words);
+    if (!(hint && rcxc::cli::is_missing_action(e)) && !habit_says_all) {
       std::cerr << "rcxc: " << rcxc::cli::parse_error_text(e);
       // CLI11's "Could not convert: --x = 1e999" for a value no check of ours saw first.
       if (dynamic_cast<const CLI::ConversionError*>(&e))
@@ -86,7 +92,7 @@ int run_main(int argc, char** argv) {
       std::cerr << "\n";
     }
     if (hint) std::cerr << "rcxc: " << *hint << "\n";
-    if (auto hint = rcxc::cli::nqc_habit_hint({argv + 1, argv + argc})) std::cerr << "rcxc: " << *hint << "\n";
+    for (const std::string& habit : habits) std::cerr << "rcxc: " << habit << "\n";
     std::cerr << "\n";
     const CLI::App* where = &app;
     for (const CLI::App* sub : app.get_subcommands()) where = sub;
