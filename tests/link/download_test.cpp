@@ -292,6 +292,11 @@ TEST_F(RemoteFixture, RawPrintsTheReply) {
   EXPECT_EQ(ok({"raw", "f7", "05"}), "sent (this request has no reply)\n");
   EXPECT_EQ(fails({"raw", "27", "00"}), RemoteFailure::Usage);  // not a request
   EXPECT_EQ(fails({"raw", "51"}), RemoteFailure::Usage);        // too short
+  // The length is said with the request's name ("that request is 1 bytes
+  // long, not 3" named neither).
+  auto alive = check_remote({"raw", "10", "10", "10"});
+  ASSERT_TRUE(alive);
+  EXPECT_EQ(alive->message, "raw: Alive (0x10) is 1 byte long, not 3");
 }
 
 TEST_F(RemoteFixture, UsageErrorsSendNothing) {
