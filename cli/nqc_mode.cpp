@@ -562,21 +562,19 @@ std::vector<std::string> nqc_habit_hints(const std::vector<std::string>& args) {
   return out;
 }
 
-bool nqc_habits_explain(const std::vector<std::string>& unexpected, const std::vector<std::string>& args) {
+bool left_of_nqc_habit(const std::string& unexpected, const std::vector<std::string>& args) {
   // CLI11 reads -Etemp.log as the flag -E and then "-temp.log", the rest of
   // the word as a word of its own: what is left of a habit is the habit or
   // a dash and a tail of it.
-  auto left_of_habit = [&](const std::string& word) {
-    for (const std::string& a : args) {
-      if (habit_instead(a).empty()) continue;
-      if (word == a) return true;
-      if (word.size() >= 2 && word[0] == '-' && word.size() - 1 < a.size() - 1 &&
-          a.ends_with(std::string_view(word).substr(1)))
-        return true;
-    }
-    return false;
-  };
-  return !unexpected.empty() && std::ranges::all_of(unexpected, left_of_habit);
+  const std::string& word = unexpected;
+  for (const std::string& a : args) {
+    if (habit_instead(a).empty()) continue;
+    if (word == a) return true;
+    if (word.size() >= 2 && word[0] == '-' && word.size() - 1 < a.size() - 1 &&
+        a.ends_with(std::string_view(word).substr(1)))
+      return true;
+  }
+  return false;
 }
 
 std::string render_nqc(const Diagnostics& diags, const SourceManager& sm) {

@@ -30,11 +30,11 @@ int run_nqc_mode(const std::vector<std::string>& args);
 // -Trcx), what to write instead, one line each. (compile's -O<file> is
 // judged by -O's own check.)
 std::vector<std::string> nqc_habit_hints(const std::vector<std::string>& args);
-// Whether the words the parser did not expect are all what it left of the
-// nqc habits in `args` (-Etemp.log leaves "-temp.log" once -E is taken as
-// a flag): then the habit's hint is all there is to say, and the parser's
-// "argument was not expected: -temp.log" only misleads.
-bool nqc_habits_explain(const std::vector<std::string>& unexpected, const std::vector<std::string>& args);
+// Whether a word the parser did not expect is what it left of an nqc habit
+// in `args` (-Etemp.log leaves "-temp.log" once -E is taken as a flag):
+// then the habit's hint says it, and the parser's "argument was not
+// expected: -temp.log" only misleads.
+bool left_of_nqc_habit(const std::string& unexpected, const std::vector<std::string>& args);
 
 // Diagnostics the way nqc prints them: "# Error: MESSAGE", the line BricxCC
 // searches (`File "NAME" ; line N`), the source line and carets after "# ",
