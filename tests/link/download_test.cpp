@@ -141,6 +141,21 @@ TEST(LinkDownload, NoBrickIsACleanFailure) {
   EXPECT_NE(std::get<DownloadError>(result).message.find("Alive"), std::string::npos);
 }
 
+// `--retries 0` said "after 1 tries".
+TEST(LinkDownload, OneTryIsSaidInTheSingular) {
+  for (int retries : {0, 3}) {
+    Brick brick = make_brick();
+    BrickWire wire(brick, 1.0, 1);
+    LinkOptions options;
+    options.retries = retries;
+    Link link = make_link(wire, options);
+    auto result = download(link, sample_image(), {});
+    ASSERT_TRUE(std::holds_alternative<DownloadError>(result));
+    const std::string& m = std::get<DownloadError>(result).message;
+    EXPECT_NE(m.find(retries == 0 ? "Alive after 1 try (" : "Alive after 4 tries ("), std::string::npos) << m;
+  }
+}
+
 TEST(LinkDownload, ABrickWithoutFirmwareIsExplained) {
   Brick brick = make_brick();
   brick.vm.set_firmware_present(false);
