@@ -275,7 +275,7 @@ void register_run(CLI::App& app, int& exit_code) {
   add_compiler_options(cmd, o->compiler);
   cmd->add_option("--scenario", o->scenario, "TOML file of timed inputs ([[input]] tables)")->check(not_empty());
   cmd->add_option("--for", o->for_ms, "virtual time limit in ms (default 60000, or the source's // @for)")
-      ->check(in_range(1, kLongestRunMs));
+      ->check(in_range(1, kLongestRunMs, "ms"));
   cmd->add_option("--seed", o->seed, "seed of the random source (default 1)")->check(whole_number());
   cmd->add_option("--report", o->report, "print a report instead of the timeline: json")->check(CLI::IsMember({"json"}));
   cmd->add_option("--trace", o->trace,

@@ -320,8 +320,13 @@ TEST(RunCli, AForOutOfRangeNamesTheRangeItTakes) {
     for (const std::string command : {"run", "compare"}) {
       auto r = run_rcxc({command, image, "--for", value});
       EXPECT_EQ(r.exit_code, 2) << command << " " << value << ": " << r.err;
-      EXPECT_NE(r.err.find("--for: '" + value + "' is outside 1..1099511627776"), std::string::npos) << r.err;
+      EXPECT_NE(r.err.find("--for: '" + value + "' is outside 1..1099511627776 ms"), std::string::npos) << r.err;
     }
+  // A time with a unit, as a test's @for takes it, is told the unit --for takes.
+  auto seconds = run_rcxc({"run", image, "--for", "10s"});
+  EXPECT_EQ(seconds.exit_code, 2);
+  EXPECT_NE(seconds.err.find("--for: '10s' is not a whole number (1..1099511627776 ms)"), std::string::npos)
+      << seconds.err;
 }
 
 // The longest run is one bound (tomlfile/longest_run.h) that every way of
