@@ -292,6 +292,27 @@ TEST(NxtCli, PortsThatCannotBeOpenedOrDoNotAnswer) {
   EXPECT_NE(bad.err.find("b.toml:1: an input needs exactly one of"), std::string::npos) << bad.err;
 }
 
+// A host cut off in the middle of a telegram left its length prefix in
+// the brick, which then took the next hosts' telegrams for the rest of it
+// and answered none of them (every action exit 4) until the promised bytes
+// had come. After a silence the unfinished telegram is dropped.
+TEST(NxtCli, AnUnfinishedTelegramDoesNotSilenceTheBrick) {
+  NxtBrickProcess brick;
+  ASSERT_FALSE(brick.path.empty());
+  int fd = ::open(brick.path.c_str(), O_RDWR | O_NOCTTY);
+  ASSERT_GE(fd, 0);
+  const std::uint8_t cut[] = {200, 0, 0x00, 0x0b};  // 200 bytes promised, 2 sent
+  ASSERT_EQ(::write(fd, cut, sizeof cut), static_cast<ssize_t>(sizeof cut));
+  ::close(fd);
+  std::this_thread::sleep_for(std::chrono::milliseconds(400));
+  for (int i = 0; i < 3; ++i) {
+    auto r = nxt(brick.path, {"--timeout", "2000", "battery"});
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(r.out, "7800 mV\n");
+  }
+  EXPECT_EQ(brick.stop(), 0);
+}
+
 TEST(NxtCli, UsbAndBluetoothWithoutHardwareCannotBeOpened) {
   // No NXT (and no adapter) here: both must fail as "cannot open", not hang.
   auto usb = run_rcxc({"nxt", "--port", "usb", "battery"}, "", 30'000);
