@@ -378,7 +378,7 @@ void register_compare(CLI::App& app, int& exit_code) {
   add_repeatable(cmd, "--scenario", o->scenarios, "Scenario TOML file (repeatable); default: built-in scenarios")->check(not_empty());
   cmd->add_option("--nqc-path", o->nqc, "The nqc to compare with (path or name; default: nqc on PATH)")->check(not_empty());
   cmd->add_option("--for", o->for_ms, "Virtual milliseconds per run (default 20000)")
-      ->check(in_range(1, kLongestRunMs));
+      ->check(in_range(1, kLongestRunMs, "ms"));
   cmd->add_option("--seed", o->seed, "Random seed for both runs (default 1)")->check(whole_number());
   cmd->add_option("--instruction-us", o->instruction_us, "Virtual time per instruction (default 10)")
       ->check(in_range(1, 100000));

@@ -81,6 +81,15 @@ int write_outputs(const CompileArgs& a, const backend::Output& out, const Source
     if (target->empty() || *target == "-") continue;
     if (overwrites_source(*target, sm)) return kExitUsage;
   }
+  // A listing file before the image: one that cannot be written (a full
+  // disk, a missing folder) failed the command after a fresh image was in
+  // place, which `make` then took for built. The image is the output a
+  // build waits for, so it is written last, only when all else went well.
+  if (!a.listing.empty() && a.listing != "-")
+    if (auto unwritten = savefile::write_file_atomically(a.listing, backend::listing(out, &sm))) {
+      std::cerr << "rcxc compile: cannot write " << a.listing << ": " << *unwritten << "\n";
+      return kExitFailure;
+    }
   if (path == "-") {
     // For a pipe; bad_arguments has made sure the listing goes elsewhere.
     std::cout.write(reinterpret_cast<const char*>(image.data()), static_cast<std::streamsize>(image.size()));
@@ -92,14 +101,7 @@ int write_outputs(const CompileArgs& a, const backend::Output& out, const Source
     std::cerr << "rcxc compile: cannot write " << path << ": " << *unwritten << "\n";
     return kExitFailure;
   }
-  if (a.listing.empty()) return kExitOk;
-  std::string text = backend::listing(out, &sm);
-  if (a.listing == "-") {
-    std::cout << text;
-  } else if (auto unwritten = savefile::write_file_atomically(a.listing, text)) {
-    std::cerr << "rcxc compile: cannot write " << a.listing << ": " << *unwritten << "\n";
-    return kExitFailure;
-  }
+  if (a.listing == "-") std::cout << backend::listing(out, &sm);
   return kExitOk;
 }
 

@@ -353,7 +353,7 @@ void register_nxt(CLI::App& app, int& exit_code) {
   nxt_cmd->add_flag("--json", a->json, "Print JSON for scripts");
   nxt_cmd->add_flag("-v,--verbose", a->verbose, "Log every telegram decoded on stderr");
   nxt_cmd->add_option("--timeout", a->timeout_ms, "Milliseconds to wait for a reply (default 1000)")
-      ->check(in_range(1, 60000));
+      ->check(in_range(1, 60000, "ms"));
   nxt_cmd->require_subcommand(1);
   nxt_cmd->fallthrough();
   const std::string exit_codes =

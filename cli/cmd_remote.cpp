@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "cli/commands.h"
+#include "cli/program_loader.h"
 #include "cli/tower.h"
 #include "link/remote.h"
 #include "link/transport.h"
@@ -31,6 +32,14 @@ int exit_code_for(rcx::RemoteFailure kind) {
 }
 
 int run_remote(const RemoteArgs& a) {
+  // Before check_remote, which reads the firmware file to judge it: /dev/null
+  // read as an empty file said "no data records", and a pipe would be read
+  // there and found empty by the real download.
+  if (a.words.size() == 2 && a.words[0] == "firmware")
+    if (auto problem = special_file_problem(a.words[1], Takes::Files, "give a firmware file of S-records (.srec)")) {
+      std::cerr << "rcxc remote: " << *problem << "\n";
+      return kExitFailure;
+    }
   if (auto bad = rcx::check_remote(a.words)) {
     std::cerr << "rcxc remote: " << bad->message << "\n";
     return exit_code_for(bad->kind);

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <iostream>
+#include <sstream>
 #include <variant>
 
 #include "cli/commands.h"
@@ -81,12 +82,6 @@ bool ends_with(const std::string& s, std::string_view suffix) {
   return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
-// Symbol names come from the image and may be any bytes: invalid UTF-8 is
-// replaced rather than thrown about.
-std::string json_text(const nlohmann::json& j) {
-  return j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace);
-}
-
 // The trace formats, by the file's extension.
 constexpr std::string_view kTraceExtensions[] = {".vcd", ".json", ".svg", ".html"};
 
@@ -109,7 +104,10 @@ std::string trace_text(const std::string& path, const rcx::Machine& machine, con
   if (ends_with(path, ".vcd")) return rcx::trace_vcd(machine, image);
   if (ends_with(path, ".svg")) return rcx::trace_svg(machine, image, names, program);
   if (ends_with(path, ".html")) return rcx::trace_html(machine, image, names, program);
-  return json_text(rcx::trace_json(machine, image)) + "\n";
+  std::ostringstream json;
+  rcx::write_trace_json(json, machine, image);
+  json << "\n";
+  return std::move(json).str();
 }
 
 // A program with test directives (docs/testing.md) carries its own inputs:
@@ -241,9 +239,10 @@ int run(const RunOptions& o) {
   }
 
   rcx::EventNames names = event_names();
-  if (o.report == "json")
-    std::cout << json_text(rcx::report_json(machine, image)) << "\n";
-  else
+  if (o.report == "json") {
+    rcx::write_report_json(std::cout, machine, image);
+    std::cout << "\n";
+  } else
     std::cout << rcx::timeline_text(machine, image, names);
   if (!o.trace.empty()) {
     std::string program = std::filesystem::path(o.file).filename().string();
@@ -275,7 +274,7 @@ void register_run(CLI::App& app, int& exit_code) {
   add_compiler_options(cmd, o->compiler);
   cmd->add_option("--scenario", o->scenario, "TOML file of timed inputs ([[input]] tables)")->check(not_empty());
   cmd->add_option("--for", o->for_ms, "virtual time limit in ms (default 60000, or the source's // @for)")
-      ->check(in_range(1, kLongestRunMs));
+      ->check(in_range(1, kLongestRunMs, "ms"));
   cmd->add_option("--seed", o->seed, "seed of the random source (default 1)")->check(whole_number());
   cmd->add_option("--report", o->report, "print a report instead of the timeline: json")->check(CLI::IsMember({"json"}));
   cmd->add_option("--trace", o->trace,

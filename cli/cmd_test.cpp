@@ -71,6 +71,11 @@ void search_folder(const fs::path& folder, std::vector<std::string>& found, std:
         problems.push_back(fmt::format("cannot read {}: {}", path.string(), target_ec.message()));
       else if (fs::is_regular_file(target))
         found.push_back(path.string());
+      // A pipe or device named .nqc was passed over without a word, where
+      // one named on the command line is refused: the count of tests run
+      // then hid a file that never was.
+      else if (auto special = special_file_problem(path.string(), Takes::Files, "rcxc test reads .nqc test files"))
+        problems.push_back(*special);
     }
     if (ec) problems.push_back(fmt::format("cannot read folder {}: {}", dir.string(), ec.message()));
   }

@@ -92,11 +92,13 @@ inline CLI::Validator whole_number() {
 
 // For integer options and arguments: the text must be a whole number from
 // `lo` to `hi`, checked as typed. Without it a number past the variable's
-// type got CLI11's bare "Could not convert", naming no range.
-inline CLI::Validator in_range(long long lo, long long hi) {
+// type got CLI11's bare "Could not convert", naming no range. `unit`, when
+// given, follows the range ("--for: '10s' is not a whole number (1..N ms)":
+// a test's @for takes 10s, --for takes milliseconds).
+inline CLI::Validator in_range(long long lo, long long hi, const std::string& unit = "") {
   return CLI::Validator(
-      [lo, hi](std::string& v) {
-        std::string range = std::to_string(lo) + ".." + std::to_string(hi);
+      [lo, hi, unit](std::string& v) {
+        std::string range = std::to_string(lo) + ".." + std::to_string(hi) + (unit.empty() ? "" : " " + unit);
         auto number = read_whole_number(v, true);
         if (!number) return "'" + v + "' is not a whole number (" + range + ")";
         // Past the largest long long it is past every range (and -2^63 past every lo in use).

@@ -1,9 +1,12 @@
 // rcxc: the command-line front of the compiler, emulator and IR link
 // libraries. It only parses options and calls the libraries.
+#include <algorithm>
 #include <csignal>
 #include <cstdio>
 #include <iostream>
+#include <string>
 #include <string_view>
+#include <vector>
 
 #include "cli/allocator.h"
 #include "cli/commands.h"
@@ -65,6 +68,10 @@ int run_main(int argc, char** argv) {
   }
 
   rcxc::cli::read_integers_as_decimal(app);
+  if (auto bare = rcxc::cli::option_without_value({argv + 1, argv + argc})) {
+    std::cerr << "rcxc: " << *bare << "\n";
+    return rcxc::cli::kExitUsage;
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -75,18 +82,28 @@ int run_main(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     // Bad command line: say what was wrong, then how to call us, on stderr.
-    auto hint = rcxc::cli::misspelling_hint(app, {argv + 1, argv + argc});
+    const std::vector<std::string> words(argv + 1, argv + argc);
+    auto hint = rcxc::cli::misspelling_hint(app, words);
+    auto habits = rcxc::cli::nqc_habit_hints(words);
     // CLI11's "A subcommand is required" after an unknown action reads as
-    // if none were given: the hint names the word instead.
-    if (!(hint && rcxc::cli::is_missing_action(e))) {
+    // if none were given: the hint names the word instead. Its "argument
+    // was not expected" beside a hint said the same word twice (`run --fro
+    // p.nqc`), and for -Etemp.log named "-temp.log", a word nobody typed:
+    // it is left out when the hints account for every unexpected word.
+    const std::vector<std::string> unexpected = app.remaining(true);
+    bool hints_say_all = dynamic_cast<const CLI::ExtrasError*>(&e) && !unexpected.empty() &&
+                         std::ranges::all_of(unexpected, [&](const std::string& w) {
+                           return (hint && rcxc::cli::hint_explains(*hint, w)) || rcxc::cli::left_of_nqc_habit(w, words);
+                         });
+    if (!(hint && rcxc::cli::is_missing_action(e)) && !hints_say_all) {
       std::cerr << "rcxc: " << rcxc::cli::parse_error_text(e);
       // CLI11's "Could not convert: --x = 1e999" for a value no check of ours saw first.
       if (dynamic_cast<const CLI::ConversionError*>(&e))
         std::cerr << ": not a value this option or argument can take (its range is in the help below)";
       std::cerr << "\n";
     }
-    if (hint) std::cerr << "rcxc: " << *hint << "\n";
-    if (auto hint = rcxc::cli::nqc_habit_hint({argv + 1, argv + argc})) std::cerr << "rcxc: " << *hint << "\n";
+    if (hint) std::cerr << "rcxc: " << hint->text << "\n";
+    for (const std::string& habit : habits) std::cerr << "rcxc: " << habit << "\n";
     std::cerr << "\n";
     const CLI::App* where = &app;
     for (const CLI::App* sub : app.get_subcommands()) where = sub;

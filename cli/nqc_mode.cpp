@@ -540,19 +540,41 @@ bool started_as_nqc(const char* argv0) {
   return name == "nqc" || name == "nqc.exe";
 }
 
-std::optional<std::string> nqc_habit_hint(const std::vector<std::string>& args) {
+namespace {
+
+// What to write instead of the word `a` when it is an nqc habit, or "".
+std::string habit_instead(const std::string& a) {
+  if (a.size() <= 2 || a[0] != '-' || a[1] == '-') return "";
+  if (a[1] == 'E') return "errors always go to stderr here (-E prints the preprocessed source)";
+  if (a[1] == 'L') return "write --listing=" + a.substr(2);
+  if (a[1] == 'T') return "rcxc always compiles for the RCX: leave -T out";
+  return "";
+}
+
+}  // namespace
+
+std::vector<std::string> nqc_habit_hints(const std::vector<std::string>& args) {
+  std::vector<std::string> out;
+  for (const std::string& a : args)
+    if (std::string instead = habit_instead(a); !instead.empty())
+      out.push_back(fmt::format("'{}' is nqc's option: {}; or run 'rcxc nqc ...' with nqc's options (docs/nqc.md)",
+                                a, instead));
+  return out;
+}
+
+bool left_of_nqc_habit(const std::string& unexpected, const std::vector<std::string>& args) {
+  // CLI11 reads -Etemp.log as the flag -E and then "-temp.log", the rest of
+  // the word as a word of its own: what is left of a habit is the habit or
+  // a dash and a tail of it.
+  const std::string& word = unexpected;
   for (const std::string& a : args) {
-    if (a.size() <= 2 || a[0] != '-' || a[1] == '-') continue;
-    const std::string value = a.substr(2);
-    std::string instead;
-    if (a[1] == 'E') instead = "errors always go to stderr here (-E prints the preprocessed source)";
-    if (a[1] == 'L') instead = "write --listing=" + value;
-    if (a[1] == 'T') instead = "rcxc always compiles for the RCX: leave -T out";
-    if (!instead.empty())
-      return fmt::format("'{}' is nqc's option: {}; or run 'rcxc nqc ...' with nqc's options (docs/nqc.md)", a,
-                         instead);
+    if (habit_instead(a).empty()) continue;
+    if (word == a) return true;
+    if (word.size() >= 2 && word[0] == '-' && word.size() - 1 < a.size() - 1 &&
+        a.ends_with(std::string_view(word).substr(1)))
+      return true;
   }
-  return std::nullopt;
+  return false;
 }
 
 std::string render_nqc(const Diagnostics& diags, const SourceManager& sm) {

@@ -26,10 +26,15 @@ bool started_as_nqc(const char* argv0);
 // and NQC_INCLUDE are read from the environment) and returns the exit code.
 int run_nqc_mode(const std::vector<std::string>& args);
 
-// When a rejected rcxc command line holds an nqc habit (-Efile, -Lfile,
-// -Trcx), what to write instead; nullopt otherwise. (compile's -O<file> is
+// When a rejected rcxc command line holds nqc habits (-Efile, -Lfile,
+// -Trcx), what to write instead, one line each. (compile's -O<file> is
 // judged by -O's own check.)
-std::optional<std::string> nqc_habit_hint(const std::vector<std::string>& args);
+std::vector<std::string> nqc_habit_hints(const std::vector<std::string>& args);
+// Whether a word the parser did not expect is what it left of an nqc habit
+// in `args` (-Etemp.log leaves "-temp.log" once -E is taken as a flag):
+// then the habit's hint says it, and the parser's "argument was not
+// expected: -temp.log" only misleads.
+bool left_of_nqc_habit(const std::string& unexpected, const std::vector<std::string>& args);
 
 // Diagnostics the way nqc prints them: "# Error: MESSAGE", the line BricxCC
 // searches (`File "NAME" ; line N`), the source line and carets after "# ",

@@ -186,6 +186,10 @@ std::optional<std::string> file_head(const std::string& path) {
   if (!in) return std::nullopt;
   std::string head(4096, '\0');
   in.read(head.data(), static_cast<std::streamsize>(head.size()));
+  // A read that failed (EIO: /proc/self/mem, a bad disk) is no file one can
+  // read, not an empty one: `compare` took it for source and, when neither
+  // compiler could read it, said "nothing to compare" (exit 5).
+  if (in.bad()) return std::nullopt;
   head.resize(static_cast<std::size_t>(in.gcount()));
   return head;
 }

@@ -93,7 +93,8 @@ std::string non_source_kind(const std::string& path);
 enum class Takes : std::uint8_t { Files, FilesAndFolders };
 // PATH names something that exists but is neither a regular file nor a
 // folder: a device, a pipe or a socket, which no command reads as a program
-// (/dev/null would be an empty program or an image "too short", a pipe is
+// or firmware (/dev/null would be an empty program, an image "too short" or
+// firmware with "no data records", a pipe is
 // read once where a command may look at a file twice). The message, as
 // "P: not a file (a device, a pipe or a socket); `reads`"; nullopt for
 // anything else ("-", a missing file or a folder, which the readers explain).

@@ -39,7 +39,22 @@ bool takes_value(const CLI::App& app, const std::string& word) {
 
 }  // namespace
 
-std::optional<std::string> misspelling_hint(const CLI::App& app, const std::vector<std::string>& words) {
+std::optional<std::string> option_without_value(const std::vector<std::string>& words) {
+  for (const std::string& w : words) {
+    if (w == "--") break;
+    if (w.size() > 3 && w.starts_with("--") && w.find('=') == w.size() - 1) {
+      std::string name = w.substr(0, w.size() - 1);
+      return w + ": nothing after '=' (give " + name + "=VALUE, or leave " + name + " out)";
+    }
+  }
+  return std::nullopt;
+}
+
+bool hint_explains(const MisspellingHint& hint, const std::string& unexpected) {
+  return hint.command || unexpected == hint.word || unexpected == hint.value;
+}
+
+std::optional<MisspellingHint> misspelling_hint(const CLI::App& app, const std::vector<std::string>& words) {
   // The deepest command the words name, read as the parser reads them (the
   // parser's own record stops short when it fails inside a command).
   const CLI::App* where = &app;
@@ -67,8 +82,12 @@ std::optional<std::string> misspelling_hint(const CLI::App& app, const std::vect
         if (takes_value(*where, *w) && w + 1 != words.end()) ++w;
         continue;
       }
-      if (auto near = frontend::closest_name(name, options))
-        return "unknown option '" + name + "': did you mean '" + *near + "'?";
+      if (auto near = frontend::closest_name(name, options)) {
+        MisspellingHint hint{*w, "unknown option '" + name + "': did you mean '" + *near + "'?", false, std::nullopt};
+        if (takes_value(*where, *near) && w->find('=') == std::string::npos && w + 1 != words.end())
+          hint.value = *(w + 1);
+        return hint;
+      }
       continue;
     }
     if (!w->empty() && (*w)[0] == '-') {
@@ -82,9 +101,10 @@ std::optional<std::string> misspelling_hint(const CLI::App& app, const std::vect
     if (commands.empty() || contains(commands, *w)) continue;
     std::string what = where->get_parent() ? "action" : "command";
     if (auto near = frontend::closest_name(*w, commands))
-      return "unknown " + what + " '" + *w + "': did you mean '" + *near + "'?";
+      return MisspellingHint{*w, "unknown " + what + " '" + *w + "': did you mean '" + *near + "'?", true, std::nullopt};
     // CLI11 says only "A subcommand is required", as if none were given.
-    return "unknown " + what + " '" + *w + "': the " + what + "s are listed below";
+    return MisspellingHint{*w, "unknown " + what + " '" + *w + "': the " + what + "s are listed below", true,
+                           std::nullopt};
   }
   return std::nullopt;
 }
@@ -97,6 +117,18 @@ std::string parse_error_text(const CLI::ParseError& e) {
   if (is_missing_action(e)) return "an action is required: the actions are listed below";
   std::string text = e.what();
   if (!dynamic_cast<const CLI::ArgumentMismatch*>(&e)) return text;
+  // "NAME: 1 required TEXT:{0,1,2,s} missing", as CLI11 words an option
+  // given without its value (`rcxc run p.nqc -D`).
+  const std::string required = ": 1 required ", missing = " missing";
+  if (std::size_t at = text.find(required);
+      at != std::string::npos && text.ends_with(missing) && at + required.size() <= text.size() - missing.size()) {
+    std::string type = text.substr(at + required.size(), text.size() - missing.size() - at - required.size());
+    std::size_t choices = type.find(":{");
+    return text.substr(0, at) + " needs a value" +
+           (choices != std::string::npos && type.ends_with("}")
+                ? ": one of " + type.substr(choices + 2, type.size() - choices - 3)
+                : "");
+  }
   // "NAME: At Most N required but received M", as CLI11 words an option
   // given more often than it takes.
   const std::string at_most = ": At Most ", received = " required but received ";

@@ -223,8 +223,13 @@ std::optional<Bytes> answer(Brick& b, std::span<const std::uint8_t> request) {
   ++b.counters.requests;
   if (b.vm.stop().kind == StopKind::PowerOff) return std::nullopt;
   // The same request in the same toggle form again: the host missed our
-  // reply. Send it again without executing twice.
-  if (b.protocol.last_request && std::ranges::equal(*b.protocol.last_request, request)) {
+  // reply. Send it again without executing twice. Not Alive: every session
+  // starts with it in the same form, so `rcxc remote alive` twice counted
+  // the second session's greeting as a retransmission; answering it again
+  // changes nothing, so it is a new request.
+  const OpcodeInfo* op = request_at(request[0]);
+  if (b.protocol.last_request && std::ranges::equal(*b.protocol.last_request, request) &&
+      !(op && op->op == Op::Alive)) {
     ++b.counters.duplicates;
     return b.protocol.last_reply;
   }

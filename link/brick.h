@@ -6,7 +6,8 @@
 // not model lives here: the last request and its reply (the same request in
 // the same toggle form again is a retransmission and gets the same reply
 // without being executed again: hosts alternate the form between distinct
-// requests and start every session with Alive), the transfer-data block
+// requests and start every session with Alive, which is therefore never
+// taken for a retransmission), the transfer-data block
 // sequence, and the firmware download.
 #pragma once
 
@@ -46,7 +47,7 @@ struct BrickProtocol {
 struct BrickCounters {
   int requests = 0;       // packets decoded
   int replies = 0;        // replies sent (retransmissions included)
-  int duplicates = 0;     // retransmissions answered from the cache
+  int duplicates = 0;     // retransmissions answered from the cache (never Alive)
   int rejected = 0;       // decoder rejections
   int unanswered = 0;     // requests the seed says get no reply
 };

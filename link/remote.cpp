@@ -198,7 +198,8 @@ Outcome raw(Link& link, const Words& words) {
   auto size = request_size(*bytes);
   if (auto* e = std::get_if<SizeError>(&size)) return usage("raw: " + e->reason);
   if (std::get<int>(size) != static_cast<int>(bytes->size()))
-    return usage(fmt::format("raw: that request is {} bytes long, not {}", std::get<int>(size), bytes->size()));
+    return usage(fmt::format("raw: {} (0x{:02x}) is {} byte{} long, not {}", request_at((*bytes)[0])->name, (*bytes)[0],
+                             std::get<int>(size), std::get<int>(size) == 1 ? "" : "s", bytes->size()));
   if (!request_at((*bytes)[0])->replies) {
     auto r = send_only(link, *bytes);
     if (auto* e = std::get_if<LinkError>(&r)) return RemoteError{RemoteFailure::Link, e->message};

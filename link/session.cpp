@@ -136,17 +136,18 @@ std::variant<Bytes, LinkError> transact(Link& link, Bytes request) {
     echoed = echoed || !a.echo_missing;
   }
   int tries = link.options.retries + 1;
+  const std::string after = tries == 1 ? "after 1 try" : fmt::format("after {} tries", tries);  // --retries 0
   if (!echoed)
     return LinkError{fmt::format("{} sent nothing back, not even the echo of our bytes (is the tower connected?)",
                                  link.port->describe()),
                      true};
   if (heard)
-    return LinkError{fmt::format("no valid reply to {} after {} tries (the replies were garbled; move the RCX "
+    return LinkError{fmt::format("no valid reply to {} {} (the replies were garbled; move the RCX "
                                  "closer to the tower)",
-                                 request_name(request), tries),
+                                 request_name(request), after),
                      false};
-  return LinkError{fmt::format("no reply to {} after {} tries (is the RCX on and facing the tower?)",
-                               request_name(request), tries),
+  return LinkError{fmt::format("no reply to {} {} (is the RCX on and facing the tower?)", request_name(request),
+                               after),
                    true};
 }
 

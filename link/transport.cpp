@@ -191,7 +191,12 @@ std::variant<std::unique_ptr<Transport>, TransportError> open_user_port(const st
   const char* env = std::getenv("RCX_PORT");
   std::optional<std::string> environment;
   if (env != nullptr && *env != '\0') environment = env;
-  return open_port(resolve_port(option, environment));
+  auto opened = open_port(resolve_port(option, environment));
+  // A port from RCX_PORT is named as such: "zz does not exist" after
+  // `rcxc remote alive` named nothing the user had typed.
+  if (auto* e = std::get_if<TransportError>(&opened); e && !option && environment)
+    e->message = fmt::format("RCX_PORT={}: {}", *environment, e->message);
+  return opened;
 }
 
 std::variant<Pty, TransportError> open_pty() {

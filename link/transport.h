@@ -66,7 +66,8 @@ PortSpec resolve_port(const std::optional<std::string>& option, const std::optio
 
 // Opens a port. The error says what to check (permissions, the device node).
 std::variant<std::unique_ptr<Transport>, TransportError> open_port(const PortSpec& spec);
-// resolve_port with the RCX_PORT environment variable, then open_port.
+// resolve_port with the RCX_PORT environment variable, then open_port; an
+// error about a port RCX_PORT gave starts "RCX_PORT=VALUE: ".
 std::variant<std::unique_ptr<Transport>, TransportError> open_user_port(const std::optional<std::string>& option);
 
 // A pseudo-terminal pair for the virtual brick: the brick keeps the master

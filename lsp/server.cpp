@@ -9,7 +9,9 @@
 #include <set>
 #include <stdexcept>
 #include <sstream>
+#include <string_view>
 #include <variant>
+#include <vector>
 
 #include "format/format.h"
 #include "frontend/parse.h"
@@ -146,31 +148,48 @@ int hex_value(char c) {
 
 // ------------------------------------------------------- the stdlib copy --
 
+// Where the copy may go, in order: --stdlib-dir alone when given, else the
+// user's cache ($XDG_CACHE_HOME when absolute, as the XDG spec asks: a
+// relative one made folders in whatever the editor's working folder was;
+// else ~/.cache), then the temporary folder. One folder per library text,
+// so an older rcxc's copy is never shown.
+std::vector<fs::path> stdlib_folders(const Server& server, std::string_view text) {
+  if (!server.stdlib_dir.empty()) return {fs::path(server.stdlib_dir)};
+  const std::string leaf = "stdlib-" + std::to_string(std::hash<std::string_view>{}(text) % 1000000007u);
+  std::vector<fs::path> out;
+  const char* cache = std::getenv("XDG_CACHE_HOME");
+  const char* home = std::getenv("HOME");
+  if (cache && fs::path(cache).is_absolute()) out.push_back(fs::path(cache) / "rcxc" / leaf);
+  if (home && fs::path(home).is_absolute()) out.push_back(fs::path(home) / ".cache" / "rcxc" / leaf);
+  std::error_code ec;
+  fs::path temp = fs::temp_directory_path(ec);
+  if (!ec) out.push_back(temp / "rcxc" / leaf);
+  return out;
+}
+
 std::string stdlib_copy(Server& server, const std::string& name) {
   auto text = stdlib::find(name);
   if (!text) return "";
-  std::error_code ec;
-  fs::path dir = server.stdlib_dir;
-  if (dir.empty()) {
-    const char* cache = std::getenv("XDG_CACHE_HOME");
-    const char* home = std::getenv("HOME");
-    fs::path base = cache && *cache ? fs::path(cache) : home && *home ? fs::path(home) / ".cache" : fs::temp_directory_path(ec);
-    // One folder per library text, so an older rcxc's copy is never shown.
-    dir = base / "rcxc" / ("stdlib-" + std::to_string(std::hash<std::string_view>{}(*text) % 1000000007u));
+  // A folder that cannot take the copy (XDG_CACHE_HOME=/dev/null, a
+  // read-only home) left go to definition answering nothing; the next one
+  // is tried.
+  for (const fs::path& dir : stdlib_folders(server, *text)) {
+    std::error_code ec;
+    fs::path file = dir / name;
+    // A copy is trusted only when it is the library byte for byte: one cut
+    // short or changed is written again. The write goes to a temporary that
+    // is then renamed, so a full disk or a crash mid-write leaves no part of
+    // a copy for the editor, or the next server, to read.
+    std::ifstream existing(file, std::ios::binary);
+    std::stringstream ss;
+    if (existing) ss << existing.rdbuf();
+    if (!existing || ss.str() != *text) {
+      fs::create_directories(dir, ec);
+      if (savefile::write_file_atomically(file.string(), std::string(*text))) continue;
+    }
+    return fs::absolute(file, ec).string();
   }
-  fs::path file = dir / name;
-  // A copy is trusted only when it is the library byte for byte: one cut
-  // short or changed is written again. The write goes to a temporary that
-  // is then renamed, so a full disk or a crash mid-write leaves no part of
-  // a copy for the editor, or the next server, to read.
-  std::ifstream existing(file, std::ios::binary);
-  std::stringstream ss;
-  if (existing) ss << existing.rdbuf();
-  if (!existing || ss.str() != *text) {
-    fs::create_directories(dir, ec);
-    if (savefile::write_file_atomically(file.string(), std::string(*text))) return "";
-  }
-  return fs::absolute(file, ec).string();
+  return "";
 }
 
 std::string file_uri(Server& server, const Document& doc, const std::string& uri, std::uint32_t file) {

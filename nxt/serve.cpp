@@ -30,6 +30,14 @@ std::optional<ServeError> serve(VirtualNxt& nxt, int fd, const ServeOptions& opt
   const Micros base = nxt.now_us;
   nxt.scenario_origin_us.reset();
   FrameReader reader;
+  // A host that went away in the middle of a telegram (killed, or a write
+  // cut short) left its first bytes here, and the next host's telegrams
+  // were read as the rest of it: the brick answered nothing until the
+  // bytes added up to the length it had been promised (up to 512). The
+  // bytes of one telegram come together, so after a silence an unfinished
+  // one is dropped before new bytes are read.
+  constexpr auto kStaleTelegram = std::chrono::milliseconds(200);
+  auto last_bytes = Clock::now();
   while (true) {
     pollfd fds[2] = {{fd, POLLIN, 0}, {options.stop_fd, POLLIN, 0}};
     // Short polls keep motors and the scenario moving between requests.
@@ -46,6 +54,13 @@ std::optional<ServeError> serve(VirtualNxt& nxt, int fd, const ServeOptions& opt
       continue;
     }
     if (n <= 0) return ServeError{"the pty was closed"};
+    if (!reader.pending.empty() && Clock::now() - last_bytes > kStaleTelegram) {
+      if (options.on_log)
+        options.on_log(fmt::format("   (dropped {} byte(s) of an unfinished telegram: nothing more came for {} ms)",
+                                   reader.pending.size(), kStaleTelegram.count()));
+      reader.pending.clear();
+    }
+    last_bytes = Clock::now();
     reader.feed(std::span(buf, static_cast<std::size_t>(n)));
     while (auto telegram = reader.next()) {
       if (!nxt.scenario_origin_us) {

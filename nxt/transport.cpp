@@ -174,6 +174,14 @@ std::string plain_address(std::string_view s) {
   return out;
 }
 
+// An NXT's USB serial number is its Bluetooth address without colons, 12
+// hex digits: anything else ("usb:zz", a typo) was looked for among the
+// bricks on USB and ended as "no NXT on USB" rather than as the typo it is.
+bool valid_usb_serial(std::string_view s) {
+  std::string plain = plain_address(s);
+  return plain.size() == 12 && std::ranges::all_of(plain, [](char c) { return std::isxdigit(static_cast<unsigned char>(c)) != 0; });
+}
+
 constexpr const char* kUdevHint =
     "install the udev rule from docs/nxt.md "
     "(SUBSYSTEM==\"usb\", ATTRS{idVendor}==\"0694\", ATTRS{idProduct}==\"0002\", TAG+=\"uaccess\"), "
@@ -369,14 +377,25 @@ std::optional<Bytes> FrameReader::next() {
 std::variant<PortSpec, LinkError> parse_port(const std::optional<std::string>& option,
                                              const std::optional<std::string>& environment) {
   std::string name = option ? *option : environment ? *environment : std::string("usb");
-  if (name.empty()) return LinkError{LinkError::Kind::Open, "the port is empty (usb, usb:SERIAL, bt:ADDR or a path)"};
+  // A bad NXT_PORT is named as such: nothing on the command line says "usb:zz".
+  const std::string from = option ? "" : "NXT_PORT: ";
+  if (name.empty())
+    return LinkError{LinkError::Kind::Open, from + "the port is empty (usb, usb:SERIAL, bt:ADDR or a path)"};
   if (name == "usb") return PortSpec{PortKind::Usb, ""};
-  if (name.rfind("usb:", 0) == 0) return PortSpec{PortKind::Usb, name.substr(4)};
+  if (name.rfind("usb:", 0) == 0) {
+    std::string serial = name.substr(4);
+    if (!valid_usb_serial(serial))
+      return LinkError{LinkError::Kind::Open,
+                       fmt::format("{}\"{}\" is not an NXT's USB serial number: that is its Bluetooth address, 12 "
+                                   "hex digits (usb:001653123456; colons and case do not matter)",
+                                   from, serial)};
+    return PortSpec{PortKind::Usb, serial};
+  }
   if (name.rfind("bt:", 0) == 0) {
     std::string address = name.substr(3);
     if (!valid_bt_address(address))
       return LinkError{LinkError::Kind::Open,
-                       fmt::format("\"{}\" is not a Bluetooth address (bt:AA:BB:CC:DD:EE:FF)", address)};
+                       fmt::format("{}\"{}\" is not a Bluetooth address (bt:AA:BB:CC:DD:EE:FF)", from, address)};
     return PortSpec{PortKind::Bluetooth, address};
   }
   return PortSpec{PortKind::Path, name};

@@ -4,6 +4,9 @@
 
 #include <algorithm>
 #include <cctype>
+#include <ostream>
+#include <string>
+#include <vector>
 
 namespace rcx {
 namespace {
@@ -113,7 +116,72 @@ nlohmann::json event_json(const Event& e, const Image& image) {
   return j;
 }
 
+namespace {
+
+// Symbol names come from the image and may be any bytes: invalid UTF-8 is
+// replaced rather than thrown about.
+std::string dumped(const nlohmann::json& j) { return j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace); }
+
+// What the report lists of a run's events: what the program did; inputs
+// and what follows from them are in the trace.
+bool reported(const Event& e) {
+  return e.kind != EventKind::Sensor && e.kind != EventKind::Variable && e.kind != EventKind::SensorReading &&
+         e.kind != EventKind::MessageReceived;
+}
+
+// `events` as the JSON array dump(2) writes at `depth` (each level two
+// spaces deeper), one event's tree at a time. An event's values are numbers
+// and strings, and a dumped string holds no line break, so its lines are
+// indented as they are.
+void write_events(std::ostream& out, const std::vector<Event>& events, const Image& image, bool (*keep)(const Event&),
+                  int depth) {
+  const std::string inner(static_cast<std::size_t>(2 * (depth + 1)), ' ');
+  bool first = true;
+  for (const Event& e : events) {
+    if (!keep(e)) continue;
+    out << (first ? "[\n" : ",\n") << inner;
+    first = false;
+    std::string text = dumped(event_json(e, image));
+    for (char c : text) {
+      out << c;
+      if (c == '\n') out << inner;
+    }
+  }
+  out << (first ? "[]" : "\n" + std::string(static_cast<std::size_t>(2 * depth), ' ') + "]");
+}
+
+bool every_event(const Event&) { return true; }
+
+// The report without its events, then where they go: "events" is the one
+// key whose value is an array of objects, dumped as `[]` here and written
+// in its place.
+nlohmann::json report_without_events(const Machine& m, const Image& image);
+
+}  // namespace
+
+void write_report_json(std::ostream& out, const Machine& m, const Image& image) {
+  std::string text = dumped(report_without_events(m, image));
+  const std::string key = "\n  \"events\": []";
+  std::size_t at = text.find(key);
+  out << text.substr(0, at + key.size() - 2);
+  write_events(out, m.state().events, image, reported, 1);
+  out << text.substr(at + key.size());
+}
+
+void write_trace_json(std::ostream& out, const Machine& m, const Image& image) {
+  write_events(out, m.state().events, image, every_event, 0);
+}
+
 nlohmann::json report_json(const Machine& m, const Image& image) {
+  nlohmann::json j = report_without_events(m, image);
+  for (const auto& e : m.state().events)
+    if (reported(e)) j["events"].push_back(event_json(e, image));
+  return j;
+}
+
+namespace {
+
+nlohmann::json report_without_events(const Machine& m, const Image& image) {
   const State& s = m.state();
   nlohmann::json j;
   j["time_ms"] = ms(m.now_us());
@@ -137,13 +205,10 @@ nlohmann::json report_json(const Machine& m, const Image& image) {
   j["datalog"] = nlohmann::json::array();
   for (const auto& e : s.datalog) j["datalog"].push_back(e.value);
   j["events"] = nlohmann::json::array();
-  // What the program did; inputs and what follows from them are in the trace.
-  for (const auto& e : s.events)
-    if (e.kind != EventKind::Sensor && e.kind != EventKind::Variable && e.kind != EventKind::SensorReading &&
-        e.kind != EventKind::MessageReceived)
-      j["events"].push_back(event_json(e, image));
   return j;
 }
+
+}  // namespace
 
 nlohmann::json trace_json(const Machine& m, const Image& image) {
   nlohmann::json j = nlohmann::json::array();

@@ -169,6 +169,9 @@ std::optional<std::int64_t> at_ms_key(const toml::table& t, std::string_view pat
 
 std::variant<toml::table, TomlError> read_toml(std::string_view text, std::string_view path,
                                                std::string_view what_it_holds) {
+  // A byte-order mark, which Windows editors put first, was refused as "a
+  // letter that is not ASCII outside a comment" on a line that shows none.
+  if (text.starts_with("\xEF\xBB\xBF")) text.remove_prefix(3);
   // Binary bytes (an .rxe or .rcx file, random data) would be told as
   // their first byte past ASCII: say what the file is instead. No text
   // file has a NUL, and an image or program has one early.

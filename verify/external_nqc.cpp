@@ -20,13 +20,22 @@
 namespace rcx::semtest {
 namespace {
 
-// nqc's messages, at most the first 64 KB (a runaway nqc may write more).
-std::string slurp(const std::string& path) {
+constexpr std::size_t kLogBytes = 64 * 1024;
+
+struct Log {
+  std::string text;  // at most the first kLogBytes (a runaway nqc may write more)
+  bool cut = false;  // there was more
+};
+
+// nqc's messages.
+Log slurp(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
-  std::string text(64 * 1024, '\0');
+  std::string text(kLogBytes + 1, '\0');
   in.read(text.data(), static_cast<std::streamsize>(text.size()));
   text.resize(static_cast<std::size_t>(in.gcount()));
-  return text;
+  bool cut = text.size() > kLogBytes;
+  if (cut) text.resize(kLogBytes);
+  return {std::move(text), cut};
 }
 
 // What nqc printed, as it may go to a terminal: its lines stay lines, and
@@ -195,7 +204,7 @@ ExternalCompile compile_with_nqc(const std::string& nqc, const std::string& file
   argv.push_back(const_cast<char*>(file.c_str()));
   argv.push_back(nullptr);
   Child child = run_limited(argv, log_path, limits);
-  std::string log = slurp(log_path);
+  auto [log, log_cut] = slurp(log_path);
   const int status = child.status;
   if (!child.started) {
     result.failure = "cannot run '" + nqc + "' (is nqc installed?)";
@@ -216,6 +225,8 @@ ExternalCompile compile_with_nqc(const std::string& nqc, const std::string& file
                                    WEXITSTATUS(status), log.empty() ? "printed nothing" : "printed no message in nqc's form",
                                    shown_command(argv));
       if (!log.empty()) result.failure += "; it printed:\n" + shown_log(log);
+      // The end of what is shown is not the end of what it printed.
+      if (log_cut) result.failure += fmt::format("\n[... cut: nqc printed more than {} KiB]", kLogBytes / 1024);
     }
   }
   std::error_code ec;

@@ -347,29 +347,36 @@ void parse_directive(std::string_view text, int line, Spec& spec) {
   auto space = text.find_first_of(" \t:");
   std::string_view word = text.substr(0, space);
   Cursor c(tokenize(space == std::string_view::npos ? std::string_view() : text.substr(space)));
+  // A directive that sets one value, given twice: the later one won
+  // without a word, so the run was not the one the first line said.
+  auto once = [&](int& first_line) {
+    if (first_line) throw ParseFail{fmt::format("a second @{} (the first is on line {})", word, first_line)};
+    first_line = line;
+  };
   if (word == "for") {
+    once(spec.for_line);
     spec.run_for_us = need_time(c, "run length");
     // As `rcxc run --for 0`: a run of no time checks nothing but the start.
     if (*spec.run_for_us == 0) throw ParseFail{"the run length must be more than 0 ms"};
     need_end(c);
   } else if (word == "seed") {
-    int seed = need_int(c, "seed");
-    if (seed < 0) throw ParseFail{"the seed must not be negative"};
+    once(spec.seed_line);
+    int seed = need_range(c, "seed", 0, std::numeric_limits<int>::max());
     spec.seed = static_cast<std::uint64_t>(seed);
     need_end(c);
   } else if (word == "scenario") {
+    once(spec.scenario_line);
     c.accept(":");
     spec.scenario_file = c.next();
     if (spec.scenario_file.empty()) throw ParseFail{"expected a scenario file name"};
     need_end(c);
   } else if (word == "options") {
     // Words split at blanks only: an option's value may hold ':' or ','.
-    if (spec.options_line) throw ParseFail{fmt::format("a second @options (the first is on line {})", spec.options_line)};
+    once(spec.options_line);
     std::istringstream words(std::string(space == std::string_view::npos ? std::string_view() : text.substr(space)));
     for (std::string w; words >> w;)
       if (!(spec.options.empty() && w == ":")) spec.options.push_back(w);
     if (spec.options.empty()) throw ParseFail{"expected compiler options, e.g. @options -O0 -DSPEED=5"};
-    spec.options_line = line;
   } else if (word == "nqc-differs") {
     // A note for the comparison runs: nqc's code for this program is known to
     // behave differently (the reason follows); `rcxc test --nqc` skips it.
@@ -399,7 +406,9 @@ void parse_directive(std::string_view text, int line, Spec& spec) {
     rest = trim(rest);
     if (rest.rfind("line", 0) == 0) {
       Cursor n(tokenize(rest.substr(4)));
-      d.at_line = need_int(n, "line number");
+      // Lines count from 1: `line 0` or `line -1` was an expectation no
+      // diagnostic could meet, told only as "the compiler said: nothing".
+      d.at_line = need_range(n, "line number", 1, std::numeric_limits<int>::max());
       auto colon = rest.find(':');
       rest = colon == std::string_view::npos ? std::string_view() : rest.substr(colon + 1);
     } else if (!rest.empty() && rest[0] == ':') {

@@ -74,6 +74,10 @@ struct Spec {
   // them (they are `rcxc compile`'s, which this file does not know).
   std::vector<std::string> options;
   int options_line = 0;
+  // The lines of @for, @seed and @scenario (0: none): each may be given once.
+  int for_line = 0;
+  int seed_line = 0;
+  int scenario_line = 0;
   std::vector<Expectation> expectations;
   std::vector<ExpectDiagnostic> diagnostics;
   bool expects_compile_error() const;

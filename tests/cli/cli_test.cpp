@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <filesystem>
 #include <string>
 #include <utility>
 #include <vector>
@@ -273,6 +274,41 @@ TEST(Cli, AParseErrorIsSaidOnceInPlainWords) {
   EXPECT_NE(misspelt.err.find("rcxc: unknown option '--fro': did you mean '--for'?"), std::string::npos)
       << misspelt.err;
   EXPECT_NE(misspelt.err.find("FILE is required"), std::string::npos) << misspelt.err;
+  // CLI11's "argument was not expected" said the word the hint names
+  // again; it stays only for a word no hint accounts for.
+  for (std::vector<std::string> args : std::vector<std::vector<std::string>>{
+           {"run", "--fro", "p.nqc"}, {"compil", "p.nqc"}, {"zzzzzz"}, {"nxt", "--prot", "usb", "info"}}) {
+    auto r = run_rcxc(args);
+    EXPECT_EQ(r.exit_code, 2) << args[0];
+    EXPECT_EQ(r.err.find("not expected"), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.rfind("rcxc: unknown ", 0), 0u) << r.err;
+  }
+  auto more = run_rcxc({"run", "--fro", "p.nqc", "q.nqc"});
+  EXPECT_EQ(more.exit_code, 2);
+  EXPECT_NE(more.err.find("not expected"), std::string::npos) << more.err;
+  EXPECT_NE(more.err.find("q.nqc"), std::string::npos) << more.err;
+  EXPECT_NE(more.err.find("unknown option '--fro': did you mean '--for'?"), std::string::npos) << more.err;
+  // `--NAME=` was `--NAME` to CLI11: --listing= printed the listing with
+  // exit 0, and --trace= took the next word as the trace's name.
+  rcxc::test::TempDir d;
+  std::string p = d.write("p.nqc", "task main() { On(OUT_A); }\n");
+  for (std::vector<std::string> args : std::vector<std::vector<std::string>>{
+           {"compile", p, "--listing=", "-o", d.path + "/p.rcx"}, {"run", "--trace=", p}, {"nxt", "--port=", "info"}}) {
+    auto r = run_rcxc(args);
+    EXPECT_EQ(r.exit_code, 2) << args[1];
+    EXPECT_EQ(r.out, "") << args[1];
+    EXPECT_NE(r.err.find(": nothing after '=' (give --"), std::string::npos) << r.err;
+  }
+  EXPECT_FALSE(std::filesystem::exists(d.path + "/p.rcx"));
+  EXPECT_EQ(run_rcxc({"compile", p, "--listing", "-o", d.path + "/p.rcx"}).exit_code, 0);
+  // An option without its value: CLI11 said "-D: 1 required TEXT missing".
+  auto bare = run_rcxc({"run", "p.nqc", "-D"});
+  EXPECT_EQ(bare.exit_code, 2);
+  EXPECT_NE(bare.err.find("rcxc: -D needs a value\n"), std::string::npos) << bare.err;
+  EXPECT_EQ(bare.err.find("required TEXT missing"), std::string::npos) << bare.err;
+  auto level = run_rcxc({"compile", "p.nqc", "-O"});
+  EXPECT_EQ(level.exit_code, 2);
+  EXPECT_NE(level.err.find("rcxc: -O needs a value: one of 0,1,2,s\n"), std::string::npos) << level.err;
   auto none = run_rcxc({"nxt"});
   EXPECT_EQ(none.exit_code, 2);
   EXPECT_NE(none.err.find("rcxc: an action is required: the actions are listed below"), std::string::npos)

@@ -124,6 +124,12 @@ TEST(CompareCli, AFileThatIsNoSourceIsABadInputNotNothingToCompare) {
     EXPECT_NE(r.err.find(message), std::string::npos) << file << ": " << r.err;
     EXPECT_EQ(r.out.find("nothing to compare"), std::string::npos) << file << ": " << r.out;
   }
+  // A file whose reading fails (EIO at offset 0) was taken for source and,
+  // as neither compiler read it, was "nothing to compare" (exit 5).
+  auto unreadable = run_rcxc({"compare", "/proc/self/mem"});
+  EXPECT_EQ(unreadable.exit_code, 1) << unreadable.out << unreadable.err;
+  EXPECT_NE(unreadable.err.find("could not be read"), std::string::npos) << unreadable.err;
+  EXPECT_EQ(unreadable.out.find("nothing to compare"), std::string::npos) << unreadable.out;
 }
 
 // A program nqc refuses got one line, "nqc does not compile this program",

@@ -206,8 +206,12 @@ TEST(HostileInput, EndlessFilesStopAtTheirCap) {
                "/dev/zero: larger than a scenario file may be (1 MiB)");
   expect_error(limited({"test", d.write("t.nqc", "// @scenario /dev/zero\ntask main() { }\n")}),
                "larger than a scenario file may be");
+  // Firmware too is refused as a device by name; a file past the cap stops there.
   expect_error(limited({"remote", "--port", "/dev/no-such-tower", "firmware", "/dev/zero"}),
-               "/dev/zero: larger than a firmware file may be (1 MiB)");
+               "/dev/zero: not a file (a device, a pipe or a socket)");
+  expect_error(limited({"remote", "--port", "/dev/no-such-tower", "firmware",
+                        d.write("big.srec", std::string((std::size_t{1} << 20) + 1, 'S'))}),
+               "big.srec: larger than a firmware file may be (1 MiB)");
   // nqc's command line and the NXT side read their files with the same caps.
   auto as_nqc = limited({"nqc", "-Trcx", "-O" + d.path + "/p.rcx", "/dev/zero"});
   EXPECT_FALSE(as_nqc.timed_out);
@@ -275,7 +279,15 @@ TEST(HostileInput, ARegularFileIsNotAPort) {
   auto r = run_process({"/usr/bin/env", "RCX_PORT=" + notes, RCXC_BINARY, "download", d.write("p.nqc", "task main() {}\n")},
                        "", kHangMs);
   EXPECT_EQ(r.exit_code, 3) << r.err;
+  // Nothing on the command line names the port: the message says where it came from.
+  EXPECT_NE(r.err.find("rcxc download: RCX_PORT=" + notes + ": " + notes + " is a regular file"), std::string::npos)
+      << r.err;
   EXPECT_EQ(d.read("notes.txt"), (std::vector<std::uint8_t>{'k', 'e', 'e', 'p', ' ', 'm', 'e', '\n'}));
+  // --port wins over RCX_PORT, and is named as typed.
+  auto over = run_process({"/usr/bin/env", "RCX_PORT=" + notes, RCXC_BINARY, "remote", "--port", d.path, "alive"}, "",
+                          kHangMs);
+  EXPECT_EQ(over.exit_code, 3) << over.err;
+  EXPECT_EQ(over.err.find("RCX_PORT"), std::string::npos) << over.err;
   auto dir = limited({"remote", "--port", d.path, "alive"});
   EXPECT_EQ(dir.exit_code, 3) << dir.err;
 }

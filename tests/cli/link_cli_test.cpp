@@ -57,6 +57,24 @@ TEST(LinkCli, BrickPrintsItsPtyAndStopsOnInterrupt) {
   EXPECT_EQ(brick.stop(), 0);
 }
 
+// The counts said at exit: each session's opening Alive was one of the
+// "retransmissions" (2 here), where none was sent twice.
+TEST(LinkCli, TheBrickCountsNoRetransmissionWhereNoneWasSent) {
+  rcxc::test::TempDir dir;
+  std::string log = dir.path + "/brick.err";
+  {
+    rcxc::test::PtyServer brick({"brick", "--pty", "--fast"}, {}, log);
+    ASSERT_FALSE(brick.path.empty());
+    for (const char* action : {"alive", "alive", "versions"})
+      ASSERT_EQ(run_rcxc({"remote", "--port", brick.path, action}).exit_code, 0) << action;
+    EXPECT_EQ(brick.stop(), 0);
+  }
+  std::ifstream in(log);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("rcxc brick: 4 requests, 4 replies, 0 retransmissions, 0 rejected"), std::string::npos)
+      << text;
+}
+
 TEST(LinkCli, DownloadRunThenReadTheVariable) {
   rcxc::test::TempDir dir;
   BrickProcess brick;

@@ -301,6 +301,31 @@ TEST(NqcMode, NqcHabitsOnTheNativeCommandLineGetAHint) {
   EXPECT_EQ(fine.err.find("nqc's option"), std::string::npos) << fine.err;
 }
 
+// The hint is said alone: CLI11's "argument was not expected: -temp.log"
+// named a word nobody typed (what it left of -Etemp.log once -E was taken).
+TEST(NqcMode, ANqcHabitIsSaidOnceByItsHint) {
+  TempDir d;
+  std::string ok = d.write("ok.nqc", kFiles.at("ok.nqc"));
+  for (std::vector<std::string> args : std::vector<std::vector<std::string>>{
+           {"compile", "-Etemp.log", ok}, {"compile", "-Enames.log", ok}, {"compile", "-Trcx", ok},
+           {"compile", "-Lx.lst", ok}, {"compile", ok, "-TRCX2", "-Lx.lst"}}) {
+    auto r = run_rcxc(args);
+    EXPECT_EQ(r.exit_code, 2) << args[1];
+    EXPECT_NE(r.err.find("is nqc's option"), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("not expected"), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.rfind("rcxc: '-", 0), 0u) << r.err;  // the hint comes first
+  }
+  // Two habits, two hints: the second is not left unsaid.
+  auto two = run_rcxc({"compile", ok, "-TRCX2", "-Lx.lst"});
+  EXPECT_NE(two.err.find("'-TRCX2' is nqc's option"), std::string::npos) << two.err;
+  EXPECT_NE(two.err.find("'-Lx.lst' is nqc's option"), std::string::npos) << two.err;
+  // A word no habit explains is still said beside the hint.
+  auto other = run_rcxc({"compile", "-Etemp.log", ok, "extra.nqc"});
+  EXPECT_EQ(other.exit_code, 2);
+  EXPECT_NE(other.err.find("extra.nqc"), std::string::npos) << other.err;
+  EXPECT_NE(other.err.find("is nqc's option"), std::string::npos) << other.err;
+}
+
 TEST(NqcMode, ActionsAfterAFailureDoNotRun) {
   NqcLink nqc;
   // The compile error stops the call before -api would print anything.

@@ -95,6 +95,29 @@ TEST(OutputFileCli, AFailedWriteSaysWhy) {
   }
 }
 
+// A listing that could not be written failed the compile with a fresh
+// image in place, which make then took for built: no image is written.
+TEST(OutputFileCli, AFailedListingLeavesNoImage) {
+  TempDir d;
+  std::string src = d.write("p.nqc", kProgram);
+  auto missing = run_rcxc({"compile", src, "-o", d.path + "/p.rcx", "--listing=" + d.path + "/no/p.lst"});
+  EXPECT_EQ(missing.exit_code, 1);
+  EXPECT_NE(missing.err.find("p.lst: No such file or directory"), std::string::npos) << missing.err;
+  EXPECT_FALSE(std::filesystem::exists(d.path + "/p.rcx"));
+  if (std::filesystem::exists("/dev/full")) {
+    std::filesystem::create_symlink("/dev/full", d.path + "/full.lst");
+    auto full = run_rcxc({"compile", src, "--listing=" + d.path + "/full.lst"});
+    EXPECT_EQ(full.exit_code, 1);
+    EXPECT_NE(full.err.find("full.lst: No space left on device"), std::string::npos) << full.err;
+    EXPECT_FALSE(std::filesystem::exists(d.path + "/p.rcx"));  // FILE.rcx, the default
+  }
+  // Both written when both can be.
+  auto both = run_rcxc({"compile", src, "--listing=" + d.path + "/p.lst"});
+  EXPECT_EQ(both.exit_code, 0) << both.err;
+  EXPECT_TRUE(std::filesystem::exists(d.path + "/p.rcx"));
+  EXPECT_TRUE(std::filesystem::exists(d.path + "/p.lst"));
+}
+
 TEST(OutputFileCli, NoPredictableTemporaryALinkCouldRedirect) {
   // The temporary was "OUT.rcxc-tmp": a link planted there made the
   // compiler write through it into any file the user could write.

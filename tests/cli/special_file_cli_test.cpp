@@ -1,7 +1,8 @@
 // Every command that reads a program from a path refuses a device, a pipe
 // or a socket by name: `rcxc run /dev/null` used to read it as an image
 // "too short", `rcxc compile /dev/null` as a program without task main.
-// The standard input, '-', stays accepted where a command takes it.
+// `rcxc remote firmware /dev/null` said "no data records". The standard
+// input, '-', stays accepted where a command takes it.
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 
@@ -44,6 +45,7 @@ const std::vector<std::vector<std::string>> kCommands = {
     {"download", "--port", "/dev/no-such-tower", "FILE"},
     {"format", "FILE"},
     {"format", "-i", "FILE"},
+    {"remote", "--port", "/dev/no-such-tower", "firmware", "FILE"},
 };
 
 TEST(SpecialFiles, ADeviceIsNoProgram) {

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "tests/support/process.h"
@@ -84,6 +85,22 @@ TEST(TestCommand, ADeviceIsNeitherAFileNorAFolder) {
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("/dev/zero: not a file or a folder"), std::string::npos) << r.err;
   EXPECT_EQ(r.err.find("no such file"), std::string::npos) << r.err;
+}
+
+// Inside a folder too: a pipe or a device named .nqc was passed over
+// without a word ("1 passed, 0 failed", exit 0), where one named on the
+// command line is refused. The search goes on, and it is said.
+TEST(TestCommand, APipeOrDeviceInAFolderIsSaidNotSkipped) {
+  TempDir d;
+  d.write("good.nqc", std::string("// @expect global n == 6\n") + kCounter);
+  ASSERT_EQ(::mkfifo((d.path + "/pipe.nqc").c_str(), 0600), 0);
+  std::filesystem::create_symlink("/dev/zero", d.path + "/zero.nqc");
+  auto r = run_rcxc({"test", d.path}, "", 30'000);
+  EXPECT_FALSE(r.timed_out);
+  EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+  EXPECT_NE(r.err.find(d.path + "/pipe.nqc: not a file (a device, a pipe or a socket)"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(d.path + "/zero.nqc: not a file (a device, a pipe or a socket)"), std::string::npos) << r.err;
+  EXPECT_NE(r.out.find("PASS " + d.path + "/good.nqc"), std::string::npos) << r.out;
 }
 
 TEST(TestCommand, InputsDriveTheProgram) {

@@ -121,6 +121,23 @@ TEST(LinkBrick, ARetransmissionIsAnsweredWithoutRunningTwice) {
   EXPECT_EQ(*b.vm.slot(0).tasks[0], (Bytes{0x14, 0x00, 0x02, 0x05}));  // not 6 bytes
 }
 
+// Every host starts its session with Alive in the same form: the second
+// session's was counted as a retransmission of the first's.
+TEST(LinkBrick, EachSessionsAliveIsANewRequestNotARetransmission) {
+  Brick b = make_brick();
+  for (int session = 0; session < 3; ++session) {
+    Host host{b};  // a new host, in the first toggle form again
+    ASSERT_EQ(host(req(Op::Alive)), Bytes{});
+  }
+  EXPECT_EQ(b.counters.requests, 3);
+  EXPECT_EQ(b.counters.duplicates, 0);
+  // Any other request repeated in one form still is one.
+  Bytes versions = with_toggle(req(Op::GetVersions, {1, 3, 5, 7, 11}), true);
+  ASSERT_TRUE(ask(b, versions));
+  ASSERT_TRUE(ask(b, versions));
+  EXPECT_EQ(b.counters.duplicates, 1);
+}
+
 TEST(LinkBrick, DeleteAndProgramRequestsGoToTheMachine) {
   Brick b = make_brick();
   Host host{b};

@@ -141,6 +141,21 @@ TEST(LinkDownload, NoBrickIsACleanFailure) {
   EXPECT_NE(std::get<DownloadError>(result).message.find("Alive"), std::string::npos);
 }
 
+// `--retries 0` said "after 1 tries".
+TEST(LinkDownload, OneTryIsSaidInTheSingular) {
+  for (int retries : {0, 3}) {
+    Brick brick = make_brick();
+    BrickWire wire(brick, 1.0, 1);
+    LinkOptions options;
+    options.retries = retries;
+    Link link = make_link(wire, options);
+    auto result = download(link, sample_image(), {});
+    ASSERT_TRUE(std::holds_alternative<DownloadError>(result));
+    const std::string& m = std::get<DownloadError>(result).message;
+    EXPECT_NE(m.find(retries == 0 ? "Alive after 1 try (" : "Alive after 4 tries ("), std::string::npos) << m;
+  }
+}
+
 TEST(LinkDownload, ABrickWithoutFirmwareIsExplained) {
   Brick brick = make_brick();
   brick.vm.set_firmware_present(false);
@@ -292,6 +307,11 @@ TEST_F(RemoteFixture, RawPrintsTheReply) {
   EXPECT_EQ(ok({"raw", "f7", "05"}), "sent (this request has no reply)\n");
   EXPECT_EQ(fails({"raw", "27", "00"}), RemoteFailure::Usage);  // not a request
   EXPECT_EQ(fails({"raw", "51"}), RemoteFailure::Usage);        // too short
+  // The length is said with the request's name ("that request is 1 bytes
+  // long, not 3" named neither).
+  auto alive = check_remote({"raw", "10", "10", "10"});
+  ASSERT_TRUE(alive);
+  EXPECT_EQ(alive->message, "raw: Alive (0x10) is 1 byte long, not 3");
 }
 
 TEST_F(RemoteFixture, UsageErrorsSendNothing) {

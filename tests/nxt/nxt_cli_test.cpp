@@ -270,6 +270,11 @@ TEST(NxtCli, PortsThatCannotBeOpenedOrDoNotAnswer) {
   EXPECT_NE(null.err.find("/dev/null is not a tty"), std::string::npos) << null.err;
   auto badbt = nxt("bt:12:34", {"battery"});
   EXPECT_EQ(badbt.exit_code, 2);
+  // A malformed serial is a bad command line, not a brick missing from USB.
+  auto badserial = nxt("usb:zz", {"battery"});
+  EXPECT_EQ(badserial.exit_code, 2) << badserial.err;
+  EXPECT_NE(badserial.err.find("\"zz\" is not an NXT's USB serial number"), std::string::npos) << badserial.err;
+  EXPECT_EQ(badserial.err.find("no NXT"), std::string::npos) << badserial.err;
   // A pty nobody serves: the brick does not answer.
   auto opened = nxt::open_pty_pair();
   ASSERT_TRUE(std::holds_alternative<nxt::PtyPair>(opened));
@@ -285,6 +290,27 @@ TEST(NxtCli, PortsThatCannotBeOpenedOrDoNotAnswer) {
                       "", 10'000);
   EXPECT_EQ(bad.exit_code, 1);
   EXPECT_NE(bad.err.find("b.toml:1: an input needs exactly one of"), std::string::npos) << bad.err;
+}
+
+// A host cut off in the middle of a telegram left its length prefix in
+// the brick, which then took the next hosts' telegrams for the rest of it
+// and answered none of them (every action exit 4) until the promised bytes
+// had come. After a silence the unfinished telegram is dropped.
+TEST(NxtCli, AnUnfinishedTelegramDoesNotSilenceTheBrick) {
+  NxtBrickProcess brick;
+  ASSERT_FALSE(brick.path.empty());
+  int fd = ::open(brick.path.c_str(), O_RDWR | O_NOCTTY);
+  ASSERT_GE(fd, 0);
+  const std::uint8_t cut[] = {200, 0, 0x00, 0x0b};  // 200 bytes promised, 2 sent
+  ASSERT_EQ(::write(fd, cut, sizeof cut), static_cast<ssize_t>(sizeof cut));
+  ::close(fd);
+  std::this_thread::sleep_for(std::chrono::milliseconds(400));
+  for (int i = 0; i < 3; ++i) {
+    auto r = nxt(brick.path, {"--timeout", "2000", "battery"});
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(r.out, "7800 mV\n");
+  }
+  EXPECT_EQ(brick.stop(), 0);
 }
 
 TEST(NxtCli, UsbAndBluetoothWithoutHardwareCannotBeOpened) {

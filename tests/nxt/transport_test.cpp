@@ -65,6 +65,25 @@ TEST(NxtPort, Syntax) {
   EXPECT_TRUE(std::holds_alternative<LinkError>(parse_port(std::string(""), std::nullopt)));
 }
 
+TEST(NxtPort, AUsbSerialIsTwelveHexDigitsColonsAndCaseAsGiven) {
+  // The docs' own spelling, and the Bluetooth form, are one serial.
+  EXPECT_EQ(std::get<PortSpec>(parse_port(std::string("usb:00:16:53:12:ab:34"), std::nullopt)).address,
+            "00:16:53:12:ab:34");
+  // "usb:zz" was looked for on USB and ended as "no NXT on USB" (exit 3).
+  for (std::string bad : {"usb:zz", "usb:", "usb:0016531234", "usb:00165312345678", "usb:00165312345g",
+                          "usb:/dev/ttyACM0"}) {
+    auto r = parse_port(bad, std::nullopt);
+    ASSERT_TRUE(std::holds_alternative<LinkError>(r)) << bad;
+    const std::string& m = std::get<LinkError>(r).message;
+    EXPECT_NE(m.find("\"" + bad.substr(4) + "\" is not an NXT's USB serial number"), std::string::npos) << m;
+    EXPECT_NE(m.find("(usb:001653123456; colons and case do not matter)"), std::string::npos) << m;
+  }
+  // From NXT_PORT, the message says so: nothing typed shows the bad value.
+  auto env = parse_port(std::nullopt, std::string("usb:zz"));
+  ASSERT_TRUE(std::holds_alternative<LinkError>(env));
+  EXPECT_EQ(std::get<LinkError>(env).message.rfind("NXT_PORT: \"zz\"", 0), 0u) << std::get<LinkError>(env).message;
+}
+
 TEST(NxtPort, BluetoothAddressesGoToTheSocketLastByteFirst) {
   // The byte order BlueZ's str2ba gives (checked against it): a wrong one
   // would page another brick, or none.

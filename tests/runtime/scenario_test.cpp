@@ -61,6 +61,20 @@ battery_mv = 7200
 
 TEST(Scenario, EmptyFileIsNoInputs) { EXPECT_TRUE(ok("").empty()); }
 
+// A byte-order mark first (Windows editors write one) was refused as "a
+// letter that is not ASCII outside a comment" on line 1, which shows none.
+TEST(Scenario, AByteOrderMarkFirstIsNoLetter) {
+  auto inputs = ok("\xEF\xBB\xBF[[input]]\nat_ms = 5\nmessage = 3\n");
+  ASSERT_EQ(inputs.size(), 1u);
+  EXPECT_EQ(std::get<MessageInput>(inputs[0].input).value, 3);
+  EXPECT_TRUE(ok("\xEF\xBB\xBF").empty());
+  // Lines still count from the first: the mark is on line 1.
+  EXPECT_EQ(error("\xEF\xBB\xBF[[input]]\nat_ms = 5\nmessage = 300\n"), "s.toml:3: 'message' = 300 is out of range 0..255");
+  // Anywhere else it is a letter like any other.
+  EXPECT_NE(error("[[input]]\n\xEF\xBB\xBF" "at_ms = 5\nmessage = 3\n").find("s.toml:2: a letter that is not ASCII"),
+            std::string::npos);
+}
+
 TEST(Scenario, ErrorsNameTheLine) {
   EXPECT_EQ(error("[[input]]\nat_ms = 1\nsensor = 4\nraw = 3\n"), "s.toml:3: 'sensor' = 4 is out of range 1..3");
   EXPECT_EQ(error("[[input]]\nat_ms = 1\nsensor = 1\nraw = 1024\n"), "s.toml:4: 'raw' = 1024 is out of range 0..1023");

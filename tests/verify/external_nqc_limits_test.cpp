@@ -98,3 +98,15 @@ TEST(NqcLimits, WhatAFailingNqcPrintedComesWithItsExitStatus) {
       << r.failure;
   EXPECT_TRUE(r.failure.ends_with("; it printed:\nsomething odd\n")) << r.failure;
 }
+
+// What a failing nqc printed is shown up to 64 KiB, and ended mid-word
+// there ("erro") as if that were all: the cut is said.
+TEST(NqcLimits, WhatAFailingNqcPrintedPastTheCapIsSaidToBeCut) {
+  FakeNqc fake("yes error | head -c 100000; exit 1");
+  auto r = compile_with_nqc(fake.script, fake.source, {}, NqcLimits{7, 256});
+  EXPECT_TRUE(r.failure.ends_with("\n[... cut: nqc printed more than 64 KiB]")) << r.failure.substr(0, 300);
+  FakeNqc exact("yes error | head -c 65536; exit 1");  // 64 KiB exactly: all of it shown, nothing cut
+  auto whole = compile_with_nqc(exact.script, exact.source, {}, NqcLimits{7, 256});
+  EXPECT_EQ(whole.failure.find("cut:"), std::string::npos);
+  EXPECT_TRUE(whole.failure.ends_with("error\nerror\nerro")) << whole.failure.substr(whole.failure.size() - 40);
+}

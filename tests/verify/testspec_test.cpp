@@ -212,6 +212,37 @@ TEST(TestSpec, MessagesShowControlBytesOfTheFileEscaped) {
   EXPECT_NE(listed[0].message.find("line 1: error: #error \\x1b[2J"), std::string::npos) << listed[0].message;
 }
 
+// `@for 1s` then `@for 2s` ran 2 s without a word (so did @seed and
+// @scenario), where a second @options was refused.
+TEST(TestSpec, ADirectiveOfOneValueIsGivenOnce) {
+  for (std::string word : {"for 1s", "seed 3", "scenario a.toml", "options -O0"}) {
+    auto errors = parse_bad("// @" + word + "\n// x\n// @" + word + "\n");
+    ASSERT_EQ(errors.size(), 1u) << word;
+    EXPECT_EQ(errors[0].line, 3) << word;
+    std::string name = word.substr(0, word.find(' '));
+    EXPECT_EQ(errors[0].message, "a second @" + name + " (the first is on line 1)") << word;
+  }
+  Spec s = parse_ok("// @for 1s\n// @seed 3\n// @scenario a.toml\n// @options -O0\n");
+  EXPECT_EQ(s.seed, 3u);
+}
+
+// A seed is 0 or more: the range said for one too large was -2^31..2^31-1.
+// An expected diagnostic's line counts from 1: `line 0` could never be met.
+TEST(TestSpec, RangesSaidAreTheRangesTaken) {
+  auto big = parse_bad("// @seed 99999999999\n");
+  ASSERT_EQ(big.size(), 1u);
+  EXPECT_EQ(big[0].message, "seed 99999999999 is out of range 0..2147483647");
+  auto negative = parse_bad("// @seed -1\n");
+  ASSERT_EQ(negative.size(), 1u);
+  EXPECT_EQ(negative[0].message, "seed -1 is out of range 0..2147483647");
+  for (std::string at : {"0", "-1"}) {
+    auto line = parse_bad("// @expect-error line " + at + ": x\n");
+    ASSERT_EQ(line.size(), 1u) << at;
+    EXPECT_EQ(line[0].message, "line number " + at + " is out of range 1..2147483647");
+  }
+  EXPECT_EQ(parse_ok("// @expect-error line 1: x\n").diagnostics.at(0).at_line, 1);
+}
+
 TEST(TestSpec, NanAndInfinityAreNotTimes) {
   // "nan" passed every range check (NaN compares false) and was rounded.
   for (const char* value : {"nan", "NaN", "inf", "infinity", "-inf", "nanms", "infs"}) {
