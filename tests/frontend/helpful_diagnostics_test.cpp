@@ -1027,3 +1027,21 @@ TEST(HelpfulDiagnostics, AReferenceGivenAValueOfTheBrickSaysWhichValue) {
       << r.text();
   EXPECT_EQ(r.diags.all()[2].message, "argument for 'int &a' of 'f' must be a variable") << r.text();
 }
+
+// `#define X X + 1` then `int X;`: the inner X is left as it is and the
+// parser read `int X + 1;`, so a second error ("expected ';' or ',' before
+// '+'") followed the one about the macro, at the same place. (`1 + X`
+// gave "expected a new name, but a macro stands here" instead.)
+TEST(HelpfulDiagnostics, AMacroUsedInItsOwnTextIsTheOneError) {
+  const std::string recursive = "macro 'X' is defined in terms of itself (recursive macros never end)";
+  for (const std::string body : {"X + 1", "1 + X", "(X)"}) {
+    auto r = run_frontend("#define X " + body + "\nint X;\ntask main()\n{\n}\n");
+    ASSERT_EQ(r.diags.all().size(), 1u) << body << "\n" << r.text();
+    EXPECT_EQ(r.diags.all()[0].message, recursive) << body;
+  }
+  // A syntax error in another statement is still reported.
+  auto other = run_frontend("#define X X + 1\nint X;\ntask main()\n{\n  int y z;\n}\n");
+  ASSERT_EQ(other.diags.all().size(), 2u) << other.text();
+  EXPECT_EQ(other.diags.all()[0].message, recursive);
+  EXPECT_EQ(other.diags.all()[1].span.begin.line, 5u) << other.text();
+}
