@@ -888,6 +888,17 @@ void yy::Parser::report_syntax_error(const context& ctx) const {
     if (same_mistake) return;
   }
   std::string found = ctx.token() == symbol_kind::S_YYEOF ? "end of file" : "'" + std::string(feed.last_text) + "'";
+  // `Wa\` at the end of a line and `it(10);` on the next: C splices the
+  // lines before it reads words and gets `Wait`; rcxc, like nqc, reads the
+  // backslash-newline as a space, so the parse fails at the second half.
+  if (found_at > 0 && found_at < feed.tokens.size() && feed.tokens[found_at].splits_word) {
+    std::string first(feed.tokens[found_at - 1].text), second(feed.tokens[found_at].text);
+    feed.diags.error(ctx.location(), "a backslash at the end of the line splits '" + first + second + "' in two: '" +
+                                         first + "' and '" + second + "' are two words, because a backslash joins "
+                                         "lines, not words (C would join them); write '" + first + second +
+                                         "' on one line");
+    return;
+  }
   symbol_kind_type expected[64];
   int n = ctx.expected_tokens(expected, 64);
   auto expects = [&](symbol_kind_type k) { return std::find(expected, expected + n, k) != expected + n; };
