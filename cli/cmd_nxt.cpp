@@ -346,6 +346,27 @@ int serve_brick(bool on_pty, const std::string& scenario_path, const std::string
 
 }  // namespace
 
+void print_nxt_usage_error_json(const CLI::App& app, const std::vector<std::string>& words, const std::string& error) {
+  if (words.empty() || words[0] != "nxt") return;
+  // The flag as typed, read from the words: the parse stopped at the
+  // error, so --json after it was never parsed. Words after `--` are values.
+  auto end = std::find(words.begin(), words.end(), "--");
+  if (std::find(words.begin() + 1, end, "--json") == end) return;
+  // The action as report() names it ("tone", "mailbox write"), as far as
+  // the parser got; "" when it got to none.
+  std::string action;
+  const CLI::App* at = nullptr;
+  for (const CLI::App* sub : app.get_subcommands())
+    if (sub->get_name() == "nxt") at = sub;
+  while (at) {
+    const CLI::App* next = nullptr;
+    for (const CLI::App* sub : at->get_subcommands()) next = sub;
+    if (next) action += (action.empty() ? "" : " ") + next->get_name();
+    at = next;
+  }
+  std::cout << json{{"ok", false}, {"action", action}, {"error", error}}.dump() << "\n";
+}
+
 void register_nxt(CLI::App& app, int& exit_code) {
   auto* nxt_cmd = app.add_subcommand("nxt", "Act on a LEGO NXT over USB or Bluetooth, or serve a virtual NXT");
   auto a = std::make_shared<NxtArgs>();

@@ -19,6 +19,7 @@
 #include "savefile/savefile.h"
 #include "verify/external_nqc.h"
 #include "cli/program_loader.h"
+#include "rcx/file_read.h"
 #include "verify/junit.h"
 #include "verify/testspec.h"
 #include "runtime/vm.h"
@@ -68,7 +69,7 @@ void search_folder(const fs::path& folder, std::vector<std::string>& found, std:
       if (!has_nqc_extension(path)) continue;
       auto target = it->status(target_ec);
       if (target_ec)
-        problems.push_back(fmt::format("cannot read {}: {}", path.string(), target_ec.message()));
+        problems.push_back(fmt::format("cannot read {}: {}", path.string(), rcx::cannot_open_reason(path.string())));
       else if (fs::is_regular_file(target))
         found.push_back(path.string());
       // A pipe or device named .nqc was passed over without a word, where
@@ -99,6 +100,9 @@ std::vector<std::string> collect(const std::vector<std::string>& paths, std::vec
       problems.push_back("'-': rcxc test reads test files, not the standard input (save the program to a file)");
     } else if (auto special = special_file_problem(p, Takes::FilesAndFolders, "rcxc test reads .nqc test files")) {
       problems.push_back(*special);
+    } else if (fs::exists(fs::symlink_status(p, ec))) {
+      // The name is there but leads nowhere: a link to nothing, or a loop.
+      problems.push_back(fmt::format("cannot read {}: {}", p, rcx::cannot_open_reason(p)));
     } else {
       problems.push_back("no such file or folder: " + p);
     }

@@ -148,4 +148,10 @@ void register_lsp(CLI::App& app, int& exit_code);
 void register_format(CLI::App& app, int& exit_code);
 void register_help(CLI::App& app, int& exit_code);  // help [COMMAND], version
 
+// `rcxc nxt --json ...` that the command-line parser refused: a script that
+// asked for JSON reads the refusal on stdout as it reads any other failure,
+// {"ok": false, "action": ..., "error": ...} (the usage text still goes to
+// stderr, the exit is still 2). Prints nothing for any other command line.
+void print_nxt_usage_error_json(const CLI::App& app, const std::vector<std::string>& words, const std::string& error);
+
 }  // namespace rcxc::cli

@@ -70,6 +70,7 @@ int run_main(int argc, char** argv) {
   rcxc::cli::read_integers_as_decimal(app);
   if (auto bare = rcxc::cli::option_without_value({argv + 1, argv + argc})) {
     std::cerr << "rcxc: " << *bare << "\n";
+    rcxc::cli::print_nxt_usage_error_json(app, {argv + 1, argv + argc}, *bare);
     return rcxc::cli::kExitUsage;
   }
   try {
@@ -95,16 +96,20 @@ int run_main(int argc, char** argv) {
                          std::ranges::all_of(unexpected, [&](const std::string& w) {
                            return (hint && rcxc::cli::hint_explains(*hint, w)) || rcxc::cli::left_of_nqc_habit(w, words);
                          });
+    std::vector<std::string> said;
     if (!(hint && rcxc::cli::is_missing_action(e)) && !hints_say_all) {
-      std::cerr << "rcxc: " << rcxc::cli::parse_error_text(e);
+      said.push_back(rcxc::cli::parse_error_text(e));
       // CLI11's "Could not convert: --x = 1e999" for a value no check of ours saw first.
       if (dynamic_cast<const CLI::ConversionError*>(&e))
-        std::cerr << ": not a value this option or argument can take (its range is in the help below)";
-      std::cerr << "\n";
+        said.back() += ": not a value this option or argument can take (its range is in the help below)";
     }
-    if (hint) std::cerr << "rcxc: " << hint->text << "\n";
-    for (const std::string& habit : habits) std::cerr << "rcxc: " << habit << "\n";
+    if (hint) said.push_back(hint->text);
+    said.insert(said.end(), habits.begin(), habits.end());
+    for (const std::string& line : said) std::cerr << "rcxc: " << line << "\n";
     std::cerr << "\n";
+    std::string joined;
+    for (const std::string& line : said) joined += (joined.empty() ? "" : "; ") + line;
+    rcxc::cli::print_nxt_usage_error_json(app, words, joined);
     const CLI::App* where = &app;
     for (const CLI::App* sub : app.get_subcommands()) where = sub;
     // "Usage: rcxc run ...", as `rcxc help run` shows it, not "Usage: run".

@@ -297,6 +297,8 @@ ast::Program parse_tokens(std::vector<Token> tokens, Diagnostics& diags) {
   drop_rcx2_statements(tokens, diags);
   cut_at_too_deep_brackets(tokens, diags);
   Feed feed{tokens, diags, {}, 0, {}, {}, 0, false, 0, false, {}};
+  for (const Diagnostic& d : diags.all())
+    if (d.severity == Severity::Error && d.span.begin.expansion != 0) feed.macro_errors.push_back(d.span.begin);
   P parser(feed);
   parser.parse();
   // Walking the whole tree for its depth cost as much as checking it; the

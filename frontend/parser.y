@@ -83,6 +83,11 @@ struct Feed {
   // habit the head's error names, not a second mistake.
   bool int_main_head = false;
   SourceSpan int_main_body{};
+  // Where the preprocessor reported an error at a token a macro made (a
+  // macro used in its own text, which it leaves unexpanded): a syntax error
+  // in the statement holding that token is the same mistake again
+  // (`#define X X + 1`, then `int X;` reads `int X + 1;`).
+  std::vector<SourceLoc> macro_errors{};
 };
 
 // Whether `at` lies in the body of C's `int main()` (Feed::int_main_body).
@@ -866,7 +871,34 @@ void yy::Parser::report_syntax_error(const context& ctx) const {
   if (feed.too_deep) return;
   std::size_t found_at = ctx.token() == symbol_kind::S_YYEOF ? feed.pos : feed.pos - 1;
   if (feed.pos > 0 && (found_at == feed.after_unreadable || found_at == feed.invalid_number)) return;
+  if (!feed.macro_errors.empty() && found_at < feed.tokens.size()) {
+    // The statement around the token found, a few dozen tokens each way at most.
+    auto ends = [&](const Token& t) { return t.is(";") || t.is("{") || t.is("}"); };
+    auto reported = [&](const Token& t) {
+      return std::find(feed.macro_errors.begin(), feed.macro_errors.end(), t.span.begin) != feed.macro_errors.end();
+    };
+    constexpr std::size_t kReach = 64;
+    bool same_mistake = reported(feed.tokens[found_at]);
+    for (std::size_t i = found_at; !same_mistake && i-- > 0 && found_at - i <= kReach && !ends(feed.tokens[i]);)
+      same_mistake = reported(feed.tokens[i]);
+    for (std::size_t i = found_at + 1; !same_mistake && i < feed.tokens.size() && i - found_at <= kReach &&
+                                       !ends(feed.tokens[i]) && feed.tokens[i].kind != TokenKind::End;
+         ++i)
+      same_mistake = reported(feed.tokens[i]);
+    if (same_mistake) return;
+  }
   std::string found = ctx.token() == symbol_kind::S_YYEOF ? "end of file" : "'" + std::string(feed.last_text) + "'";
+  // `Wa\` at the end of a line and `it(10);` on the next: C splices the
+  // lines before it reads words and gets `Wait`; rcxc, like nqc, reads the
+  // backslash-newline as a space, so the parse fails at the second half.
+  if (found_at > 0 && found_at < feed.tokens.size() && feed.tokens[found_at].splits_word) {
+    std::string first(feed.tokens[found_at - 1].text), second(feed.tokens[found_at].text);
+    feed.diags.error(ctx.location(), "a backslash at the end of the line splits '" + first + second + "' in two: '" +
+                                         first + "' and '" + second + "' are two words, because a backslash joins "
+                                         "lines, not words (C would join them); write '" + first + second +
+                                         "' on one line");
+    return;
+  }
   symbol_kind_type expected[64];
   int n = ctx.expected_tokens(expected, 64);
   auto expects = [&](symbol_kind_type k) { return std::find(expected, expected + n, k) != expected + n; };

@@ -998,12 +998,14 @@ class Preprocessor {
     std::vector<std::string> dirs;
     if (!files_.back().dir.empty()) dirs.push_back(files_.back().dir);
     dirs.insert(dirs.end(), opts_.include_dirs.begin(), opts_.include_dirs.end());
-    std::optional<fs::path> not_a_file;  // found, but a folder or a device
+    std::optional<fs::path> not_a_file;   // found, but a folder or a device
+    std::optional<fs::path> broken_link;  // a link to nothing, or a loop of links
     for (const auto& d : dirs) {
       fs::path p = fs::path(d) / name;
       std::error_code ec;
       if (!fs::is_regular_file(p, ec)) {
         if (!not_a_file && fs::exists(p, ec)) not_a_file = p;
+        else if (!broken_link && fs::is_symlink(fs::symlink_status(p, ec))) broken_link = p;
         continue;
       }
       auto file = rcx::read_file(p.string(), rcx::kSourceFile);
@@ -1038,6 +1040,12 @@ class Preprocessor {
       diags_.error(where, "cannot include '" + not_a_file->string() + "': it is " +
                               (fs::is_directory(*not_a_file, ec) ? "a folder" : "a device or special file") +
                               ", not a source file");
+      return;
+    }
+    // In the words every other read of a user's file uses (rcx/file_read.h).
+    if (std::error_code ec; broken_link && !fs::exists(*broken_link, ec)) {
+      diags_.error(where, "cannot include '" + broken_link->string() + "': it is " +
+                              rcx::cannot_open_reason(broken_link->string()));
       return;
     }
     auto& e = diags_.error(where, "cannot find include file '" + name + "'");

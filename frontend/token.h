@@ -37,6 +37,10 @@ struct Token {
   TokenKind kind = TokenKind::End;
   bool line_start = false;    // first token on its line (directives start so)
   bool space_before = false;  // whitespace precedes it (for # and -E output)
+  // A backslash-newline stands right between this word and the one before
+  // (`Wa\` at a line's end, `it` at the next one's start). It joins lines
+  // but not words (docs/language.md): a syntax error here says so.
+  bool splits_word = false;
 
   bool is(std::string_view punct) const { return kind == TokenKind::Punct && text == punct; }
   bool is_identifier(std::string_view name) const { return kind == TokenKind::Identifier && text == name; }

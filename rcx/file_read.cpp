@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cctype>
@@ -33,10 +34,19 @@ std::variant<std::string, FileProblem> read_stream(std::istream& in, FileKind ki
 }
 
 std::string cannot_open_reason(const std::string& path) {
-  std::error_code ec;
-  if (!std::filesystem::exists(std::filesystem::symlink_status(path, ec)))
-    return path.empty() ? "no file name" : "no such file";
-  if (!std::filesystem::exists(path, ec)) return "a symbolic link to nothing";
+  if (path.empty()) return "no file name";
+  // Asked of lstat() and stat() themselves: std::filesystem::exists() is
+  // false alike for a missing name, a link to nothing (ENOENT) and links
+  // that lead to each other (ELOOP), and each needs other words.
+  constexpr const char* kLoop = "a loop of symbolic links that never reaches a file";
+  struct stat st {};
+  if (::lstat(path.c_str(), &st) != 0) {
+    if (errno == ELOOP) return kLoop;  // in a folder on the way to it
+    if (errno == ENOENT) return "no such file";
+  } else if (::stat(path.c_str(), &st) != 0) {
+    if (errno == ELOOP) return kLoop;
+    if (errno == ENOENT) return "a symbolic link to nothing";
+  }
   if (::access(path.c_str(), R_OK) != 0) {
     if (errno == EACCES) return "permission denied";
     std::string why = std::strerror(errno);

@@ -45,8 +45,10 @@ bool starts_as_image(std::string_view bytes);
 bool holds_binary_data(std::string_view bytes);  // an image, or a NUL in the first 4 KiB
 
 // Why `path` could not be opened, in a few words for after "cannot open
-// P": "no such file", "permission denied". Asked after the failure, so a
-// file that changed in between may give a reason of its own.
+// P": "no such file", "permission denied", "a symbolic link to nothing",
+// "a loop of symbolic links that never reaches a file". Asked after the
+// failure, so a file that changed in between may give a reason of its own.
+// Every reader of a user's file says why through this one function.
 std::string cannot_open_reason(const std::string& path);
 
 // "P: larger than a source file may be (1 MiB); is it the right file?"

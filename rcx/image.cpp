@@ -2,6 +2,10 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <optional>
+#include <utility>
+
 #include "rcx/file_read.h"
 
 namespace rcx {
@@ -57,6 +61,37 @@ class Reader {
 
 ImageError fail(std::size_t at, std::string what) { return {fmt::format("offset {}: {}", at, what)}; }
 
+constexpr const char* kSymbolTypeNames[] = {"task", "subroutine", "variable"};
+
+// What is wrong with the name of symbol `number` whose length byte is
+// `length` (the name and its NUL), and at which offset from the name's
+// first byte, or nullopt when its `length` bytes end in its one NUL. The
+// length is one byte, so a name has at most 254 bytes: a writer that puts
+// a longer one in gets its length wrong (1000 bytes and the NUL are 1001,
+// 233 in a byte), and where the name's NUL really is tells that apart from
+// a name cut short or bytes that are no name at all.
+std::optional<std::pair<std::size_t, std::string>> name_problem(std::span<const std::uint8_t> from, std::size_t length,
+                                                                int number) {
+  const std::size_t nul = std::find(from.begin(), from.end(), 0) - from.begin();  // from.size() when none
+  const bool found = nul < from.size();
+  if (found && nul + 1 == length) return std::nullopt;
+  if (found && nul + 1 < length)
+    return std::pair{nul, fmt::format("symbol {}: name holds a NUL after {} of the {} bytes its length gives (the "
+                                      "length counts the name and the one NUL that ends it)", number, nul, length)};
+  if (found && nul > kMaxSymbolName)
+    return std::pair{std::size_t{0},
+                     fmt::format("symbol {}: name of {} bytes, longer than an image can hold: its length is one byte "
+                                 "counting the NUL too, so a name has at most {} bytes (this one's length byte says {})",
+                                 number, nul, kMaxSymbolName, length)};
+  if (from.size() < length)
+    return std::pair{from.size(), fmt::format("symbol {}: name runs past the end of the file", number)};
+  if (found)
+    return std::pair{length - 1, fmt::format("symbol {}: name of {} bytes runs on past the {} its length byte gives "
+                                             "(the length counts the name and its NUL)", number, nul, length - 1)};
+  return std::pair{length - 1, fmt::format("symbol {}: name is not NUL-terminated (no NUL in its {} bytes or in the "
+                                           "rest of the file)", number, length)};
+}
+
 }  // namespace
 
 std::variant<Image, ImageError> read_image(std::span<const std::uint8_t> bytes) {
@@ -110,18 +145,23 @@ std::variant<Image, ImageError> read_image(std::span<const std::uint8_t> bytes) 
     if (!r.has(4)) return fail(at, fmt::format("symbol {} of {}: header runs past the end of the file", i + 1, symbol_count));
     Symbol s;
     std::uint8_t type = r.u8();
-    if (type > 2) return fail(at, fmt::format("symbol {}: unknown type {}", i + 1, type));
+    if (type > 2)
+      return fail(at, fmt::format("symbol {}: unknown type {} (0 = task, 1 = subroutine, 2 = variable)", i + 1, type));
     s.type = static_cast<SymbolType>(type);
     s.index = r.u8();
     std::uint8_t length = r.u8();
     r.u8();  // reserved
-    if (length == 0) return fail(at + 2, fmt::format("symbol {}: empty name", i + 1));
-    if (!r.has(length)) return fail(r.pos(), fmt::format("symbol {}: name runs past the end of the file", i + 1));
+    if (length == 0)
+      return fail(at + 2, fmt::format("symbol {}: name length 0, which leaves no room for the NUL that ends a name "
+                                      "(the length counts it)", i + 1));
+    std::size_t name_at = r.pos();
+    if (auto why = name_problem(bytes.subspan(name_at), length, i + 1)) return fail(why->first + name_at, why->second);
     auto name = r.take(length);
-    if (name[length - 1] != 0) return fail(r.pos() - 1, fmt::format("symbol {}: name is not NUL-terminated", i + 1));
     s.name.assign(name.begin(), name.end() - 1);
     int limit = s.type == SymbolType::Task ? kMaxTasks : s.type == SymbolType::Subroutine ? kMaxSubroutines : kMaxVariables;
-    if (s.index >= limit) return fail(at + 1, fmt::format("symbol '{}': index {} out of range", s.name, s.index));
+    if (s.index >= limit)
+      return fail(at + 1, fmt::format("symbol '{}': {} index {} out of range 0..{}", printable_name(s.name),
+                                      kSymbolTypeNames[type], s.index, limit - 1));
     image.symbols.push_back(std::move(s));
   }
   if (r.remaining() != 0) return fail(r.pos(), fmt::format("{} unexpected bytes after the last symbol", r.remaining()));
@@ -147,11 +187,15 @@ std::vector<std::uint8_t> write_image(const Image& image) {
     while (out.size() % 4 != 0) u8(0);
   }
   for (const auto& s : image.symbols) {
+    // A name is cut to what its length byte can count: nqc writes a longer
+    // one with its length taken mod 256 (301 bytes with the NUL as 45), an
+    // image no reader can follow past it. The names only label listings.
+    std::string_view name = std::string_view(s.name).substr(0, kMaxSymbolName);
     u8(static_cast<int>(s.type));
     u8(s.index);
-    u8(static_cast<int>(s.name.size() + 1));
+    u8(static_cast<int>(name.size() + 1));
     u8(0);
-    for (char c : s.name) u8(c);
+    for (char c : name) u8(c);
     u8(0);
   }
   return out;

@@ -3,6 +3,7 @@
 // refuses anything it cannot trust and a writer that produces the exact bytes.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <string>
@@ -19,6 +20,8 @@ inline constexpr int kMaxTasks = 10;
 inline constexpr int kMaxSubroutines = 8;
 inline constexpr int kMaxVariables = 32;
 inline constexpr std::uint16_t kImageVersion = 0x0102;
+// A symbol's length is one byte and counts the NUL after the name.
+inline constexpr std::size_t kMaxSymbolName = 254;
 
 struct Fragment {
   FragmentType type = FragmentType::Task;
@@ -52,6 +55,7 @@ struct ImageError {
 };
 
 std::variant<Image, ImageError> read_image(std::span<const std::uint8_t> bytes);
+// A symbol name longer than kMaxSymbolName is written cut to that length.
 std::vector<std::uint8_t> write_image(const Image& image);
 // Reads and parses an .rcx file; the error names the file.
 std::variant<Image, ImageError> read_image_file(const std::string& path);

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -254,6 +255,40 @@ TEST(Cli, EveryNumberOptionNamesItselfAndItsRangeForABadValue) {
     EXPECT_EQ(r.exit_code, 2) << value << ": " << r.err;
     EXPECT_EQ(r.err.find("rcxc: --float: '" + value + "' is "), 0u) << value << ": " << r.err;
   }
+}
+
+// `rcxc nxt --json` with a value the command-line parser refuses printed
+// only the usage text on stderr: a script that asked for JSON got an empty
+// stdout, where every other failure gives it {"ok": false, ...} (docs/nxt.md).
+TEST(Cli, NxtJsonGetsTheUsageErrorAsJsonToo) {
+  const std::string nowhere = "/dev/no-such-port";
+  // {arguments, the action, the start of the error}
+  const std::vector<std::tuple<std::vector<std::string>, std::string, std::string>> cases = {
+      {{"nxt", "--json", "--port", nowhere, "tone", "99999", "100"}, "tone", "HZ: '99999' is "},
+      {{"nxt", "--port", nowhere, "--json", "--timeout", "abc", "battery"}, "battery", "--timeout: 'abc' is "},
+      {{"nxt", "--json", "--port", nowhere, "mailbox", "write", "1", "--float", "1e39"}, "mailbox write", "--float: '1e39' is "},
+      {{"nxt", "--json", "--port", nowhere, "mailbox", "wrte", "1", "x"}, "mailbox", "unknown action 'wrte'"},
+      {{"nxt", "--json", "--port=", "info"}, "", "--port="},
+      {{"nxt", "--json"}, "", "an action is required"},
+  };
+  for (const auto& [args, action, error] : cases) {
+    std::string call;
+    for (const auto& a : args) call += " '" + a + "'";
+    auto r = run_rcxc(args, "", 10000);
+    EXPECT_EQ(r.exit_code, 2) << call << ": " << r.err;
+    if (error != "--port=") {
+      EXPECT_NE(r.err.find("Usage:"), std::string::npos) << call << ": " << r.err;
+    }
+    auto j = nlohmann::json::parse(r.out, nullptr, false);
+    ASSERT_TRUE(j.is_object()) << call << ": stdout is '" << r.out << "'";
+    EXPECT_EQ(j["ok"], false) << call;
+    EXPECT_EQ(j["action"], action) << call;
+    EXPECT_EQ(j["error"].get<std::string>().find(error), 0u) << call << ": " << j.dump();
+  }
+  // Without --json (or with it only as a value after `--`) stdout stays empty.
+  auto plain = run_rcxc({"nxt", "--port", nowhere, "tone", "99999", "100"}, "", 10000);
+  EXPECT_EQ(plain.exit_code, 2);
+  EXPECT_EQ(plain.out, "");
 }
 
 // An unknown NXT action was "A subcommand is required" and then the hint

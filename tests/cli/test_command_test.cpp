@@ -176,7 +176,17 @@ TEST(TestCommand, LinkLoopsAreReportedAndTheSearchGoesOn) {
   auto r = run_rcxc({"test", d.path}, "", 30'000);
   EXPECT_FALSE(r.timed_out);
   EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
-  EXPECT_NE(r.err.find("rcxc test: cannot read " + d.path + "/sub/self.nqc: "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("rcxc test: cannot read " + d.path +
+                       "/sub/self.nqc: a loop of symbolic links that never reaches a file"),
+            std::string::npos)
+      << r.err;
+  // Named on the command line, the loop was "no such file or folder".
+  auto named = run_rcxc({"test", d.path + "/sub/self.nqc"}, "", 30'000);
+  EXPECT_EQ(named.exit_code, 1) << named.err;
+  EXPECT_NE(named.err.find("rcxc test: cannot read " + d.path +
+                           "/sub/self.nqc: a loop of symbolic links that never reaches a file"),
+            std::string::npos)
+      << named.err;
   EXPECT_NE(r.out.find("PASS " + d.path + "/sub/good.nqc"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("1 passed, 0 failed"), std::string::npos) << r.out;
 }

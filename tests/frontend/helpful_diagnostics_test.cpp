@@ -1027,3 +1027,43 @@ TEST(HelpfulDiagnostics, AReferenceGivenAValueOfTheBrickSaysWhichValue) {
       << r.text();
   EXPECT_EQ(r.diags.all()[2].message, "argument for 'int &a' of 'f' must be a variable") << r.text();
 }
+
+// `Wa\` at the end of a line and `it(10);` on the next: C splices the lines
+// first and reads `Wait(10);`; rcxc, like nqc, reads a backslash-newline as
+// a space, and said only "expected ';' before 'it'".
+TEST(HelpfulDiagnostics, ABackslashSplittingAWordSaysLinesAreJoinedNotWords) {
+  const std::string said =
+      "a backslash at the end of the line splits 'Wait' in two: 'Wa' and 'it' are two words, because a backslash "
+      "joins lines, not words (C would join them); write 'Wait' on one line";
+  auto r = run_frontend("task main()\n{\n  Wa\\\nit(10);\n}\n");
+  EXPECT_EQ(placed_messages(r.diags), (std::vector<std::string>{"4:1 " + said})) << r.text();
+  // The same inside a #define, where a backslash is most often written.
+  auto in_macro = run_frontend("#define PAUSE Wa\\\nit(10)\ntask main()\n{\n  PAUSE;\n}\n");
+  ASSERT_EQ(in_macro.diags.all().size(), 1u) << in_macro.text();
+  EXPECT_EQ(in_macro.diags.all()[0].message, said);
+  // A backslash between words that a space parts anyway is no split, and
+  // one that joins the lines of a #define between tokens still does.
+  EXPECT_TRUE(run_frontend("#define PAUSE Wait( \\\n10)\ntask main()\n{\n  PAUSE;\n  Wait \\\n(10);\n}\n")
+                  .diags.all().empty());
+  auto spaced = run_frontend("int a;\ntask main()\n{\n  int b \\\nc;\n}\n");
+  ASSERT_FALSE(spaced.diags.all().empty());
+  EXPECT_EQ(spaced.diags.all()[0].message.find("backslash"), std::string::npos) << spaced.text();
+}
+
+// `#define X X + 1` then `int X;`: the inner X is left as it is and the
+// parser read `int X + 1;`, so a second error ("expected ';' or ',' before
+// '+'") followed the one about the macro, at the same place. (`1 + X`
+// gave "expected a new name, but a macro stands here" instead.)
+TEST(HelpfulDiagnostics, AMacroUsedInItsOwnTextIsTheOneError) {
+  const std::string recursive = "macro 'X' is defined in terms of itself (recursive macros never end)";
+  for (const std::string body : {"X + 1", "1 + X", "(X)"}) {
+    auto r = run_frontend("#define X " + body + "\nint X;\ntask main()\n{\n}\n");
+    ASSERT_EQ(r.diags.all().size(), 1u) << body << "\n" << r.text();
+    EXPECT_EQ(r.diags.all()[0].message, recursive) << body;
+  }
+  // A syntax error in another statement is still reported.
+  auto other = run_frontend("#define X X + 1\nint X;\ntask main()\n{\n  int y z;\n}\n");
+  ASSERT_EQ(other.diags.all().size(), 2u) << other.text();
+  EXPECT_EQ(other.diags.all()[0].message, recursive);
+  EXPECT_EQ(other.diags.all()[1].span.begin.line, 5u) << other.text();
+}

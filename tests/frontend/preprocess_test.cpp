@@ -71,6 +71,23 @@ TEST(Preprocessor, IncludingAFolderOrADeviceSaysWhatItIs) {
   EXPECT_EQ(messages(missing.diags), (std::vector<std::string>{"cannot find include file 'nowhere.nqh'"}));
 }
 
+// A header that is a link to nothing, or one of two links that lead to
+// each other, was "cannot find include file": the user looked for a file
+// that is there. Said in the words every read of a file uses.
+TEST(Preprocessor, IncludingABrokenLinkSaysWhatIsWrongWithIt) {
+  rcxc::test::TempDir d;
+  std::filesystem::create_symlink("gone.nqh", d.path + "/dangling.nqh");
+  std::filesystem::create_symlink("b.nqh", d.path + "/a.nqh");
+  std::filesystem::create_symlink("a.nqh", d.path + "/b.nqh");
+  auto dangling = run_pp("#include \"dangling.nqh\"\n", {}, "t.nqc", d.path);
+  EXPECT_EQ(messages(dangling.diags),
+            (std::vector<std::string>{"cannot include '" + d.path + "/dangling.nqh': it is a symbolic link to nothing"}));
+  auto loop = run_pp("#include \"a.nqh\"\n", {}, "t.nqc", d.path);
+  EXPECT_EQ(messages(loop.diags),
+            (std::vector<std::string>{"cannot include '" + d.path +
+                                      "/a.nqh': it is a loop of symbolic links that never reaches a file"}));
+}
+
 // `#define HAS_X defined(X)` then `#if HAS_X`: nqc (and C compilers) take
 // the `defined` the macro brings in, without expanding X, even where X is a
 // macro of its own; rcxc said "unexpected '(' in #if expression".

@@ -51,6 +51,26 @@ TEST(FileRead, AFileThatCannotBeOpenedSaysWhy) {
   std::filesystem::remove_all(dir);
 }
 
+// Two links leading to each other (`ln -s a b; ln -s b a`) were "a
+// symbolic link to nothing": the name is there, and so is what it leads
+// to, round and round (ELOOP).
+TEST(FileRead, ALoopOfLinksIsSaidToBeOne) {
+  auto dir = std::filesystem::temp_directory_path() / "rcxc-file-read-loop";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  std::filesystem::create_symlink("b.nqc", dir / "a.nqc");
+  std::filesystem::create_symlink("a.nqc", dir / "b.nqc");
+  std::filesystem::create_symlink("self", dir / "self");
+  const std::string loop = "a loop of symbolic links that never reaches a file";
+  EXPECT_TRUE(std::holds_alternative<FileProblem>(read_file((dir / "a.nqc").string(), kSourceFile)));
+  EXPECT_EQ(cannot_open_reason((dir / "a.nqc").string()), loop);
+  EXPECT_EQ(cannot_open_reason((dir / "self").string()), loop);
+  // A loop on the way to the file, in a folder of its path.
+  EXPECT_EQ(cannot_open_reason((dir / "self" / "p.nqc").string()), loop);
+  EXPECT_EQ(cannot_open_reason(""), "no file name");
+  std::filesystem::remove_all(dir);
+}
+
 TEST(FileRead, EndlessDevicesStopAtTheCap) {
   // /dev/zero never ends: the reader stops one byte past the cap.
   FileKind tiny{"test file", 4096};

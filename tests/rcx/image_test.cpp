@@ -106,3 +106,63 @@ TEST(Image, ReadingADirectoryIsAnErrorNotACrash) {
   ASSERT_TRUE(std::holds_alternative<ImageError>(result));
   EXPECT_EQ(std::get<ImageError>(result).message, dir.string() + ": is a directory, not an .rcx image");
 }
+
+// A symbol name of 1000 bytes (its length byte, 1001 in one byte, is 233)
+// was "name is not NUL-terminated": the NUL is there, 767 bytes later. The
+// name is longer than the format allows, and the message says the limit.
+TEST(Image, ASymbolNameLongerThanTheFormatAllowsSaysTheLimit) {
+  auto image_with_name = [](std::size_t length_byte, const std::string& name_bytes) {
+    Bytes b = {0x52, 0x43, 0x58, 0x49, 0x02, 0x01, 0x00, 0x00, 0x01, 0x00, 0x00, 0x00};
+    for (int v : {2, 0, static_cast<int>(length_byte), 0}) b.push_back(static_cast<std::uint8_t>(v));
+    b.insert(b.end(), name_bytes.begin(), name_bytes.end());
+    return b;
+  };
+  std::string long_name(1000, 'a');
+  EXPECT_EQ(error_of(image_with_name(1001 & 0xff, long_name + '\0')),
+            "offset 16: symbol 1: name of 1000 bytes, longer than an image can hold: its length is one byte counting "
+            "the NUL too, so a name has at most 254 bytes (this one's length byte says 233)");
+  EXPECT_EQ(kMaxSymbolName, 254u);
+  // The longest name there may be is read, and written back the same.
+  std::string longest(kMaxSymbolName, 'b');
+  auto at_limit = image_with_name(255, longest + '\0');
+  auto read = read_image(at_limit);
+  ASSERT_TRUE(std::holds_alternative<Image>(read)) << std::get<ImageError>(read).message;
+  EXPECT_EQ(std::get<Image>(read).name_of(SymbolType::Variable, 0), longest);
+  EXPECT_EQ(write_image(std::get<Image>(read)), at_limit);
+  // Other mistakes in a name say what they are, not all "not NUL-terminated".
+  EXPECT_EQ(error_of(image_with_name(5, std::string("ab\0d\0", 5))),
+            "offset 18: symbol 1: name holds a NUL after 2 of the 5 bytes its length gives (the length counts the "
+            "name and the one NUL that ends it)");
+  EXPECT_EQ(error_of(image_with_name(3, std::string("abcd\0", 5))),
+            "offset 18: symbol 1: name of 4 bytes runs on past the 2 its length byte gives (the length counts the "
+            "name and its NUL)");
+  EXPECT_EQ(error_of(image_with_name(3, "abcd")),
+            "offset 18: symbol 1: name is not NUL-terminated (no NUL in its 3 bytes or in the rest of the file)");
+  EXPECT_EQ(error_of(image_with_name(9, "abc")), "offset 19: symbol 1: name runs past the end of the file");
+  EXPECT_EQ(error_of(image_with_name(0, "")),
+            "offset 14: symbol 1: name length 0, which leaves no room for the NUL that ends a name (the length counts "
+            "it)");
+}
+
+// The other fields of a symbol say what they may be.
+TEST(Image, ASymbolsTypeAndIndexSayWhatTheyMayBe) {
+  Bytes b = kNqcImage;
+  b[34] = 40;  // var "x" at index 40
+  EXPECT_EQ(error_of(b), "offset 34: symbol 'x': variable index 40 out of range 0..31");
+  b = kNqcImage;
+  b[24] = 3;  // symbol "main" of type 3
+  EXPECT_EQ(error_of(b), "offset 24: symbol 1: unknown type 3 (0 = task, 1 = subroutine, 2 = variable)");
+}
+
+// A name past the limit was written with its length byte wrapped (301 as
+// 45, as nqc writes it): an image rcxc itself then refused. It is cut.
+TEST(Image, ANameTooLongForTheFormatIsWrittenCutToTheLimit) {
+  Image img;
+  img.fragments.push_back({FragmentType::Task, 0, {0x50}});
+  img.symbols.push_back({SymbolType::Variable, 0, std::string(300, 'v')});
+  img.symbols.push_back({SymbolType::Task, 0, "main"});
+  auto read = read_image(write_image(img));
+  ASSERT_TRUE(std::holds_alternative<Image>(read)) << std::get<ImageError>(read).message;
+  EXPECT_EQ(std::get<Image>(read).name_of(SymbolType::Variable, 0), std::string(kMaxSymbolName, 'v'));
+  EXPECT_EQ(std::get<Image>(read).name_of(SymbolType::Task, 0), "main");
+}
