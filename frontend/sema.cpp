@@ -1325,22 +1325,17 @@ class Checker {
   // Under -n (Pragmas::program_init) the program's own `_init`, a sub or
   // an inline function, is what the startup code calls, as `#pragma init
   // _init` would; with neither, the built-in startup stays (nqc refuses).
-  void adopt_program_init() {
+  // Whether it was adopted.
+  bool adopt_program_init() {
     Pragmas& p = prog_.pragmas;
-    if (!p.program_init || p.noinit || p.init) return;
+    if (!p.program_init || p.noinit || p.init) return false;
     auto it = globals_.find("_init");
-    if (it == globals_.end()) return;
+    if (it == globals_.end()) return false;
     const Symbol& f = prog_.symbols[it->second];
-    if (f.kind != SymbolKind::Sub && f.kind != SymbolKind::Function) return;
-    if (f.kind == SymbolKind::Function)
-      if (std::size_t n = prog_.functions[f.index].params.size(); n != 0) {
-        diags_.error(f.span, fmt::format("'_init' takes {} argument{}: without the standard library (-n) the "
-                                         "startup code calls the program's own '_init', with none",
-                                         n, n == 1 ? "" : "s"));
-        return;
-      }
+    if (f.kind != SymbolKind::Sub && f.kind != SymbolKind::Function) return false;
     p.init = f.name;
     p.init_span = f.span;
+    return true;
   }
 
   // Which tasks run each sub, directly or through inline functions and
@@ -1364,7 +1359,7 @@ class Checker {
   }
 
   void check_pragmas() {
-    adopt_program_init();
+    bool own_init = adopt_program_init();
     if (!prog_.pragmas.init) return;
     auto it = globals_.find(*prog_.pragmas.init);
     if (it == globals_.end() || (prog_.symbols[it->second].kind != SymbolKind::Sub &&
@@ -1376,10 +1371,15 @@ class Checker {
     prog_.symbols[it->second].used = true;
     const Symbol& f = prog_.symbols[it->second];
     if (f.kind != SymbolKind::Function) return;
-    if (std::size_t n = prog_.functions[f.index].params.size(); n != 0)
-      diags_.error(prog_.pragmas.init_span, fmt::format("#pragma init names '{}', which takes {} argument{}: the "
-                                                        "startup code calls it with none",
-                                                        f.name, n, n == 1 ? "" : "s"));
+    std::size_t n = prog_.functions[f.index].params.size();
+    if (n == 0) return;
+    std::string arguments = fmt::format("{} argument{}", n, n == 1 ? "" : "s");
+    diags_.error(prog_.pragmas.init_span,
+                 own_init ? "'_init' takes " + arguments +
+                                ": without the standard library (-n) the startup code calls the program's own "
+                                "'_init', with none"
+                          : "#pragma init names '" + f.name + "', which takes " + arguments +
+                                ": the startup code calls it with none");
   }
 };
 
