@@ -1004,8 +1004,11 @@ class Preprocessor {
       fs::path p = fs::path(d) / name;
       std::error_code ec;
       if (!fs::is_regular_file(p, ec)) {
-        if (!not_a_file && fs::exists(p, ec)) not_a_file = p;
-        else if (!broken_link && fs::is_symlink(fs::symlink_status(p, ec))) broken_link = p;
+        if (fs::exists(p, ec)) {
+          if (!not_a_file) not_a_file = p;
+        } else if (!broken_link && fs::is_symlink(fs::symlink_status(p, ec))) {
+          broken_link = p;
+        }
         continue;
       }
       auto file = rcx::read_file(p.string(), rcx::kSourceFile);
@@ -1043,7 +1046,7 @@ class Preprocessor {
       return;
     }
     // In the words every other read of a user's file uses (rcx/file_read.h).
-    if (std::error_code ec; broken_link && !fs::exists(*broken_link, ec)) {
+    if (broken_link) {
       diags_.error(where, "cannot include '" + broken_link->string() + "': it is " +
                               rcx::cannot_open_reason(broken_link->string()));
       return;
