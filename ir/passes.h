@@ -79,6 +79,19 @@ void shorten_complements(Function& f, const std::vector<Var>& vars, bool other_t
 // gives it are made only where no other task can read V.
 void compute_into_targets(Program& p, LivenessCache* cache = nullptr);
 
+// gather.cpp: neighbouring constant steps on one variable become one:
+// `x - 100 - 10` is `x -= 110`, `+ -` by their sum, `*` by their product
+// (the firmware's arithmetic wraps at 16 bits, so both are exact), `&` and
+// `|` of the two constants, two divisions by positive constants one by
+// their product while it fits (truncating division); a pair that does
+// nothing goes. A sum into a temporary or local that starts with a
+// constant (`2 + b + 5`: `t = 2; t += b; t += 5`) starts with its first
+// variable and adds the constants once (`t = b; t += 7`), the variables
+// read in the order they were; into a global only where no other task
+// runs (`other_tasks`), as it then holds b, which the source never gives
+// it. One instruction less per constant gathered.
+void gather_constant_arithmetic(Function& f, const std::vector<Var>& vars, bool other_tasks);
+
 // waits.cpp: consecutive constant waits in a block become one wait of
 // their sum (Wait(20); Wait(30); is Wait(50)): one instruction less, the
 // second wait no longer 2 ms late.

@@ -73,6 +73,7 @@ bool optimize(Program& p, OptLevel level, Diagnostics& diags, Log& log, const Pa
     for (int round = 0; round < 3; ++round) {
       fold_constants(p, &liveness);
       remove_dead_stores(p, &liveness);
+      for (auto& f : p.functions) gather_constant_arithmetic(f, p.vars, several_tasks);
       if (shrinks_without_slowing(level)) {
         compute_into_targets(p, &liveness);
         test_before_one_to_one_arithmetic(p, &liveness);

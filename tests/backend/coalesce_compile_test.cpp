@@ -221,6 +221,32 @@ task main() {
   }
 }
 
+// `a = b - OFFSET - 10`, `c = 2 + b + 5` in a program of one task, and
+// `a += 3; a -= 1`: each constant after the first gathered (ir/gather.cpp),
+// from -O1. -O0 keeps every step: 6 of startup, 5 for b, 15 + 15 + 10.
+TEST(Coalesce, ConstantsInARowAreOneStep) {
+  const char* text = R"(
+#define OFFSET 100
+int a, b, c;
+task main() {
+  b = Timer(0) + 40;
+  a = b - OFFSET - 10;
+  c = 2 + b + 5;
+  a += 3; a -= 1;
+}
+)";
+  for (auto level : {ir::OptLevel::O0, ir::OptLevel::O1, ir::OptLevel::O2, ir::OptLevel::Os}) {
+    auto c = test::compile_program(text, level);
+    ASSERT_TRUE(c.out);
+    auto m = test::run_image(c.out->image, 1000);
+    EXPECT_EQ(test::global_value(m, c.out->image, "a"), -68);
+    EXPECT_EQ(test::global_value(m, c.out->image, "c"), 47);
+    // Optimised: b's two steps, then a = b; a -= 110; c = b; c += 7; a += 2.
+    EXPECT_EQ(c.out->code_bytes, level == ir::OptLevel::O0 ? 6 + 10 + 15 + 15 + 10 : 6 + 10 + 10 + 10 + 5)
+        << static_cast<int>(level);
+  }
+}
+
 }  // namespace
 }  // namespace rcxc
 
