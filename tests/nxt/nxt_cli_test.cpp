@@ -635,6 +635,46 @@ TEST(NxtCli, CtrlCEndsAWaitForASilentBrickAt130) {
   nxt::close_pty_pair(pty);
 }
 
+// Ctrl-C leaves the signal pending on the descriptor every wait of the
+// link polls: the stop telegram ended as "interrupted" before it was sent,
+// and the NXT's motors ran on after `rcxc run --nxt` had exited.
+TEST(NxtTether, CtrlCStopsTheMotorsOnTheBrick) {
+  NxtBrickProcess brick;
+  TempDir dir;
+  std::string prog = dir.write("forever.nqc", std::string("task main() {\n  On(OUT_A);\n  while (true) { }\n}\n"));
+  pid_t pid = ::fork();
+  if (pid == 0) {
+    int null = ::open("/dev/null", O_WRONLY);
+    ::dup2(null, 1);
+    ::dup2(null, 2);
+    std::vector<std::string> args{RCXC_BINARY, "run", prog, "--nxt", brick.path};
+    std::vector<char*> argv;
+    for (auto& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    ::execv(argv[0], argv.data());
+    ::_exit(127);
+  }
+  // Wait until the program has the motor running on the brick.
+  bool running = false;
+  for (int i = 0; i < 300 && !running; ++i) {
+    auto r = nxt(brick.path, {"--json", "motor-state", "A"});
+    running = r.exit_code == 0 && json_of(r)["power"] == 100;
+    if (!running) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  ASSERT_TRUE(running) << "the tethered run never turned motor A on";
+  ::kill(pid, SIGINT);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 130);
+  for (const char* port : {"A", "B", "C"}) {
+    auto r = nxt(brick.path, {"--json", "motor-state", port});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(json_of(r)["power"], 0) << port;
+    EXPECT_EQ(json_of(r)["mode"], nxt::kMotorOn | nxt::kBrake) << port;
+  }
+}
+
 TEST(NxtCli, HelpListsEveryCommandOfTheTable) {
   auto r = run_rcxc({"nxt", "--help"});
   EXPECT_EQ(r.exit_code, 0);
