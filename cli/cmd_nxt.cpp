@@ -665,6 +665,25 @@ void register_nxt(CLI::App& app, int& exit_code) {
     });
   });
 
+  {
+    auto* cmd = add("rename", "Rename the brick: NAME, 1-15 characters (Bluetooth and its screen show it)");
+    auto name = std::make_shared<std::string>();
+    cmd->add_option("NAME", *name, "The new name, 1-15 printable ASCII characters")->required();
+    run(cmd, [name]() -> Made {
+      // SetBrickName's field is 16 bytes with the NUL, and GetDeviceInfo
+      // gives back 15: a longer name would come back cut.
+      if (name->empty() || name->size() > 15)
+        return fmt::format("\"{}\" is {} characters; a brick's name is 1-15", *name, name->size());
+      if (!std::all_of(name->begin(), name->end(), [](unsigned char c) { return c >= 0x20 && c < 0x7F; }))
+        return fmt::format("\"{}\" is not a brick name: printable ASCII characters only", *name);
+      return Action([n = *name](Client& c) -> std::variant<Output, Failure> {
+        auto r = nxt::call_ok(c, "SetBrickName", values({n}));
+        if (auto* e = std::get_if<CallError>(&r)) return failure(*e);
+        return Output{"", {{"name", n}}};
+      });
+    });
+  }
+
   run(add("keepalive", "Reset the sleep timer; prints the sleep limit"), [] {
     return Action([](Client& c) -> std::variant<Output, Failure> {
       auto r = nxt::call_ok(c, "KeepAlive", {});

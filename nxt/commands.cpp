@@ -89,7 +89,9 @@ constexpr Field kIoMapCount[] = {{"module_id", K::U32, 0, Show::Hex}, {"count", 
 constexpr Field kBoot[] = {{"magic", K::Text, 19}};
 constexpr Field kBootReply[] = {{"answer", K::Text, 4}};
 constexpr Field kBrickName[] = {{"name", K::Text, 16}};
-constexpr Field kDeviceInfo[] = {{"name", K::Text, 15},
+// The firmware copies 15 bytes of the 16-byte brick name (c_comm.c
+// DEVICEINFO): a 15-character name comes without its NUL.
+constexpr Field kDeviceInfo[] = {{"name", K::Text, 15, Show::Decimal, false, true},
                                  {"bt_address", K::Bytes, 7, Show::Hex},
                                  {"signal_strength", K::U32},
                                  {"free_flash", K::U32}};

@@ -61,6 +61,10 @@ struct Field {
   // For a U8 that counts the bytes of the Rest field that follows: the
   // encoder fills it in when no value is given.
   bool counts_rest = false;
+  // Text only: the firmware copies `width` bytes of a longer buffer, so text
+  // as long as the field comes without its NUL (GetDeviceInfo's 15-byte name
+  // of a 15-character brick name).
+  bool may_fill = false;
 };
 
 struct Command {

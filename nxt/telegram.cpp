@@ -82,10 +82,10 @@ std::optional<TelegramError> encode_fields(const Command& c, std::span<const Fie
     else if (const auto* b = std::get_if<Bytes>(&v)) data = *b;
     else return TelegramError{fmt::format("{} {}: text or bytes are needed", c.name, f.name)};
     if (f.kind == FieldKind::Text) {
-      // Room for the terminating NUL.
-      if (data.size() >= f.width)
+      // Room for the terminating NUL, unless the field may come full.
+      if (data.size() > f.width || (data.size() == f.width && !f.may_fill))
         return TelegramError{fmt::format("{} {}: \"{}\" is longer than {} characters", c.name, f.name,
-                                         std::string(data.begin(), data.end()), f.width - 1)};
+                                         std::string(data.begin(), data.end()), f.may_fill ? f.width : f.width - 1)};
       data.resize(f.width, 0);
     } else if (f.kind == FieldKind::Bytes) {
       if (data.size() > f.width)

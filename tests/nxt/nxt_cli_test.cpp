@@ -675,6 +675,33 @@ TEST(NxtTether, CtrlCStopsTheMotorsOnTheBrick) {
   }
 }
 
+// SetBrickName takes 15 characters and a NUL; GetDeviceInfo's name field is
+// 15 bytes, so a 15-character name comes back without its NUL. The virtual
+// NXT answered GetDeviceInfo with 0xFF after such a rename.
+TEST(NxtCli, RenameTheBrickAndReadItBack) {
+  NxtBrickProcess brick;
+  auto r = nxt(brick.path, {"rename", "Robby"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.out, "");
+  EXPECT_EQ(json_of(nxt(brick.path, {"--json", "info"}))["name"], "Robby");
+  ASSERT_EQ(nxt(brick.path, {"rename", "ABCDEFGHIJKLMNO"}).exit_code, 0);
+  auto full = nxt(brick.path, {"info"});
+  ASSERT_EQ(full.exit_code, 0) << full.err;
+  EXPECT_NE(full.out.find("name       ABCDEFGHIJKLMNO\n"), std::string::npos) << full.out;
+  auto raw = nxt(brick.path, {"raw", "01", "9b"});
+  EXPECT_EQ(raw.out.substr(0, 56), "02 9b 00 41 42 43 44 45 46 47 48 49 4a 4b 4c 4d 4e 4f 00") << raw.out;
+  auto j = json_of(nxt(brick.path, {"--json", "rename", "NXT 2"}));
+  EXPECT_EQ(j["ok"], true);
+  EXPECT_EQ(j["name"], "NXT 2");
+  for (std::string bad : {std::string(16, 'x'), std::string(), std::string("caf\xc3\xa9")}) {
+    auto refused = nxt(brick.path, {"rename", bad});
+    EXPECT_EQ(refused.exit_code, 2) << bad << ": " << refused.err;
+  }
+  EXPECT_NE(nxt(brick.path, {"rename", std::string(16, 'x')}).err.find("is 16 characters; a brick's name is 1-15"),
+            std::string::npos);
+  EXPECT_EQ(json_of(nxt(brick.path, {"--json", "info"}))["name"], "NXT 2");
+}
+
 TEST(NxtCli, HelpListsEveryCommandOfTheTable) {
   auto r = run_rcxc({"nxt", "--help"});
   EXPECT_EQ(r.exit_code, 0);
