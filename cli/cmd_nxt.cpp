@@ -492,11 +492,19 @@ void register_nxt(CLI::App& app, int& exit_code) {
                               "block_tacho_count", "rotation_count"})
           o.data[f] = *d.number(f);
         o.data["port"] = std::string(1, static_cast<char>('A' + p));
-        o.text = fmt::format("port {}: power {} run state {} tacho count {} (block {}, rotation {}), limit {}\n",
-                             static_cast<char>('A' + p), *d.number("power"),
-                             nxt::enum_name(nxt::run_states(), static_cast<std::uint8_t>(*d.number("run_state"))),
-                             *d.number("tacho_count"), *d.number("block_tacho_count"), *d.number("rotation_count"),
-                             *d.number("tacho_limit"));
+        auto named = [&](std::span<const nxt::EnumName> names, const char* field) {
+          auto v = static_cast<std::uint8_t>(*d.number(field));
+          auto n = nxt::enum_name(names, v);
+          return n.empty() ? fmt::format("0x{:02x}", v) : std::string(n);
+        };
+        o.text = fmt::format(
+            "port {}: power {} mode {} regulation {} turn ratio {} run state {}\n"
+            "        tacho count {} (block {}, rotation {}), limit {}\n",
+            static_cast<char>('A' + p), *d.number("power"),
+            nxt::output_mode_names(static_cast<std::uint8_t>(*d.number("mode"))),
+            named(nxt::regulation_modes(), "regulation"), *d.number("turn_ratio"), named(nxt::run_states(), "run_state"),
+            *d.number("tacho_count"), *d.number("block_tacho_count"), *d.number("rotation_count"),
+            *d.number("tacho_limit"));
         return o;
       });
     });

@@ -5,6 +5,8 @@
 #include <cctype>
 #include <string>
 
+#include <fmt/format.h>
+
 namespace nxt {
 namespace {
 
@@ -268,6 +270,18 @@ std::optional<std::uint8_t> sensor_type_named(std::string_view name) { return lo
 std::optional<std::uint8_t> sensor_mode_named(std::string_view name) {
   if (auto v = lookup(kSensorModes, name)) return v;
   return lookup(kSensorModes, std::string(name) + "MODE");
+}
+
+std::string output_mode_names(std::uint8_t mode) {
+  std::string s;
+  auto add = [&](std::uint8_t bit, const char* name) {
+    if (mode & bit) s += (s.empty() ? "" : "|") + std::string(name);
+  };
+  add(kMotorOn, "MOTORON");
+  add(kBrake, "BRAKE");
+  add(kRegulated, "REGULATED");
+  if (mode & ~0x07) s += fmt::format("{}0x{:02x}", s.empty() ? "" : "|", mode & ~0x07);
+  return s.empty() ? "0" : s;
 }
 
 std::string_view enum_name(std::span<const EnumName> names, std::uint8_t value) {

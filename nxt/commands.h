@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <optional>
 #include <span>
+#include <string>
 #include <string_view>
 
 namespace nxt {
@@ -107,6 +108,8 @@ std::span<const EnumName> regulation_modes();
 std::optional<std::uint8_t> sensor_type_named(std::string_view name);
 std::optional<std::uint8_t> sensor_mode_named(std::string_view name);
 std::string_view enum_name(std::span<const EnumName> names, std::uint8_t value);  // "" if none
+// SetOutputState's mode byte as its bit names: "MOTORON|BRAKE", "0" for none.
+std::string output_mode_names(std::uint8_t mode);
 
 // SetOutputState's mode bits.
 inline constexpr std::uint8_t kMotorOn = 0x01;

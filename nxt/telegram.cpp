@@ -139,18 +139,6 @@ const Field* field_named(const Decoded& d, std::string_view name, std::size_t& i
   return nullptr;
 }
 
-std::string show_bits(std::int64_t v) {
-  std::string s;
-  auto add = [&](std::uint8_t bit, const char* name) {
-    if (v & bit) s += (s.empty() ? "" : "|") + std::string(name);
-  };
-  add(kMotorOn, "MOTORON");
-  add(kBrake, "BRAKE");
-  add(kRegulated, "REGULATED");
-  if (v & ~0x07) s += fmt::format("{}0x{:02x}", s.empty() ? "" : "|", v & ~0x07);
-  return s.empty() ? "0" : s;
-}
-
 std::string show_number(const Field& f, std::int64_t v) {
   auto named = [&](std::span<const EnumName> names, std::uint8_t value) {
     auto n = enum_name(names, value);
@@ -163,7 +151,7 @@ std::string show_number(const Field& f, std::int64_t v) {
       auto mode = named(sensor_modes(), static_cast<std::uint8_t>(v & 0xE0));
       return (v & 0x1F) ? fmt::format("{}+slope{}", mode, v & 0x1F) : mode;
     }
-    case Show::OutputMode: return show_bits(v);
+    case Show::OutputMode: return output_mode_names(static_cast<std::uint8_t>(v));
     case Show::Regulation: return named(regulation_modes(), static_cast<std::uint8_t>(v));
     case Show::RunState: return named(run_states(), static_cast<std::uint8_t>(v));
     case Show::Status:

@@ -702,6 +702,22 @@ TEST(NxtCli, RenameTheBrickAndReadItBack) {
   EXPECT_EQ(json_of(nxt(brick.path, {"--json", "info"}))["name"], "NXT 2");
 }
 
+// The help says "power, mode and tacho counts": the text showed no mode.
+TEST(NxtCli, MotorStateShowsTheModeAndRegulation) {
+  NxtBrickProcess brick;
+  ASSERT_EQ(nxt(brick.path, {"motor", "C", "30", "--regulated", "--brake"}).exit_code, 0);
+  auto r = nxt(brick.path, {"motor-state", "C"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("port C: power 30 mode MOTORON|BRAKE|REGULATED regulation MOTOR_SPEED turn ratio 0 run state "
+                       "RUNNING\n"),
+            std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("tacho count "), std::string::npos) << r.out;
+  ASSERT_EQ(nxt(brick.path, {"motor", "C", "0"}).exit_code, 0);
+  EXPECT_NE(nxt(brick.path, {"motor-state", "C"}).out.find("power 0 mode 0 regulation IDLE turn ratio 0 run state IDLE"),
+            std::string::npos);
+}
+
 TEST(NxtCli, HelpListsEveryCommandOfTheTable) {
   auto r = run_rcxc({"nxt", "--help"});
   EXPECT_EQ(r.exit_code, 0);
