@@ -111,6 +111,7 @@ class FramedFdTransport final : public Transport {
   }
 
   std::string describe() const override { return name_; }
+  std::string leftovers() const override { return reader_.leftovers(); }
 
  private:
   int fd_;
@@ -363,15 +364,42 @@ std::optional<Bytes> FrameReader::next() {
     }
     if (length > kMaxFrame) {
       // Lost framing: drop what we have and wait for the next telegram.
+      dropped.insert(dropped.end(), pending.begin(), pending.end());
       pending.clear();
       return std::nullopt;
     }
     if (pending.size() < 2 + length) return std::nullopt;
     Bytes t(pending.begin() + 2, pending.begin() + 2 + static_cast<std::ptrdiff_t>(length));
     pending.erase(pending.begin(), pending.begin() + 2 + static_cast<std::ptrdiff_t>(length));
+    dropped.clear();
     return t;
   }
   return std::nullopt;
+}
+
+std::string FrameReader::leftovers() const {
+  // Enough bytes to recognise a reply's start; a flood is not repeated whole.
+  auto shown = [](const Bytes& b) {
+    constexpr std::size_t kShown = 24;
+    std::string s;
+    for (std::size_t i = 0; i < b.size() && i < kShown; ++i) s += fmt::format("{}{:02x}", i ? " " : "", b[i]);
+    return b.size() > kShown ? s + " ..." : s;
+  };
+  std::string out;
+  if (!dropped.empty()) {
+    std::size_t length = dropped.size() >= 2 ? dropped[0] | (std::size_t{dropped[1]} << 8) : 0;
+    out = fmt::format("{} bytes came under a length prefix of {}, more than any telegram, and were dropped: {}",
+                      dropped.size(), length, shown(dropped));
+  }
+  if (!pending.empty()) {
+    if (!out.empty()) out += "; ";
+    if (pending.size() < 2)
+      out += fmt::format("1 byte came, half a length prefix: {}", shown(pending));
+    else
+      out += fmt::format("{} of a {}-byte telegram came: {}", pending.size() - 2,
+                         pending[0] | (std::size_t{pending[1]} << 8), shown(pending));
+  }
+  return out;
 }
 
 std::variant<PortSpec, LinkError> parse_port(const std::optional<std::string>& option,
