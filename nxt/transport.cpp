@@ -243,7 +243,7 @@ std::variant<std::unique_ptr<Transport>, LinkError> open_usb(const std::string& 
   if (!serial.empty() && !seen.empty())
     return fail(fmt::format("no NXT with serial {} on USB (found: {})", serial, fmt::join(seen, ", ")));
   return fail("no NXT on USB (vendor 0694, product 0002): is it plugged in and switched on? "
-              "Or give --port bt:ADDR or a tty path");
+              "Or give the port as bt:ADDR or a tty path");
 }
 
 bool valid_bt_address(std::string_view a) {
@@ -409,7 +409,25 @@ std::variant<PortSpec, LinkError> parse_port(const std::optional<std::string>& o
   const std::string from = option ? "" : "NXT_PORT: ";
   if (name.empty())
     return LinkError{LinkError::Kind::Open, from + "the port is empty (usb, usb:SERIAL, bt:ADDR or a path)"};
-  if (name == "usb") return PortSpec{PortKind::Usb, ""};
+  // The schemes in any case ("USB", "BT:..."): a path of that name was
+  // never meant, and opening it said "USB does not exist".
+  auto lower = [](std::string s) {
+    for (auto& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return s;
+  };
+  if (lower(name) == "usb") return PortSpec{PortKind::Usb, ""};
+  if (lower(name.substr(0, 4)) == "usb:") name = "usb:" + name.substr(4);
+  if (lower(name.substr(0, 3)) == "bt:") name = "bt:" + name.substr(3);
+  // An address without its scheme would be opened as a path that does not
+  // exist ("rfcomm bind it first?"): say which scheme it needs.
+  if (valid_bt_address(name) || (name.size() == 12 && valid_usb_serial(name))) {
+    std::string plain = plain_address(name), colons;
+    for (std::size_t i = 0; i < plain.size(); i += 2) colons += (i ? ":" : "") + plain.substr(i, 2);
+    return LinkError{LinkError::Kind::Open,
+                     fmt::format("{}\"{}\" is a brick's address without its kind: bt:{} for Bluetooth, usb:{} for "
+                                 "the brick with that serial number on USB",
+                                 from, name, colons, plain)};
+  }
   if (name.rfind("usb:", 0) == 0) {
     std::string serial = name.substr(4);
     if (!valid_usb_serial(serial))

@@ -718,6 +718,25 @@ TEST(NxtCli, MotorStateShowsTheModeAndRegulation) {
             std::string::npos);
 }
 
+TEST(NxtCli, AnAddressWithoutItsKindOrInCapitalsIsUnderstood) {
+  auto bare = nxt("00:16:53:AA:BB:CC", {"battery"});
+  EXPECT_EQ(bare.exit_code, 2) << bare.err;
+  EXPECT_NE(bare.err.find("\"00:16:53:AA:BB:CC\" is a brick's address without its kind: bt:00:16:53:AA:BB:CC for "
+                          "Bluetooth, usb:001653AABBCC for the brick with that serial number on USB"),
+            std::string::npos)
+      << bare.err;
+  auto serial = nxt("001653aabbcc", {"battery"});
+  EXPECT_EQ(serial.exit_code, 2) << serial.err;
+  EXPECT_NE(serial.err.find("bt:00:16:53:AA:BB:CC"), std::string::npos) << serial.err;
+  // "USB" is USB, not a path named USB (no NXT here: exit 3, said as USB).
+  auto usb = run_rcxc({"nxt", "--port", "USB", "battery"}, "", 30'000);
+  EXPECT_EQ(usb.exit_code, 3) << usb.err;
+  EXPECT_EQ(usb.err.find("USB does not exist"), std::string::npos) << usb.err;
+  auto bt = run_rcxc({"nxt", "--port", "BT:zz", "battery"}, "", 30'000);
+  EXPECT_EQ(bt.exit_code, 2) << bt.err;
+  EXPECT_NE(bt.err.find("\"zz\" is not a Bluetooth address"), std::string::npos) << bt.err;
+}
+
 TEST(NxtCli, HelpListsEveryCommandOfTheTable) {
   auto r = run_rcxc({"nxt", "--help"});
   EXPECT_EQ(r.exit_code, 0);
