@@ -730,15 +730,33 @@ void register_nxt(CLI::App& app, int& exit_code) {
   {
     auto* cmd = add("upload", "Copy the local FILE to the brick (as NAME)");
     auto file = std::make_shared<std::string>(), name = std::make_shared<std::string>();
+    auto replace = std::make_shared<bool>(false);
     cmd->add_option("FILE", *file, "A local file")->required();
     cmd->add_option("NAME", *name, "Its name on the brick (default: FILE's name)");
+    cmd->add_flag("--replace", *replace,
+                  "Delete a file of that name on the brick first (the brick refuses to write over one)");
     run(cmd, [=]() -> Made {
       std::string target = name->empty() ? std::filesystem::path(*file).filename().string() : *name;
       if (auto bad = nxt::check_file_name(target)) return *bad;
       auto data = std::make_shared<nxt::Bytes>();
       if (std::string err = read_file_bytes(*file, *data); !err.empty()) return Failure{kExitFailure, err};
       return Action([=](Client& c) -> std::variant<Output, Failure> {
-        if (auto e = nxt::upload_file(c, target, *data, progress_bar("upload " + target))) return failure(*e);
+        if (*replace) {
+          // Not there is as good as deleted; anything else (0x8B: the file
+          // is open) stops the upload.
+          auto r = nxt::call(c, *nxt::find_command("Delete"), values({target}));
+          if (auto* e = std::get_if<CallError>(&r)) return failure(*e);
+          auto status = std::get<nxt::Decoded>(r).status;
+          if (status != nxt::status::kOk && status != nxt::status::kFileNotFound)
+            return Failure{kExitFailure, fmt::format("Delete refused: 0x{:02x} {}", status, nxt::status_message(status))};
+        }
+        if (auto e = nxt::upload_file(c, target, *data, progress_bar("upload " + target))) {
+          Failure f = failure(*e);
+          // OpenWrite never writes over a file (0x8F): say how to.
+          if (e->kind == CallError::Kind::Refused && e->status == nxt::status::kFileExists)
+            f.message += fmt::format(" (\"{}\" is on the brick: upload --replace, or rcxc nxt rm {} first)", target, target);
+          return f;
+        }
         return Output{fmt::format("{} bytes to {}\n", data->size(), target), {{"name", target}, {"size", data->size()}}};
       });
     });

@@ -737,6 +737,30 @@ TEST(NxtCli, AnAddressWithoutItsKindOrInCapitalsIsUnderstood) {
   EXPECT_NE(bt.err.find("\"zz\" is not a Bluetooth address"), std::string::npos) << bt.err;
 }
 
+// OpenWrite never writes over a file (0x8F): a second upload failed with
+// the status alone.
+TEST(NxtCli, UploadOverAFileSaysHowAndReplaceDoesIt) {
+  NxtBrickProcess brick;
+  TempDir dir;
+  std::string first = dir.write("prog.rxe", std::vector<std::uint8_t>(100, 1));
+  ASSERT_EQ(nxt(brick.path, {"upload", first}).exit_code, 0);
+  std::string second = dir.write("new.rxe", std::vector<std::uint8_t>(70, 2));
+  auto again = nxt(brick.path, {"upload", second, "prog.rxe"});
+  EXPECT_EQ(again.exit_code, 1);
+  EXPECT_NE(again.err.find("OpenWrite refused: 0x8f file exists (\"prog.rxe\" is on the brick: upload --replace, or "
+                           "rcxc nxt rm prog.rxe first)"),
+            std::string::npos)
+      << again.err;
+  auto replaced = nxt(brick.path, {"upload", "--replace", second, "prog.rxe"});
+  ASSERT_EQ(replaced.exit_code, 0) << replaced.err;
+  EXPECT_EQ(nxt(brick.path, {"ls"}).out, "      70  prog.rxe\n");
+  ASSERT_EQ(nxt(brick.path, {"download", "prog.rxe", dir.path + "/back.rxe"}).exit_code, 0);
+  EXPECT_EQ(dir.read("back.rxe"), std::vector<std::uint8_t>(70, 2));
+  // Nothing to replace is no error.
+  EXPECT_EQ(nxt(brick.path, {"upload", "--replace", second, "other.rxe"}).exit_code, 0);
+  EXPECT_EQ(nxt(brick.path, {"ls", "other.*"}).out, "      70  other.rxe\n");
+}
+
 TEST(NxtCli, HelpListsEveryCommandOfTheTable) {
   auto r = run_rcxc({"nxt", "--help"});
   EXPECT_EQ(r.exit_code, 0);
