@@ -825,8 +825,13 @@ void register_nxt(CLI::App& app, int& exit_code) {
         auto d = nxt::decode_reply(*reply);
         std::string what = std::holds_alternative<nxt::Decoded>(d) ? nxt::describe(std::get<nxt::Decoded>(d))
                                                                    : std::get<nxt::TelegramError>(d).message;
-        return Output{fmt::format("{}\n{}\n", nxt::hex(*reply), what),
-                      {{"sent", nxt::hex(t)}, {"reply", nxt::hex(*reply)}, {"decoded", what}}};
+        Output o{fmt::format("{}\n{}\n", nxt::hex(*reply), what),
+                 {{"sent", nxt::hex(t)}, {"reply", nxt::hex(*reply)}, {"decoded", what}}};
+        // "ok" says a reply came; whether the brick did it is its status
+        // (null when the reply does not parse), so a script need not read
+        // `decoded`'s words.
+        o.data["status"] = reply->size() >= 3 && (*reply)[0] == nxt::kReply ? json((*reply)[2]) : json(nullptr);
+        return o;
       });
     });
   }

@@ -718,6 +718,15 @@ TEST(NxtCli, MotorStateShowsTheModeAndRegulation) {
             std::string::npos);
 }
 
+TEST(NxtCli, RawJsonCarriesTheStatus) {
+  NxtBrickProcess brick;
+  auto ok = json_of(nxt(brick.path, {"--json", "raw", "00", "0b"}));
+  EXPECT_EQ(ok["status"], 0);
+  auto refused = nxt(brick.path, {"--json", "raw", "00", "12"});
+  EXPECT_EQ(refused.exit_code, 0);  // a reply came: raw shows it
+  EXPECT_EQ(json_of(refused)["status"], 0xBE);
+}
+
 TEST(NxtCli, AnAddressWithoutItsKindOrInCapitalsIsUnderstood) {
   auto bare = nxt("00:16:53:AA:BB:CC", {"battery"});
   EXPECT_EQ(bare.exit_code, 2) << bare.err;
