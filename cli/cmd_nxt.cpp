@@ -538,9 +538,18 @@ void register_nxt(CLI::App& app, int& exit_code) {
         o.data = {{"port", p + 1},         {"valid", *d.number("valid") != 0}, {"type", type},
                   {"mode", mode},          {"raw", *d.number("raw")},          {"normalized", *d.number("normalized")},
                   {"scaled", *d.number("scaled")}};
-        o.text = fmt::format("port {}: {} {} {} raw {} normalized {} scaled {}\n", p + 1, type, mode,
+        // The temperature modes' scaled value is in tenths of a degree.
+        auto scaled = *d.number("scaled");
+        std::string unit;
+        if (mode == "CELSIUSMODE") unit = fmt::format(" ({:.1f} °C)", static_cast<double>(scaled) / 10);
+        // The firmware computes Fahrenheit in unsigned arithmetic: 0..70 °C
+        // reads 32.0..158.0 °F, and below 0 °C the sum wraps (docs/nxt.md).
+        if (mode == "FAHRENHEITMODE")
+          unit = scaled >= 320 && scaled <= 1580 ? fmt::format(" ({:.1f} °F)", static_cast<double>(scaled) / 10)
+                                                 : " (not °F: below 0 °C the firmware's Fahrenheit wraps)";
+        o.text = fmt::format("port {}: {} {} {} raw {} normalized {} scaled {}{}\n", p + 1, type, mode,
                              *d.number("valid") ? "valid" : "not valid yet", *d.number("raw"),
-                             *d.number("normalized"), *d.number("scaled"));
+                             *d.number("normalized"), scaled, unit);
         return o;
       });
     });

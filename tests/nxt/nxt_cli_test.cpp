@@ -727,6 +727,36 @@ TEST(NxtCli, RawJsonCarriesTheStatus) {
   EXPECT_EQ(json_of(refused)["status"], 0xBE);
 }
 
+TEST(NxtCli, TemperatureReadingsAreShownInDegrees) {
+  TempDir dir;
+  // Raw 600 is 20.6 °C on the sensor's curve (docs/nxt.md).
+  std::string scenario = dir.write("t.toml", std::string("[[input]]\nat_ms = 0\nsensor = 3\nraw = 600\n"));
+  NxtBrickProcess brick({"--scenario", scenario});
+  auto read_after = [&](const char* mode) {
+    EXPECT_EQ(nxt(brick.path, {"sensor", "3", "TEMPERATURE", mode}).exit_code, 0);
+    std::this_thread::sleep_for(std::chrono::milliseconds(40));  // the input-valid delay
+    return nxt(brick.path, {"read", "3"});
+  };
+  auto c = read_after("CELSIUS");
+  ASSERT_EQ(c.exit_code, 0) << c.err;
+  auto scaled = json_of(nxt(brick.path, {"--json", "read", "3"}))["scaled"].get<int>();
+  EXPECT_NE(c.out.find(fmt::format("scaled {} ({:.1f} °C)\n", scaled, scaled / 10.0)), std::string::npos) << c.out;
+  EXPECT_GT(scaled, 150);
+  EXPECT_LT(scaled, 250);
+  auto f = read_after("FAHRENHEIT");
+  auto fs = json_of(nxt(brick.path, {"--json", "read", "3"}))["scaled"].get<int>();
+  EXPECT_NE(f.out.find(fmt::format("scaled {} ({:.1f} °F)\n", fs, fs / 10.0)), std::string::npos) << f.out;
+}
+
+TEST(NxtCli, AnOpenTemperatureInputBelowZeroIsNoFahrenheitReading) {
+  NxtBrickProcess brick;
+  ASSERT_EQ(nxt(brick.path, {"sensor", "1", "TEMPERATURE", "FAHRENHEIT"}).exit_code, 0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(40));
+  auto r = nxt(brick.path, {"read", "1"});
+  // An open input reads -19.9 °C, which the firmware's Fahrenheit wraps.
+  EXPECT_NE(r.out.find("scaled 23554 (not °F: below 0 °C the firmware's Fahrenheit wraps)"), std::string::npos) << r.out;
+}
+
 TEST(NxtCli, AnAddressWithoutItsKindOrInCapitalsIsUnderstood) {
   auto bare = nxt("00:16:53:AA:BB:CC", {"battery"});
   EXPECT_EQ(bare.exit_code, 2) << bare.err;
