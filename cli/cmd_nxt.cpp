@@ -663,11 +663,16 @@ void register_nxt(CLI::App& app, int& exit_code) {
     });
   };
   name_arg("start", "Start the program NAME (.rxe)", "StartProgram");
-  name_arg("play", "Play the sound file NAME (.rso)", "PlaySoundFile", true);
+  name_arg("play", "Play the sound file NAME (.rso); with --loop until stop-sound", "PlaySoundFile", true);
   name_arg("rm", "Delete the file NAME", "Delete");
 
   run(add("stop", "Stop the running program"), [] {
     return Action([](Client& c) { return simple(c, "StopProgram", {}, ""); });
+  });
+
+  // `play --loop` repeats until stopped: this is what stops it (and a tone).
+  run(add("stop-sound", "Stop the sound playing (a tone, or a file played with --loop)"), [] {
+    return Action([](Client& c) { return simple(c, "StopSoundPlayback", {}, ""); });
   });
 
   run(add("current", "The running program's name"), [] {

@@ -800,6 +800,20 @@ TEST(NxtCli, UploadOverAFileSaysHowAndReplaceDoesIt) {
   EXPECT_EQ(nxt(brick.path, {"ls", "other.*"}).out, "      70  other.rxe\n");
 }
 
+// `play --loop` repeats until stopped, and nothing but `raw 00 0c` stopped it.
+TEST(NxtCli, StopSoundStopsALoopingFile) {
+  NxtBrickProcess brick;
+  TempDir dir;
+  ASSERT_EQ(nxt(brick.path, {"upload", dir.write("loop.rso", std::string("RSO"))}).exit_code, 0);
+  ASSERT_EQ(nxt(brick.path, {"play", "loop.rso", "--loop"}).exit_code, 0);
+  auto r = nxt(brick.path, {"-v", "stop-sound"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.out, "");
+  EXPECT_NE(r.err.find("nxt: -> StopSoundPlayback\n"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("nxt: <- StopSoundPlayback -> ok\n"), std::string::npos) << r.err;
+  EXPECT_EQ(json_of(nxt(brick.path, {"--json", "stop-sound"}))["ok"], true);
+}
+
 TEST(NxtCli, HelpListsEveryCommandOfTheTable) {
   auto r = run_rcxc({"nxt", "--help"});
   EXPECT_EQ(r.exit_code, 0);
