@@ -523,7 +523,8 @@ void register_nxt(CLI::App& app, int& exit_code) {
       });
     });
     cmd->add_option("TYPE", *type, names_of(nxt::sensor_types()))->required();
-    cmd->add_option("MODE", *mode, names_of(nxt::sensor_modes()) + " (MODE may be left off: BOOLEAN)");
+    cmd->add_option("MODE", *mode,
+                    names_of(nxt::sensor_modes()) + " (default RAWMODE; the word MODE may be left off: BOOLEAN)");
   }
 
   {
@@ -853,7 +854,7 @@ void register_nxt(CLI::App& app, int& exit_code) {
   {
     auto* cmd = add("bench", "Round-trip latency of GetBatteryLevel: p50, p99");
     auto count = std::make_shared<int>(200);
-    cmd->add_option("--count", *count, "Round trips")->check(in_range(1, 100000));
+    cmd->add_option("--count", *count, "Round trips (default 200)")->check(in_range(1, 100000));
     run(cmd, [count]() -> Made {
       return Action([n = *count](Client& c) -> std::variant<Output, Failure> {
         std::vector<double> us;

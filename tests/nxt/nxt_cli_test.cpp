@@ -814,6 +814,17 @@ TEST(NxtCli, StopSoundStopsALoopingFile) {
   EXPECT_EQ(json_of(nxt(brick.path, {"--json", "stop-sound"}))["ok"], true);
 }
 
+// MODE is optional (RAWMODE); the help said "(MODE may be left off:
+// BOOLEAN)", meaning the word MODE in a name, and never gave the default.
+TEST(NxtCli, SensorHelpGivesTheDefaultMode) {
+  auto r = run_rcxc({"help", "nxt", "sensor"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("(default RAWMODE; the word MODE may be left off: BOOLEAN)"), std::string::npos) << r.out;
+  NxtBrickProcess brick;
+  ASSERT_EQ(nxt(brick.path, {"sensor", "2", "SWITCH"}).exit_code, 0);
+  EXPECT_EQ(json_of(nxt(brick.path, {"--json", "read", "2"}))["mode"], "RAWMODE");
+}
+
 TEST(NxtCli, HelpListsEveryCommandOfTheTable) {
   auto r = run_rcxc({"nxt", "--help"});
   EXPECT_EQ(r.exit_code, 0);
