@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <map>
 #include <regex>
+#include <sstream>
 #include <thread>
 #include <fstream>
 
@@ -829,6 +830,75 @@ TEST(NxtCli, HelpListsEveryCommandOfTheTable) {
   auto r = run_rcxc({"nxt", "--help"});
   EXPECT_EQ(r.exit_code, 0);
   for (const auto& c : nxt::commands()) EXPECT_NE(r.out.find(std::string(c.name)), std::string::npos) << c.name;
+}
+
+// Every action `rcxc nxt --help` lists, and every option of each, is in
+// docs/nxt.md, and every action in the README's list: an action or option
+// that works but is not written down is one a user never finds.
+TEST(NxtDocs, EveryActionAndOptionOfTheHelpIsDocumented) {
+  auto slurp = [](const std::string& path) {
+    std::ifstream in(path);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  };
+  const std::string docs = slurp(std::string(RCXC_SOURCE_DIR) + "/docs/nxt.md");
+  const std::string readme = slurp(std::string(RCXC_SOURCE_DIR) + "/README.md");
+  // The man page escapes '-' as '\-'; the completions list the actions on one line.
+  const std::string man =
+      std::regex_replace(slurp(std::string(RCXC_SOURCE_DIR) + "/docs/rcxc.1"), std::regex(R"(\\-)"), "-");
+  auto line_with = [](const std::string& text, const std::string& word) {
+    auto at = text.find(word);
+    if (at == std::string::npos) return std::string();
+    auto from = text.rfind('\n', at);
+    return text.substr(from == std::string::npos ? 0 : from + 1, text.find('\n', at) - (from + 1));
+  };
+  const std::string bash = line_with(slurp(std::string(RCXC_SOURCE_DIR) + "/completions/rcxc.bash"), " motor-state ");
+  const std::string zsh = line_with(slurp(std::string(RCXC_SOURCE_DIR) + "/completions/_rcxc"), " motor-state ");
+  ASSERT_FALSE(docs.empty());
+  ASSERT_FALSE(bash.empty());
+  ASSERT_FALSE(zsh.empty());
+  // The names under "Subcommands:", and the options ("  --name ...") of a help text.
+  auto actions_in = [](const std::string& help) {
+    std::vector<std::string> out;
+    std::istringstream in(help);
+    bool in_list = false;
+    std::smatch m;
+    for (std::string l; std::getline(in, l);) {
+      if (l == "Subcommands:") in_list = true;
+      else if (l.empty()) in_list = false;
+      else if (in_list && std::regex_search(l, m, std::regex("^  ([a-z][a-z-]*) "))) out.push_back(m[1]);
+    }
+    return out;
+  };
+  auto options_in = [](const std::string& help) {
+    std::vector<std::string> out;
+    std::istringstream in(help);
+    std::smatch m;
+    for (std::string l; std::getline(in, l);)
+      if (std::regex_search(l, m, std::regex("^  (--[a-z-]+)[ ,]"))) out.push_back(m[1]);
+    return out;
+  };
+  auto help = run_rcxc({"nxt", "--help"});
+  auto actions = actions_in(help.out);
+  ASSERT_GT(actions.size(), 15u) << help.out;
+  for (const auto& action : actions) {
+    EXPECT_TRUE(std::regex_search(docs, std::regex("rcxc nxt( [^\\n]*)?[ |] ?" + action + "( |\\n|$)")))
+        << "docs/nxt.md shows no `rcxc nxt ... " << action << "`";
+    if (action != "brick") {
+      EXPECT_NE(readme.find("`" + action), std::string::npos) << "README.md lacks " << action;
+    }
+    EXPECT_TRUE(std::regex_search(man, std::regex("[ \\n]" + action + "[,;]"))) << "docs/rcxc.1 lacks " << action;
+    EXPECT_TRUE(std::regex_search(bash, std::regex("[\" ]" + action + " "))) << "rcxc.bash lacks " << action;
+    EXPECT_TRUE(std::regex_search(zsh, std::regex("[( ]" + action + "[ )]"))) << "_rcxc lacks " << action;
+    std::vector<std::vector<std::string>> commands{{"nxt", action, "--help"}};
+    if (action == "mailbox") commands = {{"nxt", "mailbox", "write", "--help"}, {"nxt", "mailbox", "read", "--help"}};
+    for (const auto& words : commands) {
+      auto sub = run_rcxc(words);
+      for (const auto& option : options_in(sub.out)) {
+        if (option == "--help") continue;
+        EXPECT_NE(docs.find(option), std::string::npos) << "docs/nxt.md lacks " << action << " " << option;
+      }
+    }
+  }
 }
 
 TEST(NxtDocs, TheDocsTableListsEveryCommandOfTheTable) {
