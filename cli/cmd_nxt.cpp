@@ -781,9 +781,26 @@ void register_nxt(CLI::App& app, int& exit_code) {
     auto* cmd = add("download", "Copy NAME from the brick to a local FILE");
     auto name = std::make_shared<std::string>(), file = std::make_shared<std::string>();
     cmd->add_option("NAME", *name, "A file on the brick")->required();
-    cmd->add_option("FILE", *file, "Where to write it: a file, or a folder to write NAME in (default: NAME)");
+    cmd->add_option("FILE", *file,
+                    "Where to write it: a file, a folder to write NAME in, or - for the standard output "
+                    "(default: NAME)");
     run(cmd, [=]() -> Made {
       if (auto bad = nxt::check_file_name(*name)) return *bad;
+      // "-" is the standard output, as for rcxc compile -o: it wrote a file named "-".
+      if (*file == "-") {
+        if (a->json) return std::string("--json and FILE - do not go together: the file's bytes would mix with the JSON");
+        if (::isatty(STDOUT_FILENO))
+          return std::string("the standard output is a terminal: give a FILE, or send it to a pipe or a file");
+        return Action([=](Client& c) -> std::variant<Output, Failure> {
+          auto r = nxt::download_file(c, *name, progress_bar("download " + *name));
+          if (auto* e = std::get_if<CallError>(&r)) return failure(*e);
+          const auto& data = std::get<nxt::Bytes>(r);
+          std::cout.write(reinterpret_cast<const char*>(data.data()), static_cast<std::streamsize>(data.size()));
+          std::cout.flush();
+          if (!std::cout) return Failure{kExitFailure, "cannot write the standard output"};
+          return Output{"", json::object()};
+        });
+      }
       std::string target = file->empty() ? *name : *file;
       std::error_code ec;
       if (std::filesystem::is_directory(target, ec) || target.ends_with('/'))

@@ -826,6 +826,24 @@ TEST(NxtCli, SensorHelpGivesTheDefaultMode) {
   EXPECT_EQ(json_of(nxt(brick.path, {"--json", "read", "2"}))["mode"], "RAWMODE");
 }
 
+// "-" is the standard output, as for rcxc compile -o -: download wrote a
+// file named "-" in the current folder.
+TEST(NxtCli, DownloadToTheStandardOutput) {
+  NxtBrickProcess brick;
+  TempDir dir;
+  std::vector<std::uint8_t> bytes{0x00, 0x01, 0xFF, 'R', 'X', 0x00, '\n'};
+  ASSERT_EQ(nxt(brick.path, {"upload", dir.write("data.bin", bytes)}).exit_code, 0);
+  auto r = run_process({"/bin/sh", "-c", "cd \"$0\" && exec \"$1\" nxt --port \"$2\" download data.bin -", dir.path,
+                        RCXC_BINARY, brick.path},
+                       "", 20'000);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.out, std::string(bytes.begin(), bytes.end()));
+  EXPECT_FALSE(std::filesystem::exists(dir.path + "/-"));
+  auto mixed = nxt(brick.path, {"--json", "download", "data.bin", "-"});
+  EXPECT_EQ(mixed.exit_code, 2);
+  EXPECT_NE(mixed.err.find("--json and FILE - do not go together"), std::string::npos) << mixed.err;
+}
+
 TEST(NxtCli, HelpListsEveryCommandOfTheTable) {
   auto r = run_rcxc({"nxt", "--help"});
   EXPECT_EQ(r.exit_code, 0);
