@@ -683,7 +683,8 @@ void register_nxt(CLI::App& app, int& exit_code) {
       const auto& d = std::get<nxt::Decoded>(r);
       if (d.status == nxt::status::kNoProgram) return Output{"(no program running)\n", {{"program", nullptr}}};
       if (d.status != nxt::status::kOk)
-        return Failure{kExitFailure, fmt::format("refused: 0x{:02x} {}", d.status, nxt::status_message(d.status))};
+        return Failure{kExitFailure, fmt::format("GetCurrentProgramName refused: 0x{:02x} {}", d.status,
+                                                 nxt::status_message(d.status))};
       return Output{*d.text("name") + "\n", {{"program", *d.text("name")}}};
     });
   });
@@ -712,7 +713,12 @@ void register_nxt(CLI::App& app, int& exit_code) {
       auto r = nxt::call_ok(c, "KeepAlive", {});
       if (auto* e = std::get_if<CallError>(&r)) return failure(*e);
       auto ms = *std::get<nxt::Decoded>(r).number("sleep_limit_ms");
-      return Output{ms == 0 ? "never sleeps\n" : fmt::format("sleeps after {} min\n", ms / 60000), {{"sleep_limit_ms", ms}}};
+      // LEGO's firmware keeps whole minutes; a limit that is not one (other
+      // firmwares) printed as "sleeps after 0 min" for 30 s.
+      std::string after = ms % 60000 == 0 ? fmt::format("{} min", ms / 60000)
+                          : ms % 1000 == 0 ? fmt::format("{} s", ms / 1000)
+                                           : fmt::format("{} ms", ms);
+      return Output{ms == 0 ? "never sleeps\n" : "sleeps after " + after + "\n", {{"sleep_limit_ms", ms}}};
     });
   });
 

@@ -844,6 +844,54 @@ TEST(NxtCli, DownloadToTheStandardOutput) {
   EXPECT_NE(mixed.err.find("--json and FILE - do not go together"), std::string::npos) << mixed.err;
 }
 
+// A brick that answers each request with the next of `replies` (framed),
+// on a pty of its own: what other firmwares or a failing brick might say.
+struct ScriptedBrick {
+  nxt::PtyPair pty = std::get<nxt::PtyPair>(nxt::open_pty_pair());
+  std::thread thread;
+  explicit ScriptedBrick(std::vector<nxt::Bytes> replies) {
+    thread = std::thread([this, replies] {
+      for (const auto& reply : replies) {
+        pollfd p{pty.master_fd, POLLIN, 0};
+        if (::poll(&p, 1, 20'000) != 1) return;
+        std::uint8_t buf[256];
+        [[maybe_unused]] auto in = ::read(pty.master_fd, buf, sizeof buf);
+        auto framed = nxt::frame(reply);
+        [[maybe_unused]] auto out = ::write(pty.master_fd, framed.data(), framed.size());
+      }
+    });
+  }
+  ~ScriptedBrick() {
+    thread.join();
+    nxt::close_pty_pair(pty);
+  }
+};
+
+// LEGO's firmware keeps the sleep limit in whole minutes; another that
+// answered 30 000 ms was shown as "sleeps after 0 min".
+TEST(NxtCli, AKeepAliveLimitThatIsNoWholeMinuteIsShownAsItIs) {
+  {
+    ScriptedBrick brick({{0x02, 0x0D, 0x00, 0x30, 0x75, 0x00, 0x00}});
+    EXPECT_EQ(nxt(brick.pty.slave_path, {"keepalive"}).out, "sleeps after 30 s\n");
+  }
+  {
+    ScriptedBrick brick({{0x02, 0x0D, 0x00, 0xDC, 0x05, 0x00, 0x00}});
+    EXPECT_EQ(nxt(brick.pty.slave_path, {"keepalive"}).out, "sleeps after 1500 ms\n");
+  }
+  {
+    ScriptedBrick brick({{0x02, 0x0D, 0x00, 0x40, 0x77, 0x1B, 0x00}});
+    EXPECT_EQ(nxt(brick.pty.slave_path, {"keepalive"}).out, "sleeps after 30 min\n");
+  }
+  {
+    // A refusal of GetCurrentProgramName other than "no program" names the command.
+    ScriptedBrick brick({nxt::Bytes{0x02, 0x11, 0xBF}});
+    auto r = nxt(brick.pty.slave_path, {"current"});
+    EXPECT_EQ(r.exit_code, 1);
+    EXPECT_NE(r.err.find("rcxc nxt current: GetCurrentProgramName refused: 0xbf insane packet"), std::string::npos)
+        << r.err;
+  }
+}
+
 TEST(NxtCli, HelpListsEveryCommandOfTheTable) {
   auto r = run_rcxc({"nxt", "--help"});
   EXPECT_EQ(r.exit_code, 0);
