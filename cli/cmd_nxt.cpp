@@ -703,6 +703,12 @@ void register_nxt(CLI::App& app, int& exit_code) {
       return Action([n = *name](Client& c) -> std::variant<Output, Failure> {
         auto r = nxt::call_ok(c, "SetBrickName", values({n}));
         if (auto* e = std::get_if<CallError>(&r)) return failure(*e);
+        // At start-up the firmware takes the name back from its Bluetooth
+        // module and keeps 8 characters (c_comm.c, SIZE_OF_BRICK_NAME).
+        if (n.size() > 8)
+          std::cerr << fmt::format("rcxc nxt rename: note: after the brick is switched off and on it keeps the first "
+                                   "8 characters (\"{}\"); docs/nxt.md\n",
+                                   n.substr(0, 8));
         return Output{"", {{"name", n}}};
       });
     });

@@ -684,7 +684,14 @@ TEST(NxtCli, RenameTheBrickAndReadItBack) {
   auto r = nxt(brick.path, {"rename", "Robby"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(r.out, "");
+  EXPECT_EQ(r.err, "");
   EXPECT_EQ(json_of(nxt(brick.path, {"--json", "info"}))["name"], "Robby");
+  // Longer than the 8 characters the firmware keeps across a restart: said.
+  auto nine = nxt(brick.path, {"rename", "Robby2000"});
+  ASSERT_EQ(nine.exit_code, 0) << nine.err;
+  EXPECT_EQ(nine.err,
+            "rcxc nxt rename: note: after the brick is switched off and on it keeps the first 8 characters "
+            "(\"Robby200\"); docs/nxt.md\n");
   ASSERT_EQ(nxt(brick.path, {"rename", "ABCDEFGHIJKLMNO"}).exit_code, 0);
   auto full = nxt(brick.path, {"info"});
   ASSERT_EQ(full.exit_code, 0) << full.err;
