@@ -640,8 +640,9 @@ TEST(NxtCli, CtrlCEndsAWaitForASilentBrickAt130) {
 // link polls: the stop telegram ended as "interrupted" before it was sent,
 // and the NXT's motors ran on after `rcxc run --nxt` had exited.
 TEST(NxtTether, CtrlCStopsTheMotorsOnTheBrick) {
-  NxtBrickProcess brick;
   TempDir dir;
+  std::string log = dir.path + "/brick.log";
+  NxtBrickProcess brick({"-v"}, log);
   std::string prog = dir.write("forever.nqc", std::string("task main() {\n  On(OUT_A);\n  while (true) { }\n}\n"));
   pid_t pid = ::fork();
   if (pid == 0) {
@@ -655,17 +656,20 @@ TEST(NxtTether, CtrlCStopsTheMotorsOnTheBrick) {
     ::execv(argv[0], argv.data());
     ::_exit(127);
   }
-  // Wait until the program has the motor running on the brick.
+  // Wait until the program has the motor running, as the brick's log shows
+  // it (asking the brick meanwhile from another process would share its
+  // tty with the run, and either could take the other's reply).
   bool running = false;
-  for (int i = 0; i < 300 && !running; ++i) {
-    auto r = nxt(brick.path, {"--json", "motor-state", "A"});
-    running = r.exit_code == 0 && json_of(r)["power"] == 100;
+  for (int i = 0; i < 1500 && !running; ++i) {
+    std::ifstream in(log);
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    running = text.find("SetOutputState (no reply) port=0 power=100") != std::string::npos;
     if (!running) std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
-  ASSERT_TRUE(running) << "the tethered run never turned motor A on";
   ::kill(pid, SIGINT);
   int status = 0;
   ::waitpid(pid, &status, 0);
+  ASSERT_TRUE(running) << "the tethered run never turned motor A on";
   ASSERT_TRUE(WIFEXITED(status));
   EXPECT_EQ(WEXITSTATUS(status), 130);
   for (const char* port : {"A", "B", "C"}) {
