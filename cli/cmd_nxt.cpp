@@ -511,6 +511,32 @@ void register_nxt(CLI::App& app, int& exit_code) {
   }
 
   {
+    // ResetMotorPosition (a seed command). The internal tacho count is
+    // UpdateResetCount's (0x21), which other firmwares use for other things
+    // (spec/nxt.md): not sent here.
+    auto* cmd = add("motor-reset", "Zero a motor's block and rotation counts (ResetMotorPosition)");
+    auto port = std::make_shared<std::string>();
+    auto block = std::make_shared<bool>(false), rotation = std::make_shared<bool>(false);
+    cmd->add_option("PORT", *port, "A, B or C")->required();
+    auto* b = cmd->add_flag("--block", *block, "Only the block count (since the last movement)");
+    auto* r = cmd->add_flag("--rotation", *rotation, "Only the rotation count (since the last reset)");
+    b->excludes(r);
+    run(cmd, [=]() -> Made {
+      auto p = output_port(*port);
+      if (!p || *p == 0xFF) return fmt::format("\"{}\" is not a motor port (A, B or C)", *port);
+      return Action([p = *p, only_block = *block, only_rotation = *rotation](Client& c) -> std::variant<Output, Failure> {
+        // relative = 1 zeroes the block count, 0 the rotation count.
+        for (std::int64_t relative : {1, 0}) {
+          if ((relative == 1 && only_rotation) || (relative == 0 && only_block)) continue;
+          auto r = nxt::call_ok(c, "ResetMotorPosition", values({std::int64_t{p}, relative}));
+          if (auto* e = std::get_if<CallError>(&r)) return failure(*e);
+        }
+        return Output{"", {{"port", std::string(1, static_cast<char>('A' + p))}}};
+      });
+    });
+  }
+
+  {
     auto* cmd = add("sensor", "Set a sensor port's TYPE and MODE (names from the NXT protocol)");
     auto type = std::make_shared<std::string>(), mode = std::make_shared<std::string>("RAWMODE");
     run_on_input(cmd, [=](int p) -> Made {

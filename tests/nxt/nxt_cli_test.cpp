@@ -903,6 +903,31 @@ TEST(NxtCli, AKeepAliveLimitThatIsNoWholeMinuteIsShownAsItIs) {
   }
 }
 
+// The counts could be zeroed only with raw telegrams.
+TEST(NxtCli, MotorResetZeroesTheBlockAndRotationCounts) {
+  NxtBrickProcess brick;
+  ASSERT_EQ(nxt(brick.path, {"motor", "A", "100", "--limit", "90", "--brake"}).exit_code, 0);
+  nlohmann::json j;
+  for (int i = 0; i < 100; ++i) {
+    j = json_of(nxt(brick.path, {"--json", "motor-state", "A"}));
+    if (j["run_state"] == 0) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  ASSERT_EQ(j["block_tacho_count"], 90);
+  ASSERT_EQ(nxt(brick.path, {"motor-reset", "A", "--block"}).exit_code, 0);
+  j = json_of(nxt(brick.path, {"--json", "motor-state", "A"}));
+  EXPECT_EQ(j["block_tacho_count"], 0);
+  EXPECT_EQ(j["rotation_count"], 90);
+  auto r = nxt(brick.path, {"--json", "motor-reset", "A"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(json_of(r)["port"], "A");
+  j = json_of(nxt(brick.path, {"--json", "motor-state", "A"}));
+  EXPECT_EQ(j["rotation_count"], 0);
+  EXPECT_EQ(j["tacho_count"], 90);  // UpdateResetCount's, not sent
+  EXPECT_EQ(nxt(brick.path, {"motor-reset", "all"}).exit_code, 2);
+  EXPECT_EQ(nxt(brick.path, {"motor-reset", "A", "--block", "--rotation"}).exit_code, 2);
+}
+
 TEST(NxtCli, HelpListsEveryCommandOfTheTable) {
   auto r = run_rcxc({"nxt", "--help"});
   EXPECT_EQ(r.exit_code, 0);
