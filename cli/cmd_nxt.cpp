@@ -492,12 +492,46 @@ void register_nxt(CLI::App& app, int& exit_code) {
                               "block_tacho_count", "rotation_count"})
           o.data[f] = *d.number(f);
         o.data["port"] = std::string(1, static_cast<char>('A' + p));
-        o.text = fmt::format("port {}: power {} run state {} tacho count {} (block {}, rotation {}), limit {}\n",
-                             static_cast<char>('A' + p), *d.number("power"),
-                             nxt::enum_name(nxt::run_states(), static_cast<std::uint8_t>(*d.number("run_state"))),
-                             *d.number("tacho_count"), *d.number("block_tacho_count"), *d.number("rotation_count"),
-                             *d.number("tacho_limit"));
+        auto named = [&](std::span<const nxt::EnumName> names, const char* field) {
+          auto v = static_cast<std::uint8_t>(*d.number(field));
+          auto n = nxt::enum_name(names, v);
+          return n.empty() ? fmt::format("0x{:02x}", v) : std::string(n);
+        };
+        o.text = fmt::format(
+            "port {}: power {} mode {} regulation {} turn ratio {} run state {}\n"
+            "        tacho count {} (block {}, rotation {}), limit {}\n",
+            static_cast<char>('A' + p), *d.number("power"),
+            nxt::output_mode_names(static_cast<std::uint8_t>(*d.number("mode"))),
+            named(nxt::regulation_modes(), "regulation"), *d.number("turn_ratio"), named(nxt::run_states(), "run_state"),
+            *d.number("tacho_count"), *d.number("block_tacho_count"), *d.number("rotation_count"),
+            *d.number("tacho_limit"));
         return o;
+      });
+    });
+  }
+
+  {
+    // ResetMotorPosition (a seed command). The internal tacho count is
+    // UpdateResetCount's (0x21), which other firmwares use for other things
+    // (spec/nxt.md): not sent here.
+    auto* cmd = add("motor-reset", "Zero a motor's block and rotation counts (ResetMotorPosition)");
+    auto port = std::make_shared<std::string>();
+    auto block = std::make_shared<bool>(false), rotation = std::make_shared<bool>(false);
+    cmd->add_option("PORT", *port, "A, B or C")->required();
+    auto* b = cmd->add_flag("--block", *block, "Only the block count (since the last movement)");
+    auto* r = cmd->add_flag("--rotation", *rotation, "Only the rotation count (since the last reset)");
+    b->excludes(r);
+    run(cmd, [=]() -> Made {
+      auto p = output_port(*port);
+      if (!p || *p == 0xFF) return fmt::format("\"{}\" is not a motor port (A, B or C)", *port);
+      return Action([p = *p, only_block = *block, only_rotation = *rotation](Client& c) -> std::variant<Output, Failure> {
+        // relative = 1 zeroes the block count, 0 the rotation count.
+        for (std::int64_t relative : {1, 0}) {
+          if ((relative == 1 && only_rotation) || (relative == 0 && only_block)) continue;
+          auto r = nxt::call_ok(c, "ResetMotorPosition", values({std::int64_t{p}, relative}));
+          if (auto* e = std::get_if<CallError>(&r)) return failure(*e);
+        }
+        return Output{"", {{"port", std::string(1, static_cast<char>('A' + p))}}};
       });
     });
   }
@@ -515,7 +549,8 @@ void register_nxt(CLI::App& app, int& exit_code) {
       });
     });
     cmd->add_option("TYPE", *type, names_of(nxt::sensor_types()))->required();
-    cmd->add_option("MODE", *mode, names_of(nxt::sensor_modes()) + " (MODE may be left off: BOOLEAN)");
+    cmd->add_option("MODE", *mode,
+                    names_of(nxt::sensor_modes()) + " (default RAWMODE; the word MODE may be left off: BOOLEAN)");
   }
 
   {
@@ -530,9 +565,18 @@ void register_nxt(CLI::App& app, int& exit_code) {
         o.data = {{"port", p + 1},         {"valid", *d.number("valid") != 0}, {"type", type},
                   {"mode", mode},          {"raw", *d.number("raw")},          {"normalized", *d.number("normalized")},
                   {"scaled", *d.number("scaled")}};
-        o.text = fmt::format("port {}: {} {} {} raw {} normalized {} scaled {}\n", p + 1, type, mode,
+        // The temperature modes' scaled value is in tenths of a degree.
+        auto scaled = *d.number("scaled");
+        std::string unit;
+        if (mode == "CELSIUSMODE") unit = fmt::format(" ({:.1f} °C)", static_cast<double>(scaled) / 10);
+        // The firmware computes Fahrenheit in unsigned arithmetic: 0..70 °C
+        // reads 32.0..158.0 °F, and below 0 °C the sum wraps (docs/nxt.md).
+        if (mode == "FAHRENHEITMODE")
+          unit = scaled >= 320 && scaled <= 1580 ? fmt::format(" ({:.1f} °F)", static_cast<double>(scaled) / 10)
+                                                 : " (not °F: below 0 °C the firmware's Fahrenheit wraps)";
+        o.text = fmt::format("port {}: {} {} {} raw {} normalized {} scaled {}{}\n", p + 1, type, mode,
                              *d.number("valid") ? "valid" : "not valid yet", *d.number("raw"),
-                             *d.number("normalized"), *d.number("scaled"));
+                             *d.number("normalized"), scaled, unit);
         return o;
       });
     });
@@ -646,11 +690,16 @@ void register_nxt(CLI::App& app, int& exit_code) {
     });
   };
   name_arg("start", "Start the program NAME (.rxe)", "StartProgram");
-  name_arg("play", "Play the sound file NAME (.rso)", "PlaySoundFile", true);
+  name_arg("play", "Play the sound file NAME (.rso); with --loop until stop-sound", "PlaySoundFile", true);
   name_arg("rm", "Delete the file NAME", "Delete");
 
   run(add("stop", "Stop the running program"), [] {
     return Action([](Client& c) { return simple(c, "StopProgram", {}, ""); });
+  });
+
+  // `play --loop` repeats until stopped: this is what stops it (and a tone).
+  run(add("stop-sound", "Stop the sound playing (a tone, or a file played with --loop)"), [] {
+    return Action([](Client& c) { return simple(c, "StopSoundPlayback", {}, ""); });
   });
 
   run(add("current", "The running program's name"), [] {
@@ -660,17 +709,48 @@ void register_nxt(CLI::App& app, int& exit_code) {
       const auto& d = std::get<nxt::Decoded>(r);
       if (d.status == nxt::status::kNoProgram) return Output{"(no program running)\n", {{"program", nullptr}}};
       if (d.status != nxt::status::kOk)
-        return Failure{kExitFailure, fmt::format("refused: 0x{:02x} {}", d.status, nxt::status_message(d.status))};
+        return Failure{kExitFailure, fmt::format("GetCurrentProgramName refused: 0x{:02x} {}", d.status,
+                                                 nxt::status_message(d.status))};
       return Output{*d.text("name") + "\n", {{"program", *d.text("name")}}};
     });
   });
+
+  {
+    auto* cmd = add("rename", "Rename the brick: NAME, 1-15 characters (Bluetooth and its screen show it)");
+    auto name = std::make_shared<std::string>();
+    cmd->add_option("NAME", *name, "The new name, 1-15 printable ASCII characters")->required();
+    run(cmd, [name]() -> Made {
+      // SetBrickName's field is 16 bytes with the NUL, and GetDeviceInfo
+      // gives back 15: a longer name would come back cut.
+      if (name->empty() || name->size() > 15)
+        return fmt::format("\"{}\" is {} characters; a brick's name is 1-15", *name, name->size());
+      if (!std::all_of(name->begin(), name->end(), [](unsigned char c) { return c >= 0x20 && c < 0x7F; }))
+        return fmt::format("\"{}\" is not a brick name: printable ASCII characters only", *name);
+      return Action([n = *name](Client& c) -> std::variant<Output, Failure> {
+        auto r = nxt::call_ok(c, "SetBrickName", values({n}));
+        if (auto* e = std::get_if<CallError>(&r)) return failure(*e);
+        // At start-up the firmware takes the name back from its Bluetooth
+        // module and keeps 8 characters (c_comm.c, SIZE_OF_BRICK_NAME).
+        if (n.size() > 8)
+          std::cerr << fmt::format("rcxc nxt rename: note: after the brick is switched off and on it keeps the first "
+                                   "8 characters (\"{}\"); docs/nxt.md\n",
+                                   n.substr(0, 8));
+        return Output{"", {{"name", n}}};
+      });
+    });
+  }
 
   run(add("keepalive", "Reset the sleep timer; prints the sleep limit"), [] {
     return Action([](Client& c) -> std::variant<Output, Failure> {
       auto r = nxt::call_ok(c, "KeepAlive", {});
       if (auto* e = std::get_if<CallError>(&r)) return failure(*e);
       auto ms = *std::get<nxt::Decoded>(r).number("sleep_limit_ms");
-      return Output{ms == 0 ? "never sleeps\n" : fmt::format("sleeps after {} min\n", ms / 60000), {{"sleep_limit_ms", ms}}};
+      // LEGO's firmware keeps whole minutes; a limit that is not one (other
+      // firmwares) printed as "sleeps after 0 min" for 30 s.
+      std::string after = ms % 60000 == 0 ? fmt::format("{} min", ms / 60000)
+                          : ms % 1000 == 0 ? fmt::format("{} s", ms / 1000)
+                                           : fmt::format("{} ms", ms);
+      return Output{ms == 0 ? "never sleeps\n" : "sleeps after " + after + "\n", {{"sleep_limit_ms", ms}}};
     });
   });
 
@@ -703,15 +783,33 @@ void register_nxt(CLI::App& app, int& exit_code) {
   {
     auto* cmd = add("upload", "Copy the local FILE to the brick (as NAME)");
     auto file = std::make_shared<std::string>(), name = std::make_shared<std::string>();
+    auto replace = std::make_shared<bool>(false);
     cmd->add_option("FILE", *file, "A local file")->required();
     cmd->add_option("NAME", *name, "Its name on the brick (default: FILE's name)");
+    cmd->add_flag("--replace", *replace,
+                  "Delete a file of that name on the brick first (the brick refuses to write over one)");
     run(cmd, [=]() -> Made {
       std::string target = name->empty() ? std::filesystem::path(*file).filename().string() : *name;
       if (auto bad = nxt::check_file_name(target)) return *bad;
       auto data = std::make_shared<nxt::Bytes>();
       if (std::string err = read_file_bytes(*file, *data); !err.empty()) return Failure{kExitFailure, err};
       return Action([=](Client& c) -> std::variant<Output, Failure> {
-        if (auto e = nxt::upload_file(c, target, *data, progress_bar("upload " + target))) return failure(*e);
+        if (*replace) {
+          // Not there is as good as deleted; anything else (0x8B: the file
+          // is open) stops the upload.
+          auto r = nxt::call(c, *nxt::find_command("Delete"), values({target}));
+          if (auto* e = std::get_if<CallError>(&r)) return failure(*e);
+          auto status = std::get<nxt::Decoded>(r).status;
+          if (status != nxt::status::kOk && status != nxt::status::kFileNotFound)
+            return Failure{kExitFailure, fmt::format("Delete refused: 0x{:02x} {}", status, nxt::status_message(status))};
+        }
+        if (auto e = nxt::upload_file(c, target, *data, progress_bar("upload " + target))) {
+          Failure f = failure(*e);
+          // OpenWrite never writes over a file (0x8F): say how to.
+          if (e->kind == CallError::Kind::Refused && e->status == nxt::status::kFileExists)
+            f.message += fmt::format(" (\"{}\" is on the brick: upload --replace, or rcxc nxt rm {} first)", target, target);
+          return f;
+        }
         return Output{fmt::format("{} bytes to {}\n", data->size(), target), {{"name", target}, {"size", data->size()}}};
       });
     });
@@ -721,9 +819,26 @@ void register_nxt(CLI::App& app, int& exit_code) {
     auto* cmd = add("download", "Copy NAME from the brick to a local FILE");
     auto name = std::make_shared<std::string>(), file = std::make_shared<std::string>();
     cmd->add_option("NAME", *name, "A file on the brick")->required();
-    cmd->add_option("FILE", *file, "Where to write it: a file, or a folder to write NAME in (default: NAME)");
+    cmd->add_option("FILE", *file,
+                    "Where to write it: a file, a folder to write NAME in, or - for the standard output "
+                    "(default: NAME)");
     run(cmd, [=]() -> Made {
       if (auto bad = nxt::check_file_name(*name)) return *bad;
+      // "-" is the standard output, as for rcxc compile -o: it wrote a file named "-".
+      if (*file == "-") {
+        if (a->json) return std::string("--json and FILE - do not go together: the file's bytes would mix with the JSON");
+        if (::isatty(STDOUT_FILENO))
+          return std::string("the standard output is a terminal: give a FILE, or send it to a pipe or a file");
+        return Action([=](Client& c) -> std::variant<Output, Failure> {
+          auto r = nxt::download_file(c, *name, progress_bar("download " + *name));
+          if (auto* e = std::get_if<CallError>(&r)) return failure(*e);
+          const auto& data = std::get<nxt::Bytes>(r);
+          std::cout.write(reinterpret_cast<const char*>(data.data()), static_cast<std::streamsize>(data.size()));
+          std::cout.flush();
+          if (!std::cout) return Failure{kExitFailure, "cannot write the standard output"};
+          return Output{"", json::object()};
+        });
+      }
       std::string target = file->empty() ? *name : *file;
       std::error_code ec;
       if (std::filesystem::is_directory(target, ec) || target.ends_with('/'))
@@ -780,8 +895,13 @@ void register_nxt(CLI::App& app, int& exit_code) {
         auto d = nxt::decode_reply(*reply);
         std::string what = std::holds_alternative<nxt::Decoded>(d) ? nxt::describe(std::get<nxt::Decoded>(d))
                                                                    : std::get<nxt::TelegramError>(d).message;
-        return Output{fmt::format("{}\n{}\n", nxt::hex(*reply), what),
-                      {{"sent", nxt::hex(t)}, {"reply", nxt::hex(*reply)}, {"decoded", what}}};
+        Output o{fmt::format("{}\n{}\n", nxt::hex(*reply), what),
+                 {{"sent", nxt::hex(t)}, {"reply", nxt::hex(*reply)}, {"decoded", what}}};
+        // "ok" says a reply came; whether the brick did it is its status
+        // (null when the reply does not parse), so a script need not read
+        // `decoded`'s words.
+        o.data["status"] = reply->size() >= 3 && (*reply)[0] == nxt::kReply ? json((*reply)[2]) : json(nullptr);
+        return o;
       });
     });
   }
@@ -789,7 +909,7 @@ void register_nxt(CLI::App& app, int& exit_code) {
   {
     auto* cmd = add("bench", "Round-trip latency of GetBatteryLevel: p50, p99");
     auto count = std::make_shared<int>(200);
-    cmd->add_option("--count", *count, "Round trips")->check(in_range(1, 100000));
+    cmd->add_option("--count", *count, "Round trips (default 200)")->check(in_range(1, 100000));
     run(cmd, [count]() -> Made {
       return Action([n = *count](Client& c) -> std::variant<Output, Failure> {
         std::vector<double> us;

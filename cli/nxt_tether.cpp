@@ -3,6 +3,7 @@
 #include <poll.h>
 #include <signal.h>
 #include <sys/signalfd.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <bit>
@@ -44,6 +45,15 @@ std::string stop_motors(nxt::Client& client) {
                                            I(nxt::kRunStateRunning), I(0)});
   if (auto* e = std::get_if<nxt::CallError>(&r)) return "stopping the motors failed: " + e->message;
   return "";
+}
+
+// Reads what made the stop descriptor readable (a signalfd's siginfo, an
+// eventfd's count, a pipe's bytes), so it is quiet again until the next stop.
+void take_stop(int stop_fd) {
+  pollfd p{stop_fd, POLLIN, 0};
+  if (stop_fd < 0 || ::poll(&p, 1, 0) <= 0) return;
+  std::array<std::uint8_t, 128> buf{};  // a signalfd read takes at least one siginfo (128 bytes)
+  [[maybe_unused]] auto n = ::read(stop_fd, buf.data(), buf.size());
 }
 
 // The one type a program gives a sensor, if it gives it exactly one.
@@ -358,6 +368,11 @@ std::string run_tethered(rcx::Machine& machine, nxt::Client& client, const Tethe
     }
     if (running && !t.pause(kStepUs)) t.error = "interrupted";
   }
+  // Ctrl-C is still pending on the stop descriptor, and every wait of the
+  // link polls it: the stop below would end as "interrupted" before it was
+  // sent and leave the motors running. Take this one off; a second Ctrl-C
+  // still cuts the stop short.
+  if (t.error == "interrupted") take_stop(options.stop_fd);
   std::string stopped = stop_motors(client);
   if (!t.error.empty()) return t.error;
   // Settle the stop state as an emulator-only run does: Ended when the

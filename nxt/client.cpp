@@ -76,6 +76,14 @@ std::variant<Decoded, CallError> call(Client& client, const Command& command, st
   if (auto err = client.transport.send(request)) return from_link(*err);
   auto deadline = Clock::now() + client.timeout;
   bool first = true;
+  // Telegrams that came while waiting but were not this reply: said if the
+  // reply never comes, as "no reply" alone hid that the brick did answer.
+  std::vector<std::string> others;
+  int other_count = 0;
+  auto not_ours = [&](const Bytes& t, std::string what) {
+    ++client.dropped;
+    if (++other_count <= 3) others.push_back(fmt::format("{} ({})", what, hex(t)));
+  };
   // The in-process transport answers at once; a real one needs the timeout.
   while (first || Clock::now() < deadline) {
     first = false;
@@ -89,7 +97,7 @@ std::variant<Decoded, CallError> call(Client& client, const Command& command, st
     if (auto* e = std::get_if<TelegramError>(&decoded)) {
       // A reply to something else that does not parse is still not ours.
       if (t->size() >= 2 && (*t)[0] == kReply && (*t)[1] != command.opcode) {
-        ++client.dropped;
+        not_ours(*t, "a telegram that does not parse");
         continue;
       }
       return CallError{CallError::Kind::BadReply,
@@ -97,14 +105,20 @@ std::variant<Decoded, CallError> call(Client& client, const Command& command, st
     }
     auto& d = std::get<Decoded>(decoded);
     if (d.command != &command) {
-      ++client.dropped;  // a late reply to an earlier request
+      // A late reply to an earlier request, or a request sent to us.
+      not_ours(*t, d.is_reply ? fmt::format("a reply to {}", d.command->name)
+                              : fmt::format("a {} request", d.command->name));
       continue;
     }
     return d;
   }
-  return CallError{CallError::Kind::NoReply,
-                   fmt::format("no reply to {} from {} within {} ms", command.name, client.transport.describe(),
-                               client.timeout.count())};
+  std::string message = fmt::format("no reply to {} from {} within {} ms", command.name, client.transport.describe(),
+                                    client.timeout.count());
+  if (!others.empty())
+    message += fmt::format("; what came instead was dropped: {}{}", fmt::join(others, ", "),
+                           other_count > static_cast<int>(others.size()) ? ", ..." : "");
+  if (auto left = client.transport.leftovers(); !left.empty()) message += "; " + left;
+  return CallError{CallError::Kind::NoReply, message};
 }
 
 std::variant<Decoded, CallError> call_ok(Client& client, std::string_view name, std::span<const Value> values) {

@@ -5,6 +5,8 @@
 #include <cctype>
 #include <string>
 
+#include <fmt/format.h>
+
 namespace nxt {
 namespace {
 
@@ -89,7 +91,9 @@ constexpr Field kIoMapCount[] = {{"module_id", K::U32, 0, Show::Hex}, {"count", 
 constexpr Field kBoot[] = {{"magic", K::Text, 19}};
 constexpr Field kBootReply[] = {{"answer", K::Text, 4}};
 constexpr Field kBrickName[] = {{"name", K::Text, 16}};
-constexpr Field kDeviceInfo[] = {{"name", K::Text, 15},
+// The firmware copies 15 bytes of the 16-byte brick name (c_comm.c
+// DEVICEINFO): a 15-character name comes without its NUL.
+constexpr Field kDeviceInfo[] = {{"name", K::Text, 15, Show::Decimal, false, true},
                                  {"bt_address", K::Bytes, 7, Show::Hex},
                                  {"signal_strength", K::U32},
                                  {"free_flash", K::U32}};
@@ -266,6 +270,18 @@ std::optional<std::uint8_t> sensor_type_named(std::string_view name) { return lo
 std::optional<std::uint8_t> sensor_mode_named(std::string_view name) {
   if (auto v = lookup(kSensorModes, name)) return v;
   return lookup(kSensorModes, std::string(name) + "MODE");
+}
+
+std::string output_mode_names(std::uint8_t mode) {
+  std::string s;
+  auto add = [&](std::uint8_t bit, const char* name) {
+    if (mode & bit) s += (s.empty() ? "" : "|") + std::string(name);
+  };
+  add(kMotorOn, "MOTORON");
+  add(kBrake, "BRAKE");
+  add(kRegulated, "REGULATED");
+  if (mode & ~0x07) s += fmt::format("{}0x{:02x}", s.empty() ? "" : "|", mode & ~0x07);
+  return s.empty() ? "0" : s;
 }
 
 std::string_view enum_name(std::span<const EnumName> names, std::uint8_t value) {

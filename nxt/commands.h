@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <optional>
 #include <span>
+#include <string>
 #include <string_view>
 
 namespace nxt {
@@ -61,6 +62,10 @@ struct Field {
   // For a U8 that counts the bytes of the Rest field that follows: the
   // encoder fills it in when no value is given.
   bool counts_rest = false;
+  // Text only: the firmware copies `width` bytes of a longer buffer, so text
+  // as long as the field comes without its NUL (GetDeviceInfo's 15-byte name
+  // of a 15-character brick name).
+  bool may_fill = false;
 };
 
 struct Command {
@@ -103,6 +108,8 @@ std::span<const EnumName> regulation_modes();
 std::optional<std::uint8_t> sensor_type_named(std::string_view name);
 std::optional<std::uint8_t> sensor_mode_named(std::string_view name);
 std::string_view enum_name(std::span<const EnumName> names, std::uint8_t value);  // "" if none
+// SetOutputState's mode byte as its bit names: "MOTORON|BRAKE", "0" for none.
+std::string output_mode_names(std::uint8_t mode);
 
 // SetOutputState's mode bits.
 inline constexpr std::uint8_t kMotorOn = 0x01;

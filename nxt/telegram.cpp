@@ -82,10 +82,10 @@ std::optional<TelegramError> encode_fields(const Command& c, std::span<const Fie
     else if (const auto* b = std::get_if<Bytes>(&v)) data = *b;
     else return TelegramError{fmt::format("{} {}: text or bytes are needed", c.name, f.name)};
     if (f.kind == FieldKind::Text) {
-      // Room for the terminating NUL.
-      if (data.size() >= f.width)
+      // Room for the terminating NUL, unless the field may come full.
+      if (data.size() > f.width || (data.size() == f.width && !f.may_fill))
         return TelegramError{fmt::format("{} {}: \"{}\" is longer than {} characters", c.name, f.name,
-                                         std::string(data.begin(), data.end()), f.width - 1)};
+                                         std::string(data.begin(), data.end()), f.may_fill ? f.width : f.width - 1)};
       data.resize(f.width, 0);
     } else if (f.kind == FieldKind::Bytes) {
       if (data.size() > f.width)
@@ -139,18 +139,6 @@ const Field* field_named(const Decoded& d, std::string_view name, std::size_t& i
   return nullptr;
 }
 
-std::string show_bits(std::int64_t v) {
-  std::string s;
-  auto add = [&](std::uint8_t bit, const char* name) {
-    if (v & bit) s += (s.empty() ? "" : "|") + std::string(name);
-  };
-  add(kMotorOn, "MOTORON");
-  add(kBrake, "BRAKE");
-  add(kRegulated, "REGULATED");
-  if (v & ~0x07) s += fmt::format("{}0x{:02x}", s.empty() ? "" : "|", v & ~0x07);
-  return s.empty() ? "0" : s;
-}
-
 std::string show_number(const Field& f, std::int64_t v) {
   auto named = [&](std::span<const EnumName> names, std::uint8_t value) {
     auto n = enum_name(names, value);
@@ -163,7 +151,7 @@ std::string show_number(const Field& f, std::int64_t v) {
       auto mode = named(sensor_modes(), static_cast<std::uint8_t>(v & 0xE0));
       return (v & 0x1F) ? fmt::format("{}+slope{}", mode, v & 0x1F) : mode;
     }
-    case Show::OutputMode: return show_bits(v);
+    case Show::OutputMode: return output_mode_names(static_cast<std::uint8_t>(v));
     case Show::Regulation: return named(regulation_modes(), static_cast<std::uint8_t>(v));
     case Show::RunState: return named(run_states(), static_cast<std::uint8_t>(v));
     case Show::Status:

@@ -111,6 +111,7 @@ class FramedFdTransport final : public Transport {
   }
 
   std::string describe() const override { return name_; }
+  std::string leftovers() const override { return reader_.leftovers(); }
 
  private:
   int fd_;
@@ -242,7 +243,7 @@ std::variant<std::unique_ptr<Transport>, LinkError> open_usb(const std::string& 
   if (!serial.empty() && !seen.empty())
     return fail(fmt::format("no NXT with serial {} on USB (found: {})", serial, fmt::join(seen, ", ")));
   return fail("no NXT on USB (vendor 0694, product 0002): is it plugged in and switched on? "
-              "Or give --port bt:ADDR or a tty path");
+              "Or give the port as bt:ADDR or a tty path");
 }
 
 bool valid_bt_address(std::string_view a) {
@@ -363,15 +364,42 @@ std::optional<Bytes> FrameReader::next() {
     }
     if (length > kMaxFrame) {
       // Lost framing: drop what we have and wait for the next telegram.
+      dropped.insert(dropped.end(), pending.begin(), pending.end());
       pending.clear();
       return std::nullopt;
     }
     if (pending.size() < 2 + length) return std::nullopt;
     Bytes t(pending.begin() + 2, pending.begin() + 2 + static_cast<std::ptrdiff_t>(length));
     pending.erase(pending.begin(), pending.begin() + 2 + static_cast<std::ptrdiff_t>(length));
+    dropped.clear();
     return t;
   }
   return std::nullopt;
+}
+
+std::string FrameReader::leftovers() const {
+  // Enough bytes to recognise a reply's start; a flood is not repeated whole.
+  auto shown = [](const Bytes& b) {
+    constexpr std::size_t kShown = 24;
+    std::string s;
+    for (std::size_t i = 0; i < b.size() && i < kShown; ++i) s += fmt::format("{}{:02x}", i ? " " : "", b[i]);
+    return b.size() > kShown ? s + " ..." : s;
+  };
+  std::string out;
+  if (!dropped.empty()) {
+    std::size_t length = dropped.size() >= 2 ? dropped[0] | (std::size_t{dropped[1]} << 8) : 0;
+    out = fmt::format("{} bytes came under a length prefix of {}, more than any telegram, and were dropped: {}",
+                      dropped.size(), length, shown(dropped));
+  }
+  if (!pending.empty()) {
+    if (!out.empty()) out += "; ";
+    if (pending.size() < 2)
+      out += fmt::format("1 byte came, half a length prefix: {}", shown(pending));
+    else
+      out += fmt::format("{} of a {}-byte telegram came: {}", pending.size() - 2,
+                         pending[0] | (std::size_t{pending[1]} << 8), shown(pending));
+  }
+  return out;
 }
 
 std::variant<PortSpec, LinkError> parse_port(const std::optional<std::string>& option,
@@ -381,7 +409,25 @@ std::variant<PortSpec, LinkError> parse_port(const std::optional<std::string>& o
   const std::string from = option ? "" : "NXT_PORT: ";
   if (name.empty())
     return LinkError{LinkError::Kind::Open, from + "the port is empty (usb, usb:SERIAL, bt:ADDR or a path)"};
-  if (name == "usb") return PortSpec{PortKind::Usb, ""};
+  // The schemes in any case ("USB", "BT:..."): a path of that name was
+  // never meant, and opening it said "USB does not exist".
+  auto lower = [](std::string s) {
+    for (auto& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return s;
+  };
+  if (lower(name) == "usb") return PortSpec{PortKind::Usb, ""};
+  if (lower(name.substr(0, 4)) == "usb:") name = "usb:" + name.substr(4);
+  if (lower(name.substr(0, 3)) == "bt:") name = "bt:" + name.substr(3);
+  // An address without its scheme would be opened as a path that does not
+  // exist ("rfcomm bind it first?"): say which scheme it needs.
+  if (valid_bt_address(name) || (name.size() == 12 && valid_usb_serial(name))) {
+    std::string plain = plain_address(name), colons;
+    for (std::size_t i = 0; i < plain.size(); i += 2) colons += (i ? ":" : "") + plain.substr(i, 2);
+    return LinkError{LinkError::Kind::Open,
+                     fmt::format("{}\"{}\" is a brick's address without its kind: bt:{} for Bluetooth, usb:{} for "
+                                 "the brick with that serial number on USB",
+                                 from, name, colons, plain)};
+  }
   if (name.rfind("usb:", 0) == 0) {
     std::string serial = name.substr(4);
     if (!valid_usb_serial(serial))

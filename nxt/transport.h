@@ -43,6 +43,9 @@ class Transport {
   // The next whole telegram, nullopt when none came within `timeout`.
   virtual std::variant<std::optional<Bytes>, LinkError> receive(Millis timeout) = 0;
   virtual std::string describe() const = 0;
+  // Bytes that came but make no whole telegram (half a frame, a length no
+  // telegram has), said for a reply that never came whole; "" if none.
+  virtual std::string leftovers() const { return {}; }
 };
 
 // Bluetooth framing: `telegram` after its 2-byte little-endian length.
@@ -52,8 +55,12 @@ Bytes frame(std::span<const std::uint8_t> telegram);
 // or glued. A zero length is skipped (it carries no telegram).
 struct FrameReader {
   Bytes pending;
+  // What an impossible length made us throw away since the last whole telegram.
+  Bytes dropped;
   void feed(std::span<const std::uint8_t> bytes);
   std::optional<Bytes> next();
+  // "4 bytes of a 5-byte telegram: 05 00 02 0b 00 78", or "" when nothing is left over.
+  std::string leftovers() const;
 };
 
 enum class PortKind : std::uint8_t { Usb, Bluetooth, Path };

@@ -122,6 +122,7 @@ TEST(Help, NumberOptionsSayTheirDefaults) {
       {{"remote"}, "--retries", "(default 5)"},    {{"nxt"}, "--timeout", "(default 1000)"},
       {{"compare"}, "--seed", "(default 1)"},      {{"brick"}, "--seed", "(default 1)"},
       {{"run"}, "--seed", "(default 1)"},          {{"compare"}, "--for", "(default 20000)"},
+      {{"nxt", "bench"}, "--count", "(default 200)"},
   };
   for (const auto& e : expected) {
     std::vector<std::string> args = e.command;

@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <map>
 #include <regex>
+#include <sstream>
 #include <thread>
 #include <fstream>
 
@@ -635,10 +636,371 @@ TEST(NxtCli, CtrlCEndsAWaitForASilentBrickAt130) {
   nxt::close_pty_pair(pty);
 }
 
+// Ctrl-C leaves the signal pending on the descriptor every wait of the
+// link polls: the stop telegram ended as "interrupted" before it was sent,
+// and the NXT's motors ran on after `rcxc run --nxt` had exited.
+TEST(NxtTether, CtrlCStopsTheMotorsOnTheBrick) {
+  TempDir dir;
+  std::string log = dir.path + "/brick.log";
+  NxtBrickProcess brick({"-v"}, log);
+  std::string prog = dir.write("forever.nqc", std::string("task main() {\n  On(OUT_A);\n  while (true) { }\n}\n"));
+  pid_t pid = ::fork();
+  if (pid == 0) {
+    int null = ::open("/dev/null", O_WRONLY);
+    ::dup2(null, 1);
+    ::dup2(null, 2);
+    std::vector<std::string> args{RCXC_BINARY, "run", prog, "--nxt", brick.path};
+    std::vector<char*> argv;
+    for (auto& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    ::execv(argv[0], argv.data());
+    ::_exit(127);
+  }
+  // Wait until the program has the motor running, as the brick's log shows
+  // it (asking the brick meanwhile from another process would share its
+  // tty with the run, and either could take the other's reply).
+  bool running = false;
+  for (int i = 0; i < 1500 && !running; ++i) {
+    std::ifstream in(log);
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    running = text.find("SetOutputState (no reply) port=0 power=100") != std::string::npos;
+    if (!running) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  ::kill(pid, SIGINT);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  ASSERT_TRUE(running) << "the tethered run never turned motor A on";
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 130);
+  for (const char* port : {"A", "B", "C"}) {
+    auto r = nxt(brick.path, {"--json", "motor-state", port});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(json_of(r)["power"], 0) << port;
+    EXPECT_EQ(json_of(r)["mode"], nxt::kMotorOn | nxt::kBrake) << port;
+  }
+}
+
+// SetBrickName takes 15 characters and a NUL; GetDeviceInfo's name field is
+// 15 bytes, so a 15-character name comes back without its NUL. The virtual
+// NXT answered GetDeviceInfo with 0xFF after such a rename.
+TEST(NxtCli, RenameTheBrickAndReadItBack) {
+  NxtBrickProcess brick;
+  auto r = nxt(brick.path, {"rename", "Robby"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.out, "");
+  EXPECT_EQ(r.err, "");
+  EXPECT_EQ(json_of(nxt(brick.path, {"--json", "info"}))["name"], "Robby");
+  // Longer than the 8 characters the firmware keeps across a restart: said.
+  auto nine = nxt(brick.path, {"rename", "Robby2000"});
+  ASSERT_EQ(nine.exit_code, 0) << nine.err;
+  EXPECT_EQ(nine.err,
+            "rcxc nxt rename: note: after the brick is switched off and on it keeps the first 8 characters "
+            "(\"Robby200\"); docs/nxt.md\n");
+  ASSERT_EQ(nxt(brick.path, {"rename", "ABCDEFGHIJKLMNO"}).exit_code, 0);
+  auto full = nxt(brick.path, {"info"});
+  ASSERT_EQ(full.exit_code, 0) << full.err;
+  EXPECT_NE(full.out.find("name       ABCDEFGHIJKLMNO\n"), std::string::npos) << full.out;
+  auto raw = nxt(brick.path, {"raw", "01", "9b"});
+  EXPECT_EQ(raw.out.substr(0, 56), "02 9b 00 41 42 43 44 45 46 47 48 49 4a 4b 4c 4d 4e 4f 00") << raw.out;
+  auto j = json_of(nxt(brick.path, {"--json", "rename", "NXT 2"}));
+  EXPECT_EQ(j["ok"], true);
+  EXPECT_EQ(j["name"], "NXT 2");
+  for (std::string bad : {std::string(16, 'x'), std::string(), std::string("caf\xc3\xa9")}) {
+    auto refused = nxt(brick.path, {"rename", bad});
+    EXPECT_EQ(refused.exit_code, 2) << bad << ": " << refused.err;
+  }
+  EXPECT_NE(nxt(brick.path, {"rename", std::string(16, 'x')}).err.find("is 16 characters; a brick's name is 1-15"),
+            std::string::npos);
+  EXPECT_EQ(json_of(nxt(brick.path, {"--json", "info"}))["name"], "NXT 2");
+}
+
+// The help says "power, mode and tacho counts": the text showed no mode.
+TEST(NxtCli, MotorStateShowsTheModeAndRegulation) {
+  NxtBrickProcess brick;
+  ASSERT_EQ(nxt(brick.path, {"motor", "C", "30", "--regulated", "--brake"}).exit_code, 0);
+  auto r = nxt(brick.path, {"motor-state", "C"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("port C: power 30 mode MOTORON|BRAKE|REGULATED regulation MOTOR_SPEED turn ratio 0 run state "
+                       "RUNNING\n"),
+            std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("tacho count "), std::string::npos) << r.out;
+  ASSERT_EQ(nxt(brick.path, {"motor", "C", "0"}).exit_code, 0);
+  EXPECT_NE(nxt(brick.path, {"motor-state", "C"}).out.find("power 0 mode 0 regulation IDLE turn ratio 0 run state IDLE"),
+            std::string::npos);
+}
+
+TEST(NxtCli, RawJsonCarriesTheStatus) {
+  NxtBrickProcess brick;
+  auto ok = json_of(nxt(brick.path, {"--json", "raw", "00", "0b"}));
+  EXPECT_EQ(ok["status"], 0);
+  auto refused = nxt(brick.path, {"--json", "raw", "00", "12"});
+  EXPECT_EQ(refused.exit_code, 0);  // a reply came: raw shows it
+  EXPECT_EQ(json_of(refused)["status"], 0xBE);
+}
+
+TEST(NxtCli, TemperatureReadingsAreShownInDegrees) {
+  TempDir dir;
+  // Raw 600 is 20.6 °C on the sensor's curve (docs/nxt.md).
+  std::string scenario = dir.write("t.toml", std::string("[[input]]\nat_ms = 0\nsensor = 3\nraw = 600\n"));
+  NxtBrickProcess brick({"--scenario", scenario});
+  auto read_after = [&](const char* mode) {
+    EXPECT_EQ(nxt(brick.path, {"sensor", "3", "TEMPERATURE", mode}).exit_code, 0);
+    std::this_thread::sleep_for(std::chrono::milliseconds(40));  // the input-valid delay
+    return nxt(brick.path, {"read", "3"});
+  };
+  auto c = read_after("CELSIUS");
+  ASSERT_EQ(c.exit_code, 0) << c.err;
+  auto scaled = json_of(nxt(brick.path, {"--json", "read", "3"}))["scaled"].get<int>();
+  EXPECT_NE(c.out.find(fmt::format("scaled {} ({:.1f} °C)\n", scaled, scaled / 10.0)), std::string::npos) << c.out;
+  EXPECT_GT(scaled, 150);
+  EXPECT_LT(scaled, 250);
+  auto f = read_after("FAHRENHEIT");
+  auto fs = json_of(nxt(brick.path, {"--json", "read", "3"}))["scaled"].get<int>();
+  EXPECT_NE(f.out.find(fmt::format("scaled {} ({:.1f} °F)\n", fs, fs / 10.0)), std::string::npos) << f.out;
+}
+
+TEST(NxtCli, AnOpenTemperatureInputBelowZeroIsNoFahrenheitReading) {
+  NxtBrickProcess brick;
+  ASSERT_EQ(nxt(brick.path, {"sensor", "1", "TEMPERATURE", "FAHRENHEIT"}).exit_code, 0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(40));
+  auto r = nxt(brick.path, {"read", "1"});
+  // An open input reads -19.9 °C, which the firmware's Fahrenheit wraps.
+  EXPECT_NE(r.out.find("scaled 23554 (not °F: below 0 °C the firmware's Fahrenheit wraps)"), std::string::npos) << r.out;
+}
+
+TEST(NxtCli, AnAddressWithoutItsKindOrInCapitalsIsUnderstood) {
+  auto bare = nxt("00:16:53:AA:BB:CC", {"battery"});
+  EXPECT_EQ(bare.exit_code, 2) << bare.err;
+  EXPECT_NE(bare.err.find("\"00:16:53:AA:BB:CC\" is a brick's address without its kind: bt:00:16:53:AA:BB:CC for "
+                          "Bluetooth, usb:001653AABBCC for the brick with that serial number on USB"),
+            std::string::npos)
+      << bare.err;
+  auto serial = nxt("001653aabbcc", {"battery"});
+  EXPECT_EQ(serial.exit_code, 2) << serial.err;
+  EXPECT_NE(serial.err.find("bt:00:16:53:AA:BB:CC"), std::string::npos) << serial.err;
+  // "USB" is USB, not a path named USB (no NXT here: exit 3, said as USB).
+  auto usb = run_rcxc({"nxt", "--port", "USB", "battery"}, "", 30'000);
+  EXPECT_EQ(usb.exit_code, 3) << usb.err;
+  EXPECT_EQ(usb.err.find("USB does not exist"), std::string::npos) << usb.err;
+  auto bt = run_rcxc({"nxt", "--port", "BT:zz", "battery"}, "", 30'000);
+  EXPECT_EQ(bt.exit_code, 2) << bt.err;
+  EXPECT_NE(bt.err.find("\"zz\" is not a Bluetooth address"), std::string::npos) << bt.err;
+}
+
+// OpenWrite never writes over a file (0x8F): a second upload failed with
+// the status alone.
+TEST(NxtCli, UploadOverAFileSaysHowAndReplaceDoesIt) {
+  NxtBrickProcess brick;
+  TempDir dir;
+  std::string first = dir.write("prog.rxe", std::vector<std::uint8_t>(100, 1));
+  ASSERT_EQ(nxt(brick.path, {"upload", first}).exit_code, 0);
+  std::string second = dir.write("new.rxe", std::vector<std::uint8_t>(70, 2));
+  auto again = nxt(brick.path, {"upload", second, "prog.rxe"});
+  EXPECT_EQ(again.exit_code, 1);
+  EXPECT_NE(again.err.find("OpenWrite refused: 0x8f file exists (\"prog.rxe\" is on the brick: upload --replace, or "
+                           "rcxc nxt rm prog.rxe first)"),
+            std::string::npos)
+      << again.err;
+  auto replaced = nxt(brick.path, {"upload", "--replace", second, "prog.rxe"});
+  ASSERT_EQ(replaced.exit_code, 0) << replaced.err;
+  EXPECT_EQ(nxt(brick.path, {"ls"}).out, "      70  prog.rxe\n");
+  ASSERT_EQ(nxt(brick.path, {"download", "prog.rxe", dir.path + "/back.rxe"}).exit_code, 0);
+  EXPECT_EQ(dir.read("back.rxe"), std::vector<std::uint8_t>(70, 2));
+  // Nothing to replace is no error.
+  EXPECT_EQ(nxt(brick.path, {"upload", "--replace", second, "other.rxe"}).exit_code, 0);
+  EXPECT_EQ(nxt(brick.path, {"ls", "other.*"}).out, "      70  other.rxe\n");
+}
+
+// `play --loop` repeats until stopped, and nothing but `raw 00 0c` stopped it.
+TEST(NxtCli, StopSoundStopsALoopingFile) {
+  NxtBrickProcess brick;
+  TempDir dir;
+  ASSERT_EQ(nxt(brick.path, {"upload", dir.write("loop.rso", std::string("RSO"))}).exit_code, 0);
+  ASSERT_EQ(nxt(brick.path, {"play", "loop.rso", "--loop"}).exit_code, 0);
+  auto r = nxt(brick.path, {"-v", "stop-sound"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.out, "");
+  EXPECT_NE(r.err.find("nxt: -> StopSoundPlayback\n"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("nxt: <- StopSoundPlayback -> ok\n"), std::string::npos) << r.err;
+  EXPECT_EQ(json_of(nxt(brick.path, {"--json", "stop-sound"}))["ok"], true);
+}
+
+// MODE is optional (RAWMODE); the help said "(MODE may be left off:
+// BOOLEAN)", meaning the word MODE in a name, and never gave the default.
+TEST(NxtCli, SensorHelpGivesTheDefaultMode) {
+  auto r = run_rcxc({"help", "nxt", "sensor"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("(default RAWMODE; the word MODE may be left off: BOOLEAN)"), std::string::npos) << r.out;
+  NxtBrickProcess brick;
+  ASSERT_EQ(nxt(brick.path, {"sensor", "2", "SWITCH"}).exit_code, 0);
+  EXPECT_EQ(json_of(nxt(brick.path, {"--json", "read", "2"}))["mode"], "RAWMODE");
+}
+
+// "-" is the standard output, as for rcxc compile -o -: download wrote a
+// file named "-" in the current folder.
+TEST(NxtCli, DownloadToTheStandardOutput) {
+  NxtBrickProcess brick;
+  TempDir dir;
+  std::vector<std::uint8_t> bytes{0x00, 0x01, 0xFF, 'R', 'X', 0x00, '\n'};
+  ASSERT_EQ(nxt(brick.path, {"upload", dir.write("data.bin", bytes)}).exit_code, 0);
+  auto r = run_process({"/bin/sh", "-c", "cd \"$0\" && exec \"$1\" nxt --port \"$2\" download data.bin -", dir.path,
+                        RCXC_BINARY, brick.path},
+                       "", 20'000);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.out, std::string(bytes.begin(), bytes.end()));
+  EXPECT_FALSE(std::filesystem::exists(dir.path + "/-"));
+  auto mixed = nxt(brick.path, {"--json", "download", "data.bin", "-"});
+  EXPECT_EQ(mixed.exit_code, 2);
+  EXPECT_NE(mixed.err.find("--json and FILE - do not go together"), std::string::npos) << mixed.err;
+}
+
+// A brick that answers each request with the next of `replies` (framed),
+// on a pty of its own: what other firmwares or a failing brick might say.
+struct ScriptedBrick {
+  nxt::PtyPair pty = std::get<nxt::PtyPair>(nxt::open_pty_pair());
+  std::thread thread;
+  explicit ScriptedBrick(std::vector<nxt::Bytes> replies) {
+    thread = std::thread([this, replies] {
+      for (const auto& reply : replies) {
+        pollfd p{pty.master_fd, POLLIN, 0};
+        if (::poll(&p, 1, 20'000) != 1) return;
+        std::uint8_t buf[256];
+        [[maybe_unused]] auto in = ::read(pty.master_fd, buf, sizeof buf);
+        auto framed = nxt::frame(reply);
+        [[maybe_unused]] auto out = ::write(pty.master_fd, framed.data(), framed.size());
+      }
+    });
+  }
+  ~ScriptedBrick() {
+    thread.join();
+    nxt::close_pty_pair(pty);
+  }
+};
+
+// LEGO's firmware keeps the sleep limit in whole minutes; another that
+// answered 30 000 ms was shown as "sleeps after 0 min".
+TEST(NxtCli, AKeepAliveLimitThatIsNoWholeMinuteIsShownAsItIs) {
+  {
+    ScriptedBrick brick({{0x02, 0x0D, 0x00, 0x30, 0x75, 0x00, 0x00}});
+    EXPECT_EQ(nxt(brick.pty.slave_path, {"keepalive"}).out, "sleeps after 30 s\n");
+  }
+  {
+    ScriptedBrick brick({{0x02, 0x0D, 0x00, 0xDC, 0x05, 0x00, 0x00}});
+    EXPECT_EQ(nxt(brick.pty.slave_path, {"keepalive"}).out, "sleeps after 1500 ms\n");
+  }
+  {
+    ScriptedBrick brick({{0x02, 0x0D, 0x00, 0x40, 0x77, 0x1B, 0x00}});
+    EXPECT_EQ(nxt(brick.pty.slave_path, {"keepalive"}).out, "sleeps after 30 min\n");
+  }
+  {
+    // A refusal of GetCurrentProgramName other than "no program" names the command.
+    ScriptedBrick brick({nxt::Bytes{0x02, 0x11, 0xBF}});
+    auto r = nxt(brick.pty.slave_path, {"current"});
+    EXPECT_EQ(r.exit_code, 1);
+    EXPECT_NE(r.err.find("rcxc nxt current: GetCurrentProgramName refused: 0xbf insane packet"), std::string::npos)
+        << r.err;
+  }
+}
+
+// The counts could be zeroed only with raw telegrams.
+TEST(NxtCli, MotorResetZeroesTheBlockAndRotationCounts) {
+  NxtBrickProcess brick;
+  ASSERT_EQ(nxt(brick.path, {"motor", "A", "100", "--limit", "90", "--brake"}).exit_code, 0);
+  nlohmann::json j;
+  for (int i = 0; i < 100; ++i) {
+    j = json_of(nxt(brick.path, {"--json", "motor-state", "A"}));
+    if (j["run_state"] == 0) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  ASSERT_EQ(j["block_tacho_count"], 90);
+  ASSERT_EQ(nxt(brick.path, {"motor-reset", "A", "--block"}).exit_code, 0);
+  j = json_of(nxt(brick.path, {"--json", "motor-state", "A"}));
+  EXPECT_EQ(j["block_tacho_count"], 0);
+  EXPECT_EQ(j["rotation_count"], 90);
+  auto r = nxt(brick.path, {"--json", "motor-reset", "A"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(json_of(r)["port"], "A");
+  j = json_of(nxt(brick.path, {"--json", "motor-state", "A"}));
+  EXPECT_EQ(j["rotation_count"], 0);
+  EXPECT_EQ(j["tacho_count"], 90);  // UpdateResetCount's, not sent
+  EXPECT_EQ(nxt(brick.path, {"motor-reset", "all"}).exit_code, 2);
+  EXPECT_EQ(nxt(brick.path, {"motor-reset", "A", "--block", "--rotation"}).exit_code, 2);
+}
+
 TEST(NxtCli, HelpListsEveryCommandOfTheTable) {
   auto r = run_rcxc({"nxt", "--help"});
   EXPECT_EQ(r.exit_code, 0);
   for (const auto& c : nxt::commands()) EXPECT_NE(r.out.find(std::string(c.name)), std::string::npos) << c.name;
+}
+
+// Every action `rcxc nxt --help` lists, and every option of each, is in
+// docs/nxt.md, and every action in the README's list: an action or option
+// that works but is not written down is one a user never finds.
+TEST(NxtDocs, EveryActionAndOptionOfTheHelpIsDocumented) {
+  auto slurp = [](const std::string& path) {
+    std::ifstream in(path);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  };
+  const std::string docs = slurp(std::string(RCXC_SOURCE_DIR) + "/docs/nxt.md");
+  const std::string readme = slurp(std::string(RCXC_SOURCE_DIR) + "/README.md");
+  // The man page escapes '-' as '\-'; the completions list the actions on one line.
+  const std::string man =
+      std::regex_replace(slurp(std::string(RCXC_SOURCE_DIR) + "/docs/rcxc.1"), std::regex(R"(\\-)"), "-");
+  auto line_with = [](const std::string& text, const std::string& word) {
+    auto at = text.find(word);
+    if (at == std::string::npos) return std::string();
+    auto from = text.rfind('\n', at);
+    return text.substr(from == std::string::npos ? 0 : from + 1, text.find('\n', at) - (from + 1));
+  };
+  const std::string bash = line_with(slurp(std::string(RCXC_SOURCE_DIR) + "/completions/rcxc.bash"), " motor-state ");
+  const std::string zsh = line_with(slurp(std::string(RCXC_SOURCE_DIR) + "/completions/_rcxc"), " motor-state ");
+  ASSERT_FALSE(docs.empty());
+  ASSERT_FALSE(bash.empty());
+  ASSERT_FALSE(zsh.empty());
+  // The names under "Subcommands:", and the options ("  --name ...") of a help text.
+  auto actions_in = [](const std::string& help) {
+    std::vector<std::string> out;
+    std::istringstream in(help);
+    bool in_list = false;
+    std::smatch m;
+    for (std::string l; std::getline(in, l);) {
+      if (l == "Subcommands:") in_list = true;
+      else if (l.empty()) in_list = false;
+      else if (in_list && std::regex_search(l, m, std::regex("^  ([a-z][a-z-]*) "))) out.push_back(m[1]);
+    }
+    return out;
+  };
+  auto options_in = [](const std::string& help) {
+    std::vector<std::string> out;
+    std::istringstream in(help);
+    std::smatch m;
+    for (std::string l; std::getline(in, l);)
+      if (std::regex_search(l, m, std::regex("^  (--[a-z-]+)[ ,]"))) out.push_back(m[1]);
+    return out;
+  };
+  auto help = run_rcxc({"nxt", "--help"});
+  auto actions = actions_in(help.out);
+  ASSERT_GT(actions.size(), 15u) << help.out;
+  for (const auto& action : actions) {
+    EXPECT_TRUE(std::regex_search(docs, std::regex("rcxc nxt( [^\\n]*)?[ |] ?" + action + "( |\\n|$)")))
+        << "docs/nxt.md shows no `rcxc nxt ... " << action << "`";
+    if (action != "brick") {
+      EXPECT_NE(readme.find("`" + action), std::string::npos) << "README.md lacks " << action;
+    }
+    EXPECT_TRUE(std::regex_search(man, std::regex("[ \\n]" + action + "[,;]"))) << "docs/rcxc.1 lacks " << action;
+    EXPECT_TRUE(std::regex_search(bash, std::regex("[\" ]" + action + " "))) << "rcxc.bash lacks " << action;
+    EXPECT_TRUE(std::regex_search(zsh, std::regex("[( ]" + action + "[ )]"))) << "_rcxc lacks " << action;
+    std::vector<std::vector<std::string>> commands{{"nxt", action, "--help"}};
+    if (action == "mailbox") commands = {{"nxt", "mailbox", "write", "--help"}, {"nxt", "mailbox", "read", "--help"}};
+    for (const auto& words : commands) {
+      auto sub = run_rcxc(words);
+      for (const auto& option : options_in(sub.out)) {
+        if (option == "--help") continue;
+        EXPECT_NE(docs.find(option), std::string::npos) << "docs/nxt.md lacks " << action << " " << option;
+      }
+    }
+  }
 }
 
 TEST(NxtDocs, TheDocsTableListsEveryCommandOfTheTable) {

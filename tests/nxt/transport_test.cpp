@@ -242,6 +242,47 @@ TEST_F(PtyNxt, ASilentBrickTimesOut) {
   EXPECT_TRUE(std::holds_alternative<Decoded>(call_ok(client, "KeepAlive", {})));
 }
 
+// What came but was not the reply is said when the reply never comes: the
+// message was "no reply" alone, as if the brick had been silent.
+TEST(NxtFraming, ANoReplyMessageSaysWhatCameInstead) {
+  struct Case {
+    Bytes answer;     // what the "brick" writes back, framing included
+    std::string says;
+  };
+  const Case cases[] = {
+      {{0x05, 0x00, 0x02, 0x0B, 0x00, 0x78}, "; 4 of a 5-byte telegram came: 05 00 02 0b 00 78"},
+      {{0xFF, 0xFF, 0x02, 0x0B}, "; 4 bytes came under a length prefix of 65535, more than any telegram, and were "
+                                 "dropped: ff ff 02 0b"},
+      {{0x07, 0x00, 0x02, 0x0D, 0x00, 0x60, 0xEA, 0x00, 0x00},
+       "; what came instead was dropped: a reply to KeepAlive (02 0d 00 60 ea 00 00)"},
+  };
+  for (const auto& c : cases) {
+    auto opened = open_pty_pair();
+    ASSERT_TRUE(std::holds_alternative<PtyPair>(opened));
+    auto pty = std::get<PtyPair>(opened);
+    auto port = open_port({PortKind::Path, pty.slave_path}, -1);
+    ASSERT_TRUE(std::holds_alternative<std::unique_ptr<Transport>>(port));
+    auto& host = std::get<std::unique_ptr<Transport>>(port);
+    std::thread brick([&] {
+      pollfd p{pty.master_fd, POLLIN, 0};
+      if (::poll(&p, 1, 5000) != 1) return;
+      std::uint8_t buf[64];
+      [[maybe_unused]] auto in = ::read(pty.master_fd, buf, sizeof buf);
+      [[maybe_unused]] auto out = ::write(pty.master_fd, c.answer.data(), c.answer.size());
+    });
+    Client client(*host);
+    client.timeout = 300ms;
+    auto r = call_ok(client, "GetBatteryLevel", {});
+    brick.join();
+    ASSERT_TRUE(std::holds_alternative<CallError>(r));
+    const auto& e = std::get<CallError>(r);
+    EXPECT_EQ(e.kind, CallError::Kind::NoReply);
+    EXPECT_EQ(e.message, "no reply to GetBatteryLevel from NXT on " + pty.slave_path + " within 300 ms" + c.says);
+    host.reset();
+    close_pty_pair(pty);
+  }
+}
+
 // The wait must end within 100 ms of the stop. It is measured from the
 // moment the stop was written (not from a sleep before it), and on a loaded
 // machine one try may be scheduled late: the wait passes when any of five

@@ -714,5 +714,19 @@ TEST(VirtualNxtFirmware, AnUltrasonicReadWithNoSensorSaysWhereItLooked) {
       << e.message;
 }
 
+// SetBrickName holds 15 characters and a NUL; GetDeviceInfo copies 15
+// bytes of the name (c_comm.c), so such a name comes back without a NUL.
+// The reply's encoder wanted room for one and the brick answered 0xFF.
+TEST(VirtualNxtFirmware, AFifteenCharacterNameComesBackWithoutItsNul) {
+  Rig rig;
+  ASSERT_EQ(rig.status_of("SetBrickName", {std::string("ABCDEFGHIJKLMNO")}), 0);
+  auto d = rig.reply("GetDeviceInfo");
+  EXPECT_EQ(d.status, 0);
+  EXPECT_EQ(d.text("name"), "ABCDEFGHIJKLMNO");
+  // A request's names still need their NUL: 20 characters do not fit 20 bytes.
+  auto r = encode_request(*find_command("OpenRead"), V{std::string(20, 'a')});
+  EXPECT_TRUE(std::holds_alternative<TelegramError>(r));
+}
+
 }  // namespace
 }  // namespace nxt
