@@ -596,15 +596,17 @@ bool left_of_nqc_habit(const std::string& unexpected, const std::vector<std::str
 namespace {
 
 // The first token at or after `at` (comments and blanks skipped), with its
-// width when it is a name or number; nullopt at the end of the file.
-std::optional<std::pair<SourceLoc, std::size_t>> token_from(const SourceManager& sm, SourceLoc at) {
+// width when it is a name or number; at the end of the file (or when
+// `at_end`: the parser found the end there), the place after its last
+// character (the line after a last line end), where nqc reports it.
+std::pair<SourceLoc, std::size_t> token_from(const SourceManager& sm, SourceLoc at, bool at_end) {
   const std::string& text = sm.text(at.file);
   // Lines end at LF, CR LF or a lone CR: at most one line per CR or LF.
   const auto lines = static_cast<std::uint32_t>(std::count(text.begin(), text.end(), '\n') +
                                                 std::count(text.begin(), text.end(), '\r') + 1);
   bool in_comment = false;
   std::size_t i = at.column == 0 ? 0 : at.column - 1;
-  for (std::uint32_t l = at.line; l <= lines; ++l, i = 0) {
+  for (std::uint32_t l = at.line; l <= lines && !at_end; ++l, i = 0) {
     std::string_view line = sm.line(at.file, l);
     while (i < line.size()) {
       if (in_comment) {
@@ -627,7 +629,11 @@ std::optional<std::pair<SourceLoc, std::size_t>> token_from(const SourceManager&
       }
     }
   }
-  return std::nullopt;
+  std::uint32_t last = 1;
+  for (std::size_t c = 0; c < text.size(); ++c)
+    if (text[c] == '\n' || (text[c] == '\r' && (c + 1 == text.size() || text[c + 1] != '\n'))) ++last;
+  return std::pair{SourceLoc{at.file, last, static_cast<std::uint32_t>(sm.line(at.file, last).size() + 1), 0},
+                   std::size_t{1}};
 }
 
 }  // namespace
@@ -647,9 +653,10 @@ std::string render_nqc(const Diagnostics& diags, const SourceManager& sm) {
       // rcxc puts a missing ';' just after what it should end; nqc's parser
       // reports it at the token it found instead, often on the next line,
       // and that is the line a tool reading nqc's messages expects. The
-      // message ("expected ';' before 'Wait'") names that token.
+      // message ("expected ';' before 'Wait'") names that token, or the end
+      // of the file.
       if (d->message.rfind("expected ';'", 0) == 0 && at == d->span.begin && at.expansion == 0)
-        if (auto next = token_from(sm, at)) std::tie(at, width) = *next;
+        std::tie(at, width) = token_from(sm, at, d->message.ends_with("before end of file"));
       // BricxCC finds the line by searching this line for "line N".
       out += fmt::format("File \"{}\" ; line {}\n", file_label(at.file, sm), at.line);
       QuotedLine quoted = quote_line(sm.line(at.file, at.line), at.column == 0 ? 0 : at.column - 1, width);

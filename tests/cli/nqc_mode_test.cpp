@@ -52,6 +52,9 @@ const std::map<std::string, std::string> kFiles = {
     {"semi.nqc", "task main()\n{\n  OnFwd(OUT_A)\n  Wait(100);\n}\n"},
     {"semi_decl.nqc", "task main()\n{\n  int x\n  x = 2;\n}\n"},
     {"semi_comment.nqc", "task main()\n{\n  Wait(1)  // one tick\n\n  /* then\n     stop */ Off(OUT_A);\n}\n"},
+    // At the end of the file: the line after the last line end, if any.
+    {"semi_eof.nqc", "task main()\n{\n}\nint a\n"},
+    {"semi_eof_unended.nqc", "task main()\n{\n}\nint a"},
     // An included file is named as the #include spells it, folder and all.
     {"subinc.nqc", "#include \"sub/part.nqh\"\ntask main()\n{\n  Go();\n}\n"},
     {"sub/part.nqh", "void Go()\n{\n  OnFwd(OUT_A);\n  Stopp(OUT_A);\n}\n"},
@@ -180,6 +183,8 @@ TEST(NqcMode, CompilingBehavesAsNqc) {
            {{"semi.nqc"}},
            {{"semi_decl.nqc"}},
            {{"semi_comment.nqc"}},
+           {{"semi_eof.nqc"}},
+           {{"semi_eof_unended.nqc"}},
            {{"subinc.nqc"}},
            {{"-Esemi.log", "semi_inc.nqc"}},
        })
