@@ -130,7 +130,8 @@ TEST(NvimClient, DiagnosticsHoverCompletionDefinitionSignatureSymbolsAndRename) 
 // another (tests/lsp/nvim_header.lua): the program knows the name typed
 // into the header, and go to definition jumps to the typed line in the
 // header's own, still modified, buffer. The server read the header from
-// disk: the name was "not declared" and the jump went nowhere.
+// disk: the name was "not declared" and the jump went nowhere. Then a line
+// of wide characters is typed in insert mode, sent as incremental changes.
 TEST(NvimClient, AnUnsavedHeaderInAnotherBufferIsReadAsTyped) {
   std::string nvim = find_nvim();
   if (nvim.empty()) GTEST_SKIP() << "nvim is not installed (apt-get install neovim)";
@@ -145,7 +146,9 @@ TEST(NvimClient, AnUnsavedHeaderInAnotherBufferIsReadAsTyped) {
             "  speed = 3;\n"                        // 5
             "}\n");
   json result = run_nvim_client(dir, nvim,
-                                {{"dir", dir.path}, {"typed", {"int speed;", "// how long a turn lasts", "int turn;"}}},
+                                {{"dir", dir.path},
+                                 {"typed", {"int speed;", "// how long a turn lasts", "int turn;"}},
+                                 {"keys", "A // ö😀 x<CR>zap = 1; /* 😀 */ zip = 2;<Esc>"}},
                                 RCXC_SOURCE_DIR "/tests/lsp/nvim_header.lua");
   ASSERT_FALSE(result.is_discarded());
   ASSERT_FALSE(result.contains("error")) << result["error"];
@@ -161,6 +164,16 @@ TEST(NvimClient, AnUnsavedHeaderInAnotherBufferIsReadAsTyped) {
   EXPECT_EQ(result["jump"]["line"], 2);
   EXPECT_EQ(result["jump"]["text"], "int turn;");
   EXPECT_TRUE(result["jump"]["same_buffer"].get<bool>());
+
+  // After typing, the server's text is the buffer's: the names typed are
+  // found where Neovim shows them (Neovim indents the new line as the one
+  // above; byte columns: zip after the emoji at 22).
+  ASSERT_EQ(result["typed"][5], "  speed = 3; // ö😀 x") << result["typed"].dump();
+  ASSERT_EQ(result["typed"][6], "  zap = 1; /* 😀 */ zip = 2;");
+  EXPECT_EQ(result["after_typing"], json::parse(R"([
+    {"lnum": 4, "col": 23, "message": "'bogus' is not declared"},
+    {"lnum": 6, "col": 2, "message": "'zap' is not declared"},
+    {"lnum": 6, "col": 22, "message": "'zip' is not declared"}])"));
 }
 
 }  // namespace
