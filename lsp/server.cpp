@@ -1384,7 +1384,11 @@ json cancelled_id(const json& message) {
 int serve(Server& server, std::istream& in, std::ostream& out, std::ostream& log) {
   server.defer_index = true;
   // The compiler thread and this one share the server and `out` under `m`;
-  // the compiler builds from a snapshot without it.
+  // the compiler builds from a snapshot without it. Reading from a stream
+  // tied to `out` (std::cin is tied to std::cout) flushes `out` first,
+  // outside the lock: the compiler's message was written twice. Every
+  // message is flushed when written, so nothing needs the tie.
+  std::ostream* tied = in.tie(nullptr);
   std::mutex m;
   std::condition_variable quiet;  // the input is quiet (or we stop): compile what is stale
   bool compile_now = false, stopping = false, write_failed = false;
@@ -1488,6 +1492,7 @@ int serve(Server& server, std::istream& in, std::ostream& out, std::ostream& log
   quiet.notify_one();
   lock.unlock();
   compiler.join();
+  in.tie(tied);
   if (write_failed) {
     log << "rcxc lsp: cannot write to the client (the standard output is closed); stopping\n";
     return 1;

@@ -437,23 +437,31 @@ struct LspProcess {
 
 // With nothing more to read the server compiles what it was given and
 // publishes, unasked: the read-ahead must not wait for input that is not
-// coming (std::cin's in_avail is what tells).
+// coming (std::cin's in_avail is what tells). Twenty sessions, each message
+// exactly once: std::cin is tied to std::cout, so reading flushed the
+// output outside the lock while the compiler thread wrote a publication,
+// and about one session in five got that publication twice.
 TEST(LspEditing, TheRealServerPublishesOnceTheInputIsQuiet) {
   test::TempDir dir;
   std::string uri = path_to_uri(dir.path + "/quiet.nqc");
-  LspProcess lsp;
-  lsp.send(request(1, "initialize"));
-  EXPECT_EQ(lsp.next(20000)["id"], 1);
-  lsp.send(open_note(uri, "task main()\n{\n  x = 1;\n}\n"));
-  json published = lsp.next(20000);
-  ASSERT_FALSE(published.is_null()) << "no diagnostics without a request";
-  EXPECT_EQ(published["method"], "textDocument/publishDiagnostics");
-  EXPECT_EQ(published["params"]["diagnostics"][0]["message"], "'x' is not declared");
-  lsp.send(change_note(uri, 2, "task main()\n{\n  y = 1;\n}\n"));
-  published = lsp.next(20000);
-  ASSERT_FALSE(published.is_null());
-  EXPECT_EQ(published["params"]["version"], 2);
-  EXPECT_EQ(published["params"]["diagnostics"][0]["message"], "'y' is not declared");
+  for (int session = 0; session < 20; ++session) {
+    LspProcess lsp;
+    lsp.send(request(1, "initialize"));
+    ASSERT_EQ(lsp.next(20000)["id"], 1);
+    lsp.send(open_note(uri, "task main()\n{\n  x = 1;\n}\n"));
+    json published = lsp.next(20000);
+    ASSERT_FALSE(published.is_null()) << "no diagnostics without a request";
+    EXPECT_EQ(published["method"], "textDocument/publishDiagnostics");
+    EXPECT_EQ(published["params"]["version"], 1);
+    EXPECT_EQ(published["params"]["diagnostics"][0]["message"], "'x' is not declared");
+    lsp.send(change_note(uri, 2, "task main()\n{\n  y = 1;\n}\n"));
+    published = lsp.next(20000);
+    ASSERT_FALSE(published.is_null());
+    EXPECT_EQ(published["params"]["version"], 2) << "session " << session;
+    EXPECT_EQ(published["params"]["diagnostics"][0]["message"], "'y' is not declared");
+    lsp.send(request(2, "shutdown"));
+    EXPECT_EQ(lsp.next(20000)["id"], 2) << "session " << session;
+  }
 }
 
 // Keystrokes written faster than a 3,200-line program compiles: the
@@ -491,6 +499,44 @@ TEST(LspEditing, TheRealServerKeepsUpWithFastTyping) {
   // The last text lacks the ';' after the assignment.
   ASSERT_EQ(last["params"]["diagnostics"].size(), 1u) << last.dump();
   EXPECT_EQ(last["params"]["diagnostics"][0]["message"].get<std::string>().rfind("expected ';'", 0), 0u);
+}
+
+// A keystroke in a 20,000-line program, sent as editors send it (a ranged
+// change, then completion): the completion reply comes before that
+// keystroke's diagnostics, as it does not wait for the compilation (about
+// 0.4 s on a loaded two-core machine). It waited for it, a compilation per
+// keystroke: 0.5 s median to a completion reply, against 14 ms now
+// (/work/ide-data's keystroke.py, reported in docs/editors.md).
+TEST(LspEditing, TheRealServerAnswersCompletionWhileItCompiles) {
+  std::string program = "int total;\n";
+  for (int i = 0; i < 2500; ++i) {
+    program += "void step" + std::to_string(i) + "(int x)\n{\n";
+    for (int k = 0; k < 4; ++k) program += "  if (SENSOR_1 == " + std::to_string(k) + ") total = x + " + std::to_string(k) + ";\n";
+    program += "  Wait(1);\n}\n";
+  }
+  program += "task main()\n{\n  step0(1);\n\n}\n";
+  const int line = 2500 * 8 + 4;  // the empty line in main
+  test::TempDir dir;
+  std::string uri = path_to_uri(dir.path + "/huge.nqc");
+  LspProcess lsp;
+  lsp.send(request(1, "initialize"));
+  EXPECT_EQ(lsp.next(20000)["id"], 1);
+  lsp.send(open_note(uri, program));
+  json first = lsp.next(120000);
+  ASSERT_EQ(first["method"], "textDocument/publishDiagnostics");
+  lsp.send(note("textDocument/didChange", {{"textDocument", {{"uri", uri}, {"version", 2}}},
+                                           {"contentChanges", json::array({{{"range", range_at(line, 0, 0)}, {"text", "  O"}}})}}));
+  lsp.send(request(2, "textDocument/completion", {{"textDocument", {{"uri", uri}}}, {"position", pos(line, 3)}}));
+  json reply = lsp.next(120000);
+  ASSERT_EQ(reply["id"], 2) << reply.dump().substr(0, 300);
+  bool has_onfwd = false;
+  for (const auto& item : reply["result"]["items"]) has_onfwd = has_onfwd || item["label"] == "OnFwd";
+  EXPECT_TRUE(has_onfwd);
+  json published = lsp.next(120000);
+  ASSERT_EQ(published["method"], "textDocument/publishDiagnostics");
+  EXPECT_EQ(published["params"]["version"], 2);
+  ASSERT_EQ(published["params"]["diagnostics"].size(), 1u) << published.dump().substr(0, 500);
+  EXPECT_EQ(published["params"]["diagnostics"][0]["range"]["start"]["line"], line);  // the O typed
 }
 
 }  // namespace
