@@ -12,6 +12,7 @@
 #include <iterator>
 #include <memory>
 #include <optional>
+#include <tuple>
 #include <sstream>
 #include <variant>
 
@@ -280,10 +281,25 @@ SourceLoc user_location(const SourceLoc& loc, const SourceManager& sm) {
 }
 
 std::string file_label(std::uint32_t file, const SourceManager& sm) {
-  // nqc names an included file as the #include spells it; rcxc keeps the
-  // folder it was found in, so only the file's own name is shown.
   if (file == 0) return sm.path(file);
-  return std::filesystem::path(sm.path(file)).filename().string();
+  // nqc names an included file as the #include spells it (`sub/parts.nqh`),
+  // and a tool opens that name from the program's folder or an -I folder:
+  // the file's own name alone (`parts.nqh`) is not there. The spelling is
+  // read back from the #include line; one a macro names gets the file's
+  // own name.
+  std::string own = std::filesystem::path(sm.path(file)).filename().string();
+  SourceSpan site = sm.include_site(file);
+  if (!site.begin.valid() || site.begin.file >= sm.size()) return own;
+  std::string_view line = sm.line(site.begin.file, site.begin.line);
+  std::size_t open = line.find_first_of("\"<", site.begin.column == 0 ? 0 : site.begin.column - 1);
+  if (open == std::string_view::npos) return own;
+  std::size_t close = line.find(line[open] == '"' ? '"' : '>', open + 1);
+  if (close == std::string_view::npos) return own;
+  std::string spelled(line.substr(open + 1, close - open - 1));
+  std::string found = std::filesystem::path(sm.path(file)).generic_string();
+  bool names_it = !spelled.empty() && found.size() >= spelled.size() &&
+                  found.compare(found.size() - spelled.size(), spelled.size(), spelled) == 0;
+  return names_it ? spelled : own;
 }
 
 class Session {
@@ -577,6 +593,51 @@ bool left_of_nqc_habit(const std::string& unexpected, const std::vector<std::str
   return false;
 }
 
+namespace {
+
+// The first token at or after `at` (comments and blanks skipped), with its
+// width when it is a name or number; at the end of the file (or when
+// `at_end`: the parser found the end there), the place after its last
+// character (the line after a last line end), where nqc reports it.
+std::pair<SourceLoc, std::size_t> token_from(const SourceManager& sm, SourceLoc at, bool at_end) {
+  const std::string& text = sm.text(at.file);
+  // Lines end at LF, CR LF or a lone CR: at most one line per CR or LF.
+  const auto lines = static_cast<std::uint32_t>(std::count(text.begin(), text.end(), '\n') +
+                                                std::count(text.begin(), text.end(), '\r') + 1);
+  bool in_comment = false;
+  std::size_t i = at.column == 0 ? 0 : at.column - 1;
+  for (std::uint32_t l = at.line; l <= lines && !at_end; ++l, i = 0) {
+    std::string_view line = sm.line(at.file, l);
+    while (i < line.size()) {
+      if (in_comment) {
+        std::size_t close = line.find("*/", i);
+        if (close == std::string_view::npos) break;
+        in_comment = false;
+        i = close + 2;
+      } else if (line[i] == ' ' || line[i] == '\t' || line[i] == '\f' || line[i] == '\v') {
+        ++i;
+      } else if (line.substr(i, 2) == "//") {
+        break;
+      } else if (line.substr(i, 2) == "/*") {
+        in_comment = true;
+        i += 2;
+      } else {
+        std::size_t width = 0;
+        while (i + width < line.size() && (std::isalnum(static_cast<unsigned char>(line[i + width])) || line[i + width] == '_'))
+          ++width;
+        return std::pair{SourceLoc{at.file, l, static_cast<std::uint32_t>(i + 1), 0}, std::max<std::size_t>(width, 1)};
+      }
+    }
+  }
+  std::uint32_t last = 1;
+  for (std::size_t c = 0; c < text.size(); ++c)
+    if (text[c] == '\n' || (text[c] == '\r' && (c + 1 == text.size() || text[c + 1] != '\n'))) ++last;
+  return std::pair{SourceLoc{at.file, last, static_cast<std::uint32_t>(sm.line(at.file, last).size() + 1), 0},
+                   std::size_t{1}};
+}
+
+}  // namespace
+
 std::string render_nqc(const Diagnostics& diags, const SourceManager& sm) {
   std::string out;
   for (const Diagnostic* d : in_source_order(diags, sm)) {
@@ -584,13 +645,20 @@ std::string render_nqc(const Diagnostics& diags, const SourceManager& sm) {
     out += fmt::format("# {}: {}\n", d->severity == Severity::Error ? "Error" : "Warning", d->message);
     SourceLoc at = user_location(d->span.begin, sm);
     if (at.valid() && at.file < sm.size()) {
-      // BricxCC finds the line by searching this line for "line N".
-      out += fmt::format("File \"{}\" ; line {}\n", file_label(at.file, sm), at.line);
       std::size_t width = 1;
       const SourceLoc& end = d->span.end;
       if (at.expansion == 0 && d->span.begin.expansion == 0 && end.file == at.file && end.line == at.line &&
           end.column > at.column)
         width = end.column - at.column;
+      // rcxc puts a missing ';' just after what it should end; nqc's parser
+      // reports it at the token it found instead, often on the next line,
+      // and that is the line a tool reading nqc's messages expects. The
+      // message ("expected ';' before 'Wait'") names that token, or the end
+      // of the file.
+      if (d->message.rfind("expected ';'", 0) == 0 && at == d->span.begin && at.expansion == 0)
+        std::tie(at, width) = token_from(sm, at, d->message.ends_with("before end of file"));
+      // BricxCC finds the line by searching this line for "line N".
+      out += fmt::format("File \"{}\" ; line {}\n", file_label(at.file, sm), at.line);
       QuotedLine quoted = quote_line(sm.line(at.file, at.line), at.column == 0 ? 0 : at.column - 1, width);
       out += fmt::format("# {}\n# {}{}\n", quoted.text, quoted.lead_in, std::string(quoted.width, '^'));
     }

@@ -2,6 +2,7 @@
 // out. Everything is reentrant: all state lives in the arguments.
 #pragma once
 
+#include <map>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -24,6 +25,9 @@ struct Options {
   // program reaches. The result is the same (tests compare the two); the
   // default skips the library's unused functions for speed.
   bool whole_library = false;
+  // The text an editor holds for an included file, by its absolute path
+  // (lexically normal), read instead of the disk (rcxc lsp's unsaved buffers).
+  const std::map<std::string, std::string>* unsaved = nullptr;
 
   // Adds `-D`'s argument: NAME or NAME=VALUE.
   void define(const std::string& option);

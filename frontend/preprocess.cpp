@@ -1012,6 +1012,10 @@ class Preprocessor {
         continue;
       }
       auto file = rcx::read_file(p.string(), rcx::kSourceFile);
+      if (opts_.unsaved) {  // rcxc lsp: a file open in the editor is read as typed
+        auto typed = opts_.unsaved->find(fs::absolute(p, ec).lexically_normal().string());
+        if (typed != opts_.unsaved->end()) file = typed->second;
+      }
       if (auto* problem = std::get_if<rcx::FileProblem>(&file)) {
         if (*problem != rcx::FileProblem::TooLarge) continue;
         diags_.error(where, rcx::too_large_message(p.string(), rcx::kSourceFile));

@@ -20,6 +20,7 @@ inline constexpr int kMethodNotFound = -32601;
 inline constexpr int kInvalidParams = -32602;
 inline constexpr int kInternalError = -32603;
 inline constexpr int kServerNotInitialized = -32002;
+inline constexpr int kRequestCancelled = -32800;
 inline constexpr int kRequestFailed = -32803;  // a good request the server declines (LSP 3.17)
 
 // The largest message body accepted; a longer one is read past unparsed.

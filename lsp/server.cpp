@@ -4,12 +4,16 @@
 #include <cctype>
 #include <cstdint>
 #include <cstdlib>
+#include <condition_variable>
+#include <deque>
 #include <filesystem>
 #include <fstream>
+#include <mutex>
 #include <set>
 #include <stdexcept>
 #include <sstream>
 #include <string_view>
+#include <thread>
 #include <variant>
 #include <vector>
 
@@ -94,10 +98,12 @@ struct Refused : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// The most bytes of text one didChange's ranged changes may go through:
-// as much as one message may carry (thousands of changes on a program of
-// a few kilobytes, 80 on a document at the 1 MiB compile cap).
-constexpr std::uint64_t kMaxChangeWork = kMaxBody;
+// The most bytes one didChange's ranged changes may move: the lines they
+// touch, and the table of lines behind them when they add or remove lines
+// (a string's worth per line). A thousand added lines in a 20,000-line
+// document move 640 MB in all, a fraction of a second; a message that would
+// move more is refused (its changes are dropped).
+constexpr std::uint64_t kMaxChangeWork = std::uint64_t{4} << 30;
 
 // A line, character or version: a JSON integer. get<std::int64_t>() would
 // convert a float too, and 1e300 has no int64 value (undefined behaviour);
@@ -124,17 +130,64 @@ std::optional<Place> place_of(const Document& doc, const json& pos) {
   return Place{doc.index.main_file, l, byte_column_of_utf16(doc_line(doc, l), character)};
 }
 
-// Byte offset in `text` of a client position (for incremental changes).
-std::size_t offset_of(std::string_view text, const json& pos) {
-  std::int64_t line = std::max<std::int64_t>(0, integer_field(pos, "line"));
-  std::size_t start = 0;
-  for (std::int64_t l = 0; l < line; ++l) {
-    auto nl = text.find('\n', start);
-    if (nl == std::string_view::npos) return text.size();
-    start = nl + 1;
+// The text after a didChange's changes, each a whole new text or a range
+// (in UTF-16 units) replaced. The text is held as lines while they are
+// applied, so a change costs the lines it touches, not the whole text:
+// with incremental sync a keystroke is one such change, and a rename's
+// hundreds of edits one message of them.
+std::string apply_changes(const std::string& text, const json& changes) {
+  auto split = [](std::string_view t) {
+    std::vector<std::string> lines;
+    for (std::size_t start = 0;;) {
+      std::size_t nl = t.find('\n', start);
+      lines.emplace_back(t.substr(start, nl == std::string_view::npos ? std::string_view::npos : nl - start));
+      if (nl == std::string_view::npos) return lines;
+      start = nl + 1;
+    }
+  };
+  std::vector<std::string> lines = split(text);
+  // A place as (line, byte); a line past the end is the end of the text.
+  auto locate = [&lines](const json& pos) {
+    std::int64_t line = std::max<std::int64_t>(0, integer_field(pos, "line"));
+    std::int64_t character = integer_field(pos, "character");
+    if (line >= static_cast<std::int64_t>(lines.size())) return std::pair{lines.size() - 1, lines.back().size()};
+    std::string_view l = lines[static_cast<std::size_t>(line)];
+    if (!l.empty() && l.back() == '\r') l.remove_suffix(1);
+    return std::pair{static_cast<std::size_t>(line), std::size_t{byte_column_of_utf16(l, character)} - 1};
+  };
+  std::uint64_t work = 0;
+  for (const auto& change : changes) {
+    std::string inserted = change.at("text").get<std::string>();
+    if (!change.contains("range")) {
+      lines = split(inserted);
+      continue;
+    }
+    auto a = locate(change["range"].at("start"));
+    auto b = locate(change["range"].at("end"));
+    if (b < a) std::swap(a, b);
+    std::string joined = lines[a.first].substr(0, a.second) + inserted + lines[b.first].substr(b.second);
+    std::vector<std::string> replacement = split(joined);
+    const std::size_t old_n = b.first - a.first + 1, new_n = replacement.size();
+    work += joined.size() + (old_n != new_n ? (lines.size() - b.first) * sizeof(std::string) : 0);
+    if (work > kMaxChangeWork) throw BadParams("too many ranged changes in one didChange");
+    const std::size_t common = std::min(old_n, new_n);
+    for (std::size_t i = 0; i < common; ++i) lines[a.first + i] = std::move(replacement[i]);
+    auto at = lines.begin() + static_cast<std::ptrdiff_t>(a.first + common);
+    if (new_n > old_n)
+      lines.insert(at, std::make_move_iterator(replacement.begin() + static_cast<std::ptrdiff_t>(common)),
+                   std::make_move_iterator(replacement.end()));
+    else if (old_n > new_n)
+      lines.erase(at, at + static_cast<std::ptrdiff_t>(old_n - new_n));
   }
-  auto l = static_cast<std::uint32_t>(line + 1);
-  return std::min(text.size(), start + byte_column_of_utf16(line_of(text, l), integer_field(pos, "character")) - 1);
+  std::string out;
+  std::size_t size = lines.size();
+  for (const auto& l : lines) size += l.size();
+  out.reserve(size);
+  for (std::size_t i = 0; i < lines.size(); ++i) {
+    if (i > 0) out.push_back('\n');
+    out += lines[i];
+  }
+  return out;
 }
 
 // ------------------------------------------------------------------ URIs --
@@ -270,8 +323,73 @@ json publish(Server& server, const std::string& uri, const Document* doc) {
   return notification("textDocument/publishDiagnostics", params);
 }
 
+// As frontend::Options::unsaved names a file.
+std::string normal_path(const std::string& path) {
+  std::error_code ec;
+  return fs::absolute(path, ec).lexically_normal().string();
+}
+
+// What compiling a document reads, copied, so that it can be compiled
+// while the server goes on.
+struct Snapshot {
+  std::string path;
+  std::string text;
+  frontend::Options options;
+  WarningPolicy warnings;
+  // An #include of a file open in the editor reads the editor's text, as
+  // typed, not the file as last saved.
+  std::map<std::string, std::string> unsaved;
+  std::uint64_t generation = 0;
+  std::int64_t version = 0;
+};
+
+Snapshot snapshot_of(const Server& server, const Document& doc) {
+  Snapshot s{doc.path, doc.text, server.options, server.warnings, {}, doc.generation, doc.version};
+  for (const auto& [uri, other] : server.documents)
+    if (&other != &doc) s.unsaved.emplace(normal_path(other.path), other.text);
+  return s;
+}
+
+Index build(Snapshot& s) {
+  s.options.unsaved = &s.unsaved;
+  return build_index(s.path, s.text, s.options, s.warnings);
+}
+
 void reindex(const Server& server, Document& doc) {
-  doc.index = build_index(doc.path, doc.text, server.options, server.warnings);
+  Snapshot s = snapshot_of(server, doc);
+  doc.index = build(s);
+  doc.index_generation = doc.generation;
+  doc.stale = false;
+}
+
+bool includes(const Document& doc, const std::string& path) {
+  for (std::uint32_t f = 0; f < doc.index.sm.size(); ++f)
+    if (f != doc.index.main_file && normal_path(doc.index.sm.path(f)) == path) return true;
+  return false;
+}
+
+// The text of the document at `path` was set or dropped (`doc` is null when
+// it was closed): it is compiled now, or marked for later (defer_index), and
+// so is every open document that includes it.
+std::vector<json> changed(Server& server, const std::string& uri, Document* doc, const std::string& path) {
+  std::vector<json> out;
+  auto redo = [&](const std::string& u, Document& d) {
+    d.generation = ++server.changes;
+    if (server.defer_index) {
+      d.stale = true;
+    } else {
+      reindex(server, d);
+      out.push_back(publish(server, u, &d));
+    }
+  };
+  if (doc)
+    redo(uri, *doc);
+  else
+    out.push_back(publish(server, uri, nullptr));
+  const std::string normal = normal_path(path);
+  for (auto& [other_uri, other] : server.documents)
+    if (&other != doc && includes(other, normal)) redo(other_uri, other);
+  return out;
 }
 
 // --------------------------------------------------------------- requests --
@@ -993,23 +1111,32 @@ json range_formatting(Request& r) {
   return edits;
 }
 
+// The client's settings, `{"includeDirs": [...], "warnings": [...]}`, on
+// top of the command line's: what an earlier setting added is replaced.
+void apply_settings(Server& server, const json& settings) {
+  server.options.include_dirs = server.started_include_dirs;
+  server.warnings = server.started_warnings;
+  if (!settings.is_object()) return;
+  if (settings.contains("includeDirs") && settings["includeDirs"].is_array())
+    for (const auto& d : settings["includeDirs"])
+      if (d.is_string()) server.options.include_dirs.push_back(d.get<std::string>());
+  // As -W options: "no-unused-variable", "error=range". One it does not
+  // know is left out: the editor's settings should not stop the server.
+  if (settings.contains("warnings") && settings["warnings"].is_array())
+    for (const auto& w : settings["warnings"])
+      if (w.is_string()) {
+        WarningPolicy tried = server.warnings;
+        if (!apply_warning_option(tried, w.get<std::string>())) server.warnings = tried;
+      }
+}
+
 json initialize_result(Server& server, const json& params) {
-  if (params.is_object() && params.contains("initializationOptions")) {
-    const json& init = params["initializationOptions"];
-    if (init.is_object() && init.contains("includeDirs") && init["includeDirs"].is_array())
-      for (const auto& d : init["includeDirs"])
-        if (d.is_string()) server.options.include_dirs.push_back(d.get<std::string>());
-    // As -W options: "no-unused-variable", "error=range". One it does not
-    // know is left out: the editor's settings should not stop the server.
-    if (init.is_object() && init.contains("warnings") && init["warnings"].is_array())
-      for (const auto& w : init["warnings"])
-        if (w.is_string()) {
-          WarningPolicy tried = server.warnings;
-          if (!apply_warning_option(tried, w.get<std::string>())) server.warnings = tried;
-        }
-  }
+  server.started_include_dirs = server.options.include_dirs;
+  server.started_warnings = server.warnings;
+  if (params.is_object() && params.contains("initializationOptions"))
+    apply_settings(server, params["initializationOptions"]);
   json capabilities = {
-      {"textDocumentSync", {{"openClose", true}, {"change", 1}, {"save", {{"includeText", false}}}}},
+      {"textDocumentSync", {{"openClose", true}, {"change", 2}, {"save", {{"includeText", false}}}}},
       {"hoverProvider", true},
       {"completionProvider", {{"resolveProvider", false}}},
       {"definitionProvider", true},
@@ -1051,8 +1178,8 @@ std::vector<json> notify(Server& server, const std::string& method, const json& 
     // keeps LF there, so the position arithmetic looks for '\n' alone.
     doc.text = with_lone_crs_as_lf(std::move(text));
     doc.version = version;
-    reindex(server, doc);
-    return {publish(server, uri, &doc)};
+    doc.opened = server.changes + 1;  // what `changed` gives it: older compilations are not its own
+    return changed(server, uri, &doc, doc.path);
   }
   if (method == "textDocument/didChange") {
     std::string uri = text_document_uri(params);
@@ -1062,45 +1189,48 @@ std::vector<json> notify(Server& server, const std::string& method, const json& 
     // Every change is applied to a copy and kept only if the whole message
     // is good: a bad version or a later malformed change used to leave the
     // text changed but the index (and diagnostics) of the old text.
-    std::string updated = doc.text;
-    // Each ranged change costs the whole text (finding its line, moving
-    // the rest): 20,000 of them in one message on a 700 KB document took
-    // two minutes. The server asks for full-text changes; a client that
-    // sends more ranged work than this in one message is refused.
-    std::uint64_t work = 0;
-    for (const auto& change : params.at("contentChanges")) {
-      std::string text = change.at("text").get<std::string>();
-      if (change.contains("range")) {
-        work += updated.size() + text.size();
-        if (work > kMaxChangeWork) throw BadParams("too many ranged changes in one didChange");
-        std::size_t a = offset_of(updated, change["range"].at("start"));
-        std::size_t b = offset_of(updated, change["range"].at("end"));
-        if (b < a) std::swap(a, b);
-        updated.replace(a, b - a, text);
-      } else {
-        updated = std::move(text);
-      }
-    }
+    std::string updated = apply_changes(doc.text, params.at("contentChanges"));
     const json& td = params.at("textDocument");
     std::int64_t version = td.contains("version") && !td["version"].is_null() ? integer_field(td, "version") : doc.version;
     doc.text = with_lone_crs_as_lf(std::move(updated));
     doc.version = version;
-    reindex(server, doc);
-    return {publish(server, uri, &doc)};
+    return changed(server, uri, &doc, doc.path);
   }
   if (method == "textDocument/didSave") {
     std::string uri = text_document_uri(params);
     auto it = server.documents.find(uri);
     if (it == server.documents.end()) return {};
-    reindex(server, it->second);  // an included file may have changed
-    return {publish(server, uri, &it->second)};
+    return changed(server, uri, &it->second, it->second.path);  // an included file may have changed
   }
   if (method == "textDocument/didClose") {
     std::string uri = text_document_uri(params);
-    server.documents.erase(uri);
-    return {publish(server, uri, nullptr)};
+    auto it = server.documents.find(uri);
+    if (it == server.documents.end()) return {publish(server, uri, nullptr)};
+    std::string path = it->second.path;
+    server.documents.erase(it);
+    return changed(server, uri, nullptr, path);  // who includes it reads the saved file again
   }
-  return {};  // initialized, $/cancelRequest, workspace/didChangeConfiguration, ...: nothing to do
+  if (method == "workspace/didChangeConfiguration") {
+    // Settings under "rcxc" (VS Code's and Neovim's way: the section named
+    // after the server), with initializationOptions' names; other settings
+    // change nothing. Every open document is compiled again with them.
+    if (!params.is_object() || !params.contains("settings") || !params["settings"].is_object() ||
+        !params["settings"].contains("rcxc"))
+      return {};
+    apply_settings(server, params["settings"]["rcxc"]);
+    std::vector<json> out;
+    for (auto& [uri, doc] : server.documents) {
+      doc.generation = ++server.changes;
+      if (server.defer_index) {
+        doc.stale = true;
+      } else {
+        reindex(server, doc);
+        out.push_back(publish(server, uri, &doc));
+      }
+    }
+    return out;
+  }
+  return {};  // initialized, $/cancelRequest, ...: nothing to do
 }
 
 struct UnknownMethod {};
@@ -1170,22 +1300,58 @@ std::vector<json> handle(Server& server, const json& message) {
   if (!server.initialized) return {error_response(id, kServerNotInitialized, "initialize first")};
   if (server.shutdown) return {error_response(id, kInvalidRequest, "the server is shutting down")};
   if (method == "shutdown") {
+    // The last text of every document has its diagnostics, however soon
+    // the client leaves after changing it.
+    std::vector<json> out = flush_stale(server);
     server.shutdown = true;
-    return {response(id, nullptr)};
+    out.push_back(response(id, nullptr));
+    return out;
+  }
+  // The documents the request reads are compiled first, their diagnostics
+  // sent before the answer: a request about one document reads it alone;
+  // others (workspace symbols, call hierarchy items) may read any.
+  std::vector<json> out;
+  if (params.is_object() && params.contains("textDocument") && params["textDocument"].is_object() &&
+      params["textDocument"].contains("uri") && params["textDocument"]["uri"].is_string()) {
+    const std::string uri = params["textDocument"]["uri"].get<std::string>();
+    auto it = server.documents.find(uri);
+    // Completion, asked at every keystroke, answers from the text last
+    // compiled (the names of a moment ago, the API and keywords): compiling
+    // a large file first held it up by a compilation each time.
+    bool stale_will_do = server.defer_index && method == "textDocument/completion" && it != server.documents.end() &&
+                         it->second.index.sm.size() > 0;
+    if (it != server.documents.end() && it->second.stale && !stale_will_do) {
+      reindex(server, it->second);
+      out.push_back(publish(server, uri, &it->second));
+    }
+  } else {
+    out = flush_stale(server);
   }
   try {
-    return {response(id, answer(server, method, params))};
+    out.push_back(response(id, answer(server, method, params)));
+    return out;
   } catch (const UnknownMethod&) {
-    return {error_response(id, kMethodNotFound, "unknown method '" + method + "'")};
+    out.push_back(error_response(id, kMethodNotFound, "unknown method '" + method + "'"));
   } catch (const nlohmann::json::exception& e) {
-    return {error_response(id, kInvalidParams, std::string("bad parameters for ") + method + ": " + e.what())};
+    out.push_back(error_response(id, kInvalidParams, std::string("bad parameters for ") + method + ": " + e.what()));
   } catch (const BadParams& e) {
-    return {error_response(id, kInvalidParams, std::string("bad parameters for ") + method + ": " + e.what())};
+    out.push_back(error_response(id, kInvalidParams, std::string("bad parameters for ") + method + ": " + e.what()));
   } catch (const Refused& e) {
-    return {error_response(id, kRequestFailed, e.what())};
+    out.push_back(error_response(id, kRequestFailed, e.what()));
   } catch (const std::exception& e) {
-    return {error_response(id, kInternalError, e.what())};
+    out.push_back(error_response(id, kInternalError, e.what()));
   }
+  return out;
+}
+
+std::vector<json> flush_stale(Server& server) {
+  std::vector<json> out;
+  for (auto& [uri, doc] : server.documents)
+    if (doc.stale) {
+      reindex(server, doc);
+      out.push_back(publish(server, uri, &doc));
+    }
+  return out;
 }
 
 std::vector<json> handle_text(Server& server, const std::string& body) {
@@ -1194,9 +1360,103 @@ std::vector<json> handle_text(Server& server, const std::string& body) {
   return handle(server, message);
 }
 
+namespace {
+
+// A message read ahead: its frame and, for a message, its JSON (discarded
+// when it is not JSON).
+struct Queued {
+  Frame frame;
+  json message;
+};
+
+// The id a `$/cancelRequest` names, or null.
+json cancelled_id(const json& message) {
+  if (!message.is_object() || !message.contains("method") || message["method"] != "$/cancelRequest" ||
+      message.contains("id") || !message.contains("params") || !message["params"].is_object() ||
+      !message["params"].contains("id"))
+    return nullptr;
+  const json& id = message["params"]["id"];
+  return id.is_string() || id.is_number_integer() ? id : json(nullptr);
+}
+
+}  // namespace
+
 int serve(Server& server, std::istream& in, std::ostream& out, std::ostream& log) {
-  while (!server.exited) {
-    Frame frame = read_frame(in);
+  server.defer_index = true;
+  // The compiler thread and this one share the server and `out` under `m`;
+  // the compiler builds from a snapshot without it. Reading from a stream
+  // tied to `out` (std::cin is tied to std::cout) flushes `out` first,
+  // outside the lock: the compiler's message was written twice. Every
+  // message is flushed when written, so nothing needs the tie.
+  std::ostream* tied = in.tie(nullptr);
+  std::mutex m;
+  std::condition_variable quiet;  // the input is quiet (or we stop): compile what is stale
+  bool compile_now = false, stopping = false, write_failed = false;
+  auto send = [&](const std::vector<json>& replies) {
+    for (const auto& reply : replies) write_message(out, reply);
+    if (!out) write_failed = true;
+    return !write_failed;
+  };
+  std::thread compiler([&] {
+    std::unique_lock lock(m);
+    for (;;) {
+      quiet.wait(lock, [&] { return stopping || compile_now; });
+      if (stopping) return;
+      auto it = std::find_if(server.documents.begin(), server.documents.end(),
+                             [](const auto& entry) { return entry.second.stale; });
+      if (it == server.documents.end()) {
+        compile_now = false;
+        continue;
+      }
+      const std::string uri = it->first;
+      Snapshot snapshot = snapshot_of(server, it->second);
+      lock.unlock();
+      Index index = build(snapshot);
+      lock.lock();
+      // Kept if the document is still open and nothing newer was compiled
+      // meanwhile (a request compiles what it needs itself), even when the
+      // text has changed since: while the user types on, the diagnostics of
+      // a moment ago, with their version, are better than none. The
+      // document stays stale then, and is compiled again.
+      it = server.documents.find(uri);
+      if (it != server.documents.end() && snapshot.generation > it->second.index_generation &&
+          snapshot.generation >= it->second.opened) {
+        Document& doc = it->second;
+        std::swap(doc.index, index);
+        doc.index_generation = snapshot.generation;
+        doc.stale = doc.generation != snapshot.generation;
+        json published = publish(server, uri, &doc);
+        published["params"]["version"] = snapshot.version;
+        if (!write_failed) send({published});
+      }
+      // The index let go of (the old one, or this one unused) is freed
+      // without the lock: a 20,000-line program's takes a while.
+      lock.unlock();
+      { Index retired = std::move(index); }
+      lock.lock();
+    }
+  });
+  std::unique_lock lock(m);
+  std::deque<Queued> queue;
+  std::size_t queued_bytes = 0;
+  auto arrived = [&in] { return in.rdbuf()->in_avail() > 0; };
+  auto read_one = [&] {
+    Queued q{read_frame(in), nullptr};
+    if (q.frame.kind == Frame::Kind::Message) q.message = json::parse(q.frame.body, nullptr, false);
+    queued_bytes += q.frame.body.size();
+    queue.push_back(std::move(q));
+  };
+  int code = -1;
+  while (!server.exited && code < 0) {
+    // Reading may wait for the client: the compiler may publish meanwhile.
+    lock.unlock();
+    if (queue.empty()) read_one();
+    while (queue.back().frame.kind != Frame::Kind::End && queued_bytes < kMaxBody && arrived()) read_one();
+    lock.lock();
+    Queued q = std::move(queue.front());
+    queue.pop_front();
+    queued_bytes -= q.frame.body.size();
+    const Frame& frame = q.frame;
     if (frame.kind == Frame::Kind::End) {
       if (!frame.error.empty()) log << "rcxc lsp: " << frame.error << "\n";
       break;
@@ -1206,15 +1466,38 @@ int serve(Server& server, std::istream& in, std::ostream& out, std::ostream& log
       continue;
     }
     if (!frame.error.empty()) log << "rcxc lsp: " << frame.error << "\n";
-    for (const auto& reply : handle_text(server, frame.body)) write_message(out, reply);
+    std::vector<json> replies;
+    // A request the client has already cancelled is not run (it may be the
+    // one that would compile a large document).
+    const json& msg = q.message;
+    bool cancelled = false;
+    if (server.initialized && !server.shutdown && msg.is_object() && msg.contains("method") && msg.contains("id") &&
+        (msg["id"].is_string() || msg["id"].is_number_integer()) && msg["method"] != "shutdown")
+      for (const auto& later : queue)
+        if (cancelled_id(later.message) == msg["id"]) cancelled = true;
+    if (cancelled)
+      replies.push_back(error_response(msg["id"], kRequestCancelled, "cancelled by the client"));
+    else
+      replies = msg.is_discarded() ? handle_text(server, frame.body) : handle(server, msg);
     // The client closed our output (rcxc ignores SIGPIPE, so the write
     // failed instead of killing us): nothing said from here would arrive.
-    if (!out) {
-      log << "rcxc lsp: cannot write to the client (the standard output is closed); stopping\n";
-      return 1;
+    if (!send(replies)) code = 1;
+    // Nothing more waiting: the changes so far are compiled now, once.
+    if (!server.exited && queue.empty() && !arrived()) {
+      compile_now = true;
+      quiet.notify_one();
     }
   }
-  return server.shutdown && server.exited ? 0 : 1;
+  stopping = true;
+  quiet.notify_one();
+  lock.unlock();
+  compiler.join();
+  in.tie(tied);
+  if (write_failed) {
+    log << "rcxc lsp: cannot write to the client (the standard output is closed); stopping\n";
+    return 1;
+  }
+  return code >= 0 ? code : server.shutdown && server.exited ? 0 : 1;
 }
 
 std::string uri_to_path(const std::string& uri) {

@@ -47,6 +47,19 @@ const std::map<std::string, std::string> kFiles = {
     {"defs.nqc", "int y;\ntask main()\n{\n#ifdef X\n  x = 1;\n#endif\n#if LEVEL != 2\n  z = 2;\n#endif\n  y = 1;\n}\n"},
     {"if_defined.nqc", "int y;\ntask main()\n{\n#if X\n  y = 2;\n#endif\n  y = 1;\n}\n"},
     {"plain.nqc", "int x;\ntask main()\n{\n  x = OUT_A;\n}\n"},
+    // A missing ';': nqc points at the token after the gap, on the next
+    // line here, past a comment and a blank line in semi_comment.nqc.
+    {"semi.nqc", "task main()\n{\n  OnFwd(OUT_A)\n  Wait(100);\n}\n"},
+    {"semi_decl.nqc", "task main()\n{\n  int x\n  x = 2;\n}\n"},
+    {"semi_comment.nqc", "task main()\n{\n  Wait(1)  // one tick\n\n  /* then\n     stop */ Off(OUT_A);\n}\n"},
+    // At the end of the file: the line after the last line end, if any.
+    {"semi_eof.nqc", "task main()\n{\n}\nint a\n"},
+    {"semi_eof_unended.nqc", "task main()\n{\n}\nint a"},
+    // An included file is named as the #include spells it, folder and all.
+    {"subinc.nqc", "#include \"sub/part.nqh\"\ntask main()\n{\n  Go();\n}\n"},
+    {"sub/part.nqh", "void Go()\n{\n  OnFwd(OUT_A);\n  Stopp(OUT_A);\n}\n"},
+    {"semi_inc.nqc", "#include \"sub/semi.nqh\"\ntask main()\n{\n  Go();\n}\n"},
+    {"sub/semi.nqh", "void Go()\n{\n  OnFwd(OUT_A)\n}\n"},
 };
 
 struct Outcome {
@@ -167,6 +180,13 @@ TEST(NqcMode, CompilingBehavesAsNqc) {
            {{"inc.nqc"}, "NQC_INCLUDE=inc"},
            {{"ok.nqc"}, "NQC_OPTIONS=-Lq.lst"},
            {{"-api"}},
+           {{"semi.nqc"}},
+           {{"semi_decl.nqc"}},
+           {{"semi_comment.nqc"}},
+           {{"semi_eof.nqc"}},
+           {{"semi_eof_unended.nqc"}},
+           {{"subinc.nqc"}},
+           {{"-Esemi.log", "semi_inc.nqc"}},
        })
     expect_same_as_nqc(c);
 }
@@ -214,6 +234,21 @@ TEST(NqcMode, ErrorsComeInNqcsFormat) {
             "#----------------------------------------------------------\n"
             "# 1 error during compilation\n");
   EXPECT_EQ(o.created, (std::set<std::string>{"temp.log"}));
+}
+
+// A missing ';' is shown where nqc shows it, at the token found instead
+// (which the message names), not at the end of the line before.
+TEST(NqcMode, AMissingSemicolonIsAtTheTokenFound) {
+  NqcLink nqc;
+  auto o = run_in_folder(nqc.path, {"-Etemp.log", "semi.nqc"});
+  EXPECT_EQ(o.exit_code, 243);
+  EXPECT_EQ(o.logs,
+            "# Error: expected ';' before 'Wait'\n"
+            "File \"semi.nqc\" ; line 4\n"
+            "#   Wait(100);\n"
+            "#   ^^^^\n"
+            "#----------------------------------------------------------\n"
+            "# 1 error during compilation\n");
 }
 
 TEST(NqcMode, SubcommandIsTheSameMode) {

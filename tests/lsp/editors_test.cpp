@@ -6,6 +6,7 @@
 // quickfix list through the errorformat.
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <fstream>
 #include <regex>
 #include <set>
@@ -169,6 +170,65 @@ TEST(Editors, VimFilesLoadInHeadlessNeovimAndMakeFindsTheError) {
   EXPECT_EQ(e["type"], "e");  // %t keeps the letter as matched; vim reads e as an error
   EXPECT_EQ(e["text"], "'speed' is not declared");
   EXPECT_EQ(e["file"], file);
+}
+
+// The VS Code extension under node with the two modules it needs stubbed:
+// `${workspaceFolder}` in rcxc.includeDirs (as docs/editors.md shows it)
+// and a relative folder reach the server as folders of the workspace, and
+// a changed rcxc setting restarts the server with the new folders. Both
+// were passed as written (`-I ${workspaceFolder}/include`), a folder that
+// does not exist, and a change waited for the next window.
+TEST(Editors, VsCodeExtensionResolvesIncludeDirsAndRestartsOnChange) {
+  std::string node = find_program("node");
+  if (node.empty()) GTEST_SKIP() << "node is not installed";
+  TempDir dir;
+  std::filesystem::create_directories(dir.path + "/node_modules/vscode");
+  std::filesystem::create_directories(dir.path + "/node_modules/vscode-languageclient");
+  dir.write("node_modules/vscode/index.js", R"(
+let dirs = ['${workspaceFolder}/include', 'lib', '/abs/inc'];
+let handler;
+module.exports = {
+  workspace: {
+    workspaceFolders: [{ uri: { fsPath: '/proj/robot' } }],
+    getConfiguration: () => ({ get: (key, fallback) => (key === 'includeDirs' ? dirs : fallback) }),
+    onDidChangeConfiguration: (h) => { handler = h; return { dispose() {} }; },
+  },
+  setDirs: (d) => { dirs = d; },
+  fire: (section) => handler({ affectsConfiguration: (s) => s === section }),
+};
+)");
+  dir.write("node_modules/vscode-languageclient/node.js", R"(
+const log = [];
+class LanguageClient {
+  constructor(id, name, server) { this.args = server.args; log.push({ started: server.args }); }
+  start() { return Promise.resolve(); }
+  stop() { log.push({ stopped: this.args }); return Promise.resolve(); }
+}
+module.exports = { LanguageClient, TransportKind: { stdio: 0 }, log };
+)");
+  dir.write("run.js", R"(
+const vscode = require('vscode');
+const { log } = require('vscode-languageclient/node');
+const ext = require(process.argv[2]);
+(async () => {
+  await ext.activate({ subscriptions: [] });
+  await vscode.fire('editor.fontSize');
+  vscode.setDirs(['${workspaceFolder}/other']);
+  await vscode.fire('rcxc.includeDirs');
+  console.log(JSON.stringify(log));
+})();
+)");
+  auto r = run_process({"/bin/sh", "-c",
+                        "cd '" + dir.path + "' && NODE_PATH='" + dir.path + "/node_modules' '" + node + "' run.js '" +
+                            kEditors + "vscode/extension.js'"},
+                       "", 30000);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  json log = json::parse(r.out, nullptr, false);
+  ASSERT_FALSE(log.is_discarded()) << r.out << r.err;
+  EXPECT_EQ(log, json::parse(R"([
+    {"started": ["lsp", "-I", "/proj/robot/include", "-I", "/proj/robot/lib", "-I", "/abs/inc"]},
+    {"stopped": ["lsp", "-I", "/proj/robot/include", "-I", "/proj/robot/lib", "-I", "/abs/inc"]},
+    {"started": ["lsp", "-I", "/proj/robot/other"]}])"));
 }
 
 }  // namespace

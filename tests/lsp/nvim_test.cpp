@@ -25,14 +25,15 @@ std::string find_nvim() {
   return r.exit_code == 0 ? path : "";
 }
 
-json run_nvim_client(const TempDir& dir, const std::string& nvim, json config) {
+json run_nvim_client(const TempDir& dir, const std::string& nvim, json config,
+                     const std::string& script = RCXC_SOURCE_DIR "/tests/lsp/nvim_client.lua") {
   config["rcxc"] = RCXC_BINARY;
   config["stdlib_dir"] = dir.path + "/stdlib";
   config["out"] = dir.path + "/result.json";
   std::string config_path = dir.write("config.json", config.dump());
   auto r = run_process({nvim, "--headless", "-n", "-i", "NONE", "-u", "NONE", "--cmd",
                         "let g:rcxc_config = '" + config_path + "'", "-c",
-                        "luafile " RCXC_SOURCE_DIR "/tests/lsp/nvim_client.lua"},
+                        "luafile " + script},
                        "", 90000);
   EXPECT_FALSE(r.timed_out) << r.err;
   json result = json::parse(read_text_file(dir.path + "/result.json"), nullptr, false);
@@ -123,6 +124,56 @@ TEST(NvimClient, DiagnosticsHoverCompletionDefinitionSignatureSymbolsAndRename) 
 
   EXPECT_EQ(result["jump"]["file"], dir.path + "/stdlib/rcx.nqh");
   EXPECT_NE(result["jump"]["text"].get<std::string>().find("void OnRev("), std::string::npos) << result["jump"];
+}
+
+// A header edited in one buffer and not saved, the program including it in
+// another (tests/lsp/nvim_header.lua): the program knows the name typed
+// into the header, and go to definition jumps to the typed line in the
+// header's own, still modified, buffer. The server read the header from
+// disk: the name was "not declared" and the jump went nowhere. Then a line
+// of wide characters is typed in insert mode, sent as incremental changes.
+TEST(NvimClient, AnUnsavedHeaderInAnotherBufferIsReadAsTyped) {
+  std::string nvim = find_nvim();
+  if (nvim.empty()) GTEST_SKIP() << "nvim is not installed (apt-get install neovim)";
+  TempDir dir;
+  std::string header = dir.write("parts.nqh", "int speed;\n");
+  dir.write("main.nqc",
+            "#include \"parts.nqh\"\n"              // 0
+            "// Grüße 😀: a comment of wide letters\n"  // 1
+            "task main()\n"                         // 2
+            "{\n"                                   // 3
+            "  turn = 2; /* 😀 */ bogus = 1;\n"      // 4
+            "  speed = 3;\n"                        // 5
+            "}\n");
+  json result = run_nvim_client(dir, nvim,
+                                {{"dir", dir.path},
+                                 {"typed", {"int speed;", "// how long a turn lasts", "int turn;"}},
+                                 {"keys", "A // ö😀 x<CR>zap = 1; /* 😀 */ zip = 2;<Esc>"}},
+                                RCXC_SOURCE_DIR "/tests/lsp/nvim_header.lua");
+  ASSERT_FALSE(result.is_discarded());
+  ASSERT_FALSE(result.contains("error")) << result["error"];
+  EXPECT_TRUE(result["attached"].get<bool>());
+  EXPECT_TRUE(result["header_modified"].get<bool>());
+  // Only 'bogus', at byte column 23 as Neovim counts: the server said 21
+  // in UTF-16 units (the emoji is two of them and four bytes).
+  ASSERT_EQ(result["diagnostics"].size(), 1u) << result["diagnostics"].dump();
+  EXPECT_EQ(result["diagnostics"][0]["message"], "'bogus' is not declared");
+  EXPECT_EQ(result["diagnostics"][0]["lnum"], 4);
+  EXPECT_EQ(result["diagnostics"][0]["col"], 23);
+  EXPECT_EQ(result["jump"]["file"], header);
+  EXPECT_EQ(result["jump"]["line"], 2);
+  EXPECT_EQ(result["jump"]["text"], "int turn;");
+  EXPECT_TRUE(result["jump"]["same_buffer"].get<bool>());
+
+  // After typing, the server's text is the buffer's: the names typed are
+  // found where Neovim shows them (Neovim indents the new line as the one
+  // above; byte columns: zip after the emoji at 22).
+  ASSERT_EQ(result["typed"][5], "  speed = 3; // ö😀 x") << result["typed"].dump();
+  ASSERT_EQ(result["typed"][6], "  zap = 1; /* 😀 */ zip = 2;");
+  EXPECT_EQ(result["after_typing"], json::parse(R"([
+    {"lnum": 4, "col": 23, "message": "'bogus' is not declared"},
+    {"lnum": 6, "col": 2, "message": "'zap' is not declared"},
+    {"lnum": 6, "col": 22, "message": "'zip' is not declared"}])"));
 }
 
 }  // namespace
