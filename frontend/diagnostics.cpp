@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <optional>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -228,9 +229,37 @@ std::vector<std::array<std::uint32_t, 3>> reading_key(const SourceLoc& loc, cons
   return key;
 }
 
+// A span that starts in a macro's text and ends in the user's, or the other
+// way round (`f(BASE + site)`, the argument from BASE's `20` in the #define
+// to `site`), as the user wrote it: each end that lies in an expansion
+// moves to the same end of the macro's outermost use, so the caret
+// underlines `BASE + site` in the call. Shown at its begin alone, the
+// message "must be a constant expression" stood under the #define's `20`,
+// a constant (faithfulness round 17). A span within one expansion stays
+// in the macro's text, with its "in expansion of" notes.
+SourceSpan as_written(const SourceSpan& s, const SourceManager& sm) {
+  if (!s.begin.valid() || !s.end.valid() || s.begin.expansion == s.end.expansion) return s;
+  auto outermost_use = [&](const SourceLoc& loc) -> std::optional<SourceSpan> {
+    auto uses = sm.expansion_notes(loc);
+    if (uses.empty()) return std::nullopt;
+    return uses.back().span;
+  };
+  SourceSpan out = s;
+  if (auto use = outermost_use(s.begin)) out.begin = use->begin;
+  if (auto use = outermost_use(s.end)) out.end = use->end;
+  // Both ends now lie in the user's text; in different files (a macro
+  // defined in one file and used in another never spans both) keep the
+  // span as it was rather than underline across files.
+  if (out.begin.file != out.end.file || out.begin.expansion != out.end.expansion) return s;
+  return out;
+}
+
 }  // namespace
 
-Diagnostic as_reported(const Diagnostic& d, const SourceManager& sm) {
+Diagnostic as_reported(const Diagnostic& given, const SourceManager& sm) {
+  Diagnostic d = given;
+  d.span = as_written(given.span, sm);
+  for (auto& n : d.notes) n.span = as_written(n.span, sm);
   const SourceLoc& at = d.span.begin;
   if (!at.valid() || at.expansion == 0 || !sm.is_library(at.file)) return d;
   for (const Note& use : sm.expansion_notes(at)) {

@@ -160,7 +160,9 @@ class Diagnostics {
 
 // `d` as the user should see it: an error inside a standard-library macro
 // (Random() without its argument) is placed where the user's text used the
-// macro, with the library line as a note. Rendering applies it.
+// macro, with the library line as a note, and a span that runs from a
+// macro's text into the user's (an argument `BASE + site`) is the text as
+// written in the call. Rendering applies it.
 Diagnostic as_reported(const Diagnostic& d, const SourceManager& sm);
 
 // gcc-style text: "file:line:col: error: message", the source line, a caret

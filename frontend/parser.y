@@ -809,6 +809,37 @@ bool unmatched_close(const Feed& feed, std::size_t close) {
   return true;
 }
 
+// The `if` whose '{' is still open where an `else` stands at `pos`, in
+// the same column as that `if` (or nullptr): `if (c) { a; else { b; }`,
+// its '}' left out, reads as an else inside the if's own braces. A long
+// program's missing '}' shows there (faithfulness round 17), and the
+// message for an else after a ';' would send the reader to look for one.
+const Token* if_left_open_before_else(const Feed& feed, std::size_t pos) {
+  if (pos >= feed.tokens.size() || !feed.tokens[pos].line_start) return nullptr;
+  int depth = 0;
+  for (std::size_t i = pos; i-- > 0;) {
+    const Token& t = feed.tokens[i];
+    if (t.is("}")) ++depth;
+    if (!t.is("{") || depth-- > 0) continue;
+    // The innermost open '{': the body of an `if (...)`?
+    if (i == 0 || !feed.tokens[i - 1].is(")")) return nullptr;
+    int parens = 0;
+    for (std::size_t j = i; j-- > 0;) {
+      if (feed.tokens[j].is(")")) ++parens;
+      if (feed.tokens[j].is("(") && --parens == 0) {
+        if (j == 0 || !feed.tokens[j - 1].is_identifier("if")) return nullptr;
+        const Token& word = feed.tokens[j - 1];
+        bool same_column = word.span.begin.file == feed.tokens[pos].span.begin.file &&
+                           word.span.begin.expansion == 0 && feed.tokens[pos].span.begin.expansion == 0 &&
+                           word.span.begin.column == feed.tokens[pos].span.begin.column;
+        return same_column ? &word : nullptr;
+      }
+    }
+    return nullptr;
+  }
+  return nullptr;
+}
+
 // Other languages' `elsif (c)`, `elseif (c)`, `elif (c)` ending at the
 // ')' at `close` and starting a statement: the parse fails after it (it
 // reads as a call with no ';'), and what was meant is `else if (c)`.
@@ -1274,6 +1305,13 @@ void yy::Parser::report_syntax_error(const context& ctx) const {
   // and `sub` inside a body (a '}' left out above, most often).
   bool statement_wanted = expects(symbol_kind::S_IF) && expects(symbol_kind::S_NUMBER);
   if (statement_wanted && ctx.token() == symbol_kind::S_ELSE) {
+    if (const Token* open_if = if_left_open_before_else(feed, feed.pos - 1)) {
+      auto& d = feed.diags.error(ctx.location(), "'else' inside the braces of the 'if' on line " +
+                                                     std::to_string(open_if->span.begin.line) +
+                                                     ": is a '}' missing before it?");
+      d.notes.push_back({open_if->span, "this 'if' has a '{' that is not closed before the 'else'"});
+      return;
+    }
     auto& d = feed.diags.error(ctx.location(), "'else' without an 'if' before it: a statement stands between them "
                                                "(an extra ';' is an empty statement, and two statements after an 'if' "
                                                "need braces)");

@@ -592,6 +592,26 @@ TEST(HelpfulDiagnostics, WhereAStatementGoesTheMessageSaysSo) {
       << nested.text();
 }
 
+// An if's '}' left out before its else, in the else's column (a long
+// program's missing brace, faithfulness round 17): the message said a
+// statement stood between the if and the else, and the reader looked for
+// a ';'. An else that sits elsewhere keeps that message.
+TEST(HelpfulDiagnostics, AnElseInsideItsIfsOpenBracesAsksForTheMissingBrace) {
+  auto missing = run_frontend("int x;\ntask main()\n{\n  if (x > 6)\n  {\n    x = 1;\n\n  else\n  {\n    x = 2;\n  }\n}\n");
+  ASSERT_FALSE(missing.diags.all().empty()) << missing.text();
+  EXPECT_EQ(placed_messages(missing.diags)[0], "8:3 'else' inside the braces of the 'if' on line 4: is a '}' missing "
+                                               "before it?")
+      << missing.text();
+  ASSERT_EQ(missing.diags.all()[0].notes.size(), 1u) << missing.text();
+  EXPECT_EQ(missing.diags.all()[0].notes[0].span.begin.line, 4u) << missing.text();
+  EXPECT_EQ(missing.diags.all()[0].notes[0].span.begin.column, 3u) << missing.text();
+  // Not in the if's column: not said to be the if's.
+  auto elsewhere = run_frontend("int x;\ntask main()\n{\n  if (x > 6) {\n    x = 1;\n    else x = 2;\n  }\n}\n");
+  ASSERT_FALSE(elsewhere.diags.all().empty()) << elsewhere.text();
+  EXPECT_EQ(placed_messages(elsewhere.diags)[0].substr(0, 47), "6:5 'else' without an 'if' before it: a stateme")
+      << elsewhere.text();
+}
+
 // A keyword as a new name said "expected identifier or '*' before 'repeat'"
 // (the '*' of a pointer declarator the RCX refuses anyway; the thirteenth
 // faithfulness round).

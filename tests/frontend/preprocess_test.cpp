@@ -522,6 +522,46 @@ TEST(Preprocessor, DiagnosticInsideAMacroNamesTheExpansion) {
             "          ^~~\n");
 }
 
+// An argument that begins with a macro and goes on in the user's text
+// (faithfulness round 17: `queue_report(IR_SITE_BASE + site * 4 + kind)`)
+// is shown as written in the call, at either end: at its begin alone, the
+// caret stood under the #define's `20`, a constant, under a message that
+// asks for a constant.
+TEST(Preprocessor, ASpanFromAMacroIntoTheUsersTextIsShownAsWritten) {
+  auto r = test::run_frontend(
+      "#define BASE 20\nvoid send(const int m) { }\nint site;\ntask main()\n{\n  send(BASE + site);\n"
+      "  send(site + BASE);\n}\n",
+      true);
+  EXPECT_EQ(r.text(),
+            "test.nqc:6:8: error: argument for 'const int m' of 'send' must be a constant expression\n"
+            "    send(BASE + site);\n"
+            "         ^~~~~~~~~~~\n"
+            "test.nqc:2:21: note: parameter declared here\n"
+            "  void send(const int m) { }\n"
+            "                      ^\n"
+            "test.nqc:7:8: error: argument for 'const int m' of 'send' must be a constant expression\n"
+            "    send(site + BASE);\n"
+            "         ^~~~~~~~~~~\n"
+            "test.nqc:2:21: note: parameter declared here\n"
+            "  void send(const int m) { }\n"
+            "                      ^\n");
+}
+
+// The same with a macro of the standard library at the argument's begin:
+// the caret stood under rcx.nqh's `0x00`, with a note that the error was
+// in that macro; it is in the user's argument.
+TEST(Preprocessor, ASpanFromALibraryMacroIntoTheUsersTextIsShownAsWritten) {
+  auto r = test::run_frontend("int speed;\ntask main()\n{\n  SetSensorMode(SENSOR_1, SENSOR_MODE_RAW + speed);\n}\n");
+  std::string text = r.text();
+  EXPECT_NE(text.find("test.nqc:4:27: error: argument for 'const int mode' of 'SetSensorMode' must be a constant "
+                      "expression\n"
+                      "    SetSensorMode(SENSOR_1, SENSOR_MODE_RAW + speed);\n"
+                      "                            ^~~~~~~~~~~~~~~~~~~~~~~\n"),
+            std::string::npos)
+      << text;
+  EXPECT_EQ(text.find("in macro 'SENSOR_MODE_RAW'"), std::string::npos) << text;
+}
+
 TEST(Preprocessor, IncludeSearchesFileFolderThenIncludeDirsThenStdlib) {
   namespace fs = std::filesystem;
   fs::path root = test::make_temp_dir();
