@@ -890,6 +890,10 @@ void register_nxt(CLI::App& app, int& exit_code) {
             why = fmt::format(": 0x{:02x} is not a request type (0x00, 0x01; 0x80, 0x81 without reply), and the "
                               "firmware answers nothing to a type it does not know",
                               type);
+          else if (auto left = c.transport.leftovers(); !left.empty())
+            why = "; " + left;
+          else
+            why = "; " + nxt::silence_reasons(c.transport);
           return Failure{kExitNoReply, fmt::format("no reply within {} ms{}", c.timeout.count(), why)};
         }
         auto d = nxt::decode_reply(*reply);

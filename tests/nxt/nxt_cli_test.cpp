@@ -283,6 +283,16 @@ TEST(NxtCli, PortsThatCannotBeOpenedOrDoNotAnswer) {
   auto silent = nxt(pty.slave_path, {"--timeout", "50", "battery"});
   EXPECT_EQ(silent.exit_code, 4);
   EXPECT_NE(silent.err.find("no reply to GetBatteryLevel"), std::string::npos) << silent.err;
+  // Nothing at all came: the likely reasons are said.
+  EXPECT_NE(silent.err.find("within 50 ms; nothing came back: is the brick switched off, or asleep (it switches "
+                            "itself off after the sleep limit set in its Settings menu), out of Bluetooth range "
+                            "(about 10 m), or is another program (a terminal, another rcxc) reading the port?\n"),
+            std::string::npos)
+      << silent.err;
+  auto raw = nxt(pty.slave_path, {"--timeout", "50", "raw", "00", "0b"});
+  EXPECT_EQ(raw.exit_code, 4);
+  EXPECT_NE(raw.err.find("no reply within 50 ms; nothing came back: is the brick switched off"), std::string::npos)
+      << raw.err;
   nxt::close_pty_pair(pty);
   EXPECT_EQ(run_rcxc({"nxt", "brick"}).exit_code, 2);
   EXPECT_EQ(run_rcxc({"nxt", "frobnicate"}).exit_code, 2);
