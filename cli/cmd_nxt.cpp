@@ -190,7 +190,7 @@ constexpr rcx::FileKind kNxtUpload{"file for the NXT", std::size_t{256} << 10};
 std::string read_file_bytes(const std::string& path, nxt::Bytes& out) {
   // /dev/null would go up as an empty file named "null", a pipe be read
   // once (or wait for a writer for ever), as other commands refuse them.
-  if (auto problem = special_file_problem(path, Takes::Files, "rcxc nxt upload copies a file to the brick"))
+  if (auto problem = special_file_problem(path, Takes::Files, "rcxc nxt upload copies a file to the brick, or the standard input with - NAME"))
     return *problem;
   auto read = rcx::read_file(path, kNxtUpload);
   if (auto* problem = std::get_if<rcx::FileProblem>(&read)) {
@@ -201,6 +201,16 @@ std::string read_file_bytes(const std::string& path, nxt::Bytes& out) {
       default: return fmt::format("cannot read {}", path);
     }
   }
+  const std::string& bytes = std::get<std::string>(read);
+  out.assign(bytes.begin(), bytes.end());
+  return {};
+}
+
+std::string read_stdin_bytes(nxt::Bytes& out) {
+  auto read = rcx::read_stream(std::cin, kNxtUpload);
+  if (auto* problem = std::get_if<rcx::FileProblem>(&read))
+    return *problem == rcx::FileProblem::TooLarge ? rcx::too_large_message("the standard input", kNxtUpload)
+                                                  : "cannot read the standard input";
   const std::string& bytes = std::get<std::string>(read);
   out.assign(bytes.begin(), bytes.end());
   return {};
@@ -784,15 +794,26 @@ void register_nxt(CLI::App& app, int& exit_code) {
     auto* cmd = add("upload", "Copy the local FILE to the brick (as NAME)");
     auto file = std::make_shared<std::string>(), name = std::make_shared<std::string>();
     auto replace = std::make_shared<bool>(false);
-    cmd->add_option("FILE", *file, "A local file")->required();
+    cmd->add_option("FILE", *file, "A local file, or - for the standard input (then NAME is needed)")->required();
     cmd->add_option("NAME", *name, "Its name on the brick (default: FILE's name)");
     cmd->add_flag("--replace", *replace,
                   "Delete a file of that name on the brick first (the brick refuses to write over one)");
     run(cmd, [=]() -> Made {
+      // "-" is the standard input, as download's FILE - is the standard
+      // output: it was looked for as a file named "-". A pipe has no name
+      // to give the file on the brick.
+      const bool from_stdin = *file == "-";
+      if (from_stdin && name->empty())
+        return std::string("FILE - (the standard input) has no name to give the file on the brick: "
+                           "add it, rcxc nxt upload - NAME");
       std::string target = name->empty() ? std::filesystem::path(*file).filename().string() : *name;
       if (auto bad = nxt::check_file_name(target)) return *bad;
+      if (from_stdin && ::isatty(STDIN_FILENO))
+        return std::string("the standard input is a terminal: give a FILE, or send the file through a pipe "
+                           "(rcxc nxt upload - NAME < FILE)");
       auto data = std::make_shared<nxt::Bytes>();
-      if (std::string err = read_file_bytes(*file, *data); !err.empty()) return Failure{kExitFailure, err};
+      if (std::string err = from_stdin ? read_stdin_bytes(*data) : read_file_bytes(*file, *data); !err.empty())
+        return Failure{kExitFailure, err};
       return Action([=](Client& c) -> std::variant<Output, Failure> {
         if (*replace) {
           // Not there is as good as deleted; anything else (0x8B: the file
@@ -890,6 +911,10 @@ void register_nxt(CLI::App& app, int& exit_code) {
             why = fmt::format(": 0x{:02x} is not a request type (0x00, 0x01; 0x80, 0x81 without reply), and the "
                               "firmware answers nothing to a type it does not know",
                               type);
+          else if (auto left = c.transport.leftovers(); !left.empty())
+            why = "; " + left;
+          else
+            why = "; " + nxt::silence_reasons(c.transport);
           return Failure{kExitNoReply, fmt::format("no reply within {} ms{}", c.timeout.count(), why)};
         }
         auto d = nxt::decode_reply(*reply);

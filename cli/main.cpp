@@ -106,14 +106,27 @@ int run_main(int argc, char** argv) {
     if (hint) said.push_back(hint->text);
     said.insert(said.end(), habits.begin(), habits.end());
     for (const std::string& line : said) std::cerr << "rcxc: " << line << "\n";
-    std::cerr << "\n";
     std::string joined;
     for (const std::string& line : said) joined += (joined.empty() ? "" : "; ") + line;
     rcxc::cli::print_nxt_usage_error_json(app, words, joined);
     const CLI::App* where = &app;
     for (const CLI::App* sub : app.get_subcommands()) where = sub;
+    // An unknown action: its name and the other actions' names, as `rcxc
+    // remote` answers one, rather than the command's whole help.
+    const CLI::App* deepest = &app;
+    for (bool deeper = true; deeper;) {
+      deeper = false;
+      for (const CLI::App* sub : deepest->get_subcommands()) {
+        deepest = sub;
+        deeper = true;
+      }
+    }
+    if (hint && hint->command && deepest != &app) {
+      std::cerr << rcxc::cli::action_list(*deepest);
+      return rcxc::cli::kExitUsage;
+    }
     // "Usage: rcxc run ...", as `rcxc help run` shows it, not "Usage: run".
-    std::cerr << where->help(where == &app ? "" : app.get_name());
+    std::cerr << "\n" << where->help(where == &app ? "" : app.get_name());
     return rcxc::cli::kExitUsage;
   }
   if (app.get_subcommands().empty()) {

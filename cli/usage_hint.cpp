@@ -37,6 +37,39 @@ bool takes_value(const CLI::App& app, const std::string& word) {
   return false;
 }
 
+// Words a user types for an action that has another name, checked before
+// the spelling: `rcxc nxt serve` is the virtual brick, not a misspelt
+// `start`. `command` is the path after rcxc ("nxt").
+struct Synonym {
+  std::string_view command, word, says;
+};
+constexpr Synonym kSynonyms[] = {
+    {"nxt", "serve", "a virtual NXT is served by 'rcxc nxt brick --pty'"},
+    {"nxt", "server", "a virtual NXT is served by 'rcxc nxt brick --pty'"},
+    {"nxt", "virtual", "a virtual NXT is served by 'rcxc nxt brick --pty'"},
+    {"nxt", "emulator", "a virtual NXT is served by 'rcxc nxt brick --pty'"},
+    {"nxt", "delete", "a file on the brick is deleted by 'rcxc nxt rm NAME'"},
+    {"nxt", "remove", "a file on the brick is deleted by 'rcxc nxt rm NAME'"},
+    {"nxt", "list", "the brick's files are listed by 'rcxc nxt ls'"},
+    {"nxt", "dir", "the brick's files are listed by 'rcxc nxt ls'"},
+    {"nxt", "run", "a program on the brick is started by 'rcxc nxt start NAME'"},
+    {"nxt", "put", "a file goes to the brick with 'rcxc nxt upload FILE'"},
+    {"nxt", "send", "a file goes to the brick with 'rcxc nxt upload FILE'"},
+    {"nxt", "get", "a file comes from the brick with 'rcxc nxt download NAME'"},
+    {"nxt", "fetch", "a file comes from the brick with 'rcxc nxt download NAME'"},
+    {"nxt", "version", "the firmware version is in 'rcxc nxt info'"},
+    {"nxt", "firmware", "the firmware version is in 'rcxc nxt info'"},
+    {"nxt", "beep", "a tone is played by 'rcxc nxt tone HZ MS'"},
+};
+
+// "nxt mailbox" for rcxc nxt mailbox: the command's words after rcxc.
+std::string command_path(const CLI::App& app) {
+  std::string path;
+  for (const CLI::App* at = &app; at && at->get_parent(); at = at->get_parent())
+    path = at->get_name() + (path.empty() ? "" : " " + path);
+  return path;
+}
+
 }  // namespace
 
 std::optional<std::string> option_without_value(const std::vector<std::string>& words) {
@@ -100,6 +133,10 @@ std::optional<MisspellingHint> misspelling_hint(const CLI::App& app, const std::
     first_word = false;
     if (commands.empty() || contains(commands, *w)) continue;
     std::string what = where->get_parent() ? "action" : "command";
+    for (const Synonym& synonym : kSynonyms)
+      if (synonym.command == command_path(*where) && synonym.word == *w)
+        return MisspellingHint{*w, "unknown " + what + " '" + *w + "': " + std::string(synonym.says), true,
+                               std::nullopt};
     if (auto near = frontend::closest_name(*w, commands))
       return MisspellingHint{*w, "unknown " + what + " '" + *w + "': did you mean '" + *near + "'?", true, std::nullopt};
     // CLI11 says only "A subcommand is required", as if none were given.
@@ -107,6 +144,23 @@ std::optional<MisspellingHint> misspelling_hint(const CLI::App& app, const std::
                            std::nullopt};
   }
   return std::nullopt;
+}
+
+std::string action_list(const CLI::App& command) {
+  const std::string path = "rcxc " + command_path(command);
+  std::string out = "the actions of " + path + ":";
+  std::size_t line = out.size();
+  const std::vector<std::string> names = command_names(command);
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    std::string word = " " + names[i] + (i + 1 < names.size() ? "," : "");
+    if (line + word.size() > 78) {
+      out += "\n ";
+      line = 1;
+    }
+    out += word;
+    line += word.size();
+  }
+  return out + "\n'rcxc help " + command_path(command) + "' says what each does\n";
 }
 
 bool is_missing_action(const CLI::ParseError& e) {

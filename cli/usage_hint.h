@@ -43,6 +43,12 @@ std::optional<std::string> option_without_value(const std::vector<std::string>& 
 // missing" is "-O needs a value: one of 0,1,2,s").
 std::string parse_error_text(const CLI::ParseError& e);
 
+// The names of `command`'s actions, a few lines of them, and where their
+// descriptions are: printed after an unknown action instead of the whole
+// help (80 lines for rcxc nxt, its telegram table included, in which the
+// one line that named the mistake scrolled away).
+std::string action_list(const CLI::App& command);
+
 // Whether `e` is CLI11's "A subcommand is required": a command whose actions
 // are subcommands (`rcxc nxt`) given none, or given a word that is none.
 bool is_missing_action(const CLI::ParseError& e);

@@ -332,7 +332,61 @@ constexpr std::size_t kQuotedLineBytes = 160;
 
 bool continues_a_character(char c) { return (static_cast<unsigned char>(c) & 0xC0) == 0x80; }
 
+// The terminal cells a character takes: two for the wide characters of
+// East Asian scripts, none for a combining mark or a zero-width one, else
+// one (also a byte that is no UTF-8, which the terminal shows as one mark).
+std::size_t cells(char32_t u) {
+  struct Range {
+    char32_t first, last;
+  };
+  static constexpr Range kWide[] = {
+      {0x1100, 0x115F}, {0x2E80, 0x303E}, {0x3041, 0x33FF}, {0x3400, 0x4DBF}, {0x4E00, 0x9FFF},
+      {0xA000, 0xA4CF}, {0xAC00, 0xD7A3}, {0xF900, 0xFAFF}, {0xFE30, 0xFE4F}, {0xFF00, 0xFF60},
+      {0xFFE0, 0xFFE6}, {0x1F300, 0x1F64F}, {0x1F900, 0x1F9FF}, {0x20000, 0x3FFFD},
+  };
+  if ((u >= 0x0300 && u <= 0x036F) || (u >= 0x200B && u <= 0x200F) || u == 0xFEFF) return 0;
+  for (const Range& r : kWide)
+    if (u >= r.first && u <= r.last) return 2;
+  return 1;
+}
+
+// The cells bytes [from, to) of `line` take, a tab counted as one (the
+// caller keeps tabs as they are).
+std::size_t cells_of(std::string_view line, std::size_t from, std::size_t to) {
+  std::size_t n = 0;
+  for (std::size_t i = from; i < to && i < line.size();) {
+    Utf8Char ch = decode_utf8(line.substr(i));
+    if (ch.length == 0) {
+      ++i;
+      if (!continues_a_character(line[i - 1])) ++n;
+      continue;
+    }
+    n += cells(ch.code);
+    i += ch.length;
+  }
+  return n;
+}
+
 }  // namespace
+
+Utf8Char decode_utf8(std::string_view text) {
+  if (text.empty()) return {};
+  auto byte = [&](std::size_t i) { return static_cast<unsigned char>(text[i]); };
+  unsigned char lead = byte(0);
+  if (lead < 0x80) return {lead, 1};
+  std::size_t length = lead >= 0xC2 && lead <= 0xDF ? 2 : lead >= 0xE0 && lead <= 0xEF ? 3 : lead >= 0xF0 && lead <= 0xF4 ? 4 : 0;
+  if (length == 0 || text.size() < length) return {};
+  char32_t code = lead & (length == 2 ? 0x1F : length == 3 ? 0x0F : 0x07);
+  for (std::size_t i = 1; i < length; ++i) {
+    if ((byte(i) & 0xC0) != 0x80) return {};
+    code = (code << 6) | (byte(i) & 0x3F);
+  }
+  // Overlong forms, surrogates and past U+10FFFF are no characters.
+  if ((length == 3 && code < 0x800) || (length == 4 && (code < 0x10000 || code > 0x10FFFF)) ||
+      (code >= 0xD800 && code <= 0xDFFF))
+    return {};
+  return {code, length};
+}
 
 QuotedLine quote_line(std::string_view line, std::size_t column0, std::size_t width) {
   std::size_t begin = 0, end = line.size();
@@ -352,9 +406,15 @@ QuotedLine quote_line(std::string_view line, std::size_t column0, std::size_t wi
     if ((static_cast<unsigned char>(c) < 0x20 && c != '\t') || c == 0x7f) c = '?';
   q.text = fmt::format("{}{}{}", begin > 0 ? "..." : "", printable, end < line.size() ? "..." : "");
   if (begin > 0) q.lead_in = "   ";
+  // Columns count bytes, the terminal characters: the caret goes under the
+  // character at the column, and as wide as what the span covers, past a
+  // line that holds 'ö' or '→'.
   std::size_t col = column0 - std::min(column0, begin);
-  for (std::size_t i = 0; i < col && i < shown.size(); ++i) q.lead_in += shown[i] == '\t' ? '\t' : ' ';
-  q.width = col < shown.size() ? std::clamp<std::size_t>(width, 1, shown.size() - col) : 1;
+  for (std::size_t i = 0; i < col && i < shown.size(); ++i) {
+    if (shown[i] == '\t') q.lead_in += '\t';
+    else q.lead_in += std::string(cells_of(shown, i, i + 1), ' ');
+  }
+  if (col < shown.size()) q.width = std::max<std::size_t>(1, cells_of(shown, col, col + std::min(width, shown.size() - col)));
   return q;
 }
 

@@ -185,6 +185,17 @@ std::vector<const Diagnostic*> in_source_order(const Diagnostics& diags, const S
 
 inline constexpr std::size_t kDefaultMaxErrors = 20;
 
+// The character a well-formed UTF-8 sequence at the start of `text` spells,
+// and its length in bytes; length 0 when the bytes are none (a lone
+// continuation byte, a sequence cut short or overlong, a surrogate), and 1
+// for ASCII. Columns count bytes; the lexer and the caret line need to know
+// where a character ends.
+struct Utf8Char {
+  char32_t code = 0;
+  std::size_t length = 0;
+};
+Utf8Char decode_utf8(std::string_view text);
+
 // A source line as printed under a message, and the caret line's lead-in
 // (the line's tabs kept, so the caret lines up under the text). A line of a
 // generated or minified program can be hundreds of kilobytes, and printing

@@ -4,6 +4,8 @@
 #include <cctype>
 #include <charconv>
 
+#include <fmt/format.h>
+
 #include "frontend/token.h"
 
 namespace rcxc::frontend {
@@ -32,6 +34,70 @@ std::string describe_char(char ch) {
   if (u >= 0x20 && u < 0x7f) return std::string("'") + ch + "'";
   static const char* hex = "0123456789abcdef";
   return std::string("'\\x") + hex[u >> 4] + hex[u & 15] + "'";
+}
+
+// Letters of other scripts, roughly: what a user means as part of a name
+// (`größe`, `vitesse_élevée`). A character not listed here is still
+// refused, only as a stray character rather than as part of a name.
+bool is_letter_of_another_script(char32_t u) {
+  struct Range {
+    char32_t first, last;
+  };
+  static constexpr Range kLetters[] = {
+      {0x00AA, 0x00AA},   {0x00B5, 0x00B5},   {0x00BA, 0x00BA},   {0x00C0, 0x00D6},   {0x00D8, 0x00F6},
+      {0x00F8, 0x02AF},   {0x0300, 0x036F},   {0x0370, 0x037D},   {0x0388, 0x03FF},   {0x0400, 0x0481},
+      {0x048A, 0x052F},   {0x0531, 0x0587},   {0x05D0, 0x05EA},   {0x0620, 0x064A},   {0x0671, 0x06D3},
+      {0x0900, 0x0DFF},   {0x0E01, 0x0E4E},   {0x0E81, 0x0EDF},   {0x10A0, 0x10FF},   {0x1100, 0x11FF},
+      {0x1E00, 0x1FFF},   {0x3041, 0x30FF},   {0x3400, 0x4DBF},   {0x4E00, 0x9FFF},   {0xAC00, 0xD7A3},
+      {0xF900, 0xFAFF},   {0xFF21, 0xFF3A},   {0xFF41, 0xFF5A},   {0x20000, 0x2FFFF},
+  };
+  for (const Range& r : kLetters)
+    if (u >= r.first && u <= r.last) return true;
+  return false;
+}
+
+// The error for a non-ASCII character outside comments and strings. Most
+// come with text copied from a web page or a word processor, which turns
+// quotes curly, a minus into a dash and spaces into non-breaking ones: each
+// of those says what to type instead. `spelled` is the character's UTF-8.
+std::string non_ascii_message(char32_t u, std::string_view spelled) {
+  const std::string code = fmt::format("U+{:04X}", static_cast<std::uint32_t>(u));
+  const std::string shown = fmt::format("'{}' ({})", spelled, code);
+  auto use = [&](std::string_view what, std::string_view instead) {
+    return fmt::format("{} is {}: use {}", shown, what, instead);
+  };
+  switch (u) {
+    case 0x00A0: return "a non-breaking space (U+00A0): use an ordinary space";
+    case 0x201C: case 0x201D: case 0x201E: case 0x201F: case 0x00AB: case 0x00BB:
+      return use("a typographic quote", "\"");
+    case 0x2018: case 0x2019: case 0x201A: case 0x201B: return use("a typographic quote", "'");
+    case 0x2013: return use("an en dash", "-");
+    case 0x2014: return use("an em dash", "-");
+    case 0x2212: return use("a minus sign", "-");
+    case 0x00D7: return use("a multiplication sign", "*");
+    case 0x00F7: return use("a division sign", "/");
+    case 0x2264: return use("a less-than-or-equal sign", "<=");
+    case 0x2265: return use("a greater-than-or-equal sign", ">=");
+    case 0x2260: return use("a not-equal sign", "!=");
+    case 0x037E: return use("a Greek question mark", ";");
+    case 0xFEFF: return "stray character U+FEFF (a byte-order mark, which only the start of a file may hold): delete it";
+    default: break;
+  }
+  // Full-width forms, as an input method for Chinese or Japanese types them.
+  if (u >= 0xFF01 && u <= 0xFF5E) {
+    char ascii = static_cast<char>(u - 0xFEE0);
+    return use(fmt::format("a full-width '{}'", ascii), std::string(1, ascii));
+  }
+  if ((u >= 0x2000 && u <= 0x200A) || u == 0x202F || u == 0x205F || u == 0x3000 || u == 0x1680)
+    return fmt::format("a Unicode space ({}): use an ordinary space", code);
+  // Shown by code alone: C1 controls, zero-width and direction marks would
+  // act on the terminal or the line rather than be seen.
+  if ((u >= 0x0080 && u <= 0x009F) || u == 0x00AD || (u >= 0x200B && u <= 0x200F) || (u >= 0x2028 && u <= 0x202E) ||
+      (u >= 0x2060 && u <= 0x206F) || (u >= 0xFFF9 && u <= 0xFFFB) || (u >= 0xE0000 && u <= 0xE007F))
+    return fmt::format("an invisible character ({}) in program: delete it", code);
+  if (is_letter_of_another_script(u))
+    return shown + " cannot be part of a name: NQC names are ASCII letters, digits and _";
+  return "stray character " + shown + " in program";
 }
 
 // Skips a /* comment */ whose opening was just read; false if unterminated.
@@ -176,6 +242,10 @@ std::vector<Token> lex_text(std::string_view text, std::uint32_t file, Diagnosti
       | "+=" | "-=" | "*=" | "/=" | "%=" | "&=" | "|=" | "^="
       | [-+*/%&|^~!<>=?:;,.(){}[\]#$@] { emit(TokenKind::Punct, start); continue; }
       * {
+        // A character of another script is one token, reported once with
+        // its caret under all of it, not once per byte of its UTF-8.
+        if (std::size_t n = decode_utf8({start, static_cast<std::size_t>(c.limit - start)}).length; n > 1)
+          c.p = start + n;
         emit(TokenKind::Unknown, start);
         if (!defer) report_unknown_token(out.back(), diags);
         if (too_many(start)) return out;
@@ -214,6 +284,8 @@ void report_unknown_token(const Token& t, Diagnostics& diags) {
     diags.error(one_char, "stray NUL character in source");
   else if (first == '\'' || first == '"')
     diags.error(one_char, std::string("missing terminating ") + first + " character");
+  else if (Utf8Char ch = decode_utf8(t.text); ch.length > 1)
+    diags.error(t.span, non_ascii_message(ch.code, t.text.substr(0, ch.length)));
   else
     diags.error(t.span, "stray character " + describe_char(first) + " in program");
 }

@@ -118,7 +118,17 @@ std::variant<Decoded, CallError> call(Client& client, const Command& command, st
     message += fmt::format("; what came instead was dropped: {}{}", fmt::join(others, ", "),
                            other_count > static_cast<int>(others.size()) ? ", ..." : "");
   if (auto left = client.transport.leftovers(); !left.empty()) message += "; " + left;
+  else if (others.empty()) message += "; " + silence_reasons(client.transport);
   return CallError{CallError::Kind::NoReply, message};
+}
+
+std::string silence_reasons(const Transport& link) {
+  const std::string asleep =
+      "nothing came back: is the brick switched off, or asleep (it switches itself off after the sleep limit set "
+      "in its Settings menu)";
+  if (link.describe().starts_with("NXT on USB")) return asleep + "?";
+  return asleep + ", out of Bluetooth range (about 10 m), or is another program (a terminal, another rcxc) "
+                  "reading the port?";
 }
 
 std::variant<Decoded, CallError> call_ok(Client& client, std::string_view name, std::span<const Value> values) {

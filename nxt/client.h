@@ -49,6 +49,13 @@ std::variant<Decoded, CallError> call_ok(Client& client, std::string_view name, 
 // Sends with the no-reply bit (0x80/0x81): for commands whose effect is seen later.
 std::optional<CallError> send_only(Client& client, std::string_view name, std::span<const Value> values);
 
+// What "no reply" means when not a byte came back (not when something that
+// was no reply came: that is said as it is), for after a "; ": the brick
+// switched off or asleep, out of Bluetooth range, or the port read by
+// another program. A USB port another program holds does not open, so
+// over USB only the first is said.
+std::string silence_reasons(const Transport& link);
+
 // Files.
 struct FileEntry {
   std::string name;

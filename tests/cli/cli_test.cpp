@@ -91,7 +91,32 @@ TEST(Cli, AnUnknownActionWithNothingNearIsNamed) {
     auto r = run_rcxc(args);
     EXPECT_EQ(r.exit_code, 2) << args[0] << ": " << r.err;
     EXPECT_NE(r.err.find("rcxc: " + said), std::string::npos) << r.err;
-    EXPECT_NE(r.err.find("Usage: rcxc"), std::string::npos) << r.err;
+  }
+  EXPECT_NE(run_rcxc({"zzzzzz"}).err.find("Usage: rcxc"), std::string::npos);
+  EXPECT_NE(run_rcxc({"nxt", "mailbox", "zzzzzz", "1"}).err.find("the actions of rcxc nxt mailbox: write, read\n"),
+            std::string::npos);
+}
+
+// An unknown NXT action printed the whole help of rcxc nxt, 93 lines with
+// its telegram table, the line naming the mistake scrolled off the top. It
+// is a few lines now: the word, a did-you-mean or what the word likely
+// meant (`serve`: the virtual brick), and the actions' names.
+TEST(Cli, AnUnknownNxtActionIsAShortErrorWithTheActionsNamed) {
+  const std::pair<std::vector<std::string>, std::string> cases[] = {
+      {{"nxt", "serve"}, "unknown action 'serve': a virtual NXT is served by 'rcxc nxt brick --pty'"},
+      {{"nxt", "--port", "usb", "motr", "A", "5"}, "unknown action 'motr': did you mean 'motor'?"},
+      {{"nxt", "delete", "x.rxe"}, "unknown action 'delete': a file on the brick is deleted by 'rcxc nxt rm NAME'"},
+      {{"nxt", "zzzzzz"}, "unknown action 'zzzzzz': the actions are listed below"},
+  };
+  for (const auto& [args, said] : cases) {
+    auto r = run_rcxc(args);
+    EXPECT_EQ(r.exit_code, 2) << args[1] << ": " << r.err;
+    EXPECT_EQ(r.out, "");
+    EXPECT_EQ(r.err.rfind("rcxc: " + said + "\n", 0), 0u) << r.err;
+    EXPECT_NE(r.err.find("\nthe actions of rcxc nxt: info, battery, tone,"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(" bench, brick\n'rcxc help nxt' says what each does\n"), std::string::npos) << r.err;
+    EXPECT_LE(std::count(r.err.begin(), r.err.end(), '\n'), 6) << r.err;
+    EXPECT_EQ(r.err.find("Usage:"), std::string::npos) << r.err;
   }
 }
 
@@ -276,7 +301,8 @@ TEST(Cli, NxtJsonGetsTheUsageErrorAsJsonToo) {
     for (const auto& a : args) call += " '" + a + "'";
     auto r = run_rcxc(args, "", 10000);
     EXPECT_EQ(r.exit_code, 2) << call << ": " << r.err;
-    if (error != "--port=") {
+    // An unknown action gets the actions' names instead (the test above).
+    if (error != "--port=" && !error.starts_with("unknown action")) {
       EXPECT_NE(r.err.find("Usage:"), std::string::npos) << call << ": " << r.err;
     }
     auto j = nlohmann::json::parse(r.out, nullptr, false);

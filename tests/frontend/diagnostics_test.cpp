@@ -172,6 +172,43 @@ TEST(QuotedLine, AWindowIsCutBetweenCharactersAndTheSpanClampedToIt) {
   // the middle of an é: it widens to 220..382.
   QuotedLine q = quote_line(line, 301, 1000);
   EXPECT_EQ(q.text, "..." + line.substr(220, 162) + "...");
-  EXPECT_EQ(q.lead_in, std::string(3 + 81, ' '));
-  EXPECT_EQ(q.width, 162u - 81u);
+  // The caret line counts characters: 41 é (bytes 220..300, the last one's
+  // first byte at 300) before the column, and 40 after it.
+  EXPECT_EQ(q.lead_in, std::string(3 + 41, ' '));
+  EXPECT_EQ(q.width, 40u);
+}
+
+// Columns count bytes, but the terminal shows characters: behind 'ö' the
+// caret was one place right per extra byte, and a span over a two-byte
+// character was "^~" under one character. A wide character (CJK) takes
+// two places, a tab stays a tab.
+TEST(QuotedLine, TheCaretLineCountsCharactersNotBytes) {
+  QuotedLine after = quote_line("int gr\xC3\xB6\xC3\x9F" "e;", 8, 2);  // the ß of größe
+  EXPECT_EQ(after.lead_in, std::string(7, ' '));
+  EXPECT_EQ(after.width, 1u);
+  QuotedLine wide = quote_line("\t\xE5\xA4\xA7 = x;", 7, 1);  // 大 = x;
+  EXPECT_EQ(wide.lead_in, "\t" + std::string(2 + 3, ' '));
+  QuotedLine over = quote_line("a \xE2\x80\x9Cxy\xE2\x80\x9D b", 2, 8);  // “xy”
+  EXPECT_EQ(over.lead_in, "  ");
+  EXPECT_EQ(over.width, 4u);
+}
+
+TEST(Diagnostics, ACaretGoesUnderTheWholeCharacterAfterOthers) {
+  SourceManager sm;
+  auto f = sm.add("a.nqc", "int gr\xC3\xB6\xC3\x9F" "e;\n");
+  Diagnostics diags;
+  diags.error({{f, 1, 9}, {f, 1, 11}}, "here");
+  EXPECT_EQ(render_text(diags.all()[0], sm), "a.nqc:1:9: error: here\n  int gr\xC3\xB6\xC3\x9F" "e;\n         ^\n");
+}
+
+TEST(Utf8, DecodesWellFormedSequencesOnly) {
+  EXPECT_EQ(decode_utf8("\xC3\xB6x").code, U'\u00F6');
+  EXPECT_EQ(decode_utf8("\xC3\xB6x").length, 2u);
+  EXPECT_EQ(decode_utf8("\xE2\x80\x93").code, U'\u2013');
+  EXPECT_EQ(decode_utf8("\xF0\x9D\x84\x9E").code, U'\U0001D11E');
+  EXPECT_EQ(decode_utf8("a").length, 1u);
+  for (std::string_view bad : {"\xB6", "\xC3", "\xC3x", "\xC0\xAF", "\xE0\x80\xAF", "\xED\xA0\x80",
+                               "\xF4\x90\x80\x80", "\xFD", "\xE2\x80"})
+    EXPECT_EQ(decode_utf8(bad).length, 0u) << bad;
+  EXPECT_EQ(decode_utf8("").length, 0u);
 }

@@ -207,6 +207,25 @@ TEST(HelpfulDiagnostics, ATaskOrSubWithParametersSaysItTakesNone) {
       << r.text();
 }
 
+// A letter of another script in a name, or a dash, curly quote or
+// non-breaking space pasted from a web page, is one error per character,
+// and the parse goes on as if the character were not there: no syntax
+// error after it. (Each was one error per UTF-8 byte.)
+TEST(HelpfulDiagnostics, ANonAsciiCharacterIsOneErrorAndNoCascade) {
+  auto name = run_frontend("int gr\xC3\xB6\xC3\x9F" "e;\ntask main() { int \xC3\xB6 = 1; }\n");
+  EXPECT_EQ(placed_messages(name.diags),
+            (std::vector<std::string>{
+                "1:7 '\xC3\xB6' (U+00F6) cannot be part of a name: NQC names are ASCII letters, digits and _",
+                "1:9 '\xC3\x9F' (U+00DF) cannot be part of a name: NQC names are ASCII letters, digits and _",
+                "2:19 '\xC3\xB6' (U+00F6) cannot be part of a name: NQC names are ASCII letters, digits and _"}));
+  auto pasted = run_frontend("task main() {\n  int x = 3 \xE2\x80\x93 1;\n  x\xC2\xA0= 2;\n  PlaySound(\xE2\x80\x9C" "x\xE2\x80\x9D);\n}\n");
+  EXPECT_EQ(placed_messages(pasted.diags),
+            (std::vector<std::string>{"2:13 '\xE2\x80\x93' (U+2013) is an en dash: use -",
+                                      "3:4 a non-breaking space (U+00A0): use an ordinary space",
+                                      "4:13 '\xE2\x80\x9C' (U+201C) is a typographic quote: use \"",
+                                      "4:17 '\xE2\x80\x9D' (U+201D) is a typographic quote: use \""}));
+}
+
 // C's comma in a for header got "expected ';' before ','" and a second
 // error at the header's ')' (nqc: one "syntax error"). One message now says
 // what NQC lacks; the rest of the header and the body get no second error.

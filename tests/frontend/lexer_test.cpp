@@ -226,6 +226,64 @@ TEST(Lexer, UnprintableStrayCharactersAreShownByCode) {
   EXPECT_EQ(d.all()[0].message, "stray character '\\xfd' in program");
 }
 
+// A letter of another script was two errors, "stray character '\xc3'" and
+// "'\xb6'", one per UTF-8 byte, the second caret inside the letter. It is
+// one error per character now, naming it, its span the whole character
+// (columns count bytes).
+TEST(Lexer, ANonAsciiLetterIsOneErrorNamingIt) {
+  Diagnostics d;
+  auto toks = lex("int gr\xC3\xB6\xC3\x9F" "e;", 0, d);
+  ASSERT_EQ(d.error_count(), 2u);
+  EXPECT_EQ(d.all()[0].message, "'\xC3\xB6' (U+00F6) cannot be part of a name: NQC names are ASCII letters, digits and _");
+  EXPECT_EQ(d.all()[0].span.begin.column, 7u);
+  EXPECT_EQ(d.all()[0].span.end.column, 9u);
+  EXPECT_EQ(d.all()[1].message, "'\xC3\x9F' (U+00DF) cannot be part of a name: NQC names are ASCII letters, digits and _");
+  EXPECT_EQ(d.all()[1].span.begin.column, 9u);
+  EXPECT_EQ(d.all()[1].span.end.column, 11u);
+  EXPECT_EQ(texts(toks), (std::vector<std::string>{"int", "gr", "\xC3\xB6", "\xC3\x9F", "e", ";"}));
+}
+
+// Text copied from a web page or a word processor brings curly quotes,
+// dashes for minus signs and non-breaking spaces: each says what to type.
+TEST(Lexer, PastedTypographyGetsAHintEach) {
+  const std::pair<std::string, std::string> cases[] = {
+      {"\xE2\x80\x9C", "'\xE2\x80\x9C' (U+201C) is a typographic quote: use \""},
+      {"\xE2\x80\x9D", "'\xE2\x80\x9D' (U+201D) is a typographic quote: use \""},
+      {"\xE2\x80\x98", "'\xE2\x80\x98' (U+2018) is a typographic quote: use '"},
+      {"\xE2\x80\x99", "'\xE2\x80\x99' (U+2019) is a typographic quote: use '"},
+      {"\xC2\xA0", "a non-breaking space (U+00A0): use an ordinary space"},
+      {"\xE2\x80\x93", "'\xE2\x80\x93' (U+2013) is an en dash: use -"},
+      {"\xE2\x80\x94", "'\xE2\x80\x94' (U+2014) is an em dash: use -"},
+      {"\xE2\x88\x92", "'\xE2\x88\x92' (U+2212) is a minus sign: use -"},
+      {"\xE2\x89\xA4", "'\xE2\x89\xA4' (U+2264) is a less-than-or-equal sign: use <="},
+      {"\xEF\xBC\x9B", "'\xEF\xBC\x9B' (U+FF1B) is a full-width ';': use ;"},
+      {"\xE2\x80\x89", "a Unicode space (U+2009): use an ordinary space"},
+      {"\xE2\x80\x8B", "an invisible character (U+200B) in program: delete it"},
+      {"\xE2\x80\xAE", "an invisible character (U+202E) in program: delete it"},
+      {"\xE2\x82\xAC", "stray character '\xE2\x82\xAC' (U+20AC) in program"},
+      {"\xF0\x9F\x98\x80", "stray character '\xF0\x9F\x98\x80' (U+1F600) in program"},
+  };
+  for (const auto& [ch, said] : cases) {
+    Diagnostics d;
+    lex("x = 3 " + ch + " 1;", 0, d);
+    ASSERT_EQ(d.error_count(), 1u) << said;
+    EXPECT_EQ(d.all()[0].message, said);
+    EXPECT_EQ(d.all()[0].span.begin.column, 7u);
+    EXPECT_EQ(d.all()[0].span.end.column, 7u + ch.size()) << said;
+  }
+}
+
+// Bytes that are no UTF-8 are still one error each, by code.
+TEST(Lexer, BytesThatAreNoUtf8AreReportedOneByOne) {
+  Diagnostics d;
+  lex("a \xC3 b \xC0\xAF c \xE2\x80 d \xB6", 0, d);
+  std::vector<std::string> said;
+  for (const auto& e : d.all()) said.push_back(e.message);
+  EXPECT_EQ(said, (std::vector<std::string>{"stray character '\\xc3' in program", "stray character '\\xc0' in program",
+                                            "stray character '\\xaf' in program", "stray character '\\xe2' in program",
+                                            "stray character '\\x80' in program", "stray character '\\xb6' in program"}));
+}
+
 // A file's tokens can go into the list of a file read before (the
 // preprocessor hands each #included part the last part's list): the
 // storage is reused, with nothing of the old tokens left, and the tokens

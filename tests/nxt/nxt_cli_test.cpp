@@ -209,7 +209,7 @@ TEST(NxtCli, AnUnreadableUploadIsSaidBeforeThePortIsOpened) {
   auto device = nxt(nowhere, {"upload", "/dev/null"});
   EXPECT_EQ(device.exit_code, 1) << device.err;
   EXPECT_EQ(device.err, "rcxc nxt upload: /dev/null: not a file (a device, a pipe or a socket); rcxc nxt upload "
-                        "copies a file to the brick\n");
+                        "copies a file to the brick, or the standard input with - NAME\n");
   const std::string fifo = dir.path + "/pipe.rxe";
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
   auto pipe = nxt(nowhere, {"upload", fifo, "pipe.rxe"});
@@ -283,6 +283,16 @@ TEST(NxtCli, PortsThatCannotBeOpenedOrDoNotAnswer) {
   auto silent = nxt(pty.slave_path, {"--timeout", "50", "battery"});
   EXPECT_EQ(silent.exit_code, 4);
   EXPECT_NE(silent.err.find("no reply to GetBatteryLevel"), std::string::npos) << silent.err;
+  // Nothing at all came: the likely reasons are said.
+  EXPECT_NE(silent.err.find("within 50 ms; nothing came back: is the brick switched off, or asleep (it switches "
+                            "itself off after the sleep limit set in its Settings menu), out of Bluetooth range "
+                            "(about 10 m), or is another program (a terminal, another rcxc) reading the port?\n"),
+            std::string::npos)
+      << silent.err;
+  auto raw = nxt(pty.slave_path, {"--timeout", "50", "raw", "00", "0b"});
+  EXPECT_EQ(raw.exit_code, 4);
+  EXPECT_NE(raw.err.find("no reply within 50 ms; nothing came back: is the brick switched off"), std::string::npos)
+      << raw.err;
   nxt::close_pty_pair(pty);
   EXPECT_EQ(run_rcxc({"nxt", "brick"}).exit_code, 2);
   EXPECT_EQ(run_rcxc({"nxt", "frobnicate"}).exit_code, 2);
@@ -853,6 +863,31 @@ TEST(NxtCli, DownloadToTheStandardOutput) {
   auto mixed = nxt(brick.path, {"--json", "download", "data.bin", "-"});
   EXPECT_EQ(mixed.exit_code, 2);
   EXPECT_NE(mixed.err.find("--json and FILE - do not go together"), std::string::npos) << mixed.err;
+}
+
+// "-" is the standard input, as download's FILE - is the standard output:
+// upload looked for a file named "-" ("cannot read -: no such file"). A
+// pipe has no name, so NAME is needed; without it the refusal says so
+// before the port is opened.
+TEST(NxtCli, UploadFromTheStandardInput) {
+  NxtBrickProcess brick;
+  const std::string bytes("\x00\x01\xffRX\x00\n", 7);
+  auto up = run_rcxc({"nxt", "--port", brick.path, "upload", "-", "piped.bin"}, bytes, 20'000);
+  ASSERT_EQ(up.exit_code, 0) << up.err;
+  EXPECT_EQ(up.out, "7 bytes to piped.bin\n");
+  auto back = run_rcxc({"nxt", "--port", brick.path, "download", "piped.bin", "-"}, "", 20'000);
+  ASSERT_EQ(back.exit_code, 0) << back.err;
+  EXPECT_EQ(back.out, bytes);
+  auto nameless = run_rcxc({"nxt", "--port", "/dev/no-such-nxt", "upload", "-"}, bytes, 20'000);
+  EXPECT_EQ(nameless.exit_code, 2);
+  EXPECT_EQ(nameless.err,
+            "rcxc nxt upload: FILE - (the standard input) has no name to give the file on the brick: add it, "
+            "rcxc nxt upload - NAME\n");
+  // Past the brick's whole flash: refused, not sent.
+  auto huge = run_rcxc({"nxt", "--port", "/dev/no-such-nxt", "upload", "-", "huge.bin"},
+                       std::string((256 << 10) + 1, 'x'), 20'000);
+  EXPECT_EQ(huge.exit_code, 1);
+  EXPECT_NE(huge.err.find("the standard input: larger than"), std::string::npos) << huge.err;
 }
 
 // A brick that answers each request with the next of `replies` (framed),
