@@ -368,20 +368,24 @@ bool includes(const Document& doc, const std::string& path) {
   return false;
 }
 
+// The document `d` at `uri` must be compiled again: now, its diagnostics
+// added to `out`, or marked for later (defer_index).
+void recompile(Server& server, const std::string& uri, Document& d, std::vector<json>& out) {
+  d.generation = ++server.changes;
+  if (server.defer_index) {
+    d.stale = true;
+  } else {
+    reindex(server, d);
+    out.push_back(publish(server, uri, &d));
+  }
+}
+
 // The text of the document at `path` was set or dropped (`doc` is null when
 // it was closed): it is compiled now, or marked for later (defer_index), and
 // so is every open document that includes it.
 std::vector<json> changed(Server& server, const std::string& uri, Document* doc, const std::string& path) {
   std::vector<json> out;
-  auto redo = [&](const std::string& u, Document& d) {
-    d.generation = ++server.changes;
-    if (server.defer_index) {
-      d.stale = true;
-    } else {
-      reindex(server, d);
-      out.push_back(publish(server, u, &d));
-    }
-  };
+  auto redo = [&](const std::string& u, Document& d) { recompile(server, u, d, out); };
   if (doc)
     redo(uri, *doc);
   else
@@ -1219,15 +1223,7 @@ std::vector<json> notify(Server& server, const std::string& method, const json& 
       return {};
     apply_settings(server, params["settings"]["rcxc"]);
     std::vector<json> out;
-    for (auto& [uri, doc] : server.documents) {
-      doc.generation = ++server.changes;
-      if (server.defer_index) {
-        doc.stale = true;
-      } else {
-        reindex(server, doc);
-        out.push_back(publish(server, uri, &doc));
-      }
-    }
+    for (auto& [uri, doc] : server.documents) recompile(server, uri, doc, out);
     return out;
   }
   return {};  // initialized, $/cancelRequest, ...: nothing to do
