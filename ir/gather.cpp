@@ -1,5 +1,4 @@
 // Constant arithmetic on one variable gathered into one step (see passes.h).
-#include <cstdint>
 #include <iterator>
 #include <optional>
 #include <vector>
@@ -28,38 +27,31 @@ std::optional<ConstantStep> constant_step(const Instr& in) {
   }
 }
 
-int wrapped(long v) { return static_cast<std::int16_t>(static_cast<std::uint16_t>(v & 0xffff)); }
-
 bool adds(Op op) { return op == Op::AddToVariable || op == Op::SubtractFromVariable; }
 int signed_term(Op op, int value) { return op == Op::SubtractFromVariable ? -value : value; }
 
-// The step that does what `a` then `b` do (the same variable), with
-// `identity` when it does nothing; nullopt where no one step does. The
-// firmware's + - * wrap at 16 bits, so sums and products of the constants
-// gather exactly; & and | always do; two divisions by positive constants
-// are one by their product (truncating division), while it fits.
-struct Combined {
-  ConstantStep step;
-  bool identity = false;
-};
+// `d += k` as it reads best: a negative k subtracted (but -32768, which
+// has no positive twin).
+ConstantStep sum_step(VarId d, int k) {
+  if (k < 0 && k != -32768) return {d, Op::SubtractFromVariable, -k};
+  return {d, Op::AddToVariable, k};
+}
 
-std::optional<Combined> combined(const ConstantStep& a, const ConstantStep& b) {
-  if (adds(a.op) && adds(b.op)) {
-    int k = wrapped(static_cast<long>(signed_term(a.op, a.value)) + signed_term(b.op, b.value));
-    if (k < 0 && k != -32768) return Combined{{a.var, Op::SubtractFromVariable, -k}, false};
-    return Combined{{a.var, Op::AddToVariable, k}, k == 0};
-  }
+// The step that does what `a` then `b` do (the same variable); nullopt
+// where no one step does. The firmware's + - * wrap at 16 bits, so sums
+// and products of the constants gather exactly; & and | always do; two
+// divisions by positive constants are one by their product (truncating
+// division), while it fits.
+std::optional<ConstantStep> combined(const ConstantStep& a, const ConstantStep& b) {
+  if (adds(a.op) && adds(b.op))
+    return sum_step(a.var, wrap16(static_cast<long>(signed_term(a.op, a.value)) + signed_term(b.op, b.value)));
   if (a.op != b.op) return std::nullopt;
   switch (a.op) {
-    case Op::MultiplyVariable: {
-      int k = wrapped(static_cast<long>(a.value) * b.value);
-      return Combined{{a.var, a.op, k}, k == 1};
-    }
-    case Op::AndVariable: return Combined{{a.var, a.op, a.value & b.value}, (a.value & b.value) == -1};
-    case Op::OrVariable: return Combined{{a.var, a.op, a.value | b.value}, (a.value | b.value) == 0};
+    case Op::MultiplyVariable: case Op::AndVariable: case Op::OrVariable:
+      return ConstantStep{a.var, a.op, *arithmetic(a.op, a.value, b.value)};
     case Op::DivideVariable:
       if (a.value <= 0 || b.value <= 0 || static_cast<long>(a.value) * b.value > 32767) return std::nullopt;
-      return Combined{{a.var, a.op, a.value * b.value}, false};
+      return ConstantStep{a.var, a.op, a.value * b.value};
     default: return std::nullopt;
   }
 }
@@ -74,12 +66,12 @@ void merge_neighbours(std::vector<Instr>& code) {
     auto step = constant_step(in);
     auto before = step && !out.empty() ? constant_step(out.back()) : std::nullopt;
     if (before && before->var == step->var) {
-      if (auto c = combined(*before, *step); c && accepts(c->step.op, 1, Operand::imm(c->step.value))) {
-        if (c->identity) {
+      if (auto c = combined(*before, *step); c && accepts(c->op, 1, Operand::imm(c->value))) {
+        if (leaves_unchanged(c->op, c->value)) {
           out.pop_back();
         } else {
-          out.back().op = c->step.op;
-          out.back().args[1] = Operand::imm(c->step.value);
+          out.back().op = c->op;
+          out.back().args[1] = Operand::imm(c->value);
         }
         continue;
       }
@@ -117,16 +109,15 @@ std::optional<std::vector<Instr>> sum_started_by_constant(const std::vector<Inst
       variables.push_back(&code[i]);
     }
   }
-  int k = wrapped(constant);
+  int k = wrap16(constant);
   if (variables.empty() || variables.front()->op != Op::AddToVariable || (constants == 0 && k != 0))
     return std::nullopt;
   std::vector<Instr> out;
   out.emplace_back(Op::SetVariable, Operands{Operand::var(d), variables.front()->args[1]}, false, set.span);
   for (std::size_t i = 1; i < variables.size(); ++i) out.push_back(*variables[i]);
   if (k != 0) {
-    bool negative = k < 0 && k != -32768;
-    out.emplace_back(negative ? Op::SubtractFromVariable : Op::AddToVariable,
-                     Operands{Operand::var(d), Operand::imm(negative ? -k : k)}, false, set.span);
+    ConstantStep rest = sum_step(d, k);
+    out.emplace_back(rest.op, Operands{Operand::var(d), Operand::imm(rest.value)}, false, set.span);
   }
   return out;
 }

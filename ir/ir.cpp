@@ -66,6 +66,18 @@ std::optional<int> arithmetic(rcx::Op op, int dest, int src) {
   }
 }
 
+bool leaves_unchanged(rcx::Op op, int k) {
+  switch (op) {
+    case rcx::Op::AddToVariable:
+    case rcx::Op::SubtractFromVariable:
+    case rcx::Op::OrVariable: return k == 0;
+    case rcx::Op::MultiplyVariable: return k == 1;
+    case rcx::Op::AndVariable: return k == -1;
+    case rcx::Op::DivideVariable: return k == 0 || k == 1;
+    default: return false;
+  }
+}
+
 SpanId Program::add_span(const SourceSpan& span) {
   spans.push_back(span);
   return static_cast<SpanId>(spans.size() - 1);

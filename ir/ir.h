@@ -320,6 +320,10 @@ constexpr int wrap16(long v) { return static_cast<std::int16_t>(static_cast<std:
 // on constants: `dest` is the variable's old value, `src` the operand.
 // std::nullopt for opcodes that are not variable arithmetic.
 std::optional<int> arithmetic(rcx::Op op, int dest, int src);
+// Whether `x op= k` leaves every x as it was: + - | of 0, * of 1, & of
+// -1, and / of 1 or 0 (the firmware leaves a variable divided by zero
+// unchanged).
+bool leaves_unchanged(rcx::Op op, int k);
 
 // The task a start or stop instruction names, or -1: another instruction,
 // raw asm, or a task given by its number in asm (`asm { start 2; }`), which

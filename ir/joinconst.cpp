@@ -97,21 +97,6 @@ void push_constant_ops_into_predecessors(Function& f, const std::vector<Var>& va
 
 namespace {
 
-// Whether `x op= k` leaves every x as it was: + - | of 0, * of 1, & of
-// -1, and / of 1 or 0 (the firmware leaves a variable divided by zero
-// unchanged).
-bool leaves_unchanged(rcx::Op op, int k) {
-  switch (op) {
-    case rcx::Op::AddToVariable:
-    case rcx::Op::SubtractFromVariable:
-    case rcx::Op::OrVariable: return k == 0;
-    case rcx::Op::MultiplyVariable: return k == 1;
-    case rcx::Op::AndVariable: return k == -1;
-    case rcx::Op::DivideVariable: return k == 0 || k == 1;
-    default: return false;
-  }
-}
-
 // Whether v is read after instruction `k` of block b before being set.
 bool read_after(const Block& b, std::size_t k, VarId v, const Liveness& L, std::size_t index) {
   for (std::size_t i = k + 1; i < b.instrs.size(); ++i) {

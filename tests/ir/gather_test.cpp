@@ -129,3 +129,15 @@ TEST(Gather, AGlobalStartsWithItsFirstVariableWhereNoOtherTaskRuns) {
   expect_step(code[0], Op::SetVariable, h, V(g));
   expect_step(code[1], Op::AddToVariable, h, I(7));
 }
+
+TEST(Gather, APairThatLeavesTheVariableAsItWasGoes) {
+  Builder b;
+  VarId g = b.global("g");
+  // / 1 / 1, & 0x0f0f & 0xf0f0 is & 0 (stays: it sets 0), | 0 | 0.
+  auto code = gathered(b, {div(g, I(1)), div(g, I(1)), sound(1), band(g, I(0x0f0f)), band(g, I(0xf0f0 - 65536)),
+                           sound(2), bor(g, I(0)), bor(g, I(0))});
+  ASSERT_EQ(code.size(), 3u);
+  EXPECT_EQ(code[0].op, Op::PlaySound);
+  expect_step(code[1], Op::AndVariable, g, I(0));
+  EXPECT_EQ(code[2].op, Op::PlaySound);
+}
