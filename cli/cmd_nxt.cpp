@@ -651,7 +651,7 @@ void register_nxt(CLI::App& app, int& exit_code) {
         if (d.status == nxt::status::kQueueEmpty)
           return Output{"(empty)\n", {{"mailbox", q + 1}, {"message", nullptr}}};
         if (d.status != nxt::status::kOk)
-          return Failure{kExitFailure, fmt::format("MessageRead refused: 0x{:02x} {}", d.status, nxt::status_message(d.status))};
+          return failure(nxt::refused(d));
         auto data = *d.bytes("data");
         auto size = static_cast<std::size_t>(*d.number("size"));
         if (size > data.size()) return Failure{kExitNoReply, fmt::format("MessageRead says {} bytes in a 59-byte field", size)};
@@ -719,8 +719,7 @@ void register_nxt(CLI::App& app, int& exit_code) {
       const auto& d = std::get<nxt::Decoded>(r);
       if (d.status == nxt::status::kNoProgram) return Output{"(no program running)\n", {{"program", nullptr}}};
       if (d.status != nxt::status::kOk)
-        return Failure{kExitFailure, fmt::format("GetCurrentProgramName refused: 0x{:02x} {}", d.status,
-                                                 nxt::status_message(d.status))};
+        return failure(nxt::refused(d));
       return Output{*d.text("name") + "\n", {{"program", *d.text("name")}}};
     });
   });
@@ -820,9 +819,8 @@ void register_nxt(CLI::App& app, int& exit_code) {
           // is open) stops the upload.
           auto r = nxt::call(c, *nxt::find_command("Delete"), values({target}));
           if (auto* e = std::get_if<CallError>(&r)) return failure(*e);
-          auto status = std::get<nxt::Decoded>(r).status;
-          if (status != nxt::status::kOk && status != nxt::status::kFileNotFound)
-            return Failure{kExitFailure, fmt::format("Delete refused: 0x{:02x} {}", status, nxt::status_message(status))};
+          const auto& d = std::get<nxt::Decoded>(r);
+          if (d.status != nxt::status::kOk && d.status != nxt::status::kFileNotFound) return failure(nxt::refused(d));
         }
         if (auto e = nxt::upload_file(c, target, *data, progress_bar("upload " + target))) {
           Failure f = failure(*e);

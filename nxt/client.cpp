@@ -54,11 +54,6 @@ const Command& named(std::string_view name) {
   return *find_command(name);
 }
 
-CallError refused(const Decoded& d) {
-  return {CallError::Kind::Refused,
-          fmt::format("{} refused: 0x{:02x} {}", d.command->name, d.status, status_message(d.status)), d.status};
-}
-
 template <typename T>
 T field_or(const Decoded& d, std::string_view name, T fallback) {
   auto v = d.number(name);
@@ -66,6 +61,11 @@ T field_or(const Decoded& d, std::string_view name, T fallback) {
 }
 
 }  // namespace
+
+CallError refused(const Decoded& d) {
+  return {CallError::Kind::Refused,
+          fmt::format("{} refused: 0x{:02x} {}", d.command->name, d.status, status_message(d.status)), d.status};
+}
 
 std::variant<Decoded, CallError> call(Client& client, const Command& command, std::span<const Value> values) {
   auto encoded = encode_request(command, values, true);

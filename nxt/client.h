@@ -44,6 +44,9 @@ struct Client {
 // Sends the request and waits for its reply. A reply with a non-zero status
 // is returned as Decoded (callers decide); use `expect_ok` to make it an error.
 std::variant<Decoded, CallError> call(Client& client, const Command& command, std::span<const Value> values);
+// The error for a reply whose status is not success: "NAME refused: 0xSS
+// what it means".
+CallError refused(const Decoded& d);
 // call() by command name (from the table), turning a non-zero status into Refused.
 std::variant<Decoded, CallError> call_ok(Client& client, std::string_view name, std::span<const Value> values);
 // Sends with the no-reply bit (0x80/0x81): for commands whose effect is seen later.
