@@ -1,6 +1,7 @@
 // `rcxc remote ACTION`: one-shot actions on a brick over the IR link.
 #include <unistd.h>
 
+#include <algorithm>
 #include <iostream>
 
 #include <fmt/format.h>
@@ -8,6 +9,7 @@
 #include "cli/commands.h"
 #include "cli/program_loader.h"
 #include "cli/tower.h"
+#include "frontend/spelling.h"
 #include "link/remote.h"
 #include "link/transport.h"
 
@@ -31,6 +33,18 @@ int exit_code_for(rcx::RemoteFailure kind) {
   return kExitFailure;
 }
 
+// "unknown action 'alve': did you mean 'alive'?", as rcxc's other commands
+// answer a misspelt word; nullopt when the first word is an action.
+std::optional<std::string> unknown_action_hint(const std::vector<std::string>& words) {
+  if (words.empty()) return std::nullopt;
+  std::vector<std::string> names;
+  for (const rcx::RemoteAction& action : rcx::remote_actions()) names.emplace_back(action.name);
+  if (std::ranges::find(names, words.front()) != names.end()) return std::nullopt;
+  std::string said = "unknown action '" + words.front() + "'";
+  if (auto near = frontend::closest_name(words.front(), names)) return said + ": did you mean '" + *near + "'?";
+  return said + ": the actions are listed below";
+}
+
 int run_remote(const RemoteArgs& a) {
   // Before check_remote, which reads the firmware file to judge it: /dev/null
   // read as an empty file said "no data records", and a pipe would be read
@@ -41,6 +55,10 @@ int run_remote(const RemoteArgs& a) {
       return kExitFailure;
     }
   if (auto bad = rcx::check_remote(a.words)) {
+    if (auto hint = unknown_action_hint(a.words)) {
+      std::cerr << "rcxc remote: " << *hint << "\n" << rcx::remote_actions_help();
+      return kExitUsage;
+    }
     std::cerr << "rcxc remote: " << bad->message << "\n";
     return exit_code_for(bad->kind);
   }

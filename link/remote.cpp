@@ -248,22 +248,31 @@ Outcome one_number(Link& link, const Words& w, Op op, int lo, int hi, int offset
 
 }  // namespace
 
+const std::vector<RemoteAction>& remote_actions() {
+  static const std::vector<RemoteAction> actions = {
+      {"alive", "", "check that the RCX answers"},
+      {"versions", "", "ROM and firmware versions"},
+      {"battery", "", "battery voltage"},
+      {"run", " [N]", "start program N (1..5; default: the current one)"},
+      {"stop", "", "stop all tasks"},
+      {"program", " N", "select program N (1..5)"},
+      {"message", " N", "send IR message N (0..255)"},
+      {"get", " SOURCE ARG", "read a value, e.g. get var 3, get sensor 0, get timer 1"},
+      {"datalog", " [--csv]", "upload and print the datalog"},
+      {"watch", " HH:MM|now", "set the RCX clock"},
+      {"sleep", " MIN", "set the power-down delay (0 = never)"},
+      {"clear", "", "delete every program and the datalog"},
+      {"firmware", " FILE.srec", "download and unlock firmware"},
+      {"raw", " HEX...", "send one request and print the reply"},
+  };
+  return actions;
+}
+
 std::string remote_actions_help() {
-  return "actions:\n"
-         "  alive                 check that the RCX answers\n"
-         "  versions              ROM and firmware versions\n"
-         "  battery               battery voltage\n"
-         "  run [N]               start program N (1..5; default: the current one)\n"
-         "  stop                  stop all tasks\n"
-         "  program N             select program N (1..5)\n"
-         "  message N             send IR message N (0..255)\n"
-         "  get SOURCE ARG        read a value, e.g. get var 3, get sensor 0, get timer 1\n"
-         "  datalog [--csv]       upload and print the datalog\n"
-         "  watch HH:MM|now       set the RCX clock\n"
-         "  sleep MIN             set the power-down delay (0 = never)\n"
-         "  clear                 delete every program and the datalog\n"
-         "  firmware FILE.srec    download and unlock firmware\n"
-         "  raw HEX...            send one request and print the reply\n";
+  std::string text = "actions:\n";
+  for (const RemoteAction& a : remote_actions())
+    text += fmt::format("  {:<22}{}\n", std::string(a.name) + std::string(a.arguments), a.summary);
+  return text;
 }
 
 std::variant<std::string, RemoteError> run_remote(Link& link, const Words& w, const RemoteOptions& options) {
@@ -301,10 +310,8 @@ std::variant<std::string, RemoteError> run_remote(Link& link, const Words& w, co
   if (a == "clear" && arity(1)) return clear(link);
   if (a == "firmware" && arity(2)) return firmware(link, w[1], options);
   if (a == "raw" && w.size() >= 2) return raw(link, w);
-  static const std::map<std::string, std::string> kArgs = {
-      {"alive", ""}, {"versions", ""}, {"battery", ""}, {"run", " [N]"}, {"stop", ""}, {"datalog", ""},
-      {"watch", " HH:MM|now"}, {"clear", ""}, {"firmware", " FILE.srec"}, {"raw", " HEX..."}};
-  if (auto it = kArgs.find(a); it != kArgs.end()) return usage(fmt::format("usage: {}{}", a, it->second));
+  for (const RemoteAction& known : remote_actions())
+    if (known.name == a) return usage(fmt::format("usage: {}{}", a, known.arguments));
   return usage(fmt::format("unknown action '{}'\n{}", a, remote_actions_help()));
 }
 

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <string_view>
 #include <variant>
 #include <vector>
 
@@ -28,6 +29,12 @@ struct RemoteOptions {
   // Progress of a firmware download (bytes done, total).
   std::function<void(std::size_t, std::size_t)> progress;
 };
+
+// The actions `run_remote` knows: name, what follows it, what it does.
+struct RemoteAction {
+  std::string_view name, arguments, summary;
+};
+const std::vector<RemoteAction>& remote_actions();
 
 // One line per action, for help texts.
 std::string remote_actions_help();

@@ -246,6 +246,21 @@ TEST(LinkCli, ABadActionIsExit2EvenWithoutATower) {
   EXPECT_EQ(run_rcxc({"remote", "--port", "/dev/no-such-tower", "get", "var", "31"}).exit_code, 3);
 }
 
+// `rcxc remote alve` listed the actions without a word on which was meant,
+// where rcxc's other commands (and `rcxc nxt`) give a did-you-mean.
+TEST(LinkCli, AMisspeltRemoteActionGetsADidYouMean) {
+  auto near = run_rcxc({"remote", "--port", "/dev/no-such-tower", "alve"});
+  EXPECT_EQ(near.exit_code, 2) << near.err;
+  EXPECT_EQ(near.err.rfind("rcxc remote: unknown action 'alve': did you mean 'alive'?\nactions:\n", 0), 0u) << near.err;
+  EXPECT_NE(near.err.find("  raw HEX...            send one request and print the reply\n"), std::string::npos);
+  auto far = run_rcxc({"remote", "--port", "/dev/no-such-tower", "zzzzzz", "1"});
+  EXPECT_EQ(far.exit_code, 2) << far.err;
+  EXPECT_EQ(far.err.rfind("rcxc remote: unknown action 'zzzzzz': the actions are listed below\n", 0), 0u) << far.err;
+  // A known action with wrong arguments keeps its own message.
+  auto known = run_rcxc({"remote", "--port", "/dev/no-such-tower", "watch"});
+  EXPECT_EQ(known.err, "rcxc remote: usage: watch HH:MM|now\n");
+}
+
 TEST(LinkCli, BadImageIsExit1) {
   rcxc::test::TempDir dir;
   std::string path = write_temp(dir, "bad.rcx", {'R', 'C', 'X', 'I', 0x09});
