@@ -985,6 +985,11 @@ class Preprocessor {
       name = rest[0].text.substr(1, rest[0].text.size() - 2);
     } else if (!rest.empty() && rest[0].is("<") && rest.back().is(">") && rest.size() > 2) {
       for (std::size_t i = 1; i + 1 < rest.size(); ++i) name += rest[i].text;
+    } else if (!rest.empty() && rest[0].kind == TokenKind::Unknown) {
+      // `#include “rcx.nqh”`, pasted from a word processor: the quote's own
+      // message says what to type.
+      report_unknown(rest[0]);
+      return;
     } else {
       diags_.error(line[0].span, "#include expects \"FILE\" or <FILE>");
       return;

@@ -226,6 +226,16 @@ TEST(HelpfulDiagnostics, ANonAsciiCharacterIsOneErrorAndNoCascade) {
                                       "4:17 '\xE2\x80\x9D' (U+201D) is a typographic quote: use \""}));
 }
 
+// `#include “rcx.nqh”` (quotes turned curly by a word processor) said
+// only that #include expects "FILE" or <FILE>; the quote's own message says
+// what to type, once, at the quote.
+TEST(HelpfulDiagnostics, ACurlyQuotedIncludeNamesTheQuote) {
+  auto r = run_frontend("#include \xE2\x80\x9C" "rcx.nqh\xE2\x80\x9D\ntask main() { }\n");
+  EXPECT_EQ(placed_messages(r.diags),
+            (std::vector<std::string>{"1:10 '\xE2\x80\x9C' (U+201C) is a typographic quote: use \""}))
+      << r.text();
+}
+
 // C's comma in a for header got "expected ';' before ','" and a second
 // error at the header's ')' (nqc: one "syntax error"). One message now says
 // what NQC lacks; the rest of the header and the body get no second error.
