@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <iostream>
+#include <memory>
 #include <sstream>
 #include <variant>
 
@@ -17,6 +18,7 @@
 #include "rcx/image.h"
 #include "rcx/program_io.h"
 #include "runtime/report.h"
+#include "runtime/room.h"
 #include "runtime/scenario.h"
 #include "runtime/trace_svg.h"
 #include "stdlib/stdlib.h"
@@ -27,8 +29,10 @@ namespace rcxc::cli {
 namespace {
 
 struct RunOptions {
-  std::string file;
-  std::string scenario;
+  std::vector<std::string> files;      // one program, or several bricks in one room
+  std::vector<std::string> scenarios;  // in the programs' order
+  std::string file;                    // the one program (files[0]) ...
+  std::string scenario;                // ... and its scenario
   std::int64_t for_ms = 60'000;
   bool for_given = false;
   std::uint64_t seed = 1;
@@ -115,26 +119,139 @@ std::string trace_text(const std::string& path, const rcx::Machine& machine, con
 // --for is given, to the microsecond as `rcxc test` runs it ("@for 0.5ms" is
 // half a millisecond, not none). Says so on stderr, so the timeline is never
 // a surprise.
-bool inputs_from_source(const RunOptions& o, const rcx::semtest::Spec& spec, std::vector<rcx::TimedInput>& inputs,
-                        rcx::Micros& run_us) {
+bool inputs_from_source(const RunOptions& o, const std::string& file, const rcx::semtest::Spec& spec,
+                        std::vector<rcx::TimedInput>& inputs, std::optional<rcx::Micros>& run_for_us) {
   if (spec.inputs.empty() && spec.scenario_file.empty() && !spec.run_for_us) return true;
-  auto gathered = rcx::semtest::all_inputs(spec, o.file);
+  auto gathered = rcx::semtest::all_inputs(spec, file);
   if (auto* error = std::get_if<std::string>(&gathered)) {
     std::cerr << "rcxc run: " << *error << "\n";
     return false;
   }
   inputs = std::get<std::vector<rcx::TimedInput>>(std::move(gathered));
-  if (spec.run_for_us && !o.for_given) run_us = *spec.run_for_us;
+  run_for_us = spec.run_for_us;
   if (o.nxt_port && !inputs.empty()) {
     // On an NXT the sensors, messages and battery are the brick's.
     inputs.clear();
-    std::cerr << "rcxc run: --nxt: the inputs written in " << o.file
+    std::cerr << "rcxc run: --nxt: the inputs written in " << file
               << " are not used: the NXT's sensors and mailbox are the inputs (`rcxc nxt brick --pty --scenario "
-              << o.file << "` replays them); @for sets the time limit\n";
+              << file << "` replays them); @for sets the time limit\n";
     return true;
   }
-  std::cerr << "rcxc run: using the inputs written in " << o.file << " (// @input, @for; --scenario overrides)\n";
+  std::cerr << "rcxc run: using the inputs written in " << file << " (// @input, @for; --scenario overrides)\n";
   return true;
+}
+
+// A program ready to run: its image and the inputs that drive it.
+struct Brick {
+  std::string file;
+  rcx::Image image;
+  std::vector<rcx::TimedInput> inputs;
+  std::optional<rcx::Micros> run_for_us;  // the source's // @for
+};
+
+// Compiles or reads `file` and gathers its inputs (`scenario`, else the
+// source's own directives); nullopt after saying what is wrong.
+std::optional<Brick> prepare(const RunOptions& o, const std::string& file, const std::string& scenario, int& code) {
+  code = kExitFailure;
+  // A test program's own directives: its @options compile it as `rcxc test`
+  // does; its inputs drive the run unless --scenario is given. Bad
+  // directives are `rcxc test`'s to report; a run goes on without them,
+  // saying so (a misspelt @for would otherwise leave a minute-long run).
+  std::optional<rcx::semtest::Spec> spec;
+  if (is_nqc_source(file).value_or(false)) {
+    auto parsed = rcx::semtest::parse_spec_file(file);
+    if (auto* good = std::get_if<rcx::semtest::Spec>(&parsed)) {
+      spec = std::move(*good);
+    } else if (std::ranges::any_of(std::get<std::vector<rcx::semtest::SpecError>>(parsed),
+                                   [](const rcx::semtest::SpecError& e) { return e.line > 0; })) {
+      // Line 0 is the file itself (too large, unreadable): the compile
+      // below says so, and there were no directives to blame.
+      std::cerr << "rcxc run: note: the // @ directives in " << file
+                << " have errors and are not used (rcxc test " << file << " names them)\n";
+    }
+  }
+  // The @scenario file of the source is an input too, though --scenario
+  // may stand in for it.
+  std::string directive_scenario = spec ? rcx::semtest::scenario_path(*spec, file) : "";
+  for (const std::string* input : {&file, &scenario, static_cast<const std::string*>(&directive_scenario)})
+    if (!o.trace.empty() && !input->empty() && savefile::same_file(o.trace, *input)) {
+      std::cerr << "rcxc run: refusing to write the trace to " << o.trace << ": it is the input " << *input
+                << " (choose another name)\n";
+      code = kExitUsage;
+      return std::nullopt;
+    }
+  CompilerArgs compiler = o.compiler;
+  if (spec && !spec->options.empty()) {
+    auto merged = with_file_options(o.compiler, spec->options, file);
+    if (auto* e = std::get_if<std::string>(&merged)) {
+      std::cerr << file << ":" << spec->options_line << ": error: " << *e << "\n";
+      code = kExitUsage;
+      return std::nullopt;
+    }
+    compiler = std::get<CompilerArgs>(std::move(merged));
+    std::cerr << "rcxc run: using the compiler options written in " << file << " (// @options)\n";
+  }
+  auto loaded = load_program(file, compile_request(compiler));
+  if (auto* e = std::get_if<std::string>(&loaded)) {
+    std::cerr << "rcxc run: " << *e << "\n";
+    return std::nullopt;
+  }
+  if (auto note = unused_compiler_options(file, compiler)) std::cerr << "rcxc run: " << *note << "\n";
+  Brick brick{file, std::get<rcx::Image>(std::move(loaded)), {}, std::nullopt};
+  if (!scenario.empty()) {
+    auto parsed = rcx::read_scenario_file(scenario);
+    if (auto* e = std::get_if<rcx::ScenarioError>(&parsed)) {
+      std::cerr << "rcxc run: " << e->message << "\n";
+      return std::nullopt;
+    }
+    brick.inputs = std::get<std::vector<rcx::TimedInput>>(std::move(parsed));
+    // Accepted (`--scenario /dev/null` leaves a source's own inputs out), but
+    // an empty file given by mistake should not pass for a run with inputs.
+    if (brick.inputs.empty())
+      std::cerr << "rcxc run: note: " << scenario << " holds no [[input]] tables: the run has no inputs\n";
+  } else if (spec && !inputs_from_source(o, file, *spec, brick.inputs, brick.run_for_us)) {
+    return std::nullopt;
+  }
+  return brick;
+}
+
+rcx::Config machine_config(const RunOptions& o) {
+  rcx::Config config;
+  config.seed = o.seed;
+  config.instruction_cost_us = o.instruction_us;
+  config.trace_variables = ends_with(o.trace, ".vcd");
+  return config;
+}
+
+// Loads the brick's program into slot 1 and starts it; false after saying
+// why it cannot run.
+bool load_and_start(rcx::Machine& machine, const Brick& brick) {
+  if (auto error = machine.load(0, brick.image)) {
+    std::cerr << "rcxc run: " << brick.file << ": " << *error << "\n";
+    return false;
+  }
+  if (!brick.image.find(rcx::FragmentType::Task, 0))
+    std::cerr << "rcxc run: warning: " << brick.file << " has no task 0 to start\n";
+  for (const auto& in : brick.inputs) machine.schedule(in);
+  machine.start_program();
+  return true;
+}
+
+// The end of a run as the exit code says it (a fault, events past the limit).
+int run_exit_code(const RunOptions& o, const rcx::Machine& machine, const std::string& who) {
+  if (machine.stop().kind == rcx::StopKind::Fault) {
+    if (o.report == "json" || !who.empty())
+      std::cerr << "rcxc run: " << (who.empty() ? "the program" : who) << " faulted: " << machine.stop().fault->message
+                << "\n";
+    return kExitFailure;
+  }
+  if (machine.stop().kind == rcx::StopKind::EventLimit) {
+    std::cerr << "rcxc run: " << (who.empty() ? "" : who + ": ") << "the run stopped at "
+              << machine.now_us() / rcx::kMicrosPerMs << " ms, before the time asked for: "
+              << rcx::event_limit_reason(machine) << "; ask for less with --for\n";
+    return kExitFailure;
+  }
+  return kExitOk;
 }
 
 int run(const RunOptions& o) {
@@ -157,78 +274,13 @@ int run(const RunOptions& o) {
               << o.scenario << ")\n";
     return kExitUsage;
   }
-  // A test program's own directives: its @options compile it as `rcxc test`
-  // does; its inputs drive the run unless --scenario is given. Bad
-  // directives are `rcxc test`'s to report; a run goes on without them,
-  // saying so (a misspelt @for would otherwise leave a minute-long run).
-  std::optional<rcx::semtest::Spec> spec;
-  if (is_nqc_source(o.file).value_or(false)) {
-    auto parsed = rcx::semtest::parse_spec_file(o.file);
-    if (auto* good = std::get_if<rcx::semtest::Spec>(&parsed)) {
-      spec = std::move(*good);
-    } else if (std::ranges::any_of(std::get<std::vector<rcx::semtest::SpecError>>(parsed),
-                                   [](const rcx::semtest::SpecError& e) { return e.line > 0; })) {
-      // Line 0 is the file itself (too large, unreadable): the compile
-      // below says so, and there were no directives to blame.
-      std::cerr << "rcxc run: note: the // @ directives in " << o.file
-                << " have errors and are not used (rcxc test " << o.file << " names them)\n";
-    }
-  }
-  // The @scenario file of the source is an input too, though --scenario
-  // may stand in for it.
-  std::string directive_scenario = spec ? rcx::semtest::scenario_path(*spec, o.file) : "";
-  for (const std::string* input : {&o.file, &o.scenario, static_cast<const std::string*>(&directive_scenario)})
-    if (!o.trace.empty() && !input->empty() && savefile::same_file(o.trace, *input)) {
-      std::cerr << "rcxc run: refusing to write the trace to " << o.trace << ": it is the input " << *input
-                << " (choose another name)\n";
-      return kExitUsage;
-    }
-  CompilerArgs compiler = o.compiler;
-  if (spec && !spec->options.empty()) {
-    auto merged = with_file_options(o.compiler, spec->options, o.file);
-    if (auto* e = std::get_if<std::string>(&merged)) {
-      std::cerr << o.file << ":" << spec->options_line << ": error: " << *e << "\n";
-      return kExitUsage;
-    }
-    compiler = std::get<CompilerArgs>(std::move(merged));
-    std::cerr << "rcxc run: using the compiler options written in " << o.file << " (// @options)\n";
-  }
-  auto loaded = load_program(o.file, compile_request(compiler));
-  if (auto* e = std::get_if<std::string>(&loaded)) {
-    std::cerr << "rcxc run: " << *e << "\n";
-    return kExitFailure;
-  }
-  if (auto note = unused_compiler_options(o.file, compiler)) std::cerr << "rcxc run: " << *note << "\n";
-  const rcx::Image& image = std::get<rcx::Image>(loaded);
-  std::vector<rcx::TimedInput> inputs;
-  if (!o.scenario.empty()) {
-    auto parsed = rcx::read_scenario_file(o.scenario);
-    if (auto* e = std::get_if<rcx::ScenarioError>(&parsed)) {
-      std::cerr << "rcxc run: " << e->message << "\n";
-      return kExitFailure;
-    }
-    inputs = std::get<std::vector<rcx::TimedInput>>(std::move(parsed));
-    // Accepted (`--scenario /dev/null` leaves a source's own inputs out), but
-    // an empty file given by mistake should not pass for a run with inputs.
-    if (inputs.empty())
-      std::cerr << "rcxc run: note: " << o.scenario << " holds no [[input]] tables: the run has no inputs\n";
-  }
-  rcx::Micros run_us = o.for_ms * rcx::kMicrosPerMs;
-  if (o.scenario.empty() && spec) {
-    if (!inputs_from_source(o, *spec, inputs, run_us)) return kExitFailure;
-  }
-  rcx::Config config;
-  config.seed = o.seed;
-  config.instruction_cost_us = o.instruction_us;
-  config.trace_variables = ends_with(o.trace, ".vcd");
-  rcx::Machine machine(config);
-  if (auto error = machine.load(0, image)) {
-    std::cerr << "rcxc run: " << o.file << ": " << *error << "\n";
-    return kExitFailure;
-  }
-  if (!image.find(rcx::FragmentType::Task, 0)) std::cerr << "rcxc run: warning: " << o.file << " has no task 0 to start\n";
-  for (const auto& in : inputs) machine.schedule(in);
-  machine.start_program();
+  int code = kExitOk;
+  auto brick = prepare(o, o.file, o.scenario, code);
+  if (!brick) return code;
+  const rcx::Image& image = brick->image;
+  rcx::Micros run_us = o.for_given || !brick->run_for_us ? o.for_ms * rcx::kMicrosPerMs : *brick->run_for_us;
+  rcx::Machine machine(machine_config(o));
+  if (!load_and_start(machine, *brick)) return kExitFailure;
   int tether_code = kExitOk;
   if (o.nxt_port) {
     tether_code = run_on_nxt(machine, image, *o.nxt_port, run_us);
@@ -253,16 +305,72 @@ int run(const RunOptions& o) {
     }
   }
   if (tether_code != kExitOk) return tether_code;
-  if (machine.stop().kind == rcx::StopKind::Fault) {
-    if (o.report == "json") std::cerr << "rcxc run: the program faulted: " << machine.stop().fault->message << "\n";
-    return kExitFailure;
+  return run_exit_code(o, machine, "");
+}
+
+// Several programs, one brick each, in one room: what one sends by infrared
+// the others receive (runtime/room.h).
+int run_room(const RunOptions& o) {
+  constexpr std::size_t kMostBricks = 8;
+  if (o.files.size() > kMostBricks) {
+    std::cerr << "rcxc run: " << o.files.size() << " programs: a room holds at most " << kMostBricks << " bricks\n";
+    return kExitUsage;
   }
-  if (machine.stop().kind == rcx::StopKind::EventLimit) {
-    std::cerr << "rcxc run: the run stopped at " << machine.now_us() / rcx::kMicrosPerMs
-              << " ms, before the time asked for: " << rcx::event_limit_reason(machine) << "; ask for less with --for\n";
-    return kExitFailure;
+  if (o.scenarios.size() > o.files.size()) {
+    std::cerr << "rcxc run: " << o.scenarios.size() << " scenarios for " << o.files.size()
+              << " programs: give at most one --scenario per program, in the programs' order\n";
+    return kExitUsage;
   }
-  return kExitOk;
+  if (!o.trace.empty()) {
+    std::cerr << "rcxc run: --trace draws one brick: run one program for a trace (several run together print one "
+                 "timeline)\n";
+    return kExitUsage;
+  }
+  if (o.nxt_port) {
+    std::cerr << "rcxc run: --nxt drives one NXT with one program, not " << o.files.size() << "\n";
+    return kExitUsage;
+  }
+  if (auto bad = bad_compiler_arguments(o.compiler)) {
+    std::cerr << "rcxc run: " << *bad << "\n";
+    return kExitUsage;
+  }
+  std::vector<Brick> bricks;
+  for (std::size_t i = 0; i < o.files.size(); ++i) {
+    int code = kExitOk;
+    auto brick = prepare(o, o.files[i], i < o.scenarios.size() ? o.scenarios[i] : "", code);
+    if (!brick) return code;
+    bricks.push_back(std::move(*brick));
+  }
+  // --for, else the longest // @for of the programs, else a minute.
+  rcx::Micros run_us = o.for_ms * rcx::kMicrosPerMs;
+  if (!o.for_given) {
+    std::optional<rcx::Micros> longest;
+    for (const Brick& b : bricks)
+      if (b.run_for_us) longest = std::max(longest.value_or(0), *b.run_for_us);
+    if (longest) run_us = *longest;
+  }
+  std::vector<std::unique_ptr<rcx::Machine>> machines;
+  std::vector<rcx::Machine*> room;
+  std::vector<rcx::RoomBrick> shown;
+  for (std::size_t i = 0; i < bricks.size(); ++i) {
+    rcx::Config config = machine_config(o);
+    // Each brick's own random numbers, as two real bricks have.
+    config.seed = o.seed + i;
+    machines.push_back(std::make_unique<rcx::Machine>(config));
+    if (!load_and_start(*machines.back(), bricks[i])) return kExitFailure;
+    room.push_back(machines.back().get());
+    shown.push_back({machines.back().get(), &bricks[i].image,
+                     fmt::format("{} {}", i + 1, std::filesystem::path(bricks[i].file).stem().string())});
+  }
+  auto sent = rcx::run_room(room, run_us);
+  if (o.report == "json")
+    std::cout << rcx::room_report_json(shown, sent).dump(2) << "\n";
+  else
+    std::cout << rcx::room_timeline_text(shown, sent, event_names());
+  int code = kExitOk;
+  for (const rcx::RoomBrick& b : shown)
+    if (int c = run_exit_code(o, *b.machine, "brick " + b.label); c != kExitOk) code = c;
+  return code;
 }
 
 }  // namespace
@@ -270,9 +378,17 @@ int run(const RunOptions& o) {
 void register_run(CLI::App& app, int& exit_code) {
   auto* cmd = app.add_subcommand("run", "Run a program on the RCX emulator in virtual time");
   auto o = std::make_shared<RunOptions>();
-  cmd->add_option("FILE", o->file, ".rcx image or NQC source (compiled in memory)")->required()->check(not_empty());
+  cmd->add_option("FILE", o->files,
+                  ".rcx image or NQC source (compiled in memory); several: one brick each, in one room, "
+                  "their IR messages reaching each other")
+      ->required()
+      ->check(not_empty());
   add_compiler_options(cmd, o->compiler);
-  cmd->add_option("--scenario", o->scenario, "TOML file of timed inputs ([[input]] tables)")->check(not_empty());
+  cmd->add_option("--scenario", o->scenarios,
+                  "TOML file of timed inputs ([[input]] tables); with several programs one each, in their order")
+      ->expected(1)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)
+      ->check(not_empty());
   cmd->add_option("--for", o->for_ms, "virtual time limit in ms (default 60000, or the source's // @for)")
       ->check(in_range(1, kLongestRunMs, "ms"));
   cmd->add_option("--seed", o->seed, "seed of the random source (default 1)")->check(whole_number());
@@ -288,6 +404,17 @@ void register_run(CLI::App& app, int& exit_code) {
   auto* for_option = cmd->get_option("--for");
   cmd->callback([&exit_code, o, for_option] {
     o->for_given = for_option->count() > 0;
+    if (o->files.size() > 1) {
+      exit_code = run_room(*o);
+      return;
+    }
+    if (o->scenarios.size() > 1) {
+      std::cerr << "rcxc run: " << o->scenarios.size() << " scenarios for one program: give one --scenario\n";
+      exit_code = kExitUsage;
+      return;
+    }
+    o->file = o->files.front();
+    o->scenario = o->scenarios.empty() ? "" : o->scenarios.front();
     exit_code = run(*o);
   });
 }

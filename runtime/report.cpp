@@ -216,19 +216,18 @@ nlohmann::json trace_json(const Machine& m, const Image& image) {
   return j;
 }
 
-std::string timeline_text(const Machine& m, const Image& image, const EventNames& names) {
+std::string time_ms(Micros us) { return format_ms(us); }
+
+std::vector<TimelineLine> timeline_events(const Machine& m, const Image& image, const EventNames& names) {
+  std::vector<TimelineLine> lines;
+  for (const auto& e : m.state().events)
+    if (e.kind != EventKind::Variable) lines.push_back({e.t_us, event_text(e, image, names)});
+  return lines;
+}
+
+std::string final_state_text(const Machine& m, const Image& image) {
   const State& s = m.state();
-  std::string out;
-  // As wide as the latest time shown (a run may last 2^40 ms; sounds still
-  // queued at the end are shown when they start, after it), 12 at least so
-  // that short runs keep their usual layout.
-  Micros latest = m.now_us();
-  for (const auto& e : s.events) latest = std::max(latest, e.t_us);
-  const std::size_t width = std::max<std::size_t>(12, format_ms(latest).size());
-  for (const auto& e : s.events)
-    if (e.kind != EventKind::Variable)
-      out += fmt::format("{:>{}} ms  {}\n", format_ms(e.t_us), width, event_text(e, image, names));
-  out += fmt::format("stopped: {} at {} ms\n", to_string(m.stop().kind), format_ms(m.now_us()));
+  std::string out = fmt::format("stopped: {} at {} ms\n", to_string(m.stop().kind), format_ms(m.now_us()));
   if (m.stop().fault) {
     const Fault& f = *m.stop().fault;
     out += fmt::format("fault: {}{}, address {}, opcode 0x{:02x}: {}\n", task_label(image, f.task),
@@ -251,6 +250,75 @@ std::string timeline_text(const Machine& m, const Image& image, const EventNames
     out += "\n";
   }
   return out;
+}
+
+std::size_t time_column_width(Micros latest) { return std::max<std::size_t>(12, format_ms(latest).size()); }
+
+std::string timeline_text(const Machine& m, const Image& image, const EventNames& names) {
+  // As wide as the latest time shown (a run may last 2^40 ms; sounds still
+  // queued at the end are shown when they start, after it), 12 at least so
+  // that short runs keep their usual layout.
+  Micros latest = m.now_us();
+  for (const auto& e : m.state().events) latest = std::max(latest, e.t_us);
+  const std::size_t width = time_column_width(latest);
+  std::string out;
+  for (const TimelineLine& line : timeline_events(m, image, names))
+    out += fmt::format("{:>{}} ms  {}\n", format_ms(line.t_us), width, line.text);
+  return out + final_state_text(m, image);
+}
+
+// ------------------------------------------------------------ rooms
+
+std::string room_timeline_text(std::span<const RoomBrick> bricks, std::span<const Transmission> sent,
+                               const EventNames& names) {
+  struct Line {
+    Micros t_us;
+    std::string text;
+  };
+  std::vector<Line> lines;
+  std::size_t label_width = 0;
+  for (const RoomBrick& b : bricks) label_width = std::max(label_width, b.label.size());
+  auto labelled = [&](const std::string& label, const std::string& text) {
+    return fmt::format("{:<{}}  {}", label, label_width, text);
+  };
+  Micros latest = 0;
+  for (const RoomBrick& b : bricks) {
+    latest = std::max(latest, b.machine->now_us());
+    for (const TimelineLine& line : timeline_events(*b.machine, *b.image, names))
+      lines.push_back({line.t_us, labelled(b.label, line.text)});
+  }
+  for (const Transmission& t : sent) {
+    const std::string& from = bricks[static_cast<std::size_t>(t.from)].label;
+    if (t.collided)
+      lines.push_back({t.end_us, labelled("IR", fmt::format("message {} from {} lost: another brick sent at the same "
+                                                             "time (on the air {} to {} ms)",
+                                                             t.value, from, format_ms(t.start_us), format_ms(t.end_us)))});
+    else if (t.received_by.empty() && t.end_us <= latest)
+      lines.push_back({t.end_us, labelled("IR", fmt::format("message {} from {} reached no brick: no other program "
+                                                             "was running",
+                                                             t.value, from))});
+  }
+  std::ranges::stable_sort(lines, {}, &Line::t_us);
+  for (const Line& line : lines) latest = std::max(latest, line.t_us);
+  const std::size_t width = time_column_width(latest);
+  std::string out;
+  for (const Line& line : lines) out += fmt::format("{:>{}} ms  {}\n", format_ms(line.t_us), width, line.text);
+  for (const RoomBrick& b : bricks) out += fmt::format("\n{}:\n{}", b.label, final_state_text(*b.machine, *b.image));
+  return out;
+}
+
+nlohmann::json room_report_json(std::span<const RoomBrick> bricks, std::span<const Transmission> sent) {
+  nlohmann::json j = {{"bricks", nlohmann::json::array()}, {"messages", nlohmann::json::array()}};
+  for (const RoomBrick& b : bricks)
+    j["bricks"].push_back({{"label", b.label}, {"report", report_json(*b.machine, *b.image)}});
+  for (const Transmission& t : sent) {
+    nlohmann::json m = {{"from", t.from + 1},     {"value", t.value},         {"sent", ms(t.sent_us)},
+                        {"start", ms(t.start_us)}, {"end", ms(t.end_us)},       {"collided", t.collided},
+                        {"received_by", nlohmann::json::array()}};
+    for (int r : t.received_by) m["received_by"].push_back(r + 1);
+    j["messages"].push_back(std::move(m));
+  }
+  return j;
 }
 
 // ------------------------------------------------------------ VCD

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "rcx/image.h"
+#include "runtime/room.h"
 #include "runtime/vm.h"
 
 namespace rcx {
@@ -49,6 +50,34 @@ void write_trace_json(std::ostream& out, const Machine& machine, const Image& im
 // the program's own variables only (named_variables), sounds, displays and
 // datalog sources by name.
 std::string timeline_text(const Machine& machine, const Image& image, const EventNames& names = {});
+// The two halves of the timeline, for a room of several bricks
+// (runtime/room.h), whose events are shown together: each event's line
+// without its time, and the final state from the `stopped:` line on.
+struct TimelineLine {
+  Micros t_us = 0;
+  std::string text;
+};
+std::vector<TimelineLine> timeline_events(const Machine& machine, const Image& image, const EventNames& names = {});
+std::string final_state_text(const Machine& machine, const Image& image);
+// A time as the timeline shows it ("1806.000"), and the width of its
+// column for times up to `latest`.
+std::string time_ms(Micros us);
+std::size_t time_column_width(Micros latest);
+// Several bricks run together (room.h): each with its label (`1 master`).
+struct RoomBrick {
+  const Machine* machine = nullptr;
+  const Image* image = nullptr;
+  std::string label;
+};
+// One timeline of every brick's events in time order, each line naming its
+// brick, with what became of each message on the air that did not arrive
+// (lost to another brick's packet, or no program left to hear it); then
+// each brick's final state under its label.
+std::string room_timeline_text(std::span<const RoomBrick> bricks, std::span<const Transmission> sent,
+                               const EventNames& names = {});
+// {"bricks": [{"label", "report": the one-brick report}], "messages": [...]}.
+nlohmann::json room_report_json(std::span<const RoomBrick> bricks, std::span<const Transmission> sent);
+
 // A Value Change Dump of outputs, sensor inputs, the program's variables
 // (named_variables) and sounds. Variable changes appear only if the machine
 // ran with trace_variables.

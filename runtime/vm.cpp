@@ -857,6 +857,11 @@ const StopInfo& Machine::run_until(Micros until_us) {
   return stop_;
 }
 
+const StopInfo& Machine::run_while_active(Micros until_us) {
+  loop(until_us, true);
+  return stop_;
+}
+
 const StopInfo& Machine::run(Micros limit_us) {
   loop(limit_us, true);
   if (stop_.kind == StopKind::Running) stop_.kind = StopKind::TimeLimit;

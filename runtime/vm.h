@@ -264,6 +264,11 @@ class Machine {
   // Runs until nothing is active or `limit_us`, whichever first; a run that
   // reaches the limit reports StopKind::TimeLimit.
   const StopInfo& run(Micros limit_us);
+  // Runs until `until_us` or until nothing is active (StopKind::Ended, the
+  // clock left where the last task ended), whichever first, and nothing
+  // more: run(limit) still closes the run. Several machines in one room
+  // (room.h) go forward side by side this way.
+  const StopInfo& run_while_active(Micros until_us);
   Micros now_us() const { return now_us_; }
   // Bytecode instructions this machine has executed, all tasks together.
   std::int64_t instructions_executed() const { return instructions_executed_; }

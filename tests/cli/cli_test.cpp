@@ -344,11 +344,12 @@ TEST(Cli, AParseErrorIsSaidOnceInPlainWords) {
     EXPECT_EQ(r.err.find("not expected"), std::string::npos) << r.err;
     EXPECT_EQ(r.err.rfind("rcxc: unknown ", 0), 0u) << r.err;
   }
-  auto more = run_rcxc({"run", "--fro", "p.nqc", "q.nqc"});
+  // (`compile` takes one FILE; `run` takes several, one brick each.)
+  auto more = run_rcxc({"compile", "--lisitng", "p.nqc", "q.nqc"});
   EXPECT_EQ(more.exit_code, 2);
   EXPECT_NE(more.err.find("not expected"), std::string::npos) << more.err;
   EXPECT_NE(more.err.find("q.nqc"), std::string::npos) << more.err;
-  EXPECT_NE(more.err.find("unknown option '--fro': did you mean '--for'?"), std::string::npos) << more.err;
+  EXPECT_NE(more.err.find("unknown option '--lisitng': did you mean '--listing'?"), std::string::npos) << more.err;
   // `--NAME=` was `--NAME` to CLI11: --listing= printed the listing with
   // exit 0, and --trace= took the next word as the trace's name.
   rcxc::test::TempDir d;
