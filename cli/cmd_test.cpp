@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <functional>
 #include <iostream>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <thread>
@@ -22,6 +23,7 @@
 #include "rcx/file_read.h"
 #include "verify/junit.h"
 #include "verify/testspec.h"
+#include "runtime/room.h"
 #include "runtime/vm.h"
 
 namespace rcxc::cli {
@@ -130,6 +132,48 @@ Compiled compile(const TestOptions& o, const std::string& file, const CompilerAr
   return {std::move(r.image), std::move(r.messages), {}};
 }
 
+// The program of an `@brick FILE` line, compiled as the test is (its own
+// @options added), loaded and started with its own @input lines and
+// @scenario as its inputs; or why it cannot run, at the @brick line.
+std::variant<std::unique_ptr<rcx::Machine>, Failure> start_other_brick(const TestOptions& o,
+                                                                       const rcx::semtest::OtherBrick& brick,
+                                                                       const std::string& test_file,
+                                                                       const rcx::Config& config) {
+  const std::string path = rcx::semtest::brick_path(brick, test_file);
+  auto fail = [&](const std::string& why) { return Failure{brick.line, "@brick " + brick.file + ": " + why}; };
+  if (!is_nqc_source(path).has_value()) return fail("cannot read " + path + ": " + rcx::cannot_open_reason(path));
+  rcx::semtest::Spec own;
+  if (*is_nqc_source(path)) {
+    auto parsed = rcx::semtest::parse_spec_file(path);
+    if (auto* errors = std::get_if<std::vector<rcx::semtest::SpecError>>(&parsed))
+      return fail(fmt::format("line {}: bad directive: {}", errors->front().line, errors->front().message));
+    own = std::get<rcx::semtest::Spec>(std::move(parsed));
+  }
+  auto args = with_file_options(o.compiler, own.options, path);
+  if (auto* error = std::get_if<std::string>(&args)) return fail(*error);
+  std::optional<rcx::Image> image;
+  if (*is_nqc_source(path)) {
+    Compiled c = compile(o, path, std::get<CompilerArgs>(args), own);
+    if (!c.failure.empty()) return fail(c.failure);
+    if (!c.image) {
+      auto error = std::ranges::find_if(c.messages, [](const auto& m) { return m.error; });
+      return fail("does not compile" + (error == c.messages.end() ? std::string() : fmt::format(": line {}: {}", error->line, error->message)));
+    }
+    image = std::move(c.image);
+  } else {
+    auto loaded = load_program(path, compile_request(std::get<CompilerArgs>(args)));
+    if (auto* error = std::get_if<std::string>(&loaded)) return fail(*error);
+    image = std::get<rcx::Image>(std::move(loaded));
+  }
+  auto inputs = rcx::semtest::all_inputs(own, path);
+  if (auto* error = std::get_if<std::string>(&inputs)) return fail(*error);
+  auto machine = std::make_unique<rcx::Machine>(config);
+  if (auto error = machine->load(0, *image)) return fail("cannot load the program: " + *error);
+  for (const auto& input : std::get<std::vector<rcx::TimedInput>>(inputs)) machine->schedule(input);
+  machine->start_program();
+  return machine;
+}
+
 // Runs one test file; returns its failures (empty = pass).
 std::vector<Failure> run_test(const TestOptions& o, const std::string& file, std::string& log) {
   if (is_nqc_source(file) == false) return {{0, non_source_kind(file) + ", not an NQC test program"}};
@@ -166,7 +210,25 @@ std::vector<Failure> run_test(const TestOptions& o, const std::string& file, std
   }
   for (const auto& input : inputs) machine.schedule(input);
   machine.start_program();
-  machine.run(spec.run_for_us.value_or(kDefaultRunUs));
+  const rcx::Micros run_us = spec.run_for_us.value_or(kDefaultRunUs);
+  if (spec.bricks.empty()) {
+    machine.run(run_us);
+  } else {
+    std::vector<std::unique_ptr<rcx::Machine>> others;
+    for (std::size_t i = 0; i < spec.bricks.size(); ++i) {
+      rcx::Config other_config = config;
+      other_config.seed = spec.seed + i + 1;  // as `rcxc run`'s brick i + 2
+      auto other = start_other_brick(o, spec.bricks[i], file, other_config);
+      if (auto* failure = std::get_if<Failure>(&other)) {
+        failures.push_back(*failure);
+        return failures;
+      }
+      others.push_back(std::get<std::unique_ptr<rcx::Machine>>(std::move(other)));
+    }
+    std::vector<rcx::Machine*> room{&machine};
+    for (auto& other : others) room.push_back(other.get());
+    rcx::run_room(room, run_us);
+  }
   auto run_failures = rcx::semtest::check_run(spec, machine, *c.image);
   failures.insert(failures.end(), run_failures.begin(), run_failures.end());
   if (o.verbose || !failures.empty())

@@ -223,6 +223,10 @@ EventPattern need_event(Cursor& c) {
   } else if (kind == "send") {
     p.kind = EventKind::MessageSent;
     if (!c.done() && whole_number_text(c.peek())) p.value = need_range(c, "message", 0, 255);
+  } else if (kind == "receive") {
+    // A message that arrived: from the test's inputs or another @brick.
+    p.kind = EventKind::MessageReceived;
+    if (!c.done() && whole_number_text(c.peek())) p.value = need_range(c, "message", 0, 255);
   } else if (kind == "datalog") {
     p.kind = EventKind::Datalog;
     if (!c.done() && whole_number_text(c.peek())) p.value = need_int(c, "datalog value");
@@ -234,7 +238,7 @@ EventPattern need_event(Cursor& c) {
     else p.task_name = t;
   } else {
     throw ParseFail{fmt::format(
-        "unknown event '{}' (sound, tone, output, display, send, datalog, task-start, task-stop)", kind)};
+        "unknown event '{}' (sound, tone, output, display, send, receive, datalog, task-start, task-stop)", kind)};
   }
   return p;
 }
@@ -370,6 +374,15 @@ void parse_directive(std::string_view text, int line, Spec& spec) {
     spec.scenario_file = c.next();
     if (spec.scenario_file.empty()) throw ParseFail{"expected a scenario file name"};
     need_end(c);
+  } else if (word == "brick") {
+    if (spec.bricks.size() == kMostOtherBricks)
+      throw ParseFail{fmt::format("an @brick more than {}: a room holds 8 bricks, this test's and {} others",
+                                  kMostOtherBricks, kMostOtherBricks)};
+    c.accept(":");
+    std::string file = c.next();
+    if (file.empty()) throw ParseFail{"expected the file of the other brick's program, e.g. @brick slave.nqc"};
+    need_end(c);
+    spec.bricks.push_back({line, std::move(file)});
   } else if (word == "options") {
     // Words split at blanks only: an option's value may hold ':' or ','.
     once(spec.options_line);
@@ -418,7 +431,8 @@ void parse_directive(std::string_view text, int line, Spec& spec) {
     spec.diagnostics.push_back(std::move(d));
   } else {
     throw ParseFail{fmt::format(
-        "unknown directive '@{}' (for, seed, scenario, options, input, expect, expect-error, expect-warning, nqc-differs)", word)};
+        "unknown directive '@{}' (for, seed, scenario, options, input, brick, expect, expect-error, expect-warning, "
+        "nqc-differs)", word)};
   }
 }
 
@@ -458,7 +472,7 @@ std::string event_text(const Event& e, const Image& image) {
     case EventKind::Sensor: return t + fmt::format("sensor {} = {}", e.index + 1, e.value);
     case EventKind::Variable: return t + fmt::format("var {} = {}", e.index, e.value);
     case EventKind::SensorReading: return t + fmt::format("SENSOR_{} reads {}", e.index + 1, e.value);
-    case EventKind::MessageReceived: return t + fmt::format("message received {}", e.value);
+    case EventKind::MessageReceived: return t + fmt::format("receive {}", e.value);
   }
   return t;
 }
@@ -550,6 +564,10 @@ std::optional<std::string> check_one(const Check& check, const Machine& m, const
 }
 
 }  // namespace
+
+std::string brick_path(const OtherBrick& brick, const std::string& test_path) {
+  return (std::filesystem::path(test_path).parent_path() / brick.file).string();
+}
 
 std::string scenario_path(const Spec& spec, const std::string& test_path) {
   if (spec.scenario_file.empty()) return "";

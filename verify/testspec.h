@@ -64,8 +64,17 @@ struct ExpectDiagnostic {
   std::string text;
 };
 
+// `@brick FILE`: another brick in the room runs FILE (runtime/room.h).
+struct OtherBrick {
+  int line = 0;
+  std::string file;  // as written (relative to the test file)
+};
+// A room holds 8 bricks: the test's and 7 others.
+inline constexpr std::size_t kMostOtherBricks = 7;
+
 struct Spec {
   std::vector<TimedInput> inputs;
+  std::vector<OtherBrick> bricks;
   std::string scenario_file;      // as written (relative to the test file)
   std::optional<Micros> run_for_us;
   std::uint64_t seed = 1;
@@ -88,6 +97,9 @@ struct Spec {
 // Where the spec's @scenario file is (it is named relative to the folder of
 // `test_path`), or "" when it names none.
 std::string scenario_path(const Spec& spec, const std::string& test_path);
+
+// Where an @brick file is (relative to the folder of `test_path`).
+std::string brick_path(const OtherBrick& brick, const std::string& test_path);
 
 // The spec's @input lines plus the inputs of its @scenario file (a path
 // relative to the folder of `test_path`), or the scenario file's error.

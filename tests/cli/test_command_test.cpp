@@ -305,3 +305,30 @@ TEST(TestCommand, ABinaryFileIsNotCalledAnImage) {
   EXPECT_EQ(r.exit_code, 1) << r.out;
   EXPECT_NE(r.out.find("junk.nqc: error: binary data, not an NQC test program"), std::string::npos) << r.out;
 }
+
+// `@brick FILE` runs another program on a second brick in the room: the
+// test sees its messages. A brick that cannot run fails the test at the
+// @brick line, saying why.
+TEST(TestCommand, AnotherBrickInTheRoomTalksToTheTest) {
+  TempDir d;
+  d.write("echo.nqc", "task main() { ClearMessage(); until (Message() != 0); SendMessage(Message() + 1); }\n");
+  std::string test = d.write("t.nqc",
+                             "// @brick echo.nqc\n// @for 1s\n// @expect event: receive 8\n"
+                             "task main() { SendMessage(7); Wait(50); }\n");
+  auto r = run_rcxc({"test", test});
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+  // Without the other brick nothing answers.
+  std::string alone = d.write("alone.nqc", "// @for 1s\n// @expect event: receive 8\ntask main() { SendMessage(7); Wait(50); }\n");
+  EXPECT_EQ(run_rcxc({"test", alone}).exit_code, 1);
+  std::string missing = d.write("m.nqc", "// @for 1s\n// @brick nowhere.nqc\ntask main() { }\n");
+  auto m = run_rcxc({"test", missing});
+  EXPECT_EQ(m.exit_code, 1);
+  EXPECT_NE(m.out.find("m.nqc:2: error: @brick nowhere.nqc: cannot read "), std::string::npos) << m.out;
+  d.write("broken.nqc", "task main() { Wiat(1); }\n");
+  std::string broken = d.write("b.nqc", "// @brick broken.nqc\ntask main() { }\n");
+  auto b = run_rcxc({"test", broken});
+  EXPECT_EQ(b.exit_code, 1);
+  EXPECT_NE(b.out.find("b.nqc:1: error: @brick broken.nqc: does not compile: line 1: 'Wiat' is not declared"),
+            std::string::npos)
+      << b.out;
+}

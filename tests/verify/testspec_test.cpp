@@ -336,3 +336,38 @@ TEST(TestSpec, ARunCutShortByItsEventLogFailsTheTest) {
             std::string::npos)
       << failures[0].message;
 }
+
+// `@brick FILE` puts another brick in the room (runtime/room.h): one per
+// line, up to seven, each with a file name; `receive V` is an event.
+TEST(TestSpec, OtherBricksAreNamedOnePerLine) {
+  Spec s = parse_ok("// @brick slave.nqc\n// @brick: sub/other.rcx\n// @expect event: receive 5\n");
+  ASSERT_EQ(s.bricks.size(), 2u);
+  EXPECT_EQ(s.bricks[0].line, 1);
+  EXPECT_EQ(s.bricks[0].file, "slave.nqc");
+  EXPECT_EQ(s.bricks[1].file, "sub/other.rcx");
+  EXPECT_EQ(brick_path(s.bricks[1], "tests/rooms/t.nqc"), "tests/rooms/sub/other.rcx");
+  auto none = parse_bad("// @brick\n");
+  ASSERT_EQ(none.size(), 1u);
+  EXPECT_EQ(none[0].message, "expected the file of the other brick's program, e.g. @brick slave.nqc");
+  std::string eight;
+  for (int i = 0; i < 8; ++i) eight += "// @brick b" + std::to_string(i) + ".nqc\n";
+  auto crowded = parse_bad(eight);
+  ASSERT_EQ(crowded.size(), 1u);
+  EXPECT_EQ(crowded[0].line, 8);
+  EXPECT_EQ(crowded[0].message, "an @brick more than 7: a room holds 8 bricks, this test's and 7 others");
+  EXPECT_EQ(parse_bad("// @brick a.nqc b.nqc\n").size(), 1u);
+}
+
+TEST(TestSpec, AReceivedMessageIsAnEvent) {
+  Spec s = parse_ok("// @expect event at 50ms: receive 7\n// @expect no event: receive 8\n");
+  Machine m;
+  EXPECT_FALSE(m.load(0, sample_image()).has_value());
+  m.schedule({40'000, MessageInput{7}});
+  m.start_program();
+  m.run(2'000'000);
+  EXPECT_TRUE(check_run(s, m, sample_image()).empty());
+  Spec wrong = parse_ok("// @expect event: receive 8\n");
+  auto failures = check_run(wrong, m, sample_image());
+  ASSERT_EQ(failures.size(), 1u);
+  EXPECT_NE(failures[0].message.find("40ms receive 7"), std::string::npos) << failures[0].message;
+}
