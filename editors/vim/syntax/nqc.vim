@@ -37,7 +37,7 @@ syn match   nqcDirective  "^\s*#\s*\(define\|undef\|include\|if\|ifdef\|ifndef\|
 syn region  nqcIncluded   start=+"+ end=+"+ contained
 syn match   nqcInclude    "^\s*#\s*include\s*[<"].*" contains=nqcIncluded,nqcDirective
 " The expectations `rcxc test` reads (docs/testing.md).
-syn match   nqcTestDirective "//\s*@\(expect\|input\|for\|seed\|nqc-differs\)\S*" containedin=nqcComment contained
+syn match   nqcTestDirective "//\s*@\(expect\|input\|for\|seed\|scenario\|options\|brick\|nqc-differs\)\S*" containedin=nqcComment contained
 
 hi def link nqcStatement     Statement
 hi def link nqcTaskControl   Statement
