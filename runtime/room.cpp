@@ -27,13 +27,19 @@ std::vector<Transmission> run_room(std::span<Machine* const> machines, Micros li
   // every packet that could overlap it is known, and the others have not
   // yet run past its arrival. A packet found in a round starts after the
   // round began; rounds last at most one packet's time, so it never ends
-  // before the round does.
+  // before the round does. Nor can one start before the earliest time a
+  // machine has an instruction to run, so while every task waits the round
+  // reaches one packet's time past the first wake-up (a room of waiting
+  // programs asked for years goes from wake-up to wake-up, as one machine does).
   Micros now = 0;
   for (;;) {
     bool undecided = std::ranges::find(arrived, false) != arrived.end();
     bool any_running = std::ranges::any_of(machines, [](const Machine* m) { return running(*m); });
     if ((!any_running && !undecided) || now >= limit_us) break;
-    Micros next = std::min(now + kMessageAirUs, limit_us);
+    Micros earliest = limit_us;
+    for (const Machine* m : machines)
+      if (running(*m)) earliest = std::min(earliest, m->next_activity_us());
+    Micros next = std::min(std::max(now, earliest) + kMessageAirUs, limit_us);
     for (std::size_t k = 0; k < sent.size(); ++k)
       if (!arrived[k]) next = std::min(next, sent[k].end_us);
     for (Machine* m : machines)

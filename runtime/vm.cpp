@@ -374,6 +374,11 @@ void Machine::halt(StopKind kind) {
 
 bool Machine::any_task_active() const { return active_count_ > 0; }
 
+Micros Machine::next_activity_us() const {
+  Micros next_input = next_input_ < inputs_.size() ? inputs_[next_input_].at_us : INT64_MAX;
+  return std::max(now_us_, std::min(next_wake(), next_input));
+}
+
 void Machine::fault(int task, const TaskState& t, int opcode, std::string message) {
   Fault f{task, t.sub, t.pc, opcode, std::move(message)};
   stop_everything();

@@ -274,6 +274,10 @@ class Machine {
   std::int64_t instructions_executed() const { return instructions_executed_; }
   const StopInfo& stop() const { return stop_; }
   bool any_task_active() const;
+  // The earliest virtual time at which a task may execute an instruction:
+  // now when one is awake, else the next wake-up or input. Nothing the
+  // program does (a Send message, an output) can happen before it.
+  Micros next_activity_us() const;
 
   // ---- state
   const State& state() const { return state_; }

@@ -132,3 +132,14 @@ TEST(RunRoomCli, AFaultInOneBrickIsExit1AndNamesIt) {
   EXPECT_NE(unread.err.find("y.rcx"), std::string::npos) << unread.err;
   EXPECT_EQ(unread.out, "");
 }
+
+// A room of waiting programs asked for the longest run goes from wake-up to
+// wake-up, as one brick does; it went round every 41.25 ms of virtual time,
+// 2.7e10 rounds for 2^40 ms.
+TEST(RunRoomCli, WaitingBricksOverTheLongestRunEndQuickly) {
+  TempDir d;
+  std::string sleeper = d.write("s.nqc", "task main() { while (true) Wait(32767); }\n");
+  auto r = run_rcxc({"run", sleeper, sleeper, "--for", "1099511627776"}, "", 60'000);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("\n2 s:\nstopped: time_limit at 1099511627776.000 ms"), std::string::npos) << r.out;
+}
