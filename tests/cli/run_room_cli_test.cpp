@@ -2,6 +2,7 @@
 // reaching each other; one timeline, each brick's final state, exit codes.
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <nlohmann/json.hpp>
 
 #include "rcx/image.h"
@@ -142,4 +143,32 @@ TEST(RunRoomCli, WaitingBricksOverTheLongestRunEndQuickly) {
   auto r = run_rcxc({"run", sleeper, sleeper, "--for", "1099511627776"}, "", 60'000);
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("\n2 s:\nstopped: time_limit at 1099511627776.000 ms"), std::string::npos) << r.out;
+}
+
+// The NQC tutorial's own master and slave (read from the corpus, skipped
+// when it is absent): the master's three messages drive the slave's motors
+// forward, back and off, each 41.25 ms after it was sent and a few
+// instructions later.
+TEST(RunRoomCli, TheTutorialsMasterDrivesItsSlave) {
+  const std::string dir = std::string(RCXC_CORPUS_DIR) + "/tutorial/";
+  if (!std::filesystem::exists(dir + "11_master.nqc") || !std::filesystem::exists(dir + "11_slave.nqc"))
+    GTEST_SKIP() << "no corpus at " << dir;
+  auto r = run_rcxc({"run", dir + "11_master.nqc", dir + "11_slave.nqc", "--for", "5000", "--report", "json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j["messages"].size(), 3u);
+  std::vector<std::pair<double, std::string>> slave_a;  // when output A changed, to what
+  for (const auto& e : j["bricks"][1]["report"]["events"])
+    if (e["kind"] == "output" && e["output"] == "A")
+      slave_a.emplace_back(e["t"].get<double>(), e["mode"].get<std::string>() + " " + e["dir"].get<std::string>());
+  ASSERT_EQ(slave_a.size(), 3u) << r.out;
+  for (std::size_t i = 0; i < 3; ++i) {
+    double sent = j["messages"][i]["sent"].get<double>();
+    EXPECT_EQ(j["messages"][i]["received_by"], nlohmann::json::array({2}));
+    EXPECT_GT(slave_a[i].first, sent + 41.25);
+    EXPECT_LT(slave_a[i].first, sent + 41.25 + 20);
+  }
+  EXPECT_EQ(slave_a[0].second, "on fwd");
+  EXPECT_EQ(slave_a[1].second, "on rev");
+  EXPECT_EQ(slave_a[2].second, "off rev");
 }
