@@ -150,9 +150,8 @@ struct Brick {
 };
 
 // Compiles or reads `file` and gathers its inputs (`scenario`, else the
-// source's own directives); nullopt after saying what is wrong.
-std::optional<Brick> prepare(const RunOptions& o, const std::string& file, const std::string& scenario, int& code) {
-  code = kExitFailure;
+// source's own directives); or, after saying what is wrong, the exit code.
+std::variant<Brick, int> prepare(const RunOptions& o, const std::string& file, const std::string& scenario) {
   // A test program's own directives: its @options compile it as `rcxc test`
   // does; its inputs drive the run unless --scenario is given. Bad
   // directives are `rcxc test`'s to report; a run goes on without them,
@@ -177,16 +176,14 @@ std::optional<Brick> prepare(const RunOptions& o, const std::string& file, const
     if (!o.trace.empty() && !input->empty() && savefile::same_file(o.trace, *input)) {
       std::cerr << "rcxc run: refusing to write the trace to " << o.trace << ": it is the input " << *input
                 << " (choose another name)\n";
-      code = kExitUsage;
-      return std::nullopt;
+      return kExitUsage;
     }
   CompilerArgs compiler = o.compiler;
   if (spec && !spec->options.empty()) {
     auto merged = with_file_options(o.compiler, spec->options, file);
     if (auto* e = std::get_if<std::string>(&merged)) {
       std::cerr << file << ":" << spec->options_line << ": error: " << *e << "\n";
-      code = kExitUsage;
-      return std::nullopt;
+      return kExitUsage;
     }
     compiler = std::get<CompilerArgs>(std::move(merged));
     std::cerr << "rcxc run: using the compiler options written in " << file << " (// @options)\n";
@@ -194,7 +191,7 @@ std::optional<Brick> prepare(const RunOptions& o, const std::string& file, const
   auto loaded = load_program(file, compile_request(compiler));
   if (auto* e = std::get_if<std::string>(&loaded)) {
     std::cerr << "rcxc run: " << *e << "\n";
-    return std::nullopt;
+    return kExitFailure;
   }
   if (auto note = unused_compiler_options(file, compiler)) std::cerr << "rcxc run: " << *note << "\n";
   Brick brick{file, std::get<rcx::Image>(std::move(loaded)), {}, std::nullopt};
@@ -202,7 +199,7 @@ std::optional<Brick> prepare(const RunOptions& o, const std::string& file, const
     auto parsed = rcx::read_scenario_file(scenario);
     if (auto* e = std::get_if<rcx::ScenarioError>(&parsed)) {
       std::cerr << "rcxc run: " << e->message << "\n";
-      return std::nullopt;
+      return kExitFailure;
     }
     brick.inputs = std::get<std::vector<rcx::TimedInput>>(std::move(parsed));
     // Accepted (`--scenario /dev/null` leaves a source's own inputs out), but
@@ -210,7 +207,7 @@ std::optional<Brick> prepare(const RunOptions& o, const std::string& file, const
     if (brick.inputs.empty())
       std::cerr << "rcxc run: note: " << scenario << " holds no [[input]] tables: the run has no inputs\n";
   } else if (spec && !inputs_from_source(o, file, *spec, brick.inputs, brick.run_for_us)) {
-    return std::nullopt;
+    return kExitFailure;
   }
   return brick;
 }
@@ -274,13 +271,13 @@ int run(const RunOptions& o) {
               << o.scenario << ")\n";
     return kExitUsage;
   }
-  int code = kExitOk;
-  auto brick = prepare(o, o.file, o.scenario, code);
-  if (!brick) return code;
-  const rcx::Image& image = brick->image;
-  rcx::Micros run_us = o.for_given || !brick->run_for_us ? o.for_ms * rcx::kMicrosPerMs : *brick->run_for_us;
+  auto prepared = prepare(o, o.file, o.scenario);
+  if (auto* code = std::get_if<int>(&prepared)) return *code;
+  const Brick& brick = std::get<Brick>(prepared);
+  const rcx::Image& image = brick.image;
+  rcx::Micros run_us = o.for_given || !brick.run_for_us ? o.for_ms * rcx::kMicrosPerMs : *brick.run_for_us;
   rcx::Machine machine(machine_config(o));
-  if (!load_and_start(machine, *brick)) return kExitFailure;
+  if (!load_and_start(machine, brick)) return kExitFailure;
   int tether_code = kExitOk;
   if (o.nxt_port) {
     tether_code = run_on_nxt(machine, image, *o.nxt_port, run_us);
@@ -336,10 +333,9 @@ int run_room(const RunOptions& o) {
   }
   std::vector<Brick> bricks;
   for (std::size_t i = 0; i < o.files.size(); ++i) {
-    int code = kExitOk;
-    auto brick = prepare(o, o.files[i], i < o.scenarios.size() ? o.scenarios[i] : "", code);
-    if (!brick) return code;
-    bricks.push_back(std::move(*brick));
+    auto prepared = prepare(o, o.files[i], i < o.scenarios.size() ? o.scenarios[i] : "");
+    if (auto* code = std::get_if<int>(&prepared)) return *code;
+    bricks.push_back(std::get<Brick>(std::move(prepared)));
   }
   // --for, else the longest // @for of the programs, else a minute.
   rcx::Micros run_us = o.for_ms * rcx::kMicrosPerMs;
