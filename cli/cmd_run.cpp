@@ -318,10 +318,14 @@ int run_room(const RunOptions& o) {
               << " programs: give at most one --scenario per program, in the programs' order\n";
     return kExitUsage;
   }
-  if (!o.trace.empty()) {
-    std::cerr << "rcxc run: --trace draws one brick: run one program for a trace (several run together print one "
-                 "timeline)\n";
+  if (!o.trace.empty() && !ends_with(o.trace, ".html")) {
+    std::cerr << "rcxc run: a room's trace is an HTML page, a drawing per brick on one time axis: --trace F.html ("
+              << o.trace << " names another format, which draws one brick)\n";
     return kExitUsage;
+  }
+  if (auto unwritable = o.trace.empty() ? std::nullopt : savefile::check_writable(o.trace)) {
+    std::cerr << "rcxc run: cannot write trace file " << o.trace << ": " << *unwritable << "\n";
+    return kExitFailure;
   }
   if (o.nxt_port) {
     std::cerr << "rcxc run: --nxt drives one NXT with one program, not " << o.files.size() << "\n";
@@ -363,6 +367,14 @@ int run_room(const RunOptions& o) {
     std::cout << rcx::room_report_json(shown, sent).dump(2) << "\n";
   else
     std::cout << rcx::room_timeline_text(shown, sent, event_names());
+  if (!o.trace.empty()) {
+    std::string title;
+    for (const Brick& b : bricks) title += (title.empty() ? "" : " + ") + std::filesystem::path(b.file).filename().string();
+    if (auto unwritten = savefile::write_file_atomically(o.trace, rcx::trace_html_room(shown, event_names(), title))) {
+      std::cerr << "rcxc run: cannot write trace file " << o.trace << ": " << *unwritten << "\n";
+      return kExitFailure;
+    }
+  }
   int code = kExitOk;
   for (const rcx::RoomBrick& b : shown)
     if (int c = run_exit_code(o, *b.machine, "brick " + b.label); c != kExitOk) code = c;

@@ -389,11 +389,11 @@ const Lane* TraceLayout::find(LaneKind kind, int index) const {
   return nullptr;
 }
 
-TraceLayout trace_layout(const Machine& m, const Image& image, const EventNames& names) {
+TraceLayout trace_layout(const Machine& m, const Image& image, const EventNames& names, Micros end_us) {
   TraceLayout layout;
   layout.width = kWidth, layout.left = kLeft, layout.plot_width = kWidth - kLeft - kRight;
   const auto& events = m.state().events;
-  layout.end_us = std::max<Micros>({m.now_us(), events.empty() ? 0 : events.back().t_us, 1000});
+  layout.end_us = end_us > 0 ? end_us : std::max<Micros>({m.now_us(), events.empty() ? 0 : events.back().t_us, 1000});
   int y = kTop;
   auto add = [&](LaneKind kind, int index, std::string label) {
     layout.lanes.push_back({kind, index, std::move(label), y, lane_height(kind)});
@@ -421,8 +421,9 @@ TraceLayout trace_layout(const Machine& m, const Image& image, const EventNames&
   return layout;
 }
 
-std::string trace_svg(const Machine& m, const Image& image, const EventNames& names, std::string_view title) {
-  TraceLayout layout = trace_layout(m, image, names);
+std::string trace_svg(const Machine& m, const Image& image, const EventNames& names, std::string_view title,
+                      Micros end_us) {
+  TraceLayout layout = trace_layout(m, image, names, end_us);
   int axis_y = layout.height - kAxisHeight + 4;
   std::string out = fmt::format(
       R"(<svg xmlns="http://www.w3.org/2000/svg" width="{0}" height="{1}" viewBox="0 0 {0} {1}" )"
@@ -472,17 +473,21 @@ std::string trace_svg(const Machine& m, const Image& image, const EventNames& na
   return out;
 }
 
-std::string trace_html(const Machine& m, const Image& image, const EventNames& names, std::string_view title) {
+namespace {
+
+// A page's head, its title, a line under it and the legend.
+std::string html_head(std::string_view title, std::string_view summary) {
   namespace c = trace_colors;
   std::string out = fmt::format(
       "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\"/>\n<title>rcxc run: {}</title>\n"
       "<style>\nbody {{ font-family: sans-serif; margin: 16px; color: #222; background: #fff; }}\n"
       "h1 {{ font-size: 20px; margin: 0 0 4px; }}\n"
+      "h2 {{ font-size: 16px; margin: 14px 0 4px; }}\n"
       "ul.legend {{ list-style: none; padding: 0; margin: 8px 0 12px; }}\n"
       "ul.legend li {{ display: inline-block; margin-right: 18px; font-size: 13px; }}\n"
       "ul.legend span {{ display: inline-block; width: 14px; height: 12px; margin-right: 5px; vertical-align: -1px; }}\n"
       "</style>\n</head>\n<body>\n<h1>{}</h1>\n<p>{}; hover over a bar or mark for its details.</p>\n",
-      xml(title), xml(title), xml(stop_summary(m)));
+      xml(title), xml(title), xml(summary));
   out += "<ul class=\"legend\">\n";
   auto item = [&](std::string_view color, std::string_view text) {
     out += fmt::format("<li><span style=\"background: {}\"></span>{}</li>\n", color, text);
@@ -499,9 +504,25 @@ std::string trace_html(const Machine& m, const Image& image, const EventNames& n
   item(c::kDisplay, "display");
   item(c::kDatalog, "datalog entry");
   out += "</ul>\n";
-  out += trace_svg(m, image, names, title);
-  out += "</body>\n</html>\n";
   return out;
+}
+
+}  // namespace
+
+std::string trace_html(const Machine& m, const Image& image, const EventNames& names, std::string_view title) {
+  return html_head(title, stop_summary(m)) + trace_svg(m, image, names, title) + "</body>\n</html>\n";
+}
+
+std::string trace_html_room(std::span<const RoomBrick> bricks, const EventNames& names, std::string_view title) {
+  Micros end_us = 1;
+  for (const RoomBrick& b : bricks) end_us = std::max(end_us, trace_layout(*b.machine, *b.image, names).end_us);
+  std::string out = html_head(title, fmt::format("{} bricks in one room, their IR messages reaching each other",
+                                                  bricks.size()));
+  for (const RoomBrick& b : bricks) {
+    out += fmt::format("<h2>{}</h2>\n", xml(b.label));
+    out += trace_svg(*b.machine, *b.image, names, b.label, end_us);
+  }
+  return out + "</body>\n</html>\n";
 }
 
 }  // namespace rcx

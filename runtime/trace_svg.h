@@ -6,6 +6,7 @@
 // however long the run (docs/emulator.md, "Drawing a run").
 #pragma once
 
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -56,10 +57,16 @@ inline constexpr std::string_view kDatalog = "#119977";
 inline constexpr std::string_view kLaneBackground = "#f4f4f4";
 }  // namespace trace_colors
 
-TraceLayout trace_layout(const Machine& machine, const Image& image, const EventNames& names);
+// The time axis ends at `end_us`, or (0) where the run's last event or its
+// stop is: bricks drawn one above another share one axis.
+TraceLayout trace_layout(const Machine& machine, const Image& image, const EventNames& names, Micros end_us = 0);
 // `title` heads the drawing (e.g. the program's file name).
-std::string trace_svg(const Machine& machine, const Image& image, const EventNames& names, std::string_view title);
+std::string trace_svg(const Machine& machine, const Image& image, const EventNames& names, std::string_view title,
+                      Micros end_us = 0);
 // A page holding the SVG, a title, what the run ended with and a legend.
 std::string trace_html(const Machine& machine, const Image& image, const EventNames& names, std::string_view title);
+// The same page for several bricks run together (room.h): one drawing per
+// brick, headed by its label, all on one time axis.
+std::string trace_html_room(std::span<const RoomBrick> bricks, const EventNames& names, std::string_view title);
 
 }  // namespace rcx

@@ -96,7 +96,7 @@ TEST(RunRoomCli, WhatARoomCannotDoIsAUsageError) {
       {{"run", a, b, "--scenario", s, "--scenario", s, "--scenario", s},
        "3 scenarios for 2 programs: give at most one --scenario per program, in the programs' order"},
       {{"run", a, "--scenario", s, "--scenario", s}, "2 scenarios for one program: give one --scenario"},
-      {{"run", a, b, "--trace", (d.path + "/t.vcd")}, "--trace draws one brick"},
+      {{"run", a, b, "--trace", (d.path + "/t.vcd")}, "a room's trace is an HTML page, a drawing per brick on one time axis: --trace F.html"},
       {{"run", a, b, "--nxt", "usb"}, "--nxt drives one NXT with one program, not 2"},
       {{"run", a, b, a, b, a, b, a, b, a}, "9 programs: a room holds at most 8 bricks"},
   };
@@ -171,4 +171,29 @@ TEST(RunRoomCli, TheTutorialsMasterDrivesItsSlave) {
   EXPECT_EQ(slave_a[0].second, "on fwd");
   EXPECT_EQ(slave_a[1].second, "on rev");
   EXPECT_EQ(slave_a[2].second, "off rev");
+}
+
+// `--trace F.html` of a room: one drawing per brick under its label, all on
+// one time axis (the slave's run is longer; the master's drawing spans it too).
+TEST(RunRoomCli, ARoomsTraceDrawsEachBrickOnOneAxis) {
+  TempDir d;
+  std::string page = d.path + "/room.html";
+  auto r = run_rcxc({"run", d.write("master.nqc", kMaster), d.write("slave.nqc", kSlave), "--scenario",
+                     d.write("press.toml", kPress), "--for", "3000", "--trace", page});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto bytes = d.read("room.html");
+  std::string html(bytes.begin(), bytes.end());
+  EXPECT_NE(html.find("<h1>master.nqc + slave.nqc</h1>"), std::string::npos);
+  EXPECT_NE(html.find("<h2>1 master</h2>\n<svg"), std::string::npos);
+  EXPECT_NE(html.find("<h2>2 slave</h2>\n<svg"), std::string::npos);
+  EXPECT_EQ(html.find("<h2>"), html.rfind("<h2>1 master</h2>"));
+  // Both drawings' axes end at the same tick: the last label is the same in each.
+  auto last_tick = [&](std::size_t from, std::size_t to) {
+    std::size_t at = html.rfind(" s</text>", to);
+    EXPECT_NE(at, std::string::npos);
+    EXPECT_GT(at, from);
+    return html.substr(html.rfind('>', at) + 1, at - html.rfind('>', at) - 1);
+  };
+  std::size_t second = html.find("<h2>2 slave</h2>");
+  EXPECT_EQ(last_tick(0, second), last_tick(second, html.size()));
 }
