@@ -313,6 +313,10 @@ int run_room(const RunOptions& o) {
     std::cerr << "rcxc run: " << o.files.size() << " programs: a room holds at most " << kMostBricks << " bricks\n";
     return kExitUsage;
   }
+  if (std::ranges::count(o.files, std::string("-")) > 1) {
+    std::cerr << "rcxc run: '-' given more than once: the standard input holds one program\n";
+    return kExitUsage;
+  }
   if (o.scenarios.size() > o.files.size()) {
     std::cerr << "rcxc run: " << o.scenarios.size() << " scenarios for " << o.files.size()
               << " programs: give at most one --scenario per program, in the programs' order\n";
@@ -360,7 +364,8 @@ int run_room(const RunOptions& o) {
     if (!load_and_start(*machines.back(), bricks[i])) return kExitFailure;
     room.push_back(machines.back().get());
     shown.push_back({machines.back().get(), &bricks[i].image,
-                     fmt::format("{} {}", i + 1, std::filesystem::path(bricks[i].file).stem().string())});
+                     fmt::format("{} {}", i + 1,
+                                 bricks[i].file == "-" ? "stdin" : std::filesystem::path(bricks[i].file).stem().string())});
   }
   auto sent = rcx::run_room(room, run_us);
   if (o.report == "json")

@@ -99,6 +99,7 @@ TEST(RunRoomCli, WhatARoomCannotDoIsAUsageError) {
       {{"run", a, b, "--trace", (d.path + "/t.vcd")}, "a room's trace is an HTML page, a drawing per brick on one time axis: --trace F.html"},
       {{"run", a, b, "--nxt", "usb"}, "--nxt drives one NXT with one program, not 2"},
       {{"run", a, b, a, b, a, b, a, b, a}, "9 programs: a room holds at most 8 bricks"},
+      {{"run", "-", a, "-"}, "'-' given more than once: the standard input holds one program"},
   };
   for (const auto& [args, said] : cases) {
     auto r = run_rcxc(args);
