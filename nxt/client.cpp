@@ -246,8 +246,8 @@ std::variant<Bytes, CallError> download_file(Client& client, const std::string& 
   return out;
 }
 
-// c_comm.c answers GetFirmwareVersion with protocol 1.124 in every LEGO
-// release; leJOS's LCP.java with protocol 1.2.
+// LEGO's firmware answers GetFirmwareVersion with protocol 1.124; leJOS's
+// LCP.java with protocol 1.2 (docs/nxt.md says what this rests on).
 bool is_lego_firmware(const FirmwareVersion& v) { return v.protocol_major == 1 && v.protocol_minor == 124; }
 
 std::variant<FirmwareVersion, CallError> firmware_version(Client& client) {

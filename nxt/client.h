@@ -80,10 +80,10 @@ std::optional<std::string> check_file_name(const std::string& name);
 std::variant<int, CallError> read_ultrasonic(Client& client, int port);
 
 // Which firmware the brick runs, from GetFirmwareVersion. LEGO's firmware
-// (every release, 1.01 to 1.31, and the enhanced NBC/NXC firmware built on
-// it) answers protocol 1.124 (c_comm.c); leJOS NXJ answers protocol 1.2,
-// firmware 1.3 (its LCP.java), and gives 0x20 and 0x21 other meanings
-// (disconnect, defragment the flash). The direct commands past the seed
+// (and the enhanced NBC/NXC firmware built on it) answers protocol 1.124;
+// leJOS NXJ answers protocol 1.2, firmware 1.3 (its LCP.java), and gives
+// 0x20 and 0x21 other meanings (disconnect, defragment the flash). The
+// direct commands past the seed
 // (0x19-0x21) and the IO-map and poll commands mean what the table says
 // only on LEGO's.
 struct FirmwareVersion {
