@@ -249,6 +249,99 @@ std::optional<nxt::Bytes> parse_hex_words(const std::vector<std::string>& words,
   return error.empty() ? std::optional(out) : std::nullopt;
 }
 
+// Hex bytes for WriteIOMap: words of two-digit pairs, 0x allowed.
+std::optional<nxt::Bytes> parse_hex_data(const std::vector<std::string>& words, std::string& error) {
+  nxt::Bytes out;
+  for (const auto& w : words) {
+    std::string s = w.rfind("0x", 0) == 0 || w.rfind("0X", 0) == 0 ? w.substr(2) : w;
+    if (s.empty() || s.size() % 2 != 0 || !std::all_of(s.begin(), s.end(), [](unsigned char c) { return std::isxdigit(c); })) {
+      error = fmt::format("\"{}\" is not hex bytes (two digits a byte: 0a 1b, or 0a1b)", w);
+      return std::nullopt;
+    }
+    for (std::size_t i = 0; i < s.size(); i += 2)
+      out.push_back(static_cast<std::uint8_t>(std::stoi(s.substr(i, 2), nullptr, 16)));
+  }
+  if (out.empty()) error = "no bytes to write";
+  return error.empty() ? std::optional(out) : std::nullopt;
+}
+
+// A number as typed: decimal, or hex with 0x. nullopt if it is neither or past `max`.
+std::optional<std::uint64_t> parse_number(const std::string& text, std::uint64_t max) {
+  bool hex_form = text.rfind("0x", 0) == 0 || text.rfind("0X", 0) == 0;
+  std::string digits = hex_form ? text.substr(2) : text;
+  if (digits.empty() || digits.size() > 10) return std::nullopt;
+  if (!std::all_of(digits.begin(), digits.end(),
+                   [&](unsigned char c) { return hex_form ? std::isxdigit(c) != 0 : std::isdigit(c) != 0; }))
+    return std::nullopt;
+  std::uint64_t v = std::stoull(digits, nullptr, hex_form ? 16 : 10);
+  if (v > max) return std::nullopt;
+  return v;
+}
+
+// MODULE as typed: an ID (0x000C0001 or decimal) or a name (Ui.mod, or Ui).
+struct ModuleSpec {
+  std::optional<std::uint32_t> id;
+  std::string name;
+};
+
+std::variant<ModuleSpec, std::string> parse_module(const std::string& text) {
+  if (!text.empty() && std::isdigit(static_cast<unsigned char>(text[0]))) {
+    auto id = parse_number(text, 0xFFFFFFFFu);
+    if (!id) return fmt::format("\"{}\" is not a module: a name (Ui.mod) or an ID (0x000C0001)", text);
+    return ModuleSpec{static_cast<std::uint32_t>(*id), ""};
+  }
+  std::string name = text.find('.') == std::string::npos ? text + ".mod" : text;
+  if (nxt::check_file_name(name) || name.find('*') != std::string::npos)
+    return fmt::format("\"{}\" is not a module: a name (Ui.mod) or an ID (0x000C0001)", text);
+  return ModuleSpec{std::nullopt, name};
+}
+
+std::string lower(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
+  return s;
+}
+
+// The module MODULE names, from the brick's own list: an unknown one is a
+// bad value (exit 2) that lists what there is.
+std::variant<nxt::ModuleEntry, Failure> find_module(Client& c, const ModuleSpec& spec, const std::string& typed) {
+  auto r = nxt::list_modules(c, "*.*");
+  if (auto* e = std::get_if<CallError>(&r)) return failure(*e);
+  const auto& all = std::get<std::vector<nxt::ModuleEntry>>(r);
+  std::string names;
+  for (const auto& m : all) {
+    if (spec.id ? m.id == *spec.id : lower(m.name) == lower(spec.name)) return m;
+    names += (names.empty() ? "" : ", ") + m.name;
+  }
+  return Failure{kExitUsage, fmt::format("no module \"{}\" on the brick (it has {})", typed, names.empty() ? "none" : names)};
+}
+
+// "0000  00 0b ...  |..|", 16 bytes a line, offsets as in the IO map.
+std::string hex_dump(std::size_t offset, const nxt::Bytes& data) {
+  std::string out;
+  for (std::size_t at = 0; at < data.size(); at += 16) {
+    std::string hexes, chars;
+    for (std::size_t i = at; i < at + 16; ++i) {
+      if (i < data.size()) {
+        hexes += fmt::format("{:02x} ", data[i]);
+        chars += data[i] >= 0x20 && data[i] < 0x7F ? static_cast<char>(data[i]) : '.';
+      } else {
+        hexes += "   ";
+      }
+    }
+    out += fmt::format("{:04x}  {} |{}|\n", offset + at, hexes, chars);
+  }
+  return out;
+}
+
+// The firmware's own commands past the seed, and its IO maps: what they
+// mean is LEGO's firmware's (leJOS gives 0x20 and 0x21 other meanings), so
+// each action asks GetFirmwareVersion first and sends nothing else to a
+// firmware that is not LEGO's (nxt/client.h, require_lego_firmware).
+std::optional<Failure> lego_first(Client& c, std::string_view what) {
+  if (auto e = nxt::require_lego_firmware(c, what)) return failure(*e);
+  return std::nullopt;
+}
+
 // The table as `rcxc nxt --help` shows it.
 std::string table_help() {
   std::string s = "NXT commands (the table behind every action; `raw` sends any of them):\n";
@@ -523,8 +616,8 @@ void register_nxt(CLI::App& app, int& exit_code) {
   {
     // ResetMotorPosition (a seed command). The internal tacho count is
     // UpdateResetCount's (0x21), which other firmwares use for other things
-    // (spec/nxt.md): not sent here.
-    auto* cmd = add("motor-reset", "Zero a motor's block and rotation counts (ResetMotorPosition)");
+    // (spec/nxt.md): that is tacho-reset, which checks the firmware first.
+    auto* cmd = add("motor-reset", "Zero a motor's block and rotation counts (ResetMotorPosition; tacho-reset: the tacho count)");
     auto port = std::make_shared<std::string>();
     auto block = std::make_shared<bool>(false), rotation = std::make_shared<bool>(false);
     cmd->add_option("PORT", *port, "A, B or C")->required();
@@ -762,6 +855,284 @@ void register_nxt(CLI::App& app, int& exit_code) {
       return Output{ms == 0 ? "never sleeps\n" : "sleeps after " + after + "\n", {{"sleep_limit_ms", ms}}};
     });
   });
+
+  {
+    auto* cmd = add("volume", "The brick's volume 0-4, as its Settings menu shows it; LEVEL sets it");
+    auto level = std::make_shared<std::string>();
+    cmd->add_option("LEVEL", *level, "0 (mute) to 4");
+    run(cmd, [=]() -> Made {
+      std::optional<std::uint32_t> set;
+      if (!level->empty()) {
+        if (level->size() != 1 || (*level)[0] < '0' || (*level)[0] > '4')
+          return fmt::format("\"{}\" is not a volume: 0 (mute) to 4, as the brick's Settings menu has it", *level);
+        set = static_cast<std::uint32_t>((*level)[0] - '0');
+      }
+      return Action([=](Client& c) -> std::variant<Output, Failure> {
+        if (auto f = lego_first(c, set ? "SetProperty (0x1F)" : "GetProperty (0x20)")) return *f;
+        if (set) {
+          if (auto e = nxt::set_property(c, nxt::Property::Volume, *set)) return failure(*e);
+        }
+        auto r = nxt::get_property(c, nxt::Property::Volume);
+        if (auto* e = std::get_if<CallError>(&r)) return failure(*e);
+        auto v = std::get<std::uint32_t>(r);
+        return Output{fmt::format("volume {}\n", v), {{"volume", v}}};
+      });
+    });
+  }
+
+  {
+    auto* cmd = add("sleep", "The brick's sleep limit; MINUTES (1-255) or off sets it");
+    auto limit = std::make_shared<std::string>();
+    cmd->add_option("MINUTES", *limit, "1-255, or off (never sleep)");
+    run(cmd, [=]() -> Made {
+      std::optional<std::uint32_t> set_ms;
+      if (!limit->empty()) {
+        std::string l = lower(*limit);
+        // The firmware keeps whole minutes in one byte (IOMAPUI SleepTimeout).
+        if (l == "off" || l == "never" || l == "0") set_ms = 0;
+        else if (auto m = parse_number(*limit, 255); m && *m > 0 && limit->rfind("0x", 0) != 0)
+          set_ms = static_cast<std::uint32_t>(*m * 60'000);
+        else
+          return fmt::format("\"{}\" is not a sleep limit: 1-255 minutes, or off", *limit);
+      }
+      return Action([=](Client& c) -> std::variant<Output, Failure> {
+        if (auto f = lego_first(c, set_ms ? "SetProperty (0x1F)" : "GetProperty (0x20)")) return *f;
+        if (set_ms) {
+          if (auto e = nxt::set_property(c, nxt::Property::SleepMs, *set_ms)) return failure(*e);
+        }
+        auto r = nxt::get_property(c, nxt::Property::SleepMs);
+        if (auto* e = std::get_if<CallError>(&r)) return failure(*e);
+        auto ms = std::get<std::uint32_t>(r);
+        std::string after = ms % 60'000 == 0 ? fmt::format("{} min", ms / 60'000) : fmt::format("{} ms", ms);
+        return Output{ms == 0 ? "never sleeps\n" : "sleeps after " + after + "\n", {{"sleep_limit_ms", ms}}};
+      });
+    });
+  }
+
+  {
+    auto* cmd = add("bluetooth", "Whether the brick's Bluetooth is on; on or off switches it (off over Bluetooth ends the link)");
+    auto state = std::make_shared<std::string>();
+    cmd->add_option("STATE", *state, "on or off");
+    run(cmd, [=]() -> Made {
+      std::optional<std::uint32_t> set;
+      if (!state->empty()) {
+        std::string l = lower(*state);
+        if (l == "on") set = 1;
+        else if (l == "off") set = 0;
+        else return fmt::format("\"{}\" is not a Bluetooth state: on or off", *state);
+      }
+      return Action([=](Client& c) -> std::variant<Output, Failure> {
+        if (auto f = lego_first(c, set ? "SetProperty (0x1F)" : "GetProperty (0x20)")) return *f;
+        if (set) {
+          if (auto e = nxt::set_property(c, nxt::Property::Bluetooth, *set)) return failure(*e);
+        }
+        auto r = nxt::get_property(c, nxt::Property::Bluetooth);
+        if (auto* e = std::get_if<CallError>(&r)) return failure(*e);
+        bool on = std::get<std::uint32_t>(r) != 0;
+        return Output{on ? "bluetooth on\n" : "bluetooth off\n", {{"bluetooth", on}}};
+      });
+    });
+  }
+
+  {
+    auto* cmd = add("tacho-reset", "Zero a motor's internal tacho count (UpdateResetCount; motor-reset zeroes the others)");
+    auto port = std::make_shared<std::string>();
+    cmd->add_option("PORT", *port, "A, B, C or all")->required();
+    run(cmd, [=]() -> Made {
+      auto p = output_port(*port);
+      if (!p) return bad_output_port(*port);
+      return Action([p = *p](Client& c) -> std::variant<Output, Failure> {
+        if (auto f = lego_first(c, "UpdateResetCount (0x21)")) return *f;
+        for (int i = 0; i < 3; ++i) {
+          if (p != 0xFF && p != i) continue;
+          auto r = nxt::call_ok(c, "UpdateResetCount", values({std::int64_t{i}}));
+          if (auto* e = std::get_if<CallError>(&r)) return failure(*e);
+        }
+        return Output{"", {{"port", p == 0xFF ? std::string("all") : std::string(1, static_cast<char>('A' + p))}}};
+      });
+    });
+  }
+
+  {
+    auto* cmd = add("datalog", "Read the datalog buffer (DatalogRead); --keep leaves it there");
+    auto keep = std::make_shared<bool>(false);
+    cmd->add_flag("--keep", *keep, "Leave what was read in the buffer");
+    run(cmd, [=]() -> Made {
+      return Action([k = *keep](Client& c) -> std::variant<Output, Failure> {
+        if (auto f = lego_first(c, "DatalogRead (0x19)")) return *f;
+        auto r = nxt::call_ok(c, "DatalogRead", values({std::int64_t{k ? 0 : 1}}));
+        if (auto* e = std::get_if<CallError>(&r)) return failure(*e);
+        const auto& d = std::get<nxt::Decoded>(r);
+        auto data = d.bytes("data").value_or(nxt::Bytes{});
+        auto size = static_cast<std::size_t>(d.number("size").value_or(0));
+        if (size > data.size())
+          return Failure{kExitNoReply, fmt::format("DatalogRead says {} bytes in a {}-byte field", size, data.size())};
+        data.resize(size);
+        return Output{size == 0 ? "(empty)\n" : nxt::hex(data) + "\n", {{"size", size}, {"bytes", nxt::hex(data)}}};
+      });
+    });
+  }
+
+  auto bt_table = [&](const std::string& action, const std::string& help, bool contacts) {
+    run(add(action, help), [=]() -> Made {
+      return Action([contacts](Client& c) -> std::variant<Output, Failure> {
+        if (auto f = lego_first(c, contacts ? "BTGetContactCount (0x1B)" : "BTGetConnCount (0x1D)")) return *f;
+        auto r = nxt::bluetooth_table(c, contacts);
+        if (auto* e = std::get_if<CallError>(&r)) return failure(*e);
+        Output o;
+        o.data[contacts ? "contacts" : "connections"] = json::array();
+        for (const auto& b : std::get<std::vector<nxt::BtEntry>>(r)) {
+          o.text += fmt::format("{:>2}  {}  (device type {})\n", b.index, b.name, b.device_type);
+          o.data[contacts ? "contacts" : "connections"].push_back(
+              {{"slot", b.index}, {"name", b.name}, {"device_type", b.device_type}});
+        }
+        if (o.text.empty()) o.text = "(none)\n";
+        return o;
+      });
+    });
+  };
+  bt_table("contacts", "The brick's Bluetooth contacts (devices it has paired with)", true);
+  bt_table("connections", "The brick's Bluetooth connections (slot 0: its master, 1-3: slaves)", false);
+
+  {
+    auto* cmd = add("modules", "The firmware's modules: name, ID, size, IO map size (PATTERN: *.*, Ui.*, ...)");
+    auto pattern = std::make_shared<std::string>("*.*");
+    cmd->add_option("PATTERN", *pattern, "default *.*");
+    run(cmd, [pattern]() -> Made {
+      std::string p = *pattern;
+      auto dot = p.rfind('.');
+      std::string stem = dot == std::string::npos ? p : p.substr(0, dot);
+      std::string ext = dot == std::string::npos ? "" : p.substr(dot + 1);
+      bool ok = dot != std::string::npos && (stem == "*" || !nxt::check_file_name(stem + ".x")) &&
+                (ext == "*" || (!ext.empty() && !nxt::check_file_name("x." + ext)));
+      if (!ok) return fmt::format("\"{}\" is not a pattern the brick takes (*.*, name.*, *.ext, name.ext)", p);
+      return Action([=](Client& c) -> std::variant<Output, Failure> {
+        if (auto f = lego_first(c, "FindFirstModule (0x90)")) return *f;
+        auto r = nxt::list_modules(c, p);
+        if (auto* e = std::get_if<CallError>(&r)) return failure(*e);
+        Output o;
+        o.data["modules"] = json::array();
+        for (const auto& m : std::get<std::vector<nxt::ModuleEntry>>(r)) {
+          o.text += fmt::format("{:<15} 0x{:08X} {:>7} {:>6}\n", m.name, m.id, m.size, m.iomap_size);
+          o.data["modules"].push_back({{"name", m.name}, {"id", fmt::format("0x{:08X}", m.id)}, {"size", m.size},
+                                       {"iomap_size", m.iomap_size}});
+        }
+        if (!o.text.empty()) o.text = fmt::format("{:<15} {:<10} {:>7} {:>6}\n", "module", "id", "size", "IO map") + o.text;
+        return o;
+      });
+    });
+  }
+
+  {
+    auto* iomap = add("iomap", "Read or write a firmware module's IO map (its variables)");
+    iomap->require_subcommand(1);
+    auto module = std::make_shared<std::string>(), offset = std::make_shared<std::string>(),
+         count = std::make_shared<std::string>();
+    auto* r = iomap->add_subcommand("read", "Show COUNT bytes of MODULE's IO map from OFFSET, as a hex dump");
+    r->add_option("MODULE", *module, "A name (Ui.mod) or an ID (0x000C0001)")->required();
+    r->add_option("OFFSET", *offset, "Bytes from the map's start, decimal or 0x hex")->required();
+    r->add_option("COUNT", *count, "How many bytes, 1-65535")->required();
+    run(r, [=]() -> Made {
+      auto spec = parse_module(*module);
+      if (auto* e = std::get_if<std::string>(&spec)) return *e;
+      auto off = parse_number(*offset, 0xFFFF);
+      if (!off) return fmt::format("\"{}\" is not an offset (0-65535)", *offset);
+      auto n = parse_number(*count, 0xFFFF);
+      if (!n || *n == 0) return fmt::format("\"{}\" is not a count (1-65535)", *count);
+      return Action([m = std::get<ModuleSpec>(spec), typed = *module, at = *off, how_many = *n](Client& c)
+                        -> std::variant<Output, Failure> {
+        const std::uint64_t off = at, n = how_many;
+        if (auto f = lego_first(c, "ReadIOMap (0x94)")) return *f;
+        auto found = find_module(c, m, typed);
+        if (auto* f = std::get_if<Failure>(&found)) return *f;
+        const auto& mod = std::get<nxt::ModuleEntry>(found);
+        if (off + n > mod.iomap_size)
+          return Failure{kExitUsage, fmt::format("{} bytes from offset {} go past {}'s IO map ({} bytes)", n, off,
+                                                 mod.name, mod.iomap_size)};
+        auto got = nxt::read_iomap(c, mod.id, static_cast<std::uint16_t>(off), n);
+        if (auto* e = std::get_if<CallError>(&got)) return failure(*e);
+        const auto& data = std::get<nxt::Bytes>(got);
+        return Output{hex_dump(off, data), {{"module", mod.name}, {"id", fmt::format("0x{:08X}", mod.id)},
+                                            {"offset", off}, {"count", n}, {"bytes", nxt::hex(data)}}};
+      });
+    });
+    auto wmodule = std::make_shared<std::string>(), woffset = std::make_shared<std::string>();
+    auto words = std::make_shared<std::vector<std::string>>();
+    auto* w = iomap->add_subcommand("write", "Write HEXBYTES into MODULE's IO map at OFFSET");
+    w->add_option("MODULE", *wmodule, "A name (Ui.mod) or an ID (0x000C0001)")->required();
+    w->add_option("OFFSET", *woffset, "Bytes from the map's start, decimal or 0x hex")->required();
+    w->add_option("HEXBYTES", *words, "The bytes: 0a 1b, or 0a1b")->required();
+    run(w, [=]() -> Made {
+      auto spec = parse_module(*wmodule);
+      if (auto* e = std::get_if<std::string>(&spec)) return *e;
+      auto off = parse_number(*woffset, 0xFFFF);
+      if (!off) return fmt::format("\"{}\" is not an offset (0-65535)", *woffset);
+      std::string err;
+      auto data = parse_hex_data(*words, err);
+      if (!data) return err;
+      return Action([m = std::get<ModuleSpec>(spec), typed = *wmodule, off = *off, bytes = *data](Client& c)
+                        -> std::variant<Output, Failure> {
+        if (auto f = lego_first(c, "WriteIOMap (0x95)")) return *f;
+        auto found = find_module(c, m, typed);
+        if (auto* f = std::get_if<Failure>(&found)) return *f;
+        const auto& mod = std::get<nxt::ModuleEntry>(found);
+        // IOCtrl's one word switches the brick off (0x5A00) or erases its
+        // firmware into SAMBA mode (0xA55A): never from here.
+        if (lower(mod.name) == "ioctrl.mod")
+          return Failure{kExitUsage, "IOCtrl.mod's word switches the brick off or boots it into firmware-update "
+                                     "mode (erasing the firmware): rcxc does not write it (raw can)"};
+        if (off + bytes.size() > mod.iomap_size)
+          return Failure{kExitUsage, fmt::format("{} bytes at offset {} go past {}'s IO map ({} bytes)", bytes.size(),
+                                                 off, mod.name, mod.iomap_size)};
+        if (auto e = nxt::write_iomap(c, mod.id, static_cast<std::uint16_t>(off), bytes)) return failure(*e);
+        return Output{"", {{"module", mod.name}, {"id", fmt::format("0x{:08X}", mod.id)}, {"offset", off},
+                           {"count", bytes.size()}}};
+      });
+    });
+  }
+
+  {
+    auto* cmd = add("poll", "Read what a program on the brick left for the host in a poll buffer");
+    auto high_speed = std::make_shared<bool>(false);
+    cmd->add_flag("--high-speed", *high_speed, "The high-speed port's buffer (default: the USB poll buffer)");
+    run(cmd, [=]() -> Made {
+      return Action([buffer = std::int64_t{*high_speed ? 1 : 0}](Client& c) -> std::variant<Output, Failure> {
+        if (auto f = lego_first(c, "PollCommandLength (0xA1)")) return *f;
+        auto len = nxt::call_ok(c, "PollCommandLength", values({buffer}));
+        if (auto* e = std::get_if<CallError>(&len)) return failure(*e);
+        // At most a USB packet's 59 bytes come in one PollCommand (c_comm.c).
+        auto waiting = std::min<std::int64_t>(std::get<nxt::Decoded>(len).number("count").value_or(0), 59);
+        nxt::Bytes data;
+        if (waiting > 0) {
+          auto r = nxt::call_ok(c, "PollCommand", values({buffer, waiting}));
+          if (auto* e = std::get_if<CallError>(&r)) return failure(*e);
+          const auto& d = std::get<nxt::Decoded>(r);
+          data = d.bytes("data").value_or(nxt::Bytes{});
+          data.resize(std::min(data.size(), static_cast<std::size_t>(d.number("count").value_or(0))));
+        }
+        return Output{data.empty() ? "(empty)\n" : nxt::hex(data) + "\n",
+                      {{"buffer", buffer == 0 ? "usb" : "high-speed"}, {"bytes", nxt::hex(data)}}};
+      });
+    });
+  }
+
+  {
+    auto* cmd = add("erase-all", "Delete every file on the brick (DeleteUserFlash); needs --yes");
+    auto yes = std::make_shared<bool>(false);
+    cmd->add_flag("--yes", *yes, "Mean it: programs, sounds and data all go");
+    run(cmd, [=]() -> Made {
+      if (!*yes)
+        return std::string("erase-all deletes every file on the brick (programs, sounds, data) and cannot be undone: "
+                           "add --yes to mean it");
+      return Action([](Client& c) -> std::variant<Output, Failure> {
+        // The brick answers when the flash is erased, about 3 s later.
+        c.timeout = std::max(c.timeout, nxt::Millis(6000));
+        auto r = nxt::call_ok(c, "DeleteUserFlash", {});
+        if (auto* e = std::get_if<CallError>(&r)) return failure(*e);
+        return Output{"", json::object()};
+      });
+    });
+  }
 
   {
     auto* cmd = add("ls", "List files (PATTERN: *.*, name.*, *.ext, name.ext)");

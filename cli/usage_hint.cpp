@@ -60,6 +60,10 @@ constexpr Synonym kSynonyms[] = {
     {"nxt", "version", "the firmware version is in 'rcxc nxt info'"},
     {"nxt", "firmware", "the firmware version is in 'rcxc nxt info'"},
     {"nxt", "beep", "a tone is played by 'rcxc nxt tone HZ MS'"},
+    {"nxt", "format", "every file on the brick is deleted by 'rcxc nxt erase-all --yes'"},
+    {"nxt", "wipe", "every file on the brick is deleted by 'rcxc nxt erase-all --yes'"},
+    {"nxt", "bt", "Bluetooth is switched by 'rcxc nxt bluetooth on|off'"},
+    {"nxt", "boot", "Boot erases the firmware: rcxc has no action for it (docs/nxt.md; raw can send it)"},
 };
 
 // "nxt mailbox" for rcxc nxt mailbox: the command's words after rcxc.

@@ -44,7 +44,7 @@ _rcxc() {
     nxt)
       options="--port --json -v --verbose --timeout --help"
       if [[ $COMP_CWORD -eq 2 || $prev != -* ]]; then
-        COMPREPLY=($(compgen -W "info battery rename tone motor motor-state motor-reset sensor read ultrasonic mailbox start stop current play stop-sound keepalive ls upload download rm raw bench brick $options" -- "$cur"))
+        COMPREPLY=($(compgen -W "info battery rename tone motor motor-state motor-reset sensor read ultrasonic mailbox start stop current play stop-sound keepalive volume sleep bluetooth tacho-reset datalog contacts connections modules iomap poll erase-all ls upload download rm raw bench brick $options" -- "$cur"))
         return
       fi ;;
     remote)

@@ -246,6 +246,163 @@ std::variant<Bytes, CallError> download_file(Client& client, const std::string& 
   return out;
 }
 
+// LEGO's firmware answers GetFirmwareVersion with protocol 1.124; leJOS's
+// LCP.java with protocol 1.2 (docs/nxt.md says what this rests on).
+bool is_lego_firmware(const FirmwareVersion& v) { return v.protocol_major == 1 && v.protocol_minor == 124; }
+
+std::variant<FirmwareVersion, CallError> firmware_version(Client& client) {
+  auto r = call_ok(client, "GetFirmwareVersion", {});
+  if (auto* e = std::get_if<CallError>(&r)) return *e;
+  const auto& d = std::get<Decoded>(r);
+  return FirmwareVersion{field_or<int>(d, "protocol_major", 0), field_or<int>(d, "protocol_minor", 0),
+                         field_or<int>(d, "firmware_major", 0), field_or<int>(d, "firmware_minor", 0)};
+}
+
+std::optional<CallError> require_lego_firmware(Client& client, std::string_view what) {
+  auto r = firmware_version(client);
+  if (auto* e = std::get_if<CallError>(&r)) return *e;
+  const auto& v = std::get<FirmwareVersion>(r);
+  if (is_lego_firmware(v)) return std::nullopt;
+  std::string which = v.protocol_major == 1 && v.protocol_minor == 2 ? " (leJOS NXJ answers so)" : "";
+  return CallError{CallError::Kind::Refused,
+                   fmt::format("the brick's firmware is not LEGO's: it answers protocol {}.{}, firmware {}.{:02}{}, "
+                               "and LEGO's answers protocol 1.124; {} was not sent, as other firmwares give its "
+                               "command another meaning (leJOS: 0x20 disconnects, 0x21 defragments the flash)",
+                               v.protocol_major, v.protocol_minor, v.firmware_major, v.firmware_minor, which, what)};
+}
+
+std::variant<std::uint32_t, CallError> get_property(Client& client, Property property) {
+  std::vector<Value> v{static_cast<std::int64_t>(property)};
+  auto r = call_ok(client, "GetProperty", v);
+  if (auto* e = std::get_if<CallError>(&r)) return *e;
+  Bytes value = std::get<Decoded>(r).bytes("value").value_or(Bytes{});
+  // One byte for Bluetooth and volume, a u32 for the sleep limit (c_cmd.c).
+  std::size_t want = property == Property::SleepMs ? 4 : 1;
+  if (value.size() != want)
+    return CallError{CallError::Kind::BadReply, fmt::format("GetProperty {} answered {} bytes ({}), not {}",
+                                                            static_cast<int>(property), value.size(), hex(value), want)};
+  std::uint32_t out = 0;
+  for (std::size_t i = 0; i < value.size(); ++i) out |= std::uint32_t{value[i]} << (8 * i);
+  return out;
+}
+
+std::optional<CallError> set_property(Client& client, Property property, std::uint32_t value) {
+  Bytes bytes{static_cast<std::uint8_t>(value)};
+  if (property == Property::SleepMs)
+    bytes = {static_cast<std::uint8_t>(value), static_cast<std::uint8_t>(value >> 8),
+             static_cast<std::uint8_t>(value >> 16), static_cast<std::uint8_t>(value >> 24)};
+  std::vector<Value> v{static_cast<std::int64_t>(property), bytes};
+  auto r = call_ok(client, "SetProperty", v);
+  if (auto* e = std::get_if<CallError>(&r)) return *e;
+  return std::nullopt;
+}
+
+namespace {
+
+// The firmware has a dozen modules; more means the search never ends.
+constexpr std::size_t kMaxModules = 64;
+// A USB packet less the reply's 0x02, opcode, status, ID and count: 55 data
+// bytes; a WriteIOMap request less type, opcode, ID, offset, count: 54.
+constexpr std::size_t kIoMapReadChunk = 55;
+constexpr std::size_t kIoMapWriteChunk = 54;
+
+ModuleEntry module_of(const Decoded& d) {
+  return {d.text("name").value_or(""), field_or<std::uint32_t>(d, "module_id", 0), field_or<std::uint32_t>(d, "size", 0),
+          field_or<std::uint16_t>(d, "iomap_size", 0)};
+}
+
+std::optional<CallError> close_module_search(Client& client) {
+  std::vector<Value> close{std::int64_t{0}};
+  auto c = call(client, named("CloseModuleHandle"), close);
+  if (auto* e = std::get_if<CallError>(&c)) return *e;
+  return std::nullopt;
+}
+
+}  // namespace
+
+std::variant<std::vector<ModuleEntry>, CallError> list_modules(Client& client, const std::string& pattern) {
+  std::vector<ModuleEntry> out;
+  std::vector<Value> first{pattern};
+  auto r = call(client, named("FindFirstModule"), first);
+  if (auto* e = std::get_if<CallError>(&r)) return *e;
+  if (std::get<Decoded>(r).status == status::kNoMoreHandles) {
+    // A search another host left open: end it and ask again.
+    if (auto e = close_module_search(client)) return *e;
+    r = call(client, named("FindFirstModule"), first);
+    if (auto* e = std::get_if<CallError>(&r)) return *e;
+  }
+  auto d = std::get<Decoded>(r);
+  const std::int64_t handle = field_or<int>(d, "handle", 0);
+  while (d.status == status::kOk && out.size() < kMaxModules) {
+    out.push_back(module_of(d));
+    std::vector<Value> next{handle};
+    auto n = call(client, named("FindNextModule"), next);
+    if (auto* e = std::get_if<CallError>(&n)) return *e;
+    d = std::get<Decoded>(n);
+  }
+  // Running out of modules does not end the loader's one search: end it
+  // whatever came, or the next search answers 0x81.
+  if (auto e = close_module_search(client)) return *e;
+  if (d.status != status::kOk && d.status != status::kModuleNotFound) return refused(d);
+  if (d.status == status::kOk)
+    return CallError{CallError::Kind::BadReply, fmt::format("the module search did not end after {} modules", kMaxModules)};
+  return out;
+}
+
+std::variant<Bytes, CallError> read_iomap(Client& client, std::uint32_t module_id, std::uint16_t offset,
+                                          std::size_t count) {
+  Bytes out;
+  while (out.size() < count) {
+    std::size_t want = std::min(kIoMapReadChunk, count - out.size());
+    std::vector<Value> v{std::int64_t{module_id}, static_cast<std::int64_t>(offset + out.size()),
+                         static_cast<std::int64_t>(want)};
+    auto r = call_ok(client, "ReadIOMap", v);
+    if (auto* e = std::get_if<CallError>(&r)) return *e;
+    const auto& d = std::get<Decoded>(r);
+    Bytes data = d.bytes("data").value_or(Bytes{});
+    auto got = static_cast<std::size_t>(d.number("count").value_or(0));
+    if (got != want || data.size() < want)
+      return CallError{CallError::Kind::BadReply,
+                       fmt::format("ReadIOMap of {} bytes at {} brought {} ({} data bytes)", want, offset + out.size(),
+                                   got, data.size())};
+    out.insert(out.end(), data.begin(), data.begin() + static_cast<std::ptrdiff_t>(want));
+  }
+  return out;
+}
+
+std::optional<CallError> write_iomap(Client& client, std::uint32_t module_id, std::uint16_t offset,
+                                     std::span<const std::uint8_t> data) {
+  for (std::size_t at = 0; at < data.size();) {
+    std::size_t n = std::min(kIoMapWriteChunk, data.size() - at);
+    std::vector<Value> v{std::int64_t{module_id}, static_cast<std::int64_t>(offset + at), static_cast<std::int64_t>(n),
+                         Bytes(data.begin() + static_cast<std::ptrdiff_t>(at),
+                               data.begin() + static_cast<std::ptrdiff_t>(at + n))};
+    auto r = call_ok(client, "WriteIOMap", v);
+    if (auto* e = std::get_if<CallError>(&r)) return *e;
+    auto written = std::get<Decoded>(r).number("count").value_or(0);
+    if (written != static_cast<std::int64_t>(n))
+      return CallError{CallError::Kind::BadReply, fmt::format("WriteIOMap wrote {} of {} bytes", written, n)};
+    at += n;
+  }
+  return std::nullopt;
+}
+
+std::variant<std::vector<BtEntry>, CallError> bluetooth_table(Client& client, bool contacts) {
+  auto count = call_ok(client, contacts ? "BTGetContactCount" : "BTGetConnCount", {});
+  if (auto* e = std::get_if<CallError>(&count)) return *e;
+  auto slots = std::get<Decoded>(count).number("count").value_or(0);
+  std::vector<BtEntry> out;
+  for (std::int64_t i = 0; i < slots; ++i) {
+    std::vector<Value> v{i};
+    auto r = call_ok(client, contacts ? "BTGetContactName" : "BTGetConnName", v);
+    if (auto* e = std::get_if<CallError>(&r)) return *e;
+    const auto& d = std::get<Decoded>(r);
+    std::string name = d.text("name").value_or("");
+    if (!name.empty()) out.push_back({static_cast<int>(i), field_or<int>(d, "device_type", 0), name});
+  }
+  return out;
+}
+
 std::variant<int, CallError> read_ultrasonic(Client& client, int port) {
   const std::int64_t p = port;
   std::vector<Value> get{p};

@@ -3,8 +3,9 @@
 // A reply is taken only if it answers the request just sent (same opcode);
 // anything else waiting on the line (a late reply to a request that timed
 // out) is drained before sending and dropped if it arrives while waiting.
-// The operations below (files, ultrasonic, mailboxes) are what `rcxc nxt`
-// does, written here so tests drive them against the virtual NXT.
+// The operations below (files, ultrasonic, mailboxes, properties, modules
+// and IO maps) are what `rcxc nxt` does, written here so tests drive them
+// against the virtual NXT.
 #pragma once
 
 #include <functional>
@@ -77,6 +78,55 @@ std::optional<std::string> check_file_name(const std::string& name);
 // Ultrasonic distance in cm on input port 0-3: sets LOWSPEED_9V if needed,
 // waits until the port is valid, then reads register 0x42 over I2C.
 std::variant<int, CallError> read_ultrasonic(Client& client, int port);
+
+// Which firmware the brick runs, from GetFirmwareVersion. LEGO's firmware
+// (and the enhanced NBC/NXC firmware built on it) answers protocol 1.124;
+// leJOS NXJ answers protocol 1.2, firmware 1.3 (its LCP.java), and gives
+// 0x20 and 0x21 other meanings (disconnect, defragment the flash). The
+// direct commands past the seed
+// (0x19-0x21) and the IO-map and poll commands mean what the table says
+// only on LEGO's.
+struct FirmwareVersion {
+  int protocol_major = 0, protocol_minor = 0, firmware_major = 0, firmware_minor = 0;
+};
+bool is_lego_firmware(const FirmwareVersion& v);
+std::variant<FirmwareVersion, CallError> firmware_version(Client& client);
+// Asks GetFirmwareVersion; a firmware that is not LEGO's is Refused
+// (status 0) with a message that names it and `what` was not sent.
+std::optional<CallError> require_lego_firmware(Client& client, std::string_view what);
+
+// SetProperty / GetProperty (LEGO's firmware only: require_lego_firmware
+// first). Bluetooth is 0 or 1, volume 0-4, the sleep limit in ms (u32).
+enum class Property : std::uint8_t { Bluetooth = 0, Volume = 1, SleepMs = 2 };
+std::variant<std::uint32_t, CallError> get_property(Client& client, Property property);
+std::optional<CallError> set_property(Client& client, Property property, std::uint32_t value);
+
+// The firmware's modules (FindFirstModule / FindNextModule, then
+// CloseModuleHandle whatever happened). The loader has one module search;
+// one left open by a host that was cut off answers 0x81, so it is closed
+// and asked once more. None matching is an empty list.
+struct ModuleEntry {
+  std::string name;
+  std::uint32_t id = 0;
+  std::uint32_t size = 0;
+  std::uint16_t iomap_size = 0;
+};
+std::variant<std::vector<ModuleEntry>, CallError> list_modules(Client& client, const std::string& pattern);
+// ReadIOMap / WriteIOMap in pieces a USB packet holds (55 and 54 bytes).
+std::variant<Bytes, CallError> read_iomap(Client& client, std::uint32_t module_id, std::uint16_t offset,
+                                          std::size_t count);
+std::optional<CallError> write_iomap(Client& client, std::uint32_t module_id, std::uint16_t offset,
+                                     std::span<const std::uint8_t> data);
+
+// A Bluetooth contact or connection slot (BTGetContactName / BTGetConnName).
+struct BtEntry {
+  int index = 0;
+  int device_type = 0;
+  std::string name;
+};
+// Every slot of the contact table (contacts = true) or the connection table
+// that holds a name; empty slots are left out.
+std::variant<std::vector<BtEntry>, CallError> bluetooth_table(Client& client, bool contacts);
 
 // Mailbox messages: text with its NUL, NXC's int32 LE + NUL, NXT-G's float32 LE + NUL.
 Bytes message_text(const std::string& text);

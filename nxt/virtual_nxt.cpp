@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <tuple>
 
 #include <fmt/format.h>
 
@@ -32,6 +33,18 @@ constexpr std::size_t kUsbPollMax = 59;
 // ReadIOMap's data over USB: a 64-byte packet less 0x02, opcode, status, ID, count.
 constexpr std::size_t kUsbIoMapMax = 55;
 constexpr std::uint8_t kUltrasonicAddress = 0x02;
+// Where LEGO's IO maps keep what the direct commands also see (the
+// firmware's IOMAPUI and IOMAPLOADER, as NXC's headers give their offsets):
+// the virtual NXT's one state is written into them before a ReadIOMap and
+// read back after a WriteIOMap.
+constexpr std::uint32_t kUiModule = 0x000C0001;
+constexpr std::uint32_t kLoaderModule = 0x00090001;
+constexpr std::size_t kUiBatteryVoltage = 4;   // u16, mV
+constexpr std::size_t kUiBluetoothState = 31;  // bit 0x04: Bluetooth off
+constexpr std::size_t kUiSleepTimeout = 33;    // minutes, 0 never
+constexpr std::size_t kUiVolume = 36;          // 0-4
+constexpr std::uint8_t kUiBtStateOff = 0x04;
+constexpr std::size_t kLoaderFreeUserFlash = 4;  // u32
 
 struct Outcome {
   std::uint8_t status = status::kOk;
@@ -403,10 +416,16 @@ Outcome direct(VirtualNxt& n, const Decoded& d) {
     }
     case 0x19: return ok({std::int64_t{0}, Bytes{}});  // DatalogRead: nothing logged
     case 0x1A: return ok();                             // DatalogSetTimes
-    case 0x1B: return ok({std::int64_t{30}});           // BTGetContactCount: table size
-    case 0x1D: return ok({std::int64_t{4}});            // BTGetConnCount: table size
+    case 0x1B: return ok({static_cast<std::int64_t>(n.contacts.size())});     // BTGetContactCount: table size
+    case 0x1D: return ok({static_cast<std::int64_t>(n.connections.size())});  // BTGetConnCount: table size
     case 0x1C:
-    case 0x1E: return ok({std::int64_t{0}, std::string()});  // empty tables
+    case 0x1E: {  // BTGetContactName, BTGetConnName
+      std::span<const BtSlot> table = op == 0x1C ? std::span<const BtSlot>(n.contacts) : std::span<const BtSlot>(n.connections);
+      auto index = static_cast<std::size_t>(num(d, "index"));
+      // Model: a slot past the table answers 0xC0, as an illegal port does.
+      if (index >= table.size()) return fail(status::kOutOfRange);
+      return ok({std::int64_t{table[index].device_type}, table[index].name});
+    }
     case 0x1F: {  // SetProperty
       Bytes v = raw_bytes(d, "value");
       switch (num(d, "property")) {
@@ -421,7 +440,8 @@ Outcome direct(VirtualNxt& n, const Decoded& d) {
         case 2: {
           if (v.size() < 4) return fail(status::kInsanePacket);
           std::uint32_t ms = v[0] | (v[1] << 8) | (v[2] << 16) | (std::uint32_t{v[3]} << 24);
-          n.sleep_minutes = ms / 60'000;  // the firmware keeps whole minutes
+          // The firmware keeps whole minutes, in one byte (IOMAPUI's SleepTimeout).
+          n.sleep_minutes = static_cast<std::uint8_t>(ms / 60'000);
           return ok();
         }
         default: return fail(status::kUnknownCommand);
@@ -487,6 +507,38 @@ Module* module_of(VirtualNxt& n, std::int64_t id) {
   for (auto& m : n.modules)
     if (m.id == id) return &m;
   return nullptr;
+}
+
+void put_u16(Bytes& map, std::size_t at, std::uint32_t v) {
+  map[at] = static_cast<std::uint8_t>(v);
+  map[at + 1] = static_cast<std::uint8_t>(v >> 8);
+}
+void put_u32(Bytes& map, std::size_t at, std::uint32_t v) {
+  put_u16(map, at, v);
+  put_u16(map, at + 2, v >> 16);
+}
+
+// The brick's state into the IO-map bytes that hold it.
+void state_to_iomap(VirtualNxt& n, Module& m) {
+  if (m.id == kUiModule) {
+    put_u16(m.iomap, kUiBatteryVoltage, static_cast<std::uint32_t>(n.battery_mv));
+    auto& bt = m.iomap[kUiBluetoothState];
+    bt = static_cast<std::uint8_t>(n.bluetooth_on ? bt & ~kUiBtStateOff : bt | kUiBtStateOff);
+    m.iomap[kUiSleepTimeout] = static_cast<std::uint8_t>(n.sleep_minutes);
+    m.iomap[kUiVolume] = n.volume;
+  } else if (m.id == kLoaderModule) {
+    put_u32(m.iomap, kLoaderFreeUserFlash, free_flash(n));
+  }
+}
+
+// After a WriteIOMap: what was written there is the brick's state. The
+// battery voltage and free flash are measured, not set: the next read
+// shows the measurement again.
+void iomap_to_state(VirtualNxt& n, const Module& m) {
+  if (m.id != kUiModule) return;
+  n.bluetooth_on = (m.iomap[kUiBluetoothState] & kUiBtStateOff) == 0;
+  n.sleep_minutes = m.iomap[kUiSleepTimeout];
+  n.volume = m.iomap[kUiVolume];
 }
 
 Outcome system(VirtualNxt& n, const Decoded& d) {
@@ -591,7 +643,8 @@ Outcome system(VirtualNxt& n, const Decoded& d) {
     case 0x92:  // CloseModuleHandle: always succeeds
       n.module_search.open = false;
       return ok({std::int64_t{0}});
-    case 0x88: return ok({std::int64_t{124}, std::int64_t{1}, std::int64_t{31}, std::int64_t{1}});
+    case 0x88: return ok({std::int64_t{n.versions[0]}, std::int64_t{n.versions[1]}, std::int64_t{n.versions[2]},
+                          std::int64_t{n.versions[3]}});
     case 0x94: {  // ReadIOMap
       // c_comm.c: the module ID is echoed, at most 55 data bytes come (a USB
       // packet), and after an error the count is 0 and the data zeros.
@@ -603,6 +656,7 @@ Outcome system(VirtualNxt& n, const Decoded& d) {
                           : offset + count > m->iomap.size() ? status::kOutOfBoundary
                                                              : status::kOk;
       if (code != status::kOk) return fail_with(code, {id, std::int64_t{0}, Bytes(count, 0)});
+      state_to_iomap(n, *m);
       auto at = m->iomap.begin() + static_cast<std::ptrdiff_t>(offset);
       return ok({id, static_cast<std::int64_t>(count), Bytes(at, at + static_cast<std::ptrdiff_t>(count))});
     }
@@ -618,8 +672,10 @@ Outcome system(VirtualNxt& n, const Decoded& d) {
       Module* m = module_of(n, id);
       if (!m) return fail_with(status::kModuleNotFound, {id, std::int64_t{0}});
       if (offset + count > m->iomap.size()) return fail_with(status::kOutOfBoundary, {id, std::int64_t{0}});
+      state_to_iomap(n, *m);
       std::copy(data.begin(), data.begin() + static_cast<std::ptrdiff_t>(count),
                 m->iomap.begin() + static_cast<std::ptrdiff_t>(offset));
+      iomap_to_state(n, *m);
       return ok({id, static_cast<std::int64_t>(count)});
     }
     case 0x98:
@@ -679,13 +735,16 @@ bool FileNameLess::operator()(const std::string& a, const std::string& b) const 
 VirtualNxt make_virtual_nxt(std::vector<ScenarioInput> scenario) {
   VirtualNxt n;
   n.scenario = std::move(scenario);
-  // The firmware's module IDs; the IO maps here are small zeroed stand-ins.
-  const std::pair<const char*, std::uint32_t> modules[] = {
-      {"Command.mod", 0x00010001}, {"Output.mod", 0x00020001}, {"Input.mod", 0x00030001},
-      {"Button.mod", 0x00040001},  {"Comm.mod", 0x00050001},   {"IOCtrl.mod", 0x00060001},
-      {"Led.mod", 0x00070001},     {"Sound.mod", 0x00080001},  {"Loader.mod", 0x00090001},
-      {"Display.mod", 0x000A0001}, {"LowSpeed.mod", 0x000B0001}, {"Ui.mod", 0x000C0001}};
-  for (const auto& [name, id] : modules) n.modules.push_back({name, id, Bytes(64, 0)});
+  // The firmware's module names and IDs. The IO maps whose layout is known
+  // here have their firmware size (IOMAPBUTTON 36, IOMAPIOCTRL 2, IOMAPSOUND
+  // 30, IOMAPLOADER 8, IOMAPUI 40 bytes, from NXC's offsets); the others are
+  // 64-byte zeroed stand-ins (docs/nxt.md, "The virtual NXT").
+  const std::tuple<const char*, std::uint32_t, std::size_t> modules[] = {
+      {"Command.mod", 0x00010001, 64}, {"Output.mod", 0x00020001, 64}, {"Input.mod", 0x00030001, 64},
+      {"Button.mod", 0x00040001, 36},  {"Comm.mod", 0x00050001, 64},   {"IOCtrl.mod", 0x00060001, 2},
+      {"Led.mod", 0x00070001, 64},     {"Sound.mod", 0x00080001, 30},  {"Loader.mod", kLoaderModule, 8},
+      {"Display.mod", 0x000A0001, 64}, {"LowSpeed.mod", 0x000B0001, 64}, {"Ui.mod", kUiModule, 40}};
+  for (const auto& [name, id, size] : modules) n.modules.push_back({name, id, Bytes(size, 0)});
   advance_to(n, 0);
   return n;
 }

@@ -3,8 +3,10 @@
 // linear and data files, the file-system error codes), 20 mailbox queues of
 // 5 messages that need a running program, a program run state, motors whose
 // tacho counts advance with power and time, sensors fed from a scenario, the
-// input-valid delay, an I2C ultrasonic sensor, battery, the sleep timer and
-// device info. Deviations from a real brick are listed in docs/nxt.md.
+// input-valid delay, an I2C ultrasonic sensor, battery, the sleep timer,
+// device info, and the firmware's modules, whose UI and loader IO maps hold
+// the same volume, sleep limit, Bluetooth state, battery and free flash the
+// direct commands see. Deviations from a real brick are listed in docs/nxt.md.
 //
 // Time is the caller's: `advance_to` moves the brick's clock (virtual in
 // tests, the wall clock when served on a pty), so nothing here sleeps.
@@ -97,6 +99,13 @@ struct Module {
   Bytes iomap;
 };
 
+// A slot of the Bluetooth contact or connection table (BTGetContactName,
+// BTGetConnName): an empty name is an empty slot.
+struct BtSlot {
+  std::uint8_t device_type = 0;
+  std::string name;
+};
+
 // The loader matches names without regard to case (it upper-cases both
 // sides): "PROG.RXE" is the file "prog.rxe", and cannot be made beside it.
 struct FileNameLess {
@@ -108,6 +117,9 @@ struct VirtualNxt {
   std::string name = "NXT";
   std::array<std::uint8_t, 7> bt_address{0x00, 0x16, 0x53, 0x0A, 0x0B, 0x0C, 0x00};
   int battery_mv = 7800;
+  // GetFirmwareVersion's answer: protocol minor, major, firmware minor,
+  // major (LEGO's 1.31; tests set leJOS's 2, 1, 3, 1 to see it refused).
+  std::array<std::uint8_t, 4> versions{124, 1, 31, 1};
   std::uint8_t volume = 3;
   bool bluetooth_on = true;
   std::uint32_t sleep_minutes = 10;  // the firmware keeps whole minutes
@@ -121,6 +133,8 @@ struct VirtualNxt {
   std::array<std::optional<Handle>, 16> handles{};
   std::vector<Module> modules;
   ModuleSearch module_search;
+  std::array<BtSlot, 30> contacts{};    // the firmware's table sizes: 30 contacts,
+  std::array<BtSlot, 4> connections{};  // 4 connections (0 the master, 1-3 slaves)
   std::vector<SoundEvent> sounds;
   std::uint32_t flash_bytes = 128 * 1024;
   std::vector<ScenarioInput> scenario;

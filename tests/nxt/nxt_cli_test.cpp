@@ -21,6 +21,8 @@
 
 #include "nxt/commands.h"
 #include "nxt/transport.h"
+#include "nxt/virtual_nxt.h"
+#include "tests/support/served_thread.h"
 #include "tests/support/process.h"
 
 namespace {
@@ -961,6 +963,146 @@ TEST(NxtCli, MotorResetZeroesTheBlockAndRotationCounts) {
   EXPECT_EQ(j["tacho_count"], 90);  // UpdateResetCount's, not sent
   EXPECT_EQ(nxt(brick.path, {"motor-reset", "all"}).exit_code, 2);
   EXPECT_EQ(nxt(brick.path, {"motor-reset", "A", "--block", "--rotation"}).exit_code, 2);
+}
+
+// The actions past the seed, through the binary against `rcxc nxt brick --pty`.
+TEST(NxtCli, VolumeSleepAndBluetoothAreReadAndSet) {
+  NxtBrickProcess brick;
+  EXPECT_EQ(nxt(brick.path, {"volume"}).out, "volume 3\n");
+  EXPECT_EQ(nxt(brick.path, {"volume", "1"}).out, "volume 1\n");
+  EXPECT_EQ(json_of(nxt(brick.path, {"--json", "volume"}))["volume"], 1);
+  EXPECT_EQ(nxt(brick.path, {"sleep"}).out, "sleeps after 10 min\n");
+  EXPECT_EQ(nxt(brick.path, {"sleep", "2"}).out, "sleeps after 2 min\n");
+  EXPECT_EQ(nxt(brick.path, {"keepalive"}).out, "sleeps after 2 min\n");
+  EXPECT_EQ(nxt(brick.path, {"sleep", "off"}).out, "never sleeps\n");
+  EXPECT_EQ(json_of(nxt(brick.path, {"--json", "sleep"}))["sleep_limit_ms"], 0);
+  EXPECT_EQ(nxt(brick.path, {"bluetooth"}).out, "bluetooth on\n");
+  EXPECT_EQ(nxt(brick.path, {"bluetooth", "off"}).out, "bluetooth off\n");
+  EXPECT_EQ(json_of(nxt(brick.path, {"--json", "bluetooth"}))["bluetooth"], false);
+  // The UI module's IO map holds what SetProperty wrote: sleep 0 at 33, volume 1 at 36.
+  auto ui = nxt(brick.path, {"iomap", "read", "Ui.mod", "33", "4"});
+  ASSERT_EQ(ui.exit_code, 0) << ui.err;
+  EXPECT_EQ(ui.out.substr(0, 18), "0021  00 00 00 01 ") << ui.out;
+  EXPECT_NE(ui.out.find(" |....|\n"), std::string::npos) << ui.out;
+  for (const std::vector<std::string>& bad : std::vector<std::vector<std::string>>{
+           {"volume", "5"}, {"volume", "loud"}, {"sleep", "256"}, {"sleep", "0x10"}, {"sleep", "soon"},
+           {"bluetooth", "maybe"}}) {
+    auto r = nxt(brick.path, bad);
+    EXPECT_EQ(r.exit_code, 2) << bad[0] << " " << bad[1];
+    EXPECT_NE(r.err.find("\"" + bad[1] + "\" is not a"), std::string::npos) << r.err;
+  }
+  EXPECT_EQ(nxt(brick.path, {"volume"}).out, "volume 1\n");  // nothing was sent
+}
+
+TEST(NxtCli, ModulesAndTheirIoMaps) {
+  NxtBrickProcess brick;
+  auto all = nxt(brick.path, {"modules"});
+  ASSERT_EQ(all.exit_code, 0) << all.err;
+  EXPECT_EQ(all.out.substr(0, all.out.find('\n')), "module          id            size IO map");
+  EXPECT_NE(all.out.find("\nUi.mod          0x000C0001       0     40\n"), std::string::npos) << all.out;
+  auto j = json_of(nxt(brick.path, {"--json", "modules"}));
+  ASSERT_EQ(j["modules"].size(), 12u);
+  EXPECT_EQ(j["modules"][7]["name"], "Sound.mod");
+  EXPECT_EQ(j["modules"][7]["id"], "0x00080001");
+  EXPECT_EQ(j["modules"][7]["iomap_size"], 30);
+  EXPECT_EQ(nxt(brick.path, {"modules", "Ui.*"}).out,
+            "module          id            size IO map\nUi.mod          0x000C0001       0     40\n");
+  EXPECT_EQ(nxt(brick.path, {"modules", "Nope.*"}).out, "");
+  // Written into the UI map, seen by GetProperty; by name in any case, or by ID.
+  ASSERT_EQ(nxt(brick.path, {"iomap", "write", "ui", "36", "02"}).exit_code, 0);
+  EXPECT_EQ(nxt(brick.path, {"volume"}).out, "volume 2\n");
+  auto battery = json_of(nxt(brick.path, {"--json", "iomap", "read", "0x000C0001", "4", "2"}));
+  EXPECT_EQ(battery["bytes"], "78 1e");  // 7800 mV
+  EXPECT_EQ(battery["module"], "Ui.mod");
+  // Bytes written stay: Comm.mod is a stand-in, 64 bytes.
+  ASSERT_EQ(nxt(brick.path, {"iomap", "write", "Comm.mod", "0x10", "41424344", "45"}).exit_code, 0);
+  EXPECT_EQ(nxt(brick.path, {"iomap", "read", "Comm.mod", "16", "5"}).out,
+            "0010  41 42 43 44 45                                   |ABCDE|\n");
+  auto wide = nxt(brick.path, {"iomap", "read", "Comm.mod", "0", "64"});
+  EXPECT_EQ(std::count(wide.out.begin(), wide.out.end(), '\n'), 4) << wide.out;
+  struct Bad {
+    std::vector<std::string> args;
+    std::string says;
+  };
+  for (const Bad& bad : std::vector<Bad>{
+           {{"iomap", "read", "Nope.mod", "0", "1"}, "no module \"Nope.mod\" on the brick (it has Command.mod, "},
+           {{"iomap", "read", "0x00990001", "0", "1"}, "no module \"0x00990001\" on the brick"},
+           {{"iomap", "read", "Ui.mod", "38", "4"}, "4 bytes from offset 38 go past Ui.mod's IO map (40 bytes)"},
+           {{"iomap", "write", "Ui.mod", "40", "00"}, "1 bytes at offset 40 go past Ui.mod's IO map (40 bytes)"},
+           {{"iomap", "read", "Ui.mod", "x", "1"}, "\"x\" is not an offset"},
+           {{"iomap", "read", "Ui.mod", "0", "0"}, "\"0\" is not a count"},
+           {{"iomap", "read", "a/b", "0", "1"}, "\"a/b\" is not a module"},
+           {{"iomap", "write", "Ui.mod", "0", "abc"}, "\"abc\" is not hex bytes"},
+           {{"iomap", "write", "Ui.mod", "0", "zz"}, "\"zz\" is not hex bytes"},
+           {{"iomap", "write", "IOCtrl.mod", "0", "005a"}, "rcxc does not write it"},
+           {{"modules", "bad"}, "\"bad\" is not a pattern"}}) {
+    auto r = nxt(brick.path, bad.args);
+    EXPECT_EQ(r.exit_code, 2) << bad.args[1];
+    EXPECT_NE(r.err.find(bad.says), std::string::npos) << r.err;
+  }
+  EXPECT_EQ(json_of(nxt(brick.path, {"--json", "iomap", "read", "Ui.mod", "38", "4"}))["ok"], false);
+}
+
+TEST(NxtCli, TachoResetDatalogBluetoothTablesPollAndEraseAll) {
+  NxtBrickProcess brick;
+  ASSERT_EQ(nxt(brick.path, {"motor", "A", "100", "--limit", "90"}).exit_code, 0);
+  nlohmann::json j;
+  for (int i = 0; i < 50; ++i) {
+    j = json_of(nxt(brick.path, {"--json", "motor-state", "A"}));
+    if (j["run_state"] == 0) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  ASSERT_EQ(j["tacho_count"], 90);
+  ASSERT_EQ(nxt(brick.path, {"tacho-reset", "A"}).exit_code, 0);
+  j = json_of(nxt(brick.path, {"--json", "motor-state", "A"}));
+  EXPECT_EQ(j["tacho_count"], 0);
+  EXPECT_EQ(j["rotation_count"], 90);  // ResetMotorPosition's, untouched
+  EXPECT_EQ(nxt(brick.path, {"tacho-reset", "D"}).exit_code, 2);
+  EXPECT_EQ(nxt(brick.path, {"datalog"}).out, "(empty)\n");
+  EXPECT_EQ(json_of(nxt(brick.path, {"--json", "datalog", "--keep"}))["size"], 0);
+  EXPECT_EQ(nxt(brick.path, {"contacts"}).out, "(none)\n");
+  EXPECT_EQ(json_of(nxt(brick.path, {"--json", "connections"}))["connections"].size(), 0u);
+  EXPECT_EQ(nxt(brick.path, {"poll"}).out, "(empty)\n");
+  EXPECT_EQ(json_of(nxt(brick.path, {"--json", "poll", "--high-speed"}))["buffer"], "high-speed");
+  TempDir dir;
+  ASSERT_EQ(nxt(brick.path, {"upload", dir.write("keep.rxe", std::string("x"))}).exit_code, 0);
+  auto unconfirmed = nxt(brick.path, {"erase-all"});
+  EXPECT_EQ(unconfirmed.exit_code, 2);
+  EXPECT_NE(unconfirmed.err.find("add --yes to mean it"), std::string::npos) << unconfirmed.err;
+  EXPECT_EQ(nxt(brick.path, {"ls"}).out, "       1  keep.rxe\n");
+  ASSERT_EQ(nxt(brick.path, {"erase-all", "--yes"}).exit_code, 0);
+  EXPECT_EQ(nxt(brick.path, {"ls"}).out, "");
+}
+
+// A brick whose firmware answers GetFirmwareVersion as leJOS does (protocol
+// 1.2): the actions that need LEGO's firmware send nothing after that.
+TEST(NxtCli, AFirmwareThatIsNotLegosIsRefusedBeforeItsCommandIsSent) {
+  nxt::VirtualNxt brick = nxt::make_virtual_nxt();
+  brick.versions = {2, 1, 3, 1};
+  auto opened = nxt::open_pty_pair();
+  ASSERT_TRUE(std::holds_alternative<nxt::PtyPair>(opened));
+  auto pty = std::get<nxt::PtyPair>(opened);
+  rcxc::test::ServedThread server;
+  ASSERT_TRUE(server.start([&](int stop_fd) {
+    nxt::ServeOptions options;
+    options.stop_fd = stop_fd;
+    nxt::serve(brick, pty.master_fd, options);
+  }));
+  auto r = nxt(pty.slave_path, {"volume", "2"});
+  auto g = nxt(pty.slave_path, {"--json", "tacho-reset", "A"});
+  auto m = nxt(pty.slave_path, {"modules"});
+  server.stop();
+  nxt::close_pty_pair(pty);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("the brick's firmware is not LEGO's: it answers protocol 1.2, firmware 1.03 (leJOS NXJ "
+                       "answers so), and LEGO's answers protocol 1.124; SetProperty (0x1F) was not sent"),
+            std::string::npos)
+      << r.err;
+  EXPECT_EQ(g.exit_code, 1);
+  EXPECT_EQ(json_of(g)["ok"], false);
+  EXPECT_EQ(m.exit_code, 1);
+  EXPECT_EQ(brick.counters.requests, 3u);  // one GetFirmwareVersion each
+  EXPECT_EQ(brick.volume, 3);
 }
 
 TEST(NxtCli, HelpListsEveryCommandOfTheTable) {

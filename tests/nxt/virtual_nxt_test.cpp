@@ -674,24 +674,24 @@ TEST(VirtualNxtFirmware, BootIsRefusedWith8AAndPollCommandPadsToTheCountAsked) {
 
 TEST(VirtualNxtFirmware, IoMapRepliesEchoTheModuleIdAndReadsPadToTheCountAsked) {
   Rig rig;
-  // Ui.mod (0x000C0001), 4 bytes from offset 62 of its 64: out of boundary,
+  // Comm.mod (0x00050001, a 64-byte stand-in), 4 bytes from offset 62 of its 64: out of boundary,
   // the ID echoed, count 0, four zero bytes.
-  EXPECT_EQ(*answer(rig.brick, Bytes{0x01, 0x94, 0x01, 0x00, 0x0C, 0x00, 0x3E, 0x00, 0x04, 0x00}),
-            (Bytes{0x02, 0x94, 0x91, 0x01, 0x00, 0x0C, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00}));
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x01, 0x94, 0x01, 0x00, 0x05, 0x00, 0x3E, 0x00, 0x04, 0x00}),
+            (Bytes{0x02, 0x94, 0x91, 0x01, 0x00, 0x05, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00}));
   // No module 0x00990001: 0x90, the ID echoed.
   EXPECT_EQ(*answer(rig.brick, Bytes{0x01, 0x94, 0x01, 0x00, 0x99, 0x00, 0x00, 0x00, 0x02, 0x00}),
             (Bytes{0x02, 0x94, 0x90, 0x01, 0x00, 0x99, 0x00, 0x00, 0x00, 0x00, 0x00}));
   // 60 asked: 55 come (count 0x37).
-  auto r = *answer(rig.brick, Bytes{0x01, 0x94, 0x01, 0x00, 0x0C, 0x00, 0x00, 0x00, 0x3C, 0x00});
-  EXPECT_EQ(Bytes(r.begin(), r.begin() + 9), (Bytes{0x02, 0x94, 0x00, 0x01, 0x00, 0x0C, 0x00, 0x37, 0x00}));
+  auto r = *answer(rig.brick, Bytes{0x01, 0x94, 0x01, 0x00, 0x05, 0x00, 0x00, 0x00, 0x3C, 0x00});
+  EXPECT_EQ(Bytes(r.begin(), r.begin() + 9), (Bytes{0x02, 0x94, 0x00, 0x01, 0x00, 0x05, 0x00, 0x37, 0x00}));
   EXPECT_EQ(r.size(), 9u + 55u);
   // WriteIOMap writes as many bytes as its count says; an error echoes the ID.
-  EXPECT_EQ(*answer(rig.brick, Bytes{0x01, 0x95, 0x01, 0x00, 0x0C, 0x00, 0x00, 0x00, 0x01, 0x00, 0xAA, 0xBB}),
-            (Bytes{0x02, 0x95, 0x00, 0x01, 0x00, 0x0C, 0x00, 0x01, 0x00}));
-  EXPECT_EQ(*answer(rig.brick, Bytes{0x01, 0x94, 0x01, 0x00, 0x0C, 0x00, 0x00, 0x00, 0x02, 0x00}),
-            (Bytes{0x02, 0x94, 0x00, 0x01, 0x00, 0x0C, 0x00, 0x02, 0x00, 0xAA, 0x00}));
-  EXPECT_EQ(*answer(rig.brick, Bytes{0x01, 0x95, 0x01, 0x00, 0x0C, 0x00, 0x40, 0x00, 0x01, 0x00, 0xAA}),
-            (Bytes{0x02, 0x95, 0x91, 0x01, 0x00, 0x0C, 0x00, 0x00, 0x00}));
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x01, 0x95, 0x01, 0x00, 0x05, 0x00, 0x00, 0x00, 0x01, 0x00, 0xAA, 0xBB}),
+            (Bytes{0x02, 0x95, 0x00, 0x01, 0x00, 0x05, 0x00, 0x01, 0x00}));
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x01, 0x94, 0x01, 0x00, 0x05, 0x00, 0x00, 0x00, 0x02, 0x00}),
+            (Bytes{0x02, 0x94, 0x00, 0x01, 0x00, 0x05, 0x00, 0x02, 0x00, 0xAA, 0x00}));
+  EXPECT_EQ(*answer(rig.brick, Bytes{0x01, 0x95, 0x01, 0x00, 0x05, 0x00, 0x40, 0x00, 0x01, 0x00, 0xAA}),
+            (Bytes{0x02, 0x95, 0x91, 0x01, 0x00, 0x05, 0x00, 0x00, 0x00}));
 }
 
 TEST(VirtualNxtFirmware, AnUltrasonicReadWithNoSensorSaysWhereItLooked) {
@@ -726,6 +726,155 @@ TEST(VirtualNxtFirmware, AFifteenCharacterNameComesBackWithoutItsNul) {
   // A request's names still need their NUL: 20 characters do not fit 20 bytes.
   auto r = encode_request(*find_command("OpenRead"), V{std::string(20, 'a')});
   EXPECT_TRUE(std::holds_alternative<TelegramError>(r));
+}
+
+
+// The actions past the seed (rcxc nxt volume, sleep, bluetooth, modules,
+// iomap): the client's operations against the virtual NXT, and the bytes
+// they send, checked against the firmware's layouts by hand.
+
+// A link to the virtual NXT that keeps every request sent.
+struct Recording {
+  VirtualNxt brick = make_virtual_nxt();
+  std::vector<Bytes> sent;
+  InProcessTransport link{[this](std::span<const std::uint8_t> t) {
+    sent.emplace_back(t.begin(), t.end());
+    return answer(brick, t);
+  }};
+  Client client{link};
+};
+
+TEST(VirtualNxtExtras, PropertiesGoOutInTheFirmwaresLayout) {
+  Recording r;
+  ASSERT_FALSE(set_property(r.client, Property::SleepMs, 120'000));
+  ASSERT_FALSE(set_property(r.client, Property::Volume, 2));
+  ASSERT_FALSE(set_property(r.client, Property::Bluetooth, 0));
+  ASSERT_EQ(r.sent.size(), 3u);
+  EXPECT_EQ(hex(r.sent[0]), "00 1f 02 c0 d4 01 00");  // 120000 ms, a u32
+  EXPECT_EQ(hex(r.sent[1]), "00 1f 01 02");
+  EXPECT_EQ(hex(r.sent[2]), "00 1f 00 00");
+  EXPECT_EQ(std::get<std::uint32_t>(get_property(r.client, Property::SleepMs)), 120'000u);
+  EXPECT_EQ(std::get<std::uint32_t>(get_property(r.client, Property::Volume)), 2u);
+  EXPECT_EQ(std::get<std::uint32_t>(get_property(r.client, Property::Bluetooth)), 0u);
+  EXPECT_EQ(hex(r.sent[3]), "00 20 02");
+}
+
+TEST(VirtualNxtExtras, APropertyReplyOfTheWrongLengthIsABadReply) {
+  InProcessTransport link([](std::span<const std::uint8_t>) -> std::optional<Bytes> { return Bytes{0x02, 0x20, 0x00, 0x03, 0x00}; });
+  Client client(link);
+  auto v = get_property(client, Property::Volume);
+  ASSERT_TRUE(std::holds_alternative<CallError>(v));
+  EXPECT_EQ(std::get<CallError>(v).kind, CallError::Kind::BadReply);
+  EXPECT_NE(std::get<CallError>(v).message.find("answered 2 bytes (03 00), not 1"), std::string::npos)
+      << std::get<CallError>(v).message;
+}
+
+// leJOS answers GetFirmwareVersion 02 88 00 02 01 03 01 (its LCP.java):
+// protocol 1.2. Nothing past that telegram may go to it.
+TEST(VirtualNxtExtras, AFirmwareThatIsNotLegosIsToldApartAndSentNothingMore) {
+  std::vector<Bytes> sent;
+  InProcessTransport link([&](std::span<const std::uint8_t> t) -> std::optional<Bytes> {
+    sent.emplace_back(t.begin(), t.end());
+    if (t.size() >= 2 && t[1] == 0x88) return Bytes{0x02, 0x88, 0x00, 0x02, 0x01, 0x03, 0x01};
+    return Bytes{0x02, t[1], 0x00};
+  });
+  Client client(link);
+  auto e = require_lego_firmware(client, "GetProperty (0x20)");
+  ASSERT_TRUE(e);
+  EXPECT_EQ(e->kind, CallError::Kind::Refused);
+  EXPECT_NE(e->message.find("protocol 1.2, firmware 1.03 (leJOS NXJ answers so)"), std::string::npos) << e->message;
+  EXPECT_NE(e->message.find("GetProperty (0x20) was not sent"), std::string::npos) << e->message;
+  EXPECT_EQ(sent.size(), 1u);
+  // LEGO's (the virtual NXT: 1.124, 1.31) passes.
+  Rig rig;
+  EXPECT_FALSE(require_lego_firmware(rig.client, "GetProperty (0x20)"));
+  EXPECT_TRUE(is_lego_firmware({1, 124, 1, 5}));
+  EXPECT_FALSE(is_lego_firmware({1, 2, 1, 3}));
+}
+
+TEST(VirtualNxtExtras, TheUiModulesBytesAreWhatThePropertiesSee) {
+  Rig rig;
+  ASSERT_FALSE(set_property(rig.client, Property::Volume, 1));
+  ASSERT_FALSE(set_property(rig.client, Property::SleepMs, 5 * 60'000));
+  auto ui = std::get<Bytes>(read_iomap(rig.client, 0x000C0001, 0, 40));
+  EXPECT_EQ(ui[36], 1);                    // IOMAPUI Volume
+  EXPECT_EQ(ui[33], 5);                    // SleepTimeout, minutes
+  EXPECT_EQ(ui[4] | (ui[5] << 8), 7800);   // BatteryVoltage, as GetBatteryLevel
+  EXPECT_EQ(ui[31] & 0x04, 0);             // Bluetooth on
+  // Written into the map, seen by GetProperty and KeepAlive.
+  ASSERT_FALSE(write_iomap(rig.client, 0x000C0001, 33, Bytes{2}));
+  ASSERT_FALSE(write_iomap(rig.client, 0x000C0001, 36, Bytes{4}));
+  ASSERT_FALSE(write_iomap(rig.client, 0x000C0001, 31, Bytes{0x04}));
+  EXPECT_EQ(std::get<std::uint32_t>(get_property(rig.client, Property::Volume)), 4u);
+  EXPECT_EQ(rig.reply("KeepAlive").number("sleep_limit_ms"), 120'000);
+  EXPECT_EQ(std::get<std::uint32_t>(get_property(rig.client, Property::Bluetooth)), 0u);
+  // The battery voltage is measured: a write does not change it.
+  ASSERT_FALSE(write_iomap(rig.client, 0x000C0001, 4, Bytes{0, 0}));
+  EXPECT_EQ(rig.reply("GetBatteryLevel").number("millivolts"), 7800);
+  ui = std::get<Bytes>(read_iomap(rig.client, 0x000C0001, 4, 2));
+  EXPECT_EQ(ui, (Bytes{0x78, 0x1E}));
+  // Loader.mod's free flash is GetDeviceInfo's.
+  auto loader = std::get<Bytes>(read_iomap(rig.client, 0x00090001, 4, 4));
+  std::uint32_t free = loader[0] | (loader[1] << 8) | (loader[2] << 16) | (std::uint32_t{loader[3]} << 24);
+  EXPECT_EQ(free, rig.reply("GetDeviceInfo").number("free_flash"));
+}
+
+TEST(VirtualNxtExtras, IoMapsAreReadAndWrittenInPiecesAPacketHolds) {
+  Recording r;
+  Bytes data(60);
+  for (std::size_t i = 0; i < data.size(); ++i) data[i] = static_cast<std::uint8_t>(i + 1);
+  // Comm.mod (0x00050001), a 64-byte stand-in: 54 bytes, then 6.
+  ASSERT_FALSE(write_iomap(r.client, 0x00050001, 2, data));
+  ASSERT_EQ(r.sent.size(), 2u);
+  EXPECT_EQ(hex(Bytes(r.sent[0].begin(), r.sent[0].begin() + 10)), "01 95 01 00 05 00 02 00 36 00");
+  EXPECT_EQ(r.sent[0].size(), 10u + 54u);
+  EXPECT_EQ(hex(r.sent[1]), "01 95 01 00 05 00 38 00 06 00 37 38 39 3a 3b 3c");
+  auto back = read_iomap(r.client, 0x00050001, 2, 60);
+  ASSERT_TRUE(std::holds_alternative<Bytes>(back));
+  EXPECT_EQ(std::get<Bytes>(back), data);
+  EXPECT_EQ(hex(r.sent[2]), "01 94 01 00 05 00 02 00 37 00");  // 55
+  EXPECT_EQ(hex(r.sent[3]), "01 94 01 00 05 00 39 00 05 00");  // then 5
+  // Past the map: the brick's 0x91, refused.
+  auto past = read_iomap(r.client, 0x00050001, 60, 8);
+  ASSERT_TRUE(std::holds_alternative<CallError>(past));
+  EXPECT_EQ(std::get<CallError>(past).status, status::kOutOfBoundary);
+}
+
+TEST(VirtualNxtExtras, ModulesAreListedAndTheSearchIsClosed) {
+  Rig rig;
+  auto all = list_modules(rig.client, "*.*");
+  ASSERT_TRUE(std::holds_alternative<std::vector<ModuleEntry>>(all));
+  const auto& list = std::get<std::vector<ModuleEntry>>(all);
+  ASSERT_EQ(list.size(), 12u);
+  EXPECT_EQ(list.front().name, "Command.mod");
+  EXPECT_EQ(list.back().name, "Ui.mod");
+  EXPECT_EQ(list.back().id, 0x000C0001u);
+  EXPECT_EQ(list.back().iomap_size, 40);
+  EXPECT_FALSE(rig.brick.module_search.open);
+  // A search another host left open (0x81 to the next FindFirstModule) is closed and asked again.
+  ASSERT_EQ(rig.status_of("FindFirstModule", {s("*.*")}), 0);
+  auto sound = list_modules(rig.client, "Sound.*");
+  ASSERT_TRUE(std::holds_alternative<std::vector<ModuleEntry>>(sound));
+  ASSERT_EQ(std::get<std::vector<ModuleEntry>>(sound).size(), 1u);
+  EXPECT_EQ(std::get<std::vector<ModuleEntry>>(sound)[0].iomap_size, 30);
+  auto none = list_modules(rig.client, "Nope.*");
+  ASSERT_TRUE(std::holds_alternative<std::vector<ModuleEntry>>(none));
+  EXPECT_TRUE(std::get<std::vector<ModuleEntry>>(none).empty());
+}
+
+TEST(VirtualNxtExtras, BluetoothTablesListTheSlotsThatHoldANameAndASlotPastTheTableIsC0) {
+  Rig rig;
+  rig.brick.contacts[3] = {0x04, "Laptop"};
+  rig.brick.connections[0] = {0x02, "Phone"};
+  auto contacts = std::get<std::vector<BtEntry>>(bluetooth_table(rig.client, true));
+  ASSERT_EQ(contacts.size(), 1u);
+  EXPECT_EQ(contacts[0].index, 3);
+  EXPECT_EQ(contacts[0].name, "Laptop");
+  EXPECT_EQ(contacts[0].device_type, 4);
+  auto conns = std::get<std::vector<BtEntry>>(bluetooth_table(rig.client, false));
+  ASSERT_EQ(conns.size(), 1u);
+  EXPECT_EQ(conns[0].name, "Phone");
+  EXPECT_EQ(rig.status_of("BTGetConnName", {n(4)}), status::kOutOfRange);
 }
 
 }  // namespace
