@@ -23,6 +23,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <span>
 #include <string>
@@ -264,6 +265,15 @@ class Machine {
   // Runs until nothing is active or `limit_us`, whichever first; a run that
   // reaches the limit reports StopKind::TimeLimit.
   const StopInfo& run(Micros limit_us);
+  // A debugger's hold: asked before each instruction a task is about to
+  // execute (the task, and its state with `sub`/`pc` at that instruction);
+  // true stops the run before it, without executing it or spending time.
+  using Hold = std::function<bool(int task, const TaskState& state)>;
+  // run(limit_us), stopped early by `hold`: then StopKind::Running is
+  // returned, and calling again (with a hold that now lets the instruction
+  // pass) goes on exactly as if nothing had stopped, so a run held any
+  // number of times computes what an unheld run does, at the same times.
+  const StopInfo& run(Micros limit_us, const Hold& hold);
   Micros now_us() const { return now_us_; }
   // Bytecode instructions this machine has executed, all tasks together.
   std::int64_t instructions_executed() const { return instructions_executed_; }
@@ -287,7 +297,8 @@ class Machine {
   void end_task(int task);
   void stop_everything();
   void halt(StopKind kind);
-  void loop(Micros until_us, bool stop_when_idle);
+  // True when `hold` stopped it before an instruction.
+  bool loop(Micros until_us, bool stop_when_idle, const Hold* hold = nullptr);
   bool step(int task);
   void do_return(int task, TaskState& t);
   const std::vector<std::uint8_t>* code_of(int task, const TaskState& t) const;
