@@ -7,7 +7,7 @@
 // fully deterministic given its `Config` (the random source is seeded), so two
 // machines fed the same inputs produce the same events.
 //
-// Two kinds of callers drive it:
+// Three kinds of callers drive it:
 //  - `rcxc run` / semantic tests: load an image, schedule inputs, `run_until`,
 //    then read `state()` and `stop()`.
 //  - the IR-link virtual brick: the host-side operations below (downloads,
@@ -15,6 +15,9 @@
 //    requests, while `run_until` is called repeatedly with the wall clock
 //    mapped to virtual time. Advancing in many small steps gives exactly the
 //    same result as one big step.
+//  - the debug adapter (`rcxc debug`, dap/): `run` with a Hold, which stops
+//    the run before an instruction; resumed, it computes what an unheld
+//    run does, at the same times.
 //
 // Time: the machine counts microseconds (`Micros`). Each executed bytecode
 // instruction costs `Config::instruction_cost_us` of virtual time; tasks take
