@@ -145,6 +145,7 @@ void register_download(CLI::App& app, int& exit_code);
 void register_remote(CLI::App& app, int& exit_code);
 void register_nxt(CLI::App& app, int& exit_code);
 void register_lsp(CLI::App& app, int& exit_code);
+void register_debug(CLI::App& app, int& exit_code);
 void register_format(CLI::App& app, int& exit_code);
 void register_help(CLI::App& app, int& exit_code);  // help [COMMAND], version
 

@@ -54,7 +54,7 @@ int run_main(int argc, char** argv) {
       {"compare", rcxc::cli::register_compare}, {"brick", rcxc::cli::register_brick},
       {"download", rcxc::cli::register_download}, {"remote", rcxc::cli::register_remote},
       {"nxt", rcxc::cli::register_nxt},         {"lsp", rcxc::cli::register_lsp},
-      {"format", rcxc::cli::register_format},
+      {"debug", rcxc::cli::register_debug},     {"format", rcxc::cli::register_format},
   };
   int exit_code = rcxc::cli::kExitOk;
   const Command* named = nullptr;

@@ -15,5 +15,6 @@ set(RCXC_LAYERS
   "verify:rcx,runtime,tomlfile"
   "format:rcx,frontend"
   "lsp:stdlib,frontend,ir,backend,format,savefile"
+  "dap:rcx,tomlfile,runtime,stdlib,frontend,ir,backend,lsp"
   "nxt:tomlfile"
-  "cli:rcx,tomlfile,savefile,runtime,link,stdlib,frontend,format,ir,backend,verify,nxt,lsp,cli")
+  "cli:rcx,tomlfile,savefile,runtime,link,stdlib,frontend,format,ir,backend,verify,nxt,lsp,dap,cli")

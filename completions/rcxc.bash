@@ -13,7 +13,7 @@ _rcxc() {
     cword=$COMP_CWORD
   fi
 
-  local commands="compile run disasm test compare brick download remote nxt nqc lsp format help version"
+  local commands="compile run disasm test compare brick download remote nxt nqc lsp debug format help version"
   if [[ $cword -eq 1 ]]; then
     COMPREPLY=($(compgen -W "$commands --help --version" -- "$cur"))
     return
@@ -55,6 +55,8 @@ _rcxc() {
       fi ;;
     lsp)
       options="-I -D -U -n -Wno- --stdio --stdlib-dir --help" ;;
+    debug)
+      options="--help" ;;
     format)
       options="-i --in-place --check --indent --help"
       files="!*.@(nqc|nqh)" ;;

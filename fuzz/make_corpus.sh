@@ -7,7 +7,7 @@ set -eu
 root=$(cd "$(dirname "$0")/.." && pwd)
 out=${1:-$root/build-fuzz/corpus}
 shared=${RCXC_CORPUS_DIR:-$root/../shared/corpus}
-mkdir -p "$out/compile" "$out/image" "$out/packet" "$out/scenario" "$out/test" "$out/link" "$out/srec" "$out/nxt" "$out/lsp"
+mkdir -p "$out/compile" "$out/image" "$out/packet" "$out/scenario" "$out/test" "$out/link" "$out/srec" "$out/nxt" "$out/lsp" "$out/dap"
 
 # fuzz_lsp's structured mode (first byte 1): JSON bodies separated by 0x1e;
 # initialize, the file opened, symbols, a hover and a completion in it.
@@ -45,6 +45,6 @@ done
 for f in "$root"/fuzz/seeds/scenario/*; do { printf '\001'; cat "$f"; } > "$out/scenario/$(basename "$f")"; done
 cp "$root"/fuzz/seeds/packet/* "$out/packet/"
 cp "$root"/fuzz/seeds/compile/* "$out/compile/"
-for kind in test link srec nxt lsp; do cp "$root"/fuzz/seeds/$kind/* "$out/$kind/"; done
+for kind in test link srec nxt lsp dap; do cp "$root"/fuzz/seeds/$kind/* "$out/$kind/"; done
 echo "corpus in $out: $(ls "$out/compile" | wc -l) sources, $(ls "$out/image" | wc -l) images," \
   "$(ls "$out/packet" | wc -l) packet seeds, $(ls "$out/scenario" | wc -l) text seeds"

@@ -810,22 +810,22 @@ void Machine::apply_due_inputs() {
 // The scheduler: round-robin, one instruction per turn, each costing
 // instruction_cost_us; when every task waits, time jumps to the next wake-up,
 // input or sound start.
-void Machine::loop(Micros until_us, bool stop_when_idle) {
+bool Machine::loop(Micros until_us, bool stop_when_idle, const Hold* hold) {
   if (stop_.kind != StopKind::Fault && stop_.kind != StopKind::PowerOff && stop_.kind != StopKind::EventLimit)
     stop_.kind = StopKind::Running;
   const Micros cost = config_.instruction_cost_us;
   while (stop_.kind == StopKind::Running) {
     // The last instruction ended past `until_us`: what comes at its end
     // (inputs that arrived while it ran, sounds due) is the next call's.
-    if (now_us_ > until_us) return;
+    if (now_us_ > until_us) return false;
     Micros next_input = next_input_ < inputs_.size() ? inputs_[next_input_].at_us : INT64_MAX;
     if (next_input <= now_us_) apply_due_inputs();
     if (!sound_queue_.empty() && sound_free_us_ <= now_us_) start_due_sounds();
     if (active_count_ == 0 && stop_when_idle) {
       stop_.kind = StopKind::Ended;
-      return;
+      return false;
     }
-    if (now_us_ >= until_us) return;
+    if (now_us_ >= until_us) return false;
     // The first active, awake task at or after the round-robin cursor:
     // rotate the active-task bit mask so the cursor is bit 0.
     int chosen = -1;
@@ -845,6 +845,9 @@ void Machine::loop(Micros until_us, bool stop_when_idle) {
       now_us_ = std::max(next, now_us_);
       continue;
     }
+    // Held before anything of the turn changed: the next call chooses this
+    // task again, at this time.
+    if (hold && (*hold)(chosen, tasks_[static_cast<std::size_t>(chosen)])) return true;
     // A fault is dated at the start of the instruction that faulted, as
     // every event is, and that instruction never ran: it costs no time, so
     // the run stops when it began (a fault in the first instruction at 0 ms).
@@ -854,6 +857,7 @@ void Machine::loop(Micros until_us, bool stop_when_idle) {
     }
     next_task_ = chosen + 1 == kMaxTasks ? 0 : chosen + 1;
   }
+  return false;
 }
 
 const StopInfo& Machine::run_until(Micros until_us) {
@@ -863,12 +867,14 @@ const StopInfo& Machine::run_until(Micros until_us) {
 }
 
 const StopInfo& Machine::run_while_active(Micros until_us) {
-  loop(until_us, true);
+  loop(until_us, true, nullptr);
   return stop_;
 }
 
-const StopInfo& Machine::run(Micros limit_us) {
-  loop(limit_us, true);
+const StopInfo& Machine::run(Micros limit_us) { return run(limit_us, Hold{}); }
+
+const StopInfo& Machine::run(Micros limit_us, const Hold& hold) {
+  if (loop(limit_us, true, hold ? &hold : nullptr)) return stop_;
   if (stop_.kind == StopKind::Running) stop_.kind = StopKind::TimeLimit;
   // An instruction that began before the limit runs whole (its effects are
   // dated at its start), but the run asked for ends at the limit: with 1 s

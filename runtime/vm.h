@@ -7,7 +7,7 @@
 // fully deterministic given its `Config` (the random source is seeded), so two
 // machines fed the same inputs produce the same events.
 //
-// Two kinds of callers drive it:
+// Three kinds of callers drive it:
 //  - `rcxc run` / semantic tests: load an image, schedule inputs, `run_until`,
 //    then read `state()` and `stop()`.
 //  - the IR-link virtual brick: the host-side operations below (downloads,
@@ -15,6 +15,9 @@
 //    requests, while `run_until` is called repeatedly with the wall clock
 //    mapped to virtual time. Advancing in many small steps gives exactly the
 //    same result as one big step.
+//  - the debug adapter (`rcxc debug`, dap/): `run` with a Hold, which stops
+//    the run before an instruction; resumed, it computes what an unheld
+//    run does, at the same times.
 //
 // Time: the machine counts microseconds (`Micros`). Each executed bytecode
 // instruction costs `Config::instruction_cost_us` of virtual time; tasks take
@@ -23,6 +26,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <span>
 #include <string>
@@ -269,6 +273,15 @@ class Machine {
   // more: run(limit) still closes the run. Several machines in one room
   // (room.h) go forward side by side this way.
   const StopInfo& run_while_active(Micros until_us);
+  // A debugger's hold: asked before each instruction a task is about to
+  // execute (the task, and its state with `sub`/`pc` at that instruction);
+  // true stops the run before it, without executing it or spending time.
+  using Hold = std::function<bool(int task, const TaskState& state)>;
+  // run(limit_us), stopped early by `hold`: then StopKind::Running is
+  // returned, and calling again (with a hold that now lets the instruction
+  // pass) goes on exactly as if nothing had stopped, so a run held any
+  // number of times computes what an unheld run does, at the same times.
+  const StopInfo& run(Micros limit_us, const Hold& hold);
   Micros now_us() const { return now_us_; }
   // Bytecode instructions this machine has executed, all tasks together.
   std::int64_t instructions_executed() const { return instructions_executed_; }
@@ -296,7 +309,8 @@ class Machine {
   void end_task(int task);
   void stop_everything();
   void halt(StopKind kind);
-  void loop(Micros until_us, bool stop_when_idle);
+  // True when `hold` stopped it before an instruction.
+  bool loop(Micros until_us, bool stop_when_idle, const Hold* hold = nullptr);
   bool step(int task);
   void do_return(int task, TaskState& t);
   const std::vector<std::uint8_t>* code_of(int task, const TaskState& t) const;

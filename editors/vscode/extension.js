@@ -1,4 +1,5 @@
-// Starts `rcxc lsp` for NQC files (docs/editors.md). Needs the
+// Starts `rcxc lsp` for NQC files, and `rcxc debug` for launch
+// configurations of type "rcxc" (docs/editors.md). Needs the
 // vscode-languageclient package: `npm install` in this folder.
 const path = require('path');
 const vscode = require('vscode');
@@ -42,6 +43,12 @@ function activate(context) {
     await startClient();
   }));
   context.subscriptions.push({ dispose: () => (client ? client.stop() : undefined) });
+  // The debugger is `rcxc debug` on standard input and output, the same
+  // executable as the language server (rcxc.path).
+  context.subscriptions.push(vscode.debug.registerDebugAdapterDescriptorFactory('rcxc', {
+    createDebugAdapterDescriptor: () =>
+      new vscode.DebugAdapterExecutable(vscode.workspace.getConfiguration('rcxc').get('path', 'rcxc'), ['debug']),
+  }));
   return startClient();
 }
 

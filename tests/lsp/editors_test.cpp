@@ -177,7 +177,8 @@ TEST(Editors, VimFilesLoadInHeadlessNeovimAndMakeFindsTheError) {
 // and a relative folder reach the server as folders of the workspace, and
 // a changed rcxc setting restarts the server with the new folders. Both
 // were passed as written (`-I ${workspaceFolder}/include`), a folder that
-// does not exist, and a change waited for the next window.
+// does not exist, and a change waited for the next window. Launch
+// configurations of type "rcxc" start `rcxc debug` (rcxc.path's executable).
 TEST(Editors, VsCodeExtensionResolvesIncludeDirsAndRestartsOnChange) {
   std::string node = find_program("node");
   if (node.empty()) GTEST_SKIP() << "node is not installed";
@@ -195,6 +196,9 @@ module.exports = {
   },
   setDirs: (d) => { dirs = d; },
   fire: (section) => handler({ affectsConfiguration: (s) => s === section }),
+  debug: { registerDebugAdapterDescriptorFactory: (type, f) => { module.exports.adapters[type] = f; return { dispose() {} }; } },
+  DebugAdapterExecutable: class { constructor(command, args) { this.command = command; this.args = args; } },
+  adapters: {},
 };
 )");
   dir.write("node_modules/vscode-languageclient/node.js", R"(
@@ -215,6 +219,8 @@ const ext = require(process.argv[2]);
   await vscode.fire('editor.fontSize');
   vscode.setDirs(['${workspaceFolder}/other']);
   await vscode.fire('rcxc.includeDirs');
+  const adapter = vscode.adapters.rcxc.createDebugAdapterDescriptor({});
+  log.push({ debug: [adapter.command].concat(adapter.args) });
   console.log(JSON.stringify(log));
 })();
 )");
@@ -228,7 +234,8 @@ const ext = require(process.argv[2]);
   EXPECT_EQ(log, json::parse(R"([
     {"started": ["lsp", "-I", "/proj/robot/include", "-I", "/proj/robot/lib", "-I", "/abs/inc"]},
     {"stopped": ["lsp", "-I", "/proj/robot/include", "-I", "/proj/robot/lib", "-I", "/abs/inc"]},
-    {"started": ["lsp", "-I", "/proj/robot/other"]}])"));
+    {"started": ["lsp", "-I", "/proj/robot/other"]},
+    {"debug": ["rcxc", "debug"]}])"));
 }
 
 }  // namespace
