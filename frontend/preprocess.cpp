@@ -1001,10 +1001,15 @@ class Preprocessor {
       diags_.error(where, "#include nested too deeply (more than " + std::to_string(kMaxIncludeDepth) + " levels)");
       return;
     }
-    // Search: the including file's folder, each -I folder, then the stdlib.
+    // Search: the including file's folder, each -I folder, the current
+    // folder, then the stdlib. nqc looks in the current folder (and -I)
+    // only, so a header in a subfolder may include another by its path from
+    // the folder nqc runs in (`#include "b.nqh"` inside `sub/a.nqh`, b.nqh
+    // beside the program): last, so it only finds what the others do not.
     std::vector<std::string> dirs;
     if (!files_.back().dir.empty()) dirs.push_back(files_.back().dir);
     dirs.insert(dirs.end(), opts_.include_dirs.begin(), opts_.include_dirs.end());
+    dirs.push_back(".");
     std::optional<fs::path> not_a_file;   // found, but a folder or a device
     std::optional<fs::path> broken_link;  // a link to nothing, or a loop of links
     for (const auto& d : dirs) {

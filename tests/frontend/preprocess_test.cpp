@@ -602,6 +602,32 @@ TEST(Preprocessor, DirectivesAmongMacroArgumentsAreObeyed) {
   EXPECT_EQ(messages(open.diags), (std::vector<std::string>{"unterminated argument list invoking macro 'F'"}));
 }
 
+// nqc looks for an include in the folder it runs in (and -I), not in the
+// including file's: a header in a subfolder may include another by its path
+// from there. rcxc refused it ("cannot find"); the current folder is now
+// searched after the file's own and the -I folders, so a name found in the
+// header's folder still wins (a program rcxc compiled compiles as before).
+TEST(Preprocessor, IncludeFindsAHeaderInTheCurrentFolderAsNqcDoes) {
+  namespace fs = std::filesystem;
+  test::TempDir d;
+  fs::create_directories(d.path + "/sub");
+  d.write("sub/a.nqh", "#include \"b.nqh\"\nA_SEEN\n");
+  d.write("b.nqh", "B_FROM_CURRENT\n");
+  struct Cwd {  // the test's process changes folder and always returns
+    fs::path old = fs::current_path();
+    explicit Cwd(const std::string& to) { fs::current_path(to); }
+    ~Cwd() {
+      std::error_code ec;
+      fs::current_path(old, ec);
+    }
+  } cwd(d.path);
+  auto p = run_pp("#include \"sub/a.nqh\"\n", {}, "main.nqc", ".");
+  EXPECT_TRUE(p.diags.all().empty()) << messages(p.diags)[0];
+  EXPECT_EQ(p.joined, "B_FROM_CURRENT A_SEEN");
+  d.write("sub/b.nqh", "B_FROM_SUB\n");
+  EXPECT_EQ(run_pp("#include \"sub/a.nqh\"\n", {}, "main.nqc", ".").joined, "B_FROM_SUB A_SEEN");
+}
+
 // A mistyped -I (no such folder, or a file) was taken without a word, and
 // the include it was for then only "not found".
 TEST(Preprocessor, AMissingIncludeNamesTheIncludeFoldersThatAreNone) {
