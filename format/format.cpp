@@ -561,13 +561,14 @@ void after_keyword(Printer& pr, std::size_t i, const Piece& t) {
 
 // `t` ends a use of a statement macro that stands alone: the statement
 // began with the macro's name, `t` is that name or the ')' closing its
-// arguments, and the next token is on a later line and no ';'.
+// arguments, and the next token is on a later line and no ';' (a directive
+// after it on its line gets a line of its own, so it counts as later).
 bool ends_macro_statement(const Printer& pr, std::size_t i, const Piece& t) {
   if (in_asm(pr) || pr.n.parens != 0 || pr.n.header || pr.pending_break) return false;
   const Piece& first = pr.pieces[pr.statement_first];
   if (first.comment || first.kind != TokenKind::Identifier || !pr.statement_macros.contains(first.text)) return false;
   const Piece* next = code_after(pr, i);
-  if (next == nullptr || next->is(";") || next->span.begin.line <= t.span.end.line) return false;
+  if (next == nullptr || next->is(";") || (next->span.begin.line <= t.span.end.line && !next->is("#"))) return false;
   if (i == pr.statement_first) return !next->is("(");
   const Piece* open = code_after(pr, pr.statement_first);
   return t.is(")") && open != nullptr && open->is("(");

@@ -213,6 +213,12 @@ TEST(FormatRules, DirectiveBoundsStayWhereTheLexerPutsThem) {
   EXPECT_EQ(fmt("task main()\n{#\n}\n"), "task main()\n{\n#\n}\n");
   EXPECT_EQ(fmt("task main()\n{\n  r = 1; #define Y 2 + 3\n  r = Y; #if 0\nr = 9;\n #endif\n}\n"),
             "task main()\n{\n  r = 1;\n#define Y 2 + 3\n  r = Y;\n#if 0\nr = 9;\n#endif\n}\n");
+  // A statement macro before such a directive ends its statement, as it
+  // does before one on the next line (found by the random edits: the
+  // lines after were indented as a continuation, and not the second time).
+  const std::string twice = fmt("#define STEP a++;\ntask main()\n{\n  STEP#ifdef X\n  STEP\n#endif\n}\n");
+  EXPECT_EQ(twice, "#define STEP a++;\ntask main()\n{\n  STEP\n#ifdef X\n  STEP\n#endif\n}\n");
+  EXPECT_EQ(fmt(twice), twice);
   // A file that ends in a directive's '\\' (found by fuzz_format, minimised
   // to "#\\"): the final newline made it a continuation, and the formatter
   // refused its own layout as "a formatter bug".
