@@ -133,7 +133,9 @@ std::vector<SigItem> signature(const std::vector<Piece>& pieces) {
       sig.push_back({Mark::DirectiveEnd, TokenKind::End, {}});
       in_directive = false;
     }
-    if (p.line_start && p.is("#")) {
+    // A '#' inside a line starts a directive too, as the preprocessor reads
+    // it (nqc's way): code moved onto its line would be taken into it.
+    if (p.is("#") && (p.line_start || !in_directive)) {
       sig.push_back({Mark::DirectiveBegin, TokenKind::End, {}});
       in_directive = true;
     }
@@ -490,14 +492,12 @@ void lead_in(Printer& pr, const Piece& t, Role role, const Brace& b) {
   bool source_break = on_new_source_line(pr, t) && !joins_else_if;
   bool asm_line = in_asm(pr) || (b.closing && b.closing->kind == FrameKind::Asm);
   bool first_code = pr.prev_code == nullptr && (pr.prev == nullptr || source_break);
-  // A '#' that is not a directive's would start one at the start of a line.
-  bool stays_on_line = t.is("#") && pr.prev != nullptr && !pr.prev->line_comment();
-  if (!stays_on_line && (first_code || pr.pending_break || b.block)) {
+  if (first_code || pr.pending_break || b.block) {
     int level = level_for(pr, &t);
     new_line(pr, level, blank_before(pr, t));
     pr.statement_level = level;
     pr.statement_first = static_cast<std::size_t>(&t - pr.pieces.data());
-  } else if (!stays_on_line && source_break) {
+  } else if (source_break) {
     new_line(pr, asm_line ? level_for(pr, &t) : pr.statement_level + 2, blank_before(pr, t));
   } else if (b.closing && b.closing->kind == FrameKind::Asm ? t.space_before : space_between(pr, t, role)) {
     pr.out += ' ';
@@ -561,13 +561,14 @@ void after_keyword(Printer& pr, std::size_t i, const Piece& t) {
 
 // `t` ends a use of a statement macro that stands alone: the statement
 // began with the macro's name, `t` is that name or the ')' closing its
-// arguments, and the next token is on a later line and no ';'.
+// arguments, and the next token is on a later line and no ';' (a directive
+// after it on its line gets a line of its own, so it counts as later).
 bool ends_macro_statement(const Printer& pr, std::size_t i, const Piece& t) {
   if (in_asm(pr) || pr.n.parens != 0 || pr.n.header || pr.pending_break) return false;
   const Piece& first = pr.pieces[pr.statement_first];
   if (first.comment || first.kind != TokenKind::Identifier || !pr.statement_macros.contains(first.text)) return false;
   const Piece* next = code_after(pr, i);
-  if (next == nullptr || next->is(";") || next->span.begin.line <= t.span.end.line) return false;
+  if (next == nullptr || next->is(";") || (next->span.begin.line <= t.span.end.line && !next->is("#"))) return false;
   if (i == pr.statement_first) return !next->is("(");
   const Piece* open = code_after(pr, pr.statement_first);
   return t.is(")") && open != nullptr && open->is("(");
@@ -702,7 +703,7 @@ std::vector<std::size_t> next_code_table(const std::vector<Piece>& pieces) {
 std::set<std::string_view> statement_macros(const std::vector<Piece>& pieces) {
   std::set<std::string_view> names;
   for (std::size_t i = 0; i < pieces.size(); ++i) {
-    if (pieces[i].comment || !pieces[i].line_start || !pieces[i].is("#")) continue;
+    if (pieces[i].comment || !pieces[i].is("#")) continue;
     std::size_t end = directive_end(pieces, i);
     const Piece* last = nullptr;
     for (std::size_t k = i + 3; k < end; ++k)
@@ -785,7 +786,7 @@ KeptBranches kept_branches(const std::vector<Piece>& pieces) {
   };
   for (std::size_t i = 0; i < pieces.size();) {
     const Piece& p = pieces[i];
-    if (!p.comment && p.line_start && p.is("#")) {
+    if (!p.comment && p.is("#")) {
       std::size_t end = directive_end(pieces, i);
       std::string_view name = i + 1 < end && !pieces[i + 1].comment ? pieces[i + 1].text : "";
       std::optional<bool> value;
@@ -844,7 +845,9 @@ std::string verbatim_text(const Printer& pr, PieceRange r) {
 void lay_out_pieces(Printer& pr, std::size_t i, std::size_t end) {
   while (i < end && !pr.too_large) {
     const Piece& p = pr.pieces[i];
-    if (!p.comment && p.line_start && p.is("#")) {
+    // A '#' after code on its line starts a directive too (the
+    // preprocessor's reading, nqc's): it is put on a line of its own.
+    if (!p.comment && p.is("#")) {
       i = place_directive(pr, i);
       continue;
     }

@@ -406,7 +406,11 @@ class Preprocessor {
     for (;;) {
       Token* t = nullptr;
       if (!current_file_token(t)) return false;
-      if (directives && t->line_start && t->is("#")) {
+      // nqc reads a '#' anywhere in a line as a directive that runs to the
+      // line's end (`x = 1; #define Y 2`, `r = 4; #endif`), skipped text
+      // included; C only at the start of a line. A '#' inside a directive's
+      // own line (`#define S(x) #x`) is that directive's.
+      if (directives && t->is("#")) {
         directive();
         if (aborted_) return false;
         continue;
@@ -429,7 +433,7 @@ class Preprocessor {
     if (!s.reads_files) return false;
     Token* t = nullptr;
     if (!current_file_token(t)) return false;
-    if (t->line_start && t->is("#")) return false;
+    if (t->is("#")) return false;
     return active() && t->is("(");
   }
 
@@ -532,7 +536,10 @@ class Preprocessor {
     args.emplace_back();
     int depth = 0;
     for (;;) {
-      if (!pull(s, t, false)) {
+      // Directives among the arguments are obeyed (`F(1,` then `#ifdef
+      // LOUD` `2` `#else` `3` `#endif` `)`), as nqc and gcc obey them.
+      if (!pull(s, t, true)) {
+        if (aborted_) return false;
         diags_.error(name.span, "unterminated argument list invoking macro '" + m.name + "'");
         // The program's text ended inside the call: what the parser would
         // say of the end (an expression expected, a '{' not closed) is
@@ -999,10 +1006,15 @@ class Preprocessor {
       diags_.error(where, "#include nested too deeply (more than " + std::to_string(kMaxIncludeDepth) + " levels)");
       return;
     }
-    // Search: the including file's folder, each -I folder, then the stdlib.
+    // Search: the including file's folder, each -I folder, the current
+    // folder, then the stdlib. nqc looks in the current folder (and -I)
+    // only, so a header in a subfolder may include another by its path from
+    // the folder nqc runs in (`#include "b.nqh"` inside `sub/a.nqh`, b.nqh
+    // beside the program): last, so it only finds what the others do not.
     std::vector<std::string> dirs;
     if (!files_.back().dir.empty()) dirs.push_back(files_.back().dir);
     dirs.insert(dirs.end(), opts_.include_dirs.begin(), opts_.include_dirs.end());
+    dirs.push_back(".");
     std::optional<fs::path> not_a_file;   // found, but a folder or a device
     std::optional<fs::path> broken_link;  // a link to nothing, or a loop of links
     for (const auto& d : dirs) {

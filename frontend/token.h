@@ -35,7 +35,7 @@ struct Token {
   // interned sets; 0 is the empty set.
   std::uint32_t hide = 0;
   TokenKind kind = TokenKind::End;
-  bool line_start = false;    // first token on its line (directives start so)
+  bool line_start = false;    // first token on its line (a directive ends before the next such)
   bool space_before = false;  // whitespace precedes it (for # and -E output)
   // A backslash-newline stands right between this word and the one before
   // (`Wa\` at a line's end, `it` at the next one's start). It joins lines

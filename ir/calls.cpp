@@ -52,7 +52,20 @@ bool report_recursion(const Program& p, Diagnostics& diags) {
       std::string path;
       for (const auto& name : cycle) path += (path.empty() ? "" : " -> ") + name;
       const Function& first = p.functions[static_cast<std::size_t>(p.find_function(cycle.front()))];
-      diags.error(first.span, fmt::format("recursive subroutine calls are not possible on the RCX: {}", path));
+      auto& e = diags.error(first.span, fmt::format("recursive subroutine calls are not possible on the RCX: {}", path));
+      // A note at each step's call: a call made inside an inline function
+      // carries the place of that function's call (`s -> s` through `void
+      // f() { s(); }` points at the `f()` in s), which shows the way.
+      for (std::size_t k = 0; k + 1 < cycle.size(); ++k) {
+        const Function& caller = p.functions[static_cast<std::size_t>(p.find_function(cycle[k]))];
+        FuncId callee = p.find_function(cycle[k + 1]);
+        for (const auto& b : caller.blocks) {
+          auto call = std::find_if(b.instrs.begin(), b.instrs.end(), [&](const Instr& in) { return callee_of(in) == callee; });
+          if (call == b.instrs.end()) continue;
+          e.notes.push_back({p.span(call->span), fmt::format("'{}' calls '{}' here", cycle[k], cycle[k + 1])});
+          break;
+        }
+      }
       return true;
     }
   }

@@ -207,8 +207,18 @@ TEST(FormatRules, DirectiveBoundsStayWhereTheLexerPutsThem) {
   // continues the directive onto the blank line, which must stay.
   EXPECT_EQ(fmt("#define A 1 // note\\\n#define B 2\n"), "#define A 1 // note\\\n#define B 2\n");
   EXPECT_EQ(fmt("#define A 1 \\\n\nint x;\n"), "#define A 1 \\\n\nint x;\n");
-  // A '#' inside code is no directive and must not start a line.
-  EXPECT_EQ(fmt("task main()\n{#\n}\n"), "task main()\n{#\n}\n");
+  // A '#' after code starts a directive to the line's end, as the
+  // preprocessor reads it (nqc's reading): it goes on a line of its own,
+  // and what followed it on its line stays in it.
+  EXPECT_EQ(fmt("task main()\n{#\n}\n"), "task main()\n{\n#\n}\n");
+  EXPECT_EQ(fmt("task main()\n{\n  r = 1; #define Y 2 + 3\n  r = Y; #if 0\nr = 9;\n #endif\n}\n"),
+            "task main()\n{\n  r = 1;\n#define Y 2 + 3\n  r = Y;\n#if 0\nr = 9;\n#endif\n}\n");
+  // A statement macro before such a directive ends its statement, as it
+  // does before one on the next line (found by the random edits: the
+  // lines after were indented as a continuation, and not the second time).
+  const std::string twice = fmt("#define STEP a++;\ntask main()\n{\n  STEP#ifdef X\n  STEP\n#endif\n}\n");
+  EXPECT_EQ(twice, "#define STEP a++;\ntask main()\n{\n  STEP\n#ifdef X\n  STEP\n#endif\n}\n");
+  EXPECT_EQ(fmt(twice), twice);
   // A file that ends in a directive's '\\' (found by fuzz_format, minimised
   // to "#\\"): the final newline made it a continuation, and the formatter
   // refused its own layout as "a formatter bug".

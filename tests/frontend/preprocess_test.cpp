@@ -579,6 +579,55 @@ TEST(Preprocessor, IncludeSearchesFileFolderThenIncludeDirsThenStdlib) {
   fs::remove_all(root);
 }
 
+// nqc reads a '#' anywhere in a line as a directive to the line's end, in
+// skipped text too; rcxc said "'#' is only meaningful in a preprocessor
+// directive". A '#' inside a directive's own line stays that directive's.
+TEST(Preprocessor, ADirectiveMayFollowCodeOnItsLine) {
+  EXPECT_EQ(run_pp("x = 1; #define Y 2\ny = Y;\n").joined, "x = 1 ; y = 2 ;");
+  EXPECT_EQ(run_pp("a; #if 0\nb; #else\nc; #endif\nd;\n").joined, "a ; c ; d ;");
+  EXPECT_EQ(run_pp("#define S(x) #x x\nS(q) #undef S\nS\n").joined, "\"q\" q S");
+  auto open = run_pp("#if 0\nuse #if here\n#endif\n");  // nqc: unterminated as well
+  EXPECT_EQ(messages(open.diags), (std::vector<std::string>{"unterminated conditional directive (#endif missing)"}));
+}
+
+// Directives among a macro call's arguments are obeyed, #if with an
+// expression and groups holding commas too (nqc 3.1 obeys #ifdef, #ifndef,
+// #else and #endif there when no group holds a comma).
+TEST(Preprocessor, DirectivesAmongMacroArgumentsAreObeyed) {
+  const std::string f = "#define F(a, b) a b\n";
+  EXPECT_EQ(run_pp(f + "F(1,\n#if 2 * 3 == 6\n2\n#else\n3\n#endif\n)\n").joined, "1 2");
+  EXPECT_EQ(run_pp(f + "#define K\nF(\n#ifndef K\n7\n#endif\n4, 5)\n").joined, "4 5");
+  EXPECT_EQ(run_pp(f + "#define K\nF(\n#ifdef K\n2, 40\n#else\n1, 30\n#endif\n)\n").joined, "2 40");
+  auto open = run_pp(f + "F(1, 2\n");
+  EXPECT_EQ(messages(open.diags), (std::vector<std::string>{"unterminated argument list invoking macro 'F'"}));
+}
+
+// nqc looks for an include in the folder it runs in (and -I), not in the
+// including file's: a header in a subfolder may include another by its path
+// from there. rcxc refused it ("cannot find"); the current folder is now
+// searched after the file's own and the -I folders, so a name found in the
+// header's folder still wins (a program rcxc compiled compiles as before).
+TEST(Preprocessor, IncludeFindsAHeaderInTheCurrentFolderAsNqcDoes) {
+  namespace fs = std::filesystem;
+  test::TempDir d;
+  fs::create_directories(d.path + "/sub");
+  d.write("sub/a.nqh", "#include \"b.nqh\"\nA_SEEN\n");
+  d.write("b.nqh", "B_FROM_CURRENT\n");
+  struct Cwd {  // the test's process changes folder and always returns
+    fs::path old = fs::current_path();
+    explicit Cwd(const std::string& to) { fs::current_path(to); }
+    ~Cwd() {
+      std::error_code ec;
+      fs::current_path(old, ec);
+    }
+  } cwd(d.path);
+  auto p = run_pp("#include \"sub/a.nqh\"\n", {}, "main.nqc", ".");
+  EXPECT_TRUE(p.diags.all().empty()) << messages(p.diags)[0];
+  EXPECT_EQ(p.joined, "B_FROM_CURRENT A_SEEN");
+  d.write("sub/b.nqh", "B_FROM_SUB\n");
+  EXPECT_EQ(run_pp("#include \"sub/a.nqh\"\n", {}, "main.nqc", ".").joined, "B_FROM_SUB A_SEEN");
+}
+
 // A mistyped -I (no such folder, or a file) was taken without a word, and
 // the include it was for then only "not found".
 TEST(Preprocessor, AMissingIncludeNamesTheIncludeFoldersThatAreNone) {

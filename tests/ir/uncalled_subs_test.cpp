@@ -53,3 +53,25 @@ TEST(UncalledSubs, ASubCalledFromCodeThatRunsStays) {
   EXPECT_TRUE(kept);
   EXPECT_FALSE(logged(log, "dropped"));
 }
+
+// A sub that calls itself through an inline function (`void f() { s(); }`)
+// was only "s -> s" at the sub, the inline function gone by the time calls
+// are resolved: a note at each step's call now shows the way, here the
+// call of f inside s (f's code carries its call's place).
+TEST(UncalledSubs, RecursionThroughAnInlineFunctionNotesEachCall) {
+  SourceManager sm;
+  Diagnostics diags;
+  auto ast = frontend::parse_source("rec.nqc", "int r;\nvoid f()\n{\n  s();\n}\nsub s()\n{\n  r++;\n  if (r < 3) f();\n}\n"
+                                    "task main() { s(); }\n", {}, sm, diags);
+  ASSERT_TRUE(ast);
+  auto p = lower(*ast, diags);
+  ASSERT_TRUE(p);
+  Log log;
+  EXPECT_FALSE(optimize(*p, OptLevel::O0, diags, log, {}));
+  ASSERT_EQ(diags.error_count(), 1u);
+  const auto& e = diags.all()[0];
+  EXPECT_EQ(e.message, "recursive subroutine calls are not possible on the RCX: s -> s");
+  ASSERT_EQ(e.notes.size(), 1u);
+  EXPECT_EQ(e.notes[0].message, "'s' calls 's' here");
+  EXPECT_EQ(e.notes[0].span.begin.line, 9u);  // `if (r < 3) f();`
+}
