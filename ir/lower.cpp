@@ -607,9 +607,9 @@ struct Lowerer {
       return unary(d, *u, e);  // x = -x, x = ~(x + 1): in place
     // One instruction reads its source before it writes d: x = abs(x) is
     // `abs x, x`, as nqc writes it (a temporary and a copy cost 5 bytes and
-    // an instruction more).
-    if (const auto* u = ast::as<ast::Unary>(e);
-        u && (u->op == ast::UnaryOp::Abs || u->op == ast::UnaryOp::Sign) && is_plain_operand(*u->operand))
+    // an instruction more); so is y = abs(x - y), the operand computed into
+    // a temporary first (`set t, x; sub t, y; abs y, t`).
+    if (const auto* u = ast::as<ast::Unary>(e); u && (u->op == ast::UnaryOp::Abs || u->op == ast::UnaryOp::Sign))
       return unary(d, *u, e);
     if (const auto* c = ast::as<ast::Conditional>(e)) return conditional(d, *c);
     if (is_truth_valued(e)) {
@@ -765,8 +765,10 @@ struct Lowerer {
         return arith(Op::SubtractFromVariable, d, Operand::imm(1));
       }
       case ast::UnaryOp::LogNot: return truth(d, e);
-      case ast::UnaryOp::Abs: return arith(Op::AbsoluteValue, d, arith_value(*u.operand));
-      case ast::UnaryOp::Sign: return arith(Op::SignVariable, d, arith_value(*u.operand));
+      // abs(++x) steps x and reads x itself, as nqc's code does (a copy of x
+      // into a temporary first cost 5 bytes and an instruction).
+      case ast::UnaryOp::Abs: return arith(Op::AbsoluteValue, d, stepped_value(*u.operand));
+      case ast::UnaryOp::Sign: return arith(Op::SignVariable, d, stepped_value(*u.operand));
       case ast::UnaryOp::PreInc:
       case ast::UnaryOp::PreDec:
         if (auto v = step(u, e.span)) set(d, Operand::var(*v));
