@@ -227,17 +227,27 @@ nxt::Progress progress_bar(const std::string& what) {
   };
 }
 
-std::optional<nxt::Bytes> parse_hex_words(const std::vector<std::string>& words, std::string& error) {
+// Words of two-digit hex pairs (0x allowed: `00 0b`, `000b`, `0x0b`) as
+// bytes; nullopt with `error` naming the first word that is not.
+std::optional<nxt::Bytes> hex_bytes(const std::vector<std::string>& words, std::string_view example,
+                                    std::string& error) {
   nxt::Bytes out;
   for (const auto& w : words) {
     std::string s = w.rfind("0x", 0) == 0 || w.rfind("0X", 0) == 0 ? w.substr(2) : w;
     if (s.empty() || s.size() % 2 != 0 || !std::all_of(s.begin(), s.end(), [](unsigned char c) { return std::isxdigit(c); })) {
-      error = fmt::format("\"{}\" is not hex bytes (e.g. 00 0b, or 000b)", w);
+      error = fmt::format("\"{}\" is not hex bytes ({})", w, example);
       return std::nullopt;
     }
     for (std::size_t i = 0; i < s.size(); i += 2)
       out.push_back(static_cast<std::uint8_t>(std::stoi(s.substr(i, 2), nullptr, 16)));
   }
+  return out;
+}
+
+std::optional<nxt::Bytes> parse_hex_words(const std::vector<std::string>& words, std::string& error) {
+  auto parsed = hex_bytes(words, "e.g. 00 0b, or 000b", error);
+  if (!parsed) return std::nullopt;
+  const nxt::Bytes& out = *parsed;
   if (out.empty()) error = "raw needs the telegram's bytes";
   else if (out.size() < 2) error = "a telegram needs at least its type byte and an opcode (00 0b: GetBatteryLevel)";
   if (out.size() > 256) error = "a telegram this long cannot be framed for the brick";
@@ -246,23 +256,14 @@ std::optional<nxt::Bytes> parse_hex_words(const std::vector<std::string>& words,
   else if (!out.empty() && (out[0] & ~nxt::kNoReplyBit) == nxt::kDirectWithReply && out.size() > nxt::kMaxTelegram)
     error = fmt::format("a direct command is at most {} bytes with its type byte; this one is {}", nxt::kMaxTelegram,
                         out.size());
-  return error.empty() ? std::optional(out) : std::nullopt;
+  return error.empty() ? parsed : std::nullopt;
 }
 
-// Hex bytes for WriteIOMap: words of two-digit pairs, 0x allowed.
+// Hex bytes for WriteIOMap.
 std::optional<nxt::Bytes> parse_hex_data(const std::vector<std::string>& words, std::string& error) {
-  nxt::Bytes out;
-  for (const auto& w : words) {
-    std::string s = w.rfind("0x", 0) == 0 || w.rfind("0X", 0) == 0 ? w.substr(2) : w;
-    if (s.empty() || s.size() % 2 != 0 || !std::all_of(s.begin(), s.end(), [](unsigned char c) { return std::isxdigit(c); })) {
-      error = fmt::format("\"{}\" is not hex bytes (two digits a byte: 0a 1b, or 0a1b)", w);
-      return std::nullopt;
-    }
-    for (std::size_t i = 0; i < s.size(); i += 2)
-      out.push_back(static_cast<std::uint8_t>(std::stoi(s.substr(i, 2), nullptr, 16)));
-  }
-  if (out.empty()) error = "no bytes to write";
-  return error.empty() ? std::optional(out) : std::nullopt;
+  auto parsed = hex_bytes(words, "two digits a byte: 0a 1b, or 0a1b", error);
+  if (parsed && parsed->empty()) error = "no bytes to write";
+  return error.empty() ? parsed : std::nullopt;
 }
 
 // A number as typed: decimal, or hex with 0x. nullopt if it is neither or past `max`.
