@@ -926,6 +926,9 @@ void register_nxt(CLI::App& app, int& exit_code) {
         if (auto f = lego_first(c, set ? "SetProperty (0x1F)" : "GetProperty (0x20)")) return *f;
         if (set) {
           if (auto e = nxt::set_property(c, nxt::Property::Bluetooth, *set)) return failure(*e);
+          // Over Bluetooth the radio is gone once it answered: asking again
+          // would only time out and call a switch that worked a failure.
+          if (*set == 0) return Output{"bluetooth off\n", {{"bluetooth", false}}};
         }
         auto r = nxt::get_property(c, nxt::Property::Bluetooth);
         if (auto* e = std::get_if<CallError>(&r)) return failure(*e);

@@ -1074,6 +1074,18 @@ TEST(NxtCli, TachoResetDatalogBluetoothTablesPollAndEraseAll) {
   EXPECT_EQ(nxt(brick.path, {"ls"}).out, "");
 }
 
+// `bluetooth off` over Bluetooth: the brick answers the switch, then its
+// radio is gone. Reading the state back only timed out and called the
+// switch that worked a failure (exit 4).
+TEST(NxtCli, BluetoothOffIsDoneOnceTheBrickAnswersTheSwitch) {
+  // GetFirmwareVersion as LEGO's firmware (protocol 1.124), SetProperty's
+  // reply, then silence.
+  ScriptedBrick brick({{0x02, 0x88, 0x00, 0x7C, 0x01, 0x1D, 0x01}, {0x02, 0x1F, 0x00}});
+  auto r = nxt(brick.pty.slave_path, {"--timeout", "300", "bluetooth", "off"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.out, "bluetooth off\n");
+}
+
 // A brick whose firmware answers GetFirmwareVersion as leJOS does (protocol
 // 1.2): the actions that need LEGO's firmware send nothing after that.
 TEST(NxtCli, AFirmwareThatIsNotLegosIsRefusedBeforeItsCommandIsSent) {
