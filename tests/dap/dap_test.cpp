@@ -256,6 +256,59 @@ TEST_F(Debug, StoppingChangesNoEvent) {
   EXPECT_EQ(plain, stopped);
 }
 
+// A loop's jump back carries a line of the loop (at -O0 here the Wait's,
+// at -O2 the repeat's); it is no statement of its own: a breakpoint stops
+// once an iteration, `next` goes from the body's last line to its first.
+constexpr const char* kLoop =
+    "int n;\n"                      // 1
+    "sub bump() {\n"                // 2
+    "  n += 5;\n"                   // 3
+    "}\n"                           // 4
+    "task main() {\n"               // 5
+    "  repeat (3) {\n"              // 6
+    "    n += 1;\n"                 // 7
+    "    Wait(20);\n"               // 8
+    "    bump();\n"                 // 9
+    "    n = (n + 1) % 7;\n"        // 10
+    "  }\n"                         // 11
+    "  n = 0;\n"                    // 12
+    "}\n";                          // 13
+
+TEST_F(Debug, ALoopsBreakpointsStopOnceAnIteration) {
+  std::string loop = dir.write("loop.nqc", kLoop);
+  for (const char* optimize : {"0", "2"}) {
+    Client c;
+    c.start({{"program", loop}, {"optimize", optimize}}, loop, {6, 7, 8, 10});
+    std::vector<int> lines;
+    for (;;) {
+      json e = c.event_of({"stopped", "exited"});
+      if (e.is_null() || e["event"] == "exited") break;
+      lines.push_back(c.line(1));
+      c.send("continue", {{"threadId", 1}});
+    }
+    EXPECT_EQ(lines, (std::vector<int>{6, 7, 8, 10, 7, 8, 10, 7, 8, 10})) << "-O" << optimize;
+    c.body("disconnect");
+    EXPECT_EQ(c.finish(), 0);
+  }
+}
+
+TEST_F(Debug, NextGoesRoundALoopLineByLine) {
+  std::string loop = dir.write("loop.nqc", kLoop);
+  Client c;
+  c.start({{"program", loop}, {"stopOnEntry", true}});
+  c.event("stopped");
+  std::vector<int> lines{c.line(1)};
+  for (int i = 0; i < 20; ++i) {
+    c.body("next", {{"threadId", 1}});
+    json e = c.event_of({"stopped", "exited"});
+    if (e.is_null() || e["event"] == "exited") break;
+    lines.push_back(c.line(1));
+  }
+  EXPECT_EQ(lines, (std::vector<int>{5, 6, 7, 8, 9, 10, 7, 8, 9, 10, 7, 8, 9, 10, 12, 13}));
+  c.body("disconnect");
+  EXPECT_EQ(c.finish(), 0);
+}
+
 TEST_F(Debug, AProgramThatDoesNotCompileFailsTheLaunchWithTheDiagnostic) {
   std::string bad = dir.write("bad.nqc", "task main() {\n  x = 1;\n}\n");
   Client c;
