@@ -309,6 +309,38 @@ TEST_F(Debug, NextGoesRoundALoopLineByLine) {
   EXPECT_EQ(c.finish(), 0);
 }
 
+TEST_F(Debug, ARequestWithoutACommandIsAnsweredWithAFailure) {
+  Client c;
+  c.write_raw(framed(R"({"seq":7,"type":"request","arguments":{}})"));
+  json r = c.response(7);
+  EXPECT_FALSE(r.value("success", true)) << r;
+  EXPECT_NE(r.value("message", "").find("'command'"), std::string::npos) << r;
+  c.body("disconnect");
+  EXPECT_EQ(c.finish(), 0);
+}
+
+TEST_F(Debug, AMessageNestedAMillionDeepIsSaidNotFollowed) {
+  // Copying or printing such JSON recurses once a level: it overflowed the stack.
+  Client c;
+  c.write_raw(framed(std::string(1'000'000, '[') + std::string(1'000'000, ']')));
+  json said = c.event("output");
+  EXPECT_NE(said["body"]["output"].get<std::string>().find("nested deeper than 100"), std::string::npos) << said;
+  std::string deep = R"({"seq":1,"type":"request","command":"launch","arguments":)";
+  for (int i = 0; i < 200'000; ++i) deep += R"({"a":)";
+  deep += "1" + std::string(200'000, '}') + "}";
+  c.write_raw(framed(deep));
+  said = c.event("output");
+  EXPECT_NE(said["body"]["output"].get<std::string>().find("nested deeper than 100"), std::string::npos) << said;
+  // Strings are not counted: brackets in them are text.
+  json launch = {{"program", std::string(150, '[') + ".nqc"}};
+  json r = c.ask("launch", launch);
+  EXPECT_FALSE(r.value("success", true));
+  EXPECT_NE(r.value("message", "").find("[[[["), std::string::npos) << r;
+  EXPECT_TRUE(c.ask("initialize").value("success", false));
+  c.body("disconnect");
+  EXPECT_EQ(c.finish(), 0);
+}
+
 TEST_F(Debug, AProgramThatDoesNotCompileFailsTheLaunchWithTheDiagnostic) {
   std::string bad = dir.write("bad.nqc", "task main() {\n  x = 1;\n}\n");
   Client c;
