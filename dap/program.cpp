@@ -6,6 +6,7 @@
 #include "backend/compile.h"
 #include "frontend/parse.h"
 #include "ir/lower.h"
+#include "rcx/opcodes.h"
 
 namespace rcxc::dap {
 namespace {
@@ -155,6 +156,27 @@ CompileOutcome compile_for_debug(const std::string& path, const frontend::Option
     auto first = std::find_if(f.places.begin(), f.places.end(), [](const Place& q) { return q.valid(); });
     if (first != f.places.end()) std::fill(f.places.begin(), first, *first);
     for (std::size_t i = 0; i < f.places.size(); ++i) f.starts.push_back(i == 0 || !(f.places[i] == f.places[i - 1]));
+    // A loop's jump back is placed at a line of the loop (`repeat`'s at the
+    // body's last line): as a start of its own, a breakpoint there would
+    // stop twice an iteration and `next` would show the line again before
+    // the loop's head. A lone jump is a statement only where its line has
+    // no other start (`break;`, `continue;`).
+    auto lone_jump = [&](std::size_t i) {
+      if (!f.starts[i] || (i + 1 < f.places.size() && !f.starts[i + 1])) return false;
+      const auto& bytes = frag.instrs[i].bytes;
+      const rcx::OpcodeInfo* op = bytes.empty() ? nullptr : rcx::command_at(bytes[0]);
+      return op && (op->op == rcx::Op::BranchAlwaysNear || op->op == rcx::Op::BranchAlwaysFar);
+    };
+    std::vector<bool> lone(f.places.size());
+    for (std::size_t i = 0; i < f.places.size(); ++i) lone[i] = lone_jump(i);
+    for (std::size_t i = 0; i < f.places.size(); ++i) {
+      if (!lone[i]) continue;
+      for (std::size_t j = 0; j < f.places.size(); ++j)
+        if (j != i && f.starts[j] && !lone[j] && f.places[j] == f.places[i]) {
+          f.starts[i] = false;
+          break;
+        }
+    }
     f.end = f.function >= 0 && p.functions[static_cast<std::size_t>(f.function)].end.valid()
                 ? p.functions[static_cast<std::size_t>(f.function)].end
                 : (f.places.empty() ? Place{} : f.places.back());

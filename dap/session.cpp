@@ -114,6 +114,7 @@ std::vector<json> launch(Session& s, const json& request) {
   json args = arguments_of(request);
   if (!args.is_object()) return {failure(s, request, "launch: the arguments must be an object")};
   if (s.phase != Phase::Start) return {failure(s, request, "launch: a program is already launched in this session")};
+  s.stop_on_entry = s.no_debug = false;  // a launch refused before may have set them
   if (!args.contains("program") || !args["program"].is_string() || args["program"].get<std::string>().empty())
     return {failure(s, request, "launch: 'program' must name an .nqc file")};
   std::string program = args["program"];
@@ -136,6 +137,10 @@ std::vector<json> launch(Session& s, const json& request) {
   if (args.contains("stopOnEntry")) {
     if (!args["stopOnEntry"].is_boolean()) return {failure(s, request, "launch: 'stopOnEntry' must be true or false")};
     s.stop_on_entry = args["stopOnEntry"];
+  }
+  if (args.contains("noDebug")) {
+    if (!args["noDebug"].is_boolean()) return {failure(s, request, "launch: 'noDebug' must be true or false")};
+    s.no_debug = args["noDebug"];
   }
   frontend::Options options;
   std::vector<std::string> defines;
@@ -238,9 +243,13 @@ json set_breakpoints(Session& s, const json& request) {
     json b = {{"id", bp.id}, {"verified", false}, {"line", line}};
     if (!s.program) {
       b["message"] = "the program is not launched yet";
+    } else if (s.no_debug) {
+      b["message"] = "the program runs without debugging";
     } else if (file < 0) {
       b["message"] = "the program does not use " + path;
-    } else if ((bp.used_line = line_with_code(*s.program, file, std::max(line, 1))) == 0) {
+    } else if (line < 1) {
+      b["message"] = fmt::format("there is no line {}: lines count from 1", line);
+    } else if ((bp.used_line = line_with_code(*s.program, file, line)) == 0) {
       b["message"] = fmt::format("no code at line {} or after it", line);
     } else {
       b["verified"] = true;
@@ -307,11 +316,19 @@ void finish(Session& s, std::vector<json>& out) {
   int code = kExitEnded;
   std::string why;
   switch (stop.kind) {
-    case rcx::StopKind::Fault:
+    case rcx::StopKind::Fault: {
       code = kExitFault;
-      why = fmt::format("the program faulted in {} at address {}: {}", task_name(s, stop.fault->task), stop.fault->address,
-                        stop.fault->message);
+      // The line first: the editor's user knows the source, not the addresses.
+      std::string at = fmt::format("address {}", stop.fault->address);
+      if (const FragmentLines* f = s.program->fragment(stop.fault->task, stop.fault->sub)) {
+        Place place = s.program->place_at(*f, stop.fault->address);
+        if (place.valid())
+          at = fmt::format("{}:{} (address {})", s.program->files[static_cast<std::size_t>(place.file)], place.line,
+                           stop.fault->address);
+      }
+      why = fmt::format("the program faulted in {} at {}: {}", task_name(s, stop.fault->task), at, stop.fault->message);
       break;
+    }
     case rcx::StopKind::TimeLimit:
       code = kExitTimeLimit;
       why = fmt::format("the time limit ({} ms of virtual time) passed with tasks still running", s.limit_us / rcx::kMicrosPerMs);
@@ -349,10 +366,8 @@ void resume(Session& s, Goal goal, int task) {
 
 // ------------------------------------------------------------ inspection
 
-json stack_trace(Session& s, const json& request) {
-  json args = arguments_of(request);
-  auto task = task_of_thread(s, args);
-  if (!task) return failure(s, request, "stackTrace: no such thread running");
+// The frames of a running task, the innermost first.
+json frames_of(const Session& s, std::optional<int> task) {
   const DebugProgram& p = *s.program;
   const rcx::TaskState& t = s.machine->task(*task);
   json frames = json::array();
@@ -386,7 +401,35 @@ json stack_trace(Session& s, const json& request) {
                       {"column", 0},
                       {"presentationHint", "label"}});
   }
-  return response(s, request, true, {{"stackFrames", frames}, {"totalFrames", frames.size()}});
+  return frames;
+}
+
+json stack_trace(Session& s, const json& request) {
+  json args = arguments_of(request);
+  auto task = task_of_thread(s, args);
+  if (!task) return failure(s, request, "stackTrace: no such thread running");
+  json frames = frames_of(s, task);
+  std::size_t total = frames.size();
+  // A client may ask for a page of the frames: from startFrame, at most
+  // `levels` of them (0 or none: all).
+  std::size_t start = 0, levels = 0;
+  if (args.contains("startFrame") && args["startFrame"].is_number_integer())
+    start = static_cast<std::size_t>(std::max<long long>(args["startFrame"].get<long long>(), 0));
+  if (args.contains("levels") && args["levels"].is_number_integer())
+    levels = static_cast<std::size_t>(std::max<long long>(args["levels"].get<long long>(), 0));
+  json page = json::array();
+  for (std::size_t i = start; i < total && (levels == 0 || page.size() < levels); ++i) page.push_back(frames[i]);
+  return response(s, request, true, {{"stackFrames", page}, {"totalFrames", total}});
+}
+
+// Whether `frame` is a frame a stackTrace of its task now shows.
+bool frame_exists(const Session& s, long long frame) {
+  if (!s.machine || frame < 16 || frame >= 16 * (rcx::kMaxTasks + 1)) return false;
+  int task = static_cast<int>(frame / 16 - 1);
+  if (!s.machine->task(task).active) return false;
+  for (const auto& f : frames_of(s, task))
+    if (f["id"] == frame) return true;
+  return false;
 }
 
 // The function a frame is in (for its locals), or nullptr.
@@ -471,10 +514,12 @@ json scopes(Session& s, const json& request) {
   json args = arguments_of(request);
   if (!s.machine || !args.is_object() || !args.contains("frameId") || !args["frameId"].is_number_integer())
     return failure(s, request, "scopes: no such frame");
-  int frame = args["frameId"];
+  long long frame = args["frameId"];
+  if (!frame_exists(s, frame)) return failure(s, request, fmt::format("scopes: no frame {} (frames change when the program runs)", frame));
+  int id = static_cast<int>(frame);
   json list = json::array();
-  if (const Function* fn = function_of_frame(s, frame); fn && !fn->locals.empty())
-    list.push_back({{"name", "Locals"}, {"presentationHint", "locals"}, {"variablesReference", kLocalsRef + frame}, {"expensive", false}});
+  if (const Function* fn = function_of_frame(s, id); fn && !fn->locals.empty())
+    list.push_back({{"name", "Locals"}, {"presentationHint", "locals"}, {"variablesReference", kLocalsRef + id}, {"expensive", false}});
   list.push_back({{"name", "Globals"}, {"variablesReference", kGlobalsRef}, {"expensive", false}});
   list.push_back({{"name", "Brick"}, {"variablesReference", kBrickRef}, {"expensive", false}});
   return response(s, request, true, {{"scopes", list}});
@@ -590,8 +635,10 @@ std::vector<json> handle(Session& s, const json& message) {
 }
 
 std::vector<json> dispatch(Session& s, const json& message) {
-  if (string_at(message, "type") != "request" || string_at(message, "command").empty())
+  if (string_at(message, "type") != "request")
     return {output(s, "stderr", "rcxc debug: a message that is no request was ignored: " + message.dump().substr(0, 200) + "\n")};
+  // A request without a command still has a seq the client waits on.
+  if (string_at(message, "command").empty()) return {failure(s, message, "rcxc debug: a request needs a 'command' (a string)")};
   const std::string command = message["command"];
   if (command == "initialize") {
     s.initialized = true;
@@ -608,7 +655,7 @@ std::vector<json> dispatch(Session& s, const json& message) {
   if (command == "configurationDone") {
     std::vector<json> out{response(s, message, true)};
     if (s.phase == Phase::Launched) {
-      if (s.stop_on_entry) {
+      if (s.stop_on_entry && !s.no_debug) {
         stopped(s, out, "entry", 0);
       } else {
         s.phase = Phase::Running;
@@ -649,7 +696,36 @@ std::vector<json> dispatch(Session& s, const json& message) {
   return {failure(s, message, "rcxc debug does not know the request '" + command + "'")};
 }
 
+namespace {
+// How deeply `text` nests arrays and objects (brackets in strings are not
+// counted). Copying or printing JSON recurses once a level: a message
+// nested a million deep would overflow the stack, and no DAP message
+// comes near kMostNesting.
+constexpr int kMostNesting = 100;
+int nesting(const std::string& text) {
+  int depth = 0, most = 0;
+  bool in_string = false, escaped = false;
+  for (char c : text) {
+    if (in_string) {
+      if (escaped) escaped = false;
+      else if (c == '\\') escaped = true;
+      else if (c == '"') in_string = false;
+    } else if (c == '"') {
+      in_string = true;
+    } else if (c == '[' || c == '{') {
+      most = std::max(most, ++depth);
+    } else if (c == ']' || c == '}') {
+      --depth;
+    }
+  }
+  return most;
+}
+}  // namespace
+
 std::vector<json> handle_text(Session& s, const std::string& body) {
+  if (nesting(body) > kMostNesting)
+    return {output(s, "stderr", fmt::format("rcxc debug: a message nested deeper than {} levels was ignored: {}\n", kMostNesting,
+                                            body.substr(0, 200)))};
   json message = json::parse(body, nullptr, false);
   if (message.is_discarded())
     return {output(s, "stderr", "rcxc debug: a message that is not JSON was ignored: " + body.substr(0, 200) + "\n")};

@@ -51,6 +51,7 @@ struct Session {
   std::optional<rcx::Machine> machine;
   rcx::Micros limit_us = 0;
   bool stop_on_entry = false;
+  bool no_debug = false;     // launched with noDebug (VS Code's Run Without Debugging): nothing stops it
   std::map<int, std::vector<Breakpoint>> breakpoints;  // by file index
   std::map<std::pair<int, int>, std::vector<int>> break_at;  // (fragment key, address) -> breakpoint ids
   int next_breakpoint_id = 1;

@@ -256,6 +256,160 @@ TEST_F(Debug, StoppingChangesNoEvent) {
   EXPECT_EQ(plain, stopped);
 }
 
+// A loop's jump back carries a line of the loop (at -O0 here the Wait's,
+// at -O2 the repeat's); it is no statement of its own: a breakpoint stops
+// once an iteration, `next` goes from the body's last line to its first.
+constexpr const char* kLoop =
+    "int n;\n"                      // 1
+    "sub bump() {\n"                // 2
+    "  n += 5;\n"                   // 3
+    "}\n"                           // 4
+    "task main() {\n"               // 5
+    "  repeat (3) {\n"              // 6
+    "    n += 1;\n"                 // 7
+    "    Wait(20);\n"               // 8
+    "    bump();\n"                 // 9
+    "    n = (n + 1) % 7;\n"        // 10
+    "  }\n"                         // 11
+    "  n = 0;\n"                    // 12
+    "}\n";                          // 13
+
+TEST_F(Debug, ALoopsBreakpointsStopOnceAnIteration) {
+  std::string loop = dir.write("loop.nqc", kLoop);
+  for (const char* optimize : {"0", "2"}) {
+    Client c;
+    c.start({{"program", loop}, {"optimize", optimize}}, loop, {6, 7, 8, 10});
+    std::vector<int> lines;
+    for (;;) {
+      json e = c.event_of({"stopped", "exited"});
+      if (e.is_null() || e["event"] == "exited") break;
+      lines.push_back(c.line(1));
+      c.send("continue", {{"threadId", 1}});
+    }
+    EXPECT_EQ(lines, (std::vector<int>{6, 7, 8, 10, 7, 8, 10, 7, 8, 10})) << "-O" << optimize;
+    c.body("disconnect");
+    EXPECT_EQ(c.finish(), 0);
+  }
+}
+
+TEST_F(Debug, NextGoesRoundALoopLineByLine) {
+  std::string loop = dir.write("loop.nqc", kLoop);
+  Client c;
+  c.start({{"program", loop}, {"stopOnEntry", true}});
+  c.event("stopped");
+  std::vector<int> lines{c.line(1)};
+  for (int i = 0; i < 20; ++i) {
+    c.body("next", {{"threadId", 1}});
+    json e = c.event_of({"stopped", "exited"});
+    if (e.is_null() || e["event"] == "exited") break;
+    lines.push_back(c.line(1));
+  }
+  EXPECT_EQ(lines, (std::vector<int>{5, 6, 7, 8, 9, 10, 7, 8, 9, 10, 7, 8, 9, 10, 12, 13}));
+  c.body("disconnect");
+  EXPECT_EQ(c.finish(), 0);
+}
+
+TEST_F(Debug, ABreakpointAtNoLineIsRefused) {
+  Client c;
+  json placed = c.start(launch(), program, {0, -4});
+  ASSERT_EQ(placed.size(), 2u);
+  for (const auto& b : placed) {
+    EXPECT_FALSE(b["verified"]) << b;
+    EXPECT_NE(b.value("message", "").find("lines count from 1"), std::string::npos) << b;
+  }
+  c.body("disconnect");
+  EXPECT_EQ(c.finish(), 0);
+}
+
+TEST_F(Debug, FramesArePagedAndAFrameThatIsNotThereHasNoScopes) {
+  Client c;
+  c.start(launch(), program, {5});
+  c.event("stopped");
+  json all = c.body("stackTrace", {{"threadId", 1}});
+  ASSERT_EQ(all["stackFrames"].size(), 2u);
+  json second = c.body("stackTrace", {{"threadId", 1}, {"startFrame", 1}, {"levels", 20}});
+  ASSERT_EQ(second["stackFrames"].size(), 1u) << second;
+  EXPECT_EQ(second["stackFrames"][0], all["stackFrames"][1]);
+  EXPECT_EQ(second["totalFrames"], 2);
+  json first = c.body("stackTrace", {{"threadId", 1}, {"startFrame", 0}, {"levels", 1}});
+  ASSERT_EQ(first["stackFrames"].size(), 1u) << first;
+  EXPECT_EQ(first["stackFrames"][0], all["stackFrames"][0]);
+  EXPECT_EQ(first["totalFrames"], 2);
+  for (json frame : {json(9999), json(-1), json(all["stackFrames"][0]["id"].get<int>() + 16 * 5)}) {
+    json r = c.ask("scopes", {{"frameId", frame}});
+    EXPECT_FALSE(r.value("success", true)) << frame << ": " << r;
+  }
+  EXPECT_TRUE(c.ask("scopes", {{"frameId", all["stackFrames"][1]["id"]}}).value("success", false));
+  c.body("disconnect");
+  EXPECT_EQ(c.finish(), 0);
+}
+
+TEST_F(Debug, ARequestWithoutACommandIsAnsweredWithAFailure) {
+  Client c;
+  c.write_raw(framed(R"({"seq":7,"type":"request","arguments":{}})"));
+  json r = c.response(7);
+  EXPECT_FALSE(r.value("success", true)) << r;
+  EXPECT_NE(r.value("message", "").find("'command'"), std::string::npos) << r;
+  c.body("disconnect");
+  EXPECT_EQ(c.finish(), 0);
+}
+
+TEST_F(Debug, AMessageNestedAMillionDeepIsSaidNotFollowed) {
+  // Copying or printing such JSON recurses once a level: it overflowed the stack.
+  Client c;
+  c.write_raw(framed(std::string(1'000'000, '[') + std::string(1'000'000, ']')));
+  json said = c.event("output");
+  EXPECT_NE(said["body"]["output"].get<std::string>().find("nested deeper than 100"), std::string::npos) << said;
+  std::string deep = R"({"seq":1,"type":"request","command":"launch","arguments":)";
+  for (int i = 0; i < 200'000; ++i) deep += R"({"a":)";
+  deep += "1" + std::string(200'000, '}') + "}";
+  c.write_raw(framed(deep));
+  said = c.event("output");
+  EXPECT_NE(said["body"]["output"].get<std::string>().find("nested deeper than 100"), std::string::npos) << said;
+  // Strings are not counted: brackets in them are text.
+  json launch = {{"program", std::string(150, '[') + ".nqc"}};
+  json r = c.ask("launch", launch);
+  EXPECT_FALSE(r.value("success", true));
+  EXPECT_NE(r.value("message", "").find("[[[["), std::string::npos) << r;
+  EXPECT_TRUE(c.ask("initialize").value("success", false));
+  c.body("disconnect");
+  EXPECT_EQ(c.finish(), 0);
+}
+
+// VS Code's Run Without Debugging launches with noDebug: the program runs
+// to its end, past breakpoints and the entry.
+TEST_F(Debug, NoDebugRunsThroughToTheEnd) {
+  Client c;
+  json placed = c.start(launch({{"noDebug", true}, {"stopOnEntry", true}, {"for", 500}}), program, {14});
+  ASSERT_EQ(placed.size(), 1u);
+  EXPECT_FALSE(placed[0]["verified"]) << placed;
+  json e = c.event_of({"stopped", "exited"});
+  EXPECT_EQ(e["event"], "exited") << e;
+  EXPECT_EQ(e["body"]["exitCode"], 2);  // task other never ends
+  c.body("disconnect");
+  EXPECT_EQ(c.finish(), 0);
+  Client refused;
+  refused.body("initialize");
+  EXPECT_FALSE(refused.ask("launch", launch({{"noDebug", "yes"}})).value("success", true));
+  refused.body("disconnect");
+  EXPECT_EQ(refused.finish(), 0);
+}
+
+// A fault ends the run with exit code 1 and says where, by the source line.
+TEST_F(Debug, AFaultIsSaidAtItsLine) {
+  std::string faults = dir.write("fault.nqc", "int n;\ntask main() {\n  n = 1;\n  asm { 0x27, 0x7f };\n  n = 2;\n}\n");
+  Client c;
+  c.start({{"program", faults}});
+  EXPECT_EQ(c.event("exited")["body"]["exitCode"], 1);
+  std::string said;
+  for (const auto& o : c.outputs)
+    if (o["category"] == "stderr") said += o["output"].get<std::string>();
+  EXPECT_NE(said.find("the program faulted in main at " + faults + ":4 (address "), std::string::npos) << said;
+  EXPECT_NE(said.find("outside the code"), std::string::npos) << said;
+  c.body("disconnect");
+  EXPECT_EQ(c.finish(), 0);
+}
+
 TEST_F(Debug, AProgramThatDoesNotCompileFailsTheLaunchWithTheDiagnostic) {
   std::string bad = dir.write("bad.nqc", "task main() {\n  x = 1;\n}\n");
   Client c;
