@@ -488,7 +488,9 @@ Brace brace_of(Printer& pr, const Piece& t) {
 
 // Starts a new line for `t` or puts the space before it, if any.
 void lead_in(Printer& pr, const Piece& t, Role role, const Brace& b) {
-  bool joins_else_if = pr.prev != nullptr && pr.prev->is_word("else") && t.is_word("if");
+  // Not after `#else`, a directive's last word (a directive writes prev,
+  // not prev_code): the `if` on the next line joined it, inside the directive.
+  bool joins_else_if = pr.prev != nullptr && pr.prev == pr.prev_code && pr.prev->is_word("else") && t.is_word("if");
   bool source_break = on_new_source_line(pr, t) && !joins_else_if;
   bool asm_line = in_asm(pr) || (b.closing && b.closing->kind == FrameKind::Asm);
   bool first_code = pr.prev_code == nullptr && (pr.prev == nullptr || source_break);

@@ -227,6 +227,21 @@ TEST(FormatRules, DirectiveBoundsStayWhereTheLexerPutsThem) {
   EXPECT_EQ(fmt(fmt("#define A 1 \\")), "#define A 1 \\");
 }
 
+// An `if` on the line after `#else` was joined to it as `else if` is
+// (`#else if (c)`), inside the directive, and the formatter refused its own
+// layout as "a formatter bug" (found by the random edits: an `#else` put in
+// mid-statement before an `if` line). It starts a line of its own.
+TEST(FormatRules, AnIfAfterAnElseDirectiveIsNotJoinedToIt) {
+  const std::string text = "task main()\n{\n  0\n#else\nif (c) w = 1;\n}\n";
+  EXPECT_EQ(refusal(text), "");
+  const std::string once = fmt(text);
+  EXPECT_NE(once.find("#else\n"), std::string::npos) << once;
+  EXPECT_EQ(fmt(once), once);
+  // `else` then `if` on the next line is still `else if`.
+  EXPECT_EQ(fmt("task main()\n{\n  if (x) y = 1;\n  else\n    if (z) y = 2;\n}\n"),
+            "task main()\n{\n  if (x)\n    y = 1;\n  else if (z)\n    y = 2;\n}\n");
+}
+
 TEST(FormatRules, EachConditionalBranchStartsFromTheSameNesting) {
   EXPECT_EQ(fmt("#ifdef A\ntask main() {\n#else\ntask main() { Wait(2);\n#endif\nWait(1);\n}\n"),
             "#ifdef A\ntask main()\n{\n#else\ntask main()\n{\n  Wait(2);\n#endif\n  Wait(1);\n}\n");
