@@ -84,11 +84,12 @@ std::vector<Transmission> run_room(std::span<Machine* const> machines, Micros li
         sent.push_back(t);
       }
     }
-    // A brick that switched itself off (SleepNow, or its sleep timer) stops
-    // transmitting: what it had queued never goes out, and a packet it was
-    // sending stops where it was (still garbling what it overlapped), which
-    // no receiver takes. Its power-off is found in the round it happened,
-    // before any packet that ends after it is decided.
+    // A brick that switched itself off (SleepNow; the idle timer never
+    // runs out while a program runs) stops transmitting: what it had queued
+    // never goes out, and a packet it was sending stops where it was (still
+    // garbling what it overlapped), which no receiver takes. Its power-off is
+    // found in the round it happened, before any packet that ends after it
+    // is decided.
     for (std::size_t i = 0; i < n; ++i) {
       Queue& q = queues[i];
       if (machines[i]->stop().kind != StopKind::PowerOff || q.switched_off) continue;
