@@ -141,7 +141,18 @@ std::variant<std::unique_ptr<rcx::Machine>, Failure> start_other_brick(const Tes
                                                                        const rcx::Config& config) {
   const std::string path = rcx::semtest::brick_path(brick, test_file);
   auto fail = [&](const std::string& why) { return Failure{brick.line, "@brick " + brick.file + ": " + why}; };
-  if (!is_nqc_source(path).has_value()) return fail("cannot read " + path + ": " + rcx::cannot_open_reason(path));
+  if (!is_nqc_source(path).has_value()) {
+    // A folder or a device: in `rcxc run`'s words, which name what it is
+    // ("it could not be read" does not). Never "-": a test reads no input.
+    if (auto special = special_file_problem(path, Takes::Files, "give an NQC source file or an .rcx image"))
+      return fail(*special);
+    std::error_code ec;
+    if (path != "-" && std::filesystem::is_directory(path, ec)) {
+      auto loaded = load_program(path, {});
+      if (auto* error = std::get_if<std::string>(&loaded)) return fail(*error);
+    }
+    return fail("cannot read " + path + ": " + rcx::cannot_open_reason(path));
+  }
   rcx::semtest::Spec own;
   if (*is_nqc_source(path)) {
     auto parsed = rcx::semtest::parse_spec_file(path);
@@ -228,6 +239,20 @@ std::vector<Failure> run_test(const TestOptions& o, const std::string& file, std
     std::vector<rcx::Machine*> room{&machine};
     for (auto& other : others) room.push_back(other.get());
     rcx::run_room(room, run_us);
+    // The expectations are about this test's brick, but a room whose other
+    // brick broke down is not the room the test describes: without this a
+    // fault there reads as "no matching event" here, or passes unseen.
+    for (std::size_t i = 0; i < others.size(); ++i) {
+      const rcx::StopInfo& stop = others[i]->stop();
+      if (stop.kind == rcx::StopKind::Fault)
+        failures.push_back({spec.bricks[i].line, fmt::format("@brick {}: its program faulted at {} ms: {}",
+                                                             spec.bricks[i].file, others[i]->now_us() / rcx::kMicrosPerMs,
+                                                             stop.fault->message)});
+      else if (stop.kind == rcx::StopKind::EventLimit)
+        failures.push_back({spec.bricks[i].line, fmt::format("@brick {}: its run stopped at {} ms: {}",
+                                                             spec.bricks[i].file, others[i]->now_us() / rcx::kMicrosPerMs,
+                                                             rcx::event_limit_reason(*others[i]))});
+    }
   }
   auto run_failures = rcx::semtest::check_run(spec, machine, *c.image);
   failures.insert(failures.end(), run_failures.begin(), run_failures.end());

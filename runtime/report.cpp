@@ -293,7 +293,11 @@ std::string room_timeline_text(std::span<const RoomBrick> bricks, std::span<cons
       lines.push_back({t.end_us, labelled("IR", fmt::format("message {} from {} lost: another brick sent at the same "
                                                              "time (on the air {} to {} ms)",
                                                              t.value, from, format_ms(t.start_us), format_ms(t.end_us)))});
-    else if (t.received_by.empty() && t.end_us <= latest)
+    else if (t.switched_off)
+      lines.push_back({t.end_us, labelled("IR", fmt::format("message {} from {} never went out whole: its brick "
+                                                             "switched off",
+                                                             t.value, from))});
+    else if (t.received_by.empty() && !t.unfinished)
       lines.push_back({t.end_us, labelled("IR", fmt::format("message {} from {} reached no brick: no other program "
                                                              "was running",
                                                              t.value, from))});
@@ -314,7 +318,7 @@ nlohmann::json room_report_json(std::span<const RoomBrick> bricks, std::span<con
   for (const Transmission& t : sent) {
     nlohmann::json m = {{"from", t.from + 1},     {"value", t.value},         {"sent", ms(t.sent_us)},
                         {"start", ms(t.start_us)}, {"end", ms(t.end_us)},       {"collided", t.collided},
-                        {"received_by", nlohmann::json::array()}};
+                        {"received_by", nlohmann::json::array()}, {"unfinished", t.unfinished}, {"switched_off", t.switched_off}};
     for (int r : t.received_by) m["received_by"].push_back(r + 1);
     j["messages"].push_back(std::move(m));
   }

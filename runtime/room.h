@@ -6,7 +6,7 @@
 // The machines go forward side by side in virtual time. A message is on
 // the air for the time its packet takes and reaches the others when the
 // packet ends; two bricks' packets on the air at once garble each other and
-// neither arrives. docs/emulator.md ("Several bricks") says what is measured
+// neither arrives; a brick that switches off sends nothing more. docs/emulator.md ("Several bricks") says what is measured
 // and what is our choice.
 #pragma once
 
@@ -31,6 +31,8 @@ struct Transmission {
   Micros end_us = 0;             // and until: the others have it then
   bool collided = false;         // another brick's packet was on the air too: nobody got this one
   std::vector<int> received_by;  // the bricks whose programs were still running when it arrived
+  bool unfinished = false;       // the run ended before the packet did (it may not have started): nobody got it
+  bool switched_off = false;     // the brick switched off first: end_us is then, the packet never whole
 };
 
 // Runs the machines (programs loaded and started) together until every one

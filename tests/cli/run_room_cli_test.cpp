@@ -198,3 +198,27 @@ TEST(RunRoomCli, ARoomsTraceDrawsEachBrickOnOneAxis) {
   std::size_t second = html.find("<h2>2 slave</h2>");
   EXPECT_EQ(last_tick(0, second), last_tick(second, html.size()));
 }
+
+// A message whose packet ends after every program has: the timeline ended
+// where the last program did and left the message out without a word.
+TEST(RunRoomCli, AMessageThatOutlivesEveryProgramStillSaysItReachedNoBrick) {
+  TempDir d;
+  auto r = run_rcxc({"run", d.write("last.nqc", "task main() { SendMessage(3); }\n"),
+                     d.write("gone.nqc", "task main() { }\n"), "--for", "1000"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("45.250 ms  IR      message 3 from 1 last reached no brick: no other program was running\n"),
+            std::string::npos)
+      << r.out;
+  // One still going out when the room's time is up reached nobody yet: the
+  // report says so apart from a collision or an empty room.
+  auto cut = run_rcxc({"run", d.path + "/last.nqc", d.path + "/gone.nqc", "--for", "20", "--report", "json"});
+  ASSERT_EQ(cut.exit_code, 0) << cut.err;
+  auto j = nlohmann::json::parse(cut.out);
+  ASSERT_EQ(j["messages"].size(), 1u);
+  EXPECT_EQ(j["messages"][0]["unfinished"], true);
+  EXPECT_EQ(j["messages"][0]["collided"], false);
+  auto whole = nlohmann::json::parse(run_rcxc({"run", d.path + "/last.nqc", d.path + "/gone.nqc", "--report", "json"}).out);
+  EXPECT_EQ(whole["messages"][0]["unfinished"], false);
+  EXPECT_EQ(run_rcxc({"run", d.path + "/last.nqc", d.path + "/gone.nqc", "--for", "20"}).out.find("IR"),
+            std::string::npos);
+}

@@ -332,3 +332,31 @@ TEST(TestCommand, AnotherBrickInTheRoomTalksToTheTest) {
             std::string::npos)
       << b.out;
 }
+
+// The other brick's program breaks down: the test says so at its @brick
+// line. It said only "no matching event" here, or passed without a word.
+TEST(TestCommand, AFaultInAnotherBrickFailsTheTestAtItsBrickLine) {
+  TempDir d;
+  d.write("bad.nqc", "task main() { asm { 0x01 }; SendMessage(1); }\n");
+  std::string quiet = d.write("q.nqc", "// @for 1s\n// @brick bad.nqc\n// @expect count send == 0\ntask main() { }\n");
+  auto r = run_rcxc({"test", quiet});
+  EXPECT_EQ(r.exit_code, 1) << r.out;
+  EXPECT_NE(r.out.find("q.nqc:2: error: @brick bad.nqc: its program faulted at "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find(" ms: not a program opcode"), std::string::npos) << r.out;
+}
+
+// A folder or a device named by @brick is called what it is, as `rcxc run`
+// calls it, not "it could not be read".
+TEST(TestCommand, ABrickThatIsAFolderIsCalledAFolder) {
+  TempDir d;
+  std::filesystem::create_directory(d.path + "/sub.nqc");
+  std::string test = d.write("f.nqc", "// @brick sub.nqc\ntask main() { }\n");
+  auto r = run_rcxc({"test", test});
+  EXPECT_EQ(r.exit_code, 1) << r.out;
+  EXPECT_NE(r.out.find("f.nqc:1: error: @brick sub.nqc: "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("sub.nqc: is a directory, not a source file"), std::string::npos) << r.out;
+  std::string device = d.write("z.nqc", "// @brick /dev/zero\ntask main() { }\n");
+  auto z = run_rcxc({"test", device});
+  EXPECT_EQ(z.exit_code, 1) << z.out;
+  EXPECT_NE(z.out.find("/dev/zero: not a file (a device, a pipe or a socket)"), std::string::npos) << z.out;
+}

@@ -3,6 +3,7 @@
 // bricks on the air together are both lost; a room of one is a plain run.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <vector>
 
 #include "runtime/room.h"
@@ -144,4 +145,67 @@ TEST(Room, ARoomOfOneIsAPlainRun) {
     }
     EXPECT_EQ(alone.state().vars, plain.state().vars);
   }
+}
+
+TEST(Room, APacketStillGoingOutAtTheLimitIsUnfinishedNotLost) {
+  // Sent at 0 ms into a room that stops at 10 ms: it neither collided nor
+  // found the other brick gone; the run ended first.
+  Room room({msgsend(IMM, 5), wait_for_message()}, 10);
+  ASSERT_EQ(room.sent.size(), 1u);
+  EXPECT_TRUE(room.sent[0].unfinished);
+  EXPECT_FALSE(room.sent[0].collided);
+  EXPECT_TRUE(room.sent[0].received_by.empty());
+  Room later({msgsend(IMM, 5), wait_for_message()}, 100);
+  ASSERT_EQ(later.sent.size(), 1u);
+  EXPECT_FALSE(later.sent[0].unfinished);
+  EXPECT_EQ(later.sent[0].received_by, std::vector<int>{1});
+}
+
+TEST(Room, BricksSendingInALoopForTenMinutesKeepUpWithTheirQueues) {
+  // Each sends every 4 ms (two instructions) and its packets queue behind
+  // one another 41.25 ms each: after ten minutes of virtual time each brick
+  // has about 150,000 packets sent, of which some 14,500 went out. Deciding
+  // each packet's fate must not look at every packet ever sent (it did, and
+  // eight such bricks took a minute; now well under a second each).
+  const Bytes send_forever = code({msgsend(IMM, 7), jmp(0x80 | 4)});
+  auto start = std::chrono::steady_clock::now();
+  Room room({send_forever, send_forever, send_forever, send_forever, send_forever, send_forever, send_forever,
+             send_forever},
+            600'000);
+  double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_LT(seconds, 20.0);
+  ASSERT_EQ(room.sent.size(), 8u * 150'000u);
+  // The eight sent in step: every packet that went out collided.
+  std::size_t went_out = 0;
+  for (const rcx::Transmission& t : room.sent)
+    if (!t.unfinished) {
+      ++went_out;
+      EXPECT_TRUE(t.collided);
+    }
+  EXPECT_EQ(went_out, 8u * (600'000'000 / rcx::kMessageAirUs));
+}
+
+TEST(Room, ABrickThatSwitchesOffStopsTransmitting) {
+  // Brick 0 sends twice and switches off at 6 ms: its first packet is cut
+  // short, its second never goes out, and neither arrives (they did, from a
+  // brick that was off). Brick 1's packet from 20 ms no longer meets brick
+  // 0's first, which would have been on the air until 41.25 ms: it arrives.
+  Room room({code({msgsend(IMM, 1), msgsend(IMM, 2), poweroff()}), code({wait(2), msgsend(IMM, 8)}),
+             wait_for_message()});
+  EXPECT_EQ(room.machines[0].stop().kind, rcx::StopKind::PowerOff);
+  const rcx::Micros off_us = room.machines[0].now_us();
+  ASSERT_EQ(room.sent.size(), 3u);
+  for (const rcx::Transmission& t : room.sent) {
+    if (t.from != 0) continue;
+    EXPECT_TRUE(t.switched_off) << t.value;
+    EXPECT_TRUE(t.received_by.empty()) << t.value;
+    EXPECT_EQ(t.end_us, off_us) << t.value;
+  }
+  const rcx::Transmission& eight = room.sent.back();
+  EXPECT_EQ(eight.value, 8);
+  EXPECT_EQ(eight.start_us, 20 * kMicrosPerMs);
+  EXPECT_FALSE(eight.collided);
+  EXPECT_FALSE(eight.switched_off);
+  EXPECT_EQ(eight.received_by, std::vector<int>{2});
+  EXPECT_EQ(var(room.machines[2], 0), 8);
 }
