@@ -26,6 +26,9 @@ constexpr Range kRanges[] = {
     {"settime", "hours", 0, 23},     {"settime", "minutes", 0, 59},    {"txrange", "range", 0, 1},
     {"sleepdelay", "minutes", 0, 99}, {"program", "program", 0, 4},
     {"pwr", "source", 0, 7, "the power level", "the RCX ignores the command"},
+    // 16 bits, signed: Wait(60000) is -5536 to the brick, which then does
+    // not wait at all (a wait of 600 s is Wait(30000) twice).
+    {"wait", "source", 0, 32767, "the time in 1/100 s", "the RCX does not wait (a wait is at most 327.67 s)"},
     {"call", "subroutine", 0, 7},    {"start", "task", 0, 9},          {"stop", "task", 0, 9},
 };
 

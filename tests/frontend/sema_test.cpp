@@ -243,7 +243,20 @@ const BadProgram kCases[] = {
      {"3:8: warning: the argument's value 65537 does not fit in 16 bits; it becomes 1",
       "4:8: warning: integer constant 65537 does not fit in 16 bits; it becomes 1",
       "5:12: warning: integer constant 70000 does not fit in 16 bits; it becomes 4464",
+      // A wait below 0 is none on the brick (the range warning below).
+      "6:3: warning: 'Wait' passes -32768 as operand 'source' (the time in 1/100 s) of 'wait', outside the RCX's "
+      "range 0..32767; the RCX does not wait (a wait is at most 327.67 s)",
+      "7:3: warning: 'Wait' passes -1 as operand 'source' (the time in 1/100 s) of 'wait', outside the RCX's "
+      "range 0..32767; the RCX does not wait (a wait is at most 327.67 s)",
       "8:8: warning: the argument's value -65535 does not fit in 16 bits; it becomes 1"},
+     true},
+    // Wait(60000) for ten minutes is -5536 to the brick, which does not
+    // wait at all; nqc and rcxc said nothing (seen by the dapwalk helper:
+    // the program ended at 10 ms).
+    {"AWaitPast32767IsNoWaitAndSaysSo",
+     "int t;\ntask main()\n{\n  Wait(60000);\n  Wait(32767);\n  Wait(0);\n  Wait(t);\n  Wait(Random(50));\n}\n",
+     {"4:3: warning: 'Wait' passes -5536 as operand 'source' (the time in 1/100 s) of 'wait', outside the RCX's "
+      "range 0..32767; the RCX does not wait (a wait is at most 327.67 s)"},
      true},
     {"Rcx2StatementsAreNamedOnce",
      "int x;\ntask main()\n{\n  monitor (1) {\n    x = 1;\n  } catch (2) {\n    x = 2;\n  }\n  acquire (4) { x = 3; }\n}\n",
