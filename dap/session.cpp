@@ -696,35 +696,9 @@ std::vector<json> dispatch(Session& s, const json& message) {
   return {failure(s, message, "rcxc debug does not know the request '" + command + "'")};
 }
 
-namespace {
-// How deeply `text` nests arrays and objects (brackets in strings are not
-// counted). Copying or printing JSON recurses once a level: a message
-// nested a million deep would overflow the stack, and no DAP message
-// comes near kMostNesting.
-constexpr int kMostNesting = 100;
-int nesting(const std::string& text) {
-  int depth = 0, most = 0;
-  bool in_string = false, escaped = false;
-  for (char c : text) {
-    if (in_string) {
-      if (escaped) escaped = false;
-      else if (c == '\\') escaped = true;
-      else if (c == '"') in_string = false;
-    } else if (c == '"') {
-      in_string = true;
-    } else if (c == '[' || c == '{') {
-      most = std::max(most, ++depth);
-    } else if (c == ']' || c == '}') {
-      --depth;
-    }
-  }
-  return most;
-}
-}  // namespace
-
 std::vector<json> handle_text(Session& s, const std::string& body) {
-  if (nesting(body) > kMostNesting)
-    return {output(s, "stderr", fmt::format("rcxc debug: a message nested deeper than {} levels was ignored: {}\n", kMostNesting,
+  if (lsp::json_nesting(body) > lsp::kMostNesting)
+    return {output(s, "stderr", fmt::format("rcxc debug: a message nested deeper than {} levels was ignored: {}\n", lsp::kMostNesting,
                                             body.substr(0, 200)))};
   json message = json::parse(body, nullptr, false);
   if (message.is_discarded())

@@ -5,6 +5,25 @@
 #include <cstdint>
 
 namespace rcxc::lsp {
+
+int json_nesting(std::string_view text) {
+  int depth = 0, most = 0;
+  bool in_string = false, escaped = false;
+  for (char c : text) {
+    if (in_string) {
+      if (escaped) escaped = false;
+      else if (c == '\\') escaped = true;
+      else if (c == '"') in_string = false;
+    } else if (c == '"') {
+      in_string = true;
+    } else if (c == '[' || c == '{') {
+      most = std::max(most, ++depth);
+    } else if (c == ']' || c == '}') {
+      --depth;
+    }
+  }
+  return most;
+}
 namespace {
 
 bool iequals_prefix(const std::string& line, const std::string& name) {

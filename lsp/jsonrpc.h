@@ -8,6 +8,7 @@
 #include <optional>
 #include <ostream>
 #include <string>
+#include <string_view>
 
 #include <nlohmann/json.hpp>
 
@@ -28,6 +29,15 @@ inline constexpr std::size_t kMaxBody = 64u << 20;
 // A Content-Length above this is not believed (nothing is skipped for it):
 // 10^18 bytes is no message.
 inline constexpr std::uint64_t kMaxSkip = 1'000'000'000'000'000'000u;
+
+// Messages nested deeper than this are refused unparsed: nlohmann's JSON
+// is copied, printed and freed recursively, a call a level, so a message of
+// a million brackets overflowed the stack (rcxc debug and rcxc lsp both
+// died of SIGSEGV). No LSP or DAP message comes near it.
+inline constexpr int kMostNesting = 100;
+// How deeply `text` nests arrays and objects (brackets in strings do not
+// count).
+int json_nesting(std::string_view text);
 
 struct Frame {
   enum class Kind { Message, BadHeader, End } kind = Kind::End;

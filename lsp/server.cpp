@@ -1351,6 +1351,10 @@ std::vector<json> flush_stale(Server& server) {
 }
 
 std::vector<json> handle_text(Server& server, const std::string& body) {
+  if (json_nesting(body) > kMostNesting)
+    return {error_response(nullptr, kParseError,
+                           "the message nests arrays and objects deeper than " + std::to_string(kMostNesting) +
+                               " levels; it was not read")};
   json message = json::parse(body, nullptr, false);
   if (message.is_discarded()) return {error_response(nullptr, kParseError, "the message is not valid JSON")};
   return handle(server, message);
@@ -1438,7 +1442,11 @@ int serve(Server& server, std::istream& in, std::ostream& out, std::ostream& log
   auto arrived = [&in] { return in.rdbuf()->in_avail() > 0; };
   auto read_one = [&] {
     Queued q{read_frame(in), nullptr};
-    if (q.frame.kind == Frame::Kind::Message) q.message = json::parse(q.frame.body, nullptr, false);
+    // Too deep a message stays unparsed (discarded): handle_text says why.
+    if (q.frame.kind == Frame::Kind::Message && json_nesting(q.frame.body) <= kMostNesting)
+      q.message = json::parse(q.frame.body, nullptr, false);
+    else if (q.frame.kind == Frame::Kind::Message)
+      q.message = json::value_t::discarded;
     queued_bytes += q.frame.body.size();
     queue.push_back(std::move(q));
   };

@@ -206,6 +206,25 @@ TEST(LspLifecycle, ServeAnswersAndExitsWithTheRightCode) {
   EXPECT_EQ(serve(abrupt, in2, out, log), 1);  // exit without shutdown
 }
 
+// A message nested a million deep killed the server (SIGSEGV: JSON is freed
+// recursively); it is refused unread with a parse error and the server goes on.
+TEST(LspLifecycle, AMessageNestedTooDeepIsRefusedAndTheServerGoesOn) {
+  EXPECT_EQ(json_nesting(R"({"a":[1,{"b":"[[[["}]})"), 3);
+  const std::string deep = std::string(2'000'000, '[') + std::string(2'000'000, ']');
+  EXPECT_EQ(json_nesting(deep), 2'000'000);
+  Server server;
+  std::istringstream in(framed(request(1, "initialize")) + "Content-Length: " + std::to_string(deep.size()) +
+                        "\r\n\r\n" + deep + framed(request(2, "shutdown")) + framed(note("exit")));
+  std::ostringstream out, log;
+  EXPECT_EQ(serve(server, in, out, log), 0);
+  std::istringstream replies(out.str());
+  EXPECT_EQ(json::parse(read_frame(replies).body)["id"], 1);
+  json refused = json::parse(read_frame(replies).body);
+  EXPECT_EQ(refused["error"]["code"], kParseError);
+  EXPECT_EQ(refused["error"]["message"], "the message nests arrays and objects deeper than 100 levels; it was not read");
+  EXPECT_EQ(json::parse(read_frame(replies).body)["id"], 2);
+}
+
 TEST(LspLifecycle, UrisRoundTrip) {
   EXPECT_EQ(uri_to_path("file:///home/a%20b/x.nqc"), "/home/a b/x.nqc");
   EXPECT_EQ(path_to_uri("/home/a b/x.nqc"), "file:///home/a%20b/x.nqc");
