@@ -227,6 +227,17 @@ nxt::Progress progress_bar(const std::string& what) {
   };
 }
 
+// The sleep limit as `keepalive` and `sleep` print it. LEGO's firmware
+// keeps whole minutes; a limit that is not one (other firmwares) printed as
+// "sleeps after 0 min" for 30 s.
+std::string sleep_text(std::uint64_t ms) {
+  if (ms == 0) return "never sleeps\n";
+  std::string after = ms % 60000 == 0 ? fmt::format("{} min", ms / 60000)
+                      : ms % 1000 == 0 ? fmt::format("{} s", ms / 1000)
+                                       : fmt::format("{} ms", ms);
+  return "sleeps after " + after + "\n";
+}
+
 // Words of two-digit hex pairs (0x allowed: `00 0b`, `000b`, `0x0b`) as
 // bytes; nullopt with `error` naming the first word that is not.
 std::optional<nxt::Bytes> hex_bytes(const std::vector<std::string>& words, std::string_view example,
@@ -848,12 +859,7 @@ void register_nxt(CLI::App& app, int& exit_code) {
       auto r = nxt::call_ok(c, "KeepAlive", {});
       if (auto* e = std::get_if<CallError>(&r)) return failure(*e);
       auto ms = *std::get<nxt::Decoded>(r).number("sleep_limit_ms");
-      // LEGO's firmware keeps whole minutes; a limit that is not one (other
-      // firmwares) printed as "sleeps after 0 min" for 30 s.
-      std::string after = ms % 60000 == 0 ? fmt::format("{} min", ms / 60000)
-                          : ms % 1000 == 0 ? fmt::format("{} s", ms / 1000)
-                                           : fmt::format("{} ms", ms);
-      return Output{ms == 0 ? "never sleeps\n" : "sleeps after " + after + "\n", {{"sleep_limit_ms", ms}}};
+      return Output{sleep_text(ms), {{"sleep_limit_ms", ms}}};
     });
   });
 
@@ -904,8 +910,7 @@ void register_nxt(CLI::App& app, int& exit_code) {
         auto r = nxt::get_property(c, nxt::Property::SleepMs);
         if (auto* e = std::get_if<CallError>(&r)) return failure(*e);
         auto ms = std::get<std::uint32_t>(r);
-        std::string after = ms % 60'000 == 0 ? fmt::format("{} min", ms / 60'000) : fmt::format("{} ms", ms);
-        return Output{ms == 0 ? "never sleeps\n" : "sleeps after " + after + "\n", {{"sleep_limit_ms", ms}}};
+        return Output{sleep_text(ms), {{"sleep_limit_ms", ms}}};
       });
     });
   }
