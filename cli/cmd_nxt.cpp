@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <functional>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -352,6 +353,22 @@ std::string hex_dump(std::size_t offset, const nxt::Bytes& data) {
 std::optional<Failure> lego_first(Client& c, std::string_view what) {
   if (auto e = nxt::require_lego_firmware(c, what)) return failure(*e);
   return std::nullopt;
+}
+
+// volume, sleep and bluetooth: SetProperty when `set` holds a value, then
+// GetProperty to show what the brick keeps (LEGO's firmware only, above).
+// `read_back` false: the set's answer is the result (Bluetooth switched off
+// over Bluetooth leaves no one to ask).
+std::variant<Output, Failure> property(Client& c, nxt::Property p, std::optional<std::uint32_t> set,
+                                       const std::function<Output(std::uint32_t)>& show, bool read_back = true) {
+  if (auto f = lego_first(c, set ? "SetProperty (0x1F)" : "GetProperty (0x20)")) return *f;
+  if (set) {
+    if (auto e = nxt::set_property(c, p, *set)) return failure(*e);
+    if (!read_back) return show(*set);
+  }
+  auto r = nxt::get_property(c, p);
+  if (auto* e = std::get_if<CallError>(&r)) return failure(*e);
+  return show(std::get<std::uint32_t>(r));
 }
 
 // The table as `rcxc nxt --help` shows it.
@@ -874,15 +891,9 @@ void register_nxt(CLI::App& app, int& exit_code) {
           return fmt::format("\"{}\" is not a volume: 0 (mute) to 4, as the brick's Settings menu has it", *level);
         set = static_cast<std::uint32_t>((*level)[0] - '0');
       }
-      return Action([=](Client& c) -> std::variant<Output, Failure> {
-        if (auto f = lego_first(c, set ? "SetProperty (0x1F)" : "GetProperty (0x20)")) return *f;
-        if (set) {
-          if (auto e = nxt::set_property(c, nxt::Property::Volume, *set)) return failure(*e);
-        }
-        auto r = nxt::get_property(c, nxt::Property::Volume);
-        if (auto* e = std::get_if<CallError>(&r)) return failure(*e);
-        auto v = std::get<std::uint32_t>(r);
-        return Output{fmt::format("volume {}\n", v), {{"volume", v}}};
+      return Action([=](Client& c) {
+        return property(c, nxt::Property::Volume, set,
+                        [](std::uint32_t v) { return Output{fmt::format("volume {}\n", v), {{"volume", v}}}; });
       });
     });
   }
@@ -902,15 +913,9 @@ void register_nxt(CLI::App& app, int& exit_code) {
         else
           return fmt::format("\"{}\" is not a sleep limit: 1-255 minutes, or off", *limit);
       }
-      return Action([=](Client& c) -> std::variant<Output, Failure> {
-        if (auto f = lego_first(c, set_ms ? "SetProperty (0x1F)" : "GetProperty (0x20)")) return *f;
-        if (set_ms) {
-          if (auto e = nxt::set_property(c, nxt::Property::SleepMs, *set_ms)) return failure(*e);
-        }
-        auto r = nxt::get_property(c, nxt::Property::SleepMs);
-        if (auto* e = std::get_if<CallError>(&r)) return failure(*e);
-        auto ms = std::get<std::uint32_t>(r);
-        return Output{sleep_text(ms), {{"sleep_limit_ms", ms}}};
+      return Action([=](Client& c) {
+        return property(c, nxt::Property::SleepMs, set_ms,
+                        [](std::uint32_t ms) { return Output{sleep_text(ms), {{"sleep_limit_ms", ms}}}; });
       });
     });
   }
@@ -927,18 +932,14 @@ void register_nxt(CLI::App& app, int& exit_code) {
         else if (l == "off") set = 0;
         else return fmt::format("\"{}\" is not a Bluetooth state: on or off", *state);
       }
-      return Action([=](Client& c) -> std::variant<Output, Failure> {
-        if (auto f = lego_first(c, set ? "SetProperty (0x1F)" : "GetProperty (0x20)")) return *f;
-        if (set) {
-          if (auto e = nxt::set_property(c, nxt::Property::Bluetooth, *set)) return failure(*e);
-          // Over Bluetooth the radio is gone once it answered: asking again
-          // would only time out and call a switch that worked a failure.
-          if (*set == 0) return Output{"bluetooth off\n", {{"bluetooth", false}}};
-        }
-        auto r = nxt::get_property(c, nxt::Property::Bluetooth);
-        if (auto* e = std::get_if<CallError>(&r)) return failure(*e);
-        bool on = std::get<std::uint32_t>(r) != 0;
-        return Output{on ? "bluetooth on\n" : "bluetooth off\n", {{"bluetooth", on}}};
+      return Action([=](Client& c) {
+        auto show = [](std::uint32_t state) {
+          bool on = state != 0;
+          return Output{on ? "bluetooth on\n" : "bluetooth off\n", {{"bluetooth", on}}};
+        };
+        // Over Bluetooth the radio is gone once it answered `off`: asking
+        // again would only time out and call a switch that worked a failure.
+        return property(c, nxt::Property::Bluetooth, set, show, /*read_back=*/set != 0u);
       });
     });
   }
